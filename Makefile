@@ -1,0 +1,189 @@
+# @file Makefile
+# @brief Top-level build: layer libraries, host images, tests, gates and benchmarks.
+#
+# Layers (dependencies point down only): bsp_tile64 <- kernel <- udn <- fdir <- trn.
+# Each layer is a static library built from every .cpp under its folder.
+# Programs: every folder tools/<name>/ holding a main.cpp is a host program;
+# tools/common/ is a host library shared by them.
+# Tests: tests/<dir>/*.cpp link into one GoogleTest binary per folder.
+# Benchmarks: tests/bench/*.cpp, one Google Benchmark binary per file.
+#
+# Options: BUILD=release|debug, SAN=address,undefined (sanitizer build).
+
+.DEFAULT_GOAL := all
+SHELL := /bin/bash
+
+BUILD ?= release
+SAN ?=
+CXX := g++
+
+ifeq ($(filter $(BUILD),release debug cov),)
+$(error BUILD must be release, debug or cov (got '$(BUILD)'))
+endif
+
+comma := ,
+VARIANT := $(BUILD)$(if $(SAN),-san-$(subst $(comma),-,$(SAN)))
+OBJ := build/obj/$(VARIANT)
+# The default variant puts its programs straight under build/ (build/trn_mission).
+BIN := $(if $(filter release,$(VARIANT)),build,build/$(VARIANT))
+GEN := build/gen
+
+LAYERS := bsp_tile64 kernel udn fdir trn
+# Link order: highest layer first so the linker resolves downwards.
+LINK_LAYERS := trn fdir udn kernel bsp_tile64
+
+# ---------------------------------------------------------------- flags
+WARN := -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wsign-conversion \
+        -Wcast-align -Wnon-virtual-dtor -Woverloaded-virtual -Wformat=2 \
+        -Wimplicit-fallthrough -Wundef -Wmissing-declarations -Werror
+# -ffp-contract=off everywhere: a fused multiply-add would change results
+# between builds and break bit-identical replay.
+COMMON := -std=c++20 -I. -isystem /usr/include/eigen3 -ffp-contract=off -MMD -MP
+OPT_release := -O2 -g
+OPT_debug := -O0 -g3 -D_GLIBCXX_ASSERTIONS
+OPT_cov := -O0 -g --coverage
+OPT := $(OPT_$(BUILD))
+SANFLAGS := $(if $(SAN),-fsanitize=$(SAN) -fno-omit-frame-pointer -fno-sanitize-recover=all)
+HOST_CXXFLAGS := $(COMMON) $(WARN) $(OPT) $(SANFLAGS)
+FLIGHT_CXXFLAGS := $(HOST_CXXFLAGS) -fno-exceptions -fno-rtti -fstack-usage
+LDFLAGS := $(OPT) $(SANFLAGS) -Wl,-T,$(GEN)/host_memory.ld
+LDLIBS := -lpthread
+
+# ---------------------------------------------------------------- sources
+src_of = $(shell find $(1) -name '*.cpp' -not -path '*/fixtures/*' 2>/dev/null | LC_ALL=C sort)
+obj_of = $(patsubst %.cpp,$(OBJ)/%.o,$(1))
+
+$(foreach l,$(LAYERS),$(eval SRC_$(l) := $(call src_of,$(l))))
+$(foreach l,$(LAYERS),$(eval OBJ_$(l) := $(call obj_of,$(SRC_$(l)))))
+$(foreach l,$(LAYERS),$(eval LIB_$(l) := $(if $(OBJ_$(l)),$(OBJ)/lib/lib$(l).a)))
+FLIGHT_LIBS := $(foreach l,$(LINK_LAYERS),$(LIB_$(l)))
+
+TOOLS_COMMON_SRC := $(call src_of,tools/common)
+TOOLS_COMMON_LIB := $(if $(TOOLS_COMMON_SRC),$(OBJ)/lib/libtools.a)
+PROGRAMS := $(sort $(patsubst tools/%/main.cpp,%,$(wildcard tools/*/main.cpp)))
+$(foreach p,$(PROGRAMS),$(eval SRC_prog_$(p) := $(call src_of,tools/$(p))))
+
+TEST_DIRS := $(sort $(filter-out support bench fixtures,$(notdir $(patsubst %/,%,$(wildcard tests/*/)))))
+$(foreach d,$(TEST_DIRS),$(eval SRC_test_$(d) := $(call src_of,tests/$(d))))
+TEST_DIRS := $(foreach d,$(TEST_DIRS),$(if $(SRC_test_$(d)),$(d)))
+TEST_SUPPORT_SRC := $(call src_of,tests/support)
+TEST_BINS := $(foreach d,$(TEST_DIRS),$(BIN)/tests/$(d)_tests)
+BENCH_SRC := $(call src_of,tests/bench)
+BENCH_BINS := $(patsubst tests/bench/%.cpp,$(BIN)/bench/%,$(BENCH_SRC))
+
+ALL_SRC := $(foreach l,$(LAYERS),$(SRC_$(l))) $(TOOLS_COMMON_SRC) \
+           $(foreach p,$(PROGRAMS),$(SRC_prog_$(p))) \
+           $(foreach d,$(TEST_DIRS),$(SRC_test_$(d))) $(TEST_SUPPORT_SRC) $(BENCH_SRC)
+FLIGHT_SRC := $(foreach l,$(LAYERS),$(SRC_$(l)))
+
+# Per-file flags: flight layers get the flight flags, everything else host flags.
+is_flight = $(filter $(addsuffix /%,$(LAYERS)),$(1))
+flags_for = $(if $(call is_flight,$(1)),$(FLIGHT_CXXFLAGS),$(HOST_CXXFLAGS)) $(EXTRA_CXXFLAGS_$(1))
+
+# ---------------------------------------------------------------- help
+.PHONY: help
+help: ## List the targets and options
+	@echo "Targets:"
+	@grep -hE '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/^([a-z-]+):.*## (.*)/  \1\t\2/' | expand -t 14
+	@echo "Options: BUILD=release|debug  SAN=address,undefined  ARGS='...' (for run)"
+
+# ---------------------------------------------------------------- deps
+.PHONY: deps
+deps: ## Install missing Debian packages (compiler, Eigen, GoogleTest, gates...)
+	@tools/build/deps.sh base
+
+# ---------------------------------------------------------------- build rules
+$(GEN)/host_memory.ld: linker/host_memory.ld.S linker/memory_config.h
+	@mkdir -p $(@D)
+	$(CXX) -E -P -x c -undef -I. $< -o $@
+
+$(OBJ)/%.o: %.cpp
+	@mkdir -p $(@D)
+	$(CXX) $(call flags_for,$<) -c $< -o $@
+
+$(foreach l,$(LAYERS),$(eval $(OBJ)/lib/lib$(l).a: $(OBJ_$(l)) ; @mkdir -p $$(@D) && rm -f $$@ && ar rcs $$@ $$^))
+$(OBJ)/lib/libtools.a: $(call obj_of,$(TOOLS_COMMON_SRC))
+	@mkdir -p $(@D) && rm -f $@ && ar rcs $@ $^
+$(OBJ)/lib/libtestsupport.a: $(call obj_of,$(TEST_SUPPORT_SRC))
+	@mkdir -p $(@D) && rm -f $@ && ar rcs $@ $^
+
+# The heap guard must be linked as an object, not pulled from an archive,
+# so that every program counts every allocation.
+HEAP_GUARD_OBJ := $(OBJ)/bsp_tile64/host/heap_guard.o
+LINK_DEPS := $(HEAP_GUARD_OBJ) $(TOOLS_COMMON_LIB) $(FLIGHT_LIBS) $(GEN)/host_memory.ld
+LINK_LIBS := $(HEAP_GUARD_OBJ) $(TOOLS_COMMON_LIB) $(FLIGHT_LIBS)
+
+define program_rule
+$(BIN)/$(1): $(call obj_of,$(SRC_prog_$(1))) $(LINK_DEPS)
+	@mkdir -p $$(@D)
+	$(CXX) $(LDFLAGS) $(call obj_of,$(SRC_prog_$(1))) $(LINK_LIBS) $(LDLIBS) $(EXTRA_LDLIBS_$(1)) -o $$@
+endef
+$(foreach p,$(PROGRAMS),$(eval $(call program_rule,$(p))))
+
+define test_rule
+$(BIN)/tests/$(1)_tests: $(call obj_of,$(SRC_test_$(1))) $(OBJ)/lib/libtestsupport.a $(LINK_DEPS)
+	@mkdir -p $$(@D)
+	$(CXX) $(LDFLAGS) $(call obj_of,$(SRC_test_$(1))) $(OBJ)/lib/libtestsupport.a $(LINK_LIBS) -lgmock -lgtest $(LDLIBS) -o $$@
+endef
+$(foreach d,$(TEST_DIRS),$(eval $(call test_rule,$(d))))
+
+define bench_rule
+$(BIN)/bench/$(1): $(OBJ)/tests/bench/$(1).o $(LINK_DEPS)
+	@mkdir -p $$(@D)
+	$(CXX) $(LDFLAGS) $(OBJ)/tests/bench/$(1).o $(LINK_LIBS) -lbenchmark $(EXTRA_LDLIBS_bench_$(1)) $(LDLIBS) -o $$@
+endef
+$(foreach b,$(patsubst tests/bench/%.cpp,%,$(BENCH_SRC)),$(eval $(call bench_rule,$(b))))
+
+# Tests find fixtures and the toolchain through a generated header.
+$(GEN)/build_info.hpp: Makefile
+	@mkdir -p $(@D)
+	@printf '// Generated by the Makefile: where the tree and the toolchain are.\n#pragma once\nnamespace build_info {\ninline constexpr const char* kRepoRoot = "%s";\ninline constexpr const char* kHostCxx = "%s";\ninline constexpr const char* kLinkerScript = "%s";\n}\n' "$(CURDIR)" "$(CXX)" "$(CURDIR)/$(GEN)/host_memory.ld" > $@
+$(call obj_of,$(call src_of,tests)): $(GEN)/build_info.hpp $(GEN)/host_memory.ld
+$(foreach f,$(call src_of,tests),$(eval EXTRA_CXXFLAGS_$(f) += -I$(GEN)))
+
+-include $(patsubst %.cpp,$(OBJ)/%.d,$(ALL_SRC))
+
+# ---------------------------------------------------------------- main targets
+.PHONY: all run test lint size stack cov bench clean compdb
+all: $(foreach p,$(PROGRAMS),$(BIN)/$(p)) $(TEST_BINS) $(BIN)/compile_commands.json ## Build libraries, images and tests
+
+ARGS ?=
+run: deps ## Build and run the mission image (ARGS='--help' for its options)
+	@$(MAKE) --no-print-directory $(BIN)/trn_mission
+	$(BIN)/trn_mission $(ARGS)
+
+test: deps ## Build and run every GoogleTest binary; ends with "tests: N passed, N failed"
+	@$(MAKE) --no-print-directory $(TEST_BINS) $(foreach p,$(PROGRAMS),$(BIN)/$(p))
+	@tools/build/run_tests.sh $(BIN)/test-results $(TEST_BINS)
+
+compdb: $(BIN)/compile_commands.json ## Write the compilation database for tools and editors
+$(BIN)/compile_commands.json: Makefile $(ALL_SRC)
+	@mkdir -p $(@D)
+	@{ echo "["; sep=""; \
+	  $(foreach f,$(ALL_SRC),printf '%s{"directory":"%s","file":"%s","command":"%s %s -c %s"}\n' "$$sep" "$(CURDIR)" "$(f)" "$(CXX)" '$(call flags_for,$(f))' "$(f)"; sep=",";) \
+	  echo "]"; } > $@
+	@ln -sf $(CURDIR)/$@ compile_commands.json
+
+lint: deps $(BIN)/flight_rules $(BIN)/compile_commands.json ## Static-analysis gates: flight rules, clang-tidy, cppcheck (fail on any finding)
+	@tools/lint/lint.sh $(BIN) $(FLIGHT_SRC) $(TOOLS_COMMON_SRC) $(foreach p,$(PROGRAMS),$(SRC_prog_$(p)))
+
+size: $(BIN)/trn_mission ## Memory budget: per region and per tile, used and free bytes
+	@tools/build/size_report.sh $(BIN)/trn_mission
+
+stack: all ## Stack budget: worst frame per flight function, checked against the budget
+	@tools/build/stack_report.sh $(OBJ) $(FLIGHT_SRC)
+
+cov: deps ## Coverage of the tests over the flight code (gcovr report under build/cov/)
+	@$(MAKE) --no-print-directory BUILD=cov test
+	@mkdir -p build/cov
+	gcovr --root . --object-directory build/obj/cov $(addprefix --filter ,$(addsuffix /,$(LAYERS))) \
+	  --exclude-unreachable-branches --print-summary --html-details build/cov/index.html --txt build/cov/coverage.txt
+	@echo "coverage report: build/cov/index.html"
+
+bench: deps ## Benchmarks (Google Benchmark and whole-run figures) into build/bench/
+	@tools/build/deps.sh base bench
+	@$(MAKE) --no-print-directory $(BENCH_BINS)
+	@tools/build/run_bench.sh $(BIN) $(BENCH_BINS)
+
+clean: ## Remove build outputs
+	rm -rf build compile_commands.json

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# @file deps.sh
+# @brief Installs the Debian packages the build needs; a fast no-op when all are present.
+#
+# Usage: tools/build/deps.sh [base|bench|fuzz ...]   (default: base)
+# Works as root or through sudo. Exits non-zero if a package cannot be installed.
+set -euo pipefail
+
+base_pkgs=(
+  make g++ binutils pkg-config
+  libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libtomlplusplus-dev libcli11-dev
+  cppcheck clang-tidy gcovr gnuplot-nox
+)
+bench_pkgs=(libopencv-dev)
+fuzz_pkgs=(clang libclang-rt-dev)
+
+groups=("$@")
+[ ${#groups[@]} -gt 0 ] || groups=(base)
+
+wanted=()
+for g in "${groups[@]}"; do
+  case "$g" in
+    base)  wanted+=("${base_pkgs[@]}") ;;
+    bench) wanted+=("${bench_pkgs[@]}") ;;
+    fuzz)  wanted+=("${fuzz_pkgs[@]}") ;;
+    *) echo "deps: unknown package group '$g' (allowed: base bench fuzz)" >&2; exit 2 ;;
+  esac
+done
+
+missing=()
+for p in "${wanted[@]}"; do
+  # dpkg-query prints "install ok installed" only for a fully installed package.
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+echo "deps: installing ${missing[*]}"
+if [ "$(id -u)" -eq 0 ]; then
+  sudo_cmd=()
+elif command -v sudo >/dev/null 2>&1; then
+  sudo_cmd=(sudo)
+else
+  echo "deps: need root or sudo to install: ${missing[*]}" >&2
+  exit 1
+fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -qq
+"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
