@@ -63,11 +63,13 @@ TOOLS_COMMON_LIB := $(if $(TOOLS_COMMON_SRC),$(OBJ)/lib/libtools.a)
 PROGRAMS := $(sort $(patsubst tools/%/main.cpp,%,$(wildcard tools/*/main.cpp)))
 $(foreach p,$(PROGRAMS),$(eval SRC_prog_$(p) := $(call src_of,tools/$(p))))
 
-TEST_DIRS := $(sort $(filter-out support bench fixtures,$(notdir $(patsubst %/,%,$(wildcard tests/*/)))))
-$(foreach d,$(TEST_DIRS),$(eval SRC_test_$(d) := $(call src_of,tests/$(d))))
-TEST_DIRS := $(foreach d,$(TEST_DIRS),$(if $(SRC_test_$(d)),$(d)))
+# A test binary per folder of tests/ that holds .cpp files directly:
+# tests/trn/vision/*.cpp -> build/tests/trn_vision_tests.
+TEST_DIRS := $(sort $(patsubst tests/%/,%,$(dir $(filter-out tests/support/% tests/bench/% tests/fixtures/%,$(call src_of,tests)))))
+test_name = $(subst /,_,$(1))
+$(foreach d,$(TEST_DIRS),$(eval SRC_test_$(d) := $(wildcard tests/$(d)/*.cpp)))
 TEST_SUPPORT_SRC := $(call src_of,tests/support)
-TEST_BINS := $(foreach d,$(TEST_DIRS),$(BIN)/tests/$(d)_tests)
+TEST_BINS := $(foreach d,$(TEST_DIRS),$(BIN)/tests/$(call test_name,$(d))_tests)
 BENCH_SRC := $(call src_of,tests/bench)
 BENCH_BINS := $(patsubst tests/bench/%.cpp,$(BIN)/bench/%,$(BENCH_SRC))
 
@@ -121,7 +123,7 @@ endef
 $(foreach p,$(PROGRAMS),$(eval $(call program_rule,$(p))))
 
 define test_rule
-$(BIN)/tests/$(1)_tests: $(call obj_of,$(SRC_test_$(1))) $(OBJ)/lib/libtestsupport.a $(LINK_DEPS)
+$(BIN)/tests/$(call test_name,$(1))_tests: $(call obj_of,$(SRC_test_$(1))) $(OBJ)/lib/libtestsupport.a $(LINK_DEPS)
 	@mkdir -p $$(@D)
 	$(CXX) $(LDFLAGS) $(call obj_of,$(SRC_test_$(1))) $(OBJ)/lib/libtestsupport.a $(LINK_LIBS) -lgmock -lgtest $(LDLIBS) -o $$@
 endef
