@@ -144,6 +144,9 @@ $(call obj_of,$(call src_of,tests)): $(GEN)/build_info.hpp $(GEN)/host_memory.ld
 $(foreach f,$(call src_of,tests),$(eval EXTRA_CXXFLAGS_$(f) += -I$(GEN)))
 
 -include $(patsubst %.cpp,$(OBJ)/%.d,$(ALL_SRC))
+# Per-topic additions (extra link libraries of one program or benchmark, e.g.
+# EXTRA_LDLIBS_bench_<name> := ...) live in mk/<topic>.mk, one file per topic.
+-include $(wildcard mk/*.mk)
 
 # ---------------------------------------------------------------- main targets
 .PHONY: all run test lint size stack cov bench clean compdb
