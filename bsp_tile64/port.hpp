@@ -64,7 +64,7 @@ void context_init(Context& ctx, std::byte* stack, std::size_t stack_bytes, Conte
 /** Saves the running context into @p from and resumes @p to, on the same tile. [task|isr] */
 void context_switch(Context& from, Context& to) noexcept;
 
-inline constexpr std::size_t kMinStackBytes = 16U * 1024U;
+inline constexpr std::size_t kMinStackBytes = std::size_t{16U} * 1024U;
 
 // ------------------------------------------------------------------ time and work
 

@@ -1,0 +1,26 @@
+/**
+ * @file config.hpp
+ * @brief Kernel configuration: capacities and defaults, in one place (checked in config_check.hpp).
+ */
+#pragma once
+
+#include <cstdint>
+
+namespace k::config {
+
+/** Tasks per tile, including the idle task. */
+inline constexpr std::uint32_t kMaxTasks = 16;
+/** Priority levels; 0 is the most urgent, kNumPriorities - 1 belongs to the idle task. */
+inline constexpr std::uint32_t kNumPriorities = 32;
+/** Idle task stack, bytes. */
+inline constexpr std::uint32_t kIdleStackBytes = 16U * 1024U;
+/** Bytes at the bottom of each stack holding the canary (checked at every switch). */
+inline constexpr std::uint32_t kCanaryBytes = 64;
+/** Byte painted over every stack at creation, for high-water marks. */
+inline constexpr std::uint8_t kPaintByte = 0xA5;
+/** Kernel trace ring kept per tile for inspection (entries). */
+inline constexpr std::uint32_t kTraceRing = 64;
+
+}  // namespace k::config
+
+#include "kernel/config_check.hpp"

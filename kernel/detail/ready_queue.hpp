@@ -1,0 +1,63 @@
+/**
+ * @file ready_queue.hpp
+ * @brief O(1) ready queue: a FIFO per priority and a bitmap of non-empty levels (internal).
+ */
+#pragma once
+
+#include "kernel/detail/tcb.hpp"
+
+#include <bit>
+
+namespace k::detail {
+
+inline void ready_push(KernelState& ks, TaskId id) noexcept {
+  Tcb& t = ks.tcbs[id];
+  Fifo& q = ks.ready[t.priority];
+  t.next_ready = kNoTask;
+  if (q.tail == kNoTask) {
+    q.head = id;
+  } else {
+    ks.tcbs[q.tail].next_ready = id;
+  }
+  q.tail = id;
+  ks.ready_bitmap |= (1U << t.priority);
+}
+
+/** Puts @p id at the head of its level (a preempted task keeps its turn). */
+inline void ready_push_front(KernelState& ks, TaskId id) noexcept {
+  Tcb& t = ks.tcbs[id];
+  Fifo& q = ks.ready[t.priority];
+  t.next_ready = q.head;
+  q.head = id;
+  if (q.tail == kNoTask) {
+    q.tail = id;
+  }
+  ks.ready_bitmap |= (1U << t.priority);
+}
+
+/** Most urgent ready task (lowest priority number), or kNoTask. O(1). */
+inline TaskId ready_peek(const KernelState& ks) noexcept {
+  if (ks.ready_bitmap == 0U) {
+    return kNoTask;
+  }
+  const auto level = static_cast<std::uint32_t>(std::countr_zero(ks.ready_bitmap));
+  return ks.ready[level].head;
+}
+
+inline TaskId ready_pop(KernelState& ks) noexcept {
+  const TaskId id = ready_peek(ks);
+  if (id == kNoTask) {
+    return kNoTask;
+  }
+  Tcb& t = ks.tcbs[id];
+  Fifo& q = ks.ready[t.priority];
+  q.head = t.next_ready;
+  if (q.head == kNoTask) {
+    q.tail = kNoTask;
+    ks.ready_bitmap &= ~(1U << t.priority);
+  }
+  t.next_ready = kNoTask;
+  return id;
+}
+
+}  // namespace k::detail

@@ -1,0 +1,499 @@
+/**
+ * @file sched.cpp
+ * @brief Kernel start, task switching, blocking and the interrupt handler.
+ *
+ * Interrupt mask protocol: kernel code that touches shared state runs with the
+ * tile's interrupts masked. A context switch always happens masked; the resumed
+ * context restores its own mask afterwards (a new task unmasks in its
+ * trampoline). So the mask follows the context, as on a real CPU.
+ */
+#include "kernel/sched.hpp"
+
+#include "bsp_tile64/memory.hpp"
+#include "kernel/detail/core.hpp"
+#include "kernel/detail/ready_queue.hpp"
+#include "kernel/detail/stack.hpp"
+
+#include <array>
+#include <new>
+
+namespace k {
+namespace detail {
+namespace {
+
+struct TileSlot {
+  TaskTable table;
+  bsp::Cycles tick_cycles;
+  KernelState* ks;
+  bool in_isr;
+};
+
+std::array<TileSlot, bsp::kMaxTiles> g_slots{};
+FaultHook g_fault_hook = nullptr;
+std::array<std::array<IsrHook, static_cast<std::size_t>(bsp::Irq::kCount)>, bsp::kMaxTiles> g_isr{};
+
+void wait_remove_in(KernelState& ks, WaitList& wl, TaskId id) noexcept;
+
+/**
+ * Checks the running task's canary before it gives up the CPU. A broken canary
+ * is a stack overflow: the task is faulted (never runs again), taken off any
+ * wait list, counted, traced and reported. @return false if it was faulted.
+ */
+bool outgoing_ok(KernelState& ks) noexcept {
+  Tcb& t = ks.tcbs[ks.current];
+  if (detail::stack_canary_ok(t.stack)) {
+    return true;
+  }
+  if (t.wait_object != nullptr) {
+    wait_remove_in(ks, *static_cast<WaitList*>(t.wait_object), t.id);
+    t.wait_object = nullptr;
+  }
+  t.wake_tick = 0;
+  t.state = TaskState::kFaulted;
+  ++ks.faults;
+  trace_event(static_cast<std::uint16_t>(TraceKind::kStackOverflow), t.id, t.id);
+  if (g_fault_hook != nullptr) {
+    g_fault_hook(ks.tile, t.id);
+  }
+  return false;
+}
+
+/** Switches from the current task to @p next (a different task). Irqs masked. */
+void switch_to(KernelState& ks, TaskId next) noexcept {
+  Tcb& from = ks.tcbs[ks.current];
+  Tcb& to = ks.tcbs[next];
+  trace_event(static_cast<std::uint16_t>(TraceKind::kSwitch), ks.current, next);
+  ks.current = next;
+  ++to.activations;
+  to.last_run_cycle = bsp::now();
+  bsp::context_switch(from.ctx, to.ctx);
+}
+
+/**
+ * The running task gave up the CPU and is not in the ready queue (blocked,
+ * waiting for its period, ended): run the most urgent ready task. The idle
+ * task is always ready when nothing else is, so there is always one.
+ */
+void run_next(KernelState& ks) noexcept {
+  (void)outgoing_ok(ks);
+  switch_to(ks, ready_pop(ks));
+}
+
+void task_trampoline(void* arg) noexcept {
+  auto* t = static_cast<Tcb*>(arg);
+  (void)bsp::mask_irqs(false);
+  t->spec->entry(t->spec->arg);
+  (void)bsp::mask_irqs(true);
+  KernelState* ks = current_kernel();
+  t->state = TaskState::kDormant;
+  trace_event(static_cast<std::uint16_t>(TraceKind::kTaskExit), t->id, t->id);
+  run_next(*ks);
+  // A dormant task is never resumed.
+}
+
+void idle_main(void* /*arg*/) noexcept {
+  for (;;) {  // the idle loop: sleeps the tile until the next interrupt
+    bsp::wait_for_interrupt();
+  }
+}
+
+constexpr TaskSpec kIdleSpec{"idle", &idle_main, nullptr, config::kNumPriorities - 1U, 0, 0,
+                             config::kIdleStackBytes, Policy::kPreemptive};
+
+Status make_task(KernelState& ks, const TaskSpec& spec, TaskId id) noexcept {
+  bsp::MemError err = bsp::MemError::kOk;
+  auto* stack = bsp::carve_array<std::byte>(bsp::Region{ks.tile}, spec.stack_bytes, spec.name, &err);
+  if (err != bsp::MemError::kOk) {
+    return Status::kNoMemory;
+  }
+  Tcb& t = ks.tcbs[id];
+  t = Tcb{};
+  t.spec = &spec;
+  t.stack = stack;
+  t.stack_bytes = spec.stack_bytes;
+  t.priority = spec.priority;
+  t.id = id;
+  t.state = TaskState::kReady;
+  t.next_ready = kNoTask;
+  t.next_waiter = kNoTask;
+  if (spec.period_ticks != 0U) {
+    t.next_release = spec.period_ticks;
+    t.deadline_tick = (spec.deadline_ticks != 0U) ? spec.deadline_ticks : spec.period_ticks;
+  }
+  detail::stack_prepare(stack, spec.stack_bytes);
+  // The canary sits at the bottom; the context uses the rest.
+  bsp::context_init(t.ctx, stack + config::kCanaryBytes, spec.stack_bytes - config::kCanaryBytes,
+                    &task_trampoline, &t);
+  ready_push(ks, id);
+  return Status::kOk;
+}
+
+Status build_kernel(TaskTable table, bsp::Cycles tick_cycles, KernelState*& out) noexcept {
+  const bsp::TileId tile = bsp::current_tile();
+  bsp::MemError err = bsp::MemError::kOk;
+  auto* ks = bsp::carve_array<KernelState>(bsp::Region{tile}, 1, "kernel state", &err);
+  if (err != bsp::MemError::kOk) {
+    return Status::kNoMemory;
+  }
+  ::new (ks) KernelState{};
+  ks->tile = tile;
+  ks->tick_cycles = tick_cycles;
+  ks->current = kNoTask;
+  for (Fifo& f : ks->ready) {
+    f = Fifo{};
+  }
+  for (std::size_t i = 0; i < table.size(); ++i) {
+    const Status s = make_task(*ks, table[i], static_cast<TaskId>(i));
+    if (s != Status::kOk) {
+      return s;
+    }
+  }
+  ks->idle = static_cast<TaskId>(table.size());
+  const Status s = make_task(*ks, kIdleSpec, ks->idle);
+  if (s != Status::kOk) {
+    return s;
+  }
+  ks->task_count = static_cast<std::uint32_t>(table.size()) + 1U;
+  out = ks;
+  return Status::kOk;
+}
+
+}  // namespace
+
+KernelState* current_kernel() noexcept {
+  const bsp::TileId t = bsp::current_tile();
+  return t < bsp::kMaxTiles ? g_slots[t].ks : nullptr;
+}
+
+bool in_isr() noexcept {
+  const bsp::TileId t = bsp::current_tile();
+  return t < bsp::kMaxTiles && g_slots[t].in_isr;
+}
+
+void trace_event(std::uint16_t kind, TaskId a, TaskId b) noexcept {
+  KernelState* ks = current_kernel();
+  if (ks == nullptr) {
+    return;
+  }
+  TraceEntry& e = ks->trace_ring[ks->trace_head % config::kTraceRing];
+  e = TraceEntry{bsp::now(), kind, a, b};
+  ++ks->trace_head;
+  bsp::trace(kind, a, b);
+}
+
+namespace {
+
+void wait_insert(WaitList& wl, KernelState& ks, TaskId id) noexcept {
+  Tcb& t = ks.tcbs[id];
+  TaskId* link = &wl.head;
+  // Behind every waiter of equal or more urgent priority: FIFO among equals.
+  for (std::uint32_t n = 0; *link != kNoTask && n < config::kMaxTasks; ++n) {
+    if (ks.tcbs[*link].priority > t.priority) {
+      break;
+    }
+    link = &ks.tcbs[*link].next_waiter;
+  }
+  t.next_waiter = *link;
+  *link = id;
+}
+
+void wait_remove_in(KernelState& ks, WaitList& wl, TaskId id) noexcept {
+  TaskId* link = &wl.head;
+  for (std::uint32_t n = 0; *link != kNoTask && n < config::kMaxTasks; ++n) {
+    if (*link == id) {
+      *link = ks.tcbs[id].next_waiter;
+      ks.tcbs[id].next_waiter = kNoTask;
+      return;
+    }
+    link = &ks.tcbs[*link].next_waiter;
+  }
+}
+
+
+/** Makes a blocked task ready with @p why; removes it from its wait list. */
+void make_ready(KernelState& ks, TaskId id, WakeReason why, std::uint32_t result) noexcept {
+  Tcb& t = ks.tcbs[id];
+  if (t.wait_object != nullptr) {
+    wait_remove_in(ks, *static_cast<WaitList*>(t.wait_object), id);
+  }
+  t.wait_object = nullptr;
+  t.wake_tick = 0;
+  t.wake = why;
+  t.wait_result = result;
+  t.state = TaskState::kReady;
+  ready_push(ks, id);
+}
+
+}  // namespace
+
+void wait_remove(WaitList& wl, TaskId id) noexcept { wait_remove_in(*current_kernel(), wl, id); }
+
+WakeReason block_current(WaitList* wl, Timeout to, std::uint32_t arg) noexcept {
+  KernelState& ks = *current_kernel();
+  Tcb& t = ks.tcbs[ks.current];
+  t.state = TaskState::kBlocked;
+  t.wake = WakeReason::kNone;
+  t.wait_arg = arg;
+  t.wait_object = wl;
+  t.wake_tick = (to.ticks == kForever.ticks) ? 0U : ks.ticks + to.ticks;
+  if (wl != nullptr) {
+    wait_insert(*wl, ks, t.id);
+  }
+  trace_event(static_cast<std::uint16_t>(TraceKind::kBlock), t.id, t.id);
+  run_next(ks);
+  return t.wake;
+}
+
+TaskId wake_one(WaitList& wl, std::uint32_t result) noexcept {
+  KernelState* ks = current_kernel();
+  const TaskId id = wl.head;
+  if (ks == nullptr || id == kNoTask) {
+    return kNoTask;
+  }
+  make_ready(*ks, id, WakeReason::kSignalled, result);
+  return id;
+}
+
+void wake_task(TaskId id, std::uint32_t result) noexcept {
+  KernelState* ks = current_kernel();
+  if (ks != nullptr && id < ks->task_count && ks->tcbs[id].state == TaskState::kBlocked) {
+    make_ready(*ks, id, WakeReason::kSignalled, result);
+  }
+}
+
+void reschedule() noexcept {
+  KernelState& ks = *current_kernel();
+  const Tcb& cur = ks.tcbs[ks.current];
+  if (cur.spec->policy == Policy::kCooperative) {
+    return;  // a cooperative task keeps the CPU until it blocks or yields
+  }
+  const TaskId next = ready_peek(ks);
+  if (next == kNoTask || ks.tcbs[next].priority >= cur.priority) {
+    return;
+  }
+  if (!outgoing_ok(ks)) {
+    switch_to(ks, ready_pop(ks));
+    return;
+  }
+  (void)ready_pop(ks);
+  ready_push_front(ks, ks.current);  // preempted: first of its level again
+  switch_to(ks, next);
+}
+
+namespace {
+
+/** Timeouts and periodic releases of one tick. Irqs masked (interrupt handler). */
+void tick_tasks(KernelState& ks) noexcept {
+  for (std::uint32_t i = 0; i < ks.task_count; ++i) {
+    Tcb& t = ks.tcbs[i];
+    if (t.state == TaskState::kBlocked && t.wake_tick != 0U && t.wake_tick <= ks.ticks) {
+      make_ready(ks, t.id, WakeReason::kTimeout, 0);
+    }
+    const std::uint32_t period = t.spec->period_ticks;
+    if (period == 0U || t.state == TaskState::kDormant || t.state == TaskState::kFaulted) {
+      continue;
+    }
+    if (!t.job_done && !t.miss_counted && ks.ticks >= t.deadline_tick) {
+      t.miss_counted = true;
+      ++t.deadline_misses;
+      trace_event(static_cast<std::uint16_t>(TraceKind::kDeadlineMiss), t.id, t.id);
+    }
+    if (ks.ticks < t.next_release) {
+      continue;
+    }
+    const std::uint32_t rel = (t.spec->deadline_ticks != 0U) ? t.spec->deadline_ticks : period;
+    if (t.state == TaskState::kWaitPeriod) {
+      t.job_done = false;
+      t.miss_counted = false;
+      t.deadline_tick = t.next_release + rel;
+      t.state = TaskState::kReady;
+      ready_push(ks, t.id);
+      trace_event(static_cast<std::uint16_t>(TraceKind::kRelease), t.id, t.id);
+    } else {
+      ++t.overruns;  // previous job still running: this release is skipped
+      trace_event(static_cast<std::uint16_t>(TraceKind::kOverrun), t.id, t.id);
+    }
+    t.next_release += period;
+  }
+}
+
+void irq_handler(bsp::TileId tile, bsp::Irq irq) noexcept {
+  TileSlot& slot = g_slots[tile];
+  KernelState* ks = slot.ks;
+  if (ks == nullptr) {
+    return;
+  }
+  slot.in_isr = true;
+  if (irq == bsp::Irq::kTimer) {
+    ++ks->ticks;
+    tick_tasks(*ks);
+  } else {
+    const IsrHook hook = g_isr[tile][static_cast<std::size_t>(irq)];
+    if (hook != nullptr) {
+      hook(tile);
+    }
+  }
+  // Leaving the handler's role before a switch: the resumed context is not in
+  // an interrupt; when this one resumes, it finishes its handler.
+  slot.in_isr = false;
+  reschedule();
+}
+
+}  // namespace
+}  // namespace detail
+
+using detail::KernelState;
+using detail::TaskState;
+using detail::Tcb;
+
+void set_task_table(bsp::TileId tile, TaskTable table, bsp::Cycles tick_cycles) noexcept {
+  if (tile < bsp::kMaxTiles) {
+    detail::g_slots[tile].table = table;
+    detail::g_slots[tile].tick_cycles = tick_cycles;
+  }
+}
+
+void boot_entry(bsp::TileId tile) noexcept {
+  if (tile >= bsp::kMaxTiles) {
+    return;
+  }
+  const detail::TileSlot& s = detail::g_slots[tile];
+  // start() returns only on error: the board sees the boot entry return and
+  // keeps the tile idle, where its watchdog (if armed) will report it.
+  (void)start(s.table, s.tick_cycles);
+}
+
+Status start(TaskTable table, bsp::Cycles tick_cycles) noexcept {
+  if (check_table(table) != TableError::kOk || tick_cycles == 0U) {
+    return Status::kBadArg;
+  }
+  const bsp::TileId tile = bsp::current_tile();
+  (void)bsp::mask_irqs(true);
+  detail::g_slots[tile].ks = nullptr;
+  detail::g_slots[tile].in_isr = false;
+  detail::g_isr[tile] = {};
+  KernelState* ks = nullptr;
+  const Status s = detail::build_kernel(table, tick_cycles, ks);
+  if (s != Status::kOk) {
+    return s;
+  }
+  detail::g_slots[tile].ks = ks;
+  detail::trace_event(static_cast<std::uint16_t>(TraceKind::kStart), 0, 0);
+  // Release every task at tick 0: periodic ones start their first job now.
+  bsp::set_irq_handler(tile, &detail::irq_handler);
+  bsp::timer_start(tick_cycles);
+  const TaskId first = detail::ready_pop(*ks);
+  ks->current = first;
+  Tcb& t = ks->tcbs[first];
+  ++t.activations;
+  t.last_run_cycle = bsp::now();
+  bsp::context_switch(ks->boot_ctx, t.ctx);
+  return Status::kBadState;  // the boot context is never resumed
+}
+
+void yield() noexcept {
+  const bool m = bsp::mask_irqs(true);
+  KernelState& ks = *detail::current_kernel();
+  if (!detail::outgoing_ok(ks)) {
+    detail::switch_to(ks, detail::ready_pop(ks));
+  } else {
+    detail::ready_push(ks, ks.current);
+    const TaskId next = detail::ready_pop(ks);
+    if (next != ks.current) {
+      detail::switch_to(ks, next);
+    }
+  }
+  (void)bsp::mask_irqs(m);
+}
+
+Ticks now_ticks() noexcept {
+  const KernelState* ks = detail::current_kernel();
+  return ks == nullptr ? 0U : ks->ticks;
+}
+
+void sleep_until(Ticks tick) noexcept {
+  const bool m = bsp::mask_irqs(true);
+  KernelState& ks = *detail::current_kernel();
+  if (tick > ks.ticks) {
+    const Ticks delta = tick - ks.ticks;
+    // Sleeps longer than a 32-bit timeout are not needed at 1 ms ticks (49 days).
+    const auto ticks = static_cast<std::uint32_t>(delta < kForever.ticks ? delta : kForever.ticks - 1U);
+    (void)detail::block_current(nullptr, Timeout{ticks}, 0);
+  }
+  (void)bsp::mask_irqs(m);
+}
+
+void sleep(Ticks ticks) noexcept {
+  if (ticks == 0U) {
+    yield();
+    return;
+  }
+  sleep_until(now_ticks() + ticks);
+}
+
+Status wait_period() noexcept {
+  const bool m = bsp::mask_irqs(true);
+  KernelState& ks = *detail::current_kernel();
+  Tcb& t = ks.tcbs[ks.current];
+  if (t.spec->period_ticks == 0U) {
+    (void)bsp::mask_irqs(m);
+    return Status::kBadState;
+  }
+  t.job_done = true;
+  ++t.jobs;
+  t.state = TaskState::kWaitPeriod;
+  detail::run_next(ks);
+  (void)bsp::mask_irqs(m);
+  return Status::kOk;
+}
+
+TaskId self() noexcept {
+  const KernelState* ks = detail::current_kernel();
+  return ks == nullptr ? kNoTask : ks->current;
+}
+
+Status set_isr(bsp::Irq irq, IsrHook hook) noexcept {
+  const bsp::TileId tile = bsp::current_tile();
+  if (tile >= bsp::kMaxTiles || irq == bsp::Irq::kTimer || irq >= bsp::Irq::kCount) {
+    return Status::kBadArg;
+  }
+  detail::g_isr[tile][static_cast<std::size_t>(irq)] = hook;
+  return Status::kOk;
+}
+
+std::uint32_t task_count(bsp::TileId tile) noexcept {
+  if (tile >= bsp::kMaxTiles || detail::g_slots[tile].ks == nullptr) {
+    return 0;
+  }
+  return detail::g_slots[tile].ks->task_count;
+}
+
+Status task_stats(bsp::TileId tile, TaskId id, TaskStats* out) noexcept {
+  if (out == nullptr || id >= task_count(tile)) {
+    return Status::kBadArg;
+  }
+  const Tcb& t = detail::g_slots[tile].ks->tcbs[id];
+  *out = TaskStats{t.spec->name,    t.priority,       static_cast<std::uint8_t>(t.state),
+                   t.activations,   t.jobs,           t.deadline_misses,
+                   t.overruns,      t.last_run_cycle, t.stack_bytes,
+                   detail::stack_high_water(t.stack, t.stack_bytes)};
+  return Status::kOk;
+}
+
+TaskId find_task(bsp::TileId tile, const char* name) noexcept {
+  const std::uint32_t n = task_count(tile);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (detail::same_name(detail::g_slots[tile].ks->tcbs[i].spec->name, name)) {
+      return static_cast<TaskId>(i);
+    }
+  }
+  return kNoTask;
+}
+
+std::uint32_t stack_faults(bsp::TileId tile) noexcept {
+  return task_count(tile) == 0U ? 0U : detail::g_slots[tile].ks->faults;
+}
+
+void set_fault_hook(FaultHook hook) noexcept { detail::g_fault_hook = hook; }
+
+}  // namespace k
