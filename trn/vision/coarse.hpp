@@ -1,0 +1,63 @@
+/**
+ * @file coarse.hpp
+ * @brief Coarse stage: removes kilometre-level position error by a wide, downsampled NCC search.
+ *
+ * Both the map search region and the camera image (already in map geometry,
+ * see warp.hpp) are box-filtered and decimated by `factor`; the central
+ * template_px square of the small image is correlated (spatial NCC, integer
+ * dot products) over the whole small map region. At 12 m/px and factor 4 a
+ * 1024 px map region is 256 coarse px (48 m each): a +/- 3 km error is
+ * +/- 64 coarse px. Work: (256 - 64 + 1)^2 positions x 4096 MACs ~ 153 M MACs.
+ * A workspace is ~1.2 MiB: DDR or static storage, one per coarse task.
+ */
+#pragma once
+
+#include "bsp_tile64/work.hpp"
+#include "trn/vision/correlator.hpp"
+#include "trn/vision/image.hpp"
+
+#include <cstdint>
+
+namespace trn::vision {
+
+inline constexpr std::int32_t kCoarseMaxPx = 256;        ///< side capacity at the coarse scale
+inline constexpr std::int32_t kCoarseMaxFactor = 16;     ///< largest decimation factor
+inline constexpr std::int32_t kCoarseMaxTemplatePx = 128;  ///< largest coarse template side
+
+struct CoarseParams {
+  std::int32_t factor = 4;        ///< decimation factor (box filter side), 1..kCoarseMaxFactor
+  std::int32_t template_px = 64;  ///< template side at the coarse scale
+  QualityParams quality{0.5F, 0.8F, 4, 1, Subpixel::kParaboloid};
+};
+
+struct CoarseWorkspace {
+  FixedImage<std::uint8_t, kCoarseMaxPx, kCoarseMaxPx> map_small;
+  FixedImage<std::uint8_t, kCoarseMaxPx, kCoarseMaxPx> image_small;
+  CorrelatorWorkspace<kCoarseMaxPx> corr;
+};
+
+struct CoarseResult {
+  MatchResult match;  ///< at the coarse scale
+  double x_px = 0.0;  ///< image top-left in map-region pixels (full resolution), valid when accepted
+  double y_px = 0.0;
+
+  constexpr bool accepted() const noexcept { return match.accepted(); }
+};
+
+/**
+ * Box-filter decimation: out(x, y) = rounded mean of the factor x factor block at (x f, y f).
+ * Pre: out.width == in.width / factor and out.height == in.height / factor (remainder dropped).
+ * @return kBadInput for invalid views, factor out of 1..kCoarseMaxFactor, or a size mismatch.
+ */
+Status downsample_box(ConstImageU8 in, std::int32_t factor, ImageU8 out, bsp::Work& work) noexcept;
+
+/**
+ * Finds where @p image lies inside @p map_region (same scale and orientation).
+ * Post (accepted): image pixel (0, 0) lies at map-region pixel (out.x_px, out.y_px).
+ * @return kBadInput for bad parameters or an image smaller than the template,
+ *         kTooLarge when a decimated input exceeds kCoarseMaxPx.
+ */
+Status coarse_match(ConstImageU8 map_region, ConstImageU8 image, const CoarseParams& p, CoarseWorkspace& ws,
+                    CoarseResult& out, bsp::Work& work) noexcept;
+
+}  // namespace trn::vision
