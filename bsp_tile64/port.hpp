@@ -122,6 +122,15 @@ bool mask_irqs(bool masked) noexcept;
 /** Starts the current tile's periodic timer: an Irq::kTimer every @p period cycles. [task] */
 void timer_start(Cycles period) noexcept;
 
+/**
+ * The configured kernel tick period in cycles (1 ms at the profile's clock by
+ * default); a kernel passes it to timer_start(). Period 0 to timer_start() stops the timer. [task|isr|host]
+ */
+Cycles tick_cycles() noexcept;
+
+/** Number of tiles of the chip profile (cols * rows); tile ids are 0 .. tile_count() - 1. [task|isr|host] */
+TileId tile_count() noexcept;
+
 // ------------------------------------------------------------------ watchdog
 
 /**
