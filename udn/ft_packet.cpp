@@ -134,13 +134,14 @@ EncodeStatus encode_packet(const FtFields& fields, std::span<const std::uint32_t
     out[kWordData + n] = crc32c_words(out.subspan(kWordRouteData, 2U + n));
   }
   const std::uint32_t route_check = RouteCode::encode(route_words(out));
-  const std::uint32_t data_check = DataCode::encode(out.subspan(kWordData, total - kWordData));
+  const std::uint32_t data_check =
+      DataCode::encode(out.subspan(kWordData, total - kWordData)) ^ (fields.with_crc ? kCrcFlagEccSalt : 0U);
   out[kWordEcc] = (data_check << kDataEccShift) | route_check;
   written = total;
   return EncodeStatus::kOk;
 }
 
-Decoded decode_packet(std::span<std::uint32_t> words, std::uint16_t my_index) noexcept {
+Decoded decode_packet(std::span<std::uint32_t> words, std::uint16_t my_index, CrcPolicy crc_policy) noexcept {
   Decoded d{};
   if (words.size() < kFtMinPacketWords || words.size() > kFtMaxPacketWords) {
     return d;  // kMalformed: nothing beyond the given count is read
@@ -153,12 +154,15 @@ Decoded decode_packet(std::span<std::uint32_t> words, std::uint16_t my_index) no
     return d;
   }
   take_route_fix(rc, route, d);
-  if (!shape_ok(route, words.size())) {
+  const bool has_crc = (route[kRouteData] & kFlagCrc) != 0U;
+  if (!shape_ok(route, words.size()) || (crc_policy == CrcPolicy::kRequired && !has_crc)) {
     d = Decoded{};  // kMalformed; fixes are discarded, words untouched
     return d;
   }
   const std::size_t coded = coded_data_words(route[kRouteData]);
-  const EccCheck dc = DataCode::check(words.subspan(kWordData, coded), (ecc >> kDataEccShift) & DataCode::kCheckMask);
+  const std::uint32_t salt = has_crc ? kCrcFlagEccSalt : 0U;
+  const EccCheck dc =
+      DataCode::check(words.subspan(kWordData, coded), ((ecc >> kDataEccShift) ^ salt) & DataCode::kCheckMask);
   if (dc.status == EccStatus::kUncorrectable) {
     d = Decoded{};
     d.status = DecodeStatus::kUncorrectable;
@@ -172,7 +176,7 @@ Decoded decode_packet(std::span<std::uint32_t> words, std::uint16_t my_index) no
   }
   apply_fixes(words, d);
   const std::size_t n = route[kRouteData] & kLengthMask;
-  if ((route[kRouteData] & kFlagCrc) != 0U && !crc_ok(words, n)) {
+  if (has_crc && !crc_ok(words, n)) {
     apply_fixes(words, d);  // flips are involutions: this restores the input
     d = Decoded{};
     d.status = DecodeStatus::kCrcMismatch;

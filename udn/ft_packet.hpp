@@ -9,6 +9,7 @@
  *   word 2  [31..29] 0 | [28..16] data ECC (13 bits) | [15..9] 0 | [8..0] route ECC (9 bits)
  *   word 3  route data: [31..16] destination index | [15..8] flags | [7..0] data length (1..124)
  *           flags: bit 8 (kFlagCrc) = a CRC-32C word follows the data; bits 9..15 are 0
+ *           (with kFlagCrc the data ECC is XORed with kCrcFlagEccSalt)
  *   word 4  channel tag
  *   words 5 .. 5+n-1   n data words, 1 <= n <= 124
  *   word 5+n (only with kFlagCrc)  CRC-32C of words 3 .. 5+n-1
@@ -130,14 +131,30 @@ struct Decoded {
 };
 
 /**
+ * Whether the receiver insists on the CRC word. The flag that announces it sits
+ * in word 3, which only the route code protects: three or more errors there
+ * can be miscorrected into "no CRC, one more data word" with the same word
+ * count, and the CRC is then never checked. A system that relies on the CRC
+ * (e.g. every channel of a mission image) decodes with kRequired, so such a
+ * packet is rejected as kMalformed. (The data ECC is also salted by the flag,
+ * which catches most such cases with kAsFlagged.)
+ */
+enum class CrcPolicy : std::uint8_t { kAsFlagged, kRequired };
+
+/** XORed into the data ECC when the CRC flag is set; even weight, so a flag flip alone reads as a double error. */
+inline constexpr std::uint32_t kCrcFlagEccSalt = 0x0003U;
+
+/**
  * Checks and corrects a received packet image in place.
  * words: the full image; words 0 and 1 as the receiver observed them (see the
- * file comment). my_index: this tile's logical index.
+ * file comment). my_index: this tile's logical index. crc_policy: see CrcPolicy;
+ * with kRequired a packet without the CRC flag is kMalformed.
  * Post: on kOk/kCorrected/kMisdelivered the words equal the image as sent
  * (corrections applied) and the data is words[5 .. 5+data_words). On any other
  * status the words are left exactly as given.
  */
-Decoded decode_packet(std::span<std::uint32_t> words, std::uint16_t my_index) noexcept;
+Decoded decode_packet(std::span<std::uint32_t> words, std::uint16_t my_index,
+                      CrcPolicy crc_policy = CrcPolicy::kAsFlagged) noexcept;
 
 /** The data words of a packet that decoded valid (empty otherwise). */
 std::span<const std::uint32_t> packet_data(std::span<const std::uint32_t> words, const Decoded& d) noexcept;

@@ -194,6 +194,126 @@ TEST(FtPacket, RandomDoubleBitFlipsOfLongPacketsAreDetectedOrExactlyCorrected) {
   }
 }
 
+// ---------------------------------------------------------------- beyond two errors
+
+enum class Outcome { kDetected, kRecovered, kHeaderOnly, kSilentCorrupt };
+
+/** How a decoded packet compares with what was sent (payload = words 3.. and the data). */
+Outcome classify(const Packet& p, const std::vector<std::uint32_t>& w, const udn::Decoded& d) {
+  if (!is_valid(d.status)) {
+    return Outcome::kDetected;
+  }
+  for (std::size_t i = udn::kWordRouteData; i < p.words.size(); ++i) {
+    if (i != udn::kWordEcc && w[i] != p.words[i]) {
+      return Outcome::kSilentCorrupt;
+    }
+  }
+  const bool header_same = w[udn::kWordHwHeader] == p.words[udn::kWordHwHeader] &&
+                           w[udn::kWordHwTag] == p.words[udn::kWordHwTag];
+  return header_same ? Outcome::kRecovered : Outcome::kHeaderOnly;
+}
+
+struct Tally {
+  std::size_t trials = 0;
+  std::size_t detected = 0;
+  std::size_t recovered = 0;
+  std::size_t header_only = 0;
+  std::size_t silent = 0;
+};
+
+/** Error pattern: k distinct random bits (burst_len == 0) or a burst of burst_len bits. */
+void inject(std::vector<std::uint32_t>& w, bsp::Rng& rng, int k, std::size_t burst_len) {
+  const std::size_t bits = w.size() * 32;
+  if (burst_len == 0) {
+    std::vector<std::size_t> used;
+    while (used.size() < static_cast<std::size_t>(k)) {
+      const std::size_t pos = rng.below(bits);
+      bool dup = false;
+      for (const std::size_t u : used) {
+        dup = dup || u == pos;
+      }
+      if (!dup) {
+        used.push_back(pos);
+        flip(w, pos);
+      }
+    }
+    return;
+  }
+  // A burst of length L: first and last bit wrong, the ones between at random.
+  const std::size_t start = rng.below(bits - burst_len + 1);
+  flip(w, start);
+  flip(w, start + burst_len - 1);
+  for (std::size_t i = 1; i + 1 < burst_len; ++i) {
+    if ((rng.next() & 1U) != 0U) {
+      flip(w, start + i);
+    }
+  }
+}
+
+Tally measure(std::size_t n, bool crc, udn::CrcPolicy policy, int k, std::size_t burst_len, int trials,
+              std::uint64_t seed) {
+  const Packet p = make_packet(n, crc);
+  bsp::Rng rng(seed, bsp::StreamId::kTest, n * 1000 + (crc ? 500 : 0) + static_cast<std::uint64_t>(k) * 64 + burst_len);
+  Tally t;
+  for (int i = 0; i < trials; ++i) {
+    auto w = p.words;
+    inject(w, rng, k, burst_len);
+    const udn::Decoded d = udn::decode_packet(w, kDestIndex, policy);
+    ++t.trials;
+    switch (classify(p, w, d)) {
+      case Outcome::kDetected: ++t.detected; break;
+      case Outcome::kRecovered: ++t.recovered; break;
+      case Outcome::kHeaderOnly: ++t.header_only; break;
+      case Outcome::kSilentCorrupt: ++t.silent; break;
+    }
+  }
+  return t;
+}
+
+/** Silent-corruption bounds, per error kind and packet size, as documented in docs/UDN_PACKETS.md. */
+constexpr double kSilentBoundNoCrc = 0.95;
+constexpr double kSilentBoundCrcAsFlagged = 1e-3;
+
+TEST(FtPacket, MeasuredThreeFourBitAndBurstErrorsCrcRequiredLeavesNoSilentCorruption) {
+  const std::uint64_t seed = kSeed + 3;
+  constexpr int kTrials = 40000;
+  struct Kind {
+    const char* name;
+    int k;
+    std::size_t burst;
+  };
+  struct Mode {
+    const char* name;
+    bool crc;
+    udn::CrcPolicy policy;
+  };
+  const Kind kinds[] = {{"3-bit", 3, 0}, {"4-bit", 4, 0}, {"burst8", 0, 8}, {"burst16", 0, 16}, {"burst32", 0, 32}};
+  const Mode modes[] = {{"none", false, udn::CrcPolicy::kAsFlagged},
+                        {"flagged", true, udn::CrcPolicy::kAsFlagged},
+                        {"required", true, udn::CrcPolicy::kRequired}};
+  std::printf("seed %llu, %d trials per row\n", static_cast<unsigned long long>(seed), kTrials);
+  std::printf("| words | crc | errors | detected | recovered | header only | silent corrupt |\n");
+  for (const std::size_t n : {1U, 16U, 124U}) {
+    for (const Mode& mode : modes) {
+      for (const Kind& kind : kinds) {
+        const Tally t = measure(n, mode.crc, mode.policy, kind.k, kind.burst, kTrials, seed);
+        const double tr = static_cast<double>(t.trials);
+        const double silent = static_cast<double>(t.silent) / tr;
+        std::printf("| %zu | %s | %s | %.5f | %.5f | %.5f | %.5f |\n", n, mode.name, kind.name,
+                    static_cast<double>(t.detected) / tr, static_cast<double>(t.recovered) / tr,
+                    static_cast<double>(t.header_only) / tr, silent);
+        ASSERT_EQ(t.detected + t.recovered + t.header_only + t.silent, t.trials);
+        if (mode.policy == udn::CrcPolicy::kRequired) {
+          EXPECT_EQ(t.silent, 0U) << "seed " << seed << " n " << n << " " << kind.name;
+        } else {
+          const double bound = mode.crc ? kSilentBoundCrcAsFlagged : kSilentBoundNoCrc;
+          EXPECT_LE(silent, bound) << "seed " << seed << " n " << n << " " << mode.name << " " << kind.name;
+        }
+      }
+    }
+  }
+}
+
 TEST(FtPacket, WrongWordCountsAndReservedBitsAreMalformed) {
   Packet p = make_packet(4, false);
   auto shorter = p.words;
@@ -225,12 +345,29 @@ TEST(FtPacket, CodedButWrongCrcIsReportedAndLeavesWordsUntouched) {
   EXPECT_EQ(udn::decode_packet(w, kDestIndex).status, udn::DecodeStatus::kUncorrectable);
   // Re-code the data so the ECC is consistent with the wrong CRC word.
   const std::uint32_t dc = udn::DataCode::encode(std::span<const std::uint32_t>(w).subspan(udn::kWordData, 11));
-  w[udn::kWordEcc] = (w[udn::kWordEcc] & 0xFFFFU) | (dc << 16U);
+  w[udn::kWordEcc] = (w[udn::kWordEcc] & 0xFFFFU) | ((dc ^ udn::kCrcFlagEccSalt) << 16U);
   auto flipped = w;
   flip(flipped, 32 * 7 + 3);  // and one correctable data error on top: the fix is undone
   const auto before = flipped;
   EXPECT_EQ(udn::decode_packet(flipped, kDestIndex).status, udn::DecodeStatus::kCrcMismatch);
   EXPECT_EQ(flipped, before);
+}
+
+TEST(FtPacket, CrcFlagStrippedByRouteMiscorrectionIsCaughtBySaltAndPolicy) {
+  // The case a 32-bit burst produced in measurement: word 3 miscorrected from
+  // "16 words + CRC" to "17 words, no CRC", same word count.
+  Packet p = make_packet(16, true);
+  auto w = p.words;
+  w[udn::kWordRouteData] = (std::uint32_t{kDestIndex} << 16U) | 17U;
+  const std::array<std::uint32_t, 4> rw = {w[0], w[1], w[3], w[4]};
+  w[udn::kWordEcc] = (w[udn::kWordEcc] & ~udn::RouteCode::kCheckMask) | udn::RouteCode::encode(rw);
+  auto w2 = w;
+  EXPECT_EQ(udn::decode_packet(w, kDestIndex).status, udn::DecodeStatus::kUncorrectable);
+  EXPECT_EQ(udn::decode_packet(w2, kDestIndex, udn::CrcPolicy::kRequired).status, udn::DecodeStatus::kMalformed);
+  Packet plain = make_packet(4, false);
+  EXPECT_EQ(udn::decode_packet(plain.words, kDestIndex, udn::CrcPolicy::kRequired).status,
+            udn::DecodeStatus::kMalformed);
+  EXPECT_EQ(udn::decode_packet(plain.words, kDestIndex, udn::CrcPolicy::kAsFlagged).status, udn::DecodeStatus::kOk);
 }
 
 TEST(FtPacket, ReaddressKeepsDataCodeAndDecodesAtTheNewTile) {
