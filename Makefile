@@ -65,7 +65,7 @@ $(foreach p,$(PROGRAMS),$(eval SRC_prog_$(p) := $(call src_of,tools/$(p))))
 
 # A test binary per folder of tests/ that holds .cpp files directly:
 # tests/trn/vision/*.cpp -> build/tests/trn_vision_tests.
-TEST_DIRS := $(sort $(patsubst tests/%/,%,$(dir $(filter-out tests/support/% tests/bench/% tests/fixtures/%,$(call src_of,tests)))))
+TEST_DIRS := $(sort $(patsubst tests/%/,%,$(dir $(filter-out tests/support/% tests/bench/% tests/fixtures/% tests/fuzz/%,$(call src_of,tests)))))
 test_name = $(subst /,_,$(1))
 $(foreach d,$(TEST_DIRS),$(eval SRC_test_$(d) := $(wildcard tests/$(d)/*.cpp)))
 TEST_SUPPORT_SRC := $(call src_of,tests/support)
