@@ -1,0 +1,237 @@
+/**
+ * @file camera.cpp
+ * @brief Pinhole projection, height-field ray casting and the DDR frame ring.
+ */
+#include "bsp_tile64/devices/camera.hpp"
+
+#include "bsp_tile64/memory.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+namespace bsp {
+namespace {
+
+/** Scratch for the blur pass (static: no frame-sized stack or heap buffer). */
+std::uint8_t g_blur_scratch[std::size_t{kMaxCameraPx} * kMaxCameraPx];
+
+/** The grid as the ray caster sees it, in grid units (samples). */
+struct GridView {
+  const float* h;
+  const std::uint16_t* shade;
+  std::uint32_t n;
+  double max_g;      ///< n - 1
+  double inv_mpp;
+  double centre_px;
+};
+
+GridView grid_view() noexcept {
+  const world::TerrainConfig& c = world::terrain_config();
+  GridView g{};
+  g.h = world::detail::height_data();
+  g.shade = world::detail::shade_data();
+  g.n = c.size_px;
+  g.max_g = static_cast<double>(c.size_px - 1U);
+  g.inv_mpp = 1.0 / c.m_per_px;
+  g.centre_px = 0.5 * g.max_g;
+  return g;
+}
+
+/** Bilinear sample at grid coordinates known to lie in [0, n-1]^2. */
+template <class T>
+double sample(const T* grid, std::uint32_t n, double gx, double gy) noexcept {
+  const auto ix = std::min(static_cast<std::uint32_t>(gx), n - 2U);
+  const auto iy = std::min(static_cast<std::uint32_t>(gy), n - 2U);
+  const double fx = gx - static_cast<double>(ix);
+  const double fy = gy - static_cast<double>(iy);
+  const T* p = grid + std::size_t{iy} * n + ix;
+  const double a = static_cast<double>(p[0]);
+  const double b = static_cast<double>(p[1]);
+  const double top = a + (static_cast<double>(p[n]) - a) * fy;
+  const double bot = b + (static_cast<double>(p[n + 1U]) - b) * fy;
+  return top + (bot - top) * fx;
+}
+
+/** One ray: origin and direction with x, y in grid units and z in metres. */
+struct Ray {
+  double ox, oy, oz;
+  double dx, dy, dz;
+};
+
+/**
+ * Ray parameter of the terrain hit, by fixed-point iteration t = (h(p(t)) - oz) / dz
+ * from @p t_guess. Returns a negative value when the ray leaves the grid.
+ */
+double intersect(const GridView& g, const Ray& r, double t_guess) noexcept {
+  constexpr int kMaxIter = 8;
+  constexpr double kTolM = 0.01;
+  double t = t_guess;
+  for (int i = 0; i < kMaxIter; ++i) {
+    const double gx = r.ox + t * r.dx;
+    const double gy = r.oy + t * r.dy;
+    if (!(gx >= 0.0 && gy >= 0.0 && gx <= g.max_g && gy <= g.max_g)) {
+      return -1.0;
+    }
+    const double t_next = (sample(g.h, g.n, gx, gy) - r.oz) / r.dz;
+    const double step = std::fabs(t_next - t);
+    t = t_next;
+    if (step * std::fabs(r.dz) < kTolM) {
+      break;
+    }
+  }
+  return t;
+}
+
+/** Approximately standard normal from one 64-bit draw: the sum of four 16-bit uniforms (Irwin-Hall). */
+double fast_normal(Rng& rng) noexcept {
+  const std::uint64_t x = rng.next();
+  const double sum = static_cast<double>((x & 0xFFFFU) + ((x >> 16U) & 0xFFFFU) + ((x >> 32U) & 0xFFFFU) +
+                                         (x >> 48U));
+  constexpr double kMean = 2.0 * 65535.0;
+  constexpr double kInvSigma = 1.7320508075688772 / 65536.0;  // sigma of the sum: 65536 / sqrt(3)
+  return (sum - kMean) * kInvSigma;
+}
+
+struct RowJob {
+  const GridView* g;
+  const CameraModel* m;
+  Eigen::Matrix3d r_mc;
+  Eigen::Vector3d origin_m;
+  const RenderOptions* opt;
+  Rng* noise;
+};
+
+void render_row(const RowJob& job, std::uint32_t v, std::uint8_t* row) noexcept {
+  const GridView& g = *job.g;
+  const CameraModel& m = *job.m;
+  const Eigen::Vector3d d0 = job.r_mc * Eigen::Vector3d(-m.cx_px / m.fx_px, (v - m.cy_px) / m.fy_px, 1.0);
+  const Eigen::Vector3d du = job.r_mc.col(0) / m.fx_px;
+  Ray ray{job.origin_m.x() * g.inv_mpp + g.centre_px, job.origin_m.y() * g.inv_mpp + g.centre_px,
+          job.origin_m.z(), 0.0, 0.0, 0.0};
+  const bool noisy = job.noise != nullptr && job.opt->read_noise_dn > 0.0;
+  double t_prev = -1.0;
+  for (std::uint32_t u = 0; u < m.width_px; ++u) {
+    const Eigen::Vector3d d = d0 + static_cast<double>(u) * du;
+    double dn = 0.0;
+    if (d.z() < -1e-9) {
+      ray.dx = d.x() * g.inv_mpp;
+      ray.dy = d.y() * g.inv_mpp;
+      ray.dz = d.z();
+      const double t = intersect(g, ray, t_prev > 0.0 ? t_prev : -ray.oz / ray.dz);
+      t_prev = t;
+      if (t > 0.0) {
+        const double rad = sample(g.shade, g.n, ray.ox + t * ray.dx, ray.oy + t * ray.dy) * (1.0 / 65535.0);
+        dn = job.opt->exposure_dn * rad;
+      }
+    }
+    if (noisy) {
+      dn += job.opt->read_noise_dn * fast_normal(*job.noise);
+    }
+    row[u] = static_cast<std::uint8_t>(std::clamp(dn + 0.5, 0.0, 255.0));
+  }
+}
+
+/** 3x3 binomial blur from @p src into @p dst (edges replicate). */
+void blur3(const std::uint8_t* src, std::uint8_t* dst, std::uint32_t w, std::uint32_t h) noexcept {
+  for (std::uint32_t y = 0; y < h; ++y) {
+    const std::uint8_t* rows[3] = {src + std::size_t{y > 0U ? y - 1U : y} * w, src + std::size_t{y} * w,
+                                   src + std::size_t{y + 1U < h ? y + 1U : y} * w};
+    for (std::uint32_t x = 0; x < w; ++x) {
+      const std::uint32_t xl = x > 0U ? x - 1U : x;
+      const std::uint32_t xr = x + 1U < w ? x + 1U : x;
+      std::uint32_t acc = 0;
+      constexpr std::uint32_t kWeights[3] = {1U, 2U, 1U};
+      for (std::uint32_t k = 0; k < 3U; ++k) {
+        acc += kWeights[k] * (rows[k][xl] + 2U * rows[k][x] + rows[k][xr]);
+      }
+      dst[std::size_t{y} * w + x] = static_cast<std::uint8_t>((acc + 8U) / 16U);
+    }
+  }
+}
+
+}  // namespace
+
+Eigen::Matrix3d camera_to_map(const CameraModel& model, const CameraPose& pose) noexcept {
+  const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> r_bc(model.r_bc);
+  return pose.q_mb.toRotationMatrix() * r_bc;
+}
+
+PixelPoint project(const CameraModel& model, const CameraPose& pose, const Eigen::Vector3d& p_m) noexcept {
+  const Eigen::Vector3d p_c = camera_to_map(model, pose).transpose() * (p_m - pose.r_m);
+  PixelPoint out{0.0, 0.0, p_c.z() > 0.0};
+  if (out.in_front) {
+    out.u_px = model.cx_px + model.fx_px * p_c.x() / p_c.z();
+    out.v_px = model.cy_px + model.fy_px * p_c.y() / p_c.z();
+  }
+  return out;
+}
+
+CameraError render(const CameraModel& model, const CameraPose& pose, const RenderOptions& opt,
+                   std::uint8_t* out, Rng* noise) noexcept {
+  if (!world::terrain_ready() || !world::terrain_shaded()) {
+    return CameraError::kNotReady;
+  }
+  if (out == nullptr || model.width_px < 2U || model.height_px < 2U || model.width_px > kMaxCameraPx ||
+      model.height_px > kMaxCameraPx || model.fx_px <= 0.0 || model.fy_px <= 0.0) {
+    return CameraError::kBadConfig;
+  }
+  const GridView g = grid_view();
+  const RowJob job{&g, &model, camera_to_map(model, pose), pose.r_m, &opt, noise};
+  std::uint8_t* target = opt.blur ? g_blur_scratch : out;
+  for (std::uint32_t v = 0; v < model.height_px; ++v) {
+    render_row(job, v, target + std::size_t{v} * model.width_px);
+  }
+  if (opt.blur) {
+    blur3(g_blur_scratch, out, model.width_px, model.height_px);
+  }
+  return CameraError::kOk;
+}
+
+CameraError CameraDevice::init(const world::Trajectory* truth, const CameraConfig& cfg, std::uint64_t seed) noexcept {
+  if (truth == nullptr || !world::terrain_ready()) {
+    return CameraError::kNoTruth;
+  }
+  const bool ok = cfg.width_px >= 16U && cfg.width_px <= kMaxCameraPx && cfg.height_px >= 16U &&
+                  cfg.height_px <= kMaxCameraPx && cfg.fov_deg >= 10.0 && cfg.fov_deg <= 120.0 &&
+                  cfg.rate_hz >= 1.0 && cfg.rate_hz <= 2.0 && cfg.exposure_dn >= 1.0 &&
+                  cfg.exposure_dn <= 10000.0 && cfg.read_noise_dn >= 0.0 && cfg.read_noise_dn <= 50.0;
+  if (!ok) {
+    return CameraError::kBadConfig;
+  }
+  if (world::terrain_shade(cfg.sun) != world::WorldError::kOk) {
+    return CameraError::kNotReady;
+  }
+  const std::size_t frame_bytes = std::size_t{cfg.width_px} * cfg.height_px;
+  const Carve c = carve(Region{Region::kDdr}, frame_bytes * kCameraFrameBuffers, 64, "camera_frames");
+  if (c.error != MemError::kOk) {
+    return CameraError::kNoMemory;
+  }
+  ring_ = reinterpret_cast<std::uint8_t*>(c.ptr);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): raw DDR bytes
+  truth_ = truth;
+  cfg_ = cfg;
+  model_ = make_camera(cfg.width_px, cfg.height_px, cfg.fov_deg);
+  seq_ = 0;
+  rng_ = Rng(seed, StreamId::kSensor, kCameraStreamIndex);
+  return CameraError::kOk;
+}
+
+FrameInfo CameraDevice::capture(double t_s) noexcept {
+  FrameInfo f{nullptr, seq_, seq_ % kCameraFrameBuffers, t_s, CameraError::kNotReady};
+  if (ring_ == nullptr || truth_ == nullptr) {
+    return f;
+  }
+  std::uint8_t* buf = ring_ + std::size_t{f.buffer} * cfg_.width_px * cfg_.height_px;
+  const world::TruthState s = truth_->at(t_s);
+  const CameraPose pose{s.r_m, s.q_mb};
+  const RenderOptions opt{cfg_.exposure_dn, cfg_.read_noise_dn, cfg_.blur};
+  f.error = render(model_, pose, opt, buf, &rng_);
+  if (f.error == CameraError::kOk) {
+    f.pixels = buf;
+    ++seq_;
+  }
+  return f;
+}
+
+}  // namespace bsp
