@@ -1,0 +1,329 @@
+/**
+ * @file fault_injector_test.cpp
+ * @brief The fault injector: planned and random faults, ground truth, SEU, SDC, hang, reset, watchdog failure.
+ */
+#include "bsp_tile64/fault_injector.hpp"
+
+#include "board_fixture.hpp"
+#include "bsp_tile64/board.hpp"
+#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/trace.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <bit>
+#include <cstdint>
+#include <cstring>
+#include <span>
+#include <vector>
+
+namespace {
+
+using board_test::idle_forever;
+using board_test::small_config;
+using bsp::Cycles;
+using bsp::FaultKind;
+using bsp::FaultSpec;
+using bsp::FaultStatus;
+using bsp::TileId;
+
+constexpr std::size_t kDataBytes = 4096U;
+std::array<std::byte*, bsp::kMaxTiles> g_data{};
+
+void boot_data(TileId tile) {
+  const bsp::Carve c = bsp::carve(bsp::Region{tile}, kDataBytes, 64U, "data");
+  g_data[tile] = c.ptr;
+  if (c.ptr != nullptr) {
+    std::memset(c.ptr, 0x3C, kDataBytes);
+  }
+  idle_forever();
+}
+
+bsp::BoardConfig data_config(std::uint64_t powered) {
+  bsp::BoardConfig c = small_config();
+  c.powered_at_start = powered;
+  for (auto& e : c.boot) {
+    e = boot_data;
+  }
+  return c;
+}
+
+/** Bit positions (byte * 8 + bit) where two equal-sized buffers differ. */
+std::vector<std::size_t> diff_bits(std::span<const std::byte> a, std::span<const std::byte> b) {
+  std::vector<std::size_t> out;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const auto x = static_cast<unsigned>(a[i] ^ b[i]);
+    for (unsigned k = 0; k < 8U; ++k) {
+      if (((x >> k) & 1U) != 0U) {
+        out.push_back(i * 8U + k);
+      }
+    }
+  }
+  return out;
+}
+
+TEST(FaultInjector, RandomSeuFlipsExactlyOneBitAtTheLoggedAddress) {
+  g_data.fill(nullptr);
+  ASSERT_EQ(bsp::board_init(data_config(1U)), bsp::BoardError::kOk);
+  bsp::run_for(1000U);
+  ASSERT_NE(g_data[0], nullptr);
+  std::array<std::byte, kDataBytes> before{};
+  std::memcpy(before.data(), g_data[0], kDataBytes);
+  FaultSpec s{};
+  s.cycle = 5432U;
+  s.kind = FaultKind::kSeu;
+  s.tile = 0U;
+  ASSERT_EQ(bsp::fault_plan_add(s), bsp::FaultError::kOk);
+  bsp::run_for(9000U);
+  ASSERT_EQ(bsp::fault_log().size(), 1U);
+  const bsp::FaultRecord& r = bsp::fault_log()[0];
+  EXPECT_EQ(r.status, FaultStatus::kApplied);
+  EXPECT_EQ(r.applied_cycle, 5432U);
+  EXPECT_FALSE(r.random);
+  const auto diffs = diff_bits(before, {g_data[0], kDataBytes});
+  ASSERT_EQ(diffs.size(), 1U) << "exactly one bit flips";
+  const std::size_t data_offset = static_cast<std::size_t>(g_data[0] - bsp::region_span(bsp::Region{0}).data());
+  EXPECT_EQ(diffs[0], (r.offset - data_offset) * 8U + r.bit);
+  EXPECT_EQ(r.address, reinterpret_cast<std::uintptr_t>(g_data[0] + (r.offset - data_offset)));  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): compare with the logged address
+  const auto traced = board_test::events_of(bsp::BoardEvent::kFault, 0U);
+  ASSERT_EQ(traced.size(), 1U);
+  EXPECT_EQ(traced[0].time, 5432U);
+}
+
+TEST(FaultInjector, PlannedSeuFlipsTheChosenBitForEveryBitPosition) {
+  g_data.fill(nullptr);
+  ASSERT_EQ(bsp::board_init(data_config(1U)), bsp::BoardError::kOk);
+  bsp::run_for(1000U);
+  ASSERT_NE(g_data[0], nullptr);
+  const std::size_t base = static_cast<std::size_t>(g_data[0] - bsp::region_span(bsp::Region{0}).data());
+  for (std::uint32_t bit = 0; bit < 8U; ++bit) {
+    FaultSpec s{};
+    s.cycle = 2000U + 100U * bit;
+    s.kind = FaultKind::kSeu;
+    s.offset = base + std::size_t{10U} * bit;
+    s.bit = bit;
+    ASSERT_EQ(bsp::fault_plan_add(s), bsp::FaultError::kOk);
+  }
+  bsp::run_for(3000U);
+  ASSERT_EQ(bsp::fault_log().size(), 8U);
+  for (std::uint32_t bit = 0; bit < 8U; ++bit) {
+    EXPECT_EQ(static_cast<unsigned>(g_data[0][std::size_t{10U} * bit]), 0x3CU ^ (1U << bit)) << "bit " << bit;
+    EXPECT_EQ(bsp::fault_log()[bit].bit, bit);
+  }
+}
+
+TEST(FaultInjector, PlanIsAppliedInTimeOrderWhateverTheInsertionOrder) {
+  ASSERT_EQ(bsp::board_init(data_config(0b111U)), bsp::BoardError::kOk);
+  const std::array<Cycles, 3> at{7000U, 3000U, 5000U};
+  for (TileId t = 0; t < 3U; ++t) {
+    FaultSpec s{};
+    s.cycle = at[t];
+    s.kind = FaultKind::kWatchdogFail;
+    s.tile = t;
+    ASSERT_EQ(bsp::fault_plan_add(s), bsp::FaultError::kOk);
+  }
+  FaultSpec bad{};
+  bad.tile = 64U;
+  EXPECT_EQ(bsp::fault_plan_add(bad), bsp::FaultError::kBadTile);
+  bsp::run_for(10'000U);
+  const auto log = bsp::fault_log();
+  ASSERT_EQ(log.size(), 3U);
+  EXPECT_EQ(log[0].applied_cycle, 3000U);
+  EXPECT_EQ(log[1].applied_cycle, 5000U);
+  EXPECT_EQ(log[2].applied_cycle, 7000U);
+}
+
+std::array<std::uint32_t, bsp::kMaxTiles> g_kicks{};
+
+void boot_kicker(TileId tile) {
+  bsp::watchdog_arm(3000U, false);
+  for (int i = 0; i < 1000; ++i) {
+    bsp::consume(500U);
+    bsp::watchdog_kick();
+    ++g_kicks[tile];
+  }
+  idle_forever();
+}
+
+TEST(FaultInjector, PlannedHangStopsTheTileAtItsCycleAndTheWatchdogExpires) {
+  g_kicks.fill(0U);
+  bsp::BoardConfig c = small_config();
+  c.powered_at_start = 0b10U;
+  c.boot[1] = boot_kicker;
+  ASSERT_EQ(bsp::board_init(c), bsp::BoardError::kOk);
+  FaultSpec s{};
+  s.cycle = 5250U;
+  s.kind = FaultKind::kCoreHang;
+  s.tile = 1U;
+  ASSERT_EQ(bsp::fault_plan_add(s), bsp::FaultError::kOk);
+  bsp::run_for(20'000U);
+  EXPECT_EQ(g_kicks[1], 10U);  // kicks at 600 .. 5100; the hang at 5250 interrupts the next consume
+  EXPECT_TRUE(bsp::tile_stopped(1));
+  const auto hang = board_test::events_of(bsp::BoardEvent::kHang, 1U);
+  ASSERT_EQ(hang.size(), 1U);
+  EXPECT_EQ(hang[0].time, 5250U);
+  const auto expired = board_test::events_of(bsp::BoardEvent::kWatchdogExpired, 1U);
+  ASSERT_EQ(expired.size(), 1U);
+  EXPECT_EQ(expired[0].time, 8100U);  // last kick 5100 + 3000
+}
+
+TEST(FaultInjector, WatchdogFailureMeansTheWatchdogNeverExpires) {
+  g_kicks.fill(0U);
+  bsp::BoardConfig c = small_config();
+  c.powered_at_start = 0b11U;
+  c.boot[0] = boot_kicker;
+  c.boot[1] = boot_kicker;
+  ASSERT_EQ(bsp::board_init(c), bsp::BoardError::kOk);
+  for (TileId t = 0; t < 2U; ++t) {
+    FaultSpec hang{};
+    hang.cycle = 2000U;
+    hang.kind = FaultKind::kCoreHang;
+    hang.tile = t;
+    ASSERT_EQ(bsp::fault_plan_add(hang), bsp::FaultError::kOk);
+  }
+  FaultSpec wd{};
+  wd.cycle = 1000U;
+  wd.kind = FaultKind::kWatchdogFail;
+  wd.tile = 1U;
+  ASSERT_EQ(bsp::fault_plan_add(wd), bsp::FaultError::kOk);
+  bsp::run_for(20'000U);
+  EXPECT_EQ(bsp::tile_stats(0).watchdog_expiries, 1U);
+  EXPECT_EQ(bsp::tile_stats(1).watchdog_expiries, 0U) << "a failed watchdog expired";
+}
+
+void boot_counting(TileId tile) {
+  ++g_kicks[tile];
+  boot_data(tile);
+}
+
+TEST(FaultInjector, CrashResetEmptiesTheRegionAndBootsAgainAfterTheDelay) {
+  g_kicks.fill(0U);
+  bsp::BoardConfig c = small_config();
+  c.powered_at_start = 0b100U;
+  c.boot[2] = boot_counting;
+  ASSERT_EQ(bsp::board_init(c), bsp::BoardError::kOk);
+  FaultSpec s{};
+  s.cycle = 3333U;
+  s.kind = FaultKind::kCoreReset;
+  s.tile = 2U;
+  ASSERT_EQ(bsp::fault_plan_add(s), bsp::FaultError::kOk);
+  bsp::run_for(3400U);
+  EXPECT_EQ(bsp::power_state(2), bsp::PowerState::kBooting);
+  EXPECT_EQ(bsp::region_used(bsp::Region{2}), 0U);
+  bsp::run_for(1000U);
+  EXPECT_EQ(g_kicks[2], 2U);
+  EXPECT_EQ(bsp::tile_stats(2).resets, 1U);
+  const auto resets = board_test::events_of(bsp::BoardEvent::kReset, 2U);
+  ASSERT_EQ(resets.size(), 1U);
+  EXPECT_EQ(resets[0].time, 3333U);
+  EXPECT_EQ(resets[0].a, static_cast<std::uint64_t>(bsp::ResetReason::kFault));
+}
+
+std::vector<std::pair<Cycles, std::uint32_t>> g_published;
+
+void boot_publisher(TileId /*tile*/) {
+  for (std::uint32_t i = 0; i < 10U; ++i) {
+    bsp::consume(1000U);
+    std::uint32_t value = 0x1000U + i;
+    static_cast<void>(bsp::publish_filter(i % 2U == 0U ? 7U : 8U, &value, sizeof value));
+    g_published.emplace_back(bsp::now(), value);
+  }
+  idle_forever();
+}
+
+TEST(FaultInjector, SdcCorruptsTheNextPublicationOnItsChannelAndLogsTheBit) {
+  g_published.clear();
+  bsp::BoardConfig c = small_config();
+  c.powered_at_start = 1U;
+  c.boot[0] = boot_publisher;
+  ASSERT_EQ(bsp::board_init(c), bsp::BoardError::kOk);
+  FaultSpec s{};
+  s.cycle = 2500U;
+  s.kind = FaultKind::kSdc;
+  s.channel = 8U;
+  s.bit = 3U;
+  ASSERT_EQ(bsp::fault_plan_add(s), bsp::FaultError::kOk);
+  bsp::run_for(12'000U);
+  ASSERT_EQ(g_published.size(), 10U);
+  // Publications at 1100, 2100, ...: channel 8 is used by odd i; the first after 2500 is i = 3 at 4100.
+  for (std::uint32_t i = 0; i < 10U; ++i) {
+    const std::uint32_t expect = (i == 3U) ? ((0x1000U + i) ^ (1U << 3U)) : 0x1000U + i;
+    EXPECT_EQ(g_published[i].second, expect) << "publication " << i;
+  }
+  ASSERT_EQ(bsp::fault_log().size(), 1U);
+  const bsp::FaultRecord& r = bsp::fault_log()[0];
+  EXPECT_EQ(r.status, FaultStatus::kApplied);
+  EXPECT_EQ(r.applied_cycle, 4100U);
+  EXPECT_EQ(r.bit, 3U);
+  EXPECT_EQ(r.offset, 0U);
+}
+
+bsp::FaultStatus fake_link_fail(bsp::FaultRecord& r, bsp::Rng& /*rng*/) {
+  r.offset = r.spec.param;
+  return FaultStatus::kApplied;
+}
+
+TEST(FaultInjector, NetworkKindsAreUnsupportedUntilTheNetworkModelRegistersAHandler) {
+  ASSERT_EQ(bsp::board_init(data_config(0U)), bsp::BoardError::kOk);
+  FaultSpec s{};
+  s.cycle = 100U;
+  s.kind = FaultKind::kLinkFail;
+  s.tile = 9U;
+  s.param = 3U;
+  ASSERT_EQ(bsp::fault_plan_add(s), bsp::FaultError::kOk);
+  s.cycle = 2100U;
+  ASSERT_EQ(bsp::fault_plan_add(s), bsp::FaultError::kOk);
+  bsp::run_for(1000U);
+  ASSERT_EQ(bsp::fault_register_handler(FaultKind::kLinkFail, fake_link_fail), bsp::FaultError::kOk);
+  bsp::run_for(2000U);
+  ASSERT_EQ(bsp::fault_log().size(), 2U);
+  EXPECT_EQ(bsp::fault_log()[0].status, FaultStatus::kUnsupported);
+  EXPECT_EQ(bsp::fault_log()[1].status, FaultStatus::kApplied);
+  EXPECT_EQ(bsp::fault_log()[1].offset, 3U);
+  EXPECT_EQ(bsp::fault_log()[1].applied_cycle, 2100U);
+}
+
+std::vector<bsp::FaultRecord> random_campaign(std::uint64_t seed) {
+  bsp::BoardConfig c = data_config(~0ULL);
+  c.seed = seed;
+  EXPECT_EQ(bsp::board_init(c), bsp::BoardError::kOk);
+  EXPECT_EQ(bsp::fault_set_rate(FaultKind::kSeu, 1000.0), bsp::FaultError::kOk);
+  EXPECT_EQ(bsp::fault_set_rate(FaultKind::kCoreHang, 500.0), bsp::FaultError::kOk);
+  EXPECT_EQ(bsp::fault_set_rate(FaultKind::kSdc, -1.0), bsp::FaultError::kBadRate);
+  bsp::run_for(7'000'000U);  // 10 ms: 64 tiles x 1500/s x 0.01 s = 960 faults expected
+  const auto log = bsp::fault_log();
+  return {log.begin(), log.end()};
+}
+
+bool same(const bsp::FaultRecord& a, const bsp::FaultRecord& b) {
+  return a.spec.kind == b.spec.kind && a.spec.tile == b.spec.tile && a.applied_cycle == b.applied_cycle &&
+         a.offset == b.offset && a.bit == b.bit && a.status == b.status;
+}
+
+TEST(FaultInjector, RandomFaultsFollowTheRatesAndRepeatExactlyForASeed) {
+  const auto a = random_campaign(11U);
+  const auto b = random_campaign(11U);
+  const auto other = random_campaign(12U);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_TRUE(same(a[i], b[i])) << "record " << i;
+  }
+  // Poisson(960): 6 sigma is about 190.
+  EXPECT_GT(a.size(), 770U);
+  EXPECT_LT(a.size(), 1150U);
+  std::size_t seu = 0U;
+  for (const auto& r : a) {
+    EXPECT_TRUE(r.random);
+    seu += (r.spec.kind == FaultKind::kSeu) ? 1U : 0U;
+  }
+  EXPECT_GT(seu, a.size() / 2U);  // SEU is 2/3 of the rate
+  bool differs = other.size() != a.size();
+  for (std::size_t i = 0; !differs && i < a.size(); ++i) {
+    differs = !same(a[i], other[i]);
+  }
+  EXPECT_TRUE(differs) << "another seed gave the same faults";
+}
+
+}  // namespace
