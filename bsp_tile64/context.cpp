@@ -44,13 +44,18 @@ void asan_start(void** fake_save, const void* bottom, std::size_t size) noexcept
 #endif
 }
 
-/** Completes a switch; learns the stack of a context created by the host (its bounds are unknown). */
+/**
+ * Completes a switch and records where the context we came from really has its
+ * stack: a Context saved by context_switch() may have been made by the host or
+ * reused across stacks (a boot context after a reset), so its bounds are taken
+ * from ASan on every switch rather than trusted.
+ */
 void asan_finish(void* fake_save) noexcept {
 #if defined(__SANITIZE_ADDRESS__)
   const void* bottom = nullptr;
   std::size_t size = 0U;
   __sanitizer_finish_switch_fiber(fake_save, &bottom, &size);
-  if (g_switch_from != nullptr && g_switch_from->stack_base == nullptr) {
+  if (g_switch_from != nullptr && bottom != nullptr) {
     g_switch_from->stack_base = const_cast<void*>(bottom);  // NOLINT(cppcoreguidelines-pro-type-const-cast): ASan API gives a const pointer to a stack we own
     g_switch_from->stack_bytes = size;
   }
