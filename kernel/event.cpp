@@ -31,7 +31,7 @@ Status EventFlags::wait(std::uint32_t wanted, WaitMode mode, bool clear, Timeout
     result = flags_;
   } else if (to.ticks == kNoWait.ticks) {
     s = Status::kWouldBlock;
-  } else if (detail::in_isr()) {
+  } else if (!detail::can_block()) {
     s = Status::kBadState;
   } else {
     detail::KernelState& ks = *detail::current_kernel();
@@ -54,6 +54,9 @@ Status EventFlags::wait(std::uint32_t wanted, WaitMode mode, bool clear, Timeout
 void EventFlags::set_masked(std::uint32_t bits) noexcept {
   flags_ |= bits;
   detail::KernelState* ks = detail::current_kernel();
+  if (ks == nullptr) {
+    return;  // host code: no task can be waiting
+  }
   // Wake every satisfied waiter; each woken one is removed, so walk from the head.
   TaskId id = waiters_.head;
   for (std::uint32_t n = 0; id != kNoTask && n < config::kMaxTasks; ++n) {

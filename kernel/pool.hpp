@@ -47,12 +47,22 @@ class PoolBase {
   std::uint16_t head_;
 };
 
+namespace detail {
+/** Storage first among the bases, so it exists before PoolBase takes its address. */
 template <class T, std::uint32_t N>
-class Pool final : public PoolBase {
+struct PoolStorage {
+  alignas(T) std::array<std::byte, sizeof(T) * N> block_storage{};
+  std::array<std::uint16_t, N> link_storage{};
+  std::array<std::uint8_t, N> used_storage{};
+};
+}  // namespace detail
+
+template <class T, std::uint32_t N>
+class Pool final : private detail::PoolStorage<T, N>, public PoolBase {
   static_assert(N > 0U && N < 0xFFFFU, "pool capacity 1..65534");
 
  public:
-  Pool() noexcept : PoolBase(blocks_.data(), links_.data(), used_.data(), sizeof(T), N) {}
+  Pool() noexcept : PoolBase(this->block_storage.data(), this->link_storage.data(), this->used_storage.data(), sizeof(T), N) {}
   /** Typed allocate: a block for one T (uninitialised storage), or nullptr. */
   T* allocate_block(Status* s) noexcept {
     void* p = nullptr;
@@ -62,11 +72,6 @@ class Pool final : public PoolBase {
     }
     return static_cast<T*>(p);
   }
-
- private:
-  alignas(T) std::array<std::byte, sizeof(T) * N> blocks_{};
-  std::array<std::uint16_t, N> links_{};
-  std::array<std::uint8_t, N> used_{};
 };
 
 }  // namespace k

@@ -40,7 +40,7 @@ Status QueueBase::send_masked(const void* item, Timeout to) noexcept {
     if (to.ticks == kNoWait.ticks) {
       return Status::kExhausted;
     }
-    if (detail::in_isr()) {
+    if (!detail::can_block()) {
       return Status::kBadState;
     }
     if (detail::block_current(&senders_, to, 0) == detail::WakeReason::kTimeout) {
@@ -60,7 +60,7 @@ Status QueueBase::receive_masked(void* item, Timeout to) noexcept {
     if (to.ticks == kNoWait.ticks) {
       return Status::kWouldBlock;
     }
-    if (detail::in_isr()) {
+    if (!detail::can_block()) {
       return Status::kBadState;
     }
     if (detail::block_current(&receivers_, to, 0) == detail::WakeReason::kTimeout) {

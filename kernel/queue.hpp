@@ -56,20 +56,25 @@ class QueueBase {
   detail::WaitList senders_{};
 };
 
+namespace detail {
+/** Storage first among the bases, so it exists before QueueBase takes its address. */
 template <class T, std::uint32_t N>
-class Queue final : public QueueBase {
+struct QueueStorage {
+  alignas(T) std::array<std::byte, sizeof(T) * N> ring_storage{};
+};
+}  // namespace detail
+
+template <class T, std::uint32_t N>
+class Queue final : private detail::QueueStorage<T, N>, public QueueBase {
   static_assert(std::is_trivially_copyable_v<T>, "queue items are copied bytewise");
   static_assert(N > 0U, "a queue holds at least one item");
 
  public:
-  Queue() noexcept : QueueBase(storage_.data(), sizeof(T), N) {}
+  Queue() noexcept : QueueBase(this->ring_storage.data(), sizeof(T), N) {}
   Status send(const T& item, Timeout to) noexcept { return QueueBase::send(&item, to); }
   Status send_from_isr(const T& item) noexcept { return QueueBase::send_from_isr(&item); }
   Status receive(T& item, Timeout to) noexcept { return QueueBase::receive(&item, to); }
   Status receive_from_isr(T& item) noexcept { return QueueBase::receive_from_isr(&item); }
-
- private:
-  alignas(T) std::array<std::byte, sizeof(T) * N> storage_{};
 };
 
 }  // namespace k

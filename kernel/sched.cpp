@@ -165,6 +165,8 @@ KernelState* current_kernel() noexcept {
   return t < bsp::kMaxTiles ? g_slots[t].ks : nullptr;
 }
 
+bool can_block() noexcept { return current_kernel() != nullptr && !in_isr(); }
+
 bool in_isr() noexcept {
   const bsp::TileId t = bsp::current_tile();
   return t < bsp::kMaxTiles && g_slots[t].in_isr;
@@ -262,7 +264,11 @@ void wake_task(TaskId id, std::uint32_t result) noexcept {
 }
 
 void reschedule() noexcept {
-  KernelState& ks = *current_kernel();
+  KernelState* kp = current_kernel();
+  if (kp == nullptr) {
+    return;  // not on a tile (host code): nothing to schedule
+  }
+  KernelState& ks = *kp;
   const Tcb& cur = ks.tcbs[ks.current];
   if (cur.spec->policy == Policy::kCooperative) {
     return;  // a cooperative task keeps the CPU until it blocks or yields
@@ -392,6 +398,9 @@ Status start(TaskTable table, bsp::Cycles tick_cycles) noexcept {
 }
 
 void yield() noexcept {
+  if (!detail::can_block()) {
+    return;
+  }
   const bool m = bsp::mask_irqs(true);
   KernelState& ks = *detail::current_kernel();
   if (!detail::outgoing_ok(ks)) {
@@ -412,6 +421,9 @@ Ticks now_ticks() noexcept {
 }
 
 void sleep_until(Ticks tick) noexcept {
+  if (!detail::can_block()) {
+    return;
+  }
   const bool m = bsp::mask_irqs(true);
   KernelState& ks = *detail::current_kernel();
   if (tick > ks.ticks) {
@@ -432,6 +444,9 @@ void sleep(Ticks ticks) noexcept {
 }
 
 Status wait_period() noexcept {
+  if (!detail::can_block()) {
+    return Status::kBadState;
+  }
   const bool m = bsp::mask_irqs(true);
   KernelState& ks = *detail::current_kernel();
   Tcb& t = ks.tcbs[ks.current];

@@ -15,7 +15,7 @@ Status Semaphore::take(Timeout to) noexcept {
     --count_;
   } else if (to.ticks == kNoWait.ticks) {
     s = Status::kWouldBlock;
-  } else if (detail::in_isr()) {
+  } else if (!detail::can_block()) {
     s = Status::kBadState;
   } else {
     // give() hands the unit straight to the woken waiter (count stays 0).

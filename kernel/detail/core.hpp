@@ -17,6 +17,9 @@ struct WaitList {
 /** Kernel state of the current tile (nullptr if its kernel is not running). */
 KernelState* current_kernel() noexcept;
 
+/** True on a task of a tile whose kernel runs (not host code, not an interrupt hook). */
+bool can_block() noexcept;
+
 /** True while the kernel's interrupt handler runs on this tile. */
 bool in_isr() noexcept;
 

@@ -1,0 +1,196 @@
+/**
+ * @file sched_test.cpp
+ * @brief Scheduling by token traces: priorities, FIFO, cooperative yield, preemption at a tick
+ *        inside charged work, periodic releases, deadline and overrun accounting.
+ */
+#include "tests/kernel/kernel_fixture.hpp"
+
+#include <array>
+
+namespace {
+
+using ktest::kBoot;
+using ktest::kStack;
+using ktest::kTick;
+using ktest::token;
+using ktest::tokens;
+
+void say_a(void*) { token('A'); }
+void say_b(void*) { token('B'); }
+void say_c(void*) { token('C'); }
+
+TEST(Sched, MostUrgentPriorityRunsFirst) {
+  static constexpr k::TaskSpec kTable[] = {
+      {"a", &say_a, nullptr, 3, 0, 0, kStack, k::Policy::kPreemptive},
+      {"b", &say_b, nullptr, 1, 0, 0, kStack, k::Policy::kPreemptive},
+      {"c", &say_c, nullptr, 2, 0, 0, kStack, k::Policy::kPreemptive},
+  };
+  static_assert(k::check_table(kTable) == k::TableError::kOk);
+  ktest::run_table(kTable, 5 * kTick);
+  EXPECT_EQ(tokens(), "BCA");
+}
+
+TEST(Sched, EqualPrioritiesRunInTableOrder) {
+  static constexpr k::TaskSpec kTable[] = {
+      {"a", &say_a, nullptr, 4, 0, 0, kStack, k::Policy::kPreemptive},
+      {"b", &say_b, nullptr, 4, 0, 0, kStack, k::Policy::kPreemptive},
+      {"c", &say_c, nullptr, 4, 0, 0, kStack, k::Policy::kPreemptive},
+  };
+  ktest::run_table(kTable, 5 * kTick);
+  EXPECT_EQ(tokens(), "ABC");
+}
+
+void yield_loop(void* arg) {
+  const char c = *static_cast<const char*>(arg);
+  for (int i = 0; i < 3; ++i) {
+    token(c);
+    bsp::consume(1000);
+    k::yield();
+  }
+}
+
+TEST(Sched, CooperativeTasksAlternateOnYield) {
+  static const char kX = 'x';
+  static const char kY = 'y';
+  static constexpr k::TaskSpec kTable[] = {
+      {"x", &yield_loop, const_cast<char*>(&kX), 4, 0, 0, kStack, k::Policy::kCooperative},
+      {"y", &yield_loop, const_cast<char*>(&kY), 4, 0, 0, kStack, k::Policy::kCooperative},
+  };
+  ktest::run_table(kTable, 5 * kTick);
+  EXPECT_EQ(tokens(), "xyxyxy");
+}
+
+bsp::Cycles g_high_ran_at = 0;
+bsp::Cycles g_low_started_at = 0;
+bsp::Cycles g_low_done_at = 0;
+
+void high_sleeper(void*) {
+  k::sleep(2);
+  g_high_ran_at = bsp::now();
+  token('H');
+}
+
+void low_worker(void*) {
+  g_low_started_at = bsp::now();
+  token('l');
+  bsp::consume(3 * kTick + kTick / 2);  // 3.5 ticks of work, crossing ticks 1, 2 and 3
+  g_low_done_at = bsp::now();
+  token('L');
+}
+
+TEST(Sched, TickInsideChargedWorkPreemptsAtItsExactCycle) {
+  static constexpr k::TaskSpec kTable[] = {
+      {"high", &high_sleeper, nullptr, 1, 0, 0, kStack, k::Policy::kPreemptive},
+      {"low", &low_worker, nullptr, 5, 0, 0, kStack, k::Policy::kPreemptive},
+  };
+  ktest::run_table(kTable, 10 * kTick);
+  EXPECT_EQ(tokens(), "lHL");
+  EXPECT_EQ(g_low_started_at, kBoot);
+  EXPECT_EQ(g_high_ran_at, kBoot + 2 * kTick) << "woken by the tick at its exact cycle";
+  // The preempting task charged nothing, so the low task's work ends on time.
+  EXPECT_EQ(g_low_done_at, kBoot + 3 * kTick + kTick / 2);
+}
+
+TEST(Sched, CooperativeTaskIsNotPreempted) {
+  static constexpr k::TaskSpec kTable[] = {
+      {"high", &high_sleeper, nullptr, 1, 0, 0, kStack, k::Policy::kPreemptive},
+      {"low", &low_worker, nullptr, 5, 0, 0, kStack, k::Policy::kCooperative},
+  };
+  ktest::run_table(kTable, 10 * kTick);
+  EXPECT_EQ(tokens(), "lLH");
+  EXPECT_EQ(g_high_ran_at, g_low_done_at) << "the urgent task runs when the cooperative one ends";
+}
+
+std::array<k::Ticks, 8> g_release_ticks{};
+std::array<bsp::Cycles, 8> g_release_cycles{};
+
+void periodic_recorder(void*) {
+  for (std::size_t i = 0; i < g_release_ticks.size(); ++i) {
+    g_release_ticks[i] = k::now_ticks();
+    g_release_cycles[i] = bsp::now();
+    token('p');
+    bsp::consume(kTick / 10);
+    ASSERT_EQ(k::wait_period(), k::Status::kOk);
+  }
+}
+
+TEST(Sched, PeriodicTaskIsReleasedAtExactTicks) {
+  static constexpr k::TaskSpec kTable[] = {
+      {"periodic", &periodic_recorder, nullptr, 2, 3, 3, kStack, k::Policy::kPreemptive},
+  };
+  ktest::run_table(kTable, kBoot + 12 * kTick + kTick / 2);  // releases at ticks 0, 3, 6, 9, 12
+  EXPECT_EQ(tokens(), "ppppp");
+  for (std::size_t i = 0; i < 5; ++i) {
+    EXPECT_EQ(g_release_ticks[i], 3 * i) << "job " << i;
+    EXPECT_EQ(g_release_cycles[i], kBoot + 3 * i * kTick) << "job " << i;
+  }
+  const k::TaskStats s = ktest::stats_of("periodic");
+  EXPECT_EQ(s.jobs, 5U);  // the fifth job (tick 12) ends at 12.1 ticks
+  EXPECT_EQ(s.deadline_misses, 0U);
+  EXPECT_EQ(s.overruns, 0U);
+}
+
+void overloaded(void*) {
+  for (int i = 0; i < 100; ++i) {
+    token('o');
+    bsp::consume(3 * kTick);  // 3 ticks of work every 2-tick period
+    ASSERT_EQ(k::wait_period(), k::Status::kOk);
+  }
+}
+
+TEST(Sched, OverloadedTaskCountsDeadlineMissesAndSkipsReleases) {
+  static constexpr k::TaskSpec kTable[] = {
+      {"over", &overloaded, nullptr, 2, 2, 2, kStack, k::Policy::kPreemptive},
+  };
+  // Jobs start at ticks 0, 4, 8, 12, 16 and end 3 ticks later; each misses its
+  // deadline (start + 2) and the release at start + 2 is skipped.
+  ktest::run_table(kTable, kBoot + 19 * kTick + kTick / 2);
+  EXPECT_EQ(tokens(), "ooooo");
+  const k::TaskStats s = ktest::stats_of("over");
+  EXPECT_EQ(s.jobs, 5U);
+  EXPECT_EQ(s.deadline_misses, 5U);
+  EXPECT_EQ(s.overruns, 5U);
+}
+
+void spin_forever(void*) {
+  for (;;) {
+    bsp::consume(kTick / 4);
+  }
+}
+
+TEST(Sched, SameTablesGiveTheSameTraceHash) {
+  static constexpr k::TaskSpec kTable[] = {
+      {"high", &high_sleeper, nullptr, 1, 0, 0, kStack, k::Policy::kPreemptive},
+      {"low", &low_worker, nullptr, 5, 0, 0, kStack, k::Policy::kPreemptive},
+      {"spin", &spin_forever, nullptr, 7, 0, 0, kStack, k::Policy::kPreemptive},
+      {"periodic", &periodic_recorder, nullptr, 2, 3, 3, kStack, k::Policy::kPreemptive},
+  };
+  ktest::run_table(kTable, 30 * kTick);
+  const std::uint64_t h1 = bsp::trace_hash();
+  ktest::run_table(kTable, 30 * kTick);
+  EXPECT_EQ(bsp::trace_hash(), h1);
+  EXPECT_GT(bsp::trace_count(), 30U);
+}
+
+TEST(TaskTable, CompileTimeChecksRejectBadTables) {
+  constexpr k::TaskSpec kDup[] = {
+      {"a", &say_a, nullptr, 3, 0, 0, kStack, k::Policy::kPreemptive},
+      {"a", &say_b, nullptr, 3, 0, 0, kStack, k::Policy::kPreemptive},
+  };
+  static_assert(k::check_table(kDup) == k::TableError::kDuplicateName);
+  constexpr k::TaskSpec kIdlePrio[] = {{"a", &say_a, nullptr, 31, 0, 0, kStack, k::Policy::kPreemptive}};
+  static_assert(k::check_table(kIdlePrio) == k::TableError::kBadPriority);
+  constexpr k::TaskSpec kSmall[] = {{"a", &say_a, nullptr, 3, 0, 0, 1024, k::Policy::kPreemptive}};
+  static_assert(k::check_table(kSmall) == k::TableError::kStackTooSmall);
+  constexpr k::TaskSpec kLate[] = {{"a", &say_a, nullptr, 3, 5, 6, kStack, k::Policy::kPreemptive}};
+  static_assert(k::check_table(kLate) == k::TableError::kDeadlineAfterPeriod);
+  constexpr k::TaskSpec kHuge[] = {{"a", &say_a, nullptr, 3, 0, 0, 512U * 1024U, k::Policy::kPreemptive}};
+  static_assert(k::check_table(kHuge) == k::TableError::kOverBudget);
+  constexpr k::TaskSpec kNull[] = {{"a", nullptr, nullptr, 3, 0, 0, kStack, k::Policy::kPreemptive}};
+  static_assert(k::check_table(kNull) == k::TableError::kNullEntry);
+  // The same checks at run time: start() refuses a bad table.
+  EXPECT_EQ(k::check_table(kDup), k::TableError::kDuplicateName);
+  EXPECT_EQ(k::check_table(k::TaskTable{}), k::TableError::kEmpty);
+}
+
+}  // namespace
