@@ -14,13 +14,18 @@
 namespace bsp {
 namespace {
 
+/** Side of the pixel blocks rendered together: their ground footprint stays in cache. */
+constexpr std::uint32_t kBlockPx = 16;
+constexpr std::uint32_t kMaxNodes = kMaxCameraPx / kBlockPx + 1U;
+
 /** Scratch for the blur pass (static: no frame-sized stack or heap buffer). */
 std::uint8_t g_blur_scratch[std::size_t{kMaxCameraPx} * kMaxCameraPx];
+/** Ray parameters of the hits at block corners: the first guesses of the pixels between them. */
+double g_node_t[std::size_t{kMaxNodes} * kMaxNodes];
 
 /** The grid as the ray caster sees it, in grid units (samples). */
 struct GridView {
-  const float* h;
-  const std::uint16_t* shade;
+  const world::detail::Cell* cells;
   std::uint32_t n;
   double max_g;      ///< n - 1
   double inv_mpp;
@@ -30,8 +35,7 @@ struct GridView {
 GridView grid_view() noexcept {
   const world::TerrainConfig& c = world::terrain_config();
   GridView g{};
-  g.h = world::detail::height_data();
-  g.shade = world::detail::shade_data();
+  g.cells = world::detail::cell_data();
   g.n = c.size_px;
   g.max_g = static_cast<double>(c.size_px - 1U);
   g.inv_mpp = 1.0 / c.m_per_px;
@@ -39,18 +43,19 @@ GridView grid_view() noexcept {
   return g;
 }
 
-/** Bilinear sample at grid coordinates known to lie in [0, n-1]^2. */
+/** Bilinear sample of a cell member at grid coordinates known to lie in [0, n-1]^2. */
 template <class T>
-double sample(const T* grid, std::uint32_t n, double gx, double gy) noexcept {
+double sample(const GridView& g, T world::detail::Cell::*field, double gx, double gy) noexcept {
+  const std::uint32_t n = g.n;
   const auto ix = std::min(static_cast<std::uint32_t>(gx), n - 2U);
   const auto iy = std::min(static_cast<std::uint32_t>(gy), n - 2U);
   const double fx = gx - static_cast<double>(ix);
   const double fy = gy - static_cast<double>(iy);
-  const T* p = grid + std::size_t{iy} * n + ix;
-  const double a = static_cast<double>(p[0]);
-  const double b = static_cast<double>(p[1]);
-  const double top = a + (static_cast<double>(p[n]) - a) * fy;
-  const double bot = b + (static_cast<double>(p[n + 1U]) - b) * fy;
+  const world::detail::Cell* p = g.cells + std::size_t{iy} * n + ix;
+  const double a = static_cast<double>(p[0].*field);
+  const double b = static_cast<double>(p[1].*field);
+  const double top = a + (static_cast<double>(p[n].*field) - a) * fy;
+  const double bot = b + (static_cast<double>(p[n + 1U].*field) - b) * fy;
   return top + (bot - top) * fx;
 }
 
@@ -74,7 +79,7 @@ double intersect(const GridView& g, const Ray& r, double t_guess) noexcept {
     if (!(gx >= 0.0 && gy >= 0.0 && gx <= g.max_g && gy <= g.max_g)) {
       return -1.0;
     }
-    const double t_next = (sample(g.h, g.n, gx, gy) - r.oz) / r.dz;
+    const double t_next = (sample(g, &world::detail::Cell::height_m, gx, gy) - r.oz) / r.dz;
     const double step = std::fabs(t_next - t);
     t = t_next;
     if (step * std::fabs(r.dz) < kTolM) {
@@ -96,40 +101,87 @@ double fast_normal(Rng& rng) noexcept {
 
 struct RowJob {
   const GridView* g;
-  const CameraModel* m;
-  Eigen::Matrix3d r_mc;
+  Eigen::Vector3d d00;  ///< map-frame ray direction of pixel (0, 0) (camera z component 1)
+  Eigen::Vector3d du;   ///< change of the direction per column
+  Eigen::Vector3d dv;   ///< change of the direction per row
   Eigen::Vector3d origin_m;
+  std::uint32_t width_px;
   const RenderOptions* opt;
   Rng* noise;
 };
 
-void render_row(const RowJob& job, std::uint32_t v, std::uint8_t* row) noexcept {
+Ray ray_from(const RowJob& job, const Eigen::Vector3d& d) noexcept {
   const GridView& g = *job.g;
-  const CameraModel& m = *job.m;
-  const Eigen::Vector3d d0 = job.r_mc * Eigen::Vector3d(-m.cx_px / m.fx_px, (v - m.cy_px) / m.fy_px, 1.0);
-  const Eigen::Vector3d du = job.r_mc.col(0) / m.fx_px;
-  Ray ray{job.origin_m.x() * g.inv_mpp + g.centre_px, job.origin_m.y() * g.inv_mpp + g.centre_px,
-          job.origin_m.z(), 0.0, 0.0, 0.0};
-  const bool noisy = job.noise != nullptr && job.opt->read_noise_dn > 0.0;
-  double t_prev = -1.0;
-  for (std::uint32_t u = 0; u < m.width_px; ++u) {
-    const Eigen::Vector3d d = d0 + static_cast<double>(u) * du;
-    double dn = 0.0;
-    if (d.z() < -1e-9) {
-      ray.dx = d.x() * g.inv_mpp;
-      ray.dy = d.y() * g.inv_mpp;
-      ray.dz = d.z();
-      const double t = intersect(g, ray, t_prev > 0.0 ? t_prev : -ray.oz / ray.dz);
-      t_prev = t;
-      if (t > 0.0) {
-        const double rad = sample(g.shade, g.n, ray.ox + t * ray.dx, ray.oy + t * ray.dy) * (1.0 / 65535.0);
-        dn = job.opt->exposure_dn * rad;
+  return Ray{job.origin_m.x() * g.inv_mpp + g.centre_px, job.origin_m.y() * g.inv_mpp + g.centre_px,
+             job.origin_m.z(), d.x() * g.inv_mpp, d.y() * g.inv_mpp, d.z()};
+}
+
+/**
+ * Hits of the rays through the block corners (u, v multiples of kBlockPx),
+ * each iterated from the datum plane; -1 where the ray misses.
+ */
+void node_hits(const RowJob& job, std::uint32_t nu, std::uint32_t nv) noexcept {
+  for (std::uint32_t j = 0; j < nv; ++j) {
+    double t_prev = -1.0;
+    for (std::uint32_t i = 0; i < nu; ++i) {
+      const Eigen::Vector3d d = job.d00 + static_cast<double>(i * kBlockPx) * job.du +
+                                static_cast<double>(j * kBlockPx) * job.dv;
+      double t = -1.0;
+      if (d.z() < -1e-9) {
+        const Ray ray = ray_from(job, d);
+        t = intersect(*job.g, ray, t_prev > 0.0 ? t_prev : -ray.oz / ray.dz);
       }
+      g_node_t[std::size_t{j} * kMaxNodes + i] = t;
+      t_prev = t;
     }
-    if (noisy) {
-      dn += job.opt->read_noise_dn * fast_normal(*job.noise);
+  }
+}
+
+/** First guess of the hit of pixel (u, v): bilinear in the corner hits, the datum plane if one missed. */
+double guess_t(std::uint32_t u, std::uint32_t v, const Ray& ray) noexcept {
+  const std::uint32_t i = u / kBlockPx;
+  const std::uint32_t j = v / kBlockPx;
+  const double* n = g_node_t + std::size_t{j} * kMaxNodes + i;
+  if (n[0] <= 0.0 || n[1] <= 0.0 || n[kMaxNodes] <= 0.0 || n[kMaxNodes + 1U] <= 0.0) {
+    return -ray.oz / ray.dz;
+  }
+  const double fu = static_cast<double>(u - i * kBlockPx) * (1.0 / kBlockPx);
+  const double fv = static_cast<double>(v - j * kBlockPx) * (1.0 / kBlockPx);
+  const double top = n[0] + (n[1] - n[0]) * fu;
+  const double bot = n[kMaxNodes] + (n[kMaxNodes + 1U] - n[kMaxNodes]) * fu;
+  return top + (bot - top) * fv;
+}
+
+/**
+ * Renders the block of pixels [u0, u1) x [v0, v1). Pixels start from the
+ * corner-hit guess, not from their neighbour, so their memory accesses are
+ * independent and overlap.
+ */
+void render_block(const RowJob& job, std::uint32_t u0, std::uint32_t u1, std::uint32_t v0, std::uint32_t v1,
+                  std::uint8_t* out) noexcept {
+  const GridView& g = *job.g;
+  Ray ray = ray_from(job, job.d00);
+  const bool noisy = job.noise != nullptr && job.opt->read_noise_dn > 0.0;
+  const double gain = job.opt->exposure_dn * (1.0 / 65535.0);
+  for (std::uint32_t v = v0; v < v1; ++v) {
+    const Eigen::Vector3d d_row = job.d00 + static_cast<double>(v) * job.dv;
+    for (std::uint32_t u = u0; u < u1; ++u) {
+      const Eigen::Vector3d d = d_row + static_cast<double>(u) * job.du;
+      double dn = 0.0;
+      if (d.z() < -1e-9) {
+        ray.dx = d.x() * g.inv_mpp;
+        ray.dy = d.y() * g.inv_mpp;
+        ray.dz = d.z();
+        const double t = intersect(g, ray, guess_t(u, v, ray));
+        if (t > 0.0) {
+          dn = gain * sample(g, &world::detail::Cell::shade, ray.ox + t * ray.dx, ray.oy + t * ray.dy);
+        }
+      }
+      if (noisy) {
+        dn += job.opt->read_noise_dn * fast_normal(*job.noise);
+      }
+      out[std::size_t{v} * job.width_px + u] = static_cast<std::uint8_t>(std::clamp(dn + 0.5, 0.0, 255.0));
     }
-    row[u] = static_cast<std::uint8_t>(std::clamp(dn + 0.5, 0.0, 255.0));
   }
 }
 
@@ -178,10 +230,22 @@ CameraError render(const CameraModel& model, const CameraPose& pose, const Rende
     return CameraError::kBadConfig;
   }
   const GridView g = grid_view();
-  const RowJob job{&g, &model, camera_to_map(model, pose), pose.r_m, &opt, noise};
+  const Eigen::Matrix3d r_mc = camera_to_map(model, pose);
+  const RowJob job{&g,
+                   r_mc * Eigen::Vector3d(-model.cx_px / model.fx_px, -model.cy_px / model.fy_px, 1.0),
+                   r_mc.col(0) / model.fx_px,
+                   r_mc.col(1) / model.fy_px,
+                   pose.r_m,
+                   model.width_px,
+                   &opt,
+                   noise};
   std::uint8_t* target = opt.blur ? g_blur_scratch : out;
-  for (std::uint32_t v = 0; v < model.height_px; ++v) {
-    render_row(job, v, target + std::size_t{v} * model.width_px);
+  node_hits(job, (model.width_px + kBlockPx - 1U) / kBlockPx + 1U, (model.height_px + kBlockPx - 1U) / kBlockPx + 1U);
+  for (std::uint32_t v0 = 0; v0 < model.height_px; v0 += kBlockPx) {
+    const std::uint32_t v1 = std::min(v0 + kBlockPx, model.height_px);
+    for (std::uint32_t u0 = 0; u0 < model.width_px; u0 += kBlockPx) {
+      render_block(job, u0, std::min(u0 + kBlockPx, model.width_px), v0, v1, target);
+    }
   }
   if (opt.blur) {
     blur3(g_blur_scratch, out, model.width_px, model.height_px);

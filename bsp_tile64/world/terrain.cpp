@@ -18,9 +18,7 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr std::size_t kCells = std::size_t{kMaxTerrainPx} * kMaxTerrainPx;
 
 // The grid: truth, static so the board never touches the heap.
-float g_height[kCells];
-std::uint8_t g_albedo[kCells];
-std::uint16_t g_shade[kCells];
+detail::Cell g_cells[kCells];
 
 TerrainConfig g_cfg;
 std::uint32_t g_n = 0;
@@ -91,8 +89,8 @@ void build_relief(Rng& rng) noexcept {
       const double wl_a = 1.0 / 1500.0;
       const double a = 0.22 + 0.05 * value_noise(keys[kMaxOctaves], x * wl_a, y * wl_a) +
                        0.02 * value_noise(keys[kMaxOctaves + 1], x * wl_a * 8.0, y * wl_a * 8.0);
-      g_height[cell(ix, iy)] = static_cast<float>(h);
-      g_albedo[cell(ix, iy)] = static_cast<std::uint8_t>(std::lround(std::clamp(a, 0.0, 1.0) * 255.0));
+      g_cells[cell(ix, iy)].height_m = static_cast<float>(h);
+      g_cells[cell(ix, iy)].albedo = static_cast<std::uint8_t>(std::lround(std::clamp(a, 0.0, 1.0) * 255.0));
     }
   }
 }
@@ -120,8 +118,8 @@ void crater_profile(const Crater& c, double r, double* dh_m, double* dalb) noexc
 }
 
 void add_albedo(std::size_t k, double da) noexcept {
-  const double a = static_cast<double>(g_albedo[k]) + da * 255.0;
-  g_albedo[k] = static_cast<std::uint8_t>(std::lround(std::clamp(a, 0.0, 255.0)));
+  const double a = static_cast<double>(g_cells[k].albedo) + da * 255.0;
+  g_cells[k].albedo = static_cast<std::uint8_t>(std::lround(std::clamp(a, 0.0, 255.0)));
 }
 
 void stamp_crater(const Crater& c) noexcept {
@@ -145,7 +143,7 @@ void stamp_crater(const Crater& c) noexcept {
       double dh = 0.0;
       double da = 0.0;
       crater_profile(c, r, &dh, &da);
-      g_height[cell(ix, iy)] += static_cast<float>(dh);
+      g_cells[cell(ix, iy)].height_m += static_cast<float>(dh);
       add_albedo(cell(ix, iy), da);
     }
   }
@@ -157,13 +155,11 @@ void build_craters(Rng& rng) noexcept {
   const double expected = g_cfg.crater_density_per_km2 * side_km * side_km;
   constexpr double kMaxCraters = 200000.0;
   const auto count = static_cast<std::uint32_t>(std::min(expected, kMaxCraters));
-  const double b = g_cfg.crater_sfd_exponent;
-  const double ratio = std::pow(g_cfg.crater_min_d_m / g_cfg.crater_max_d_m, b);
   for (std::uint32_t i = 0; i < count; ++i) {
     Crater c{};
     c.x_m = rng.uniform(-g_half_m, g_half_m);
     c.y_m = rng.uniform(-g_half_m, g_half_m);
-    c.d_m = g_cfg.crater_min_d_m * std::pow(1.0 - rng.uniform() * (1.0 - ratio), -1.0 / b);
+    c.d_m = detail::crater_diameter_m(rng.uniform(), g_cfg);
     c.freshness = rng.uniform(0.3, 1.0);
     stamp_crater(c);
   }
@@ -179,10 +175,10 @@ void build_boulders(Rng& rng) noexcept {
     const auto ix = static_cast<std::uint32_t>(rng.below(g_n - 2U)) + 1U;
     const auto iy = static_cast<std::uint32_t>(rng.below(g_n - 2U)) + 1U;
     const double h = rng.uniform(1.0, 4.0);
-    g_height[cell(ix, iy)] += static_cast<float>(h);
+    g_cells[cell(ix, iy)].height_m += static_cast<float>(h);
     add_albedo(cell(ix, iy), 0.08);
     for (const std::size_t k : {cell(ix - 1U, iy), cell(ix + 1U, iy), cell(ix, iy - 1U), cell(ix, iy + 1U)}) {
-      g_height[k] += static_cast<float>(0.4 * h);
+      g_cells[k].height_m += static_cast<float>(0.4 * h);
     }
   }
 }
@@ -193,9 +189,9 @@ void to_grid(double x_m, double y_m, double* gx, double* gy) noexcept {
   *gy = y_m / g_cfg.m_per_px + g_centre_px;
 }
 
-/** Bilinear sample of a grid of T, clamped to the edge. */
+/** Bilinear sample of the member @p field of the cells, clamped to the edge. */
 template <class T>
-double bilinear(const T* grid, double gx, double gy, double scale) noexcept {
+double bilinear(T detail::Cell::*field, double gx, double gy, double scale) noexcept {
   const double n1 = static_cast<double>(g_n - 1U);
   gx = std::clamp(gx, 0.0, n1);
   gy = std::clamp(gy, 0.0, n1);
@@ -203,11 +199,11 @@ double bilinear(const T* grid, double gx, double gy, double scale) noexcept {
   const auto iy = std::min(static_cast<std::uint32_t>(gy), g_n - 2U);
   const double fx = gx - static_cast<double>(ix);
   const double fy = gy - static_cast<double>(iy);
-  const T* p = grid + cell(ix, iy);
-  const double a = static_cast<double>(p[0]);
-  const double b = static_cast<double>(p[1]);
-  const double c = static_cast<double>(p[g_n]);
-  const double d = static_cast<double>(p[g_n + 1U]);
+  const detail::Cell* p = g_cells + cell(ix, iy);
+  const double a = static_cast<double>(p[0].*field);
+  const double b = static_cast<double>(p[1].*field);
+  const double c = static_cast<double>(p[g_n].*field);
+  const double d = static_cast<double>(p[g_n + 1U].*field);
   return scale * ((a + (b - a) * fx) + ((c + (d - c) * fx) - (a + (b - a) * fx)) * fy);
 }
 
@@ -250,14 +246,14 @@ double terrain_height_m(double x_m, double y_m) noexcept {
   double gx = 0.0;
   double gy = 0.0;
   to_grid(x_m, y_m, &gx, &gy);
-  return bilinear(g_height, gx, gy, 1.0);
+  return bilinear(&detail::Cell::height_m, gx, gy, 1.0);
 }
 
 double terrain_albedo(double x_m, double y_m) noexcept {
   double gx = 0.0;
   double gy = 0.0;
   to_grid(x_m, y_m, &gx, &gy);
-  return bilinear(g_albedo, gx, gy, 1.0 / 255.0);
+  return bilinear(&detail::Cell::albedo, gx, gy, 1.0 / 255.0);
 }
 
 double terrain_radiance(double x_m, double y_m, const double sun_dir[3]) noexcept {
@@ -283,11 +279,11 @@ WorldError terrain_shade(const SunAngle& sun) noexcept {
     for (std::uint32_t ix = 0; ix < g_n; ++ix) {
       const std::uint32_t xm = ix > 0U ? ix - 1U : ix;
       const std::uint32_t xp = ix + 1U < g_n ? ix + 1U : ix;
-      const double dhdx = static_cast<double>(g_height[cell(xp, iy)] - g_height[cell(xm, iy)]) * inv2;
-      const double dhdy = static_cast<double>(g_height[cell(ix, yp)] - g_height[cell(ix, ym)]) * inv2;
+      const double dhdx = static_cast<double>(g_cells[cell(xp, iy)].height_m - g_cells[cell(xm, iy)].height_m) * inv2;
+      const double dhdy = static_cast<double>(g_cells[cell(ix, yp)].height_m - g_cells[cell(ix, ym)].height_m) * inv2;
       const double cos_i = (-dhdx * s[0] - dhdy * s[1] + s[2]) / std::sqrt(dhdx * dhdx + dhdy * dhdy + 1.0);
-      const double rad = static_cast<double>(g_albedo[cell(ix, iy)]) / 255.0 * std::max(cos_i, 0.0);
-      g_shade[cell(ix, iy)] = static_cast<std::uint16_t>(std::lround(std::min(rad, 1.0) * 65535.0));
+      const double rad = static_cast<double>(g_cells[cell(ix, iy)].albedo) / 255.0 * std::max(cos_i, 0.0);
+      g_cells[cell(ix, iy)].shade = static_cast<std::uint16_t>(std::lround(std::min(rad, 1.0) * 65535.0));
     }
   }
   g_shaded = true;
@@ -303,7 +299,7 @@ double terrain_shaded_radiance(double x_m, double y_m) noexcept {
   double gx = 0.0;
   double gy = 0.0;
   to_grid(x_m, y_m, &gx, &gy);
-  return bilinear(g_shade, gx, gy, 1.0 / 65535.0);
+  return bilinear(&detail::Cell::shade, gx, gy, 1.0 / 65535.0);
 }
 
 WorldError terrain_paint_target(double x_m, double y_m, double radius_m, double radiance) noexcept {
@@ -325,7 +321,7 @@ WorldError terrain_paint_target(double x_m, double y_m, double radius_m, double 
       const double dx = static_cast<double>(ix) - gx;
       const double dy = static_cast<double>(iy) - gy;
       if (dx * dx + dy * dy <= r_px * r_px) {
-        g_shade[cell(ix, iy)] = value;
+        g_cells[cell(ix, iy)].shade = value;
       }
     }
   }
@@ -333,8 +329,13 @@ WorldError terrain_paint_target(double x_m, double y_m, double radius_m, double 
 }
 
 namespace detail {
-const float* height_data() noexcept { return g_height; }
-const std::uint16_t* shade_data() noexcept { return g_shade; }
+double crater_diameter_m(double u, const TerrainConfig& cfg) noexcept {
+  // Truncated Pareto: P(D > d) = ((d/Dmin)^-b - r) / (1 - r), r = (Dmin/Dmax)^b.
+  const double b = cfg.crater_sfd_exponent;
+  const double ratio = std::pow(cfg.crater_min_d_m / cfg.crater_max_d_m, b);
+  return cfg.crater_min_d_m * std::pow(1.0 - u * (1.0 - ratio), -1.0 / b);
+}
+const Cell* cell_data() noexcept { return g_cells; }
 }  // namespace detail
 
 }  // namespace bsp::world

@@ -104,9 +104,21 @@ double terrain_shaded_radiance(double x_m, double y_m) noexcept;
 WorldError terrain_paint_target(double x_m, double y_m, double radius_m, double radiance) noexcept;
 
 namespace detail {
-/** Raw views for the renderer's inner loop (row-major, iy rows). */
-const float* height_data() noexcept;
-const std::uint16_t* shade_data() noexcept;
+/** Crater diameter for the uniform draw @p u in [0, 1): inverse CDF of the truncated power law of @p cfg. */
+double crater_diameter_m(double u, const TerrainConfig& cfg) noexcept;
+/**
+ * One grid sample. Height and shade share a cache line, so the renderer's
+ * shade lookup after its last height lookup hits the cache.
+ */
+struct Cell {
+  float height_m;       ///< above the datum
+  std::uint16_t shade;  ///< pre-shaded radiance, 65535 = 1.0
+  std::uint8_t albedo;  ///< 255 = 1.0
+  std::uint8_t reserved;
+};
+static_assert(sizeof(Cell) == 8, "cells pack into 8 bytes");
+/** Raw view for the renderer's inner loop (row-major, iy rows). */
+const Cell* cell_data() noexcept;
 }  // namespace detail
 
 }  // namespace bsp::world
