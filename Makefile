@@ -118,7 +118,7 @@ LINK_LIBS := $(HEAP_GUARD_OBJ) $(TOOLS_COMMON_LIB) $(FLIGHT_LIBS)
 define program_rule
 $(BIN)/$(1): $(call obj_of,$(SRC_prog_$(1))) $(LINK_DEPS)
 	@mkdir -p $$(@D)
-	$(CXX) $(LDFLAGS) $(call obj_of,$(SRC_prog_$(1))) $(LINK_LIBS) $(LDLIBS) $(EXTRA_LDLIBS_$(1)) -o $$@
+	$(CXX) $(LDFLAGS) $(call obj_of,$(SRC_prog_$(1))) $(LINK_LIBS) $(LDLIBS) $$(EXTRA_LDLIBS_$(1)) -o $$@
 endef
 $(foreach p,$(PROGRAMS),$(eval $(call program_rule,$(p))))
 
@@ -132,7 +132,7 @@ $(foreach d,$(TEST_DIRS),$(eval $(call test_rule,$(d))))
 define bench_rule
 $(BIN)/bench/$(1): $(OBJ)/tests/bench/$(1).o $(LINK_DEPS)
 	@mkdir -p $$(@D)
-	$(CXX) $(LDFLAGS) $(OBJ)/tests/bench/$(1).o $(LINK_LIBS) -lbenchmark $(EXTRA_LDLIBS_bench_$(1)) $(LDLIBS) -o $$@
+	$(CXX) $(LDFLAGS) $(OBJ)/tests/bench/$(1).o $(LINK_LIBS) -lbenchmark $$(EXTRA_LDLIBS_bench_$(1)) $(LDLIBS) -o $$@
 endef
 $(foreach b,$(patsubst tests/bench/%.cpp,%,$(BENCH_SRC)),$(eval $(call bench_rule,$(b))))
 
