@@ -11,17 +11,31 @@ namespace trn::vision {
 namespace detail {
 namespace {
 
+/** Lanes of the fixed-length inner block: a constant trip count the compiler can vectorise. */
+constexpr std::int32_t kBlock = 16;
+
+/** sum(t[i] * w[i]) over @p n bytes. */
+std::uint32_t dot_row(const std::uint8_t* t, const std::uint8_t* w, std::int32_t n) noexcept {
+  std::uint32_t acc = 0U;
+  std::int32_t i = 0;
+  for (; i + kBlock <= n; i += kBlock) {
+    std::uint32_t part = 0U;
+    for (std::int32_t k = 0; k < kBlock; ++k) {
+      part += static_cast<std::uint32_t>(t[i + k]) * static_cast<std::uint32_t>(w[i + k]);
+    }
+    acc += part;
+  }
+  for (; i < n; ++i) {
+    acc += static_cast<std::uint32_t>(t[i]) * static_cast<std::uint32_t>(w[i]);
+  }
+  return acc;
+}
+
 /** sum(T * W) for the template at window offset (x, y); fits uint32 by the static_assert. */
 std::uint32_t dot_at(ConstImageU8 tmpl, ConstImageU8 window, std::int32_t x, std::int32_t y) noexcept {
   std::uint32_t acc = 0U;
   for (std::int32_t j = 0; j < tmpl.height; ++j) {
-    const std::uint8_t* t = tmpl.row(j);
-    const std::uint8_t* w = window.row(y + j) + x;
-    std::uint32_t row_acc = 0U;
-    for (std::int32_t i = 0; i < tmpl.width; ++i) {
-      row_acc += static_cast<std::uint32_t>(t[i]) * static_cast<std::uint32_t>(w[i]);
-    }
-    acc += row_acc;
+    acc += dot_row(tmpl.row(j), window.row(y + j) + x, tmpl.width);
   }
   return acc;
 }
