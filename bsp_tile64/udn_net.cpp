@@ -81,6 +81,7 @@ struct TileNet {
 
 struct Net {
   bool ready;
+  std::uint32_t generation;
   NetConfig config;
   std::uint32_t cols;
   std::uint32_t rows;
@@ -506,11 +507,17 @@ NetError udn_net_init(const NetConfig& config) noexcept {
   if (!handlers_ok) {
     return NetError::kBadConfig;
   }
+  ++g_net.generation;
   g_net.ready = true;
   return NetError::kOk;
 }
 
 Cycles udn_hop_cycles() noexcept { return g_net.hop_cycles; }
+
+std::uint32_t udn_net_generation() noexcept { return g_net.generation; }
+
+std::uint32_t udn_grid_cols() noexcept { return g_net.cols; }
+std::uint32_t udn_grid_rows() noexcept { return g_net.rows; }
 
 std::size_t udn_route(std::uint32_t cols, std::uint32_t rows, TileId src, TileId dst, std::span<TileId> out) noexcept {
   const std::uint32_t tiles = cols * rows;

@@ -66,6 +66,13 @@ struct NetConfig {
  */
 NetError udn_net_init(const NetConfig& config) noexcept;
 
+/** Incremented by every successful udn_net_init(): drivers tell a new board from the last one. [any] */
+std::uint32_t udn_net_generation() noexcept;
+
+/** Grid of the network (0 before udn_net_init()). [any] */
+std::uint32_t udn_grid_cols() noexcept;
+std::uint32_t udn_grid_rows() noexcept;
+
 /** Hop cycles of the current profile: ceil(hop_x16 / 16). [host|task] */
 Cycles udn_hop_cycles() noexcept;
 
