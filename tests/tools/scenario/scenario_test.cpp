@@ -1,0 +1,154 @@
+/**
+ * @file scenario_test.cpp
+ * @brief Scenario files: defaults, every section parsed, and clear errors (file, key, range) for bad files.
+ */
+#include "tools/common/scenario.hpp"
+
+#include "build_info.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace {
+
+std::string fixture(const std::string& name) {
+  return std::string(build_info::kRepoRoot) + "/tests/fixtures/scenarios/" + name;
+}
+
+/** The error of a fixture that must fail, with the assertion that it did. */
+std::string error_of(const std::string& name) {
+  const tools::ScenarioResult r = tools::load_scenario(fixture(name));
+  EXPECT_FALSE(r.ok()) << name << " was accepted";
+  return r.error;
+}
+
+TEST(Scenario, EmptyTextGivesTheBuiltInDefaults) {
+  const tools::ScenarioResult r = tools::parse_scenario("", "<empty>");
+  ASSERT_TRUE(r.ok()) << r.error;
+  const tools::Scenario& s = *r.scenario;
+  EXPECT_EQ(s.name, "default");
+  EXPECT_EQ(s.terrain.size_px, 4096U);
+  EXPECT_DOUBLE_EQ(s.terrain.m_per_px, 4.0);
+  EXPECT_DOUBLE_EQ(s.map.fine_m_per_px, 6.0);
+  EXPECT_DOUBLE_EQ(s.map.coarse_m_per_px, 12.0);
+  EXPECT_DOUBLE_EQ(s.trajectory.start_altitude_m, 4200.0);
+  EXPECT_DOUBLE_EQ(s.imu.gyro_arw_dpsh, 0.07);
+  EXPECT_EQ(s.camera.width_px, 1024U);
+  EXPECT_DOUBLE_EQ(s.camera.fov_deg, 90.0);
+  // The descent and map suns differ, as an orbital map's would.
+  EXPECT_NE(s.camera.sun.azimuth_deg, s.map.sun.azimuth_deg);
+}
+
+TEST(Scenario, AFileSettingEverySectionIsParsed) {
+  const tools::ScenarioResult r = tools::load_scenario(fixture("full.toml"));
+  ASSERT_TRUE(r.ok()) << r.error;
+  const tools::Scenario& s = *r.scenario;
+  EXPECT_EQ(s.name, "fixture-full");
+  EXPECT_EQ(s.seed, 42U);
+  EXPECT_EQ(s.terrain.seed, 7U);
+  EXPECT_EQ(s.terrain.size_px, 2048U);
+  EXPECT_DOUBLE_EQ(s.terrain.crater_sfd_exponent, 2.5);
+  EXPECT_DOUBLE_EQ(s.map.fine_m_per_px, 6.0);  // an integer is a valid float
+  EXPECT_DOUBLE_EQ(s.map.sun.azimuth_deg, 200.0);
+  EXPECT_DOUBLE_EQ(s.trajectory.end_altitude_m, 1500.0);
+  EXPECT_TRUE(s.imu.enabled);
+  EXPECT_DOUBLE_EQ(s.imu.gyro_arw_dpsh, 0.1);
+  EXPECT_DOUBLE_EQ(s.imu.gyro_bias_in_run_dph, 0.35);  // untouched keys keep defaults
+  EXPECT_EQ(s.camera.width_px, 512U);
+  EXPECT_DOUBLE_EQ(s.camera.rate_hz, 2.0);
+  EXPECT_TRUE(s.camera.blur);
+  EXPECT_DOUBLE_EQ(s.initial_error.position_m, 3000.0);
+  // The parsed configuration is one the models accept.
+  bsp::world::Trajectory t;
+  EXPECT_EQ(t.init(s.trajectory), bsp::world::WorldError::kOk);
+}
+
+TEST(Scenario, UnknownKeyIsNamedWithTheAllowedKeys) {
+  const std::string e = error_of("unknown_key.toml");
+  EXPECT_NE(e.find("unknown_key.toml"), std::string::npos) << e;
+  EXPECT_NE(e.find("[terrain] crater_count: unknown key"), std::string::npos) << e;
+  EXPECT_NE(e.find("crater_density_per_km2"), std::string::npos) << e;
+}
+
+TEST(Scenario, UnknownSectionIsRejected) {
+  const std::string e = error_of("unknown_section.toml");
+  EXPECT_NE(e.find("[lidar]: unknown section"), std::string::npos) << e;
+}
+
+TEST(Scenario, WrongTypesAreRejectedWithTheExpectedType) {
+  std::string e = error_of("wrong_type.toml");
+  EXPECT_NE(e.find("wrong_type.toml: [camera] width_px: wrong type: expected an integer"), std::string::npos) << e;
+  e = error_of("float_for_integer.toml");
+  EXPECT_NE(e.find("[terrain] size_px: wrong type: expected an integer"), std::string::npos) << e;
+}
+
+TEST(Scenario, OutOfRangeValuesNameTheAllowedRange) {
+  const std::string e = error_of("out_of_range.toml");
+  EXPECT_NE(e.find("out_of_range.toml: [camera] rate_hz: 5 is out of range: allowed 1 .. 2"), std::string::npos)
+      << e;
+}
+
+TEST(Scenario, SyntaxErrorsGiveFileLineAndColumn) {
+  const std::string e = error_of("syntax_error.toml");
+  EXPECT_NE(e.find("syntax_error.toml:3:"), std::string::npos) << e;
+  EXPECT_NE(e.find("TOML syntax error"), std::string::npos) << e;
+}
+
+TEST(Scenario, InconsistentKeysAreRejected) {
+  const std::string e = error_of("inconsistent.toml");
+  EXPECT_NE(e.find("[trajectory] end_altitude_m: must be below start_altitude_m"), std::string::npos) << e;
+}
+
+TEST(Scenario, MissingFileIsNamed) {
+  const std::string e = error_of("does_not_exist.toml");
+  EXPECT_NE(e.find("does_not_exist.toml: cannot open scenario file"), std::string::npos) << e;
+}
+
+TEST(Scenario, EveryKeyIsDocumentedInScenarioMd) {
+  std::FILE* f = std::fopen((std::string(build_info::kRepoRoot) + "/docs/SCENARIO.md").c_str(), "r");
+  ASSERT_NE(f, nullptr) << "docs/SCENARIO.md missing";
+  std::string doc;
+  std::array<char, 4096> buf{};
+  std::size_t n = 0;
+  while ((n = std::fread(buf.data(), 1, buf.size(), f)) > 0) {
+    doc.append(buf.data(), n);
+  }
+  std::fclose(f);
+  for (const tools::ScenarioKeyDoc& k : tools::scenario_keys()) {
+    EXPECT_NE(doc.find("| `" + k.key + "` | " + k.type + " | " + k.range + " | " + k.default_value + " |"),
+              std::string::npos)
+        << "[" << k.section << "] " << k.key << " is not documented as generated";
+  }
+}
+
+/** world_view beside this test binary (programs in $(BIN), tests in $(BIN)/tests). */
+std::string world_view_path() {
+  std::array<char, 4096> self{};
+  const ssize_t n = readlink("/proc/self/exe", self.data(), self.size() - 1);
+  std::string dir = n > 0 ? std::string(self.data(), static_cast<std::size_t>(n)) : std::string();
+  dir = dir.substr(0, dir.rfind('/'));
+  return dir.substr(0, dir.rfind('/')) + "/world_view";
+}
+
+int run_status(const std::string& cmd) {
+  const int rc = std::system(cmd.c_str());
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+TEST(Scenario, TheViewerExitsWithStatusTwoOnEveryBadFile) {
+  const std::string exe = world_view_path();
+  ASSERT_EQ(access(exe.c_str(), X_OK), 0) << exe << " not built (make builds programs before tests)";
+  for (const char* bad : {"unknown_key.toml", "unknown_section.toml", "wrong_type.toml", "out_of_range.toml",
+                          "syntax_error.toml", "inconsistent.toml", "does_not_exist.toml"}) {
+    EXPECT_EQ(run_status(exe + " --frame '' --scenario " + fixture(bad) + " 2>/dev/null"), 2) << bad;
+  }
+  EXPECT_EQ(run_status(exe + " --time -1 2>/dev/null"), 2);
+  EXPECT_EQ(run_status(exe + " --layer medium 2>/dev/null"), 2);
+}
+
+}  // namespace

@@ -1,0 +1,75 @@
+/**
+ * @file scenario.hpp
+ * @brief Scenario files (TOML): the world, the sensors and the initial estimate errors of one run.
+ *
+ * Every key is validated: an unknown section or key, a value of the wrong
+ * type or out of its allowed range is an error whose message names the file,
+ * the key and the allowed range. Keys left out keep their defaults (the
+ * built-in default scenario, documented in docs/SCENARIO.md). Host code: the
+ * image parses the scenario before boot and prints the error with exit status 2.
+ */
+#pragma once
+
+#include "bsp_tile64/devices/camera.hpp"
+#include "bsp_tile64/devices/imu.hpp"
+#include "bsp_tile64/world/refmap.hpp"
+#include "bsp_tile64/world/terrain.hpp"
+#include "bsp_tile64/world/trajectory.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace tools {
+
+/** 1-sigma errors of the navigation filter's initial estimate (the run draws them from its seed). */
+struct InitialErrors {
+  double position_m = 1000.0;  ///< per horizontal axis; km-level, as after entry
+  double altitude_m = 100.0;   ///< vertical
+  double velocity_mps = 2.0;   ///< per axis
+  double attitude_deg = 0.5;   ///< per axis
+};
+
+struct Scenario {
+  std::string name = "default";
+  std::uint64_t seed = 1;  ///< run seed: sensor noise and initial-error draws
+  bsp::world::TerrainConfig terrain;
+  bsp::world::MapConfig map;
+  bsp::world::TrajectoryConfig trajectory;
+  bsp::ImuErrorConfig imu;
+  bsp::CameraConfig camera;
+  InitialErrors initial_error;
+};
+
+/** A parsed scenario, or the message saying why there is none. */
+struct ScenarioResult {
+  std::optional<Scenario> scenario;
+  std::string error;  ///< empty when scenario is set
+  bool ok() const { return scenario.has_value(); }
+};
+
+/** The built-in default scenario (what an empty file gives). */
+Scenario default_scenario();
+
+/** Parses TOML text; @p source names it in messages (a path, or "<built-in>"). */
+ScenarioResult parse_scenario(std::string_view text, const std::string& source);
+
+/** Reads and parses a scenario file; a missing or unreadable file is an error naming it. */
+ScenarioResult load_scenario(const std::string& path);
+
+/** One documented key, for docs and --help: section, key, type, allowed range, default. */
+struct ScenarioKeyDoc {
+  std::string section;
+  std::string key;
+  std::string type;
+  std::string range;
+  std::string default_value;
+  std::string meaning;
+};
+
+/** Every key the parser accepts, in file order. */
+std::vector<ScenarioKeyDoc> scenario_keys();
+
+}  // namespace tools
