@@ -128,6 +128,9 @@ RawError activate() noexcept {
   if (t >= bsp::kMaxTiles) {
     return RawError::kKernel;
   }
+  if (active_tile() != nullptr) {
+    return RawError::kOk;  // already active on this board: a second task must not reset the semaphores it waits on
+  }
   g_raw[t] = TileRaw{};
   if (k::set_isr(bsp::Irq::kUdn, on_udn_irq) != k::Status::kOk) {
     return RawError::kKernel;

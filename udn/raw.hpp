@@ -51,7 +51,11 @@ constexpr std::uint32_t header_xy(std::uint32_t x, std::uint32_t y, std::uint32_
  */
 RawError header_for(bsp::TileId dest, std::uint32_t data_words, std::uint32_t& header) noexcept;
 
-/** Makes the current tile's UDN usable from its tasks: clears its semaphores, installs the ISR hook. [task] */
+/**
+ * Makes the current tile's UDN usable from its tasks: clears its semaphores and
+ * installs the ISR hook. Idempotent on one board: every task of the tile may
+ * call it. [task]
+ */
 RawError activate() noexcept;
 
 /**
