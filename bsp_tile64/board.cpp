@@ -22,8 +22,12 @@ Board g_board{};
 /** Events that did not fit a tile's list at a barrier wait here to be queued again. */
 std::array<Event, kEventCapacity> g_overflow{};
 
-/** Steps of one tile in one quantum: boot, reset and resume alternate a handful of times at most. */
-constexpr std::uint32_t kMaxTileSteps = 64U;
+/**
+ * Steps of one tile in one quantum. Each step ends at the quantum end or at a
+ * reset or boot; a reset-boot cycle takes at least the boot delay, so only a
+ * pathological configuration (tiny boot delay, immediate watchdog) comes near.
+ */
+constexpr std::uint32_t kMaxTileSteps = 1U << 20U;
 
 void clear_tile(Tile& t, TileId id) noexcept {
   t.id = id;

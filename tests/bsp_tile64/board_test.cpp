@@ -470,3 +470,33 @@ TEST(Board, SameConfigAndSeedGiveTheSameTraceHashAndAnotherSeedChangesIt) {
 }
 
 }  // namespace
+
+namespace {
+
+std::array<Cycles, bsp::kMaxTiles> g_fpu_done{};
+
+void boot_fpu(TileId tile) {
+  bsp::Work w{};
+  w.flops = 100U;
+  bsp::consume(w);
+  g_fpu_done[tile] = bsp::now();
+  idle_forever();
+}
+
+TEST(Board, MaestroProfileRunsAll49TilesWithItsFpuCosts) {
+  g_fpu_done.fill(0U);
+  bsp::BoardConfig c = bsp::default_config(bsp::kMaestro);
+  c.boot_delay_cycles = kBootDelay;
+  c.boot.fill(boot_fpu);
+  ASSERT_EQ(bsp::board_init(c), bsp::BoardError::kOk);
+  EXPECT_EQ(bsp::power_on(49U), bsp::BoardError::kBadTile);
+  bsp::run_for(bsp::kMaestro.cycles_per_ms());
+  for (TileId t = 0; t < 49U; ++t) {
+    EXPECT_EQ(g_fpu_done[t], kBootDelay + 300U) << "tile " << t;  // 100 flops x 3 cycles
+  }
+  for (TileId t = 49U; t < bsp::kMaxTiles; ++t) {
+    EXPECT_EQ(g_fpu_done[t], 0U) << "tile " << t << " is outside the 7x7 grid";
+  }
+}
+
+}  // namespace
