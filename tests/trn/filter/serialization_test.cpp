@@ -1,0 +1,160 @@
+/**
+ * @file serialization_test.cpp
+ * @brief The state block round-trips bit for bit, every corruption is rejected, and filters fed
+ *        the same inputs (including one restored from a block) publish bit-identical outputs.
+ */
+#include "tests/trn/filter/truth_sim.hpp"
+#include "trn/filter/ekf.hpp"
+#include "trn/filter/nav_output.hpp"
+#include "trn/filter/state_block.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstring>
+#include <limits>
+
+namespace {
+
+using trn::filter::BlockError;
+using trn::filter::Ekf;
+using trn::filter::FilterStatus;
+using trn::filter::StateBlock;
+
+Ekf g_a;
+Ekf g_b;
+Ekf g_c;
+trn::filter::FilterState g_state;
+StateBlock g_block1;
+StateBlock g_block2;
+std::array<trn::Match, 60> g_matches{};
+
+/** Drives @p ekf (and the truth) for @p frames frames of 100 samples and 60 matches. */
+void drive(filter_test::TruthSim& truth, bsp::Rng& rng, int frames, Ekf* const* filters, int n_filters) {
+  const bsp::CameraModel cam{};
+  for (int f = 0; f < frames; ++f) {
+    for (int k = 0; k < 100; ++k) {
+      const bsp::ImuSample s = truth.next_imu();
+      const bool last = k == 99;
+      if (last) {
+        truth.make_matches(rng, cam, 60, 0.5, g_matches.data());
+      }
+      trn::filter::StepInput in{&s, last ? g_matches.data() : nullptr, last ? 60U : 0U};
+      std::array<trn::filter::NavOutputBytes, 3> out{};
+      for (int i = 0; i < n_filters; ++i) {
+        trn::filter::UpdateReport rep;
+        ASSERT_EQ(filters[i]->step(in, rep), FilterStatus::kOk);
+        trn::filter::write_nav_output(trn::filter::make_nav_output(filters[i]->state(), filters[i]->config()),
+                                      out[static_cast<std::size_t>(i)]);
+        ASSERT_EQ(std::memcmp(out[0].data(), out[static_cast<std::size_t>(i)].data(), out[0].size()), 0)
+            << "filter " << i << " frame " << f << " sample " << k;
+      }
+    }
+  }
+}
+
+void start(Ekf& e, std::uint64_t seed) {
+  filter_test::TruthSim truth(seed, true, trn::filter::FilterConfig{}.imu);
+  bsp::Rng rng(seed, bsp::StreamId::kTest, 6);
+  ASSERT_EQ(e.configure(trn::filter::FilterConfig{}, bsp::CameraModel{}), FilterStatus::kOk);
+  ASSERT_EQ(e.init(filter_test::perturbed_estimate(truth, rng, 50.0, 0.5, 2e-3)), FilterStatus::kOk);
+}
+
+TEST(FilterSerialization, TwoFiltersFedTheSameInputsPublishIdenticalBytes) {
+  constexpr std::uint64_t kSeed = 41;
+  SCOPED_TRACE(testing::Message() << "seed " << kSeed);
+  start(g_a, kSeed);
+  start(g_b, kSeed);
+  filter_test::TruthSim truth(kSeed, true, trn::filter::FilterConfig{}.imu);
+  bsp::Rng rng(kSeed, bsp::StreamId::kTest, 7);
+  Ekf* const filters[2] = {&g_a, &g_b};
+  drive(truth, rng, 3, filters, 2);
+  EXPECT_GT(g_a.state().c.accepted, 100U);
+  ASSERT_EQ(trn::filter::write_state_block(g_a.state(), g_block1), BlockError::kOk);
+  ASSERT_EQ(trn::filter::write_state_block(g_b.state(), g_block2), BlockError::kOk);
+  EXPECT_EQ(g_block1, g_block2);
+  const trn::filter::NavOutput o = trn::filter::make_nav_output(g_a.state(), g_a.config());
+  EXPECT_EQ(o.flags & trn::filter::kNavValid, trn::filter::kNavValid);
+}
+
+TEST(FilterSerialization, RoundTripIsBitExactAndARestoredSpareStaysInStep) {
+  constexpr std::uint64_t kSeed = 43;
+  SCOPED_TRACE(testing::Message() << "seed " << kSeed);
+  start(g_a, kSeed);
+  filter_test::TruthSim truth(kSeed, true, trn::filter::FilterConfig{}.imu);
+  bsp::Rng rng(kSeed, bsp::StreamId::kTest, 8);
+  Ekf* const one[1] = {&g_a};
+  drive(truth, rng, 2, one, 1);
+  ASSERT_EQ(trn::filter::write_state_block(g_a.state(), g_block1), BlockError::kOk);
+  ASSERT_EQ(trn::filter::read_state_block(g_block1.data(), trn::filter::kStateBlockBytes, g_state), BlockError::kOk);
+  ASSERT_EQ(trn::filter::write_state_block(g_state, g_block2), BlockError::kOk);
+  EXPECT_EQ(g_block1, g_block2);
+  // A spare configured from the same table and given the block continues in lock step.
+  ASSERT_EQ(g_c.configure(trn::filter::FilterConfig{}, bsp::CameraModel{}), FilterStatus::kOk);
+  ASSERT_EQ(g_c.restore(g_state), FilterStatus::kOk);
+  Ekf* const two[2] = {&g_a, &g_c};
+  drive(truth, rng, 2, two, 2);
+}
+
+TEST(FilterSerialization, EverySingleBitFlipAndBadHeaderIsRejected) {
+  start(g_a, 45);
+  ASSERT_EQ(trn::filter::write_state_block(g_a.state(), g_block1), BlockError::kOk);
+  g_state = trn::filter::FilterState{};
+  for (std::uint32_t bit = 0; bit < 8U * trn::filter::kStateBlockBytes; ++bit) {
+    g_block2 = g_block1;
+    g_block2[bit / 8U] ^= static_cast<std::uint8_t>(1U << (bit % 8U));
+    ASSERT_NE(trn::filter::read_state_block(g_block2.data(), trn::filter::kStateBlockBytes, g_state), BlockError::kOk)
+        << "bit " << bit;
+  }
+  EXPECT_EQ(g_state.initialized, 0U);  // a refused block leaves the target as it was
+  EXPECT_EQ(trn::filter::read_state_block(g_block1.data(), trn::filter::kStateBlockBytes - 1U, g_state),
+            BlockError::kBadSize);
+  EXPECT_EQ(trn::filter::read_state_block(nullptr, trn::filter::kStateBlockBytes, g_state), BlockError::kBadSize);
+  g_block2 = g_block1;
+  g_block2[0] ^= 0xFFU;
+  EXPECT_EQ(trn::filter::read_state_block(g_block2.data(), trn::filter::kStateBlockBytes, g_state),
+            BlockError::kBadMagic);
+  g_block2 = g_block1;
+  g_block2[4] = 2U;
+  EXPECT_EQ(trn::filter::read_state_block(g_block2.data(), trn::filter::kStateBlockBytes, g_state),
+            BlockError::kBadVersion);
+  g_block2 = g_block1;
+  g_block2[100] ^= 0x10U;
+  EXPECT_EQ(trn::filter::read_state_block(g_block2.data(), trn::filter::kStateBlockBytes, g_state),
+            BlockError::kBadChecksum);
+}
+
+TEST(FilterSerialization, WellFormedBlockWithNonFiniteContentIsRejected) {
+  start(g_a, 47);
+  g_state = g_a.state();
+  g_state.p(3, 3) = std::numeric_limits<double>::quiet_NaN();
+  ASSERT_EQ(trn::filter::write_state_block(g_state, g_block1), BlockError::kOk);
+  EXPECT_EQ(trn::filter::read_state_block(g_block1.data(), trn::filter::kStateBlockBytes, g_state),
+            BlockError::kBadContent);
+  EXPECT_EQ(g_a.restore(g_state), FilterStatus::kBadInput);
+  g_state = g_a.state();
+  g_state.initialized = 7U;
+  ASSERT_EQ(trn::filter::write_state_block(g_state, g_block1), BlockError::kOk);
+  EXPECT_EQ(trn::filter::read_state_block(g_block1.data(), trn::filter::kStateBlockBytes, g_state),
+            BlockError::kBadContent);
+}
+
+TEST(FilterSerialization, OutputBytesFollowTheDocumentedLayout) {
+  start(g_a, 49);
+  const trn::filter::NavOutput o = trn::filter::make_nav_output(g_a.state(), g_a.config());
+  trn::filter::NavOutputBytes b{};
+  trn::filter::write_nav_output(o, b);
+  EXPECT_EQ(b[0], 0x54U);  // "TRNV" little-endian
+  EXPECT_EQ(b[3], 0x56U);
+  double x = 0.0;
+  std::memcpy(&x, &b[24], sizeof x);
+  EXPECT_EQ(x, o.p_m[0]);
+  std::uint32_t flags = 0;
+  std::memcpy(&flags, &b[224], sizeof flags);
+  EXPECT_EQ(flags, o.flags);
+  EXPECT_EQ(o.flags & trn::filter::kNavImuOk, 0U);  // nothing integrated yet
+  EXPECT_EQ(o.flags & trn::filter::kNavValid, 0U);
+  EXPECT_NE(o.flags & trn::filter::kNavInitialized, 0U);
+}
+
+}  // namespace

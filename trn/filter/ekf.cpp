@@ -1,0 +1,175 @@
+/**
+ * @file ekf.cpp
+ * @brief The error-state EKF: configuration, initialization, propagation, landmark updates.
+ */
+#include "trn/filter/ekf.hpp"
+
+#include "trn/filter/strapdown.hpp"
+
+#include <cmath>
+
+namespace trn::filter {
+
+FilterStatus Ekf::configure(const FilterConfig& cfg, const bsp::CameraModel& cam) noexcept {
+  if (check_config(cfg) != ConfigError::kOk) {
+    return FilterStatus::kBadConfig;
+  }
+  const CameraGeometry g = camera_geometry(cam);
+  const double ortho_err = (g.r_bc * g.r_bc.transpose() - Mat3::Identity()).cwiseAbs().maxCoeff();
+  if (!(ortho_err < 1e-9) || !(g.fx_px > 0.0) || !(g.fy_px > 0.0)) {
+    return FilterStatus::kBadConfig;
+  }
+  cfg_ = cfg;
+  cam_ = g;
+  q_diag_ = process_noise_diag(cfg.imu, cfg.imu_dt_s);
+  clear_state(s_);
+  work_ = bsp::Work{};
+  return FilterStatus::kOk;
+}
+
+FilterStatus Ekf::init(const InitialEstimate& est) noexcept {
+  const ImuSpec& imu = cfg_.imu;
+  const double bg0 = std::sqrt(imu.gyro_bias_on_rads * imu.gyro_bias_on_rads +
+                               imu.gyro_bias_run_rads * imu.gyro_bias_run_rads);
+  const double ba0 = std::sqrt(imu.accel_bias_on_mps2 * imu.accel_bias_on_mps2 +
+                               imu.accel_bias_run_mps2 * imu.accel_bias_run_mps2);
+  Vec15 sig;
+  sig << est.sigma_p_m, est.sigma_v_mps, est.sigma_th_rad,
+      (est.sigma_bg_rads.array() > 0.0).select(est.sigma_bg_rads, Vec3::Constant(bg0)),
+      (est.sigma_ba_mps2.array() > 0.0).select(est.sigma_ba_mps2, Vec3::Constant(ba0));
+  const double qn = est.x.q_mb.norm();
+  if (!sig.allFinite() || !(sig.minCoeff() > 0.0) || !std::isfinite(est.t_s) || !(qn > 0.5) ||
+      !est.x.p_m.allFinite() || !est.x.v_mps.allFinite() || !est.x.q_mb.coeffs().allFinite() ||
+      !est.x.bg_rads.allFinite() || !est.x.ba_mps2.allFinite()) {
+    return FilterStatus::kBadInput;
+  }
+  clear_state(s_);
+  s_.initialized = 1;
+  s_.t_s = est.t_s;
+  s_.t_last_update_s = est.t_s;
+  s_.x = est.x;
+  s_.x.q_mb.normalize();
+  s_.p = sig.cwiseProduct(sig).asDiagonal();
+  return FilterStatus::kOk;
+}
+
+namespace {
+
+bool finite_state(const FilterState& s) noexcept {
+  return s.x.p_m.allFinite() && s.x.v_mps.allFinite() && s.x.q_mb.coeffs().allFinite() &&
+         s.x.bg_rads.allFinite() && s.x.ba_mps2.allFinite() && s.p.allFinite() && std::isfinite(s.t_s) &&
+         std::isfinite(s.t_last_update_s);
+}
+
+}  // namespace
+
+bool Ekf::state_finite() const noexcept { return finite_state(s_); }
+
+FilterStatus Ekf::propagate(const bsp::ImuSample& imu) noexcept {
+  if (s_.initialized == 0U) {
+    return FilterStatus::kNotInitialized;
+  }
+  ImuIncrement inc;
+  inc.dtheta_rad = Vec3(imu.dtheta_rad[0], imu.dtheta_rad[1], imu.dtheta_rad[2]);
+  inc.dv_mps = Vec3(imu.dv_mps[0], imu.dv_mps[1], imu.dv_mps[2]);
+  inc.dt_s = cfg_.imu_dt_s;
+  if (imu.status != 0U || !inc.dtheta_rad.allFinite() || !inc.dv_mps.allFinite() || !std::isfinite(imu.t_s)) {
+    ++s_.c.imu_rejected;
+    s_.last_imu_ok = 0;
+    return FilterStatus::kImuInvalid;
+  }
+  if (s_.c.propagations > 0U && imu.seq != s_.c.last_imu_seq + 1U) {
+    ++s_.c.imu_gaps;
+  }
+  strapdown_step(s_.x, inc, f_, work_);
+  propagate_covariance(s_.p, f_, q_diag_, w_, work_);
+  ++s_.c.propagations;
+  s_.c.last_imu_seq = imu.seq;
+  s_.t_s = imu.t_s;
+  s_.last_imu_ok = 1;
+  if (!state_finite()) {
+    ++s_.c.numeric_faults;
+    return FilterStatus::kNumericalFault;
+  }
+  return FilterStatus::kOk;
+}
+
+void Ekf::apply_correction(const Vec15& dx) noexcept {
+  s_.x.p_m += dx.segment<3>(kIdxP);
+  s_.x.v_mps += dx.segment<3>(kIdxV);
+  const Vec3 dth = dx.segment<3>(kIdxTh);
+  s_.x.q_mb = (s_.x.q_mb * quat_exp(dth)).normalized();
+  s_.x.bg_rads += dx.segment<3>(kIdxBg);
+  s_.x.ba_mps2 += dx.segment<3>(kIdxBa);
+  reset_attitude(s_.p, dth, work_);
+  work_.flops += 60;
+  work_.fdivs += 4;
+}
+
+FilterStatus Ekf::update(const Match* matches, std::uint32_t n, UpdateReport& rep) noexcept {
+  rep = UpdateReport{};
+  if (s_.initialized == 0U) {
+    return FilterStatus::kNotInitialized;
+  }
+  if ((matches == nullptr && n > 0U) || n > kMaxMatchesPerFrame) {
+    return FilterStatus::kBadInput;
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (bearing_measurement(s_.x, cam_, matches[i], cfg_.min_depth, cfg_.pixel_sigma_floor_px, meas_,
+                            work_) != BearingStatus::kOk) {
+      ++rep.rejected_invalid;
+      continue;
+    }
+    if (!joseph_update(s_.p, meas_, cfg_.gate_chi2, dx_, w_, work_).accepted) {
+      ++rep.rejected_gate;
+      continue;
+    }
+    apply_correction(dx_);
+    ++rep.accepted;
+  }
+  if (n > 0U) {
+    ++s_.c.batches;
+    s_.c.accepted += rep.accepted;
+    s_.c.rejected_gate += rep.rejected_gate;
+    s_.c.rejected_invalid += rep.rejected_invalid;
+  }
+  s_.c.last_accepted = rep.accepted;
+  s_.c.last_rejected = rep.rejected_gate + rep.rejected_invalid;
+  if (rep.accepted > 0U) {
+    s_.t_last_update_s = s_.t_s;
+  }
+  if (!state_finite()) {
+    ++s_.c.numeric_faults;
+    return FilterStatus::kNumericalFault;
+  }
+  return FilterStatus::kOk;
+}
+
+FilterStatus Ekf::step(const StepInput& in, UpdateReport& rep) noexcept {
+  rep = UpdateReport{};
+  if (in.imu == nullptr) {
+    return FilterStatus::kBadInput;
+  }
+  const FilterStatus st = propagate(*in.imu);
+  if (st != FilterStatus::kOk || in.match_count == 0U) {
+    return st;
+  }
+  return update(in.matches, in.match_count, rep);
+}
+
+FilterStatus Ekf::restore(const FilterState& s) noexcept {
+  // Checked before the copy, so a refused state leaves the filter as it was.
+  if (!finite_state(s) || !(s.x.q_mb.norm() > 0.5)) {
+    return FilterStatus::kBadInput;
+  }
+  s_ = s;
+  return FilterStatus::kOk;
+}
+
+bsp::Work Ekf::take_work() noexcept {
+  const bsp::Work w = work_;
+  work_ = bsp::Work{};
+  return w;
+}
+
+}  // namespace trn::filter

@@ -1,0 +1,39 @@
+/**
+ * @file strapdown.hpp
+ * @brief Strapdown mechanization: one IMU increment moves the nominal state, and its error Jacobian.
+ *
+ * Integration (per increment of dt seconds, body increments dtheta, dv):
+ *   dth = dtheta - b_g dt,  dvc = dv - b_a dt
+ *   u   = dvc + 1/2 dth x dvc        (rotation compensation; no coning or
+ *                                     sculling: one increment per interval)
+ *   v+  = v + R u + g(p_z) dt,  p+ = p + (v + v+)/2 dt,  q+ = q (x) Exp(dth)
+ * with R = R(q_MB) at the start of the interval and g = (0, 0, -g(h)).
+ * Error dynamics, first order, with local attitude error (R_true = R Exp(dth)):
+ *   F_vth = -R [u]x,  F_vba = -R dt,  F_vp(z,z) = dg/dh dt,
+ *   F_pv = dt I, F_p* = dt/2 F_v* (trapezoid), F_thth = Exp(dth)^T, F_thbg = -dt I.
+ */
+#pragma once
+
+#include "bsp_tile64/work.hpp"
+#include "trn/filter/linalg.hpp"
+#include "trn/filter/nav_state.hpp"
+
+namespace trn::filter {
+
+/** Body-frame IMU increments over one interval. */
+struct ImuIncrement {
+  Vec3 dtheta_rad = Vec3::Zero();
+  Vec3 dv_mps = Vec3::Zero();
+  double dt_s = 0.0;
+};
+
+/** d g_z / d h of the map-frame gravity (0, 0, -g(h)), 1/s^2 (positive: g weakens upward). */
+double gravity_gradient_per_s2(double h_m) noexcept;
+
+/**
+ * Moves @p x over one increment and writes the error-state transition @p f.
+ * Pre: dt_s > 0, q_mb unit. Post: q_mb unit. Counts its flops into @p work.
+ */
+void strapdown_step(NominalState& x, const ImuIncrement& imu, Mat15& f, bsp::Work& work) noexcept;
+
+}  // namespace trn::filter
