@@ -140,8 +140,10 @@ TEST_F(CameraRender, CalibrationTargetsAppearWhereTheProjectionSays) {
     ASSERT_GT(p.v_px, 20.0);
     ASSERT_LT(p.v_px, 1003.0);
     const Eigen::Vector2d c = blob_centroid(frame_, 1024, p.u_px, p.v_px, 50.0);
-    EXPECT_NEAR(c.x(), p.u_px, 0.25) << "target at node " << n[0] << "," << n[1];
-    EXPECT_NEAR(c.y(), p.v_px, 0.25) << "target at node " << n[0] << "," << n[1];
+    std::printf("target %d,%d: projected (%.2f, %.2f), rendered centroid off by (%.3f, %.3f) px\n", n[0], n[1],
+                p.u_px, p.v_px, c.x() - p.u_px, c.y() - p.v_px);
+    EXPECT_NEAR(c.x(), p.u_px, 0.1) << "target at node " << n[0] << "," << n[1];
+    EXPECT_NEAR(c.y(), p.v_px, 0.1) << "target at node " << n[0] << "," << n[1];
   }
 }
 
