@@ -205,19 +205,23 @@ void render_block(const RowJob& job, std::uint32_t u0, std::uint32_t u1, std::ui
   }
 }
 
+/** Horizontal 1-2-1 sum of one row at column @p x (edges replicate). */
+std::uint32_t h121(const std::uint8_t* row, std::uint32_t x, std::uint32_t w) noexcept {
+  const std::uint32_t xl = x > 0U ? x - 1U : 0U;
+  const std::uint32_t xr = x + 1U < w ? x + 1U : x;
+  return std::uint32_t{row[xl]} + 2U * row[x] + row[xr];
+}
+
 /** 3x3 binomial blur from @p src into @p dst (edges replicate). */
 void blur3(const std::uint8_t* src, std::uint8_t* dst, std::uint32_t w, std::uint32_t h) noexcept {
   for (std::uint32_t y = 0; y < h; ++y) {
-    const std::uint8_t* rows[3] = {src + std::size_t{y > 0U ? y - 1U : y} * w, src + std::size_t{y} * w,
-                                   src + std::size_t{y + 1U < h ? y + 1U : y} * w};
+    const std::size_t y_up = y > 0U ? y - 1U : 0U;
+    const std::size_t y_dn = y + 1U < h ? y + 1U : y;
+    const std::uint8_t* up = src + y_up * w;
+    const std::uint8_t* mid = src + std::size_t{y} * w;
+    const std::uint8_t* dn = src + y_dn * w;
     for (std::uint32_t x = 0; x < w; ++x) {
-      const std::uint32_t xl = x > 0U ? x - 1U : x;
-      const std::uint32_t xr = x + 1U < w ? x + 1U : x;
-      std::uint32_t acc = 0;
-      constexpr std::uint32_t kWeights[3] = {1U, 2U, 1U};
-      for (std::uint32_t k = 0; k < 3U; ++k) {
-        acc += kWeights[k] * (rows[k][xl] + 2U * rows[k][x] + rows[k][xr]);
-      }
+      const std::uint32_t acc = h121(up, x, w) + 2U * h121(mid, x, w) + h121(dn, x, w);
       dst[std::size_t{y} * w + x] = static_cast<std::uint8_t>((acc + 8U) / 16U);
     }
   }
