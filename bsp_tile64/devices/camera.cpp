@@ -56,14 +56,14 @@ struct Tap {
   double fy;
 };
 
-Tap tap(const GridView& g, double gx, double gy) noexcept {
+[[gnu::always_inline]] inline Tap tap(const GridView& g, double gx, double gy) noexcept {
   const auto ix = std::min(static_cast<std::uint32_t>(gx), g.n - 2U);
   const auto iy = std::min(static_cast<std::uint32_t>(gy), g.n - 2U);
   return {g.cells + std::size_t{iy} * g.n + ix, gx - static_cast<double>(ix), gy - static_cast<double>(iy)};
 }
 
 template <class T>
-double read(const Tap& t, std::uint32_t n, T world::detail::Cell::*field) noexcept {
+[[gnu::always_inline]] inline double read(const Tap& t, std::uint32_t n, T world::detail::Cell::*field) noexcept {
   const double a = static_cast<double>(t.p[0].*field);
   const double b = static_cast<double>(t.p[1].*field);
   const double top = a + (static_cast<double>(t.p[n].*field) - a) * t.fy;
