@@ -3,7 +3,9 @@
  * @brief The camera model: pinhole projection, renderer geometry (calibration targets), noise, determinism, DDR ring.
  */
 #include "bsp_tile64/devices/camera.hpp"
+#include "bsp_tile64/devices/imu.hpp"
 #include "bsp_tile64/memory.hpp"
+#include "tests/support/heap_probe.hpp"
 
 #include <gtest/gtest.h>
 
@@ -253,6 +255,28 @@ TEST_F(CameraRender, DeviceCapturesTheTruthPoseIntoItsDdrRing) {
   ASSERT_EQ(bsp::render(cam.model(), {s.r_m, s.q_mb}, opt, frame_.data(), &rng), bsp::CameraError::kOk);
   ASSERT_EQ(bsp::render(cam.model(), {s.r_m, s.q_mb}, opt, frame_.data(), &rng), bsp::CameraError::kOk);
   EXPECT_EQ(std::vector<std::uint8_t>(f2.pixels, f2.pixels + frame_.size()), frame_);
+}
+
+TEST_F(CameraRender, CaptureAndImuSamplingNeverTouchTheHeap) {
+  bsp::world::Trajectory traj;
+  ASSERT_EQ(traj.init(bsp::world::TrajectoryConfig{}), bsp::world::WorldError::kOk);
+  bsp::CameraConfig cc;
+  cc.blur = true;
+  bsp::CameraDevice cam;
+  ASSERT_EQ(cam.init(&traj, cc, 1), bsp::CameraError::kOk);
+  bsp::ImuModel imu;
+  ASSERT_EQ(imu.init(&traj, bsp::ImuErrorConfig{}, 1), bsp::ImuError::kOk);
+  bsp::CameraError err = bsp::CameraError::kNotReady;
+  std::uint32_t status = 0;
+  const std::uint64_t allocs = test_support::count_allocs([&] {
+    err = cam.capture(20.0).error;
+    for (std::uint32_t k = 0; k < 100; ++k) {
+      status |= imu.sample(k).status;
+    }
+  });
+  EXPECT_EQ(err, bsp::CameraError::kOk);
+  EXPECT_EQ(status, bsp::kImuStatusOk);
+  EXPECT_EQ(allocs, 0U);
 }
 
 TEST_F(CameraRender, BadConfigurationsAreRejected) {
