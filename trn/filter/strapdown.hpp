@@ -11,6 +11,10 @@
  * Error dynamics, first order, with local attitude error (R_true = R Exp(dth)):
  *   F_vth = -R [u]x,  F_vba = -R dt,  F_vp(z,z) = dg/dh dt,
  *   F_pv = dt I, F_p* = dt/2 F_v* (trapezoid), F_thth = Exp(dth)^T, F_thbg = -dt I.
+ * Neglected (first order in the increment, checked by finite differences in
+ * tests/trn/filter/jacobian_test.cpp): d(rotation compensation)/d(b_g) =
+ * dt/2 [dvc]x, d(rotation compensation)/d(b_a) = -dt/2 [dth]x, and the right
+ * Jacobian of Exp in F_thbg = -dt J_r(dth) ~ -dt I.
  */
 #pragma once
 
