@@ -1,0 +1,132 @@
+/**
+ * @file device_bus.cpp
+ * @brief Device FIFOs on the I/O tile and the events that fill them.
+ */
+#include "bsp_tile64/devices/device_bus.hpp"
+
+#include "bsp_tile64/board.hpp"
+
+#include <array>
+#include <cmath>
+
+namespace bsp {
+namespace {
+
+template <class T, std::uint32_t N>
+struct Fifo {
+  std::array<T, N> items{};
+  std::uint32_t head = 0;
+  std::uint32_t count = 0;
+  bool push(const T& v) noexcept {
+    if (count == N) {
+      return false;
+    }
+    items[(head + count) % N] = v;
+    ++count;
+    return true;
+  }
+  bool pop(T* out) noexcept {
+    if (count == 0U || out == nullptr) {
+      return false;
+    }
+    *out = items[head];
+    head = (head + 1U) % N;
+    --count;
+    return true;
+  }
+};
+
+struct Bus {
+  DeviceBusConfig cfg{};
+  bool attached = false;
+  Fifo<ImuSample, kImuFifoDepth> imu;
+  Fifo<FrameRecord, kFrameFifoDepth> frames;
+  DeviceStats stats{};
+  std::uint32_t next_imu_seq = 0;
+  std::uint32_t next_frame = 0;
+  FrameRecord pending{};  ///< captured, waiting for its readout delay
+};
+
+Bus g_bus;
+
+Cycles cycle_at(double t_s) noexcept {
+  return static_cast<Cycles>(std::llround(t_s * static_cast<double>(board_config().profile.clock_hz)));
+}
+
+Cycles imu_cycle(std::uint32_t seq) noexcept {
+  // Exact integer: the sample of interval seq ends at (seq + 1) / 100 s.
+  return (static_cast<Cycles>(seq) + 1U) * (board_config().profile.clock_hz / kImuRateHz);
+}
+
+double frame_time(std::uint32_t n) noexcept {
+  return g_bus.cfg.first_frame_s + static_cast<double>(n) / g_bus.cfg.camera->config().rate_hz;
+}
+
+void on_imu(TileId /*tile*/, Cycles /*cycle*/, std::uint64_t seq) noexcept {
+  const ImuSample s = g_bus.cfg.imu->sample(static_cast<std::uint32_t>(seq));
+  if (g_bus.imu.push(s)) {
+    ++g_bus.stats.imu_delivered;
+  } else {
+    ++g_bus.stats.imu_dropped;
+  }
+  g_bus.next_imu_seq = static_cast<std::uint32_t>(seq) + 1U;
+  const double next_t = static_cast<double>(g_bus.next_imu_seq + 1U) / kImuRateHz;
+  if (next_t <= g_bus.cfg.last_time_s) {
+    (void)schedule_event(imu_cycle(g_bus.next_imu_seq), g_bus.cfg.io_tile, Irq::kDevice, &on_imu,
+                         g_bus.next_imu_seq);
+  }
+}
+
+void on_frame_ready(TileId /*tile*/, Cycles /*cycle*/, std::uint64_t /*arg*/) noexcept {
+  if (g_bus.frames.push(g_bus.pending)) {
+    ++g_bus.stats.frames_delivered;
+  } else {
+    ++g_bus.stats.frames_dropped;
+  }
+}
+
+void on_capture(TileId /*tile*/, Cycles /*cycle*/, std::uint64_t n) noexcept {
+  const double t = frame_time(static_cast<std::uint32_t>(n));
+  const FrameInfo f = g_bus.cfg.camera->capture(t);
+  const CameraModel& m = g_bus.cfg.camera->model();
+  g_bus.pending = FrameRecord{f.pixels, f.seq, m.width_px, m.height_px,
+                              f.error == CameraError::kOk ? 0U : 1U, f.t_s};
+  // The readout delay is shorter than the frame period, so at most one frame is pending.
+  (void)schedule_event(cycle_at(t + g_bus.cfg.frame_readout_s), g_bus.cfg.io_tile, Irq::kDevice, &on_frame_ready,
+                       0);
+  const double next_t = frame_time(static_cast<std::uint32_t>(n) + 1U);
+  if (next_t <= g_bus.cfg.last_time_s) {
+    (void)schedule_event(cycle_at(next_t), g_bus.cfg.io_tile, Irq::kCount, &on_capture, n + 1U);
+  }
+}
+
+}  // namespace
+
+DeviceBusError attach_devices(const DeviceBusConfig& cfg) noexcept {
+  if (cfg.io_tile >= board_config().profile.tiles() || cfg.frame_readout_s < 0.0 ||
+      (cfg.camera != nullptr && cfg.frame_readout_s >= 1.0 / cfg.camera->config().rate_hz)) {
+    return DeviceBusError::kBadConfig;
+  }
+  g_bus = Bus{};
+  g_bus.cfg = cfg;
+  g_bus.attached = true;
+  if (cfg.imu != nullptr &&
+      schedule_event(imu_cycle(0), cfg.io_tile, Irq::kDevice, &on_imu, 0) != BoardError::kOk) {
+    return DeviceBusError::kScheduleFailed;
+  }
+  if (cfg.camera != nullptr &&
+      schedule_event(cycle_at(cfg.first_frame_s), cfg.io_tile, Irq::kCount, &on_capture, 0) != BoardError::kOk) {
+    return DeviceBusError::kScheduleFailed;
+  }
+  return DeviceBusError::kOk;
+}
+
+bool imu_read(ImuSample* out) noexcept { return g_bus.imu.pop(out); }
+
+bool frame_read(FrameRecord* out) noexcept { return g_bus.frames.pop(out); }
+
+DeviceStats device_stats() noexcept { return g_bus.stats; }
+
+TileId io_tile() noexcept { return g_bus.attached ? g_bus.cfg.io_tile : kNoTile; }
+
+}  // namespace bsp
