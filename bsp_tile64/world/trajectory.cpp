@@ -100,9 +100,7 @@ Eigen::Vector3d Trajectory::rate_b(double t_s) const noexcept {
   return {de[0] - de[2] * sp, de[1] * cr + de[2] * sr * cp, -de[1] * sr + de[2] * cr * cp};
 }
 
-TruthState Trajectory::at(double t_s) const noexcept {
-  TruthState s;
-  s.t_s = t_s;
+void Trajectory::translation(double t_s, TruthState& s) const noexcept {
   const double ws = 2.0 * kPi / cfg_.sway_period_s;
   const double amp = cfg_.sway_mps;
   const double tau = cfg_.rate_tau_s;
@@ -115,13 +113,21 @@ TruthState Trajectory::at(double t_s) const noexcept {
              -rate_mps(t_s)};
   s.a_mps2 = {amp * ws * std::cos(ws * t_s), amp * ws * std::cos(ws * t_s + 1.0),
               dv0 / tau * std::exp(-t_s / tau)};
+}
+
+TruthState Trajectory::at(double t_s) const noexcept {
+  TruthState s;
+  s.t_s = t_s;
+  translation(t_s, s);
   s.q_mb = attitude(t_s);
   s.w_b_rps = rate_b(t_s);
   return s;
 }
 
 Eigen::Vector3d Trajectory::specific_force_b(double t_s) const noexcept {
-  const TruthState s = at(t_s);
+  TruthState s;
+  translation(t_s, s);
+  s.q_mb = attitude(t_s);
   const Eigen::Vector3d f_m = s.a_mps2 - gravity_m(s.r_m.z());
   return s.q_mb.conjugate() * f_m;
 }

@@ -74,6 +74,8 @@ class Trajectory {
   double altitude_m(double t_s) const noexcept;
   double rate_mps(double t_s) const noexcept;
   void euler(double t_s, double e[3], double de[3]) const noexcept;
+  /** Position, velocity and acceleration of @p s at @p t_s (attitude untouched). */
+  void translation(double t_s, TruthState& s) const noexcept;
   TrajectoryConfig cfg_{};
   double duration_s_ = 0.0;
 };
