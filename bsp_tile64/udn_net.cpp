@@ -82,6 +82,9 @@ struct TileNet {
 struct Net {
   bool ready;
   std::uint32_t generation;
+  std::uint32_t in_flight;  ///< over all tiles: an empty network costs a barrier nothing
+  Cycles last_barrier;      ///< a second hook from a repeated init sees the same cycle and does nothing
+  bool barrier_seen;
   NetConfig config;
   std::uint32_t cols;
   std::uint32_t rows;
@@ -156,6 +159,7 @@ void release(Flight& f) noexcept {
   f.state = Slot::kFree;
   TileNet& src = g_net.tile[f.src];
   --src.in_flight;
+  --g_net.in_flight;
   if (src.refused) {
     src.refused = false;
     raise_irq(f.src, Irq::kUdn);  // the driver retries its refused send
@@ -351,7 +355,12 @@ void deliver(Cycles barrier) noexcept {
 }
 
 void on_barrier(Cycles barrier) noexcept {
-  if (!g_net.ready) {
+  if (!g_net.ready || (g_net.barrier_seen && barrier == g_net.last_barrier)) {
+    return;
+  }
+  g_net.barrier_seen = true;
+  g_net.last_barrier = barrier;
+  if (g_net.in_flight == 0U) {
     return;
   }
   const std::uint32_t n = collect(Slot::kSent, barrier);
@@ -397,6 +406,9 @@ NetError reset_state(const NetConfig& config) noexcept {
   g_net.ber = 0.0;
   g_net.rng = Rng(board_config().seed, StreamId::kFaults, kNetRngIndex);
   g_net.stats = NetStats{};
+  g_net.in_flight = 0U;
+  g_net.barrier_seen = false;
+  g_net.last_barrier = 0U;
   for (TileNet& tn : g_net.tile) {
     tn.pool.fill(Flight{});
     for (Queue& q : tn.queue) {  // the words need no clearing: only descriptors make them visible
@@ -448,6 +460,7 @@ NetError send_at(TileId src, Cycles at, std::span<const std::uint32_t> words) no
         f.w[i] = words[i];
       }
       ++tn.in_flight;
+      ++g_net.in_flight;
       ++g_net.stats.sent;
       return NetError::kOk;
     }
@@ -641,12 +654,6 @@ Cycles udn_link_busy_cycles(TileId tile, UdnDir dir) noexcept {
   return on_grid(tile) ? g_net.tile[tile].link_busy[static_cast<std::size_t>(dir)] : 0U;
 }
 
-std::uint32_t udn_net_in_flight() noexcept {
-  std::uint32_t n = 0U;
-  for (std::uint32_t t = 0; t < g_net.cols * g_net.rows; ++t) {
-    n += g_net.tile[t].in_flight;
-  }
-  return n;
-}
+std::uint32_t udn_net_in_flight() noexcept { return g_net.in_flight; }
 
 }  // namespace bsp

@@ -61,7 +61,9 @@ struct NetConfig {
 /**
  * Resets the network (queues, pool, links, faults, statistics) for the board's
  * current profile, registers the barrier hook and the handlers of the network
- * fault kinds. Call after board_init() (which clears hooks and handlers). [host]
+ * fault kinds. Call after board_init() (which clears hooks and handlers); a
+ * second call on the same board re-initialises the network (its extra hook
+ * does nothing). [host]
  * @return kBadConfig for capacities out of range, kFull if no barrier hook slot is left.
  */
 NetError udn_net_init(const NetConfig& config) noexcept;

@@ -233,6 +233,33 @@ TEST(UdnNet, FullQueueHoldsPacketsInFlightLosesNothingAndKeepsOrder) {
   EXPECT_EQ(bsp::udn_net_in_flight(), 0U);
 }
 
+TEST(UdnNet, RetriesCountOncePerBarrierEvenAfterARepeatedInit) {
+  init_board(bsp::kTile64, 42U, bsp::NetConfig{8U, 129U});
+  ASSERT_EQ(bsp::udn_net_init(bsp::NetConfig{8U, 129U}), bsp::NetError::kOk);  // a second hook is registered
+  for (std::uint32_t i = 0; i < 5U; ++i) {  // 4 x 31 words fit in 129, the fifth waits
+    ASSERT_EQ(bsp::udn_net_send_from(0U, 0U, packet(1U, 0U, 1U, 30U, i)), bsp::NetError::kOk);
+  }
+  (void)bsp::run_for(3U * kQuantum);  // barriers 0 (route), 1000 and 2000 (deliver 4, retry 1 twice)
+  const bsp::NetStats s = bsp::udn_net_stats();
+  EXPECT_EQ(s.delivered, 4U);
+  EXPECT_EQ(s.queue_full_retries, 2U);
+  EXPECT_EQ(bsp::udn_net_in_flight(), 1U);
+}
+
+/** Loss events of @p cause in the trace ring. */
+std::size_t lost_traces(bsp::UdnLoss cause) {
+  std::array<bsp::TraceEvent, bsp::kTraceRingSize> ring{};
+  const std::size_t n = bsp::trace_recent(ring);
+  std::size_t count = 0U;
+  for (std::size_t i = 0; i < n; ++i) {
+    count += (ring[i].kind == static_cast<std::uint16_t>(bsp::UdnTrace::kLost) &&
+              ring[i].a == static_cast<std::uint64_t>(cause))
+                 ? 1U
+                 : 0U;
+  }
+  return count;
+}
+
 /** Sends one packet from (1,2) to (3,5) after arming a header flip of word @p word, bit @p bit. */
 void send_with_flip(std::uint32_t word, std::uint32_t bit) {
   init_board();
@@ -266,6 +293,7 @@ TEST(UdnNetFaults, EveryDestinationBitFlipMisdeliversToTheNamedTileOrIsLostOffGr
     } else {
       EXPECT_EQ(s.lost[static_cast<std::size_t>(bsp::UdnLoss::kOffGrid)], 1U) << "bit " << bit;
       EXPECT_EQ(s.delivered, 0U) << "bit " << bit;
+      EXPECT_EQ(lost_traces(bsp::UdnLoss::kOffGrid), 1U) << "bit " << bit << ": every loss is traced";
     }
   }
 }
