@@ -20,6 +20,7 @@
 #include "trn/filter/covariance.hpp"
 #include "trn/filter/filter_config.hpp"
 #include "trn/filter/filter_state.hpp"
+#include "trn/filter/strapdown.hpp"
 #include "trn/match.hpp"
 
 #include <cstdint>
@@ -95,6 +96,8 @@ class Ekf {
   bsp::Work work_{};
 };
 
+/** Flops of one propagate() (strapdown and covariance); a task budgets its period with these. */
+inline constexpr std::uint64_t kFlopsPerPropagation = kFlopsStrapdown + kFlopsCovPropagate;
 /** Flops of one accepted match: measurement, gate, Joseph update, injection, reset. */
 inline constexpr std::uint64_t kFlopsPerMatch = kFlopsBearing + kFlopsJoseph + 60 + kFlopsReset;
 

@@ -8,16 +8,6 @@
 
 namespace trn::filter {
 
-namespace {
-
-// Counted by hand from the expressions below (a 3x3 by 3-vector product is
-// 9 mul + 6 add; a quaternion product 16 mul + 12 add; rotation matrix 24).
-constexpr std::uint64_t kNominalFlops = 6 + 6 + 15 + 15 + 3 + 6 + 9 + 28 + 24 + 30;
-constexpr std::uint64_t kNominalDivs = 4;  // gravity, exp map (sqrt, sin/cos counted as divs), normalize
-constexpr std::uint64_t kJacobianFlops = 9 * 5 + 9 + 9 + 18 + 9 + 4;
-
-}  // namespace
-
 double gravity_gradient_per_s2(double h_m) noexcept {
   const double r = bsp::frames::kRadiusMars + h_m;
   return 2.0 * bsp::frames::kGmMars / (r * r * r);
@@ -53,8 +43,8 @@ void strapdown_step(NominalState& x, const ImuIncrement& imu, Mat15& f, bsp::Wor
   x.v_mps = v_new;
   x.q_mb = (x.q_mb * dq).normalized();
 
-  work.flops += kNominalFlops + kJacobianFlops + 24;  // + the rotation of dq
-  work.fdivs += kNominalDivs + 2;
+  work.flops += kFlopsStrapdown;
+  work.fdivs += kFdivsStrapdown;
   work.mem_words += 2ULL * kErrDim * kErrDim;  // F written as doubles
 }
 

@@ -31,6 +31,14 @@ struct ImuIncrement {
   double dt_s = 0.0;
 };
 
+// Counted by hand from strapdown_step (a 3x3 by 3-vector product is 9 mul +
+// 6 add; a quaternion product 16 mul + 12 add; a rotation matrix 24): the
+// nominal update, the Jacobian blocks, and the rotation matrix of Exp(dth).
+inline constexpr std::uint64_t kFlopsStrapdown =
+    (6 + 6 + 15 + 15 + 3 + 6 + 9 + 28 + 24 + 30) + (9 * 5 + 9 + 9 + 18 + 9 + 4) + 24;
+/** Divisions, square roots and transcendental calls (gravity, Exp, normalize). */
+inline constexpr std::uint64_t kFdivsStrapdown = 6;
+
 /** d g_z / d h of the map-frame gravity (0, 0, -g(h)), 1/s^2 (positive: g weakens upward). */
 double gravity_gradient_per_s2(double h_m) noexcept;
 

@@ -105,4 +105,22 @@ TEST(FilterPropagation, InvalidSampleIsCountedAndNotIntegrated) {
   EXPECT_EQ(g_ekf.state().c.imu_gaps, 1U);
 }
 
+TEST(FilterPropagation, CountedWorkEqualsThePublishedBudgetConstants) {
+  trn::filter::FilterConfig cfg;
+  const bsp::CameraModel cam{};
+  ASSERT_EQ(g_ekf.configure(cfg, cam), FilterStatus::kOk);
+  TruthSim truth(3, false, cfg.imu);
+  bsp::Rng rng(3, bsp::StreamId::kTest, 11);
+  ASSERT_EQ(g_ekf.init(filter_test::perturbed_estimate(truth, rng, 10.0, 0.1, 1e-3)), FilterStatus::kOk);
+  ASSERT_EQ(g_ekf.propagate(truth.next_imu()), FilterStatus::kOk);
+  EXPECT_EQ(g_ekf.take_work().flops, trn::filter::kFlopsPerPropagation);
+  trn::Match m{};
+  truth.make_matches(rng, cam, 1, 0.5, &m);
+  trn::filter::UpdateReport rep;
+  ASSERT_EQ(g_ekf.update(&m, 1, rep), FilterStatus::kOk);
+  ASSERT_EQ(rep.accepted, 1U);
+  EXPECT_EQ(g_ekf.take_work().flops, trn::filter::kFlopsPerMatch);
+  EXPECT_EQ(g_ekf.take_work().flops, 0U);  // taking the work clears it
+}
+
 }  // namespace
