@@ -130,7 +130,8 @@ bool boot_board(const StressOptions& opts) {
   g_shared.profile = profile_named(opts.profile);
   const bsp::ChipProfile& p = g_shared.profile;
   bsp::BoardConfig cfg = bsp::default_config(p);
-  cfg.quantum_cycles = p.clock_hz / 1'000'000U;  // 1 us: a packet is seen at most 1 us after it arrives
+  const auto quantum = static_cast<bsp::Cycles>(opts.quantum_us * static_cast<double>(p.clock_hz) / 1e6);
+  cfg.quantum_cycles = quantum < 1U ? 1U : (quantum > cfg.tick_cycles ? cfg.tick_cycles : quantum);
   cfg.seed = opts.seed;
   cfg.monitor_tile = bsp::kNoTile;
   for (bsp::TileId t = 0; t < p.tiles(); ++t) {
@@ -206,6 +207,8 @@ void add_stress_options(CLI::App& app, StressOptions& opts) {
   app.add_option("--profile", opts.profile, "Chip profile: tile64 (8x8) or maestro (7x7)")
       ->check(CLI::IsMember({"tile64", "maestro"}));
   app.add_option("--max-ms", opts.max_ms, "Bound on emulated milliseconds")->check(CLI::Range(0.001, 1e6));
+  app.add_option("--quantum-us", opts.quantum_us, "Board quantum in microseconds (1..1000): delivery granularity")
+      ->check(CLI::Range(1.0, 1000.0));
 }
 
 std::string validate_stress_options(const StressOptions& opts) {
@@ -264,7 +267,7 @@ void write_stress_json(std::ostream& out, const StressOptions& opts, const Stres
   const auto lost = [&s](bsp::UdnLoss c) { return s.lost[static_cast<std::size_t>(c)]; };
   out << std::setprecision(9) << "{\"profile\":\"" << opts.profile << "\",\"pattern\":\"" << pattern_name(opts.pattern)
       << "\",\"rate_per_us\":" << opts.rate_per_us << ",\"packets\":" << opts.packets << ",\"words\":" << opts.words
-      << ",\"seed\":" << opts.seed << ",\"failed_switches\":[";
+      << ",\"seed\":" << opts.seed << ",\"quantum_us\":" << opts.quantum_us << ",\"failed_switches\":[";
   for (std::size_t i = 0; i < opts.failed_switches.size(); ++i) {
     out << (i == 0U ? "" : ",") << opts.failed_switches[i];
   }

@@ -36,6 +36,7 @@ struct StressOptions {
   std::vector<std::uint32_t> failed_switches;
   std::string profile = "tile64";
   double max_ms = 1000.0;  ///< emulated-time bound of the run
+  double quantum_us = 1.0;  ///< board quantum: software sees a packet at most this long after it arrives
 };
 
 /** Registers the udn_stress options on @p app, writing into @p opts (extensible by later layers). */

@@ -29,7 +29,7 @@ TEST(UdnStressArgs, DefaultsAndEveryOption) {
   EXPECT_EQ(o.pattern, tools::TrafficPattern::kUniform);
   EXPECT_EQ(o.profile, "tile64");
   ASSERT_EQ(parse({"--pattern", "hotspot", "--rate", "0.5", "--packets", "99", "--words", "12", "--seed", "7",
-                   "--failed-switches", "3,9,48", "--profile", "maestro"},
+                   "--failed-switches", "3,9,48", "--profile", "maestro", "--quantum-us", "10"},
                   o, msg),
             -1)
       << msg;
@@ -40,6 +40,7 @@ TEST(UdnStressArgs, DefaultsAndEveryOption) {
   EXPECT_EQ(o.seed, 7U);
   EXPECT_EQ(o.failed_switches, (std::vector<std::uint32_t>{3U, 9U, 48U}));
   EXPECT_EQ(o.profile, "maestro");
+  EXPECT_DOUBLE_EQ(o.quantum_us, 10.0);
 }
 
 TEST(UdnStressArgs, BadArgumentsGiveStatus2AndAMessage) {
@@ -48,6 +49,7 @@ TEST(UdnStressArgs, BadArgumentsGiveStatus2AndAMessage) {
       {"--packets", "0"},        {"--words", "0"},         {"--words", "129"},
       {"--profile", "tile128"},  {"--failed-switches", "3,x"}, {"--failed-switches", "64"},
       {"--no-such-option"},      {"--profile", "maestro", "--failed-switches", "49"},
+      {"--quantum-us", "0.5"},   {"--quantum-us", "2000"},
   };
   for (const auto& args : bad) {
     tools::StressOptions o;
@@ -113,6 +115,19 @@ TEST(UdnStressRun, SameSeedSameStatisticsOtherSeedDiffers) {
   EXPECT_DOUBLE_EQ(a.emulated_s, b.emulated_s);
   EXPECT_DOUBLE_EQ(a.link_utilisation_max, b.link_utilisation_max);
   EXPECT_NE(a.net.latency_sum, c.net.latency_sum);
+}
+
+TEST(UdnStressRun, TheQuantumChangesWhenSoftwareSeesPacketsNotTheirModelledLatency) {
+  tools::StressOptions o;
+  o.packets = 640U;
+  o.rate_per_us = 0.05;
+  const tools::StressResult fine = tools::run_stress(o, bsp::heap::SealMode::kCount);
+  o.quantum_us = 50.0;
+  const tools::StressResult coarse = tools::run_stress(o, bsp::heap::SealMode::kCount);
+  ASSERT_TRUE(fine.completed);
+  ASSERT_TRUE(coarse.completed);
+  EXPECT_EQ(fine.net.latency_sum, coarse.net.latency_sum);
+  EXPECT_EQ(fine.net.delivered, coarse.net.delivered);
 }
 
 TEST(UdnStressRun, FailedSwitchesLoseTheirPacketsAndTheRestArrives) {
