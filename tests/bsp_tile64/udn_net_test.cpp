@@ -400,6 +400,31 @@ TEST(UdnNetFaults, FailedLinkLosesExactlyThePacketsCrossingItEitherWay) {
   EXPECT_EQ(bsp::udn_net_stats().lost[static_cast<std::size_t>(bsp::UdnLoss::kFailedLink)], expected_lost);
 }
 
+TEST(UdnNetFaults, RandomPacketBitFlipsFromTheInjectorRateArmAndApply) {
+  init_board();
+  ASSERT_EQ(bsp::fault_set_rate(bsp::FaultKind::kPacketBitFlip, 2000.0), bsp::FaultError::kOk);  // ~128 per ms
+  for (int q = 0; q < 20; ++q) {
+    for (bsp::TileId s = 0; s < 64U; ++s) {
+      const bsp::TileId d = 63U - s;
+      ASSERT_EQ(bsp::udn_net_send_from(s, bsp::board_time(), packet(d % 8U, d / 8U, 1U, 4U)), bsp::NetError::kOk);
+    }
+    (void)bsp::run_for(kQuantum);
+  }
+  std::uint64_t applied = 0U;
+  for (const bsp::FaultRecord& r : bsp::fault_log()) {
+    ASSERT_EQ(r.spec.kind, bsp::FaultKind::kPacketBitFlip);
+    EXPECT_TRUE(r.status == bsp::FaultStatus::kApplied || r.status == bsp::FaultStatus::kArmed ||
+                r.status == bsp::FaultStatus::kScheduled);
+    if (r.status == bsp::FaultStatus::kApplied) {
+      ++applied;
+      EXPECT_LT(r.offset, 6U) << "a word of the 6-word packet";
+      EXPECT_LT(r.bit, 32U);
+    }
+  }
+  EXPECT_GT(applied, 0U);
+  EXPECT_EQ(bsp::udn_net_stats().bit_flips, applied);
+}
+
 struct RunDigest {
   bsp::NetStats stats;
   std::uint64_t trace_hash;

@@ -5,6 +5,8 @@
  */
 #include "udn/raw.hpp"
 
+#include "udn/ft_packet.hpp"
+
 #include "bsp_tile64/board.hpp"
 #include "bsp_tile64/udn_net.hpp"
 #include "kernel/kernel.hpp"
@@ -216,6 +218,23 @@ TEST(UdnRaw, HeadersFromCoordinatesAndIndices) {
   EXPECT_EQ(udn::header_for(0U, 0U, h), udn::RawError::kBadLength);
   EXPECT_EQ(udn::header_for(0U, udn::kMaxDataWords + 1U, h), udn::RawError::kBadLength);
   EXPECT_EQ(udn::header_for(0U, udn::kMaxDataWords, h), udn::RawError::kOk);
+}
+
+TEST(UdnRaw, BoardHeaderLayoutIsTheFaultTolerantCodecsLayout) {
+  for (std::uint32_t x = 0; x < 256U; x += 5U) {
+    for (std::uint32_t y = 0; y < 256U; y += 3U) {
+      for (std::uint32_t len = 0; len < 256U; len += 7U) {
+        const std::uint32_t h = bsp::udn_make_header(x, y, len);
+        ASSERT_EQ(h, udn::make_hw_header(static_cast<std::uint8_t>(x), static_cast<std::uint8_t>(y),
+                                         static_cast<std::uint8_t>(len)))
+            << x << "," << y << " len " << len;
+        ASSERT_EQ(bsp::udn_header_x(h), x);
+        ASSERT_EQ(bsp::udn_header_y(h), y);
+        ASSERT_EQ(bsp::udn_header_length(h), len);
+      }
+    }
+  }
+  EXPECT_LE(udn::kFtMaxPacketWords - 1U, bsp::kUdnMaxLength) << "a fault-tolerant packet fits one send";
 }
 
 }  // namespace
