@@ -5,6 +5,7 @@
 #include "bsp_tile64/world/refmap.hpp"
 
 #include "bsp_tile64/memory.hpp"
+#include "tests/support/heap_probe.hpp"
 
 #include <gtest/gtest.h>
 
@@ -106,6 +107,21 @@ TEST_F(RefMap, SameSeedGivesTheSameProductAndAnotherSunOrSeedAnother) {
   ASSERT_EQ(bsp::region_reset(bsp::Region{bsp::Region::kDdr}), bsp::MemError::kOk);
   ASSERT_EQ(bsp::world::terrain_build(small(4)), bsp::world::WorldError::kOk);
   EXPECT_NE(a, bytes(bsp::world::refmap_build(cfg, nullptr)));
+}
+
+TEST_F(RefMap, BuildingTheWorldAndItsMapNeverTouchesTheHeap) {
+  bsp::world::WorldError terrain = bsp::world::WorldError::kNotBuilt;
+  bsp::world::WorldError shade = bsp::world::WorldError::kNotBuilt;
+  bsp::world::WorldError map = bsp::world::WorldError::kNotBuilt;
+  const std::uint64_t allocs = test_support::count_allocs([&] {
+    terrain = bsp::world::terrain_build(small(8));
+    shade = bsp::world::terrain_shade(bsp::world::SunAngle{135.0, 35.0});
+    (void)bsp::world::refmap_build(bsp::world::MapConfig{}, &map);
+  });
+  EXPECT_EQ(terrain, bsp::world::WorldError::kOk);
+  EXPECT_EQ(shade, bsp::world::WorldError::kOk);
+  EXPECT_EQ(map, bsp::world::WorldError::kOk);
+  EXPECT_EQ(allocs, 0U);
 }
 
 TEST_F(RefMap, BadConfigurationsAreRejectedWithoutCarving) {
