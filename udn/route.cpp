@@ -1,0 +1,243 @@
+/**
+ * @file route.cpp
+ * @brief Fault map, X-then-Y path checks and shortest one- or two-intermediate route tables.
+ */
+#include "udn/route.hpp"
+
+namespace udn {
+namespace {
+
+constexpr std::uint64_t bit_of(std::uint32_t t) noexcept { return std::uint64_t{1} << t; }
+
+bool on_grid(const FaultMap& map, bsp::TileId t) noexcept { return t < map.cols * map.rows; }
+
+bool link_failed(const FaultMap& map, bsp::TileId from, bsp::UdnDir dir) noexcept {
+  return (map.failed_links[from] & (1U << static_cast<unsigned>(dir))) != 0U;
+}
+
+/** Neighbour of t in dir, kNoTile off the grid. */
+bsp::TileId neighbour(const FaultMap& map, bsp::TileId t, bsp::UdnDir dir) noexcept {
+  const std::uint32_t x = t % map.cols;
+  const std::uint32_t y = t / map.cols;
+  switch (dir) {
+    case bsp::UdnDir::kEast:
+      return (x + 1U < map.cols) ? t + 1U : bsp::kNoTile;
+    case bsp::UdnDir::kWest:
+      return (x > 0U) ? t - 1U : bsp::kNoTile;
+    case bsp::UdnDir::kNorth:
+      return (y > 0U) ? t - map.cols : bsp::kNoTile;
+    case bsp::UdnDir::kSouth:
+      return (y + 1U < map.rows) ? t + map.cols : bsp::kNoTile;
+  }
+  return bsp::kNoTile;
+}
+
+bsp::UdnDir opposite(bsp::UdnDir d) noexcept {
+  switch (d) {
+    case bsp::UdnDir::kEast:
+      return bsp::UdnDir::kWest;
+    case bsp::UdnDir::kWest:
+      return bsp::UdnDir::kEast;
+    case bsp::UdnDir::kNorth:
+      return bsp::UdnDir::kSouth;
+    case bsp::UdnDir::kSouth:
+      return bsp::UdnDir::kNorth;
+  }
+  return bsp::UdnDir::kEast;
+}
+
+/** A candidate route and its ordering key. */
+struct Candidate {
+  std::uint32_t hops = 0xFFFF'FFFFU;
+  std::uint32_t vias = 0U;
+  std::uint32_t m1 = 0U;
+  std::uint32_t m2 = 0U;
+};
+
+bool better(const Candidate& a, const Candidate& b) noexcept {
+  if (a.hops != b.hops) {
+    return a.hops < b.hops;
+  }
+  if (a.vias != b.vias) {
+    return a.vias < b.vias;
+  }
+  return (a.m1 != b.m1) ? a.m1 < b.m1 : a.m2 < b.m2;
+}
+
+/** Best route to d with one intermediate (m1 = m, vias = 1); hops stays max if none. */
+Candidate best_one_via(const RouteTable& t, bsp::TileId d, bsp::Work& work) noexcept {
+  Candidate best{};
+  for (std::uint32_t m = 0U; m < t.tiles; ++m) {
+    ++work.int_ops;
+    if (m == t.self || m == d || (t.clear[t.self] & bit_of(m)) == 0U || (t.clear[m] & bit_of(d)) == 0U) {
+      continue;
+    }
+    const Candidate c{path_hops(t.cols, t.self, m) + path_hops(t.cols, m, d), 1U, m, 0U};
+    if (better(c, best)) {
+      best = c;
+    }
+  }
+  return best;
+}
+
+Candidate best_two_vias(const RouteTable& t, bsp::TileId d, bsp::Work& work) noexcept {
+  Candidate best{};
+  for (std::uint32_t m1 = 0U; m1 < t.tiles; ++m1) {
+    if (m1 == t.self || m1 == d || (t.clear[t.self] & bit_of(m1)) == 0U) {
+      continue;
+    }
+    const std::uint32_t first = path_hops(t.cols, t.self, m1);
+    for (std::uint32_t m2 = 0U; m2 < t.tiles; ++m2) {
+      ++work.int_ops;
+      if (m2 == m1 || m2 == t.self || m2 == d || (t.clear[m1] & bit_of(m2)) == 0U ||
+          (t.clear[m2] & bit_of(d)) == 0U) {
+        continue;
+      }
+      const Candidate c{first + path_hops(t.cols, m1, m2) + path_hops(t.cols, m2, d), 2U, m1, m2};
+      if (better(c, best)) {
+        best = c;
+      }
+    }
+  }
+  return best;
+}
+
+Route route_to(const RouteTable& t, bsp::TileId d, bsp::Work& work) noexcept {
+  Route r{};
+  if ((t.clear[t.self] & bit_of(d)) != 0U) {
+    r.status = RouteError::kOk;
+    r.hops = static_cast<std::uint8_t>(path_hops(t.cols, t.self, d));
+    return r;
+  }
+  Candidate c = best_one_via(t, d, work);
+  const Candidate c2 = best_two_vias(t, d, work);
+  if (better(c2, c)) {
+    c = c2;
+  }
+  if (c.vias == 0U) {
+    return r;  // kUnreachable
+  }
+  r.status = RouteError::kOk;
+  r.hops = static_cast<std::uint8_t>(c.hops);
+  r.via_count = static_cast<std::uint8_t>(c.vias);
+  r.via[0] = static_cast<std::uint8_t>(c.m1);
+  r.via[1] = static_cast<std::uint8_t>(c.m2);
+  return r;
+}
+
+}  // namespace
+
+RouteError fault_map_init(FaultMap& map, std::uint32_t cols, std::uint32_t rows) noexcept {
+  if (cols == 0U || rows == 0U || cols * rows > kRouteMaxTiles || cols > 0xFFU || rows > 0xFFU) {
+    return RouteError::kBadGrid;
+  }
+  map = FaultMap{};
+  map.cols = cols;
+  map.rows = rows;
+  return RouteError::kOk;
+}
+
+RouteError fault_map_fail_tile(FaultMap& map, bsp::TileId t) noexcept {
+  if (!on_grid(map, t)) {
+    return RouteError::kBadTile;
+  }
+  map.failed_tiles |= bit_of(t);
+  ++map.version;
+  return RouteError::kOk;
+}
+
+RouteError fault_map_fail_link(FaultMap& map, bsp::TileId t, bsp::UdnDir dir, bool both_ways) noexcept {
+  if (!on_grid(map, t)) {
+    return RouteError::kBadTile;
+  }
+  const bsp::TileId n = neighbour(map, t, dir);
+  if (n == bsp::kNoTile) {
+    return RouteError::kBadTile;
+  }
+  map.failed_links[t] = static_cast<std::uint8_t>(map.failed_links[t] | (1U << static_cast<unsigned>(dir)));
+  if (both_ways) {
+    const auto back = static_cast<unsigned>(opposite(dir));
+    map.failed_links[n] = static_cast<std::uint8_t>(map.failed_links[n] | (1U << back));
+  }
+  ++map.version;
+  return RouteError::kOk;
+}
+
+std::uint32_t path_hops(std::uint32_t cols, bsp::TileId s, bsp::TileId d) noexcept {
+  const std::uint32_t sx = s % cols;
+  const std::uint32_t sy = s / cols;
+  const std::uint32_t dx = d % cols;
+  const std::uint32_t dy = d / cols;
+  return ((sx > dx) ? sx - dx : dx - sx) + ((sy > dy) ? sy - dy : dy - sy);
+}
+
+bool path_clear(const FaultMap& map, bsp::TileId s, bsp::TileId d) noexcept {
+  if (!on_grid(map, s) || !on_grid(map, d)) {
+    return false;
+  }
+  bsp::TileId t = s;
+  // At most cols + rows steps: each moves one column or row toward d.
+  for (std::uint32_t step = 0U; step <= map.cols + map.rows; ++step) {
+    if ((map.failed_tiles & bit_of(t)) != 0U) {
+      return false;
+    }
+    if (t == d) {
+      return true;
+    }
+    const std::uint32_t x = t % map.cols;
+    const std::uint32_t dx = d % map.cols;
+    bsp::UdnDir dir = bsp::UdnDir::kEast;
+    if (x != dx) {
+      dir = (dx > x) ? bsp::UdnDir::kEast : bsp::UdnDir::kWest;
+    } else {
+      dir = (d > t) ? bsp::UdnDir::kSouth : bsp::UdnDir::kNorth;
+    }
+    if (link_failed(map, t, dir)) {
+      return false;
+    }
+    t = neighbour(map, t, dir);
+  }
+  return false;
+}
+
+RouteError route_table_build(const FaultMap& map, bsp::TileId self, RouteTable& table, bsp::Work& work) noexcept {
+  const std::uint32_t tiles = map.cols * map.rows;
+  if (tiles == 0U || tiles > kRouteMaxTiles) {
+    return RouteError::kBadGrid;
+  }
+  if (self >= tiles) {
+    return RouteError::kBadTile;
+  }
+  table.self = self;
+  table.cols = map.cols;
+  table.tiles = tiles;
+  table.map_version = map.version;
+  for (std::uint32_t a = 0U; a < tiles; ++a) {
+    table.clear[a] = 0U;
+    for (std::uint32_t b = 0U; b < tiles; ++b) {
+      work.int_ops += map.cols + map.rows;
+      if (path_clear(map, a, b)) {
+        table.clear[a] |= bit_of(b);
+      }
+    }
+  }
+  for (std::uint32_t d = 0U; d < kRouteMaxTiles; ++d) {
+    table.to[d] = (d < tiles) ? route_to(table, d, work) : Route{};
+  }
+  return RouteError::kOk;
+}
+
+RouteError route_next_hop(const RouteTable& table, bsp::TileId dest, bsp::TileId& next) noexcept {
+  next = bsp::kNoTile;
+  if (dest >= table.tiles) {
+    return RouteError::kBadTile;
+  }
+  const Route& r = table.to[dest];
+  if (r.status != RouteError::kOk) {
+    return RouteError::kUnreachable;
+  }
+  next = (r.via_count == 0U) ? dest : static_cast<bsp::TileId>(r.via[0]);
+  return RouteError::kOk;
+}
+
+}  // namespace udn

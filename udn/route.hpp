@@ -1,0 +1,103 @@
+/**
+ * @file route.hpp
+ * @brief Virtual routing around failed tiles and links: a fault map and per-tile route tables.
+ *
+ * The hardware routes every packet X-then-Y. A route here is a chain of at
+ * most three such legs: direct, or via one or two intermediate tiles that
+ * consume the packet and re-inject it (paper Fig. 6). Each leg is a plain
+ * X-then-Y path, so the network's deadlock freedom is kept; the intermediate
+ * recognises the packet as not its own (decode_packet says kMisdelivered
+ * because the protected destination index names another tile) and forwards it
+ * with its own table. Every forwarder's remaining route is strictly shorter
+ * than the one that sent it there, so forwarding ends (see docs/FT_MESSAGING.md).
+ *
+ * Failure semantics: a failed tile is avoided as endpoint, intermediate and
+ * transit (its switch is not trusted); a failed link is directed (the link
+ * leaving a tile in one direction), fault_map_fail_link can fail both ways.
+ *
+ * Static storage only; all work is bounded by the grid size (at most 64 tiles).
+ */
+#pragma once
+
+#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/udn_hw.hpp"
+#include "bsp_tile64/work.hpp"
+
+#include <array>
+#include <cstdint>
+
+namespace udn {
+
+inline constexpr std::uint32_t kRouteMaxTiles = 64U;
+inline constexpr std::uint32_t kRouteMaxVias = 2U;
+
+enum class RouteError : std::uint8_t {
+  kOk,
+  kBadGrid,      ///< cols * rows is 0 or above kRouteMaxTiles
+  kBadTile,      ///< tile outside the map's grid
+  kUnreachable,  ///< no route of at most kRouteMaxVias intermediates avoids the failures
+};
+
+/** What is known to be broken. Plain data: copy it to publish a new version. */
+struct FaultMap {
+  std::uint32_t cols = 0U;
+  std::uint32_t rows = 0U;
+  std::uint64_t failed_tiles = 0U;                         ///< bit t: tile t (and its switch) failed
+  std::array<std::uint8_t, kRouteMaxTiles> failed_links{};  ///< per tile, bit d: link leaving in UdnDir d failed
+  std::uint32_t version = 0U;                               ///< incremented by every change
+};
+
+/** Empty map for a cols x rows grid. @return kBadGrid for an empty or too large grid. */
+RouteError fault_map_init(FaultMap& map, std::uint32_t cols, std::uint32_t rows) noexcept;
+
+/** Marks tile @p t failed. @return kBadTile off the grid. Idempotent (version still moves). */
+RouteError fault_map_fail_tile(FaultMap& map, bsp::TileId t) noexcept;
+
+/**
+ * Marks the link leaving @p t in @p dir failed, and the opposite direction too
+ * when @p both_ways. @return kBadTile if t or its neighbour in dir is off the grid.
+ */
+RouteError fault_map_fail_link(FaultMap& map, bsp::TileId t, bsp::UdnDir dir, bool both_ways) noexcept;
+
+/** True if the X-then-Y path from @p s to @p d touches no failed tile or link (false off the grid). */
+bool path_clear(const FaultMap& map, bsp::TileId s, bsp::TileId d) noexcept;
+
+/** Mesh hops of the X-then-Y path (Manhattan distance). */
+std::uint32_t path_hops(std::uint32_t cols, bsp::TileId s, bsp::TileId d) noexcept;
+
+/** The route from a table's tile to one destination. */
+struct Route {
+  RouteError status = RouteError::kUnreachable;
+  std::uint8_t hops = 0U;       ///< total mesh hops over all legs
+  std::uint8_t via_count = 0U;  ///< 0 direct, 1 or 2 intermediates
+  std::array<std::uint8_t, kRouteMaxVias> via{};
+};
+
+/** One tile's routes to every tile, built from one version of the fault map. */
+struct RouteTable {
+  bsp::TileId self = bsp::kNoTile;
+  std::uint32_t cols = 0U;
+  std::uint32_t tiles = 0U;
+  std::uint32_t map_version = 0U;
+  std::array<Route, kRouteMaxTiles> to{};
+  /** Scratch of the build: bit b of clear[a] = path_clear(a, b). */
+  std::array<std::uint64_t, kRouteMaxTiles> clear{};
+};
+
+/**
+ * Builds @p table for tile @p self: for every destination the route with the
+ * fewest total hops; ties go to fewer intermediates, then the lowest first
+ * intermediate index, then the lowest second. Bounded: tiles^2 path checks and
+ * at most tiles^3 table probes. Charges its work to @p work.
+ * @return kBadTile for self off the grid, kBadGrid for a bad map, else kOk
+ *         (unreachable destinations are marked in the table, not an error).
+ */
+RouteError route_table_build(const FaultMap& map, bsp::TileId self, RouteTable& table, bsp::Work& work) noexcept;
+
+/**
+ * Where to send a packet for @p dest on its next leg: the first intermediate
+ * or the destination itself. @return kUnreachable (next = kNoTile) or kBadTile.
+ */
+RouteError route_next_hop(const RouteTable& table, bsp::TileId dest, bsp::TileId& next) noexcept;
+
+}  // namespace udn
