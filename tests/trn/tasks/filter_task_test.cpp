@@ -1,0 +1,143 @@
+/**
+ * @file filter_task_test.cpp
+ * @brief The filter task on its own tile at 100 Hz, fed by the I/O tile over the UDN: follows
+ *        the truth, meets every deadline inside 10 ms of emulated time, allocates nothing,
+ *        and repeats bit for bit.
+ */
+#include "bsp_tile64/board.hpp"
+#include "bsp_tile64/devices/device_bus.hpp"
+#include "bsp_tile64/trace.hpp"
+#include "bsp_tile64/udn_net.hpp"
+#include "bsp_tile64/world/trajectory.hpp"
+#include "kernel/kernel.hpp"
+#include "tests/support/heap_probe.hpp"
+#include "trn/tasks/filter_task.hpp"
+#include "trn/tasks/io_task.hpp"
+#include "trn/tasks/messages.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+namespace {
+
+constexpr bsp::TileId kIoTile = 9;
+constexpr bsp::TileId kFilterTile = 18;
+constexpr bsp::Cycles kHz = bsp::kTile64.clock_hz;
+
+trn::tasks::IoTaskConfig g_io_cfg{kFilterTile};
+trn::tasks::FilterTaskConfig g_filter_cfg{};
+
+constexpr k::TaskSpec kIoTable[] = {
+    {"io", &trn::tasks::io_task_main, &g_io_cfg, 1, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
+};
+constexpr k::TaskSpec kFilterTable[] = {
+    {"filter", &trn::tasks::filter_task_main, &g_filter_cfg, 2, 10, 10, 32U * 1024U, k::Policy::kPreemptive},
+};
+static_assert(k::check_table(kIoTable) == k::TableError::kOk);
+static_assert(k::check_table(kFilterTable) == k::TableError::kOk);
+
+class FilterTask : public ::testing::Test {
+ protected:
+  void boot(bool imu_errors) {
+    ASSERT_EQ(traj_.init(bsp::world::TrajectoryConfig{}), bsp::world::WorldError::kOk);
+    bsp::ImuErrorConfig ic;
+    ic.enabled = imu_errors;
+    ASSERT_EQ(imu_.init(&traj_, ic, 21), bsp::ImuError::kOk);
+    const bsp::world::TruthState t0 = traj_.at(0.0);
+    g_filter_cfg = trn::tasks::FilterTaskConfig{};
+    g_filter_cfg.initial.t_s = 0.0;
+    g_filter_cfg.initial.x.p_m = t0.r_m;
+    g_filter_cfg.initial.x.v_mps = t0.v_mps;
+    g_filter_cfg.initial.x.q_mb = t0.q_mb;
+    g_filter_cfg.initial.sigma_p_m = trn::filter::Vec3::Constant(1.0);
+    g_filter_cfg.initial.sigma_v_mps = trn::filter::Vec3::Constant(0.01);
+    bsp::BoardConfig cfg = bsp::default_config(bsp::kTile64);
+    cfg.powered_at_start = (1ULL << kIoTile) | (1ULL << kFilterTile);
+    cfg.monitor_tile = bsp::kNoTile;
+    cfg.boot[kIoTile] = &k::boot_entry;
+    cfg.boot[kFilterTile] = &k::boot_entry;
+    k::set_task_table(kIoTile, kIoTable, bsp::kTile64.cycles_per_ms());
+    k::set_task_table(kFilterTile, kFilterTable, bsp::kTile64.cycles_per_ms());
+    ASSERT_EQ(bsp::board_init(cfg), bsp::BoardError::kOk);
+    ASSERT_EQ(bsp::udn_net_init(bsp::NetConfig{}), bsp::NetError::kOk);
+    bsp::DeviceBusConfig bus;
+    bus.io_tile = kIoTile;
+    bus.imu = &imu_;
+    ASSERT_EQ(bsp::attach_devices(bus), bsp::DeviceBusError::kOk);
+  }
+
+  double position_error_m(const trn::filter::NavOutput& o) const {
+    const bsp::world::TruthState t = traj_.at(o.t_s);
+    const Eigen::Vector3d p(o.p_m[0], o.p_m[1], o.p_m[2]);
+    return (p - t.r_m).norm();
+  }
+
+  bsp::world::Trajectory traj_;
+  bsp::ImuModel imu_;
+};
+
+TEST_F(FilterTask, FollowsTheTruthAtOneHundredHertzWithinEveryDeadline) {
+  boot(false);
+  (void)bsp::run_for(5U * kHz);
+  const trn::tasks::FilterTaskStats st = trn::tasks::filter_task_stats(kFilterTile);
+  EXPECT_GE(st.jobs, 495U);
+  EXPECT_GE(st.imu_used, 495U) << "every sample forwarded and integrated";
+  EXPECT_EQ(st.imu_rejected, 0U);
+  EXPECT_EQ(st.filter_errors, 0U);
+  EXPECT_EQ(trn::tasks::io_task_stats().send_failures, 0U);
+  // One period's work on the soft-float TILE64 fits well inside 10 ms.
+  EXPECT_GT(st.max_job_cycles, 0U);
+  EXPECT_LT(st.max_job_cycles, 10U * bsp::kTile64.cycles_per_ms() / 2U);
+  k::TaskStats ks{};
+  ASSERT_EQ(k::task_stats(kFilterTile, k::find_task(kFilterTile, "filter"), &ks), k::Status::kOk);
+  EXPECT_EQ(ks.deadline_misses, 0U);
+  EXPECT_EQ(ks.overruns, 0U);
+  trn::filter::NavOutput o{};
+  ASSERT_TRUE(trn::tasks::filter_task_output(kFilterTile, &o));
+  EXPECT_NEAR(o.t_s, 5.0, 0.0201);
+  EXPECT_LT(position_error_m(o), 0.05) << "a perfect IMU integrates back to the truth";
+  std::printf("filter task: %u jobs, %u samples, max job %.3f ms, last %.3f ms, error %.4f m\n", st.jobs,
+              st.imu_used, static_cast<double>(st.max_job_cycles) / 7.0e5,
+              static_cast<double>(st.last_job_cycles) / 7.0e5, position_error_m(o));
+}
+
+TEST_F(FilterTask, WithLn200ErrorsTheDriftStaysInsideThreeSigma) {
+  boot(true);
+  (void)bsp::run_for(10U * kHz);
+  trn::filter::NavOutput o{};
+  ASSERT_TRUE(trn::tasks::filter_task_output(kFilterTile, &o));
+  const double sigma = std::sqrt(o.var_diag[0] + o.var_diag[1] + o.var_diag[2]);
+  EXPECT_LT(position_error_m(o), 3.0 * sigma) << "sigma " << sigma;
+  EXPECT_GT(position_error_m(o), 0.0);
+}
+
+TEST_F(FilterTask, RunAllocatesNothingAndRepeatsBitForBit) {
+  boot(true);
+  const std::uint64_t allocs = test_support::count_allocs([] { (void)bsp::run_for(2U * kHz); });
+  EXPECT_EQ(allocs, 0U);
+  trn::filter::NavOutput first{};
+  ASSERT_TRUE(trn::tasks::filter_task_output(kFilterTile, &first));
+  const std::uint64_t hash = bsp::trace_hash();
+  boot(true);
+  (void)bsp::run_for(2U * kHz);
+  trn::filter::NavOutput second{};
+  ASSERT_TRUE(trn::tasks::filter_task_output(kFilterTile, &second));
+  EXPECT_EQ(bsp::trace_hash(), hash);
+  EXPECT_EQ(std::memcmp(&first, &second, sizeof first), 0);
+}
+
+TEST(Messages, ImuSampleSurvivesPackingBitForBit) {
+  bsp::ImuSample s{};
+  s.seq = 77;
+  s.status = 0;
+  s.t_s = 0.78;
+  s.dtheta_rad[1] = -1.0e-7;
+  s.dv_mps[2] = 0.0371234567;
+  std::array<std::uint32_t, trn::tasks::kImuWords> w{};
+  trn::tasks::pack_imu(s, w);
+  const bsp::ImuSample r = trn::tasks::unpack_imu(w);
+  EXPECT_EQ(std::memcmp(&r, &s, sizeof s), 0);
+}
+
+}  // namespace

@@ -1,0 +1,55 @@
+/**
+ * @file io_task.cpp
+ * @brief I/O tile driver: device FIFO to UDN.
+ */
+#include "trn/tasks/io_task.hpp"
+
+#include "bsp_tile64/devices/device_io.hpp"
+#include "kernel/kernel.hpp"
+#include "trn/tasks/messages.hpp"
+#include "udn/raw.hpp"
+
+#include <array>
+
+namespace trn::tasks {
+namespace {
+
+// One I/O tile per chip: its state is the board's, reset with every task start.
+k::Semaphore g_device_ready{0, 1000};
+IoTaskStats g_stats{};
+
+void device_isr(bsp::TileId /*tile*/) noexcept { (void)g_device_ready.give_from_isr(); }
+
+/** A sample that cannot be sent within this many ticks is counted and dropped. */
+constexpr k::Timeout kSendTimeout{5};
+/** Samples forwarded per wake-up at most (the FIFO depth). */
+constexpr std::uint32_t kMaxPerWake = bsp::kImuFifoDepth;
+
+}  // namespace
+
+void io_task_main(void* arg) noexcept {
+  const auto* cfg = static_cast<const IoTaskConfig*>(arg);
+  g_stats = IoTaskStats{};
+  g_device_ready = k::Semaphore{0, 1000};
+  if (cfg == nullptr || udn::activate() != udn::RawError::kOk ||
+      k::set_isr(bsp::Irq::kDevice, &device_isr) != k::Status::kOk) {
+    return;  // the tile's health monitor sees a task that never runs
+  }
+  std::array<std::uint32_t, kImuWords> words{};
+  for (;;) {  // the driver loop: one pass per device interrupt
+    (void)g_device_ready.take(k::kForever);
+    bsp::ImuSample s{};
+    for (std::uint32_t n = 0; n < kMaxPerWake && bsp::imu_read(&s); ++n) {
+      pack_imu(s, words);
+      if (udn::send(cfg->filter_tile, kTagImu, words, kSendTimeout) == udn::RawError::kOk) {
+        ++g_stats.imu_forwarded;
+      } else {
+        ++g_stats.send_failures;
+      }
+    }
+  }
+}
+
+IoTaskStats io_task_stats() noexcept { return g_stats; }
+
+}  // namespace trn::tasks
