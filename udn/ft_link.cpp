@@ -1,0 +1,408 @@
+/**
+ * @file ft_link.cpp
+ * @brief Listener, reliable channels (sequence, ACK/NACK, go-back-N retransmission) and forwarding.
+ */
+#include "udn/ft_link.hpp"
+
+#include "udn/ecc.hpp"
+
+namespace udn {
+namespace {
+
+constexpr std::uint32_t kHalfSeq = 128U;
+
+struct ChannelWord {
+  std::uint32_t source;
+  std::uint8_t seq;
+  FtKind kind;
+  bool resync;
+  std::uint32_t channel;
+};
+
+ChannelWord split(std::uint32_t w) noexcept {
+  return ChannelWord{w >> 24U, static_cast<std::uint8_t>((w >> 16U) & 0xFFU),
+                     static_cast<FtKind>((w >> 12U) & 0xFU), ((w >> 8U) & 1U) != 0U, w & 0xFFU};
+}
+
+/** (a - b) mod 256: how far a is ahead of b. */
+std::uint32_t seq_ahead(std::uint8_t a, std::uint8_t b) noexcept {
+  return static_cast<std::uint32_t>(static_cast<std::uint8_t>(a - b));
+}
+
+bsp::NetError task_send(void* /*ctx*/, bsp::TileId /*self*/, std::span<const std::uint32_t> words) noexcept {
+  return bsp::udn_net_send(words);
+}
+
+bsp::NetError task_receive(void* /*ctx*/, bsp::TileId /*self*/, std::uint32_t queue, bsp::RxPacket& rx,
+                           std::span<std::uint32_t> payload) noexcept {
+  return bsp::udn_net_receive(queue, rx, payload);
+}
+
+/** Points the image at the next hop for its destination index and sends it. */
+FtError route_and_send(FtNode& n, std::span<std::uint32_t> image, bsp::TileId dest) noexcept {
+  bsp::TileId next = bsp::kNoTile;
+  if (route_next_hop(n.routes, dest, next) != RouteError::kOk) {
+    return FtError::kUnreachable;
+  }
+  const auto x = static_cast<std::uint8_t>(next % n.routes.cols);
+  const auto y = static_cast<std::uint8_t>(next / n.routes.cols);
+  if (readdress_packet(image, x, y, kFtHwTag) != ReaddressStatus::kOk) {
+    return FtError::kBadArgs;
+  }
+  return (n.port.send(n.port.ctx, n.self, image) == bsp::NetError::kOk) ? FtError::kOk : FtError::kNetFull;
+}
+
+void log_event(FtNode& n, FtCause cause, bsp::TileId peer, std::uint32_t channel, std::uint8_t seq,
+               std::uint32_t now) noexcept {
+  ft_event_push(n.events, FtEvent{now, cause, static_cast<std::uint8_t>(channel), seq, peer});
+}
+
+/** Frees every slot of stream (dest, channel) that @p acked covers (cumulative). */
+void take_ack(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint8_t acked) noexcept {
+  for (detail::TxSlot& s : n.tx) {
+    if (s.used && s.dest == dest && s.channel == channel && seq_ahead(acked, s.seq) < kHalfSeq) {
+      s.used = false;
+      --n.in_window[dest];
+    }
+  }
+  detail::TxStream& st = n.tx_stream[dest][channel];
+  if (st.resync && seq_ahead(acked, st.resync_seq) < kHalfSeq) {
+    st.resync = false;
+  }
+}
+
+/** Retransmits the stream's outstanding slots in sequence order from @p from. */
+void resend_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint8_t from, std::uint32_t now) noexcept {
+  for (std::uint32_t k = 0U; k < kFtTxSlots; ++k) {
+    const auto seq = static_cast<std::uint8_t>(from + k);
+    for (detail::TxSlot& s : n.tx) {
+      if (!s.used || s.dest != dest || s.channel != channel || s.seq != seq) {
+        continue;
+      }
+      ++s.retries;
+      s.sent_tick = now;
+      ++n.stats.retransmitted;
+      // A refused or unroutable resend waits for the next timeout like a lost one.
+      (void)route_and_send(n, std::span<std::uint32_t>(s.image.data(), s.words), dest);
+    }
+  }
+}
+
+/** Gives up every outstanding packet of a stream: logged one by one, next packet resyncs. */
+void give_up_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint32_t now) noexcept {
+  bsp::TileId next = bsp::kNoTile;
+  const FtCause cause = (route_next_hop(n.routes, dest, next) == RouteError::kOk) ? FtCause::kRetriesExhausted
+                                                                                    : FtCause::kUnreachable;
+  for (detail::TxSlot& s : n.tx) {
+    if (s.used && s.dest == dest && s.channel == channel) {
+      log_event(n, cause, dest, channel, s.seq, now);
+      s.used = false;
+      --n.in_window[dest];
+      ++n.stats.gave_up;
+    }
+  }
+  detail::TxStream& st = n.tx_stream[dest][channel];
+  st.resync = true;
+  st.resync_seq = st.next_seq;
+}
+
+/** The oldest outstanding slot of a stream (nullptr if none). */
+detail::TxSlot* oldest(FtNode& n, bsp::TileId dest, std::uint32_t channel) noexcept {
+  detail::TxSlot* best = nullptr;
+  const std::uint8_t next = n.tx_stream[dest][channel].next_seq;
+  for (detail::TxSlot& s : n.tx) {
+    if (s.used && s.dest == dest && s.channel == channel &&
+        (best == nullptr || seq_ahead(next, s.seq) > seq_ahead(next, best->seq))) {
+      best = &s;
+    }
+  }
+  return best;
+}
+
+void run_timers(FtNode& n, std::uint32_t now) noexcept {
+  for (std::uint32_t i = 0U; i < kFtTxSlots; ++i) {
+    const detail::TxSlot& s = n.tx[i];
+    if (!s.used || now - s.sent_tick < n.config.timeout_ticks) {
+      continue;
+    }
+    detail::TxSlot* first = oldest(n, s.dest, s.channel);
+    if (first == nullptr) {
+      continue;
+    }
+    const bsp::TileId dest = first->dest;
+    const std::uint32_t channel = first->channel;
+    if (first->retries >= n.config.max_retries) {
+      give_up_stream(n, dest, channel, now);
+    } else {
+      resend_stream(n, dest, channel, first->seq, now);
+    }
+  }
+}
+
+/** Accepts or drops one data packet of (source, channel) in sequence; ACKs or NACKs. */
+void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> data) noexcept {
+  detail::RxStream& rs = n.rx_stream[cw.source][cw.channel];
+  const std::uint32_t ahead = seq_ahead(cw.seq, rs.expected);
+  const bool resync = cw.resync && ahead != 0U && ahead < kHalfSeq;
+  if (ahead >= kHalfSeq) {  // already delivered: the ACK was lost
+    ++n.stats.duplicates_dropped;
+    n.stats.acks_sent += ft_send_control(n, cw.source, FtKind::kAck, static_cast<std::uint8_t>(rs.expected - 1U),
+                                         cw.channel, true) == FtError::kOk ? 1U : 0U;
+    return;
+  }
+  if (ahead != 0U && !resync) {  // a gap: ask once for the missing one
+    ++n.stats.out_of_order_dropped;
+    if (!rs.nack_sent || rs.nacked != rs.expected) {
+      rs.nack_sent = ft_send_control(n, cw.source, FtKind::kNack, rs.expected, cw.channel, true) == FtError::kOk;
+      rs.nacked = rs.expected;
+      n.stats.nacks_sent += rs.nack_sent ? 1U : 0U;
+    }
+    return;
+  }
+  detail::RxQueue& q = n.rxq[cw.channel];
+  if (q.count >= kFtRxDepth) {
+    ++n.stats.rx_full_dropped;
+    return;
+  }
+  FtMessage& m = q.msg[(q.head + q.count) % kFtRxDepth];
+  m.source = cw.source;
+  m.channel = static_cast<std::uint8_t>(cw.channel);
+  m.seq = cw.seq;
+  m.data_words = static_cast<std::uint16_t>(data.size());
+  for (std::size_t i = 0U; i < data.size(); ++i) {
+    m.data[i] = data[i];
+  }
+  ++q.count;
+  ++n.stats.delivered;
+  rs.expected = static_cast<std::uint8_t>(cw.seq + 1U);
+  rs.nack_sent = false;
+  n.stats.acks_sent +=
+      ft_send_control(n, cw.source, FtKind::kAck, cw.seq, cw.channel, true) == FtError::kOk ? 1U : 0U;
+}
+
+/** Control packets: ACK/NACK to the sender state, PING answered, PONG recorded. */
+void on_control(FtNode& n, const ChannelWord& cw, std::uint32_t word, std::uint32_t now) noexcept {
+  if (cw.source >= n.routes.tiles) {
+    return;
+  }
+  switch (cw.kind) {
+    case FtKind::kAck:
+      if (word < kFtChannels) {
+        take_ack(n, cw.source, word, cw.seq);
+      }
+      break;
+    case FtKind::kNack:
+      if (word < kFtChannels) {
+        take_ack(n, cw.source, word, static_cast<std::uint8_t>(cw.seq - 1U));
+        resend_stream(n, cw.source, word, cw.seq, now);
+      }
+      break;
+    case FtKind::kPing:
+      (void)ft_send_control(n, cw.source, FtKind::kPong, 0U, word, false);
+      break;
+    case FtKind::kPong:
+      n.pong_nonce[cw.source] = word;
+      break;
+    case FtKind::kData:
+      break;
+  }
+}
+
+/** The route code alone clean: word 4 (source, seq, channel) can be trusted for a NACK. */
+void nack_if_identified(FtNode& n, std::span<const std::uint32_t> image) noexcept {
+  const std::array<std::uint32_t, kRouteCodeWords> route = {image[kWordHwHeader], image[kWordHwTag],
+                                                            image[kWordRouteData], image[kWordChannel]};
+  if (RouteCode::check(route, image[kWordEcc] & RouteCode::kCheckMask).status != EccStatus::kClean) {
+    return;
+  }
+  const ChannelWord cw = split(image[kWordChannel]);
+  if (cw.kind != FtKind::kData || cw.channel >= kFtChannels || cw.source >= n.routes.tiles ||
+      (image[kWordRouteData] >> 16U) != n.self) {
+    return;
+  }
+  // NACK what this receiver still needs, not the damaged packet's sequence: a
+  // NACK also acknowledges everything before it.
+  const std::uint8_t need = n.rx_stream[cw.source][cw.channel].expected;
+  if (ft_send_control(n, cw.source, FtKind::kNack, need, cw.channel, true) == FtError::kOk) {
+    ++n.stats.nacks_sent;
+  }
+}
+
+void handle_packet(FtNode& n, std::span<std::uint32_t> image, std::uint32_t now) noexcept {
+  const Decoded d = decode_packet(image, static_cast<std::uint16_t>(n.self), CrcPolicy::kRequired);
+  if (d.status != DecodeStatus::kOk && d.status != DecodeStatus::kCorrected &&
+      d.status != DecodeStatus::kMisdelivered) {
+    ++n.stats.uncorrectable_detected;
+    if (d.status != DecodeStatus::kMalformed) {
+      nack_if_identified(n, image);
+    }
+    return;
+  }
+  n.stats.corrected += (d.fix_count > 0U) ? 1U : 0U;
+  if (d.status == DecodeStatus::kMisdelivered) {
+    const FtError e = route_and_send(n, image, d.fields.dest_index);
+    if (e == FtError::kOk) {
+      ++n.stats.forwarded;
+    } else {
+      ++n.stats.forward_failed;
+      if (e == FtError::kUnreachable) {
+        log_event(n, FtCause::kForwardUnreachable, d.fields.dest_index, 0U, 0U, now);
+      }
+    }
+    return;
+  }
+  const ChannelWord cw = split(d.fields.channel);
+  const std::span<const std::uint32_t> data = packet_data(image, d);
+  if (cw.kind == FtKind::kData && cw.channel < kFtChannels && cw.source < n.routes.tiles) {
+    on_data(n, cw, data);
+  } else if (cw.channel == kFtControlChannel && !data.empty()) {
+    on_control(n, cw, data[0], now);
+  }
+}
+
+/** Receives one packet of @p queue into the scratch image. @return false if none. */
+bool receive_one(FtNode& n, std::uint32_t queue, std::uint32_t now) noexcept {
+  bsp::RxPacket rx{};
+  const std::span<std::uint32_t> payload(n.scratch.data() + 2U, n.scratch.size() - 2U);
+  if (n.port.receive(n.port.ctx, n.self, queue, rx, payload) != bsp::NetError::kOk) {
+    return false;
+  }
+  if (rx.payload_words > payload.size() || rx.payload_words < kFtMinPacketWords - 2U) {
+    ++n.stats.uncorrectable_detected;  // cut or padded by a length flip beyond repair
+    return true;
+  }
+  const auto x = static_cast<std::uint8_t>(n.self % n.routes.cols);
+  const auto y = static_cast<std::uint8_t>(n.self / n.routes.cols);
+  n.scratch[kWordHwHeader] = make_hw_header(x, y, static_cast<std::uint8_t>(rx.payload_words + 1U));
+  n.scratch[kWordHwTag] = kFtHwTag;
+  handle_packet(n, std::span<std::uint32_t>(n.scratch.data(), rx.payload_words + 2U), now);
+  return true;
+}
+
+}  // namespace
+
+FtPort ft_task_port() noexcept { return FtPort{&task_send, &task_receive, nullptr}; }
+
+FtError ft_init(FtNode& node, bsp::TileId self, const FaultMap& map, const FtPort& port,
+                const FtConfig& config) noexcept {
+  if (port.send == nullptr || port.receive == nullptr || self >= map.cols * map.rows) {
+    return FtError::kBadArgs;
+  }
+  node = FtNode{};
+  node.self = self;
+  node.port = port;
+  node.config = config;
+  bsp::Work work{};
+  if (route_table_build(map, self, node.routes, work) != RouteError::kOk ||
+      bsp::udn_net_bind(self, kFtHwTag, kFtQueue) != bsp::NetError::kOk) {
+    return FtError::kBadArgs;
+  }
+  return FtError::kOk;
+}
+
+FtError ft_set_fault_map(FtNode& node, const FaultMap& map, bsp::Work& work) noexcept {
+  return (route_table_build(map, node.self, node.routes, work) == RouteError::kOk) ? FtError::kOk
+                                                                                     : FtError::kBadArgs;
+}
+
+FtError ft_send(FtNode& node, bsp::TileId dest, std::uint32_t channel, std::span<const std::uint32_t> data,
+                std::uint32_t now_tick) noexcept {
+  if (node.self == bsp::kNoTile || channel >= kFtChannels || dest >= node.routes.tiles || data.empty() ||
+      data.size() > kFtMaxDataWords) {
+    return FtError::kBadArgs;
+  }
+  bsp::TileId next = bsp::kNoTile;
+  if (route_next_hop(node.routes, dest, next) != RouteError::kOk) {
+    ++node.stats.unreachable;
+    log_event(node, FtCause::kUnreachable, dest, channel, node.tx_stream[dest][channel].next_seq, now_tick);
+    return FtError::kUnreachable;
+  }
+  detail::TxSlot* slot = nullptr;
+  for (detail::TxSlot& s : node.tx) {
+    slot = (slot == nullptr && !s.used) ? &s : slot;
+  }
+  if (slot == nullptr || node.in_window[dest] >= kFtWindow) {
+    return FtError::kWindowFull;
+  }
+  detail::TxStream& st = node.tx_stream[dest][channel];
+  const bool resync = st.resync && st.resync_seq == st.next_seq;
+  const FtFields f{0U, 0U, static_cast<std::uint16_t>(dest), kFtHwTag,
+                   ft_channel_word(node.self, st.next_seq, FtKind::kData, resync, channel), true};
+  std::size_t written = 0U;
+  if (encode_packet(f, data, slot->image, written) != EncodeStatus::kOk) {
+    return FtError::kBadArgs;
+  }
+  const FtError e = route_and_send(node, std::span<std::uint32_t>(slot->image.data(), written), dest);
+  if (e != FtError::kOk) {
+    return e;  // nothing queued: the caller retries the same message
+  }
+  slot->used = true;
+  slot->dest = static_cast<std::uint8_t>(dest);
+  slot->channel = static_cast<std::uint8_t>(channel);
+  slot->seq = st.next_seq;
+  slot->retries = 0U;
+  slot->sent_tick = now_tick;
+  slot->words = static_cast<std::uint32_t>(written);
+  ++st.next_seq;
+  ++node.in_window[dest];
+  ++node.stats.sent;
+  return FtError::kOk;
+}
+
+FtError ft_send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_t seq, std::uint32_t word,
+                        bool routed) noexcept {
+  if (dest >= node.routes.tiles) {
+    return FtError::kBadArgs;
+  }
+  std::array<std::uint32_t, ft_packet_words(1U, true)> image{};
+  const std::array<std::uint32_t, 1> data = {word};
+  const FtFields f{static_cast<std::uint8_t>(dest % node.routes.cols),
+                   static_cast<std::uint8_t>(dest / node.routes.cols), static_cast<std::uint16_t>(dest), kFtHwTag,
+                   ft_channel_word(node.self, seq, kind, false, kFtControlChannel), true};
+  std::size_t written = 0U;
+  if (encode_packet(f, data, image, written) != EncodeStatus::kOk) {
+    return FtError::kBadArgs;
+  }
+  if (routed) {
+    return route_and_send(node, image, dest);
+  }
+  return (node.port.send(node.port.ctx, node.self, image) == bsp::NetError::kOk) ? FtError::kOk
+                                                                                   : FtError::kNetFull;
+}
+
+std::uint32_t ft_poll(FtNode& node, std::uint32_t now_tick, std::uint32_t max_packets) noexcept {
+  std::uint32_t handled = 0U;
+  if (node.self == bsp::kNoTile) {
+    return 0U;
+  }
+  while (handled < max_packets && (receive_one(node, kFtQueue, now_tick) ||
+                                   receive_one(node, bsp::kUdnCatchAll, now_tick))) {
+    ++handled;
+  }
+  run_timers(node, now_tick);
+  return handled;
+}
+
+FtError ft_receive(FtNode& node, std::uint32_t channel, FtMessage& out) noexcept {
+  if (channel >= kFtChannels) {
+    return FtError::kBadArgs;
+  }
+  detail::RxQueue& q = node.rxq[channel];
+  if (q.count == 0U) {
+    return FtError::kEmpty;
+  }
+  out = q.msg[q.head];
+  q.head = (q.head + 1U) % kFtRxDepth;
+  --q.count;
+  return FtError::kOk;
+}
+
+std::uint32_t ft_outstanding(const FtNode& node) noexcept {
+  std::uint32_t n = 0U;
+  for (const detail::TxSlot& s : node.tx) {
+    n += s.used ? 1U : 0U;
+  }
+  return n;
+}
+
+}  // namespace udn

@@ -1,0 +1,200 @@
+/**
+ * @file ft_link.hpp
+ * @brief Fault-tolerant messaging node of one tile: listener, reliable channels, virtual routing.
+ *
+ * Every packet is a Fig. 5 image (udn/ft_packet.hpp) with the CRC word, sent
+ * with hardware tag kFtHwTag bound to demux queue kFtQueue. The channel word
+ * (word 4, covered by the route code) is laid out by this layer:
+ *   [31..24] source tile index | [23..16] sequence (mod 256) |
+ *   [15..12] kind (FtKind) | [11..8] flags (bit 8: resync) | [7..0] channel
+ * Application channels are 0..kFtChannels-1; channel kFtControlChannel carries
+ * the unreliable control kinds (ACK, NACK, PING, PONG) whose data word 0 names
+ * the acknowledged channel (ACK/NACK) or the nonce (PING/PONG).
+ *
+ * Listener (ft_poll): rebuilds hardware words 0 and 1 (own x,y, delivered
+ * count, kFtHwTag), decodes with CrcPolicy::kRequired, then
+ *  - kOk/kCorrected: dispatch by kind; data is accepted only in sequence per
+ *    (source, channel) into that channel's bounded receive queue and ACKed
+ *    (cumulative); duplicates are dropped and re-ACKed; a gap is dropped and
+ *    NACKed once; a full receive queue drops without ACK (the sender retries);
+ *  - kMisdelivered: forwarded to the next hop of the protected destination
+ *    index through this tile's route table (paper Fig. 6 intermediates use the
+ *    same path);
+ *  - kUncorrectable/kCrcMismatch/kMalformed: counted; if the route code alone
+ *    checks clean, the source and sequence in word 4 are trusted and a NACK is
+ *    sent, else the sender's timeout recovers.
+ * Sender: per destination at most kFtWindow unacknowledged packets (from a
+ * pool of kFtTxSlots); a packet is retransmitted go-back-N from the oldest
+ * unacknowledged one of its stream on timeout or NACK, each time re-routed
+ * through the current table; after max_retries an FtEvent is logged, the
+ * stream's outstanding packets are given up (each logged) and the next packet
+ * carries the resync flag so the receiver restarts the sequence there.
+ *
+ * Time is in kernel ticks, passed by the caller (k::now_ticks() on a task).
+ * The node talks to the network through an FtPort so the same code runs in a
+ * driver task (ft_task_port) and host-driven tests. Static storage: the caller
+ * owns the FtNode (a namespace-scope object per tile). See docs/FT_MESSAGING.md.
+ */
+#pragma once
+
+#include "bsp_tile64/udn_net.hpp"
+#include "udn/ft_event.hpp"
+#include "udn/ft_packet.hpp"
+#include "udn/route.hpp"
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+namespace udn {
+
+inline constexpr std::uint32_t kFtHwTag = 0x4654'0001U;  ///< hardware tag of every FT packet
+inline constexpr std::uint32_t kFtQueue = 3U;            ///< demux queue it is bound to
+inline constexpr std::uint32_t kFtChannels = 4U;         ///< application channels 0..3
+inline constexpr std::uint32_t kFtControlChannel = 0xFFU;
+inline constexpr std::uint32_t kFtWindow = 8U;    ///< unacknowledged packets per destination
+inline constexpr std::uint32_t kFtTxSlots = 16U;  ///< retransmit buffers per tile
+inline constexpr std::uint32_t kFtRxDepth = 8U;   ///< messages per channel receive queue
+inline constexpr std::uint32_t kFtMaxData = static_cast<std::uint32_t>(kFtMaxDataWords);
+
+enum class FtKind : std::uint8_t { kData = 0, kAck = 1, kNack = 2, kPing = 3, kPong = 4 };
+
+enum class FtError : std::uint8_t {
+  kOk,
+  kBadArgs,      ///< channel, destination or length out of range, node not initialised
+  kWindowFull,   ///< kFtWindow packets to this destination (or all slots) unacknowledged: poll and retry
+  kUnreachable,  ///< no route to the destination (an event is logged)
+  kNetFull,      ///< the network refused for back-pressure; nothing was queued: retry
+  kEmpty,        ///< ft_receive: nothing on the channel
+};
+
+/** Sends and receives of the node, through the network. Plain function pointers, no heap. */
+struct FtPort {
+  bsp::NetError (*send)(void* ctx, bsp::TileId self, std::span<const std::uint32_t> words) = nullptr;
+  bsp::NetError (*receive)(void* ctx, bsp::TileId self, std::uint32_t queue, bsp::RxPacket& rx,
+                           std::span<std::uint32_t> payload) = nullptr;
+  void* ctx = nullptr;
+};
+
+/** The port of a task on the current tile: udn_net_send / udn_net_receive. */
+FtPort ft_task_port() noexcept;
+
+struct FtConfig {
+  std::uint32_t timeout_ticks = 2U;  ///< retransmit timeout of the oldest unacknowledged packet
+  std::uint32_t max_retries = 8U;    ///< retransmissions before giving up
+};
+
+struct FtStats {
+  std::uint64_t sent = 0U;            ///< first transmissions of data packets
+  std::uint64_t delivered = 0U;       ///< data messages put into a receive queue
+  std::uint64_t corrected = 0U;       ///< packets with 1+ corrected bit (any status that decoded)
+  std::uint64_t forwarded = 0U;       ///< packets re-sent towards their destination index
+  std::uint64_t retransmitted = 0U;
+  std::uint64_t uncorrectable_detected = 0U;  ///< kUncorrectable, kCrcMismatch or kMalformed
+  std::uint64_t duplicates_dropped = 0U;
+  std::uint64_t out_of_order_dropped = 0U;
+  std::uint64_t rx_full_dropped = 0U;
+  std::uint64_t forward_failed = 0U;  ///< no route or network refused; the sender's timeout recovers
+  std::uint64_t acks_sent = 0U;
+  std::uint64_t nacks_sent = 0U;
+  std::uint64_t gave_up = 0U;         ///< packets given up after retries (each logged)
+  std::uint64_t unreachable = 0U;     ///< sends refused for lack of a route
+};
+
+/** A message handed to the application. */
+struct FtMessage {
+  bsp::TileId source = bsp::kNoTile;
+  std::uint8_t channel = 0U;
+  std::uint8_t seq = 0U;
+  std::uint16_t data_words = 0U;
+  std::array<std::uint32_t, kFtMaxDataWords> data{};
+};
+
+namespace detail {
+struct TxSlot {
+  bool used = false;
+  std::uint8_t dest = 0U;
+  std::uint8_t channel = 0U;
+  std::uint8_t seq = 0U;
+  std::uint32_t retries = 0U;
+  std::uint32_t sent_tick = 0U;
+  std::uint32_t words = 0U;
+  std::array<std::uint32_t, kFtMaxPacketWords> image{};
+};
+struct TxStream {
+  std::uint8_t next_seq = 0U;
+  std::uint8_t resync_seq = 0U;
+  bool resync = false;  ///< the packet with resync_seq carries the resync flag
+};
+struct RxStream {
+  std::uint8_t expected = 0U;
+  std::uint8_t nacked = 0U;
+  bool nack_sent = false;
+};
+struct RxQueue {
+  std::uint32_t head = 0U;
+  std::uint32_t count = 0U;
+  std::array<FtMessage, kFtRxDepth> msg{};
+};
+}  // namespace detail
+
+struct FtNode {
+  bsp::TileId self = bsp::kNoTile;
+  FtPort port{};
+  FtConfig config{};
+  RouteTable routes{};
+  FtStats stats{};
+  FtEventLog events{};
+  std::array<std::uint8_t, kRouteMaxTiles> in_window{};  ///< unacknowledged packets per destination
+  std::array<detail::TxSlot, kFtTxSlots> tx{};
+  std::array<std::array<detail::TxStream, kFtChannels>, kRouteMaxTiles> tx_stream{};
+  std::array<std::array<detail::RxStream, kFtChannels>, kRouteMaxTiles> rx_stream{};
+  std::array<detail::RxQueue, kFtChannels> rxq{};
+  std::array<std::uint32_t, kRouteMaxTiles> pong_nonce{};  ///< last PONG nonce seen per source tile
+  std::array<std::uint32_t, kFtMaxPacketWords> scratch{};  ///< one packet image being decoded
+};
+
+/**
+ * Resets @p node for tile @p self, builds its routes from @p map and binds
+ * kFtHwTag to kFtQueue on the tile. Pre: udn_net_init() on the current board.
+ * [task|host] @return kBadArgs for self off the map, a null port, or a failed bind.
+ */
+FtError ft_init(FtNode& node, bsp::TileId self, const FaultMap& map, const FtPort& port,
+                const FtConfig& config) noexcept;
+
+/** Rebuilds the route table from a new fault map version; traffic in flight is recovered by retransmission. */
+FtError ft_set_fault_map(FtNode& node, const FaultMap& map, bsp::Work& work) noexcept;
+
+/**
+ * Sends @p data (1..kFtMaxData words) reliably on @p channel to @p dest.
+ * @return kOk (queued and sent), kWindowFull, kUnreachable, kNetFull, kBadArgs.
+ */
+FtError ft_send(FtNode& node, bsp::TileId dest, std::uint32_t channel, std::span<const std::uint32_t> data,
+                std::uint32_t now_tick) noexcept;
+
+/** Sends one unreliable control packet (kind, seq, data word 0 = @p word) straight to @p dest (no routing). */
+FtError ft_send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_t seq, std::uint32_t word,
+                        bool routed) noexcept;
+
+/**
+ * The listener and the timers: handles at most @p max_packets received packets
+ * (FT queue, then the catch-all where header flips land), then retransmits or
+ * gives up timed-out streams. Call it every tick or on Irq::kUdn.
+ * @return packets handled.
+ */
+std::uint32_t ft_poll(FtNode& node, std::uint32_t now_tick, std::uint32_t max_packets) noexcept;
+
+/** Pops the oldest message of @p channel. @return kOk, kEmpty, kBadArgs. */
+FtError ft_receive(FtNode& node, std::uint32_t channel, FtMessage& out) noexcept;
+
+/** Unacknowledged packets of the node (0 once everything is delivered or given up). */
+std::uint32_t ft_outstanding(const FtNode& node) noexcept;
+
+/** Channel word of a packet (see the file comment). */
+constexpr std::uint32_t ft_channel_word(std::uint32_t source, std::uint8_t seq, FtKind kind, bool resync,
+                                        std::uint32_t channel) noexcept {
+  return ((source & 0xFFU) << 24U) | (static_cast<std::uint32_t>(seq) << 16U) |
+         (static_cast<std::uint32_t>(kind) << 12U) | ((resync ? 1U : 0U) << 8U) | (channel & 0xFFU);
+}
+
+}  // namespace udn
