@@ -228,6 +228,64 @@ void nack_if_identified(FtNode& n, std::span<const std::uint32_t> image) noexcep
   }
 }
 
+/** Forwards a packet for another tile now, or holds it while the network refuses. */
+void forward(FtNode& n, std::span<std::uint32_t> image, std::uint16_t dest, std::uint32_t now) noexcept {
+  const FtError e = route_and_send(n, image, dest);
+  if (e == FtError::kOk) {
+    ++n.stats.forwarded;
+    return;
+  }
+  if (e == FtError::kNetFull) {
+    for (detail::FwdSlot& f : n.fwd) {
+      if (!f.used) {
+        f.used = true;
+        f.dest = dest;
+        f.words = static_cast<std::uint32_t>(image.size());
+        for (std::size_t i = 0U; i < image.size(); ++i) {
+          f.image[i] = image[i];
+        }
+        return;
+      }
+    }
+  }
+  ++n.stats.forward_failed;  // the sender's timeout recovers it
+  if (e == FtError::kUnreachable) {
+    log_event(n, FtCause::kForwardUnreachable, dest, 0U, 0U, now);
+  }
+}
+
+/** Retries held forwards in order. @return true if every slot is free again. */
+bool flush_forwards(FtNode& n, std::uint32_t now) noexcept {
+  bool all_free = true;
+  for (detail::FwdSlot& f : n.fwd) {
+    if (!f.used) {
+      continue;
+    }
+    const FtError e = route_and_send(n, std::span<std::uint32_t>(f.image.data(), f.words), f.dest);
+    if (e == FtError::kNetFull) {
+      all_free = false;
+      continue;
+    }
+    f.used = false;
+    if (e == FtError::kOk) {
+      ++n.stats.forwarded;
+    } else {
+      ++n.stats.forward_failed;
+      log_event(n, FtCause::kForwardUnreachable, f.dest, 0U, 0U, now);
+    }
+  }
+  return all_free;
+}
+
+bool forwards_full(const FtNode& n) noexcept {
+  for (const detail::FwdSlot& f : n.fwd) {
+    if (!f.used) {
+      return false;
+    }
+  }
+  return true;
+}
+
 void handle_packet(FtNode& n, std::span<std::uint32_t> image, std::uint32_t now) noexcept {
   const Decoded d = decode_packet(image, static_cast<std::uint16_t>(n.self), CrcPolicy::kRequired);
   if (d.status != DecodeStatus::kOk && d.status != DecodeStatus::kCorrected &&
@@ -240,15 +298,7 @@ void handle_packet(FtNode& n, std::span<std::uint32_t> image, std::uint32_t now)
   }
   n.stats.corrected += (d.fix_count > 0U) ? 1U : 0U;
   if (d.status == DecodeStatus::kMisdelivered) {
-    const FtError e = route_and_send(n, image, d.fields.dest_index);
-    if (e == FtError::kOk) {
-      ++n.stats.forwarded;
-    } else {
-      ++n.stats.forward_failed;
-      if (e == FtError::kUnreachable) {
-        log_event(n, FtCause::kForwardUnreachable, d.fields.dest_index, 0U, 0U, now);
-      }
-    }
+    forward(n, image, d.fields.dest_index, now);
     return;
   }
   const ChannelWord cw = split(d.fields.channel);
@@ -375,8 +425,9 @@ std::uint32_t ft_poll(FtNode& node, std::uint32_t now_tick, std::uint32_t max_pa
   if (node.self == bsp::kNoTile) {
     return 0U;
   }
-  while (handled < max_packets && (receive_one(node, kFtQueue, now_tick) ||
-                                   receive_one(node, bsp::kUdnCatchAll, now_tick))) {
+  (void)flush_forwards(node, now_tick);
+  while (handled < max_packets && !forwards_full(node) &&
+         (receive_one(node, kFtQueue, now_tick) || receive_one(node, bsp::kUdnCatchAll, now_tick))) {
     ++handled;
   }
   run_timers(node, now_tick);

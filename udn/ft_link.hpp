@@ -19,7 +19,9 @@
  *    NACKed once; a full receive queue drops without ACK (the sender retries);
  *  - kMisdelivered: forwarded to the next hop of the protected destination
  *    index through this tile's route table (paper Fig. 6 intermediates use the
- *    same path);
+ *    same path); while the network refuses, up to kFtFwdSlots packets wait in
+ *    the node and, with all of them full, the listener stops reading so the
+ *    back-pressure reaches the network instead of dropping;
  *  - kUncorrectable/kCrcMismatch/kMalformed: counted; if the route code alone
  *    checks clean, the source and sequence in word 4 are trusted and a NACK is
  *    sent, else the sender's timeout recovers.
@@ -55,6 +57,7 @@ inline constexpr std::uint32_t kFtControlChannel = 0xFFU;
 inline constexpr std::uint32_t kFtWindow = 8U;    ///< unacknowledged packets per destination
 inline constexpr std::uint32_t kFtTxSlots = 16U;  ///< retransmit buffers per tile
 inline constexpr std::uint32_t kFtRxDepth = 8U;   ///< messages per channel receive queue
+inline constexpr std::uint32_t kFtFwdSlots = 4U;  ///< packets held for forwarding while the network refuses
 inline constexpr std::uint32_t kFtMaxData = static_cast<std::uint32_t>(kFtMaxDataWords);
 
 enum class FtKind : std::uint8_t { kData = 0, kAck = 1, kNack = 2, kPing = 3, kPong = 4 };
@@ -80,7 +83,7 @@ struct FtPort {
 FtPort ft_task_port() noexcept;
 
 struct FtConfig {
-  std::uint32_t timeout_ticks = 2U;  ///< retransmit timeout of the oldest unacknowledged packet
+  std::uint32_t timeout_ticks = 3U;  ///< retransmit timeout of the oldest unacknowledged packet (> a two-leg round trip)
   std::uint32_t max_retries = 8U;    ///< retransmissions before giving up
 };
 
@@ -131,6 +134,12 @@ struct RxStream {
   std::uint8_t nacked = 0U;
   bool nack_sent = false;
 };
+struct FwdSlot {
+  bool used = false;
+  std::uint16_t dest = 0U;
+  std::uint32_t words = 0U;
+  std::array<std::uint32_t, kFtMaxPacketWords> image{};
+};
 struct RxQueue {
   std::uint32_t head = 0U;
   std::uint32_t count = 0U;
@@ -150,6 +159,7 @@ struct FtNode {
   std::array<std::array<detail::TxStream, kFtChannels>, kRouteMaxTiles> tx_stream{};
   std::array<std::array<detail::RxStream, kFtChannels>, kRouteMaxTiles> rx_stream{};
   std::array<detail::RxQueue, kFtChannels> rxq{};
+  std::array<detail::FwdSlot, kFtFwdSlots> fwd{};
   std::array<std::uint32_t, kRouteMaxTiles> pong_nonce{};  ///< last PONG nonce seen per source tile
   std::array<std::uint32_t, kFtMaxPacketWords> scratch{};  ///< one packet image being decoded
 };
