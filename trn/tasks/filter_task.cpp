@@ -63,7 +63,8 @@ bool set_up(Slot& slot, const FilterTaskConfig& cfg) noexcept {
   if (err != bsp::MemError::kOk) {
     return false;
   }
-  slot.ekf = ::new (ekf) filter::Ekf{};
+  ::new (ekf) filter::Ekf{};
+  slot.ekf = ekf;
   return slot.ekf->configure(cfg.filter, cfg.camera) == filter::FilterStatus::kOk &&
          slot.ekf->init(cfg.initial) == filter::FilterStatus::kOk && udn::activate() == udn::RawError::kOk &&
          udn::bind(kTagImu, kImuQueue) == udn::RawError::kOk;
