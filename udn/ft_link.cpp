@@ -79,11 +79,13 @@ void resend_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint
       if (!s.used || s.dest != dest || s.channel != channel || s.seq != seq) {
         continue;
       }
-      ++s.retries;
       s.sent_tick = now;
-      ++n.stats.retransmitted;
-      // A refused or unroutable resend waits for the next timeout like a lost one.
-      (void)route_and_send(n, std::span<std::uint32_t>(s.image.data(), s.words), dest);
+      // A refused resend never left the tile: it waits for the next timeout
+      // without using up a retry. An unroutable one counts (it may never route).
+      if (route_and_send(n, std::span<std::uint32_t>(s.image.data(), s.words), dest) != FtError::kNetFull) {
+        ++s.retries;
+        ++n.stats.retransmitted;
+      }
     }
   }
 }
@@ -139,6 +141,33 @@ void run_timers(FtNode& n, std::uint32_t now) noexcept {
   }
 }
 
+/** ACKs @p seq of (source, channel); if the network refuses, the ACK is owed to the next poll. */
+void send_ack(FtNode& n, std::uint32_t source, std::uint32_t channel, std::uint8_t seq) noexcept {
+  detail::RxStream& rs = n.rx_stream[source][channel];
+  if (ft_send_control(n, source, FtKind::kAck, seq, channel, true) == FtError::kOk) {
+    ++n.stats.acks_sent;
+    if (rs.ack_owed) {
+      rs.ack_owed = false;
+      --n.acks_owed;
+    }
+  } else if (!rs.ack_owed) {
+    rs.ack_owed = true;
+    ++n.acks_owed;
+  }
+}
+
+/** Resends owed ACKs (the latest in-order sequence of each stream). Bounded: tiles x channels. */
+void pay_acks(FtNode& n) noexcept {
+  for (std::uint32_t src = 0U; src < n.routes.tiles && n.acks_owed > 0U; ++src) {
+    for (std::uint32_t ch = 0U; ch < kFtChannels; ++ch) {
+      const detail::RxStream& rs = n.rx_stream[src][ch];
+      if (rs.ack_owed) {
+        send_ack(n, src, ch, static_cast<std::uint8_t>(rs.expected - 1U));
+      }
+    }
+  }
+}
+
 /** Accepts or drops one data packet of (source, channel) in sequence; ACKs or NACKs. */
 void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> data) noexcept {
   detail::RxStream& rs = n.rx_stream[cw.source][cw.channel];
@@ -146,8 +175,7 @@ void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> da
   const bool resync = cw.resync && ahead != 0U && ahead < kHalfSeq;
   if (ahead >= kHalfSeq) {  // already delivered: the ACK was lost
     ++n.stats.duplicates_dropped;
-    n.stats.acks_sent += ft_send_control(n, cw.source, FtKind::kAck, static_cast<std::uint8_t>(rs.expected - 1U),
-                                         cw.channel, true) == FtError::kOk ? 1U : 0U;
+    send_ack(n, cw.source, cw.channel, static_cast<std::uint8_t>(rs.expected - 1U));
     return;
   }
   if (ahead != 0U && !resync) {  // a gap: ask once for the missing one
@@ -176,8 +204,7 @@ void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> da
   ++n.stats.delivered;
   rs.expected = static_cast<std::uint8_t>(cw.seq + 1U);
   rs.nack_sent = false;
-  n.stats.acks_sent +=
-      ft_send_control(n, cw.source, FtKind::kAck, cw.seq, cw.channel, true) == FtError::kOk ? 1U : 0U;
+  send_ack(n, cw.source, cw.channel, cw.seq);
 }
 
 /** Control packets: ACK/NACK to the sender state, PING answered, PONG recorded. */
@@ -277,15 +304,6 @@ bool flush_forwards(FtNode& n, std::uint32_t now) noexcept {
   return all_free;
 }
 
-bool forwards_full(const FtNode& n) noexcept {
-  for (const detail::FwdSlot& f : n.fwd) {
-    if (!f.used) {
-      return false;
-    }
-  }
-  return true;
-}
-
 void handle_packet(FtNode& n, std::span<std::uint32_t> image, std::uint32_t now) noexcept {
   const Decoded d = decode_packet(image, static_cast<std::uint16_t>(n.self), CrcPolicy::kRequired);
   if (d.status != DecodeStatus::kOk && d.status != DecodeStatus::kCorrected &&
@@ -310,6 +328,8 @@ void handle_packet(FtNode& n, std::span<std::uint32_t> image, std::uint32_t now)
   }
 }
 
+void take_image(FtNode& n, std::uint32_t payload_words, std::uint32_t now) noexcept;
+
 /** Receives one packet of @p queue into the scratch image. @return false if none. */
 bool receive_one(FtNode& n, std::uint32_t queue, std::uint32_t now) noexcept {
   bsp::RxPacket rx{};
@@ -317,16 +337,46 @@ bool receive_one(FtNode& n, std::uint32_t queue, std::uint32_t now) noexcept {
   if (n.port.receive(n.port.ctx, n.self, queue, rx, payload) != bsp::NetError::kOk) {
     return false;
   }
-  if (rx.payload_words > payload.size() || rx.payload_words < kFtMinPacketWords - 2U) {
+  take_image(n, rx.payload_words, now);
+  return true;
+}
+
+/** Decodes the image whose payload (after the tag) is already in scratch[2 ..]. */
+void take_image(FtNode& n, std::uint32_t payload_words, std::uint32_t now) noexcept {
+  if (payload_words > n.scratch.size() - 2U || payload_words < kFtMinPacketWords - 2U) {
     ++n.stats.uncorrectable_detected;  // cut or padded by a length flip beyond repair
-    return true;
+    return;
   }
   const auto x = static_cast<std::uint8_t>(n.self % n.routes.cols);
   const auto y = static_cast<std::uint8_t>(n.self / n.routes.cols);
-  n.scratch[kWordHwHeader] = make_hw_header(x, y, static_cast<std::uint8_t>(rx.payload_words + 1U));
+  n.scratch[kWordHwHeader] = make_hw_header(x, y, static_cast<std::uint8_t>(payload_words + 1U));
   n.scratch[kWordHwTag] = kFtHwTag;
-  handle_packet(n, std::span<std::uint32_t>(n.scratch.data(), rx.payload_words + 2U), now);
-  return true;
+  handle_packet(n, std::span<std::uint32_t>(n.scratch.data(), payload_words + 2U), now);
+}
+
+/** Clears a node member by member: a whole FtNode temporary would not fit a task's stack. */
+void reset(FtNode& node) noexcept {
+  node.stats = FtStats{};
+  node.events = FtEventLog{};
+  node.in_window.fill(0U);
+  for (detail::TxSlot& s : node.tx) {
+    s.used = false;
+  }
+  for (auto& per_tile : node.tx_stream) {
+    per_tile.fill(detail::TxStream{});
+  }
+  for (auto& per_tile : node.rx_stream) {
+    per_tile.fill(detail::RxStream{});
+  }
+  for (detail::RxQueue& q : node.rxq) {
+    q.head = 0U;
+    q.count = 0U;
+  }
+  for (detail::FwdSlot& f : node.fwd) {
+    f.used = false;
+  }
+  node.acks_owed = 0U;
+  node.pong_nonce.fill(0U);
 }
 
 }  // namespace
@@ -338,7 +388,7 @@ FtError ft_init(FtNode& node, bsp::TileId self, const FaultMap& map, const FtPor
   if (port.send == nullptr || port.receive == nullptr || self >= map.cols * map.rows) {
     return FtError::kBadArgs;
   }
-  node = FtNode{};
+  reset(node);
   node.self = self;
   node.port = port;
   node.config = config;
@@ -426,12 +476,24 @@ std::uint32_t ft_poll(FtNode& node, std::uint32_t now_tick, std::uint32_t max_pa
     return 0U;
   }
   (void)flush_forwards(node, now_tick);
-  while (handled < max_packets && !forwards_full(node) &&
+  pay_acks(node);
+  while (handled < max_packets &&
          (receive_one(node, kFtQueue, now_tick) || receive_one(node, bsp::kUdnCatchAll, now_tick))) {
     ++handled;
   }
   run_timers(node, now_tick);
   return handled;
+}
+
+void ft_accept(FtNode& node, std::span<const std::uint32_t> payload, std::uint32_t now_tick) noexcept {
+  if (node.self == bsp::kNoTile) {
+    return;
+  }
+  const std::size_t n = payload.size() < node.scratch.size() - 2U ? payload.size() : node.scratch.size() - 2U;
+  for (std::size_t i = 0U; i < n; ++i) {
+    node.scratch[2U + i] = payload[i];
+  }
+  take_image(node, static_cast<std::uint32_t>(payload.size()), now_tick);
 }
 
 FtError ft_receive(FtNode& node, std::uint32_t channel, FtMessage& out) noexcept {

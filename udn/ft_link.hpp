@@ -20,15 +20,19 @@
  *  - kMisdelivered: forwarded to the next hop of the protected destination
  *    index through this tile's route table (paper Fig. 6 intermediates use the
  *    same path); while the network refuses, up to kFtFwdSlots packets wait in
- *    the node and, with all of them full, the listener stops reading so the
- *    back-pressure reaches the network instead of dropping;
+ *    the node; beyond that they are dropped (forward_failed) and the sender's
+ *    timeout recovers them. The listener never stops reading: two forwarders
+ *    waiting for each other's queues would deadlock;
  *  - kUncorrectable/kCrcMismatch/kMalformed: counted; if the route code alone
  *    checks clean, the source and sequence in word 4 are trusted and a NACK is
  *    sent, else the sender's timeout recovers.
+ * An ACK the network refuses is owed and resent by the next polls.
  * Sender: per destination at most kFtWindow unacknowledged packets (from a
  * pool of kFtTxSlots); a packet is retransmitted go-back-N from the oldest
  * unacknowledged one of its stream on timeout or NACK, each time re-routed
- * through the current table; after max_retries an FtEvent is logged, the
+ * through the current table; a retransmission the local network interface
+ * refuses (back-pressure) is not counted as a retry, as it never left the
+ * tile; after max_retries counted retries an FtEvent is logged, the
  * stream's outstanding packets are given up (each logged) and the next packet
  * carries the resync flag so the receiver restarts the sequence there.
  *
@@ -57,7 +61,7 @@ inline constexpr std::uint32_t kFtControlChannel = 0xFFU;
 inline constexpr std::uint32_t kFtWindow = 8U;    ///< unacknowledged packets per destination
 inline constexpr std::uint32_t kFtTxSlots = 16U;  ///< retransmit buffers per tile
 inline constexpr std::uint32_t kFtRxDepth = 8U;   ///< messages per channel receive queue
-inline constexpr std::uint32_t kFtFwdSlots = 4U;  ///< packets held for forwarding while the network refuses
+inline constexpr std::uint32_t kFtFwdSlots = 8U;  ///< packets held for forwarding while the network refuses
 inline constexpr std::uint32_t kFtMaxData = static_cast<std::uint32_t>(kFtMaxDataWords);
 
 enum class FtKind : std::uint8_t { kData = 0, kAck = 1, kNack = 2, kPing = 3, kPong = 4 };
@@ -133,6 +137,7 @@ struct RxStream {
   std::uint8_t expected = 0U;
   std::uint8_t nacked = 0U;
   bool nack_sent = false;
+  bool ack_owed = false;  ///< the network refused the last ACK: resent by the next poll
 };
 struct FwdSlot {
   bool used = false;
@@ -160,6 +165,7 @@ struct FtNode {
   std::array<std::array<detail::RxStream, kFtChannels>, kRouteMaxTiles> rx_stream{};
   std::array<detail::RxQueue, kFtChannels> rxq{};
   std::array<detail::FwdSlot, kFtFwdSlots> fwd{};
+  std::uint32_t acks_owed = 0U;
   std::array<std::uint32_t, kRouteMaxTiles> pong_nonce{};  ///< last PONG nonce seen per source tile
   std::array<std::uint32_t, kFtMaxPacketWords> scratch{};  ///< one packet image being decoded
 };
@@ -193,6 +199,14 @@ FtError ft_send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_
  * @return packets handled.
  */
 std::uint32_t ft_poll(FtNode& node, std::uint32_t now_tick, std::uint32_t max_packets) noexcept;
+
+/**
+ * Hands the listener one packet the caller already took from kFtQueue or the
+ * catch-all queue (e.g. a driver task blocked in udn::receive to sleep until
+ * traffic comes): @p payload is what followed the hardware tag word.
+ * Packets longer than kFtMaxPacketWords - 2 words are counted as damaged.
+ */
+void ft_accept(FtNode& node, std::span<const std::uint32_t> payload, std::uint32_t now_tick) noexcept;
 
 /** Pops the oldest message of @p channel. @return kOk, kEmpty, kBadArgs. */
 FtError ft_receive(FtNode& node, std::uint32_t channel, FtMessage& out) noexcept;

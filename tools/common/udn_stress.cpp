@@ -209,6 +209,16 @@ void add_stress_options(CLI::App& app, StressOptions& opts) {
   app.add_option("--max-ms", opts.max_ms, "Bound on emulated milliseconds")->check(CLI::Range(0.001, 1e6));
   app.add_option("--quantum-us", opts.quantum_us, "Board quantum in microseconds (1..1000): delivery granularity")
       ->check(CLI::Range(1.0, 1000.0));
+  app.add_option_function<std::string>(
+         "--ft", [&opts](const std::string& v) { opts.ft = v == "on"; },
+         "on: traffic through the fault-tolerant layer (ECC, retransmission, virtual routing); off: raw")
+      ->check(CLI::IsMember({"on", "off"}));
+  app.add_option("--ber", opts.ber, "Probability of a bit flip per word in transit")->check(CLI::Range(0.0, 0.1));
+  app.add_option("--failed-tiles", opts.failed_tiles, "Tiles that run nothing and whose switch fails at t=0")
+      ->delimiter(',');
+  app.add_option("--failed-links", opts.failed_links,
+                 "Failed links at t=0: 12E (leaving tile 12 eastwards; E W N S) or 12-13; both directions")
+      ->delimiter(',');
 }
 
 std::string validate_stress_options(const StressOptions& opts) {
@@ -219,7 +229,66 @@ std::string validate_stress_options(const StressOptions& opts) {
              std::to_string(p.rows) + " grid (0.." + std::to_string(p.tiles() - 1U) + ")";
     }
   }
+  for (const std::uint32_t t : opts.failed_tiles) {
+    if (t >= p.tiles()) {
+      return "--failed-tiles: tile " + std::to_string(t) + " is outside the grid";
+    }
+  }
+  for (const std::string& l : opts.failed_links) {
+    LinkSpec spec{};
+    const std::string m = parse_link(l, p.cols, p.rows, spec);
+    if (!m.empty()) {
+      return "--failed-links: " + m;
+    }
+  }
   return "";
+}
+
+std::string parse_link(const std::string& text, std::uint32_t cols, std::uint32_t rows, LinkSpec& out) {
+  std::size_t used = 0U;
+  unsigned long a = 0U;
+  try {
+    a = std::stoul(text, &used);
+  } catch (const std::exception&) {
+    return "'" + text + "' does not start with a tile index";
+  }
+  const std::string rest = text.substr(used);
+  if (a >= static_cast<unsigned long>(cols) * rows) {
+    return "'" + text + "': tile outside the grid";
+  }
+  out.tile = static_cast<std::uint32_t>(a);
+  const std::uint32_t x = out.tile % cols;
+  const std::uint32_t y = out.tile / cols;
+  if (rest.size() > 1U && rest[0] == '-') {
+    unsigned long b = 0U;
+    try {
+      b = std::stoul(rest.substr(1U), &used);
+    } catch (const std::exception&) {
+      return "'" + text + "': no tile after '-'";
+    }
+    if (used + 1U != rest.size()) {
+      return "'" + text + "': trailing characters";
+    }
+    const std::map<unsigned long, bsp::UdnDir> next{{a + 1U, bsp::UdnDir::kEast}, {a - 1U, bsp::UdnDir::kWest},
+                                                    {a - cols, bsp::UdnDir::kNorth}, {a + cols, bsp::UdnDir::kSouth}};
+    const auto it = next.find(b);
+    if (it == next.end() || b >= static_cast<unsigned long>(cols) * rows ||
+        (it->second == bsp::UdnDir::kEast && x + 1U >= cols) || (it->second == bsp::UdnDir::kWest && x == 0U)) {
+      return "'" + text + "': not neighbours";
+    }
+    out.dir = it->second;
+    return "";
+  }
+  const std::map<std::string, bsp::UdnDir> dirs{
+      {"E", bsp::UdnDir::kEast}, {"W", bsp::UdnDir::kWest}, {"N", bsp::UdnDir::kNorth}, {"S", bsp::UdnDir::kSouth}};
+  const auto it = dirs.find(rest);
+  if (it == dirs.end()) {
+    return "'" + text + "': expected E, W, N, S or -<tile> after the tile";
+  }
+  out.dir = it->second;
+  const bool on_grid = (out.dir == bsp::UdnDir::kEast && x + 1U < cols) || (out.dir == bsp::UdnDir::kWest && x > 0U) ||
+                       (out.dir == bsp::UdnDir::kNorth && y > 0U) || (out.dir == bsp::UdnDir::kSouth && y + 1U < rows);
+  return on_grid ? "" : "'" + text + "': the link leaves the grid";
 }
 
 int parse_stress_args(int argc, const char* const* argv, StressOptions& opts, std::string& message) {
@@ -239,6 +308,9 @@ int parse_stress_args(int argc, const char* const* argv, StressOptions& opts, st
 }
 
 StressResult run_stress(const StressOptions& opts, bsp::heap::SealMode seal) {
+  if (opts.ft) {
+    return run_stress_ft(opts, seal);
+  }
   StressResult r;
   if (!boot_board(opts)) {
     return r;
@@ -271,8 +343,8 @@ void write_stress_json(std::ostream& out, const StressOptions& opts, const Stres
   for (std::size_t i = 0; i < opts.failed_switches.size(); ++i) {
     out << (i == 0U ? "" : ",") << opts.failed_switches[i];
   }
-  out << "],\"completed\":" << (r.completed ? "true" : "false") << ",\"sent\":" << s.sent
-      << ",\"delivered\":" << s.delivered << ",\"received\":" << r.received
+  out << "],\"completed\":" << (r.completed ? "true" : "false") << ",\"sent\":" << (opts.ft ? r.ft.sent : s.sent)
+      << ",\"delivered\":" << (opts.ft ? r.ft.delivered : s.delivered) << ",\"received\":" << r.received
       << ",\"lost_offgrid\":" << lost(bsp::UdnLoss::kOffGrid)
       << ",\"lost_failed_switch\":" << lost(bsp::UdnLoss::kFailedSwitch)
       << ",\"lost_failed_link\":" << lost(bsp::UdnLoss::kFailedLink)
@@ -283,7 +355,17 @@ void write_stress_json(std::ostream& out, const StressOptions& opts, const Stres
       << ",\"link_utilisation_max\":" << r.link_utilisation_max << ",\"emulated_s\":" << r.emulated_s
       << ",\"host_s\":" << r.host_s << ",\"packets_per_host_s\":"
       << (r.host_s > 0.0 ? static_cast<double>(s.sent) / r.host_s : 0.0)
-      << ",\"heap_allocs_during_run\":" << r.heap_allocs_during_run << "}\n";
+      << ",\"heap_allocs_during_run\":" << r.heap_allocs_during_run;
+  if (opts.ft) {
+    const StressResult::Ft& f = r.ft;
+    out << ",\"ft\":true,\"ber\":" << opts.ber << ",\"net_sent\":" << s.sent << ",\"net_delivered\":" << s.delivered
+        << ",\"corrected\":" << f.corrected << ",\"forwarded\":" << f.forwarded
+        << ",\"retransmitted\":" << f.retransmitted << ",\"uncorrectable_detected\":" << f.uncorrectable_detected
+        << ",\"lost\":" << f.lost << ",\"gave_up\":" << f.gave_up << ",\"duplicated\":" << f.duplicated
+        << ",\"misordered\":" << f.misordered << ",\"corrupted_delivered\":" << f.corrupted_delivered
+        << ",\"unreachable\":" << f.unreachable;
+  }
+  out << "}\n";
 }
 
 }  // namespace tools

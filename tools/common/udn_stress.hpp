@@ -37,7 +37,21 @@ struct StressOptions {
   std::string profile = "tile64";
   double max_ms = 1000.0;  ///< emulated-time bound of the run
   double quantum_us = 1.0;  ///< board quantum: software sees a packet at most this long after it arrives
+  // Fault-tolerant layer (udn/ft_link.hpp), see docs/FT_MESSAGING.md.
+  bool ft = false;                           ///< --ft on: traffic through the fault-tolerant layer
+  double ber = 0.0;                          ///< bit flip probability per word in transit
+  std::vector<std::uint32_t> failed_tiles;   ///< tiles that run nothing and whose switch fails at t=0
+  std::vector<std::string> failed_links;     ///< "12E" (link leaving 12 eastwards) or "12-13"; both directions
 };
+
+/** One parsed --failed-links entry: the link leaving tile in dir (both directions fail). */
+struct LinkSpec {
+  std::uint32_t tile = 0U;
+  bsp::UdnDir dir = bsp::UdnDir::kEast;
+};
+
+/** Parses "12E"/"12W"/"12N"/"12S" or "12-13" on a cols x rows grid. @return "" or the message. */
+std::string parse_link(const std::string& text, std::uint32_t cols, std::uint32_t rows, LinkSpec& out);
 
 /** Registers the udn_stress options on @p app, writing into @p opts (extensible by later layers). */
 void add_stress_options(CLI::App& app, StressOptions& opts);
@@ -62,7 +76,25 @@ struct StressResult {
   double link_utilisation_mean = 0.0;
   double link_utilisation_max = 0.0;
   std::uint64_t heap_allocs_during_run = 0U;
+  /** --ft on only: the fault-tolerant layer's view (messages, not packets). */
+  struct Ft {
+    std::uint64_t sent = 0U;       ///< messages accepted by ft_send
+    std::uint64_t delivered = 0U;  ///< messages handed to the receivers
+    std::uint64_t corrected = 0U;
+    std::uint64_t forwarded = 0U;
+    std::uint64_t retransmitted = 0U;
+    std::uint64_t uncorrectable_detected = 0U;
+    std::uint64_t lost = 0U;        ///< sent, never delivered, whether reported (gave_up) or not
+    std::uint64_t gave_up = 0U;     ///< given up after retries, each an event
+    std::uint64_t duplicated = 0U;
+    std::uint64_t misordered = 0U;
+    std::uint64_t corrupted_delivered = 0U;
+    std::uint64_t unreachable = 0U;  ///< sends refused for lack of a route
+  } ft{};
 };
+
+/** The --ft on run: a fault-tolerant driver task per working tile (tools/common/udn_stress_ft.cpp). */
+StressResult run_stress_ft(const StressOptions& opts, bsp::heap::SealMode seal);
 
 /** Boots a kernel with a sender and a receiver task on every tile and runs the traffic. */
 StressResult run_stress(const StressOptions& opts, bsp::heap::SealMode seal);
