@@ -124,7 +124,10 @@ detail::TxSlot* oldest(FtNode& n, bsp::TileId dest, std::uint32_t channel) noexc
 void run_timers(FtNode& n, std::uint32_t now) noexcept {
   for (std::uint32_t i = 0U; i < kFtTxSlots; ++i) {
     const detail::TxSlot& s = n.tx[i];
-    if (!s.used || now - s.sent_tick < n.config.timeout_ticks) {
+    // Exponential back-off (x2 per retry, at most x16): a congested forwarder
+    // gets air instead of a growing storm of go-back-N bursts.
+    const std::uint32_t backoff = (s.retries < 4U) ? s.retries : 4U;
+    if (!s.used || now - s.sent_tick < (n.config.timeout_ticks << backoff)) {
       continue;
     }
     detail::TxSlot* first = oldest(n, s.dest, s.channel);

@@ -87,7 +87,7 @@ struct FtPort {
 FtPort ft_task_port() noexcept;
 
 struct FtConfig {
-  std::uint32_t timeout_ticks = 3U;  ///< retransmit timeout of the oldest unacknowledged packet (> a two-leg round trip)
+  std::uint32_t timeout_ticks = 3U;  ///< first retransmit timeout (> a two-leg round trip); doubles per retry, at most x16
   std::uint32_t max_retries = 8U;    ///< retransmissions before giving up
 };
 
