@@ -187,7 +187,8 @@ TEST(TaskTable, CompileTimeChecksRejectBadTables) {
   constexpr k::TaskSpec kHuge[] = {{"a", &say_a, nullptr, 3, 0, 0, 512U * 1024U, k::Policy::kPreemptive}};
   static_assert(k::check_table(kHuge) == k::TableError::kOverBudget);
   constexpr k::TaskSpec kNull[] = {{"a", nullptr, nullptr, 3, 0, 0, kStack, k::Policy::kPreemptive}};
-  static_assert(k::check_table(kNull) == k::TableError::kNullEntry);
+  EXPECT_EQ(k::check_table(kNull), k::TableError::kNullEntry) << "checked at run time, by start()";
+  EXPECT_EQ(k::start(kNull, kTick), k::Status::kBadArg);
   // The same checks at run time: start() refuses a bad table.
   EXPECT_EQ(k::check_table(kDup), k::TableError::kDuplicateName);
   EXPECT_EQ(k::check_table(k::TaskTable{}), k::TableError::kEmpty);
