@@ -20,6 +20,7 @@
 #include "tools/common/memory_report.hpp"
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/io_task.hpp"
+#include "trn/tasks/roles.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -35,19 +36,6 @@ namespace {
 
 constexpr bsp::TileId kIoTile = 9;
 constexpr bsp::TileId kFilterTile = 18;
-
-trn::tasks::IoTaskConfig g_io_cfg{kFilterTile};
-trn::tasks::FilterTaskConfig g_filter_cfg{};
-
-// The task tables of the roles booted today (one constexpr table per role).
-constexpr k::TaskSpec kIoTable[] = {
-    {"io", &trn::tasks::io_task_main, &g_io_cfg, 1, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
-};
-constexpr k::TaskSpec kFilterTable[] = {
-    {"filter", &trn::tasks::filter_task_main, &g_filter_cfg, 2, 10, 10, 32U * 1024U, k::Policy::kPreemptive},
-};
-static_assert(k::check_table(kIoTable) == k::TableError::kOk);
-static_assert(k::check_table(kFilterTable) == k::TableError::kOk);
 
 struct Options {
   std::uint64_t seed = 1;
@@ -72,11 +60,11 @@ bool build_world(const Options& o) {
   // The filter starts from the truth: the position and velocity errors of a
   // real start (km-level) need the vision tiles to be corrected.
   const bsp::world::TruthState t0 = g_truth.at(0.0);
-  g_filter_cfg.initial.x.p_m = t0.r_m;
-  g_filter_cfg.initial.x.v_mps = t0.v_mps;
-  g_filter_cfg.initial.x.q_mb = t0.q_mb;
-  g_filter_cfg.initial.sigma_p_m = trn::filter::Vec3::Constant(1.0);
-  g_filter_cfg.initial.sigma_v_mps = trn::filter::Vec3::Constant(0.05);
+  trn::tasks::g_filter_role_config.initial.x.p_m = t0.r_m;
+  trn::tasks::g_filter_role_config.initial.x.v_mps = t0.v_mps;
+  trn::tasks::g_filter_role_config.initial.x.q_mb = t0.q_mb;
+  trn::tasks::g_filter_role_config.initial.sigma_p_m = trn::filter::Vec3::Constant(1.0);
+  trn::tasks::g_filter_role_config.initial.sigma_v_mps = trn::filter::Vec3::Constant(0.05);
   return true;
 }
 
@@ -88,8 +76,9 @@ bool boot_chip(const Options& o) {
   cfg.monitor_tile = bsp::kNoTile;
   cfg.boot[kIoTile] = &k::boot_entry;
   cfg.boot[kFilterTile] = &k::boot_entry;
-  k::set_task_table(kIoTile, kIoTable, cfg.tick_cycles);
-  k::set_task_table(kFilterTile, kFilterTable, cfg.tick_cycles);
+  trn::tasks::g_io_role_config.filter_tile = kFilterTile;
+  k::set_task_table(kIoTile, trn::tasks::kIoRole, cfg.tick_cycles);
+  k::set_task_table(kFilterTile, trn::tasks::kFilterRole, cfg.tick_cycles);
   bsp::DeviceBusConfig bus;
   bus.io_tile = kIoTile;
   bus.imu = &g_imu;

@@ -14,6 +14,7 @@
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/io_task.hpp"
 #include "trn/tasks/messages.hpp"
+#include "trn/tasks/roles.hpp"
 
 #include <gtest/gtest.h>
 
@@ -25,18 +26,6 @@ constexpr bsp::TileId kIoTile = 9;
 constexpr bsp::TileId kFilterTile = 18;
 constexpr bsp::Cycles kHz = bsp::kTile64.clock_hz;
 
-trn::tasks::IoTaskConfig g_io_cfg{kFilterTile};
-trn::tasks::FilterTaskConfig g_filter_cfg{};
-
-constexpr k::TaskSpec kIoTable[] = {
-    {"io", &trn::tasks::io_task_main, &g_io_cfg, 1, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
-};
-constexpr k::TaskSpec kFilterTable[] = {
-    {"filter", &trn::tasks::filter_task_main, &g_filter_cfg, 2, 10, 10, 32U * 1024U, k::Policy::kPreemptive},
-};
-static_assert(k::check_table(kIoTable) == k::TableError::kOk);
-static_assert(k::check_table(kFilterTable) == k::TableError::kOk);
-
 class FilterTask : public ::testing::Test {
  protected:
   void boot(bool imu_errors) {
@@ -45,20 +34,21 @@ class FilterTask : public ::testing::Test {
     ic.enabled = imu_errors;
     ASSERT_EQ(imu_.init(&traj_, ic, 21), bsp::ImuError::kOk);
     const bsp::world::TruthState t0 = traj_.at(0.0);
-    g_filter_cfg = trn::tasks::FilterTaskConfig{};
-    g_filter_cfg.initial.t_s = 0.0;
-    g_filter_cfg.initial.x.p_m = t0.r_m;
-    g_filter_cfg.initial.x.v_mps = t0.v_mps;
-    g_filter_cfg.initial.x.q_mb = t0.q_mb;
-    g_filter_cfg.initial.sigma_p_m = trn::filter::Vec3::Constant(1.0);
-    g_filter_cfg.initial.sigma_v_mps = trn::filter::Vec3::Constant(0.01);
+    trn::tasks::g_filter_role_config = trn::tasks::FilterTaskConfig{};
+    trn::tasks::g_io_role_config.filter_tile = kFilterTile;
+    trn::tasks::g_filter_role_config.initial.t_s = 0.0;
+    trn::tasks::g_filter_role_config.initial.x.p_m = t0.r_m;
+    trn::tasks::g_filter_role_config.initial.x.v_mps = t0.v_mps;
+    trn::tasks::g_filter_role_config.initial.x.q_mb = t0.q_mb;
+    trn::tasks::g_filter_role_config.initial.sigma_p_m = trn::filter::Vec3::Constant(1.0);
+    trn::tasks::g_filter_role_config.initial.sigma_v_mps = trn::filter::Vec3::Constant(0.01);
     bsp::BoardConfig cfg = bsp::default_config(bsp::kTile64);
     cfg.powered_at_start = (1ULL << kIoTile) | (1ULL << kFilterTile);
     cfg.monitor_tile = bsp::kNoTile;
     cfg.boot[kIoTile] = &k::boot_entry;
     cfg.boot[kFilterTile] = &k::boot_entry;
-    k::set_task_table(kIoTile, kIoTable, bsp::kTile64.cycles_per_ms());
-    k::set_task_table(kFilterTile, kFilterTable, bsp::kTile64.cycles_per_ms());
+    k::set_task_table(kIoTile, trn::tasks::kIoRole, bsp::kTile64.cycles_per_ms());
+    k::set_task_table(kFilterTile, trn::tasks::kFilterRole, bsp::kTile64.cycles_per_ms());
     ASSERT_EQ(bsp::board_init(cfg), bsp::BoardError::kOk);
     ASSERT_EQ(bsp::udn_net_init(bsp::NetConfig{}), bsp::NetError::kOk);
     bsp::DeviceBusConfig bus;
