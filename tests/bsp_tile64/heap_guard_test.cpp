@@ -35,7 +35,7 @@ TEST(HeapGuard, OperatorNewAfterTheSealIsCounted) {
 
 TEST(HeapGuard, MallocAfterTheSealIsCountedWhereTheGuardOwnsMalloc) {
   const std::uint64_t n = test_support::count_allocs([] {
-        void* p = std::malloc(64);
+    void* p = std::malloc(64);
     test_support::escape(p);
     std::free(p);
   });

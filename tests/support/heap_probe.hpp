@@ -16,7 +16,7 @@ namespace test_support {
  * assertions (which may allocate on failure) are not counted.
  */
 /** Keeps the compiler from eliding an allocation whose result is otherwise unused. */
-inline void escape(const void* p) { asm volatile("" : : "g"(p) : "memory"); }
+inline void escape(void* p) { asm volatile("" : : "g"(p) : "memory"); }
 
 template <class Fn>
 std::uint64_t count_allocs(Fn&& fn) {
