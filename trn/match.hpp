@@ -24,7 +24,11 @@ struct Match {
   std::uint16_t landmark; ///< landmark index in the map table
   std::uint16_t tile;     ///< tile that produced the match
   std::uint32_t frame;    ///< frame sequence number
+  double t_s;             ///< capture time of the frame (emulated s): the measurement time
 };
+
+/** Landmark index of a coarse-stage match (the image centre against the map, not a table entry). */
+inline constexpr std::uint16_t kCoarseLandmark = 0xFFFFU;
 
 /** Most matches one frame can carry. */
 inline constexpr std::uint32_t kMaxMatchesPerFrame = 200;

@@ -8,6 +8,8 @@
 #pragma once
 
 #include "bsp_tile64/devices/imu_sample.hpp"
+#include "trn/filter/nav_output.hpp"
+#include "trn/match.hpp"
 
 #include <bit>
 #include <cstdint>
@@ -17,6 +19,22 @@ namespace trn::tasks {
 
 /** UDN tags of TRN traffic (the hardware tag word selects the receive queue). */
 inline constexpr std::uint32_t kTagImu = 0x54490001U;  ///< I/O tile -> filter: one ImuSample
+
+/**
+ * Fault-tolerant UDN channels (udn/ft_link.hpp) of TRN traffic. A tile's
+ * receive queue is per channel, so each kind of traffic a tile takes has its own.
+ */
+inline constexpr std::uint32_t kChanControl = 0U;  ///< I/O -> coordinator frame notices; coordinator -> vision work units
+inline constexpr std::uint32_t kChanResult = 1U;   ///< vision -> coordinator unit results
+inline constexpr std::uint32_t kChanNav = 2U;      ///< filter -> coordinator navigation solutions (pose priors)
+inline constexpr std::uint32_t kChanMatches = 3U;  ///< coordinator -> filter match batches
+
+/** First word of every FT message: what it is. */
+inline constexpr std::uint32_t kMsgFrame = 0x46524D31U;    ///< "FRM1" frame notice
+inline constexpr std::uint32_t kMsgUnit = 0x554E5431U;     ///< "UNT1" vision work unit
+inline constexpr std::uint32_t kMsgResult = 0x52534C31U;   ///< "RSL1" vision unit result
+inline constexpr std::uint32_t kMsgNav = 0x4E415631U;      ///< "NAV1" navigation solution
+inline constexpr std::uint32_t kMsgMatches = 0x4D544331U;  ///< "MTC1" part of a frame's match batch
 
 /** Demux queue the filter tile binds kTagImu to. */
 inline constexpr std::uint32_t kImuQueue = 0;
@@ -56,6 +74,92 @@ inline bsp::ImuSample unpack_imu(std::span<const std::uint32_t, kImuWords> w) no
     s.dv_mps[i] = detail::get_f64(w, 10U + 2U * i);
   }
   return s;
+}
+
+/** Words of one packed Match. */
+inline constexpr std::uint32_t kMatchWords = 22;
+
+/** Packs @p m into exactly kMatchWords words (doubles bit-exact). */
+inline void pack_match(const Match& m, std::span<std::uint32_t, kMatchWords> w) noexcept {
+  for (std::size_t i = 0; i < 3U; ++i) {
+    detail::put_f64(w, 2U * i, m.w_c[i]);
+    detail::put_f64(w, 6U + 2U * i, m.p_m[i]);
+  }
+  detail::put_f64(w, 12, m.u_px);
+  detail::put_f64(w, 14, m.v_px);
+  detail::put_f64(w, 16, m.t_s);
+  w[18] = std::bit_cast<std::uint32_t>(static_cast<float>(m.sigma_px));
+  w[19] = std::bit_cast<std::uint32_t>(m.quality);
+  w[20] = static_cast<std::uint32_t>(m.landmark) | (static_cast<std::uint32_t>(m.tile) << 16U);
+  w[21] = m.frame;
+}
+
+/** Unpacks what pack_match() wrote (sigma_px travels as a float). */
+inline Match unpack_match(std::span<const std::uint32_t, kMatchWords> w) noexcept {
+  Match m{};
+  for (std::size_t i = 0; i < 3U; ++i) {
+    m.w_c[i] = detail::get_f64(w, 2U * i);
+    m.p_m[i] = detail::get_f64(w, 6U + 2U * i);
+  }
+  m.u_px = detail::get_f64(w, 12);
+  m.v_px = detail::get_f64(w, 14);
+  m.t_s = detail::get_f64(w, 16);
+  m.sigma_px = static_cast<double>(std::bit_cast<float>(w[18]));
+  m.quality = std::bit_cast<float>(w[19]);
+  m.landmark = static_cast<std::uint16_t>(w[20] & 0xFFFFU);
+  m.tile = static_cast<std::uint16_t>(w[20] >> 16U);
+  m.frame = w[21];
+  return m;
+}
+
+/**
+ * Match batch message (coordinator -> filter, kChanMatches):
+ *   [0] kMsgMatches [1] frame seq [2] part index | (part count << 16) [3] matches in this part (n)
+ *   then n x kMatchWords. A frame's batch is split into parts of at most kMatchesPerPart.
+ */
+inline constexpr std::uint32_t kMatchHeaderWords = 4;
+inline constexpr std::uint32_t kMatchesPerPart = 5;
+static_assert(kMatchHeaderWords + kMatchesPerPart * kMatchWords <= 124U, "a part fits one FT packet");
+
+/**
+ * Navigation solution message (filter -> coordinator, kChanNav), 42 words:
+ *   [0] kMsgNav [1] flags [2..3] t_s [4..9] p [10..15] v [16..23] q (w x y z)
+ *   [24..41] variance diagonal of dp, dv, dtheta (9 doubles).
+ */
+inline constexpr std::uint32_t kNavWords = 42;
+
+inline void pack_nav(const filter::NavOutput& o, std::span<std::uint32_t, kNavWords> w) noexcept {
+  w[0] = kMsgNav;
+  w[1] = o.flags;
+  detail::put_f64(w, 2, o.t_s);
+  for (std::size_t i = 0; i < 3U; ++i) {
+    detail::put_f64(w, 4U + 2U * i, o.p_m[i]);
+    detail::put_f64(w, 10U + 2U * i, o.v_mps[i]);
+  }
+  for (std::size_t i = 0; i < 4U; ++i) {
+    detail::put_f64(w, 16U + 2U * i, o.q_mb_wxyz[i]);
+  }
+  for (std::size_t i = 0; i < 9U; ++i) {
+    detail::put_f64(w, 24U + 2U * i, o.var_diag[i]);
+  }
+}
+
+/** Unpacks what pack_nav() wrote (the covariance diagonal beyond attitude reads as zero). */
+inline filter::NavOutput unpack_nav(std::span<const std::uint32_t, kNavWords> w) noexcept {
+  filter::NavOutput o{};
+  o.flags = w[1];
+  o.t_s = detail::get_f64(w, 2);
+  for (std::size_t i = 0; i < 3U; ++i) {
+    o.p_m[i] = detail::get_f64(w, 4U + 2U * i);
+    o.v_mps[i] = detail::get_f64(w, 10U + 2U * i);
+  }
+  for (std::size_t i = 0; i < 4U; ++i) {
+    o.q_mb_wxyz[i] = detail::get_f64(w, 16U + 2U * i);
+  }
+  for (std::size_t i = 0; i < 9U; ++i) {
+    o.var_diag[i] = detail::get_f64(w, 24U + 2U * i);
+  }
+  return o;
 }
 
 }  // namespace trn::tasks
