@@ -59,7 +59,7 @@ udn::FtError comm_receive(std::uint32_t channel, udn::FtMessage& out) noexcept;
 const udn::FtNode* comm_node(bsp::TileId tile) noexcept;
 
 /** The comm service's task table entry (priority 0, period 1, preemptive). */
-inline constexpr k::TaskSpec kCommTask{"comm", &comm_task_main, nullptr, 0, 1, 0, 8U * 1024U,
+inline constexpr k::TaskSpec kCommTask{"comm", &comm_task_main, nullptr, 0, 1, 0, 16U * 1024U,
                                        k::Policy::kPreemptive};
 
 }  // namespace trn::tasks

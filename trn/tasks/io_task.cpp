@@ -5,7 +5,9 @@
 #include "trn/tasks/io_task.hpp"
 
 #include "bsp_tile64/devices/device_io.hpp"
+#include "bsp_tile64/memory.hpp"
 #include "kernel/kernel.hpp"
+#include "trn/tasks/comm.hpp"
 #include "trn/tasks/messages.hpp"
 #include "udn/raw.hpp"
 
@@ -24,6 +26,28 @@ void device_isr(bsp::TileId /*tile*/) noexcept { (void)g_device_ready.give_from_
 constexpr k::Timeout kSendTimeout{5};
 /** Samples forwarded per wake-up at most (the FIFO depth). */
 constexpr std::uint32_t kMaxPerWake = bsp::kImuFifoDepth;
+/** Ticks a frame notice may wait for the network. */
+constexpr std::uint32_t kNoticeTicks = 20;
+
+void forward_frames(const IoTaskConfig& cfg) noexcept {
+  bsp::FrameRecord f{};
+  for (std::uint32_t n = 0; n < bsp::kFrameFifoDepth && bsp::frame_read(&f); ++n) {
+    if (cfg.coordinator_tile == bsp::kNoTile) {
+      continue;
+    }
+    const auto* base = reinterpret_cast<const std::uint8_t*>(  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): DDR bytes
+        bsp::region_span(bsp::Region{bsp::Region::kDdr}).data());
+    FrameNotice notice{f.seq, f.width_px, f.height_px, f.status, f.t_s,
+                       static_cast<std::uint64_t>(f.pixels - base)};
+    std::array<std::uint32_t, kFrameNoticeWords> w{};
+    pack_frame_notice(notice, w);
+    if (comm_send(cfg.coordinator_tile, kChanControl, w, kNoticeTicks) == udn::FtError::kOk) {
+      ++g_stats.frames_forwarded;
+    } else {
+      ++g_stats.frame_send_failures;
+    }
+  }
+}
 
 }  // namespace
 
@@ -47,6 +71,7 @@ void io_task_main(void* arg) noexcept {
         ++g_stats.send_failures;
       }
     }
+    forward_frames(*cfg);
   }
 }
 

@@ -12,17 +12,22 @@ namespace trn::tasks {
 
 struct IoTaskConfig {
   bsp::TileId filter_tile = bsp::kNoTile;
+  bsp::TileId coordinator_tile = bsp::kNoTile;  ///< frame notices go here (kNoTile: frames are not forwarded)
 };
 
 struct IoTaskStats {
   std::uint32_t imu_forwarded;
   std::uint32_t send_failures;  ///< the network refused past the timeout
+  std::uint32_t frames_forwarded;
+  std::uint32_t frame_send_failures;
 };
 
 /**
  * Task entry (arg: const IoTaskConfig*): activates the UDN, takes Irq::kDevice
  * through a kernel hook, and sends every IMU sample to the filter tile as it
- * arrives. Runs forever.
+ * arrives (raw UDN: a 100 Hz stream whose next sample supersedes a lost one),
+ * and a notice of every frame to the vision coordinator (fault-tolerant UDN,
+ * kChanControl; the I/O role then lists kCommTask). Runs forever.
  */
 void io_task_main(void* arg) noexcept;
 

@@ -162,4 +162,60 @@ inline filter::NavOutput unpack_nav(std::span<const std::uint32_t, kNavWords> w)
   return o;
 }
 
+/**
+ * Frame notice (I/O -> coordinator, kChanControl), 8 words:
+ *   [0] kMsgFrame [1] seq [2] width | height << 16 [3] status [4..5] t_s [6..7] byte offset of the
+ *   pixels from the start of the shared DDR region.
+ */
+inline constexpr std::uint32_t kFrameNoticeWords = 8;
+
+struct FrameNotice {
+  std::uint32_t seq = 0;
+  std::uint32_t width_px = 0;
+  std::uint32_t height_px = 0;
+  std::uint32_t status = 0;
+  double t_s = 0.0;
+  std::uint64_t ddr_offset = 0;
+};
+
+inline void pack_frame_notice(const FrameNotice& f, std::span<std::uint32_t, kFrameNoticeWords> w) noexcept {
+  w[0] = kMsgFrame;
+  w[1] = f.seq;
+  w[2] = (f.width_px & 0xFFFFU) | ((f.height_px & 0xFFFFU) << 16U);
+  w[3] = f.status;
+  detail::put_f64(w, 4, f.t_s);
+  w[6] = static_cast<std::uint32_t>(f.ddr_offset);
+  w[7] = static_cast<std::uint32_t>(f.ddr_offset >> 32U);
+}
+
+inline FrameNotice unpack_frame_notice(std::span<const std::uint32_t, kFrameNoticeWords> w) noexcept {
+  FrameNotice f{};
+  f.seq = w[1];
+  f.width_px = w[2] & 0xFFFFU;
+  f.height_px = w[2] >> 16U;
+  f.status = w[3];
+  f.t_s = detail::get_f64(w, 4);
+  f.ddr_offset = static_cast<std::uint64_t>(w[6]) | (static_cast<std::uint64_t>(w[7]) << 32U);
+  return f;
+}
+
+/** Most landmarks in one vision work unit (its result fits one FT packet). */
+inline constexpr std::uint32_t kMaxLandmarksPerUnit = 5;
+
+/**
+ * Vision work unit (coordinator -> vision tile, kChanControl), kUnitHeaderWords + n words:
+ *   [0] kMsgUnit [1] frame seq [2] unit id [3] n [4..5] t_s [6..7] frame DDR offset
+ *   [8] width | height << 16 [9..14] prior p [15..22] prior q (w x y z)
+ *   then n words: landmark index | search radius (map px) << 16.
+ */
+inline constexpr std::uint32_t kUnitHeaderWords = 23;
+
+/**
+ * Vision unit result (vision tile -> coordinator, kChanResult), kResultHeaderWords + m x kMatchWords:
+ *   [0] kMsgResult [1] frame seq [2] unit id [3] landmarks tried [4] matches m, then the matches.
+ */
+inline constexpr std::uint32_t kResultHeaderWords = 5;
+static_assert(kUnitHeaderWords + kMaxLandmarksPerUnit <= 124U, "a unit fits one FT packet");
+static_assert(kResultHeaderWords + kMaxLandmarksPerUnit * kMatchWords <= 124U, "a result fits one FT packet");
+
 }  // namespace trn::tasks

@@ -1,0 +1,114 @@
+/**
+ * @file tile_map.hpp
+ * @brief The mission's tile map: which role, and so which task table, each of the 64 tiles runs.
+ *
+ * One static table (kTileRoles) is the single source: the image powers the
+ * tiles whose role is not a spare, registers each role's task table, and
+ * fills the role configurations before boot. Default 8x8 layout (tile = row * 8 + col):
+ *
+ *   row 0:  T  V  F  .  .  .  .  .     T TRN supervisor, V vision coordinator,
+ *   row 1:  .  I  .  .  .  .  .  .     F filter supervisor, I I/O tile,
+ *   row 2:  .  .  N  .  .  .  .  .     N navigation filter, v vision tile,
+ *   rows 3-7: v v v v v v v v          . spare (powered off)
+ *
+ * The supervisors' tiles are reserved for the fault-management layer; until
+ * it runs there they hold the network-health service (T) and stay spare (F).
+ */
+#pragma once
+
+#include "kernel/task_table.hpp"
+#include "trn/tasks/comm.hpp"
+#include "trn/tasks/filter_task.hpp"
+#include "trn/tasks/io_task.hpp"
+#include "trn/tasks/vision_task.hpp"
+
+#include <array>
+#include <cstdint>
+
+namespace trn::tasks {
+
+enum class Role : std::uint8_t {
+  kSpare,
+  kTrnSupervisor,
+  kVisionCoordinator,
+  kFilterSupervisor,
+  kIo,
+  kFilter,
+  kVision,
+};
+
+inline constexpr std::uint32_t kMapTiles = 64;
+
+/** Short names for displays ("spare", "trn-sup", "vis-coord", ...). */
+const char* role_name(Role r) noexcept;
+/** One-letter codes of the diagram above. */
+char role_code(Role r) noexcept;
+
+namespace detail {
+constexpr std::array<Role, kMapTiles> make_roles() noexcept {
+  std::array<Role, kMapTiles> r{};
+  for (Role& x : r) {
+    x = Role::kSpare;
+  }
+  r[0] = Role::kTrnSupervisor;
+  r[1] = Role::kVisionCoordinator;
+  r[9] = Role::kIo;
+  r[18] = Role::kFilter;
+  for (std::uint32_t t = 24; t < kMapTiles; ++t) {
+    r[t] = Role::kVision;
+  }
+  return r;
+}
+}  // namespace detail
+
+/** The default tile map. The filter supervisor's tile (2) stays spare until that role has a task. */
+inline constexpr std::array<Role, kMapTiles> kTileRoles = detail::make_roles();
+
+constexpr bsp::TileId kCoordinatorTile = 1;
+constexpr bsp::TileId kIoTile = 9;
+constexpr bsp::TileId kFilterTile = 18;
+
+constexpr std::uint32_t count_role(Role r) noexcept {
+  std::uint32_t n = 0;
+  for (Role x : kTileRoles) {
+    n += (x == r) ? 1U : 0U;
+  }
+  return n;
+}
+static_assert(count_role(Role::kVision) == 40, "40 vision tiles");
+static_assert(kTileRoles[kCoordinatorTile] == Role::kVisionCoordinator && kTileRoles[kIoTile] == Role::kIo &&
+                  kTileRoles[kFilterTile] == Role::kFilter,
+              "named tiles match the map");
+
+/** Configurations the role tables point to; the image fills them before boot. */
+extern VisionCoordConfig g_coord_config;
+extern VisionWorkerConfig g_vision_config;
+extern IoTaskConfig g_io_mission_config;
+
+/** I/O tile of the mission: the device driver with its messaging service. */
+inline constexpr k::TaskSpec kIoMissionRole[] = {
+    kCommTask,
+    {"io", &io_task_main, &g_io_mission_config, 1, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
+};
+/** Vision coordinator. */
+inline constexpr k::TaskSpec kCoordinatorRole[] = {
+    kCommTask,
+    {"vision_coord", &vision_coord_main, &g_coord_config, 2, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
+};
+/** A vision tile. */
+inline constexpr k::TaskSpec kVisionRole[] = {
+    kCommTask,
+    {"vision", &vision_worker_main, &g_vision_config, 2, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
+};
+
+static_assert(k::check_table(kIoMissionRole) == k::TableError::kOk);
+static_assert(k::check_table(kCoordinatorRole) == k::TableError::kOk);
+static_assert(k::check_table(kVisionRole) == k::TableError::kOk);
+
+/** Task table of role @p r (empty for spares and roles without tasks yet). */
+k::TaskTable role_table(Role r) noexcept;
+
+/** Fills g_coord_config's vision tile list from kTileRoles (skipping tiles in @p exclude_mask). */
+void tile_map_vision_tiles(VisionCoordConfig& cfg, std::uint64_t exclude_mask) noexcept;
+
+}  // namespace trn::tasks

@@ -1,0 +1,558 @@
+/**
+ * @file vision_task.cpp
+ * @brief Vision coordinator (frame planning, distribution, gathering) and the vision tile task.
+ */
+#include "trn/tasks/vision_task.hpp"
+
+#include "bsp_tile64/devices/map_product.hpp"
+#include "bsp_tile64/memory.hpp"
+#include "kernel/kernel.hpp"
+#include "trn/match.hpp"
+#include "trn/tasks/comm.hpp"
+#include "trn/tasks/messages.hpp"
+
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <new>
+
+namespace trn::tasks {
+namespace {
+
+/** Solutions the coordinator keeps (10 ms apart: 0.64 s). */
+constexpr std::uint32_t kNavRing = 64;
+/** Ticks a unit or batch part may wait for the network before it is counted as failed. */
+constexpr std::uint32_t kSendTicks = 20;
+/** Messages drained per channel per pass (the receive queues hold kFtRxDepth each). */
+constexpr std::uint32_t kDrainPerPass = 64;
+
+struct Unit {
+  bsp::TileId tile;
+  std::uint32_t planned;
+  bool sent;
+  bool answered;
+};
+
+struct CoordState {
+  const VisionCoordConfig* cfg;
+  vision::MapView fine;
+  vision::MapView coarse_map;
+  vision::LandmarkTable* table;
+  vision::CoarseFrameWorkspace* coarse_ws;
+  std::array<filter::NavOutput, kNavRing> nav;
+  std::uint32_t nav_count;  ///< solutions received (ring index = count % kNavRing)
+  bool have_pending;
+  FrameNotice pending;
+  bool busy;
+  FrameNotice frame;
+  bsp::Cycles frame_start;
+  k::Ticks deadline;
+  std::array<Unit, kMaxVisionTiles> units;
+  std::uint32_t unit_count;
+  std::array<vision::PlannedLandmark, kMaxMatchesPerFrame> planned;
+  std::array<Match, kMaxMatchesPerFrame + 1U> matches;  ///< [0] the coarse match when there is one
+  std::uint32_t match_count;
+  std::array<std::uint32_t, kMaxVisionTiles> misses;  ///< frames missed in a row, per vision tile
+  std::uint32_t frames_planned;
+};
+
+std::array<VisionCoordStats, bsp::kMaxTiles> g_coord_stats{};
+std::array<VisionWorkerStats, bsp::kMaxTiles> g_worker_stats{};
+
+const std::uint8_t* ddr_at(std::uint64_t offset, std::uint64_t bytes) noexcept {
+  const std::span<std::byte> ddr = bsp::region_span(bsp::Region{bsp::Region::kDdr});
+  if (offset > ddr.size() || bytes > ddr.size() - offset) {
+    return nullptr;
+  }
+  return reinterpret_cast<const std::uint8_t*>(ddr.data() + offset);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): DDR bytes
+}
+
+k::Ticks seconds_to_ticks(double s) noexcept {
+  // The kernel tick is 1 ms (board default); the frame logic works in ticks.
+  return static_cast<k::Ticks>(std::ceil(s * 1000.0));
+}
+
+// ------------------------------------------------------------------ coordinator: set-up
+
+bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
+  const bsp::MapProductHeader* product = bsp::map_product_find();
+  if (product == nullptr || vision::map_view(product, bsp::kMapLayerFine, st.fine) != vision::Status::kOk ||
+      vision::map_view(product, bsp::kMapLayerCoarse, st.coarse_map) != vision::Status::kOk) {
+    return false;
+  }
+  const bsp::Region ddr{bsp::Region::kDdr};
+  bsp::MemError err = bsp::MemError::kOk;
+  st.table = bsp::carve_array<vision::LandmarkTable>(ddr, 1, kLandmarkCarveName, &err);
+  if (err != bsp::MemError::kOk) {
+    return false;
+  }
+  st.coarse_ws = bsp::carve_array<vision::CoarseFrameWorkspace>(ddr, 1, "coarse_ws", &err);
+  if (err != bsp::MemError::kOk) {
+    return false;
+  }
+  ::new (st.table) vision::LandmarkTable{};
+  ::new (st.coarse_ws) vision::CoarseFrameWorkspace{};
+  // The product's elevation is int16 counts, the selection's optional view is
+  // metres as float: the selection runs on the image alone and each chosen
+  // landmark's 3D position is then read from the product.
+  bsp::Work work{};
+  if (vision::select_landmarks(st.fine.image, vision::ConstImageF32{}, st.fine.geo, st.cfg->select, *st.table,
+                               work) != vision::Status::kOk) {
+    return false;
+  }
+  for (std::uint32_t i = 0; i < st.table->count; ++i) {
+    vision::Landmark& lm = st.table->items[i];
+    bsp::map_pixel_position(product, bsp::kMapLayerFine, static_cast<std::uint32_t>(lm.col_px),
+                            static_cast<std::uint32_t>(lm.row_px), lm.p_m);
+  }
+  work.flops += 3ULL * st.table->count;
+  bsp::consume(work);
+  stats.landmarks_selected = st.table->count;
+  return true;
+}
+
+// ------------------------------------------------------------------ coordinator: inputs
+
+void drain_nav(CoordState& st) noexcept {
+  udn::FtMessage m{};
+  for (std::uint32_t i = 0; i < kDrainPerPass && comm_receive(kChanNav, m) == udn::FtError::kOk; ++i) {
+    if (m.data_words == kNavWords && m.data[0] == kMsgNav) {
+      st.nav[st.nav_count % kNavRing] = unpack_nav(std::span<const std::uint32_t, kNavWords>(m.data.data(), kNavWords));
+      ++st.nav_count;
+    }
+  }
+}
+
+void drain_notices(CoordState& st, VisionCoordStats& stats) noexcept {
+  udn::FtMessage m{};
+  for (std::uint32_t i = 0; i < kDrainPerPass && comm_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
+    if (m.data_words != kFrameNoticeWords || m.data[0] != kMsgFrame) {
+      continue;
+    }
+    ++stats.frames_seen;
+    if (st.have_pending) {
+      ++stats.frames_skipped;  // a newer frame replaces one that never started
+    }
+    st.pending = unpack_frame_notice(std::span<const std::uint32_t, kFrameNoticeWords>(m.data.data(), kFrameNoticeWords));
+    st.have_pending = true;
+  }
+}
+
+void take_result(CoordState& st, VisionCoordStats& stats, const udn::FtMessage& m) noexcept {
+  if (m.data_words < kResultHeaderWords || m.data[0] != kMsgResult) {
+    return;
+  }
+  const std::uint32_t unit = m.data[2];
+  const std::uint32_t n = m.data[4];
+  if (!st.busy || m.data[1] != st.frame.seq || unit >= st.unit_count || st.units[unit].answered ||
+      st.units[unit].tile != m.source) {
+    ++stats.results_late;
+    return;
+  }
+  if (n > kMaxLandmarksPerUnit || m.data_words != kResultHeaderWords + n * kMatchWords) {
+    return;
+  }
+  st.units[unit].answered = true;
+  ++stats.units_answered;
+  for (std::uint32_t i = 0; i < n && st.match_count < st.matches.size(); ++i) {
+    const std::span<const std::uint32_t, kMatchWords> w(m.data.data() + kResultHeaderWords + i * kMatchWords,
+                                                        kMatchWords);
+    st.matches[st.match_count] = unpack_match(w);
+    ++st.match_count;
+  }
+}
+
+void drain_results(CoordState& st, VisionCoordStats& stats) noexcept {
+  udn::FtMessage m{};
+  for (std::uint32_t i = 0; i < kDrainPerPass && comm_receive(kChanResult, m) == udn::FtError::kOk; ++i) {
+    take_result(st, stats, m);
+  }
+}
+
+/** The prior at @p t_s from the newest solution at or before it, moved along its velocity. */
+bool prior_at(const CoordState& st, double t_s, vision::PosePrior& out) noexcept {
+  const std::uint32_t have = st.nav_count < kNavRing ? st.nav_count : kNavRing;
+  const filter::NavOutput* best = nullptr;
+  for (std::uint32_t i = 0; i < have; ++i) {
+    const filter::NavOutput& o = st.nav[i];
+    if (o.t_s <= t_s + 1e-9 && (best == nullptr || o.t_s > best->t_s)) {
+      best = &o;
+    }
+  }
+  if (best == nullptr || t_s - best->t_s > st.cfg->max_prior_age_s || (best->flags & filter::kNavFinite) == 0U) {
+    return false;
+  }
+  const double dt = t_s - best->t_s;
+  out.t_s = t_s;
+  for (std::size_t i = 0; i < 3U; ++i) {
+    out.p_m[i] = best->p_m[i] + best->v_mps[i] * dt;
+    out.sigma_p_m[i] = std::sqrt(best->var_diag[i]);
+    out.sigma_att_rad[i] = std::sqrt(best->var_diag[6U + i]);
+  }
+  for (std::size_t i = 0; i < 4U; ++i) {
+    out.q_mb[i] = best->q_mb_wxyz[i];
+  }
+  return true;
+}
+
+// ------------------------------------------------------------------ coordinator: a frame
+
+/** Runs the coarse stage when the prior is too uncertain; false when the frame cannot go on. */
+bool coarse_if_needed(CoordState& st, VisionCoordStats& stats, const vision::ConstImageU8& image,
+                      vision::PosePrior& prior) noexcept {
+  const double sigma_h = std::sqrt(prior.sigma_p_m[0] * prior.sigma_p_m[0] + prior.sigma_p_m[1] * prior.sigma_p_m[1]);
+  if (sigma_h <= st.cfg->coarse_above_sigma_m) {
+    return true;
+  }
+  ++stats.coarse_runs;
+  bsp::Work work{};
+  vision::CoarseFrameResult res{};
+  const vision::Status s =
+      vision::coarse_frame(image, st.cfg->camera, prior, st.coarse_map, st.cfg->coarse, *st.coarse_ws, res, work);
+  bsp::consume(work);
+  if (s != vision::Status::kOk || !res.accepted) {
+    return false;
+  }
+  ++stats.coarse_accepted;
+  prior.p_m[0] += res.dp_m[0];
+  prior.p_m[1] += res.dp_m[1];
+  prior.sigma_p_m[0] = res.sigma_m;
+  prior.sigma_p_m[1] = res.sigma_m;
+  Match& m = st.matches[0];
+  m = res.match;
+  m.landmark = kCoarseLandmark;
+  m.tile = static_cast<std::uint16_t>(bsp::current_tile());
+  m.frame = st.frame.seq;
+  m.t_s = st.frame.t_s;
+  st.match_count = 1;
+  return true;
+}
+
+/** Whether vision tile @p i gets work this frame (suspects only on their probe frames). */
+bool tile_gets_work(const CoordState& st, std::uint32_t i) noexcept {
+  return st.misses[i] < kSuspectAfterMisses || (st.frames_planned % kProbeEveryFrames) == 0U;
+}
+
+void pack_unit_header(const CoordState& st, const vision::PosePrior& prior, std::uint32_t unit, std::uint32_t n,
+                      std::span<std::uint32_t> w) noexcept {
+  w[0] = kMsgUnit;
+  w[1] = st.frame.seq;
+  w[2] = unit;
+  w[3] = n;
+  detail::put_f64(w, 4, st.frame.t_s);
+  w[6] = static_cast<std::uint32_t>(st.frame.ddr_offset);
+  w[7] = static_cast<std::uint32_t>(st.frame.ddr_offset >> 32U);
+  w[8] = (st.frame.width_px & 0xFFFFU) | ((st.frame.height_px & 0xFFFFU) << 16U);
+  for (std::size_t i = 0; i < 3U; ++i) {
+    detail::put_f64(w, 9U + 2U * i, prior.p_m[i]);
+  }
+  for (std::size_t i = 0; i < 4U; ++i) {
+    detail::put_f64(w, 15U + 2U * i, prior.q_mb[i]);
+  }
+}
+
+/** Spreads the planned landmarks over the working tiles (round robin) and sends the units. */
+void distribute(CoordState& st, VisionCoordStats& stats, const vision::PosePrior& prior, std::uint32_t planned) {
+  std::array<std::uint32_t, kMaxVisionTiles> working{};
+  std::uint32_t n_working = 0;
+  for (std::uint32_t i = 0; i < st.cfg->vision_count; ++i) {
+    if (tile_gets_work(st, i)) {
+      working[n_working] = i;
+      ++n_working;
+    }
+  }
+  st.unit_count = n_working;
+  const std::uint32_t cap = n_working * kMaxLandmarksPerUnit;
+  const std::uint32_t used = planned < cap ? planned : cap;
+  std::array<std::uint32_t, kUnitHeaderWords + kMaxLandmarksPerUnit> w{};
+  for (std::uint32_t u = 0; u < n_working; ++u) {
+    Unit& unit = st.units[u];
+    unit = Unit{st.cfg->vision_tiles[working[u]], 0U, false, false};
+    std::uint32_t n = 0;
+    for (std::uint32_t j = u; j < used && n < kMaxLandmarksPerUnit; j += n_working) {
+      const vision::PlannedLandmark& p = st.planned[j];
+      w[kUnitHeaderWords + n] = static_cast<std::uint32_t>(p.landmark) |
+                                (static_cast<std::uint32_t>(p.radius_px) << 16U);
+      ++n;
+    }
+    unit.planned = n;
+    if (n == 0U) {
+      unit.answered = true;  // nothing to do: not waited for, not a miss
+      continue;
+    }
+    pack_unit_header(st, prior, u, n, w);
+    const udn::FtError e = comm_send(unit.tile, kChanControl,
+                                     std::span<const std::uint32_t>(w.data(), kUnitHeaderWords + n), kSendTicks);
+    if (e == udn::FtError::kOk) {
+      unit.sent = true;
+      ++stats.units_sent;
+      stats.planned_total += n;
+    } else {
+      ++stats.units_send_failed;
+    }
+  }
+}
+
+void start_frame(CoordState& st, VisionCoordStats& stats) noexcept {
+  st.frame = st.pending;
+  st.have_pending = false;
+  st.match_count = 0;
+  st.unit_count = 0;
+  vision::PosePrior prior{};
+  const std::uint64_t bytes = static_cast<std::uint64_t>(st.frame.width_px) * st.frame.height_px;
+  const std::uint8_t* pixels = ddr_at(st.frame.ddr_offset, bytes);
+  if (st.frame.status != 0U || pixels == nullptr || !prior_at(st, st.frame.t_s, prior)) {
+    ++stats.frames_skipped;
+    return;
+  }
+  st.busy = true;
+  st.frame_start = bsp::now();
+  st.deadline = k::now_ticks() + seconds_to_ticks(st.cfg->deadline_s);
+  const vision::ConstImageU8 image{pixels, static_cast<std::int32_t>(st.frame.width_px),
+                                   static_cast<std::int32_t>(st.frame.height_px),
+                                   static_cast<std::int32_t>(st.frame.width_px)};
+  if (!coarse_if_needed(st, stats, image, prior)) {
+    st.busy = false;
+    ++stats.frames_skipped;
+    return;
+  }
+  bsp::Work work{};
+  std::uint32_t planned = 0;
+  if (vision::plan_frame(*st.table, st.fine, st.cfg->camera, prior, st.cfg->plan, st.planned.data(),
+                         static_cast<std::uint32_t>(st.planned.size()), planned, work) != vision::Status::kOk) {
+    planned = 0;
+  }
+  bsp::consume(work);
+  ++stats.frames_processed;
+  distribute(st, stats, prior, planned);
+  ++st.frames_planned;
+}
+
+void send_batch(CoordState& st, VisionCoordStats& stats) noexcept {
+  if (st.match_count == 0U || st.cfg->filter_tile == bsp::kNoTile) {
+    return;
+  }
+  const std::uint32_t parts = (st.match_count + kMatchesPerPart - 1U) / kMatchesPerPart;
+  std::array<std::uint32_t, kMatchHeaderWords + kMatchesPerPart * kMatchWords> w{};
+  for (std::uint32_t part = 0; part < parts; ++part) {
+    const std::uint32_t first = part * kMatchesPerPart;
+    const std::uint32_t left = st.match_count - first;
+    const std::uint32_t n = left < kMatchesPerPart ? left : kMatchesPerPart;
+    w[0] = kMsgMatches;
+    w[1] = st.frame.seq;
+    w[2] = part | (parts << 16U);
+    w[3] = n;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      pack_match(st.matches[first + i],
+                 std::span<std::uint32_t, kMatchWords>(w.data() + kMatchHeaderWords + i * kMatchWords, kMatchWords));
+    }
+    if (comm_send(st.cfg->filter_tile, kChanMatches,
+                  std::span<const std::uint32_t>(w.data(), kMatchHeaderWords + n * kMatchWords),
+                  kSendTicks) != udn::FtError::kOk) {
+      ++stats.batch_send_failed;
+    }
+  }
+}
+
+/** Closes the frame: misses counted per tile, the batch sent to the filter. */
+void finish_frame(CoordState& st, VisionCoordStats& stats) noexcept {
+  std::uint32_t suspects = 0;
+  for (std::uint32_t i = 0; i < st.cfg->vision_count; ++i) {
+    const bsp::TileId t = st.cfg->vision_tiles[i];
+    for (std::uint32_t u = 0; u < st.unit_count; ++u) {
+      if (st.units[u].tile != t || st.units[u].planned == 0U) {
+        continue;
+      }
+      if (st.units[u].answered) {
+        st.misses[i] = 0;
+      } else {
+        ++stats.units_lost;
+        ++st.misses[i];
+      }
+    }
+    suspects += (st.misses[i] >= kSuspectAfterMisses) ? 1U : 0U;
+  }
+  stats.suspect_tiles = suspects;
+  const std::uint32_t fine = st.match_count - ((st.match_count > 0U && st.matches[0].landmark == kCoarseLandmark) ? 1U : 0U);
+  stats.matches_total += fine;
+  stats.last_frame_matches = fine;
+  send_batch(st, stats);
+  st.busy = false;
+  stats.last_frame_cycles = bsp::now() - st.frame_start;
+  if (stats.last_frame_cycles > stats.max_frame_cycles) {
+    stats.max_frame_cycles = stats.last_frame_cycles;
+  }
+}
+
+bool all_answered(const CoordState& st) noexcept {
+  for (std::uint32_t u = 0; u < st.unit_count; ++u) {
+    if (st.units[u].sent && !st.units[u].answered) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// ------------------------------------------------------------------ vision tile
+
+struct WorkerState {
+  const VisionWorkerConfig* cfg;
+  vision::MapView fine;
+  vision::LandmarkWorkspace* ws;
+  std::array<std::uint32_t, kResultHeaderWords + kMaxLandmarksPerUnit * kMatchWords> out;
+};
+
+bool worker_set_up(WorkerState& st) noexcept {
+  const bsp::MapProductHeader* product = bsp::map_product_find();
+  if (product == nullptr || vision::map_view(product, bsp::kMapLayerFine, st.fine) != vision::Status::kOk) {
+    return false;
+  }
+  bsp::MemError err = bsp::MemError::kOk;
+  st.ws = bsp::carve_array<vision::LandmarkWorkspace>(bsp::Region{bsp::current_tile()}, 1, "vision_ws", &err);
+  if (err != bsp::MemError::kOk) {
+    return false;
+  }
+  ::new (st.ws) vision::LandmarkWorkspace{};
+  return true;
+}
+
+/** Matches the landmarks of unit @p m; returns the result's length in words (0: bad unit). */
+std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const udn::FtMessage& m) noexcept {
+  const std::uint32_t n = m.data[3];
+  const vision::LandmarkTable* table = landmark_table_find();
+  if (m.data[0] != kMsgUnit || n > kMaxLandmarksPerUnit || m.data_words != kUnitHeaderWords + n || table == nullptr) {
+    return 0U;
+  }
+  const std::span<const std::uint32_t> w(m.data.data(), m.data_words);
+  vision::PosePrior prior{};
+  prior.t_s = detail::get_f64(w, 4);
+  const std::uint64_t offset = static_cast<std::uint64_t>(w[6]) | (static_cast<std::uint64_t>(w[7]) << 32U);
+  const std::uint32_t width = w[8] & 0xFFFFU;
+  const std::uint32_t height = w[8] >> 16U;
+  for (std::size_t i = 0; i < 3U; ++i) {
+    prior.p_m[i] = detail::get_f64(w, 9U + 2U * i);
+  }
+  for (std::size_t i = 0; i < 4U; ++i) {
+    prior.q_mb[i] = detail::get_f64(w, 15U + 2U * i);
+  }
+  const std::uint8_t* pixels = ddr_at(offset, static_cast<std::uint64_t>(width) * height);
+  if (pixels == nullptr) {
+    return 0U;
+  }
+  const vision::ConstImageU8 image{pixels, static_cast<std::int32_t>(width), static_cast<std::int32_t>(height),
+                                   static_cast<std::int32_t>(width)};
+  std::uint32_t matched = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const auto index = static_cast<std::uint16_t>(w[kUnitHeaderWords + i] & 0xFFFFU);
+    const auto radius = static_cast<std::int32_t>(w[kUnitHeaderWords + i] >> 16U);
+    Match match{};
+    bool accepted = false;
+    vision::LandmarkDiag diag{};
+    bsp::Work work{};
+    const vision::Status s = vision::match_landmark(image, st.cfg->camera, prior, st.fine, *table, index, radius,
+                                                    *st.ws, match, accepted, diag, work);
+    bsp::consume(work);
+    ++stats.landmarks;
+    if (s == vision::Status::kOk && accepted) {
+      match.tile = static_cast<std::uint16_t>(bsp::current_tile());
+      match.frame = m.data[1];
+      match.t_s = prior.t_s;
+      pack_match(match, std::span<std::uint32_t, kMatchWords>(st.out.data() + kResultHeaderWords + matched * kMatchWords,
+                                                              kMatchWords));
+      ++matched;
+    }
+  }
+  st.out[0] = kMsgResult;
+  st.out[1] = m.data[1];
+  st.out[2] = m.data[2];
+  st.out[3] = n;
+  st.out[4] = matched;
+  stats.matches += matched;
+  return kResultHeaderWords + matched * kMatchWords;
+}
+
+}  // namespace
+
+void vision_coord_main(void* arg) noexcept {
+  const bsp::TileId self = bsp::current_tile();
+  VisionCoordStats& stats = g_coord_stats[self];
+  stats = VisionCoordStats{};
+  const auto* cfg = static_cast<const VisionCoordConfig*>(arg);
+  bsp::MemError err = bsp::MemError::kOk;
+  auto* st = bsp::carve_array<CoordState>(bsp::Region{self}, 1, "vision_coord", &err);
+  if (cfg == nullptr || cfg->vision_count > kMaxVisionTiles || err != bsp::MemError::kOk || !comm_wait_ready(100)) {
+    return;
+  }
+  ::new (st) CoordState{};
+  st->cfg = cfg;
+  if (!coord_set_up(*st, stats)) {
+    return;
+  }
+  for (;;) {
+    drain_nav(*st);
+    drain_notices(*st, stats);
+    drain_results(*st, stats);
+    if (st->busy && (all_answered(*st) || k::now_ticks() >= st->deadline)) {
+      finish_frame(*st, stats);
+    }
+    if (!st->busy && st->have_pending) {
+      start_frame(*st, stats);
+    }
+    k::sleep(1);
+  }
+}
+
+void vision_worker_main(void* arg) noexcept {
+  const bsp::TileId self = bsp::current_tile();
+  VisionWorkerStats& stats = g_worker_stats[self];
+  stats = VisionWorkerStats{};
+  const auto* cfg = static_cast<const VisionWorkerConfig*>(arg);
+  bsp::MemError err = bsp::MemError::kOk;
+  auto* st = bsp::carve_array<WorkerState>(bsp::Region{self}, 1, "vision_task", &err);
+  if (cfg == nullptr || err != bsp::MemError::kOk || !comm_wait_ready(100)) {
+    return;
+  }
+  ::new (st) WorkerState{};
+  st->cfg = cfg;
+  if (!worker_set_up(*st)) {
+    return;
+  }
+  udn::FtMessage m{};
+  for (;;) {
+    if (comm_receive(kChanControl, m) != udn::FtError::kOk) {
+      k::sleep(1);
+      continue;
+    }
+    const std::uint32_t words = run_unit(*st, stats, m);
+    if (words == 0U) {
+      ++stats.bad_units;
+      continue;
+    }
+    ++stats.units;
+    if (comm_send(m.source, kChanResult, std::span<const std::uint32_t>(st->out.data(), words), kSendTicks) !=
+        udn::FtError::kOk) {
+      ++stats.send_failed;
+    }
+  }
+}
+
+VisionCoordStats vision_coord_stats(bsp::TileId tile) noexcept {
+  return tile < bsp::kMaxTiles ? g_coord_stats[tile] : VisionCoordStats{};
+}
+
+VisionWorkerStats vision_worker_stats(bsp::TileId tile) noexcept {
+  return tile < bsp::kMaxTiles ? g_worker_stats[tile] : VisionWorkerStats{};
+}
+
+const vision::LandmarkTable* landmark_table_find() noexcept {
+  const bsp::Region ddr{bsp::Region::kDdr};
+  for (const bsp::CarveRecord& r : bsp::region_carves(ddr)) {
+    if (r.what != nullptr && std::strcmp(r.what, kLandmarkCarveName) == 0) {
+      return reinterpret_cast<const vision::LandmarkTable*>(  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
+          bsp::region_span(ddr).data() + r.offset);
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace trn::tasks

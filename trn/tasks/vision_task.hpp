@@ -1,0 +1,107 @@
+/**
+ * @file vision_task.hpp
+ * @brief The vision coordinator and the vision tiles: a frame's landmarks spread over 40 tiles
+ *        by the fault-tolerant UDN, gathered before the frame's deadline, sent to the filter.
+ *
+ * Coordinator (one tile): selects the landmarks from the reference map at its
+ * start (into a shared DDR table the vision tiles read); keeps the filter's
+ * recent solutions (kChanNav); on each frame notice from the I/O tile
+ * (kChanControl) takes the solution at the capture time as the prior, runs
+ * the coarse stage itself when the horizontal position sigma is large, plans
+ * the frame's landmarks, and sends each vision tile a work unit of up to
+ * kMaxLandmarksPerUnit of them (round robin, so each tile's share is spread
+ * over the image). Results (kChanResult) are gathered until every unit has
+ * answered or the frame's deadline passes: a late or lost unit is dropped,
+ * never waited for, so a lost tile costs its share of landmarks, not the
+ * frame. The batch (coarse match first) goes to the filter on kChanMatches.
+ * A tile that misses kSuspectAfterMisses frames in a row gets no more units
+ * (its landmarks go to the others) except one probe unit every
+ * kProbeEveryFrames frames, which brings it back when it answers.
+ *
+ * Vision tile: waits for units, matches each landmark (trn/vision/frame.hpp)
+ * in the frame in shared DDR, charges the work, and answers with the matches.
+ */
+#pragma once
+
+#include "bsp_tile64/devices/camera_model.hpp"
+#include "bsp_tile64/port.hpp"
+#include "trn/vision/frame.hpp"
+#include "trn/vision/landmarks.hpp"
+
+#include <array>
+#include <cstdint>
+
+namespace trn::tasks {
+
+/** Most vision tiles one coordinator drives. */
+inline constexpr std::uint32_t kMaxVisionTiles = 48;
+/** Frames a tile may miss in a row before the coordinator stops giving it work. */
+inline constexpr std::uint32_t kSuspectAfterMisses = 2;
+/** A suspect tile is sent one unit every this many frames (it comes back by answering). */
+inline constexpr std::uint32_t kProbeEveryFrames = 5;
+/** Name of the shared DDR carve holding the landmark table. */
+inline constexpr const char* kLandmarkCarveName = "landmarks";
+
+struct VisionCoordConfig {
+  bsp::CameraModel camera{};
+  bsp::TileId filter_tile = bsp::kNoTile;
+  std::array<bsp::TileId, kMaxVisionTiles> vision_tiles{};
+  std::uint32_t vision_count = 0;
+  vision::SelectParams select{};       ///< landmark selection on the fine map layer
+  vision::FramePlanParams plan{};
+  vision::CoarseFrameParams coarse{};
+  double coarse_above_sigma_m = 150.0; ///< coarse stage when the horizontal sigma exceeds this
+  double deadline_s = 0.5;             ///< from the frame notice to the batch leaving for the filter
+  double max_prior_age_s = 0.05;       ///< newest solution at or before the capture must be this fresh
+};
+
+struct VisionWorkerConfig {
+  bsp::CameraModel camera{};
+  bsp::TileId coordinator = bsp::kNoTile;
+};
+
+struct VisionCoordStats {
+  std::uint32_t landmarks_selected;
+  std::uint32_t frames_seen;
+  std::uint32_t frames_processed;     ///< planned and sent out
+  std::uint32_t frames_skipped;       ///< no prior, bad notice, or busy with another frame
+  std::uint32_t coarse_runs;
+  std::uint32_t coarse_accepted;
+  std::uint32_t units_sent;
+  std::uint32_t units_answered;
+  std::uint32_t units_lost;           ///< not answered by the deadline
+  std::uint32_t units_send_failed;    ///< the network refused or had no route
+  std::uint32_t results_late;         ///< answers to a frame already closed
+  std::uint32_t planned_total;
+  std::uint32_t matches_total;        ///< fine matches gathered (coarse not included)
+  std::uint32_t last_frame_matches;
+  std::uint32_t batch_send_failed;    ///< batch parts the filter tile did not take
+  std::uint32_t suspect_tiles;        ///< tiles currently given no work
+  bsp::Cycles max_frame_cycles;       ///< notice to batch sent, longest
+  bsp::Cycles last_frame_cycles;
+};
+
+struct VisionWorkerStats {
+  std::uint32_t units;
+  std::uint32_t landmarks;
+  std::uint32_t matches;
+  std::uint32_t bad_units;
+  std::uint32_t send_failed;
+};
+
+/** Coordinator entry (arg: const VisionCoordConfig*). */
+void vision_coord_main(void* arg) noexcept;
+
+/** Vision tile entry (arg: const VisionWorkerConfig*). */
+void vision_worker_main(void* arg) noexcept;
+
+/** Counters of the coordinator on @p tile. [host] */
+VisionCoordStats vision_coord_stats(bsp::TileId tile) noexcept;
+
+/** Counters of the vision task on @p tile. [host] */
+VisionWorkerStats vision_worker_stats(bsp::TileId tile) noexcept;
+
+/** The shared landmark table, or nullptr before the coordinator selected it. [task|host] */
+const vision::LandmarkTable* landmark_table_find() noexcept;
+
+}  // namespace trn::tasks
