@@ -14,9 +14,9 @@ IoTaskConfig g_io_mission_config{};
 
 const char* role_name(Role r) noexcept {
   switch (r) {
-    case Role::kTrnSupervisor: return "trn-sup";
-    case Role::kVisionCoordinator: return "vis-coord";
-    case Role::kFilterSupervisor: return "filt-sup";
+    case Role::kTrnSupervisor: return "trn_supervisor";
+    case Role::kVisionCoordinator: return "vision_coordinator";
+    case Role::kFilterSupervisor: return "filter_supervisor";
     case Role::kIo: return "io";
     case Role::kFilter: return "filter";
     case Role::kVision: return "vision";

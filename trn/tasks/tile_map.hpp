@@ -39,7 +39,7 @@ enum class Role : std::uint8_t {
 
 inline constexpr std::uint32_t kMapTiles = 64;
 
-/** Short names for displays ("spare", "trn-sup", "vis-coord", ...). */
+/** Names for displays and outputs ("spare", "trn_supervisor", "vision_coordinator", ...). */
 const char* role_name(Role r) noexcept;
 /** One-letter codes of the diagram above. */
 char role_code(Role r) noexcept;

@@ -57,6 +57,21 @@ struct CoordState {
 };
 
 std::array<VisionCoordStats, bsp::kMaxTiles> g_coord_stats{};
+
+/** The coordinator's event ring (one coordinator per chip). */
+struct EventRing {
+  bsp::TileId owner = bsp::kNoTile;
+  std::uint32_t written = 0;
+  std::array<VisionEvent, kVisionEventCapacity> ring{};
+};
+EventRing g_events{};
+
+void note(VisionEventKind kind, bsp::TileId tile, std::uint32_t frame, std::uint32_t matches,
+          std::uint32_t units_lost) noexcept {
+  g_events.ring[g_events.written % kVisionEventCapacity] =
+      VisionEvent{bsp::now(), kind, tile, frame, matches, units_lost};
+  ++g_events.written;
+}
 std::array<VisionWorkerStats, bsp::kMaxTiles> g_worker_stats{};
 
 const std::uint8_t* ddr_at(std::uint64_t offset, std::uint64_t bytes) noexcept {
@@ -357,6 +372,7 @@ void send_batch(CoordState& st, VisionCoordStats& stats) noexcept {
 /** Closes the frame: misses counted per tile, the batch sent to the filter. */
 void finish_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   std::uint32_t suspects = 0;
+  std::uint32_t lost = 0;
   for (std::uint32_t i = 0; i < st.cfg->vision_count; ++i) {
     const bsp::TileId t = st.cfg->vision_tiles[i];
     for (std::uint32_t u = 0; u < st.unit_count; ++u) {
@@ -364,19 +380,27 @@ void finish_frame(CoordState& st, VisionCoordStats& stats) noexcept {
         continue;
       }
       if (st.units[u].answered) {
+        if (st.misses[i] >= kSuspectAfterMisses) {
+          note(VisionEventKind::kTileBack, t, st.frame.seq, 0, 0);
+        }
         st.misses[i] = 0;
       } else {
-        ++stats.units_lost;
+        ++lost;
         ++st.misses[i];
+        if (st.misses[i] == kSuspectAfterMisses) {
+          note(VisionEventKind::kTileSilent, t, st.frame.seq, 0, 0);
+        }
       }
     }
     suspects += (st.misses[i] >= kSuspectAfterMisses) ? 1U : 0U;
   }
+  stats.units_lost += lost;
   stats.suspect_tiles = suspects;
   const std::uint32_t fine = st.match_count - ((st.match_count > 0U && st.matches[0].landmark == kCoarseLandmark) ? 1U : 0U);
   stats.matches_total += fine;
   stats.last_frame_matches = fine;
   send_batch(st, stats);
+  note(VisionEventKind::kFrameDone, bsp::kNoTile, st.frame.seq, fine, lost);
   st.busy = false;
   stats.last_frame_cycles = bsp::now() - st.frame_start;
   if (stats.last_frame_cycles > stats.max_frame_cycles) {
@@ -485,6 +509,8 @@ void vision_coord_main(void* arg) noexcept {
   }
   ::new (st) CoordState{};
   st->cfg = cfg;
+  g_events = EventRing{};
+  g_events.owner = self;
   if (!coord_set_up(*st, stats)) {
     return;
   }
@@ -538,6 +564,19 @@ void vision_worker_main(void* arg) noexcept {
 
 VisionCoordStats vision_coord_stats(bsp::TileId tile) noexcept {
   return tile < bsp::kMaxTiles ? g_coord_stats[tile] : VisionCoordStats{};
+}
+
+std::uint32_t vision_coord_event_count(bsp::TileId tile) noexcept {
+  return tile == g_events.owner ? g_events.written : 0U;
+}
+
+bool vision_coord_event(bsp::TileId tile, std::uint32_t i, VisionEvent* out) noexcept {
+  if (out == nullptr || tile != g_events.owner || i >= g_events.written ||
+      g_events.written - i > kVisionEventCapacity) {
+    return false;
+  }
+  *out = g_events.ring[i % kVisionEventCapacity];
+  return true;
 }
 
 VisionWorkerStats vision_worker_stats(bsp::TileId tile) noexcept {
