@@ -6,6 +6,8 @@
 
 #include "bsp_tile64/memory.hpp"
 #include "kernel/kernel.hpp"
+#include "trn/tasks/health.hpp"
+#include "udn/ft_probe.hpp"
 
 #include <array>
 #include <new>
@@ -13,9 +15,16 @@
 namespace trn::tasks {
 namespace {
 
+/** Suspect reports waiting to be sent to the health tile. */
+constexpr std::uint32_t kPendingReports = 4U;
+
 struct Endpoint {
   udn::FtNode* node;
   std::uint32_t map_version;  ///< fault-map version the node's routes were built from
+  udn::FtProbe probe;
+  bool probing;
+  std::array<bsp::TileId, kPendingReports> pending;
+  std::uint32_t pending_count;
 };
 
 std::array<Endpoint, bsp::kMaxTiles> g_endpoints{};
@@ -40,12 +49,9 @@ class IrqGuard {
 std::uint32_t tick32() noexcept { return static_cast<std::uint32_t>(k::now_ticks()); }
 
 bool open_node(Endpoint& ep, bsp::TileId self) noexcept {
+  const udn::FaultMap map = comm_fault_map();
   if (!g_map_set) {
-    const std::uint32_t cols = bsp::udn_grid_cols();
-    if (cols == 0U || udn::fault_map_init(g_map, cols, bsp::tile_count() / cols) != udn::RouteError::kOk) {
-      return false;
-    }
-    g_map_set = true;
+    return false;
   }
   bsp::MemError err = bsp::MemError::kOk;
   auto* node = bsp::carve_array<udn::FtNode>(bsp::Region{self}, 1, "ft_node", &err);
@@ -53,7 +59,7 @@ bool open_node(Endpoint& ep, bsp::TileId self) noexcept {
     return false;
   }
   ::new (node) udn::FtNode{};
-  if (udn::ft_init(*node, self, g_map, udn::ft_task_port(), kCommFtConfig) != udn::FtError::kOk) {
+  if (udn::ft_init(*node, self, map, udn::ft_task_port(), kCommFtConfig) != udn::FtError::kOk) {
     return false;
   }
   ep.map_version = g_map_version;
@@ -61,12 +67,49 @@ bool open_node(Endpoint& ep, bsp::TileId self) noexcept {
   return true;
 }
 
+/** Probe hook (inside the service's guarded section): the report is sent after it. */
+void on_suspect(void* ctx, bsp::TileId /*reporter*/, bsp::TileId suspect) noexcept {
+  auto* ep = static_cast<Endpoint*>(ctx);
+  if (ep->pending_count < kPendingReports) {
+    ep->pending[ep->pending_count] = suspect;
+    ++ep->pending_count;
+  }
+}
+
+/** Sends waiting suspect reports without blocking; what the network refuses waits for the next tick. */
+void send_reports(Endpoint& ep, bsp::TileId self) noexcept {
+  const bsp::TileId to = health_tile();
+  while (ep.pending_count > 0U && to != bsp::kNoTile) {
+    const std::array<std::uint32_t, kSuspectWords> w{kMsgSuspect, self, ep.pending[ep.pending_count - 1U]};
+    udn::FtError e = udn::FtError::kOk;
+    {
+      const IrqGuard guard;
+      e = udn::ft_send(*ep.node, to, 0U, w, tick32());
+    }
+    if (e == udn::FtError::kWindowFull || e == udn::FtError::kNetFull) {
+      return;
+    }
+    --ep.pending_count;  // sent, or no route to the health tile: nothing more to do
+  }
+}
+
 }  // namespace
 
-void comm_set_fault_map(const udn::FaultMap& map) noexcept {
+std::uint32_t comm_set_fault_map(const udn::FaultMap& map) noexcept {
   g_map = map;
   g_map_set = true;
   ++g_map_version;
+  return g_map_version;
+}
+
+udn::FaultMap comm_fault_map() noexcept {
+  if (!g_map_set) {
+    const std::uint32_t cols = bsp::udn_grid_cols();
+    if (cols != 0U && udn::fault_map_init(g_map, cols, bsp::tile_count() / cols) == udn::RouteError::kOk) {
+      g_map_set = true;
+    }
+  }
+  return g_map;
 }
 
 void comm_task_main(void* /*arg*/) noexcept {
@@ -76,9 +119,15 @@ void comm_task_main(void* /*arg*/) noexcept {
   if (!open_node(ep, self)) {
     return;
   }
-  for (;;) {
+  ep.probing = health_tile() != bsp::kNoTile &&
+               udn::ft_probe_init(ep.probe, *ep.node, udn::ProbeConfig{kProbeMissThreshold}, &on_suspect, &ep) ==
+                   udn::ProbeError::kOk;
+  for (std::uint32_t tick = 0;; ++tick) {
     {
       const IrqGuard guard;
+      if (ep.probing && tick % kProbePeriodTicks == 0U) {
+        (void)udn::ft_probe_round(ep.probe, *ep.node, tick32());
+      }
       if (ep.map_version != g_map_version) {
         bsp::Work work{};
         if (udn::ft_set_fault_map(*ep.node, g_map, work) == udn::FtError::kOk) {
@@ -88,6 +137,7 @@ void comm_task_main(void* /*arg*/) noexcept {
       }
       (void)udn::ft_poll(*ep.node, tick32(), kCommPacketsPerTick);
     }
+    send_reports(ep, self);
     (void)k::wait_period();
   }
 }

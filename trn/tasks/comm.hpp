@@ -11,9 +11,11 @@
  * with interrupts masked: the tick that would preempt a task in the middle of
  * ft_send() waits until the call returns.
  *
- * The fault map the nodes build their routes from is the mission's: the image
- * sets it before boot (comm_set_fault_map), and a node takes a newer version
- * at its next service tick.
+ * The fault map the nodes build their routes from is the mission's, in shared
+ * memory: the image sets it before boot and the health task when it votes a
+ * switch failed (comm_set_fault_map); a node takes a newer version at its next
+ * service tick. The service also probes the tile's mesh neighbours
+ * (health.hpp) and reports suspects to the health tile.
  */
 #pragma once
 
@@ -32,8 +34,11 @@ inline constexpr udn::FtConfig kCommFtConfig{4U, 8U};
 /** Packets the service handles per tick at most. */
 inline constexpr std::uint32_t kCommPacketsPerTick = 16U;
 
-/** Sets the mission's fault map (host, before boot, or a supervisor later); bumps its version. */
-void comm_set_fault_map(const udn::FaultMap& map) noexcept;
+/** Sets the mission's fault map (host before boot, or the health task); @return its new version. */
+std::uint32_t comm_set_fault_map(const udn::FaultMap& map) noexcept;
+
+/** A copy of the mission's current fault map (all clear before any was set). */
+udn::FaultMap comm_fault_map() noexcept;
 
 /** Service task entry: opens the tile's node, then polls it every period. Arg unused. */
 void comm_task_main(void* arg) noexcept;

@@ -11,6 +11,7 @@ namespace trn::tasks {
 VisionCoordConfig g_coord_config{};
 VisionWorkerConfig g_vision_config{};
 IoTaskConfig g_io_mission_config{};
+HealthConfig g_health_config{};
 
 const char* role_name(Role r) noexcept {
   switch (r) {
@@ -44,7 +45,7 @@ k::TaskTable role_table(Role r) noexcept {
     case Role::kFilter: return kFilterRole;
     case Role::kVisionCoordinator: return kCoordinatorRole;
     case Role::kVision: return kVisionRole;
-    case Role::kTrnSupervisor:
+    case Role::kTrnSupervisor: return kSupervisorRole;
     case Role::kFilterSupervisor:
     case Role::kSpare: break;
   }

@@ -11,14 +11,16 @@
  *   row 2:  .  .  N  .  .  .  .  .     N navigation filter, v vision tile,
  *   rows 3-7: v v v v v v v v          . spare (powered off)
  *
- * The supervisors' tiles are reserved for the fault-management layer; until
- * it runs there they hold the network-health service (T) and stay spare (F).
+ * The supervisors' tiles are reserved for the fault-management layer. Today
+ * the TRN supervisor's tile runs the network-health task (switch-failure
+ * voting, health.hpp) and the filter supervisor's tile stays off.
  */
 #pragma once
 
 #include "kernel/task_table.hpp"
 #include "trn/tasks/comm.hpp"
 #include "trn/tasks/filter_task.hpp"
+#include "trn/tasks/health.hpp"
 #include "trn/tasks/io_task.hpp"
 #include "trn/tasks/vision_task.hpp"
 
@@ -64,6 +66,7 @@ constexpr std::array<Role, kMapTiles> make_roles() noexcept {
 /** The default tile map. The filter supervisor's tile (2) stays spare until that role has a task. */
 inline constexpr std::array<Role, kMapTiles> kTileRoles = detail::make_roles();
 
+constexpr bsp::TileId kSupervisorTile = 0;
 constexpr bsp::TileId kCoordinatorTile = 1;
 constexpr bsp::TileId kIoTile = 9;
 constexpr bsp::TileId kFilterTile = 18;
@@ -84,6 +87,14 @@ static_assert(kTileRoles[kCoordinatorTile] == Role::kVisionCoordinator && kTileR
 extern VisionCoordConfig g_coord_config;
 extern VisionWorkerConfig g_vision_config;
 extern IoTaskConfig g_io_mission_config;
+extern HealthConfig g_health_config;
+
+/** The TRN supervisor's tile: network health (suspect voting, fault map). */
+inline constexpr k::TaskSpec kSupervisorRole[] = {
+    kCommTask,
+    {"net_health", &health_task_main, &g_health_config, 1, 0, 0, 16U * 1024U, k::Policy::kPreemptive},
+};
+static_assert(k::check_table(kSupervisorRole) == k::TableError::kOk);
 
 /** I/O tile of the mission: the device driver with its messaging service. */
 inline constexpr k::TaskSpec kIoMissionRole[] = {
