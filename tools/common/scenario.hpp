@@ -26,7 +26,8 @@ namespace tools {
 
 /** 1-sigma errors of the navigation filter's initial estimate (the run draws them from its seed). */
 struct InitialErrors {
-  double position_m = 1000.0;  ///< per horizontal axis; km-level, as after entry
+  double horizontal_m = 3000.0;  ///< magnitude of the horizontal error; its direction is drawn from the seed
+  double position_m = 2000.0;  ///< per horizontal axis: the filter's initial 1-sigma
   double altitude_m = 100.0;   ///< vertical
   double velocity_mps = 2.0;   ///< per axis
   double attitude_deg = 0.5;   ///< per axis
