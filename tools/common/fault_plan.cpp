@@ -1,0 +1,583 @@
+/**
+ * @file fault_plan.cpp
+ * @brief Fault-plan parser (toml++), the demonstration plan, arming the injector, and fault descriptions.
+ */
+#include "tools/common/fault_plan.hpp"
+
+#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/udn_hw.hpp"
+#include "tools/common/run_folder.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <initializer_list>
+#include <sstream>
+
+namespace tools {
+namespace {
+
+// Indexed by bsp::FaultKind.
+constexpr std::array<const char*, kFaultKinds> kKindNames = {
+    "core_hang", "core_reset", "sdc", "seu", "watchdog_fail", "packet_bit_flip", "switch_fail", "link_fail",
+};
+static_assert(static_cast<std::size_t>(bsp::FaultKind::kLinkFail) == kFaultKinds - 1U,
+              "a new fault kind needs a name here, its keys below and a line in docs/FAULT_PLANS.md");
+
+// Indexed by bsp::UdnDir.
+constexpr std::array<const char*, bsp::kUdnDirs> kDirNames = {"east", "west", "north", "south"};
+
+/** The keys of one kind beyond t_s, kind and tile. */
+struct KindKeys {
+  std::array<const char*, 2> keys;
+};
+
+// Indexed by bsp::FaultKind; nullptr ends a list.
+constexpr std::array<KindKeys, kFaultKinds> kKindKeys = {{
+    {{nullptr, nullptr}},        // core_hang
+    {{nullptr, nullptr}},        // core_reset
+    {{"channel", "bit"}},        // sdc
+    {{"offset", "bit"}},         // seu
+    {{nullptr, nullptr}},        // watchdog_fail
+    {{"word", "bit"}},           // packet_bit_flip
+    {{nullptr, nullptr}},        // switch_fail
+    {{"direction", nullptr}},    // link_fail
+}};
+
+constexpr std::array<const char*, 7> kAllFaultKeys = {"t_s", "kind", "tile", "channel", "offset", "word", "bit"};
+
+std::string cat(std::initializer_list<std::string_view> parts) {
+  std::string out;
+  for (const std::string_view p : parts) {
+    out.append(p);
+  }
+  return out;
+}
+
+std::string fmt(double v) {
+  if (std::isfinite(v) && v == std::floor(v) && std::fabs(v) < 9.0e15) {
+    return std::to_string(static_cast<long long>(v));
+  }
+  std::ostringstream o;
+  o.precision(10);
+  o << v;
+  return o.str();
+}
+
+std::string kind_list() {
+  std::string out;
+  for (const char* n : kKindNames) {
+    out += (out.empty() ? "" : ", ") + std::string(n);
+  }
+  return out;
+}
+
+std::string keys_of(bsp::FaultKind k) {
+  std::string out = "t_s, kind, tile";
+  for (const char* key : kKindKeys[static_cast<std::size_t>(k)].keys) {
+    if (key != nullptr) {
+      out += ", " + std::string(key);
+    }
+  }
+  return out;
+}
+
+bool kind_uses(bsp::FaultKind k, std::string_view key) {
+  if (key == "t_s" || key == "kind" || key == "tile") {
+    return true;
+  }
+  const KindKeys& kk = kKindKeys[static_cast<std::size_t>(k)];
+  return std::any_of(kk.keys.begin(), kk.keys.end(), [key](const char* c) { return c != nullptr && key == c; });
+}
+
+bool known_fault_key(std::string_view key) {
+  return key == "direction" ||
+         std::any_of(kAllFaultKeys.begin(), kAllFaultKeys.end(), [key](const char* c) { return key == c; });
+}
+
+/** Reads an integer within lo..hi; returns an error text (empty when read). */
+std::string read_int(const toml::node& node, std::int64_t lo, std::int64_t hi, std::int64_t& out) {
+  if (!node.is_integer()) {
+    return "wrong type: expected an integer";
+  }
+  const std::int64_t v = node.as_integer()->get();
+  if (v < lo || v > hi) {
+    return cat({std::to_string(v), " is out of range: allowed ", std::to_string(lo), " .. ", std::to_string(hi)});
+  }
+  out = v;
+  return {};
+}
+
+/** Reads a number (an integer is a valid float) within lo..hi. */
+std::string read_float(const toml::node& node, double lo, double hi, const char* unit, double& out) {
+  double v = 0.0;
+  if (node.is_integer()) {
+    v = static_cast<double>(node.as_integer()->get());
+  } else if (node.is_floating_point()) {
+    v = node.as_floating_point()->get();
+  } else {
+    return "wrong type: expected a number";
+  }
+  if (!(std::isfinite(v) && v >= lo && v <= hi)) {
+    return cat({fmt(v), " is out of range: allowed ", fmt(lo), " .. ", fmt(hi), unit});
+  }
+  out = v;
+  return {};
+}
+
+struct Limits {
+  std::uint32_t tile_count;
+  double max_time_s;
+};
+
+/** The kind of an entry (read first: it decides which keys are allowed). */
+bool read_kind(const toml::table& t, const std::string& where, bsp::FaultKind& kind, std::vector<std::string>& errors) {
+  const toml::node* node = t.get("kind");
+  if (node == nullptr) {
+    errors.push_back(cat({where, ": missing key kind (allowed: ", kind_list(), ")"}));
+    return false;
+  }
+  if (!node->is_string()) {
+    errors.push_back(where + " kind: wrong type: expected a string");
+    return false;
+  }
+  const std::string name = node->as_string()->get();
+  const std::optional<bsp::FaultKind> k = fault_kind_from_name(name);
+  if (!k) {
+    errors.push_back(cat({where, " kind: unknown fault kind \"", name, "\" (allowed: ", kind_list(), ")"}));
+    return false;
+  }
+  kind = *k;
+  return true;
+}
+
+/** One key of an entry whose kind uses it; returns an error text (empty when set). */
+std::string read_fault_key(const std::string& key, const toml::node& node, const Limits& lim, FaultPlanItem& item) {
+  std::int64_t v = 0;
+  std::string e;
+  if (key == "t_s") {
+    e = read_float(node, 0.0, lim.max_time_s, " s (the run's duration)", item.t_s);
+  } else if (key == "tile") {
+    e = read_int(node, 0, static_cast<std::int64_t>(lim.tile_count) - 1, v);
+    item.tile = static_cast<bsp::TileId>(v);
+  } else if (key == "channel") {
+    e = read_int(node, 0, static_cast<std::int64_t>(bsp::kAnyChannel) - 1, v);
+    item.channel = static_cast<std::uint32_t>(v);
+  } else if (key == "offset") {
+    e = read_int(node, 0, static_cast<std::int64_t>(bsp::kTileRamBytes) - 1, v);
+    item.offset = static_cast<std::uint64_t>(v);
+  } else if (key == "word") {
+    e = read_int(node, 0, static_cast<std::int64_t>(bsp::kUdnMaxPacketWords) - 1, v);
+    item.offset = static_cast<std::uint64_t>(v);
+  } else if (key == "bit") {
+    const std::int64_t hi = item.kind == bsp::FaultKind::kSeu             ? 7
+                            : item.kind == bsp::FaultKind::kPacketBitFlip ? 31
+                                                                          : std::int64_t{kMaxSdcBit};
+    e = read_int(node, 0, hi, v);
+    item.bit = static_cast<std::uint32_t>(v);
+  } else if (key == "direction") {
+    if (!node.is_string()) {
+      return "wrong type: expected a string (east, west, north, south)";
+    }
+    const std::string d = node.as_string()->get();
+    const auto* it = std::find_if(kDirNames.begin(), kDirNames.end(), [&d](const char* n) { return d == n; });
+    if (it == kDirNames.end()) {
+      return "unknown direction \"" + d + "\" (allowed: east, west, north, south)";
+    }
+    item.param = static_cast<std::uint64_t>(it - kDirNames.begin());
+  }
+  return e;
+}
+
+void parse_fault(const std::string& source, std::size_t index, const toml::table& t, const Limits& lim,
+                 FaultPlan& plan, std::vector<std::string>& errors) {
+  const std::string where = cat({source, ": [[fault]] #", std::to_string(index + 1U), " (line ",
+                                 std::to_string(t.source().begin.line), ")"});
+  FaultPlanItem item{};
+  if (!read_kind(t, where, item.kind, errors)) {
+    return;
+  }
+  const std::string kname = fault_kind_name(item.kind);
+  const std::size_t before = errors.size();
+  for (const auto& [k, node] : t) {
+    const std::string key(k.str());
+    if (key == "kind") {
+      continue;
+    }
+    if (!kind_uses(item.kind, key)) {
+      errors.push_back(known_fault_key(key)
+                           ? cat({where, " ", key, ": not used by ", kname, " (allowed keys for ", kname, ": ",
+                                  keys_of(item.kind), ")"})
+                           : cat({where, " ", key, ": unknown key (allowed keys for ", kname, ": ",
+                                  keys_of(item.kind), ")"}));
+      continue;
+    }
+    const std::string e = read_fault_key(key, node, lim, item);
+    if (!e.empty()) {
+      errors.push_back(cat({where, " ", key, ": ", e}));
+    }
+  }
+  if (t.get("tile") == nullptr) {
+    errors.push_back(cat({where, ": missing key tile (allowed 0 .. ", std::to_string(lim.tile_count - 1U), ")"}));
+  }
+  if (item.kind == bsp::FaultKind::kLinkFail && t.get("direction") == nullptr) {
+    errors.push_back(where + ": missing key direction (allowed: east, west, north, south)");
+  }
+  if (errors.size() == before) {
+    plan.items.push_back(item);
+  }
+}
+
+void parse_rates(const std::string& source, const toml::table& t, FaultPlan& plan, std::vector<std::string>& errors) {
+  for (const auto& [k, node] : t) {
+    const std::string key(k.str());
+    const std::optional<bsp::FaultKind> kind = fault_kind_from_name(key);
+    if (!kind) {
+      errors.push_back(cat({source, ": [rates] ", key, ": unknown fault kind (allowed: ", kind_list(), ")"}));
+      continue;
+    }
+    const std::string e = read_float(node, 0.0, kMaxFaultRate, " faults per tile per second",
+                                     plan.rates[static_cast<std::size_t>(*kind)]);
+    if (!e.empty()) {
+      errors.push_back(cat({source, ": [rates] ", key, ": ", e}));
+    }
+  }
+}
+
+void parse_faults(const std::string& source, const toml::node& node, const Limits& lim, FaultPlan& plan,
+                  std::vector<std::string>& errors) {
+  const toml::array* arr = node.as_array();
+  if (arr == nullptr || !arr->is_array_of_tables()) {
+    errors.push_back(source + ": fault: must be an array of tables ([[fault]] entries)");
+    return;
+  }
+  if (arr->size() > bsp::kFaultPlanCapacity) {
+    errors.push_back(cat({source, ": [[fault]]: ", std::to_string(arr->size()),
+                          " entries are more than the injector holds (allowed 0 .. ",
+                          std::to_string(bsp::kFaultPlanCapacity), ")"}));
+    return;
+  }
+  for (std::size_t i = 0; i < arr->size(); ++i) {
+    parse_fault(source, i, *arr->get(i)->as_table(), lim, plan, errors);
+  }
+}
+
+std::string join_lines(const std::vector<std::string>& lines) {
+  std::string out;
+  for (const std::string& l : lines) {
+    out += (out.empty() ? "" : "\n") + l;
+  }
+  return out;
+}
+
+/** TOML basic string: quotes, backslashes and control characters escaped. */
+std::string toml_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (u < 0x20U || u == 0x7FU) {
+      std::array<char, 8> buf{};
+      (void)std::snprintf(buf.data(), buf.size(), "\\u%04x", static_cast<unsigned>(u));
+      out += buf.data();
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+/** A float that reads back bit for bit, always with a decimal point or exponent. */
+std::string toml_float(double v) {
+  std::array<char, 40> buf{};
+  (void)std::snprintf(buf.data(), buf.size(), "%.17g", v);
+  std::string s(buf.data());
+  if (s.find_first_of(".eEn") == std::string::npos) {
+    s += ".0";
+  }
+  return s;
+}
+
+}  // namespace
+
+std::string fault_kind_name(bsp::FaultKind k) {
+  const auto i = static_cast<std::size_t>(k);
+  return i < kFaultKinds ? kKindNames[i] : "unknown_kind_" + std::to_string(i);
+}
+
+std::optional<bsp::FaultKind> fault_kind_from_name(std::string_view name) {
+  for (std::size_t i = 0; i < kFaultKinds; ++i) {
+    if (name == kKindNames[i]) {
+      return static_cast<bsp::FaultKind>(i);
+    }
+  }
+  return std::nullopt;
+}
+
+std::string link_direction_name(std::uint64_t dir) { return dir < bsp::kUdnDirs ? kDirNames[dir] : "?"; }
+
+FaultPlanResult parse_fault_plan(std::string_view text, const std::string& source, std::uint32_t tile_count,
+                                 double max_time_s) {
+  FaultPlanResult r;
+  if (tile_count == 0U || !(std::isfinite(max_time_s) && max_time_s >= 0.0)) {
+    r.error = source + ": cannot check the plan: the chip has no tiles or the run's duration is invalid";
+    return r;
+  }
+  toml::table root;
+  try {
+    root = toml::parse(text, source);
+  } catch (const toml::parse_error& e) {
+    r.error = source + ":" + std::to_string(e.source().begin.line) + ":" + std::to_string(e.source().begin.column) +
+              ": TOML syntax error: " + std::string(e.description());
+    return r;
+  }
+  FaultPlan plan;
+  std::vector<std::string> errors;
+  const Limits lim{tile_count, max_time_s};
+  for (const auto& [k, node] : root) {
+    const std::string key(k.str());
+    if (key == "name") {
+      if (!node.is_string()) {
+        errors.push_back(source + ": name: wrong type: expected a string");
+      } else {
+        plan.name = node.as_string()->get();
+      }
+    } else if (key == "fault") {
+      parse_faults(source, node, lim, plan, errors);
+    } else if (key == "rates") {
+      if (!node.is_table()) {
+        errors.push_back(source + ": rates: must be a table ([rates])");
+      } else {
+        parse_rates(source, *node.as_table(), plan, errors);
+      }
+    } else {
+      errors.push_back(cat({source, ": ", key, ": unknown key (allowed at the top: name, [[fault]], [rates])"}));
+    }
+  }
+  if (!errors.empty()) {
+    r.error = join_lines(errors);
+    return r;
+  }
+  r.plan = std::move(plan);
+  return r;
+}
+
+FaultPlanResult load_fault_plan(const std::string& path, std::uint32_t tile_count, double max_time_s) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    FaultPlanResult r;
+    r.error = path + ": cannot open fault plan file: " + std::strerror(errno);
+    return r;
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) {
+    FaultPlanResult r;
+    r.error = path + ": cannot read fault plan file";
+    return r;
+  }
+  return parse_fault_plan(text.str(), path, tile_count, max_time_s);
+}
+
+FaultPlan demo_fault_plan() {
+  using namespace demo_tiles;
+  FaultPlan p;
+  p.name = "demo";
+  // Flips on the senders of fault-tolerant traffic: each hits the next packet
+  // the tile sends, which the receiver's code corrects. Word 5 is past the
+  // header words, so the packet still reaches its destination to be corrected.
+  struct Flip {
+    double t_s;
+    bsp::TileId tile;
+    std::uint32_t bit;
+  };
+  constexpr std::array<Flip, 8> kFlips = {{
+      {5.0, kVisionCoordinator, 3U},
+      {9.0, kFilter, 11U},
+      {13.0, kVisionA, 19U},
+      {17.0, kVisionB, 27U},
+      {24.0, kVisionCoordinator, 7U},
+      {28.0, kFilter, 15U},
+      {32.0, kVisionA, 23U},
+      {35.0, kVisionB, 30U},
+  }};
+  for (const Flip& f : kFlips) {
+    FaultPlanItem it{};
+    it.t_s = f.t_s;
+    it.kind = bsp::FaultKind::kPacketBitFlip;
+    it.tile = f.tile;
+    it.offset = 5U;
+    it.bit = f.bit;
+    p.items.push_back(it);
+  }
+  FaultPlanItem sw{};
+  sw.t_s = 20.0;
+  sw.kind = bsp::FaultKind::kSwitchFail;
+  sw.tile = kFailedSwitch;
+  p.items.push_back(sw);
+  return p;
+}
+
+double demo_fault_plan_end_s() {
+  double end = 0.0;
+  for (const FaultPlanItem& it : demo_fault_plan().items) {
+    end = std::max(end, it.t_s);
+  }
+  return end;
+}
+
+bool arm_fault_plan(const FaultPlan& plan, double clock_hz, std::string& error) {
+  if (!(std::isfinite(clock_hz) && clock_hz > 0.0)) {
+    error = "fault plan " + plan.name + ": invalid clock frequency " + fmt(clock_hz);
+    return false;
+  }
+  for (std::size_t i = 0; i < plan.items.size(); ++i) {
+    const FaultPlanItem& it = plan.items[i];
+    const std::string what = cat({"fault plan ", plan.name, ": fault #", std::to_string(i + 1U), " (",
+                                  fault_kind_name(it.kind), " on tile ", std::to_string(it.tile), " at ", fmt(it.t_s),
+                                  " s)"});
+    if (!(std::isfinite(it.t_s) && it.t_s >= 0.0)) {
+      error = what + ": invalid time";
+      return false;
+    }
+    if (it.kind == bsp::FaultKind::kLinkFail && it.param >= bsp::kUdnDirs) {
+      error = what + ": invalid link direction " + std::to_string(it.param) + " (allowed 0 .. 3)";
+      return false;
+    }
+    bsp::FaultSpec s{};
+    s.cycle = static_cast<bsp::Cycles>(std::llround(it.t_s * clock_hz));
+    s.kind = it.kind;
+    s.tile = it.tile;
+    s.channel = it.channel;
+    s.offset = it.offset;
+    s.bit = it.bit;
+    s.param = it.param;
+    const bsp::FaultError e = bsp::fault_plan_add(s);
+    if (e == bsp::FaultError::kBadTile) {
+      error = what + ": the board has no such tile (tiles 0 .. " + std::to_string(bsp::tile_count() - 1U) + ")";
+      return false;
+    }
+    if (e != bsp::FaultError::kOk) {
+      error = what + (e == bsp::FaultError::kFull
+                          ? ": the injector's plan is full (" + std::to_string(bsp::kFaultPlanCapacity) + " entries)"
+                          : std::string(": refused by the injector"));
+      return false;
+    }
+  }
+  for (std::size_t k = 0; k < kFaultKinds; ++k) {
+    if (plan.rates[k] == 0.0) {
+      continue;  // a zero rate draws nothing: a plan without rates leaves the injector's stream untouched
+    }
+    if (bsp::fault_set_rate(static_cast<bsp::FaultKind>(k), plan.rates[k]) != bsp::FaultError::kOk) {
+      error = cat({"fault plan ", plan.name, ": [rates] ", kKindNames[k], ": ", fmt(plan.rates[k]),
+                   " refused by the injector (allowed: a finite rate >= 0)"});
+      return false;
+    }
+  }
+  return true;
+}
+
+std::string format_fault_plan(const FaultPlan& plan) {
+  std::string out = "# fault plan (docs/FAULT_PLANS.md)\nname = " + toml_string(plan.name) + "\n";
+  for (const FaultPlanItem& it : plan.items) {
+    out += "\n[[fault]]\nt_s = " + toml_float(it.t_s) + "\nkind = \"" + fault_kind_name(it.kind) +
+           "\"\ntile = " + std::to_string(it.tile) + "\n";
+    switch (it.kind) {
+      case bsp::FaultKind::kSdc:
+        out += it.channel != bsp::kAnyChannel ? "channel = " + std::to_string(it.channel) + "\n" : "";
+        break;
+      case bsp::FaultKind::kSeu:
+        out += it.offset != bsp::kRandomOffset ? "offset = " + std::to_string(it.offset) + "\n" : "";
+        break;
+      case bsp::FaultKind::kPacketBitFlip:
+        out += it.offset != bsp::kRandomOffset ? "word = " + std::to_string(it.offset) + "\n" : "";
+        break;
+      case bsp::FaultKind::kLinkFail:
+        out += "direction = \"" + link_direction_name(it.param) + "\"\n";
+        break;
+      default:
+        break;
+    }
+    const bool has_bit = it.kind == bsp::FaultKind::kSdc || it.kind == bsp::FaultKind::kSeu ||
+                         it.kind == bsp::FaultKind::kPacketBitFlip;
+    out += has_bit && it.bit != bsp::kRandomBit ? "bit = " + std::to_string(it.bit) + "\n" : "";
+  }
+  std::string rates;
+  for (std::size_t k = 0; k < kFaultKinds; ++k) {
+    if (plan.rates[k] != 0.0) {
+      rates += cat({kKindNames[k], " = ", toml_float(plan.rates[k]), "\n"});
+    }
+  }
+  if (!rates.empty()) {
+    out += "\n[rates]\n" + rates;
+  }
+  return out;
+}
+
+std::string describe_fault(const bsp::FaultRecord& r) {
+  const bool applied = r.status == bsp::FaultStatus::kApplied;
+  std::string s = fault_kind_name(r.spec.kind);
+  switch (r.spec.kind) {
+    case bsp::FaultKind::kSeu:
+      if (applied) {
+        std::array<char, 64> buf{};
+        (void)std::snprintf(buf.data(), buf.size(), " RAM offset 0x%llx bit %u",
+                            static_cast<unsigned long long>(r.offset), r.bit);
+        s += buf.data();
+      }
+      break;
+    case bsp::FaultKind::kSdc:
+      s += r.spec.channel == bsp::kAnyChannel ? " any channel" : " channel " + std::to_string(r.spec.channel);
+      s += applied ? " value bit " + std::to_string(r.bit) : "";
+      break;
+    case bsp::FaultKind::kPacketBitFlip:
+      s += applied ? " word " + std::to_string(r.offset) + " bit " + std::to_string(r.bit) + " of a packet sent"
+                   : " of the next packet sent";
+      break;
+    case bsp::FaultKind::kLinkFail:
+      s += " " + link_direction_name(r.spec.param) + " link";
+      break;
+    default:
+      break;
+  }
+  s += r.random ? " (random)" : " (planned)";
+  switch (r.status) {
+    case bsp::FaultStatus::kScheduled:
+      s += ": scheduled, not yet due";
+      break;
+    case bsp::FaultStatus::kArmed:
+      s += ": armed, nothing to corrupt came by";
+      break;
+    case bsp::FaultStatus::kSkipped:
+      s += ": skipped (could not apply on this tile)";
+      break;
+    case bsp::FaultStatus::kUnsupported:
+      s += ": unsupported (no handler for this kind)";
+      break;
+    case bsp::FaultStatus::kApplied:
+      break;
+  }
+  return s;
+}
+
+std::size_t log_injections(std::span<const bsp::FaultRecord> records, double clock_hz, EventLog& log) {
+  std::size_t injected = 0U;
+  for (const bsp::FaultRecord& r : records) {
+    const bool applied = r.status == bsp::FaultStatus::kApplied;
+    const bsp::Cycles at = applied ? r.applied_cycle : r.spec.cycle;
+    const double t_s = static_cast<double>(at) / clock_hz;
+    // A full log drops the line (counted by the log), never the count.
+    (void)log.add(t_s, applied ? EventCategory::kInject : EventCategory::kInfo, r.spec.tile, describe_fault(r));
+    injected += applied ? 1U : 0U;
+  }
+  return injected;
+}
+
+}  // namespace tools
