@@ -17,6 +17,13 @@
  * pose projects the map point at that offset: that image position, turned
  * into a camera ray with the intrinsics, is the measurement w_c; the
  * landmark's 3D map position is p_m.
+ *
+ * Implementation notes (docs/VISION.md, "Per-frame vision"): the window's
+ * pixels are lifted from the plane to the map's elevation (ortho.hpp), the
+ * template is relit from the map's sun to the descent's when the MapView
+ * knows both (relight_region()), and a second, small window around the
+ * search peak refines it (frame_match.cpp). Frames and the homography:
+ * pose_geometry.hpp.
  */
 #pragma once
 
@@ -49,10 +56,41 @@ struct MapView {
   const std::int16_t* elevation = nullptr;  ///< same layout as image (stride = width)
   double elevation_scale_m = 0.1;
   MapGeometry geo{};
+  double sun_m[3] = {0.0, 0.0, 0.0};  ///< unit vector to the sun of the map images (map frame); zero if unknown
+  /**
+   * Unit vector to the sun at the descent (map frame), or zero. Mission
+   * knowledge (landing time and ephemeris), set by the caller after
+   * map_view(). With both suns known, match_landmark() relights each template
+   * from the map's sun to this one (relight_region()).
+   */
+  double descent_sun_m[3] = {0.0, 0.0, 0.0};
 };
+
+/** Unit vector to a sun at @p azimuth_deg (clockwise from north) and @p elevation_deg, map frame (x east, y north, z up). */
+void sun_direction(double azimuth_deg, double elevation_deg, double out[3]) noexcept;
 
 /** Views of layer @p layer of @p product. @return kBadInput for a null product or layer out of range. */
 Status map_view(const bsp::MapProductHeader* product, std::uint32_t layer, MapView& out) noexcept;
+
+/**
+ * Elevation of @p map at the fractional pixel (@p col, @p row), metres, bilinear,
+ * clamped to the layer's edge. Pre: the view has an elevation layer.
+ */
+double map_elevation_m(const MapView& map, double col, double row) noexcept;
+
+/** Extra map pixels added to every planned search radius (peak-edge margin and rounding). */
+inline constexpr std::int32_t kPlanRadiusMarginPx = 2;
+/** Largest side of the image grid plan_frame() spreads landmarks over. */
+inline constexpr std::int32_t kPlanMaxGrid = 16;
+/**
+ * 1-sigma of a fine match per axis in map pixels, before conversion to image
+ * pixels by the local scale. On rendered frames (relit templates, terrain-lifted
+ * windows, priors 30 m and 1 deg off) the robust per-axis spread of the errors
+ * was 0.05-0.07 map px at 4000-2500 m and ~0.15 at 1200 m (docs/VISION.md).
+ */
+inline constexpr double kFineSigmaMapPx = 0.15;
+/** Smallest fine-match sigma reported, image pixels. */
+inline constexpr double kFineSigmaFloorPx = 0.1;
 
 /** How a frame is planned. */
 struct FramePlanParams {
@@ -88,12 +126,15 @@ Status plan_frame(const LandmarkTable& table, const MapView& map, const bsp::Cam
 struct LandmarkWorkspace {
   FixedImage<std::uint8_t, kFineMaxWindowPx, kFineMaxWindowPx> window;
   FineWorkspace corr;
+  FixedImage<std::uint8_t, kFineMaxTemplatePx, kFineMaxTemplatePx> tmpl;  ///< relit template
 };
 
 /** Diagnostics of one landmark match. */
 struct LandmarkDiag {
-  MatchResult fine{};          ///< the correlation outcome (reject reason when not accepted)
-  std::int32_t outside_px = 0; ///< window pixels the frame did not cover
+  MatchResult fine{};          ///< the correlation outcome (reject reason when not accepted): the refinement's, or the search's when it stopped there
+  std::int32_t outside_px = 0; ///< window pixels the frame did not cover (any: not correlated)
+  MatchResult search{};        ///< the search pass (its surface view is overwritten by the refinement)
+  double shift_px[2] = {0.0, 0.0};  ///< offset of the search peak from the prediction, map px (the refinement's shift)
 };
 
 /**
@@ -109,11 +150,46 @@ Status match_landmark(ConstImageU8 frame, const bsp::CameraModel& cam, const Pos
                       LandmarkWorkspace& ws, Match& out, bool& accepted, LandmarkDiag& diag,
                       bsp::Work& work) noexcept;
 
+/** Checks, illumination and uncertainty model of a landmark match. */
+struct LandmarkMatchParams {
+  QualityParams quality = kFineQuality;     ///< correlation checks
+  double sigma_map_px = kFineSigmaMapPx;    ///< 1-sigma of the peak, map pixels
+  double sigma_floor_px = kFineSigmaFloorPx;  ///< smallest sigma_px reported, image pixels
+  /** Relight templates to the map view's descent sun when both suns are known. */
+  bool relight = true;
+  /** Lift each window pixel to its map height (ortho.hpp) instead of the landmark's plane. */
+  bool terrain = true;
+  /** Samples per window pixel and axis (1..kMaxSubsamples); 0: the image pixels per map pixel, rounded. */
+  std::int32_t subsamples = 0;
+};
+
+/**
+ * Relights the region of @p map whose top-left pixel is (@p col0, @p row0) and
+ * whose size is @p out's, from the map's sun (map.sun_m) to @p sun_m: each
+ * pixel's DN times cos_i(sun_m) / cos_i(map sun), both from the Lambert normal
+ * of the map's elevation (central differences; one-sided at the layer's edge),
+ * the map-sun cosine floored at 0.1 (a pixel in the map's shade carries no
+ * albedo), rounded and clamped to 0..255. The renderer and the map product
+ * shade the same way (Lambert, no cast shadows), so this removes most of the
+ * illumination difference but the sub-pixel relief. Per landmark (21x21) it
+ * costs ~10 k flops; a whole coarse layer (~1.9 M px) belongs at init.
+ * @return kBadInput for a missing elevation or sun, or a region outside the map.
+ */
+Status relight_region(const MapView& map, std::int32_t col0, std::int32_t row0, const double sun_m[3], ImageU8 out,
+                      bsp::Work& work) noexcept;
+
+/** match_landmark() with explicit checks and uncertainty model (the form above uses the defaults). */
+Status match_landmark(ConstImageU8 frame, const bsp::CameraModel& cam, const PosePrior& prior, const MapView& map,
+                      const LandmarkTable& table, std::uint16_t index, std::int32_t radius_px,
+                      const LandmarkMatchParams& mp, LandmarkWorkspace& ws, Match& out, bool& accepted,
+                      LandmarkDiag& diag, bsp::Work& work) noexcept;
+
 /** Coarse stage settings. */
 struct CoarseFrameParams {
   CoarseParams coarse{};              ///< decimation, template side, checks
   std::int32_t footprint_px = 256;    ///< side of the image centre warped to map geometry, map px
   std::int32_t search_px = 1024;      ///< side of the map region searched, map px (centred on the prior)
+  double sigma_coarse_px = 0.5;       ///< 1-sigma of an accepted coarse match, decimated (coarse-scale) pixels
 };
 
 /** Buffers of the coarse stage (~3 MiB): DDR or static storage, one per coarse task. */
@@ -129,6 +205,8 @@ struct CoarseFrameResult {
   double sigma_m = 0.0;         ///< 1-sigma of the correction
   Match match{};                ///< the image centre's ray against its map point (landmark kCoarseLandmark)
   CoarseResult coarse{};        ///< the correlation outcome
+  double ground_z_m = 0.0;      ///< height of the plane the footprint was warped onto (map elevation near the prior)
+  std::int32_t outside_px = 0;  ///< footprint pixels the frame did not cover (any: not searched, not accepted)
 };
 
 /**
@@ -136,6 +214,9 @@ struct CoarseFrameResult {
  * @p map (the coarse layer) at the prior pose, searches it over the map region
  * around the prior, and on acceptance gives the horizontal position correction
  * and a Match of the image centre (sigma_px from the coarse pixel size).
+ * The map's own sun and the descent's differ: searching a copy of the coarse
+ * layer relit to the descent sun (relight_region(), once at init) removes a
+ * ~50-65 m bias the unrelit layer leaves (docs/VISION.md).
  * @return kBadInput for bad inputs; kTooLarge when a size exceeds the workspace.
  */
 Status coarse_frame(ConstImageU8 frame, const bsp::CameraModel& cam, const PosePrior& prior, const MapView& map,

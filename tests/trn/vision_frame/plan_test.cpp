@@ -1,0 +1,286 @@
+/**
+ * @file plan_test.cpp
+ * @brief plan_frame(): predictions where the camera projects the landmarks, spread over the image,
+ *        radii from the prior sigmas, border and caps respected, deterministic; bad inputs refused.
+ */
+#include "bsp_tile64/devices/camera.hpp"
+#include "trn/vision/frame.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <vector>
+
+namespace {
+
+namespace tv = trn::vision;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+constexpr std::int32_t kMapPx = 2000;
+constexpr double kMPerPx = 6.0;
+
+Eigen::Quaterniond attitude(double yaw_deg, double pitch_deg, double roll_deg) {
+  Eigen::Matrix3d ned_to_enu;
+  ned_to_enu << 0, 1, 0, 1, 0, 0, 0, 0, -1;
+  return Eigen::Quaterniond(ned_to_enu) * Eigen::AngleAxisd(yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
+         Eigen::AngleAxisd(pitch_deg * kDeg, Eigen::Vector3d::UnitY()) *
+         Eigen::AngleAxisd(roll_deg * kDeg, Eigen::Vector3d::UnitX());
+}
+
+/** A flat 12 km map (height 0) with a landmark every 30 px: dense, so the plan's choices are its own. */
+class Plan : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    image_.assign(static_cast<std::size_t>(kMapPx) * kMapPx, 128);
+    elevation_.assign(static_cast<std::size_t>(kMapPx) * kMapPx, 0);
+    map_.image = tv::ConstImageU8{image_.data(), kMapPx, kMapPx, kMapPx};
+    map_.elevation = elevation_.data();
+    map_.geo = tv::MapGeometry{kMPerPx, -0.5 * (kMapPx - 1) * kMPerPx, 0.5 * (kMapPx - 1) * kMPerPx};
+    table_.count = 0;
+    for (std::int32_t r = 40; r < kMapPx - 40 && table_.count < tv::kMaxLandmarks; r += 30) {
+      for (std::int32_t c = 40; c < kMapPx - 40 && table_.count < tv::kMaxLandmarks; c += 30) {
+        tv::Landmark& lm = table_.items[table_.count++];
+        lm.col_px = c;
+        lm.row_px = r;
+        lm.p_m[0] = map_.geo.x0_m + c * kMPerPx;
+        lm.p_m[1] = map_.geo.y0_m - r * kMPerPx;
+        lm.p_m[2] = 0.0;
+      }
+    }
+  }
+
+  static tv::PosePrior prior(const bsp::CameraPose& p) {
+    tv::PosePrior pr;
+    for (int k = 0; k < 3; ++k) pr.p_m[k] = p.r_m[k];
+    pr.q_mb[0] = p.q_mb.w();
+    pr.q_mb[1] = p.q_mb.x();
+    pr.q_mb[2] = p.q_mb.y();
+    pr.q_mb[3] = p.q_mb.z();
+    return pr;
+  }
+
+  std::vector<tv::PlannedLandmark> plan(const tv::PosePrior& pr, const tv::FramePlanParams& p,
+                                        std::uint32_t cap = 400) {
+    std::vector<tv::PlannedLandmark> out(cap);
+    std::uint32_t n = 12345;
+    work_ = bsp::Work{};
+    EXPECT_EQ(tv::plan_frame(table_, map_, cam_, pr, p, out.data(), cap, n, work_), tv::Status::kOk);
+    out.resize(n);
+    return out;
+  }
+
+  static inline std::vector<std::uint8_t> image_;
+  static inline std::vector<std::int16_t> elevation_;
+  static inline tv::MapView map_{};
+  static inline tv::LandmarkTable table_{};
+  bsp::CameraModel cam_ = bsp::make_camera(1024, 1024, 90.0);
+  bsp::CameraPose pose_{{100.0, -50.0, 3000.0}, attitude(30.0, 2.0, -1.0)};
+  bsp::Work work_{};
+};
+
+TEST_F(Plan, PredictionsAreWhereTheCameraProjectsTheLandmarks) {
+  const std::vector<tv::PlannedLandmark> out = plan(prior(pose_), tv::FramePlanParams{});
+  ASSERT_EQ(out.size(), 150U);  // hundreds in view: the cap binds
+  std::set<std::uint16_t> seen;
+  for (const tv::PlannedLandmark& pl : out) {
+    const tv::Landmark& lm = table_.items[pl.landmark];
+    const bsp::PixelPoint ref = bsp::project(cam_, pose_, Eigen::Vector3d(lm.p_m[0], lm.p_m[1], lm.p_m[2]));
+    ASSERT_TRUE(ref.in_front);
+    EXPECT_NEAR(pl.u_px, ref.u_px, 1e-3);
+    EXPECT_NEAR(pl.v_px, ref.v_px, 1e-3);
+    EXPECT_TRUE(seen.insert(pl.landmark).second) << "landmark " << pl.landmark << " planned twice";
+  }
+  EXPECT_GT(work_.flops, 1000U);
+  EXPECT_GT(work_.fdivs, 100U);
+}
+
+TEST_F(Plan, LandmarksAreSpreadOverTheImageAndAnyPrefixIsToo) {
+  const tv::FramePlanParams p;
+  const std::vector<tv::PlannedLandmark> out = plan(prior(pose_), p);
+  ASSERT_EQ(out.size(), 150U);
+  // Over 4 x 4 blocks of the usable image, the counts stay close to 150 / 16.
+  std::vector<int> blocks(16, 0);
+  const double side = 1024.0 - 2.0 * p.border_px;
+  for (const tv::PlannedLandmark& pl : out) {
+    const int bx = std::min(3, static_cast<int>((static_cast<double>(pl.u_px) - p.border_px) / (side / 4)));
+    const int by = std::min(3, static_cast<int>((static_cast<double>(pl.v_px) - p.border_px) / (side / 4)));
+    ++blocks[static_cast<std::size_t>(by * 4 + bx)];
+  }
+  const auto [lo, hi] = std::minmax_element(blocks.begin(), blocks.end());
+  std::printf("blocks of 4x4: min %d max %d\n", *lo, *hi);
+  EXPECT_GE(*lo, 7);
+  EXPECT_LE(*hi, 12);
+  // The plan grid is 13 x 13 (ceil sqrt 150): the first 150 are round 0, one per cell, all distinct.
+  std::set<int> cells;
+  for (const tv::PlannedLandmark& pl : out) {
+    const int cx = std::min(12, static_cast<int>((static_cast<double>(pl.u_px) - p.border_px) / ((side - 1.0) / 13)));
+    const int cy = std::min(12, static_cast<int>((static_cast<double>(pl.v_px) - p.border_px) / ((side - 1.0) / 13)));
+    cells.insert(cy * 13 + cx);
+  }
+  EXPECT_EQ(cells.size(), 150U);
+}
+
+TEST_F(Plan, RoundRobinFillsCellsEvenlyWhenTheCapExceedsTheCells) {
+  tv::FramePlanParams p;
+  p.max_landmarks = 300;  // grid 16 x 16 = 256 cells: round 0 then part of round 1
+  const std::vector<tv::PlannedLandmark> out = plan(prior(pose_), p);
+  ASSERT_EQ(out.size(), 300U);
+  const double side = 1024.0 - 2.0 * p.border_px;
+  std::map<int, int> per_cell;
+  std::vector<int> cell_of_entry;
+  for (const tv::PlannedLandmark& pl : out) {
+    const int cx = std::min(15, static_cast<int>((static_cast<double>(pl.u_px) - p.border_px) / ((side - 1.0) / 16)));
+    const int cy = std::min(15, static_cast<int>((static_cast<double>(pl.v_px) - p.border_px) / ((side - 1.0) / 16)));
+    ++per_cell[cy * 16 + cx];
+    cell_of_entry.push_back(cy * 16 + cx);
+  }
+  EXPECT_GE(per_cell.size(), 200U);
+  for (const auto& [cell, count] : per_cell) {
+    EXPECT_LE(count, 2) << "cell " << cell;
+  }
+  const std::set<int> first_round(cell_of_entry.begin(),
+                                  cell_of_entry.begin() + static_cast<std::ptrdiff_t>(per_cell.size()));
+  EXPECT_EQ(first_round.size(), per_cell.size()) << "round 0 (one per cell) comes first";
+}
+
+TEST_F(Plan, RadiusFollowsThePriorSigmasAndItsClamps) {
+  tv::FramePlanParams p;
+  tv::PosePrior pr = prior(pose_);
+  const std::vector<tv::PlannedLandmark> exact = plan(pr, p);
+  for (const tv::PlannedLandmark& pl : exact) EXPECT_EQ(pl.radius_px, p.min_radius_px);
+  // 10 m horizontal: ceil(3 * 10 / 6) + 2 = 7 everywhere.
+  pr.sigma_p_m[0] = 10.0;
+  pr.sigma_p_m[1] = 4.0;
+  for (const tv::PlannedLandmark& pl : plan(pr, p)) EXPECT_EQ(pl.radius_px, 7);
+  // Attitude: grows with range^2 / height, so off-nadir landmarks get more.
+  pr.sigma_p_m[0] = pr.sigma_p_m[1] = 0.0;
+  pr.sigma_att_rad[0] = 2e-3;
+  const std::vector<tv::PlannedLandmark> att = plan(pr, p);
+  double near_r = 0.0;
+  double far_r = 0.0;
+  for (const tv::PlannedLandmark& pl : att) {
+    const tv::Landmark& lm = table_.items[pl.landmark];
+    const double dx = lm.p_m[0] - pose_.r_m.x();
+    const double dy = lm.p_m[1] - pose_.r_m.y();
+    const double h = pose_.r_m.z() - lm.p_m[2];
+    const double range2 = dx * dx + dy * dy + h * h;
+    const double want = std::ceil(3.0 * 2e-3 * range2 / h / kMPerPx) + 2.0;
+    EXPECT_EQ(pl.radius_px, static_cast<std::int32_t>(std::max(4.0, want))) << "landmark " << pl.landmark;
+    (range2 < h * h * 1.1 ? near_r : far_r) = std::max(range2 < h * h * 1.1 ? near_r : far_r, 1.0 * pl.radius_px);
+  }
+  EXPECT_GT(far_r, near_r);
+  // Larger sigmas never shrink a radius; huge ones hit the clamp.
+  pr.sigma_att_rad[0] = 1.0;
+  for (const tv::PlannedLandmark& pl : plan(pr, p)) EXPECT_EQ(pl.radius_px, p.max_radius_px);
+  p.max_radius_px = 12;
+  for (const tv::PlannedLandmark& pl : plan(pr, p)) EXPECT_EQ(pl.radius_px, 12);
+}
+
+TEST_F(Plan, BorderIsRespected) {
+  tv::FramePlanParams p;
+  p.max_landmarks = 1000;
+  const std::size_t n48 = plan(prior(pose_), p, 1000).size();
+  p.border_px = 200;
+  const std::vector<tv::PlannedLandmark> out = plan(prior(pose_), p, 1000);
+  ASSERT_FALSE(out.empty());
+  EXPECT_LT(out.size(), n48);
+  for (const tv::PlannedLandmark& pl : out) {
+    EXPECT_GE(pl.u_px, 200.0F);
+    EXPECT_GE(pl.v_px, 200.0F);
+    EXPECT_LE(pl.u_px, 1023.0F - 200.0F);
+    EXPECT_LE(pl.v_px, 1023.0F - 200.0F);
+  }
+}
+
+TEST_F(Plan, CapsAreRespected) {
+  tv::FramePlanParams p;
+  EXPECT_EQ(plan(prior(pose_), p, 10).size(), 10U);
+  p.max_landmarks = 7;
+  EXPECT_EQ(plan(prior(pose_), p).size(), 7U);
+  p.max_landmarks = 0;
+  EXPECT_EQ(plan(prior(pose_), p).size(), 0U);
+  std::uint32_t n = 99;
+  EXPECT_EQ(tv::plan_frame(table_, map_, cam_, prior(pose_), tv::FramePlanParams{}, nullptr, 0, n, work_),
+            tv::Status::kOk);
+  EXPECT_EQ(n, 0U);
+}
+
+TEST_F(Plan, IsDeterministic) {
+  tv::PosePrior pr = prior(pose_);
+  pr.sigma_p_m[0] = 30.0;
+  pr.sigma_att_rad[1] = 2e-3;
+  const std::vector<tv::PlannedLandmark> a = plan(pr, tv::FramePlanParams{});
+  const std::vector<tv::PlannedLandmark> b = plan(pr, tv::FramePlanParams{});
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].landmark, b[i].landmark);
+    EXPECT_EQ(a[i].u_px, b[i].u_px);
+    EXPECT_EQ(a[i].v_px, b[i].v_px);
+    EXPECT_EQ(a[i].radius_px, b[i].radius_px);
+  }
+}
+
+TEST_F(Plan, NothingIsPlannedWhenTheCameraLooksAwayOrOffTheMap) {
+  const bsp::CameraPose up{{0.0, 0.0, 3000.0}, attitude(0.0, 0.0, 180.0)};
+  EXPECT_TRUE(plan(prior(up), tv::FramePlanParams{}).empty());
+  const bsp::CameraPose away{{40000.0, 0.0, 3000.0}, attitude(0.0, 0.0, 0.0)};
+  EXPECT_TRUE(plan(prior(away), tv::FramePlanParams{}).empty());
+}
+
+TEST_F(Plan, BadInputsAreRefused) {
+  std::vector<tv::PlannedLandmark> out(10);
+  std::uint32_t n = 0;
+  const tv::PosePrior good = prior(pose_);
+  const auto run = [&](const tv::MapView& m, const bsp::CameraModel& c, const tv::PosePrior& pr,
+                       const tv::FramePlanParams& p, tv::PlannedLandmark* o) {
+    n = 77;
+    const tv::Status st = tv::plan_frame(table_, m, c, pr, p, o, 10, n, work_);
+    EXPECT_EQ(n, 0U);
+    return st;
+  };
+  EXPECT_EQ(run(map_, cam_, good, tv::FramePlanParams{}, nullptr), tv::Status::kBadInput);
+  bsp::CameraModel bad_cam = cam_;
+  bad_cam.fx_px = -1.0;
+  EXPECT_EQ(run(map_, bad_cam, good, tv::FramePlanParams{}, out.data()), tv::Status::kBadInput);
+  tv::MapView bad_map = map_;
+  bad_map.geo.m_per_px = 0.0;
+  EXPECT_EQ(run(bad_map, cam_, good, tv::FramePlanParams{}, out.data()), tv::Status::kBadInput);
+  bad_map = map_;
+  bad_map.image = tv::ConstImageU8{};
+  EXPECT_EQ(run(bad_map, cam_, good, tv::FramePlanParams{}, out.data()), tv::Status::kBadInput);
+  tv::PosePrior bad = good;
+  bad.q_mb[0] = bad.q_mb[1] = bad.q_mb[2] = bad.q_mb[3] = 0.0;
+  EXPECT_EQ(run(map_, cam_, bad, tv::FramePlanParams{}, out.data()), tv::Status::kBadInput);
+  bad = good;
+  bad.p_m[2] = std::nan("");
+  EXPECT_EQ(run(map_, cam_, bad, tv::FramePlanParams{}, out.data()), tv::Status::kBadInput);
+  bad = good;
+  bad.sigma_att_rad[2] = -1e-3;
+  EXPECT_EQ(run(map_, cam_, bad, tv::FramePlanParams{}, out.data()), tv::Status::kBadInput);
+  tv::FramePlanParams p;
+  p.border_px = 512;
+  EXPECT_EQ(run(map_, cam_, good, p, out.data()), tv::Status::kBadInput);
+  p = tv::FramePlanParams{};
+  p.sigma_k = 0.0;
+  EXPECT_EQ(run(map_, cam_, good, p, out.data()), tv::Status::kBadInput);
+  p = tv::FramePlanParams{};
+  p.min_radius_px = 10;
+  p.max_radius_px = 9;
+  EXPECT_EQ(run(map_, cam_, good, p, out.data()), tv::Status::kBadInput);
+  p = tv::FramePlanParams{};
+  p.max_radius_px = tv::kFineMaxSearchPx + 1;
+  EXPECT_EQ(run(map_, cam_, good, p, out.data()), tv::Status::kBadInput);
+  p = tv::FramePlanParams{};
+  p.min_radius_px = 0;
+  EXPECT_EQ(run(map_, cam_, good, p, out.data()), tv::Status::kBadInput);
+}
+
+}  // namespace

@@ -1,0 +1,363 @@
+/**
+ * @file rendered_test.cpp
+ * @brief Per-frame vision on rendered frames of the default world and descent, two world seeds:
+ *        fine matches land on the truth projection (exact and offset priors), the coarse stage
+ *        removes kilometre errors and fine matching works after it, bad inputs are refused.
+ *
+ * The world (default 4096^2 terrain, map product, descent shading, landmarks)
+ * is built once per seed: the tests are typed over the seed so that gtest runs
+ * every test of one seed before the next. Numbers are printed for docs/VISION.md.
+ */
+#include "tests/trn/vision_frame/world.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <type_traits>
+
+namespace {
+
+using namespace frame_test;  // NOLINT(google-build-using-namespace): test helpers
+
+/** Outcome of planning and matching one frame. */
+struct FrameRun {
+  std::uint32_t planned = 0;
+  std::uint32_t accepted = 0;
+  std::vector<double> err_px;  ///< |(u, v) - truth projection of p_m|
+  std::vector<double> norm;    ///< per-axis |error| / sigma_px
+  bsp::Work work{};
+
+  double median() const { return quantile(err_px, 0.5); }
+  double rate() const { return planned == 0 ? 0.0 : static_cast<double>(accepted) / planned; }
+  void print(const char* what, std::uint64_t seed, double alt) const {
+    std::printf("[ seed %llu %6.0f m %-10s] planned %3u accepted %3u (%3.0f %%) error median %.3f p95 %.3f max %.3f px,"
+                " per-axis |e|/sigma robust sd %.2f; per planned landmark %.0f k MACs %.0f k flops %.1f k fdivs\n",
+                static_cast<unsigned long long>(seed), alt, what, planned, accepted, 100.0 * rate(), median(),
+                quantile(err_px, 0.95), quantile(err_px, 1.0), 1.4826 * quantile(norm, 0.5),
+                1e-3 * static_cast<double>(work.int_macs) / std::max(1U, planned),
+                1e-3 * static_cast<double>(work.flops) / std::max(1U, planned),
+                1e-3 * static_cast<double>(work.fdivs) / std::max(1U, planned));
+  }
+};
+
+/** Plans @p f at @p prior and matches every planned landmark; scores against the truth pose. */
+FrameRun run_fine(World& w, const std::vector<std::uint8_t>& f, const bsp::CameraPose& truth,
+                  const tv::PosePrior& prior, const tv::LandmarkMatchParams& mp) {
+  static tv::PlannedLandmark planned[200];
+  static tv::LandmarkWorkspace ws;
+  FrameRun run;
+  EXPECT_EQ(tv::plan_frame(*w.table, w.fine, w.cam, prior, tv::FramePlanParams{}, planned, 200, run.planned,
+                           run.work),
+            tv::Status::kOk);
+  for (std::uint32_t i = 0; i < run.planned; ++i) {
+    trn::Match m{};
+    bool ok = false;
+    tv::LandmarkDiag diag;
+    EXPECT_EQ(tv::match_landmark(w.view(f), w.cam, prior, w.fine, *w.table, planned[i].landmark,
+                                 planned[i].radius_px, mp, ws, m, ok, diag, run.work),
+              tv::Status::kOk);
+    if (!ok) {
+      continue;
+    }
+    ++run.accepted;
+    const tv::Landmark& lm = w.table->items[planned[i].landmark];
+    const bsp::PixelPoint t = bsp::project(w.cam, truth, Eigen::Vector3d(lm.p_m[0], lm.p_m[1], lm.p_m[2]));
+    run.err_px.push_back(std::hypot(m.u_px - t.u_px, m.v_px - t.v_px));
+    run.norm.push_back(std::fabs(m.u_px - t.u_px) / m.sigma_px);
+    run.norm.push_back(std::fabs(m.v_px - t.v_px) / m.sigma_px);
+    // The Match is self-consistent: w_c is the unit ray of (u, v), p_m the landmark's, metadata set.
+    EXPECT_NEAR(std::hypot(std::hypot(m.w_c[0], m.w_c[1]), m.w_c[2]), 1.0, 1e-12);
+    EXPECT_NEAR(w.cam.cx_px + w.cam.fx_px * m.w_c[0] / m.w_c[2], m.u_px, 1e-9);
+    EXPECT_NEAR(w.cam.cy_px + w.cam.fy_px * m.w_c[1] / m.w_c[2], m.v_px, 1e-9);
+    EXPECT_EQ(m.p_m[0], lm.p_m[0]);
+    EXPECT_EQ(m.p_m[2], lm.p_m[2]);
+    EXPECT_EQ(m.landmark, planned[i].landmark);
+    EXPECT_EQ(m.t_s, prior.t_s);
+    EXPECT_GE(m.quality, tv::kFineQuality.min_peak);
+    EXPECT_GE(m.sigma_px, tv::kFineSigmaFloorPx);
+    EXPECT_EQ(diag.outside_px, 0);
+  }
+  return run;
+}
+
+/** A prior from the truth with small sigmas (the filter's state after a few good frames). */
+tv::PosePrior tight_prior(const bsp::CameraPose& truth, double t) {
+  tv::PosePrior prior = prior_of(truth, t);
+  for (int k = 0; k < 3; ++k) {
+    prior.sigma_p_m[k] = 5.0;
+    prior.sigma_att_rad[k] = 0.5e-3;
+  }
+  return prior;
+}
+
+template <class Seed>
+class Rendered : public ::testing::Test {
+ protected:
+  static constexpr std::uint64_t kSeed = Seed::value;
+  void SetUp() override { w_ = &World::use(kSeed); }
+  World* w_ = nullptr;
+};
+
+using Seeds = ::testing::Types<std::integral_constant<std::uint64_t, 1>, std::integral_constant<std::uint64_t, 2>>;
+TYPED_TEST_SUITE(Rendered, Seeds);
+
+TYPED_TEST(Rendered, FineMatchesWithTheTruthAsPriorLandOnTheTruthProjection) {
+  World& w = *this->w_;
+  for (const double alt : {4000.0, 2500.0, 1200.0}) {
+    double t = 0.0;
+    const bsp::CameraPose truth = w.truth_at(alt, &t);
+    const FrameRun run = run_fine(w, w.frame_at(alt), truth, tight_prior(truth, t), tv::LandmarkMatchParams{});
+    run.print("exact", this->kSeed, alt);
+    EXPECT_GE(run.planned, 8U) << "seed " << this->kSeed << " altitude " << alt;
+    EXPECT_GE(run.rate(), 0.9) << "seed " << this->kSeed << " altitude " << alt;
+    EXPECT_LT(run.median(), 0.5) << "seed " << this->kSeed << " altitude " << alt;
+    EXPECT_GT(run.work.int_macs, 100000U * run.accepted);
+  }
+}
+
+TYPED_TEST(Rendered, FineMatchesWithAPriorThirtyMetresAndOneDegreeOffLandOnTheTruthProjection) {
+  World& w = *this->w_;
+  for (const double alt : {4000.0, 2500.0, 1200.0}) {
+    double t = 0.0;
+    const bsp::CameraPose truth = w.truth_at(alt, &t);
+    bsp::CameraPose off = truth;
+    off.r_m += Eigen::Vector3d(24.0, -18.0, 15.0);
+    off.q_mb = truth.q_mb * Eigen::Quaterniond(Eigen::AngleAxisd(
+                                1.0 * kDeg, Eigen::Vector3d(0.6, -0.7, 0.39).normalized()));
+    tv::PosePrior prior = prior_of(off, t);
+    for (int k = 0; k < 3; ++k) {
+      prior.sigma_p_m[k] = 20.0;
+      prior.sigma_att_rad[k] = 1.0 * kDeg / std::sqrt(3.0);
+    }
+    const FrameRun run = run_fine(w, w.frame_at(alt), truth, prior, tv::LandmarkMatchParams{});
+    run.print("30m+1deg", this->kSeed, alt);
+    EXPECT_GE(run.planned, 8U) << "seed " << this->kSeed << " altitude " << alt;
+    EXPECT_GE(run.rate(), 0.75) << "seed " << this->kSeed << " altitude " << alt;
+    EXPECT_LT(run.median(), 0.5) << "seed " << this->kSeed << " altitude " << alt;
+  }
+}
+
+TYPED_TEST(Rendered, WithoutRelightingTheMapSunDefeatsTheFineChecks) {
+  // Why templates are relit: the map product is shaded under another sun, and topographic
+  // shading changes with the sun's azimuth, so unrelit peaks fall below 0.8.
+  World& w = *this->w_;
+  double t = 0.0;
+  const bsp::CameraPose truth = w.truth_at(2500.0, &t);
+  tv::LandmarkMatchParams mp;
+  mp.relight = false;
+  const FrameRun run = run_fine(w, w.frame_at(2500.0), truth, tight_prior(truth, t), mp);
+  run.print("unrelit", this->kSeed, 2500.0);
+  EXPECT_GE(run.planned, 20U);
+  EXPECT_LT(run.rate(), 0.25);
+}
+
+/** Coarse stage at @p alt with the prior moved by (dx, dy); returns the result and the error after dp_m. */
+tv::CoarseFrameResult run_coarse(World& w, double alt, double dx, double dy, const tv::MapView& map, double& err_m,
+                                 tv::PosePrior& prior, bsp::CameraPose& truth) {
+  static tv::CoarseFrameWorkspace ws;
+  double t = 0.0;
+  truth = w.truth_at(alt, &t);
+  prior = prior_of(truth, t);
+  prior.p_m[0] += dx;
+  prior.p_m[1] += dy;
+  tv::CoarseFrameResult r;
+  bsp::Work work;
+  EXPECT_EQ(tv::coarse_frame(w.view(w.frame_at(alt)), w.cam, prior, map, tv::CoarseFrameParams{}, ws, r, work),
+            tv::Status::kOk);
+  err_m = std::hypot(prior.p_m[0] + r.dp_m[0] - truth.r_m.x(), prior.p_m[1] + r.dp_m[1] - truth.r_m.y());
+  if (r.accepted) {
+    EXPECT_GT(work.int_macs, 100000000U);  // ~153 M MACs of correlation
+    if (dx > 0.0 && dy > 0.0 && dx < 3000.0) {
+      std::printf("[ coarse work ] %.1f M MACs %.2f M int ops %.2f M flops %.2f M fdivs %.2f M mem words\n",
+                  1e-6 * static_cast<double>(work.int_macs), 1e-6 * static_cast<double>(work.int_ops),
+                  1e-6 * static_cast<double>(work.flops), 1e-6 * static_cast<double>(work.fdivs),
+                  1e-6 * static_cast<double>(work.mem_words));
+    }
+  }
+  return r;
+}
+
+TYPED_TEST(Rendered, CoarseStageRemovesThreeToFourKilometreErrorsThenFineMatchingWorks) {
+  World& w = *this->w_;
+  std::vector<double> errs;
+  for (int d = 0; d < 9; ++d) {
+    // Eight directions at 3.2 km, then 4.2 km east.
+    const double az = d * 45.0 * kDeg;
+    const double r = d < 8 ? 3200.0 : 4200.0;
+    double err = 0.0;
+    tv::PosePrior prior;
+    bsp::CameraPose truth;
+    const tv::CoarseFrameResult c =
+        run_coarse(w, 4000.0, r * std::sin(az), r * std::cos(az), w.coarse_lit, err, prior, truth);
+    ASSERT_TRUE(c.accepted) << "seed " << this->kSeed << " direction " << d << " reason "
+                            << static_cast<int>(c.coarse.match.reason());
+    errs.push_back(err);
+    EXPECT_LT(err, 25.0) << "seed " << this->kSeed << " direction " << d;  // half a coarse-scale (48 m) pixel
+    // The coarse Match: the image point sees its map point, within its sigma.
+    const trn::Match& m = c.match;
+    const bsp::PixelPoint tp = bsp::project(w.cam, truth, Eigen::Vector3d(m.p_m[0], m.p_m[1], m.p_m[2]));
+    EXPECT_LT(std::hypot(m.u_px - tp.u_px, m.v_px - tp.v_px), 2.0 * m.sigma_px) << "direction " << d;
+    EXPECT_EQ(m.landmark, trn::kCoarseLandmark);
+    EXPECT_EQ(m.t_s, prior.t_s);
+    EXPECT_NEAR(std::hypot(std::hypot(m.w_c[0], m.w_c[1]), m.w_c[2]), 1.0, 1e-12);
+    EXPECT_NEAR(w.cam.cx_px + w.cam.fx_px * m.w_c[0] / m.w_c[2], m.u_px, 1e-9);
+    EXPECT_GT(m.quality, 0.85F);
+    EXPECT_EQ(c.outside_px, 0);
+    if (d == 1 || d == 8) {
+      // Fine matching around the corrected prior.
+      prior.p_m[0] += c.dp_m[0];
+      prior.p_m[1] += c.dp_m[1];
+      for (int k = 0; k < 3; ++k) {
+        prior.sigma_p_m[k] = c.sigma_m;
+        prior.sigma_att_rad[k] = 0.5e-3;
+      }
+      const FrameRun run = run_fine(w, w.frame_at(4000.0), truth, prior, tv::LandmarkMatchParams{});
+      run.print("coarse+fine", this->kSeed, 4000.0);
+      EXPECT_GE(run.rate(), 0.9);
+      EXPECT_LT(run.median(), 0.5);
+    }
+  }
+  std::printf("[ seed %llu   4000 m coarse    ] 9 priors 3.2-4.2 km off: error after dp median %.1f max %.1f m\n",
+              static_cast<unsigned long long>(this->kSeed), quantile(errs, 0.5), quantile(errs, 1.0));
+}
+
+TYPED_TEST(Rendered, CoarseStageOnTheUnrelitMapIsBiasedButWithinOneHundredMetres) {
+  World& w = *this->w_;
+  std::vector<double> errs;
+  for (int d = 0; d < 4; ++d) {
+    const double az = (45.0 + d * 90.0) * kDeg;
+    double err = 0.0;
+    tv::PosePrior prior;
+    bsp::CameraPose truth;
+    const tv::CoarseFrameResult c =
+        run_coarse(w, 4000.0, 3200.0 * std::sin(az), 3200.0 * std::cos(az), w.coarse, err, prior, truth);
+    EXPECT_TRUE(c.accepted) << "seed " << this->kSeed << " direction " << d;
+    EXPECT_LT(err, 100.0) << "seed " << this->kSeed << " direction " << d;
+    errs.push_back(err);
+  }
+  std::printf("[ seed %llu   4000 m coarse    ] unrelit map: error after dp median %.1f max %.1f m\n",
+              static_cast<unsigned long long>(this->kSeed), quantile(errs, 0.5), quantile(errs, 1.0));
+}
+
+TYPED_TEST(Rendered, CoarseFootprintLargerThanTheFrameIsNotSearched) {
+  // At 1200 m the frame covers ~2.4 km: a 256 px x 12 m footprint (3 km) does not fit.
+  World& w = *this->w_;
+  double err = 0.0;
+  tv::PosePrior prior;
+  bsp::CameraPose truth;
+  const tv::CoarseFrameResult c = run_coarse(w, 1200.0, 500.0, 0.0, w.coarse_lit, err, prior, truth);
+  EXPECT_FALSE(c.accepted);
+  EXPECT_GT(c.outside_px, 0);
+}
+
+TYPED_TEST(Rendered, BadInputsAreRefused) {
+  World& w = *this->w_;
+  static tv::LandmarkWorkspace lws;
+  static tv::CoarseFrameWorkspace cws;
+  double t = 0.0;
+  const bsp::CameraPose truth = w.truth_at(4000.0, &t);
+  const tv::PosePrior good = tight_prior(truth, t);
+  const tv::ConstImageU8 frame = w.view(w.frame_at(4000.0));
+  trn::Match m{};
+  bool ok = true;
+  tv::LandmarkDiag diag;
+  bsp::Work work;
+  const auto match = [&](tv::ConstImageU8 f, const tv::PosePrior& pr, std::uint16_t index, std::int32_t radius,
+                         const tv::LandmarkMatchParams& mp) {
+    ok = true;
+    const tv::Status st = tv::match_landmark(f, w.cam, pr, w.fine, *w.table, index, radius, mp, lws, m, ok, diag, work);
+    EXPECT_FALSE(ok);
+    return st;
+  };
+  const tv::LandmarkMatchParams mp;
+  EXPECT_EQ(match(frame.sub(0, 0, 512, 512), good, 0, 8, mp), tv::Status::kBadInput);  // not the camera's size
+  EXPECT_EQ(match(tv::ConstImageU8{}, good, 0, 8, mp), tv::Status::kBadInput);
+  EXPECT_EQ(match(frame, good, static_cast<std::uint16_t>(w.table->count), 8, mp), tv::Status::kBadInput);
+  EXPECT_EQ(match(frame, good, 0, 0, mp), tv::Status::kBadInput);
+  EXPECT_EQ(match(frame, good, 0, tv::kFineMaxSearchPx + 1, mp), tv::Status::kBadInput);
+  tv::PosePrior bad = good;
+  bad.q_mb[0] = std::nan("");
+  EXPECT_EQ(match(frame, bad, 0, 8, mp), tv::Status::kBadInput);
+  tv::LandmarkMatchParams bad_mp;
+  bad_mp.sigma_map_px = 0.0;
+  EXPECT_EQ(match(frame, good, 0, 8, bad_mp), tv::Status::kBadInput);
+  bad_mp = tv::LandmarkMatchParams{};
+  bad_mp.subsamples = tv::kMaxSubsamples + 1;
+  EXPECT_EQ(match(frame, good, 0, 8, bad_mp), tv::Status::kBadInput);
+  // A landmark outside the frame is not an error: not matched, the window's misses counted.
+  std::uint16_t far = 0;
+  for (std::uint16_t i = 0; i < w.table->count; ++i) {
+    const tv::Landmark& lm = w.table->items[i];
+    if (std::hypot(lm.p_m[0] - truth.r_m.x(), lm.p_m[1] - truth.r_m.y()) > 6000.0) {
+      far = i;
+      break;
+    }
+  }
+  EXPECT_EQ(match(frame, good, far, 8, mp), tv::Status::kOk);
+  EXPECT_GT(diag.outside_px, 0);
+  // The short form uses the default params.
+  ok = true;
+  EXPECT_EQ(tv::match_landmark(frame.sub(0, 0, 512, 512), w.cam, good, w.fine, *w.table, 0, 8, lws, m, ok, diag, work),
+            tv::Status::kBadInput);
+  EXPECT_FALSE(ok);
+
+  tv::CoarseFrameResult r;
+  const tv::CoarseFrameParams cp;
+  EXPECT_EQ(tv::coarse_frame(frame.sub(0, 0, 512, 512), w.cam, good, w.coarse, cp, cws, r, work),
+            tv::Status::kBadInput);
+  tv::MapView no_elev = w.coarse;
+  no_elev.elevation = nullptr;
+  EXPECT_EQ(tv::coarse_frame(frame, w.cam, good, no_elev, cp, cws, r, work), tv::Status::kBadInput);
+  tv::CoarseFrameParams big = cp;
+  big.search_px = w.coarse.image.width + 1;  // not enough map
+  EXPECT_EQ(tv::coarse_frame(frame, w.cam, good, w.coarse, big, cws, r, work), tv::Status::kBadInput);
+  big = cp;
+  big.footprint_px = 1100;
+  big.search_px = 1200;
+  EXPECT_EQ(tv::coarse_frame(frame, w.cam, good, w.coarse, big, cws, r, work), tv::Status::kTooLarge);
+  big = cp;
+  big.search_px = 1100;  // 275 decimated pixels > kCoarseMaxPx
+  EXPECT_EQ(tv::coarse_frame(frame, w.cam, good, w.coarse, big, cws, r, work), tv::Status::kTooLarge);
+  big = cp;
+  big.footprint_px = 200;  // 50 decimated pixels < the 64 px template
+  EXPECT_EQ(tv::coarse_frame(frame, w.cam, good, w.coarse, big, cws, r, work), tv::Status::kBadInput);
+  tv::PosePrior up = good;
+  const Eigen::Quaterniond flipped = truth.q_mb * Eigen::Quaterniond(Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX()));
+  up.q_mb[0] = flipped.w();
+  up.q_mb[1] = flipped.x();
+  up.q_mb[2] = flipped.y();
+  up.q_mb[3] = flipped.z();
+  EXPECT_EQ(tv::coarse_frame(frame, w.cam, up, w.coarse, cp, cws, r, work), tv::Status::kBadInput);
+  tv::PosePrior below = good;
+  below.p_m[2] = -500.0;
+  EXPECT_EQ(tv::coarse_frame(frame, w.cam, below, w.coarse, cp, cws, r, work), tv::Status::kBadInput);
+  EXPECT_FALSE(r.accepted);
+
+  tv::MapView v;
+  EXPECT_EQ(tv::map_view(nullptr, 0, v), tv::Status::kBadInput);
+  EXPECT_EQ(tv::map_view(w.product, bsp::kMapLayers, v), tv::Status::kBadInput);
+  EXPECT_EQ(v.image.data, nullptr);
+}
+
+TYPED_TEST(Rendered, MapViewsDescribeTheProduct) {
+  World& w = *this->w_;
+  const bsp::MapLayerHeader& h = w.product->layers[bsp::kMapLayerFine];
+  EXPECT_EQ(w.fine.image.width, static_cast<std::int32_t>(h.width_px));
+  EXPECT_EQ(w.fine.image.data, bsp::map_image(w.product, bsp::kMapLayerFine));
+  EXPECT_EQ(w.fine.geo.m_per_px, h.m_per_px);
+  EXPECT_EQ(w.coarse.geo.m_per_px, w.product->layers[bsp::kMapLayerCoarse].m_per_px);
+  double sun[3];
+  tv::sun_direction(w.product->sun_azimuth_deg, w.product->sun_elevation_deg, sun);
+  EXPECT_EQ(w.fine.sun_m[0], sun[0]);
+  EXPECT_EQ(w.fine.sun_m[2], sun[2]);
+  // Elevation lookups agree with the product's pixel positions.
+  for (std::uint32_t k = 0; k < 50; ++k) {
+    const std::uint32_t col = 100U + 37U * k;
+    const std::uint32_t row = 200U + 29U * k;
+    double p[3];
+    bsp::map_pixel_position(w.product, bsp::kMapLayerFine, col, row, p);
+    EXPECT_DOUBLE_EQ(tv::map_elevation_m(w.fine, col, row), p[2]);
+  }
+}
+
+}  // namespace
