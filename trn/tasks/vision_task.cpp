@@ -105,8 +105,28 @@ bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
   if (err != bsp::MemError::kOk) {
     return false;
   }
+  const vision::ConstImageU8 orbital = st.coarse_map.image;
+  auto* relit = bsp::carve_array<std::uint8_t>(
+      ddr, static_cast<std::size_t>(orbital.width) * static_cast<std::size_t>(orbital.height), "coarse_relit", &err);
+  if (err != bsp::MemError::kOk) {
+    return false;
+  }
   ::new (st.table) vision::LandmarkTable{};
   ::new (st.coarse_ws) vision::CoarseFrameWorkspace{};
+  for (std::size_t i = 0; i < 3U; ++i) {
+    st.fine.descent_sun_m[i] = st.cfg->descent_sun_m[i];
+    st.coarse_map.descent_sun_m[i] = st.cfg->descent_sun_m[i];
+  }
+  // The coarse stage searches the coarse layer as the descent sun lights it:
+  // relit once here (the orbital sun's shading would bias it by ~60 m).
+  bsp::Work relight_work{};
+  const vision::ImageU8 relit_view{relit, orbital.width, orbital.height, orbital.width};
+  if (vision::relight_region(st.coarse_map, 0, 0, st.cfg->descent_sun_m, relit_view, relight_work) !=
+      vision::Status::kOk) {
+    return false;
+  }
+  bsp::consume(relight_work);
+  st.coarse_map.image = relit_view.as_const();
   // The product's elevation is int16 counts, the selection's optional view is
   // metres as float: the selection runs on the image alone and each chosen
   // landmark's 3D position is then read from the product.
@@ -430,6 +450,9 @@ bool worker_set_up(WorkerState& st) noexcept {
   const bsp::MapProductHeader* product = bsp::map_product_find();
   if (product == nullptr || vision::map_view(product, bsp::kMapLayerFine, st.fine) != vision::Status::kOk) {
     return false;
+  }
+  for (std::size_t i = 0; i < 3U; ++i) {
+    st.fine.descent_sun_m[i] = st.cfg->descent_sun_m[i];
   }
   bsp::MemError err = bsp::MemError::kOk;
   st.ws = bsp::carve_array<vision::LandmarkWorkspace>(bsp::Region{bsp::current_tile()}, 1, "vision_ws", &err);

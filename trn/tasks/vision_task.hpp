@@ -4,7 +4,9 @@
  *        by the fault-tolerant UDN, gathered before the frame's deadline, sent to the filter.
  *
  * Coordinator (one tile): selects the landmarks from the reference map at its
- * start (into a shared DDR table the vision tiles read); keeps the filter's
+ * start (into a shared DDR table the vision tiles read) and relights a copy of
+ * the coarse map layer from the orbital sun to the descent sun (DDR), which
+ * the coarse stage searches; keeps the filter's
  * recent solutions (kChanNav); on each frame notice from the I/O tile
  * (kChanControl) takes the solution at the capture time as the prior, runs
  * the coarse stage itself when the horizontal position sigma is large, plans
@@ -44,6 +46,7 @@ inline constexpr const char* kLandmarkCarveName = "landmarks";
 
 struct VisionCoordConfig {
   bsp::CameraModel camera{};
+  double descent_sun_m[3] = {0.0, 0.0, 0.0};  ///< unit vector to the descent sun, map frame (mission knowledge)
   bsp::TileId filter_tile = bsp::kNoTile;
   std::array<bsp::TileId, kMaxVisionTiles> vision_tiles{};
   std::uint32_t vision_count = 0;
@@ -57,6 +60,7 @@ struct VisionCoordConfig {
 
 struct VisionWorkerConfig {
   bsp::CameraModel camera{};
+  double descent_sun_m[3] = {0.0, 0.0, 0.0};  ///< unit vector to the descent sun, map frame (mission knowledge)
   bsp::TileId coordinator = bsp::kNoTile;
 };
 
