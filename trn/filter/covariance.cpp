@@ -76,12 +76,76 @@ void propagate_covariance(Mat15& p, const Mat15& f, const Vec15& q, CovWork& w, 
   work.mem_words += 4ULL * kErrDim * kErrDim * 2;
 }
 
+LagNoise lag_noise(const ImuSpec& imu, double lag_s) noexcept {
+  // A random walk of velocity spectral density VRW^2 integrates into position
+  // as lag^3/3 (variance), lag^2/2 (position-velocity), lag (velocity).
+  const double vrw2 = imu.accel_vrw_mps_sqrts * imu.accel_vrw_mps_sqrts;
+  LagNoise d;
+  d.q_vv = vrw2 * lag_s;
+  d.q_pv = 0.5 * d.q_vv * lag_s;
+  d.q_pp = (1.0 / 3.0) * d.q_vv * lag_s * lag_s;
+  d.q_th = imu.gyro_arw_rad_sqrts * imu.gyro_arw_rad_sqrts * lag_s;
+  return d;
+}
+
 namespace {
 
-/** X H^T for H = [Hp 0 Hth 0 0]: only six columns of X are read. */
+/**
+ * X H^T for H = [Hp, -lag Hp, Hth, 0, 0]: only the position, velocity and
+ * attitude columns of X are read, and the velocity ones only for lag != 0.
+ */
 void times_ht(const Mat15& x, const Meas2& m, Mat15x2& out) noexcept {
-  out.noalias() = x.middleCols<3>(kIdxP).lazyProduct(m.hp.transpose());
+  if (m.lag_s != 0.0) {
+    const Eigen::Matrix<double, kErrDim, 3> xp = x.middleCols<3>(kIdxP) - m.lag_s * x.middleCols<3>(kIdxV);
+    out.noalias() = xp.lazyProduct(m.hp.transpose());
+  } else {
+    out.noalias() = x.middleCols<3>(kIdxP).lazyProduct(m.hp.transpose());
+  }
   out.noalias() += x.middleCols<3>(kIdxTh).lazyProduct(m.hth.transpose());
+}
+
+/** S = H (P H^T) + R from the rows of P H^T that H reads. */
+Mat2 innovation_cov(const Meas2& m, const Mat15x2& pht) noexcept {
+  Mat2 s;
+  if (m.lag_s != 0.0) {
+    const Eigen::Matrix<double, 3, 2> rows = pht.middleRows<3>(kIdxP) - m.lag_s * pht.middleRows<3>(kIdxV);
+    s.noalias() = m.hp.lazyProduct(rows);
+  } else {
+    s.noalias() = m.hp.lazyProduct(pht.middleRows<3>(kIdxP));
+  }
+  s.noalias() += m.hth.lazyProduct(pht.middleRows<3>(kIdxTh));
+  s(0, 0) += m.r_var(0);
+  s(1, 1) += m.r_var(1);
+  return s;
+}
+
+/** True if P's position, velocity and attitude variances each exceed twice what D takes off. */
+bool lag_noise_fits(const Mat15& p, const LagNoise& d) noexcept {
+  bool ok = true;
+  for (int i = 0; i < 3; ++i) {
+    ok = ok && p(kIdxP + i, kIdxP + i) > 2.0 * d.q_pp && p(kIdxV + i, kIdxV + i) > 2.0 * d.q_vv &&
+         p(kIdxTh + i, kIdxTh + i) > 2.0 * d.q_th;
+  }
+  return ok;
+}
+
+/** pht <- (P - D) H^T = pht - D H^T, with H_v = -lag H_p. */
+void remove_lag_noise(Mat15x2& pht, const Meas2& m) noexcept {
+  const LagNoise& d = m.d;
+  pht.middleRows<3>(kIdxP) -= (d.q_pp - m.lag_s * d.q_pv) * m.hp.transpose();
+  pht.middleRows<3>(kIdxV) -= (d.q_pv - m.lag_s * d.q_vv) * m.hp.transpose();
+  pht.middleRows<3>(kIdxTh) -= d.q_th * m.hth.transpose();
+}
+
+/** P <- P + sign D (the position-velocity cross terms on both sides). */
+void add_lag_noise(Mat15& p, const LagNoise& d, double sign) noexcept {
+  for (int i = 0; i < 3; ++i) {
+    p(kIdxP + i, kIdxP + i) += sign * d.q_pp;
+    p(kIdxP + i, kIdxV + i) += sign * d.q_pv;
+    p(kIdxV + i, kIdxP + i) += sign * d.q_pv;
+    p(kIdxV + i, kIdxV + i) += sign * d.q_vv;
+    p(kIdxTh + i, kIdxTh + i) += sign * d.q_th;
+  }
 }
 
 }  // namespace
@@ -89,13 +153,15 @@ void times_ht(const Mat15& x, const Meas2& m, Mat15x2& out) noexcept {
 GateResult joseph_update(Mat15& p, const Meas2& m, double gate_chi2, Vec15& dx, CovWork& w,
                          bsp::Work& work) noexcept {
   GateResult g;
+  const bool lagged = m.lag_s != 0.0;
+  const bool noise = lagged && lag_noise_fits(p, m.d);
   times_ht(p, m, w.pht);
-  Mat2 s = m.hp.lazyProduct(w.pht.middleRows<3>(kIdxP));
-  s.noalias() += m.hth.lazyProduct(w.pht.middleRows<3>(kIdxTh));
-  s(0, 0) += m.r_var(0);
-  s(1, 1) += m.r_var(1);
+  if (noise) {
+    remove_lag_noise(w.pht, m);
+  }
+  const Mat2 s = innovation_cov(m, w.pht);
   const double det = s(0, 0) * s(1, 1) - s(0, 1) * s(1, 0);
-  work.flops += kFlopsGate;
+  work.flops += kFlopsGate + (lagged ? kFlopsLagGate : 0U);
   work.fdivs += 1;
   if (!(det > 0.0) || !std::isfinite(det)) {
     return g;  // S not positive definite: the measurement cannot be weighed
@@ -107,30 +173,51 @@ GateResult joseph_update(Mat15& p, const Meas2& m, double gate_chi2, Vec15& dx, 
     return g;  // NaN residuals fail here too
   }
   g.accepted = true;
+  if (noise) {
+    add_lag_noise(p, m.d, -1.0);
+  }
   w.k.noalias() = w.pht.lazyProduct(s_inv);
   // (I - K H) P = P - K (P H^T)^T, exact Joseph congruence applied in two sparse steps.
   w.fp.noalias() = p - w.k.lazyProduct(w.pht.transpose());
   times_ht(w.fp, m, w.mht);
   // (I-KH)P(I-KH)^T + K R K^T = M - (M H^T - K R) K^T with M = (I-KH)P: one
-  // 15x2x15 product instead of two.
+  // 15x2x15 product instead of two, and only its upper triangle (the result
+  // is symmetric), mirrored.
   w.mht -= w.k * m.r_var.asDiagonal();
-  p.noalias() = w.fp - w.mht.lazyProduct(w.k.transpose());
-  symmetrize(p);
+  for (int j = 0; j < kErrDim; ++j) {
+    for (int i = 0; i <= j; ++i) {
+      const double v = w.fp(i, j) - w.mht(i, 0) * w.k(j, 0) - w.mht(i, 1) * w.k(j, 1);
+      p(i, j) = v;
+      p(j, i) = v;
+    }
+  }
+  if (noise) {
+    add_lag_noise(p, m.d, 1.0);
+  }
   dx.noalias() = w.k * m.r;
-  work.flops += kFlopsJoseph - kFlopsGate;
+  work.flops += kFlopsJoseph - kFlopsGate + (lagged ? kFlopsLagJoseph - kFlopsLagGate : 0U);
   work.fdivs += 4;
-  work.mem_words += 8ULL * kErrDim * kErrDim * 2;
+  work.mem_words += 6ULL * kErrDim * kErrDim * 2;
   return g;
 }
 
 void reset_attitude(Mat15& p, const Vec3& dth, bsp::Work& work) noexcept {
   const Mat3 g = Mat3::Identity() - skew(0.5 * dth);
-  // Rows then columns of the attitude block: G P G^T touches nothing else.
+  // G P G^T touches only the attitude rows and columns. With P symmetric the
+  // new columns are the transposed new rows, except the attitude block itself,
+  // which is G (rows) G^T; that block is symmetrized on its own.
   const Eigen::Matrix<double, 3, kErrDim> rows = g.lazyProduct(p.middleRows<3>(kIdxTh));
+  const Mat3 blk = rows.middleCols<3>(kIdxTh).lazyProduct(g.transpose());
   p.middleRows<3>(kIdxTh) = rows;
-  const Eigen::Matrix<double, kErrDim, 3> cols = p.middleCols<3>(kIdxTh).lazyProduct(g.transpose());
-  p.middleCols<3>(kIdxTh) = cols;
-  symmetrize(p);
+  p.middleCols<3>(kIdxTh) = rows.transpose();
+  for (int i = 0; i < 3; ++i) {
+    p(kIdxTh + i, kIdxTh + i) = blk(i, i);
+    for (int j = i + 1; j < 3; ++j) {
+      const double m = 0.5 * (blk(i, j) + blk(j, i));
+      p(kIdxTh + i, kIdxTh + j) = m;
+      p(kIdxTh + j, kIdxTh + i) = m;
+    }
+  }
   work.flops += kFlopsReset;
   work.mem_words += 4ULL * 3 * kErrDim * 2;
 }

@@ -23,15 +23,37 @@ struct CovWork {
 };
 
 /**
- * A 2D measurement whose Jacobian is non-zero only in the position and attitude
- * columns: H = [Hp, 0, Hth, 0, 0]. r is the residual, r_var the (diagonal) noise.
+ * Process noise the filter added between a lagged measurement's time and now,
+ * isotropic per block (D = [q_pp I, q_pv I, 0; q_pv I, q_vv I, 0; 0, 0, q_th I]
+ * on position, velocity, attitude). The measurement saw the state before that
+ * noise, so it is weighed against P - D, and D is added back after the update
+ * (the noise is independent of the measurement). Zero for a current match.
+ */
+struct LagNoise {
+  double q_pp = 0.0;
+  double q_pv = 0.0;
+  double q_vv = 0.0;
+  double q_th = 0.0;
+};
+
+/**
+ * A 2D measurement whose Jacobian is non-zero only in the position, velocity and
+ * attitude columns: H = [Hp, -lag Hp, Hth, 0, 0]. r is the residual, r_var the
+ * (diagonal) noise. lag_s > 0 for a bearing measured lag_s before the state's
+ * time: its position error then was dp - lag dv (pose_history.hpp); with
+ * lag_s == 0 the velocity columns are skipped, not multiplied by zero.
  */
 struct Meas2 {
   Mat23 hp = Mat23::Zero();
   Mat23 hth = Mat23::Zero();
+  double lag_s = 0.0;
+  LagNoise d{};
   Vec2 r = Vec2::Zero();
   Vec2 r_var = Vec2::Ones();
 };
+
+/** D of the process noise of @p imu over @p lag_s seconds (velocity and angle random walks). */
+LagNoise lag_noise(const ImuSpec& imu, double lag_s) noexcept;
 
 /**
  * Discrete process noise per interval dt (diagonal): velocity random walk and
@@ -59,7 +81,10 @@ struct GateResult {
 /**
  * Gated Joseph-form update: S = H P H^T + R, d2 = r^T S^-1 r; if d2 <= gate,
  * K = P H^T S^-1, P <- (I-KH) P (I-KH)^T + K R K^T (computed in factored form,
- * never forming I-KH), symmetrized, and dx = K r. A rejected measurement
+ * never forming I-KH, upper triangle only and mirrored, so P comes out exactly
+ * symmetric), and dx = K r. A lagged measurement uses P - m.d throughout and
+ * adds m.d back at the end; m.d is ignored (taken as zero) unless every
+ * diagonal entry of P it touches exceeds twice its own. A rejected measurement
  * leaves P and dx untouched. Pre: P symmetric positive definite.
  */
 GateResult joseph_update(Mat15& p, const Meas2& m, double gate_chi2, Vec15& dx, CovWork& w,
@@ -67,7 +92,9 @@ GateResult joseph_update(Mat15& p, const Meas2& m, double gate_chi2, Vec15& dx, 
 
 /**
  * Covariance reset after injecting an attitude error dth into the nominal
- * quaternion: P <- G P G^T with G = I except G_thth = I - [dth/2]x, then symmetrized.
+ * quaternion: P <- G P G^T with G = I except G_thth = I - [dth/2]x. Pre: P
+ * symmetric; the attitude rows are transformed and mirrored into the columns,
+ * so P stays exactly symmetric.
  */
 void reset_attitude(Mat15& p, const Vec3& dth, bsp::Work& work) noexcept;
 
@@ -78,9 +105,20 @@ void symmetrize(Mat15& p) noexcept;
 // Per side: seven 3x3 by 3x15 block products (135 MAC each) and two scaled rows.
 inline constexpr std::uint64_t kFlopsCovPropagate = 2ULL * (7 * 135 * 2 + 2 * 15 * 2) + 15 + 210;
 /** Flops of one accepted joseph_update (a rejected one costs kFlopsGate). */
+// Gate: P H^T (15x6 by 6x2), S (2x6 by 6x2, + R), det, S^-1, d2.
 inline constexpr std::uint64_t kFlopsGate = 360 + 2 * 2 * 6 * 2 + 12 + 8;
-inline constexpr std::uint64_t kFlopsJoseph = kFlopsGate + 120 + 900 + 360 + 60 + 900 + 210 + 60;
-/** Flops of one reset_attitude call. */
-inline constexpr std::uint64_t kFlopsReset = 2ULL * 15 * 3 * 5 + 6 + 210;
+// K (15x2 by 2x2), M = P - K (P H^T)^T (15x2x15), M H^T, - K R, upper triangle of
+// M - (M H^T - K R) K^T (120 entries of 2 MAC), dx = K r.
+inline constexpr std::uint64_t kFlopsJoseph = kFlopsGate + 120 + 900 + 360 + 60 + 480 + 60;
+/**
+ * Extra flops of a lagged measurement: P - lag P_v on two sets of six columns,
+ * and in S; D H^T off P H^T (gate); P - D and P + D (update).
+ */
+inline constexpr std::uint64_t kFlopsLagGate = 90 + 12 + 9 + 40;
+inline constexpr std::uint64_t kFlopsLagJoseph = kFlopsLagGate + 90 + 30;
+/** Flops of lag_noise(). */
+inline constexpr std::uint64_t kFlopsLagNoise = 12;
+/** Flops of one reset_attitude call: G times the attitude rows, then the attitude block. */
+inline constexpr std::uint64_t kFlopsReset = 6 + 3 * 15 * 5 + 3 * 3 * 5 + 6;
 
 }  // namespace trn::filter

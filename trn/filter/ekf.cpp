@@ -50,6 +50,7 @@ FilterStatus Ekf::init(const InitialEstimate& est) noexcept {
   s_.x = est.x;
   s_.x.q_mb.normalize();
   s_.p = sig.cwiseProduct(sig).asDiagonal();
+  history_start(s_.hist, s_.t_s, s_.x);
   return FilterStatus::kOk;
 }
 
@@ -81,8 +82,10 @@ FilterStatus Ekf::propagate(const bsp::ImuSample& imu) noexcept {
   if (s_.c.propagations > 0U && imu.seq != s_.c.last_imu_seq + 1U) {
     ++s_.c.imu_gaps;
   }
-  strapdown_step(s_.x, inc, f_, work_);
+  const Vec3 v_before = s_.x.v_mps;
+  const Quat dq = strapdown_step(s_.x, inc, f_, work_);
   propagate_covariance(s_.p, f_, q_diag_, w_, work_);
+  history_record(s_.hist, imu.t_s, inc.dt_s, s_.x.v_mps - v_before, dq, s_.x, work_);
   ++s_.c.propagations;
   s_.c.last_imu_seq = imu.seq;
   s_.t_s = imu.t_s;
@@ -106,6 +109,41 @@ void Ekf::apply_correction(const Vec15& dx) noexcept {
   work_.fdivs += 4;
 }
 
+MatchCheck Ekf::measure(const Match& m, Meas2& out) noexcept {
+  if (!std::isfinite(m.t_s)) {
+    return MatchCheck::kInvalid;
+  }
+  const HistoryStatus hs = history_pose(s_.hist, m.t_s, s_.x, cfg_.max_history_gap_s, past_, work_);
+  if (hs == HistoryStatus::kCurrent) {
+    if (bearing_measurement(s_.x, cam_, m, cfg_.min_depth, cfg_.pixel_sigma_floor_px, out, work_) !=
+        BearingStatus::kOk) {
+      return MatchCheck::kInvalid;
+    }
+    out.lag_s = 0.0;
+    out.d = LagNoise{};
+    return MatchCheck::kOk;
+  }
+  if (hs != HistoryStatus::kOk) {
+    return MatchCheck::kStale;
+  }
+  // Only the pose enters the bearing; velocity and biases of x_img_ are not read.
+  x_img_.p_m = past_.p_m;
+  x_img_.q_mb = past_.q_mb;
+  if (bearing_measurement(x_img_, cam_, m, cfg_.min_depth, cfg_.pixel_sigma_floor_px, out, work_) !=
+      BearingStatus::kOk) {
+    return MatchCheck::kInvalid;
+  }
+  // dp(t) = dp - lag dv; dtheta(t) = R(q_rel) dtheta (pose_history.hpp): the
+  // velocity columns are -lag Hp (kept as lag_s), the attitude ones rotate.
+  const Mat3 r_rel = past_.q_rel.toRotationMatrix();
+  const Mat23 hth = out.hth;
+  out.hth.noalias() = hth * r_rel;
+  out.lag_s = past_.lag_s;
+  out.d = lag_noise(cfg_.imu, past_.lag_s);
+  work_.flops += kFlopsLagMap + kFlopsLagNoise;
+  return MatchCheck::kOk;
+}
+
 FilterStatus Ekf::update(const Match* matches, std::uint32_t n, UpdateReport& rep) noexcept {
   rep = UpdateReport{};
   if (s_.initialized == 0U) {
@@ -115,8 +153,12 @@ FilterStatus Ekf::update(const Match* matches, std::uint32_t n, UpdateReport& re
     return FilterStatus::kBadInput;
   }
   for (std::uint32_t i = 0; i < n; ++i) {
-    if (bearing_measurement(s_.x, cam_, matches[i], cfg_.min_depth, cfg_.pixel_sigma_floor_px, meas_,
-                            work_) != BearingStatus::kOk) {
+    const MatchCheck mc = measure(matches[i], meas_);
+    if (mc == MatchCheck::kStale) {
+      ++rep.rejected_stale;
+      continue;
+    }
+    if (mc == MatchCheck::kInvalid) {
       ++rep.rejected_invalid;
       continue;
     }
@@ -126,18 +168,21 @@ FilterStatus Ekf::update(const Match* matches, std::uint32_t n, UpdateReport& re
     }
     apply_correction(dx_);
     ++rep.accepted;
+    rep.coarse_accepted += matches[i].landmark == kCoarseLandmark ? 1U : 0U;
+    if (matches[i].t_s > s_.t_last_update_s) {
+      s_.t_last_update_s = matches[i].t_s;
+    }
   }
   if (n > 0U) {
     ++s_.c.batches;
     s_.c.accepted += rep.accepted;
     s_.c.rejected_gate += rep.rejected_gate;
     s_.c.rejected_invalid += rep.rejected_invalid;
+    s_.c.rejected_stale += rep.rejected_stale;
+    s_.c.coarse_accepted += rep.coarse_accepted;
   }
   s_.c.last_accepted = rep.accepted;
-  s_.c.last_rejected = rep.rejected_gate + rep.rejected_invalid;
-  if (rep.accepted > 0U) {
-    s_.t_last_update_s = s_.t_s;
-  }
+  s_.c.last_rejected = rep.rejected_gate + rep.rejected_invalid + rep.rejected_stale;
   if (!state_finite()) {
     ++s_.c.numeric_faults;
     return FilterStatus::kNumericalFault;
@@ -159,7 +204,7 @@ FilterStatus Ekf::step(const StepInput& in, UpdateReport& rep) noexcept {
 
 FilterStatus Ekf::restore(const FilterState& s) noexcept {
   // Checked before the copy, so a refused state leaves the filter as it was.
-  if (!finite_state(s) || !(s.x.q_mb.norm() > 0.5)) {
+  if (!finite_state(s) || !(s.x.q_mb.norm() > 0.5) || !history_valid(s.hist, s.t_s, s.initialized != 0U)) {
     return FilterStatus::kBadInput;
   }
   s_ = s;

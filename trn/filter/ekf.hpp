@@ -6,9 +6,12 @@
  *   configure() once; init() from the initial estimate; then every period
  *   step({&imu, matches, n}) or propagate() and update() separately; publish
  *   output(); charge take_work() with the cost model.
- * Matches are applied at the filter's current time: the task hands a batch
- * over in the period whose IMU time is the image time (or splits a big batch
- * over several periods to bound the work per period, see docs/FILTER.md).
+ * A match is measured at its image time Match::t_s, which may lie up to the
+ * pose history's span (kHistoryLen propagations, 2.56 s) behind the state: its
+ * residual is formed from the pose at that time and its Jacobian mapped onto
+ * the current error state (pose_history.hpp, docs/FILTER.md). So a frame's
+ * batch can arrive late and be spread over several periods. A match older
+ * than the history or ahead of the state is refused and counted, never applied.
  * Repeatable: the result depends only on the state and the inputs.
  */
 #pragma once
@@ -20,6 +23,7 @@
 #include "trn/filter/covariance.hpp"
 #include "trn/filter/filter_config.hpp"
 #include "trn/filter/filter_state.hpp"
+#include "trn/filter/pose_history.hpp"
 #include "trn/filter/strapdown.hpp"
 #include "trn/match.hpp"
 
@@ -41,6 +45,15 @@ struct UpdateReport {
   std::uint32_t accepted = 0;
   std::uint32_t rejected_gate = 0;
   std::uint32_t rejected_invalid = 0;
+  std::uint32_t rejected_stale = 0;   ///< image time before the history or after the state
+  std::uint32_t coarse_accepted = 0;  ///< of accepted: coarse-stage matches (landmark kCoarseLandmark)
+};
+
+/** Whether a match can be formed against the state, and why not. */
+enum class MatchCheck : std::uint8_t {
+  kOk,
+  kStale,    ///< image time outside the pose history, ahead of the state, or across an IMU gap
+  kInvalid,  ///< not finite, behind the camera, or a bad sigma
 };
 
 /** One period's inputs. matches may be null when match_count is 0. */
@@ -65,15 +78,24 @@ class Ekf {
   FilterStatus propagate(const bsp::ImuSample& imu) noexcept;
 
   /**
-   * Applies up to kMaxMatchesPerFrame matches one by one (gate, Joseph update,
-   * injection, reset). Errors: kNotInitialized, kBadInput (null with n > 0, n too big).
+   * Applies up to kMaxMatchesPerFrame matches one by one, each at its image
+   * time (measure, gate, Joseph update, injection, reset); a coarse-stage match
+   * takes the same path with its own sigma_px. Errors: kNotInitialized,
+   * kBadInput (null with n > 0, n too big).
    */
   FilterStatus update(const Match* matches, std::uint32_t n, UpdateReport& rep) noexcept;
+
+  /**
+   * Forms residual, noise and Jacobian (on the current error state) of @p m
+   * without applying it: what update() weighs. @p out is written for kOk only.
+   * Pre: initialized.
+   */
+  MatchCheck measure(const Match& m, Meas2& out) noexcept;
 
   /** propagate() then, if the propagation succeeded, update(). */
   FilterStatus step(const StepInput& in, UpdateReport& rep) noexcept;
 
-  /** Replaces the whole state (TMR transfer). Errors: kBadInput if not finite. */
+  /** Replaces the whole state, history included (TMR transfer). Errors: kBadInput if not finite or malformed. */
   FilterStatus restore(const FilterState& s) noexcept;
 
   [[nodiscard]] const FilterState& state() const noexcept { return s_; }
@@ -92,13 +114,20 @@ class Ekf {
   Mat15 f_ = Mat15::Identity();
   CovWork w_{};
   Meas2 meas_{};
+  PastPose past_{};
+  NominalState x_img_{};
   Vec15 dx_ = Vec15::Zero();
   bsp::Work work_{};
 };
 
-/** Flops of one propagate() (strapdown and covariance); a task budgets its period with these. */
-inline constexpr std::uint64_t kFlopsPerPropagation = kFlopsStrapdown + kFlopsCovPropagate;
-/** Flops of one accepted match: measurement, gate, Joseph update, injection, reset. */
+/** Flops of one propagate() (strapdown, covariance, history); a task budgets its period with these. */
+inline constexpr std::uint64_t kFlopsPerPropagation = kFlopsStrapdown + kFlopsCovPropagate + kFlopsHistoryRecord;
+/** Flops of one accepted match at the state's time: measurement, gate, Joseph update, injection, reset. */
 inline constexpr std::uint64_t kFlopsPerMatch = kFlopsBearing + kFlopsJoseph + 60 + kFlopsReset;
+/** Flops of mapping a past image time's attitude columns onto the current error state: H_th R(q_rel). */
+inline constexpr std::uint64_t kFlopsLagMap = 24 + 30;
+/** Flops of one accepted match measured in the past (the usual case in flight). */
+inline constexpr std::uint64_t kFlopsPerLaggedMatch =
+    kFlopsPerMatch + kFlopsHistoryPose + kFlopsLagMap + kFlopsLagNoise + kFlopsLagJoseph;
 
 }  // namespace trn::filter

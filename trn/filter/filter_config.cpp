@@ -32,7 +32,7 @@ ConfigError check_config(const FilterConfig& c) noexcept {
     return ConfigError::kBadGate;
   }
   if (!positive(c.min_depth) || c.min_depth >= 1.0 || !positive(c.pixel_sigma_floor_px) ||
-      !positive(c.max_sigma_pos_m) || !positive(c.stale_update_s)) {
+      !positive(c.max_sigma_pos_m) || !positive(c.stale_update_s) || !positive(c.max_history_gap_s)) {
     return ConfigError::kBadLimit;
   }
   return ConfigError::kOk;

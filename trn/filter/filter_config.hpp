@@ -39,7 +39,10 @@ struct FilterConfig {
   double min_depth = 1e-3;        ///< smallest accepted optical-axis component of a bearing
   double pixel_sigma_floor_px = 0.05;  ///< a match never claims better than this
   double max_sigma_pos_m = 5000.0;///< beyond this the solution is flagged not valid
-  double stale_update_s = 3.0;    ///< no accepted landmark for this long: flagged stale
+  double stale_update_s = 3.0;    ///< no image with an accepted landmark for this long: flagged stale
+  /// A lagged match between two history entries further apart than this (IMU
+  /// samples lost there) is refused as stale: interpolating across the gap would guess.
+  double max_history_gap_s = 0.05;
 };
 
 enum class ConfigError : std::uint8_t { kOk, kBadNoise, kBadTau, kBadDt, kBadGate, kBadLimit };

@@ -25,7 +25,7 @@ enum NavFlag : std::uint32_t {
   kNavFinite = 1U << 1U,        ///< state and covariance finite
   kNavCovPositive = 1U << 2U,   ///< every covariance diagonal entry > 0
   kNavImuOk = 1U << 3U,         ///< the last IMU sample was integrated
-  kNavFresh = 1U << 4U,         ///< a landmark was accepted within stale_update_s
+  kNavFresh = 1U << 4U,         ///< the newest image with an accepted landmark is within stale_update_s
   kNavPosBounded = 1U << 5U,    ///< largest position sigma below max_sigma_pos_m
   kNavValid = 1U << 7U,
 };

@@ -36,6 +36,8 @@ void write_counters(ByteWriter& w, const FilterCounters& c) noexcept {
   w.u32(c.accepted);
   w.u32(c.rejected_gate);
   w.u32(c.rejected_invalid);
+  w.u32(c.rejected_stale);
+  w.u32(c.coarse_accepted);
   w.u32(c.last_accepted);
   w.u32(c.last_rejected);
   w.u32(c.numeric_faults);
@@ -50,15 +52,57 @@ void read_counters(ByteReader& r, FilterCounters& c) noexcept {
   c.accepted = r.u32();
   c.rejected_gate = r.u32();
   c.rejected_invalid = r.u32();
+  c.rejected_stale = r.u32();
+  c.coarse_accepted = r.u32();
   c.last_accepted = r.u32();
   c.last_rejected = r.u32();
   c.numeric_faults = r.u32();
 }
 
 // The fields after the header are read into a scratch state before any of it
-// is accepted; it is static so the 2 KB state never lands on a task stack.
+// is accepted; it is static so the 18 KB state never lands on a task stack.
 // Not reentrant: one filter task per tile uses it.
 FilterState g_scratch;
+
+/** The history, oldest entry first, then zeros up to kHistoryLen entries (canonical bytes). */
+void write_history(ByteWriter& w, const PoseHistory& h) noexcept {
+  w.u32(h.count);
+  w.u32(0U);
+  for (const double v : h.ref_v_mps) {
+    w.f64(v);
+  }
+  for (std::uint32_t i = 0; i < kHistoryLen; ++i) {
+    const PoseEntry e = i < h.count ? history_entry(h, i) : PoseEntry{0.0, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0, 0.0}};
+    w.f64(e.t_s);
+    for (const double v : e.p_m) {
+      w.f64(v);
+    }
+    for (const double v : e.q_wxyz) {
+      w.f64(v);
+    }
+  }
+}
+
+/** Reads what write_history() wrote into ring slots 0..n-1; false on a bad count or reserved word. */
+bool read_history(ByteReader& r, PoseHistory& h) noexcept {
+  const std::uint32_t n = r.u32();
+  const std::uint32_t reserved = r.u32();
+  for (double& v : h.ref_v_mps) {
+    v = r.f64();
+  }
+  for (PoseEntry& e : h.e) {
+    e.t_s = r.f64();
+    for (double& v : e.p_m) {
+      v = r.f64();
+    }
+    for (double& v : e.q_wxyz) {
+      v = r.f64();
+    }
+  }
+  h.count = n;
+  h.newest = n > 0U ? n - 1U : 0U;
+  return n <= kHistoryLen && reserved == 0U;
+}
 
 }  // namespace
 
@@ -86,6 +130,7 @@ BlockError write_state_block(const FilterState& s, StateBlock& out) noexcept {
       w.f64(s.p(i, j));
     }
   }
+  write_history(w, s.hist);
   w.u32(crc32(out.data(), kCrcOffset));
   return (w.ok() && w.size() == kStateBlockBytes) ? BlockError::kOk : BlockError::kBadSize;
 }
@@ -110,12 +155,14 @@ BlockError read_body(ByteReader& r, FilterState& s) noexcept {
       s.p(i, j) = r.f64();
     }
   }
+  const bool hist_read = read_history(r, s.hist);
   const bool finite = std::isfinite(s.t_s) && std::isfinite(s.t_last_update_s) && s.x.p_m.allFinite() &&
                       s.x.v_mps.allFinite() && s.x.q_mb.coeffs().allFinite() && s.x.bg_rads.allFinite() &&
                       s.x.ba_mps2.allFinite() && s.p.allFinite();
   const bool flags_ok = s.initialized <= 1U && s.last_imu_ok <= 1U;
   const bool unit_q = std::abs(s.x.q_mb.squaredNorm() - 1.0) < 1e-9;
-  return (r.ok() && finite && flags_ok && unit_q) ? BlockError::kOk : BlockError::kBadContent;
+  const bool hist_ok = hist_read && history_valid(s.hist, s.t_s, s.initialized != 0U);
+  return (r.ok() && finite && flags_ok && unit_q && hist_ok) ? BlockError::kOk : BlockError::kBadContent;
 }
 
 }  // namespace

@@ -13,13 +13,13 @@ double gravity_gradient_per_s2(double h_m) noexcept {
   return 2.0 * bsp::frames::kGmMars / (r * r * r);
 }
 
-void strapdown_step(NominalState& x, const ImuIncrement& imu, Mat15& f, bsp::Work& work) noexcept {
+Quat strapdown_step(NominalState& x, const ImuIncrement& imu, Mat15& f, bsp::Work& work) noexcept {
   const double dt = imu.dt_s;
   const Vec3 dth = imu.dtheta_rad - x.bg_rads * dt;
   const Vec3 dvc = imu.dv_mps - x.ba_mps2 * dt;
   const Vec3 u = dvc + 0.5 * dth.cross(dvc);
   const Mat3 r = x.q_mb.toRotationMatrix();
-  const Quat dq = quat_exp(dth);
+  Quat dq = quat_exp(dth);  // also what the step returns
   const double h_m = x.p_m.z();
   const double dgdh = gravity_gradient_per_s2(h_m);
 
@@ -46,6 +46,7 @@ void strapdown_step(NominalState& x, const ImuIncrement& imu, Mat15& f, bsp::Wor
   work.flops += kFlopsStrapdown;
   work.fdivs += kFdivsStrapdown;
   work.mem_words += 2ULL * kErrDim * kErrDim;  // F written as doubles
+  return dq;
 }
 
 }  // namespace trn::filter

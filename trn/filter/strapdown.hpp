@@ -45,7 +45,8 @@ double gravity_gradient_per_s2(double h_m) noexcept;
 /**
  * Moves @p x over one increment and writes the error-state transition @p f.
  * Pre: dt_s > 0, q_mb unit. Post: q_mb unit. Counts its flops into @p work.
+ * @return the body rotation of the step, Exp(dth) (the pose history applies it to its reference).
  */
-void strapdown_step(NominalState& x, const ImuIncrement& imu, Mat15& f, bsp::Work& work) noexcept;
+Quat strapdown_step(NominalState& x, const ImuIncrement& imu, Mat15& f, bsp::Work& work) noexcept;
 
 }  // namespace trn::filter

@@ -121,6 +121,15 @@ TEST(FilterPropagation, CountedWorkEqualsThePublishedBudgetConstants) {
   ASSERT_EQ(rep.accepted, 1U);
   EXPECT_EQ(g_ekf.take_work().flops, trn::filter::kFlopsPerMatch);
   EXPECT_EQ(g_ekf.take_work().flops, 0U);  // taking the work clears it
+  // A match measured 0.3 s before the state: history, mapping, lag noise on top.
+  truth.make_matches(rng, cam, 1, 0.5, &m);
+  for (int k = 0; k < 30; ++k) {
+    ASSERT_EQ(g_ekf.propagate(truth.next_imu()), FilterStatus::kOk);
+  }
+  (void)g_ekf.take_work();
+  ASSERT_EQ(g_ekf.update(&m, 1, rep), FilterStatus::kOk);
+  ASSERT_EQ(rep.accepted, 1U);
+  EXPECT_EQ(g_ekf.take_work().flops, trn::filter::kFlopsPerLaggedMatch);
 }
 
 }  // namespace

@@ -98,14 +98,29 @@ TEST(FilterSerialization, RoundTripIsBitExactAndARestoredSpareStaysInStep) {
 
 TEST(FilterSerialization, EverySingleBitFlipAndBadHeaderIsRejected) {
   start(g_a, 45);
+  for (int k = 0; k < 50; ++k) {  // some history, so its entries are not all zero
+    ASSERT_EQ(g_a.propagate(bsp::ImuSample{static_cast<std::uint32_t>(k), 0, 0.01 * (k + 1), {}, {}}),
+              FilterStatus::kOk);
+  }
   ASSERT_EQ(trn::filter::write_state_block(g_a.state(), g_block1), BlockError::kOk);
   g_state = trn::filter::FilterState{};
-  for (std::uint32_t bit = 0; bit < 8U * trn::filter::kStateBlockBytes; ++bit) {
-    g_block2 = g_block1;
-    g_block2[bit / 8U] ^= static_cast<std::uint8_t>(1U << (bit % 8U));
-    ASSERT_NE(trn::filter::read_state_block(g_block2.data(), trn::filter::kStateBlockBytes, g_state), BlockError::kOk)
-        << "bit " << bit;
+  // Every bit of everything before the history entries, of the first entry and of
+  // the CRC; one bit of every other byte (all 147552 flips take 12 s: the CRC of
+  // 18 KB per read; CRC-32 detects any single-bit error at any length anyway).
+  constexpr std::uint32_t kExhaustive = 2056U + trn::filter::kHistoryEntryBytes;
+  std::uint32_t flips = 0;
+  for (std::uint32_t byte = 0; byte < trn::filter::kStateBlockBytes; ++byte) {
+    const bool all = byte < kExhaustive || byte + 4U >= trn::filter::kStateBlockBytes;
+    for (std::uint32_t bit = all ? 0U : byte % 8U; bit < (all ? 8U : byte % 8U + 1U); ++bit) {
+      g_block2 = g_block1;
+      g_block2[byte] ^= static_cast<std::uint8_t>(1U << bit);
+      ASSERT_NE(trn::filter::read_state_block(g_block2.data(), trn::filter::kStateBlockBytes, g_state),
+                BlockError::kOk)
+          << "byte " << byte << " bit " << bit;
+      ++flips;
+    }
   }
+  EXPECT_EQ(flips, 8U * (kExhaustive + 4U) + (trn::filter::kStateBlockBytes - kExhaustive - 4U));
   EXPECT_EQ(g_state.initialized, 0U);  // a refused block leaves the target as it was
   EXPECT_EQ(trn::filter::read_state_block(g_block1.data(), trn::filter::kStateBlockBytes - 1U, g_state),
             BlockError::kBadSize);
@@ -114,14 +129,58 @@ TEST(FilterSerialization, EverySingleBitFlipAndBadHeaderIsRejected) {
   g_block2[0] ^= 0xFFU;
   EXPECT_EQ(trn::filter::read_state_block(g_block2.data(), trn::filter::kStateBlockBytes, g_state),
             BlockError::kBadMagic);
-  g_block2 = g_block1;
-  g_block2[4] = 2U;
-  EXPECT_EQ(trn::filter::read_state_block(g_block2.data(), trn::filter::kStateBlockBytes, g_state),
-            BlockError::kBadVersion);
+  for (const std::uint8_t version : {std::uint8_t{1U}, std::uint8_t{3U}}) {  // version 1 had no history
+    g_block2 = g_block1;
+    g_block2[4] = version;
+    EXPECT_EQ(trn::filter::read_state_block(g_block2.data(), trn::filter::kStateBlockBytes, g_state),
+              BlockError::kBadVersion);
+  }
   g_block2 = g_block1;
   g_block2[100] ^= 0x10U;
   EXPECT_EQ(trn::filter::read_state_block(g_block2.data(), trn::filter::kStateBlockBytes, g_state),
             BlockError::kBadChecksum);
+}
+
+TEST(FilterSerialization, ARestoredSpareAppliesLaggedMatchesExactlyAsTheOriginal) {
+  constexpr std::uint64_t kSeed = 44;
+  SCOPED_TRACE(testing::Message() << "seed " << kSeed);
+  start(g_a, kSeed);
+  filter_test::TruthSim truth(kSeed, true, trn::filter::FilterConfig{}.imu);
+  bsp::Rng rng(kSeed, bsp::StreamId::kTest, 18);
+  Ekf* const one[1] = {&g_a};
+  drive(truth, rng, 1, one, 1);
+  // The image is taken; the spare is started from a block 0.4 s later, before the batch arrives.
+  truth.make_matches(rng, bsp::CameraModel{}, 60, 0.5, g_matches.data());
+  for (int k = 0; k < 40; ++k) {
+    ASSERT_EQ(g_a.propagate(truth.next_imu()), FilterStatus::kOk);
+  }
+  ASSERT_EQ(trn::filter::write_state_block(g_a.state(), g_block1), BlockError::kOk);
+  ASSERT_EQ(trn::filter::read_state_block(g_block1.data(), trn::filter::kStateBlockBytes, g_state), BlockError::kOk);
+  ASSERT_EQ(g_c.configure(trn::filter::FilterConfig{}, bsp::CameraModel{}), FilterStatus::kOk);
+  ASSERT_EQ(g_c.restore(g_state), FilterStatus::kOk);
+  EXPECT_EQ(g_c.state().hist.count, 141U);
+  for (int k = 0; k < 60; ++k) {  // batch applied 15 per period from 0.4 s to 0.43 s after the image
+    const bsp::ImuSample s = truth.next_imu();
+    const std::uint32_t first = 15U * static_cast<std::uint32_t>(k);
+    const bool apply = k < 4;
+    trn::filter::StepInput in{&s, apply ? g_matches.data() + first : nullptr, apply ? 15U : 0U};
+    std::array<trn::filter::NavOutputBytes, 2> out{};
+    Ekf* const pair[2] = {&g_a, &g_c};
+    for (int i = 0; i < 2; ++i) {
+      trn::filter::UpdateReport rep;
+      ASSERT_EQ(pair[i]->step(in, rep), FilterStatus::kOk);
+      if (apply) {
+        EXPECT_EQ(rep.rejected_stale, 0U);
+        EXPECT_GE(rep.accepted, 14U);
+      }
+      trn::filter::write_nav_output(trn::filter::make_nav_output(pair[i]->state(), pair[i]->config()),
+                                    out[static_cast<std::size_t>(i)]);
+    }
+    ASSERT_EQ(out[0], out[1]) << "sample " << k;
+  }
+  ASSERT_EQ(trn::filter::write_state_block(g_a.state(), g_block1), BlockError::kOk);
+  ASSERT_EQ(trn::filter::write_state_block(g_c.state(), g_block2), BlockError::kOk);
+  EXPECT_EQ(g_block1, g_block2);
 }
 
 TEST(FilterSerialization, WellFormedBlockWithNonFiniteContentIsRejected) {
@@ -137,6 +196,25 @@ TEST(FilterSerialization, WellFormedBlockWithNonFiniteContentIsRejected) {
   ASSERT_EQ(trn::filter::write_state_block(g_state, g_block1), BlockError::kOk);
   EXPECT_EQ(trn::filter::read_state_block(g_block1.data(), trn::filter::kStateBlockBytes, g_state),
             BlockError::kBadContent);
+  // A history out of time order, or one that does not end at the state's time.
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_EQ(g_a.propagate(bsp::ImuSample{static_cast<std::uint32_t>(k), 0, 0.01 * (k + 1), {}, {}}),
+              FilterStatus::kOk);
+  }
+  g_state = g_a.state();
+  g_state.hist.e[1].t_s = 0.5;
+  ASSERT_EQ(trn::filter::write_state_block(g_state, g_block1), BlockError::kOk);
+  EXPECT_EQ(trn::filter::read_state_block(g_block1.data(), trn::filter::kStateBlockBytes, g_state),
+            BlockError::kBadContent);
+  EXPECT_EQ(g_a.restore(g_state), FilterStatus::kBadInput);
+  g_state = g_a.state();
+  g_state.t_s += 0.01;
+  EXPECT_EQ(g_a.restore(g_state), FilterStatus::kBadInput);
+  g_state = g_a.state();
+  g_state.hist.e[2].q_wxyz[0] = 2.0;
+  EXPECT_EQ(g_a.restore(g_state), FilterStatus::kBadInput);
+  g_state = g_a.state();
+  EXPECT_EQ(g_a.restore(g_state), FilterStatus::kOk);
 }
 
 TEST(FilterSerialization, OutputBytesFollowTheDocumentedLayout) {

@@ -146,6 +146,7 @@ class TruthSim {
       m.sigma_px = sigma_px;
       m.quality = 0.9F;
       m.landmark = static_cast<std::uint16_t>(i);
+      m.t_s = t_;  // the image is taken now
     }
   }
 
