@@ -1,22 +1,33 @@
 /**
  * @file filter_task.cpp
- * @brief The 100 Hz navigation filter job.
+ * @brief The 100 Hz navigation filter job: IMU, match batches, bounded updates, solution out.
  */
 #include "trn/tasks/filter_task.hpp"
 
 #include "bsp_tile64/memory.hpp"
 #include "kernel/kernel.hpp"
+#include "trn/tasks/comm.hpp"
 #include "trn/tasks/messages.hpp"
 #include "udn/raw.hpp"
 
 #include <array>
 #include <new>
+#include <span>
 
 namespace trn::tasks {
 namespace {
 
+/** Matches waiting to be applied, oldest first (a ring). */
+struct MatchQueue {
+  std::uint32_t head;
+  std::uint32_t count;
+  std::array<Match, kMatchQueueLen> m;
+};
+
 struct Slot {
   filter::Ekf* ekf;
+  MatchQueue* queue;
+  const FilterTaskConfig* cfg;
   FilterTaskStats stats;
   filter::NavOutput latest;
   bool published;
@@ -49,6 +60,102 @@ void consume_imu(Slot& slot) noexcept {
   }
 }
 
+/** Drops what is left of the oldest frame in the queue. */
+void drop_oldest_frame(MatchQueue& q, FilterTaskStats& st) noexcept {
+  const std::uint32_t frame = q.m[q.head].frame;
+  for (std::uint32_t i = 0; i < kMatchQueueLen && q.count > 0U && q.m[q.head].frame == frame; ++i) {
+    q.head = (q.head + 1U) % kMatchQueueLen;
+    --q.count;
+    ++st.matches_dropped;
+  }
+}
+
+/**
+ * Queues @p m. A full queue first loses its oldest frame's remainder: fresher
+ * images are worth more, and the oldest is the nearest to leaving the history.
+ * A queue full of @p m's own frame (more than a frame can hold) drops @p m.
+ */
+void push(MatchQueue& q, const Match& m, FilterTaskStats& st) noexcept {
+  // Each pass empties at least one slot, so one pass suffices; the bound is for the reader.
+  for (std::uint32_t i = 0; i < kMatchQueueLen && q.count == kMatchQueueLen; ++i) {
+    if (q.m[q.head].frame == m.frame) {
+      ++st.matches_dropped;
+      return;
+    }
+    drop_oldest_frame(q, st);
+  }
+  q.m[(q.head + q.count) % kMatchQueueLen] = m;
+  ++q.count;
+  st.queue_high_water = q.count > st.queue_high_water ? q.count : st.queue_high_water;
+}
+
+/** True if @p msg is a well-formed match-batch part whose matches all belong to its frame. */
+bool part_ok(const udn::FtMessage& msg) noexcept {
+  if (msg.data_words < kMatchHeaderWords || msg.data[0] != kMsgMatches) {
+    return false;
+  }
+  const std::uint32_t n = msg.data[3];
+  if (n == 0U || n > kMatchesPerPart || msg.data_words != kMatchHeaderWords + n * kMatchWords) {
+    return false;
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    // Word 21 of a packed match is its frame number (messages.hpp).
+    if (msg.data[kMatchHeaderWords + i * kMatchWords + 21U] != msg.data[1]) {
+      return false;
+    }
+  }
+  return true;
+}
+
+/** Takes the match-batch parts waiting on kChanMatches into the queue. */
+void consume_parts(Slot& slot) noexcept {
+  udn::FtMessage msg{};
+  bsp::Work work{};
+  for (std::uint32_t p = 0; p < kMaxPartsPerJob; ++p) {
+    if (comm_receive(kChanMatches, msg) != udn::FtError::kOk) {
+      break;  // empty, or the node is not open yet
+    }
+    ++slot.stats.parts_received;
+    work.int_ops += 8ULL + 2ULL * msg.data_words;
+    if (!part_ok(msg)) {
+      ++slot.stats.parts_bad;
+      continue;
+    }
+    const std::uint32_t n = msg.data[3];
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const std::size_t at = kMatchHeaderWords + static_cast<std::size_t>(i) * kMatchWords;
+      const std::span<const std::uint32_t, kMatchWords> w(msg.data.data() + at, kMatchWords);
+      push(*slot.queue, unpack_match(w), slot.stats);
+      ++slot.stats.matches_received;
+    }
+    work.mem_words += 2ULL * msg.data_words;  // read from the node, written into the queue
+  }
+  bsp::consume(work);
+}
+
+/** Applies at most matches_per_job queued matches (two calls when the ring wraps). */
+void apply_matches(Slot& slot) noexcept {
+  MatchQueue& q = *slot.queue;
+  std::uint32_t budget = slot.cfg->matches_per_job;
+  for (int pass = 0; pass < 2 && budget > 0U && q.count > 0U; ++pass) {
+    const std::uint32_t contiguous = kMatchQueueLen - q.head;
+    std::uint32_t n = budget < q.count ? budget : q.count;
+    n = n < contiguous ? n : contiguous;
+    filter::UpdateReport rep{};
+    if (slot.ekf->update(&q.m[q.head], n, rep) != filter::FilterStatus::kOk) {
+      ++slot.stats.filter_errors;
+    }
+    slot.stats.matches_applied += rep.accepted;
+    slot.stats.coarse_applied += rep.coarse_accepted;
+    slot.stats.rejected_gate += rep.rejected_gate;
+    slot.stats.rejected_stale += rep.rejected_stale;
+    slot.stats.rejected_invalid += rep.rejected_invalid;
+    q.head = (q.head + n) % kMatchQueueLen;
+    q.count -= n;
+    budget -= n;
+  }
+}
+
 void publish(Slot& slot) noexcept {
   filter::NavOutput out = filter::make_nav_output(slot.ekf->state(), slot.ekf->config());
   // The published value is what a fault may corrupt on its way out.
@@ -57,14 +164,40 @@ void publish(Slot& slot) noexcept {
   slot.published = true;
 }
 
+/** Sends the published solution to nav_sink; never waits (a full window counts as a failure). */
+void send_nav(Slot& slot) noexcept {
+  if (slot.cfg->nav_sink == bsp::kNoTile) {
+    return;
+  }
+  std::array<std::uint32_t, kNavWords> w{};
+  pack_nav(slot.latest, w);
+  bsp::consume(bsp::Work{2ULL * kNavWords, 0U, 0U, 0U, kNavWords});
+  if (comm_send(slot.cfg->nav_sink, kChanNav, w, 0U) == udn::FtError::kOk) {
+    ++slot.stats.nav_sent;
+  } else {
+    ++slot.stats.nav_send_failed;
+  }
+}
+
 bool set_up(Slot& slot, const FilterTaskConfig& cfg) noexcept {
+  if (cfg.matches_per_job == 0U || cfg.matches_per_job > kMaxMatchesPerFrame) {
+    return false;
+  }
+  slot.cfg = &cfg;
   bsp::MemError err = bsp::MemError::kOk;
-  auto* ekf = bsp::carve_array<filter::Ekf>(bsp::Region{bsp::current_tile()}, 1, "ekf", &err);
+  const bsp::Region ram{bsp::current_tile()};
+  auto* ekf = bsp::carve_array<filter::Ekf>(ram, 1, "ekf", &err);
   if (err != bsp::MemError::kOk) {
     return false;
   }
   ::new (ekf) filter::Ekf{};
   slot.ekf = ekf;
+  auto* queue = bsp::carve_array<MatchQueue>(ram, 1, "match queue", &err);
+  if (err != bsp::MemError::kOk) {
+    return false;
+  }
+  ::new (queue) MatchQueue{};
+  slot.queue = queue;
   return slot.ekf->configure(cfg.filter, cfg.camera) == filter::FilterStatus::kOk &&
          slot.ekf->init(cfg.initial) == filter::FilterStatus::kOk && udn::activate() == udn::RawError::kOk &&
          udn::bind(kTagImu, kImuQueue) == udn::RawError::kOk;
@@ -84,7 +217,11 @@ void filter_task_main(void* arg) noexcept {
     const bsp::Cycles start = bsp::now();
     consume_imu(slot);
     bsp::consume(slot.ekf->take_work());
+    consume_parts(slot);
+    apply_matches(slot);
+    bsp::consume(slot.ekf->take_work());
     publish(slot);
+    send_nav(slot);
     ++slot.stats.jobs;
     slot.stats.last_job_cycles = bsp::now() - start;
     if (slot.stats.last_job_cycles > slot.stats.max_job_cycles) {

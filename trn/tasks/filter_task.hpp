@@ -1,15 +1,22 @@
 /**
  * @file filter_task.hpp
- * @brief The navigation filter task: 100 Hz on its tile, IMU from the I/O tile, a solution
- *        published every period.
+ * @brief The navigation filter task: 100 Hz on its tile, IMU from the I/O tile, landmark match
+ *        batches from the vision coordinator, a solution published and sent every period.
  *
- * A periodic kernel task (period 10 ticks of 1 ms). Each job takes the IMU
- * samples that arrived over the UDN (tag kTagImu, bounded per job), steps the
- * EKF with each, charges the counted work with the board's cost model, and
- * publishes the navigation solution (the filter's output record, passed
- * through bsp::publish_filter so silent-data-corruption faults can hit it).
- * The EKF lives in the tile's RAM (carved at task start), like any state a
- * single-event upset could hit.
+ * A periodic kernel task (period 10 ticks of 1 ms) on a tile whose table also
+ * runs the fault-tolerant messaging service (kCommTask). Each job:
+ *  1. takes the IMU samples that arrived over the raw UDN (tag kTagImu,
+ *     bounded per job) and propagates the EKF with each;
+ *  2. takes the match-batch parts waiting on kChanMatches into a queue in tile
+ *     RAM (two frames; on overflow the oldest frame's remainder is dropped);
+ *  3. applies at most matches_per_job queued matches, each at its image time
+ *     (the EKF's pose history: matches arrive 0.2-0.8 s after the image);
+ *  4. publishes the solution (bsp::publish_filter, where silent-data-corruption
+ *     faults hit it) and sends it to nav_sink on kChanNav without waiting.
+ * The counted work is charged with the board's cost model. The EKF and the
+ * queue live in the tile's RAM (carved at task start), like any state a
+ * single-event upset could hit. How many matches a job applies depends only
+ * on the queue, never on timing, so replicas fed the same parts stay in step.
  */
 #pragma once
 
@@ -19,6 +26,7 @@
 #include "trn/filter/filter_config.hpp"
 #include "trn/filter/nav_output.hpp"
 #include "trn/filter/nav_state.hpp"
+#include "trn/match.hpp"
 
 #include <cstdint>
 
@@ -28,23 +36,43 @@ namespace trn::tasks {
 inline constexpr std::uint32_t kNavChannel = 1;
 /** IMU samples one job consumes at most (more wait for the next job). */
 inline constexpr std::uint32_t kMaxImuPerJob = 4;
+/** Matches the queue holds: two full frames. */
+inline constexpr std::uint32_t kMatchQueueLen = 2U * kMaxMatchesPerFrame;
+/** Match-batch parts one job takes at most (the messaging layer queues 8 per channel). */
+inline constexpr std::uint32_t kMaxPartsPerJob = 16;
+/** Matches applied per job by default: 15 x ~0.3 ms of TILE64 time keeps a job under half its period. */
+inline constexpr std::uint32_t kDefaultMatchesPerJob = 15;
 
 struct FilterTaskConfig {
   filter::FilterConfig filter{};
   bsp::CameraModel camera{};
   filter::InitialEstimate initial{};
+  bsp::TileId nav_sink = bsp::kNoTile;  ///< tile sent the solution every job on kChanNav (kNoTile: none)
+  std::uint32_t matches_per_job = kDefaultMatchesPerJob;  ///< 1..kMaxMatchesPerFrame
 };
 
 struct FilterTaskStats {
   std::uint32_t jobs;
-  std::uint32_t imu_used;        ///< samples integrated
-  std::uint32_t imu_rejected;    ///< bad length or invalid status
-  std::uint32_t filter_errors;   ///< steps that returned another error
-  bsp::Cycles max_job_cycles;    ///< longest job, release to publication
+  std::uint32_t imu_used;          ///< samples integrated
+  std::uint32_t imu_rejected;      ///< bad length or invalid status
+  std::uint32_t filter_errors;     ///< steps or updates that returned another error
+  std::uint32_t parts_received;    ///< match-batch parts taken from kChanMatches
+  std::uint32_t parts_bad;         ///< parts refused: wrong kind, count or length
+  std::uint32_t matches_received;  ///< matches queued from good parts
+  std::uint32_t matches_applied;   ///< accepted by the filter
+  std::uint32_t coarse_applied;    ///< of those, coarse-stage matches
+  std::uint32_t rejected_gate;     ///< refused by the filter's gate
+  std::uint32_t rejected_stale;    ///< refused for their image time (history, future)
+  std::uint32_t rejected_invalid;  ///< refused as invalid (geometry, sigma, time not finite)
+  std::uint32_t matches_dropped;   ///< dropped from a full queue (the oldest frame's remainder)
+  std::uint32_t queue_high_water;  ///< most matches queued at once
+  std::uint32_t nav_sent;          ///< solutions handed to the messaging layer for nav_sink
+  std::uint32_t nav_send_failed;   ///< refused (window full, no route, node not open)
+  bsp::Cycles max_job_cycles;      ///< longest job, from its start to the end of its sends
   bsp::Cycles last_job_cycles;
 };
 
-/** Task entry (arg: const FilterTaskConfig*). Never returns unless set-up fails. */
+/** Task entry (arg: const FilterTaskConfig*). Never returns unless set-up fails (bad config included). */
 void filter_task_main(void* arg) noexcept;
 
 /** Counters of the filter task on @p tile. [host] */

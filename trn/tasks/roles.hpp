@@ -10,6 +10,7 @@
 #pragma once
 
 #include "kernel/task_table.hpp"
+#include "trn/tasks/comm.hpp"
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/io_task.hpp"
 
@@ -25,8 +26,13 @@ inline constexpr k::TaskSpec kIoRole[] = {
     {"io", &io_task_main, &g_io_role_config, 1, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
 };
 
-/** Filter tile: the navigation filter, 100 Hz (10 ticks of 1 ms), deadline one period. */
+/**
+ * Filter tile: the fault-tolerant messaging service (match batches in, solutions
+ * out) and the navigation filter, 100 Hz (10 ticks of 1 ms), deadline one period.
+ * The IMU still comes over the raw UDN from the I/O tile.
+ */
 inline constexpr k::TaskSpec kFilterRole[] = {
+    kCommTask,
     {"filter", &filter_task_main, &g_filter_role_config, 2, 10, 10, 32U * 1024U, k::Policy::kPreemptive},
 };
 
