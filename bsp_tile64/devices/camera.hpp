@@ -5,9 +5,10 @@
  * Geometry follows camera_model.hpp: p_C = R_MC^T (p_M - r_M) with
  * R_MC = R_MB * r_bc, u = cx + fx x/z, v = cy + fy y/z. The camera centre is
  * the body origin (no lever arm). Rendering casts one ray per pixel centre,
- * intersects it with the height field by fixed-point iteration on the ray
- * parameter (started from the neighbouring pixel's hit), and samples the
- * radiance pre-shaded under the descent sun (world::terrain_shade()).
+ * intersects it with the bilinear height field (Newton steps on the patch of
+ * the cell under a guess extrapolated from the hits of two neighbouring
+ * pixels; converged to millimetres), and samples there the radiance
+ * pre-shaded under the descent sun (world::terrain_shade()).
  * DN = exposure_dn * radiance + read noise (approximately Gaussian, from one
  * 64-bit draw of StreamId::kSensor per pixel), optional 3x3 blur, clamped to 0..255.
  * Rays that miss the terrain grid (or look up) give DN 0.
@@ -69,6 +70,8 @@ struct RenderOptions {
   double exposure_dn = 600.0;
   double read_noise_dn = 0.0;
   bool blur = false;
+  /** Optional width * height floats: depth (camera z, metres) of each pixel's terrain hit, -1 where it misses. */
+  float* depth_m = nullptr;
 };
 
 /**
@@ -78,6 +81,13 @@ struct RenderOptions {
  */
 CameraError render(const CameraModel& model, const CameraPose& pose, const RenderOptions& opt,
                    std::uint8_t* out, Rng* noise) noexcept;
+
+namespace detail {
+/** Float lanes the renderer runs: 8 on a host with AVX2, else 4 (the frames are the same bits either way). */
+std::uint32_t render_lanes() noexcept;
+/** 4 forces the 4-lane renderer; any other value restores the host's choice (tests compare the two). */
+void cap_render_lanes(std::uint32_t lanes) noexcept;
+}  // namespace detail
 
 /** A captured frame as the device reports it. */
 struct FrameInfo {

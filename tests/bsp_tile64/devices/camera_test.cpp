@@ -1,6 +1,7 @@
 /**
  * @file camera_test.cpp
- * @brief The camera model: pinhole projection, renderer geometry (calibration targets), noise, determinism, DDR ring.
+ * @brief The camera model: pinhole projection, renderer geometry (calibration targets, depth against exact
+ *        ray intersections), noise, blur, determinism, DDR ring.
  */
 #include "bsp_tile64/devices/camera.hpp"
 #include "bsp_tile64/devices/imu.hpp"
@@ -9,8 +10,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <vector>
 
 namespace {
@@ -277,6 +281,224 @@ TEST_F(CameraRender, CaptureAndImuSamplingNeverTouchTheHeap) {
   EXPECT_EQ(err, bsp::CameraError::kOk);
   EXPECT_EQ(status, bsp::kImuStatusOk);
   EXPECT_EQ(allocs, 0U);
+}
+
+/** Map-frame direction of the ray through pixel (u, v), scaled so its camera z is 1 (its parameter is the depth). */
+Eigen::Vector3d ray_direction(const bsp::CameraModel& m, const bsp::CameraPose& pose, double u, double v) {
+  return bsp::camera_to_map(m, pose) * Eigen::Vector3d((u - m.cx_px) / m.fx_px, (v - m.cy_px) / m.fy_px, 1.0);
+}
+
+/** Highest sample of the built terrain, metres. */
+double terrain_top_m() {
+  const bsp::world::TerrainConfig& c = bsp::world::terrain_config();
+  const bsp::world::detail::Cell* cells = bsp::world::detail::cell_data();
+  float top = cells[0].height_m;
+  for (std::size_t i = 0; i < std::size_t{c.size_px} * c.size_px; ++i) {
+    top = std::max(top, cells[i].height_m);
+  }
+  return static_cast<double>(top);
+}
+
+/**
+ * Reference for the renderer's depth: the first crossing of the ray r + t d with the bilinear
+ * terrain, by a march from the height @p top_m down in steps of 1/50 of a cell, then bisection.
+ * -1 where the ray leaves the grid (or never descends) first.
+ */
+double exact_first_hit(const Eigen::Vector3d& r, const Eigen::Vector3d& d, double top_m) {
+  const double half = bsp::world::terrain_half_extent_m();
+  const double step = bsp::world::terrain_config().m_per_px / 50.0 / std::max(std::hypot(d.x(), d.y()), 1e-6);
+  auto above = [&](double t, bool* inside) {
+    const Eigen::Vector3d p = r + t * d;
+    *inside = std::fabs(p.x()) <= half && std::fabs(p.y()) <= half;
+    return p.z() - bsp::world::terrain_height_m(p.x(), p.y());
+  };
+  if (d.z() >= 0.0) {
+    return -1.0;
+  }
+  bool inside = true;
+  double t0 = std::max(0.0, (top_m + 0.01 - r.z()) / d.z());
+  for (double t1 = t0 + step;; t0 = t1, t1 += step) {
+    if (above(t1, &inside) <= 0.0) {
+      for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (t0 + t1);
+        bool in_mid = true;
+        (above(mid, &in_mid) > 0.0 ? t0 : t1) = mid;
+      }
+      return inside ? 0.5 * (t0 + t1) : -1.0;
+    }
+    if (!inside) {
+      return -1.0;
+    }
+  }
+}
+
+/** Depth errors of a rendered frame against exact_first_hit() on every @p stride-th pixel (and the last row and column). */
+struct DepthCheck {
+  std::size_t rays = 0;
+  std::size_t over_1cm = 0;
+  std::size_t misses_disagree = 0;
+  double mean_m = 0.0;
+  double max_m = 0.0;
+};
+
+DepthCheck check_depth(const bsp::CameraModel& m, const bsp::CameraPose& pose, const std::vector<float>& depth,
+                       std::uint32_t stride) {
+  const double top = terrain_top_m();
+  DepthCheck c;
+  auto visit = [&](std::uint32_t u, std::uint32_t v) {
+    const double ref = exact_first_hit(pose.r_m, ray_direction(m, pose, u, v), top);
+    const double got = depth[std::size_t{v} * m.width_px + u];
+    ++c.rays;
+    if ((ref < 0.0) != (got < 0.0)) {
+      ++c.misses_disagree;
+      return;
+    }
+    if (ref >= 0.0) {
+      const double e = std::fabs(got - ref);
+      c.mean_m += e;
+      c.max_m = std::max(c.max_m, e);
+      c.over_1cm += e > 0.01 ? 1U : 0U;
+    }
+  };
+  for (std::uint32_t v = 0; v < m.height_px; v += stride) {
+    for (std::uint32_t u = 0; u < m.width_px; u += stride) {
+      visit(u, v);
+    }
+    visit(m.width_px - 1U, v);
+  }
+  for (std::uint32_t u = 0; u < m.width_px; u += stride) {
+    visit(u, m.height_px - 1U);
+  }
+  c.mean_m /= static_cast<double>(c.rays);
+  return c;
+}
+
+TEST_F(CameraRender, DepthOfEveryRayIsTheExactFirstHitOnTheBilinearTerrain) {
+  // Headings 0 and 90 deg make the renderer walk the image by columns and by rows; an odd-sized
+  // frame leaves partial lane groups and strips; the tilted and the low poses see steep slopes
+  // obliquely; the narrow camera at 20 km works at the far end of float precision.
+  struct Case {
+    bsp::CameraModel model;
+    bsp::CameraPose pose;
+  };
+  const Case cases[] = {
+      {model_, {{0.0, 0.0, 2500.0}, attitude(0.0, 0.0, 0.0)}},
+      {model_, {{300.0, -200.0, 2500.0}, attitude(90.0, 0.0, 0.0)}},
+      {bsp::make_camera(1001, 767, 70.0), {{-500.0, 400.0, 1800.0}, attitude(37.0, 3.0, -2.0)}},
+      {model_, {{150.0, -80.0, 1500.0}, attitude(128.0, 15.0, -10.0)}},
+      {model_, {{-1000.0, 700.0, 600.0}, attitude(250.0, -4.0, 6.0)}},
+      {bsp::make_camera(512, 512, 10.0), {{200.0, 100.0, 20000.0}, attitude(60.0, 1.0, 0.5)}},
+  };
+  for (const Case& k : cases) {
+    std::vector<std::uint8_t> frame(std::size_t{k.model.width_px} * k.model.height_px);
+    std::vector<float> depth(frame.size(), 0.0F);
+    bsp::RenderOptions opt;
+    opt.depth_m = depth.data();
+    ASSERT_EQ(bsp::render(k.model, k.pose, opt, frame.data(), nullptr), bsp::CameraError::kOk);
+    const DepthCheck c = check_depth(k.model, k.pose, depth, 7);
+    std::printf("%ux%u at %.0f m: %zu rays, depth error mean %.2e m, max %.2e m, %zu over 1 cm\n", k.model.width_px,
+                k.model.height_px, k.pose.r_m.z(), c.rays, c.mean_m, c.max_m, c.over_1cm);
+    EXPECT_EQ(c.misses_disagree, 0U);
+    // The lanes solve in float: about 1e-7 of the depth, plus the convergence tolerance.
+    EXPECT_LT(c.mean_m, 1e-3 + 1e-7 * k.pose.r_m.z());
+    // A ray that clips a bump just before its hit may see past it (about one pixel in a million on the
+    // descent): allow one such ray in ten thousand.
+    EXPECT_LE(c.over_1cm * 10000U, c.rays);
+  }
+}
+
+TEST_F(CameraRender, RaysLeavingTheGridOrLookingUpAreBlackWithNoDepth) {
+  // Near the west edge of the 8.2 km grid, pitched up 60 deg: some rays hit, some leave the grid, some look up.
+  const bsp::CameraPose pose{{-3200.0, 0.0, 800.0}, attitude(-90.0, 60.0, 0.0)};
+  std::vector<float> depth(frame_.size(), 0.0F);
+  bsp::RenderOptions opt;
+  opt.depth_m = depth.data();
+  ASSERT_EQ(bsp::render(model_, pose, opt, frame_.data(), nullptr), bsp::CameraError::kOk);
+  std::size_t hits = 0;
+  std::size_t misses = 0;
+  for (std::size_t i = 0; i < frame_.size(); ++i) {
+    if (depth[i] > 0.0F) {
+      ++hits;
+    } else {
+      ASSERT_EQ(depth[i], -1.0F) << "pixel " << i;
+      ASSERT_EQ(frame_[i], 0U) << "pixel " << i;
+      ++misses;
+    }
+  }
+  std::printf("edge view: %zu hits, %zu misses\n", hits, misses);
+  EXPECT_GT(hits, frame_.size() / 10U);
+  EXPECT_GT(misses, frame_.size() / 10U);
+  const DepthCheck c = check_depth(model_, pose, depth, 16);
+  EXPECT_EQ(c.misses_disagree, 0U);
+  EXPECT_LE(c.over_1cm * 10000U, c.rays);
+}
+
+TEST_F(CameraRender, BlurIsTheThreeByThreeBinomialKernelOfTheSharpFrame) {
+  const bsp::CameraPose pose{{0.0, 0.0, 1200.0}, attitude(20.0, 0.0, 0.0)};
+  std::vector<std::uint8_t> blurred(frame_.size());
+  bsp::Rng a(7, bsp::StreamId::kSensor, bsp::kCameraStreamIndex);
+  bsp::Rng b(7, bsp::StreamId::kSensor, bsp::kCameraStreamIndex);
+  ASSERT_EQ(bsp::render(model_, pose, bsp::RenderOptions{600.0, 3.0, false}, frame_.data(), &a), bsp::CameraError::kOk);
+  ASSERT_EQ(bsp::render(model_, pose, bsp::RenderOptions{600.0, 3.0, true}, blurred.data(), &b), bsp::CameraError::kOk);
+  const long w = 1024;
+  auto at = [&](long x, long y) {
+    return static_cast<std::uint32_t>(frame_[static_cast<std::size_t>(std::clamp(y, 0L, w - 1) * w + std::clamp(x, 0L, w - 1))]);
+  };
+  for (long y = 0; y < w; ++y) {
+    for (long x = 0; x < w; ++x) {
+      const std::uint32_t acc = at(x - 1, y - 1) + 2U * at(x, y - 1) + at(x + 1, y - 1) + 2U * at(x - 1, y) +
+                                4U * at(x, y) + 2U * at(x + 1, y) + at(x - 1, y + 1) + 2U * at(x, y + 1) +
+                                at(x + 1, y + 1);
+      ASSERT_EQ(blurred[static_cast<std::size_t>(y * w + x)], (acc + 8U) / 16U) << "pixel " << x << "," << y;
+    }
+  }
+}
+
+TEST_F(CameraRender, SamePoseAndSeedGiveTheSameBitsWhateverRanBefore) {
+  const bsp::CameraPose pose{{120.0, 40.0, 3000.0}, attitude(75.0, 2.0, -3.0)};
+  const bsp::RenderOptions opt{600.0, 2.0, false};
+  std::vector<std::uint8_t> again(frame_.size());
+  std::vector<float> depth_a(frame_.size());
+  std::vector<float> depth_b(frame_.size());
+  bsp::Rng a(11, bsp::StreamId::kSensor, bsp::kCameraStreamIndex);
+  bsp::Rng b(11, bsp::StreamId::kSensor, bsp::kCameraStreamIndex);
+  bsp::RenderOptions with_depth = opt;
+  with_depth.depth_m = depth_a.data();
+  ASSERT_EQ(bsp::render(model_, pose, with_depth, frame_.data(), &a), bsp::CameraError::kOk);
+  // Another frame in between (other pose, other line order) leaves nothing behind that the next one reads.
+  std::vector<std::uint8_t> other(frame_.size());
+  ASSERT_EQ(bsp::render(model_, {{-700.0, 900.0, 1100.0}, attitude(0.0, 10.0, 5.0)}, opt, other.data(), nullptr),
+            bsp::CameraError::kOk);
+  with_depth.depth_m = depth_b.data();
+  ASSERT_EQ(bsp::render(model_, pose, with_depth, again.data(), &b), bsp::CameraError::kOk);
+  EXPECT_EQ(frame_, again);
+  EXPECT_EQ(0, std::memcmp(depth_a.data(), depth_b.data(), depth_a.size() * sizeof(float)));
+}
+
+TEST_F(CameraRender, FourAndEightLaneRenderersGiveTheSameBits) {
+  // The lane width follows the host (8 with AVX2); the lanes run the same float operations, so a
+  // replay on another host gives the same frames. Row and column line orders, with noise and depth.
+  const bsp::CameraPose poses[] = {{{0.0, 0.0, 3000.0}, attitude(10.0, 1.0, 2.0)},
+                                   {{-400.0, 250.0, 900.0}, attitude(95.0, -6.0, 4.0)}};
+  std::printf("host renderer lanes: %u\n", bsp::detail::render_lanes());
+  for (const bsp::CameraPose& pose : poses) {
+    std::vector<std::uint8_t> narrow(frame_.size());
+    std::vector<float> depth_wide(frame_.size());
+    std::vector<float> depth_narrow(frame_.size());
+    bsp::Rng a(13, bsp::StreamId::kSensor, bsp::kCameraStreamIndex);
+    bsp::Rng b(13, bsp::StreamId::kSensor, bsp::kCameraStreamIndex);
+    bsp::RenderOptions opt{600.0, 2.0, false};
+    opt.depth_m = depth_wide.data();
+    ASSERT_EQ(bsp::render(model_, pose, opt, frame_.data(), &a), bsp::CameraError::kOk);
+    bsp::detail::cap_render_lanes(4);
+    EXPECT_EQ(bsp::detail::render_lanes(), 4U);
+    opt.depth_m = depth_narrow.data();
+    const bsp::CameraError err = bsp::render(model_, pose, opt, narrow.data(), &b);
+    bsp::detail::cap_render_lanes(0);
+    ASSERT_EQ(err, bsp::CameraError::kOk);
+    EXPECT_EQ(frame_, narrow);
+    EXPECT_EQ(0, std::memcmp(depth_wide.data(), depth_narrow.data(), depth_wide.size() * sizeof(float)));
+  }
 }
 
 TEST_F(CameraRender, BadConfigurationsAreRejected) {
