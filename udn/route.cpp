@@ -69,7 +69,8 @@ Candidate best_one_via(const RouteTable& t, bsp::TileId d, bsp::Work& work) noex
   Candidate best{};
   for (std::uint32_t m = 0U; m < t.tiles; ++m) {
     ++work.int_ops;
-    if (m == t.self || m == d || (t.clear[t.self] & bit_of(m)) == 0U || (t.clear[m] & bit_of(d)) == 0U) {
+    if (m == t.self || m == d || (t.no_forward & bit_of(m)) != 0U || (t.clear[t.self] & bit_of(m)) == 0U ||
+        (t.clear[m] & bit_of(d)) == 0U) {
       continue;
     }
     const Candidate c{path_hops(t.cols, t.self, m) + path_hops(t.cols, m, d), 1U, m, 0U};
@@ -83,13 +84,13 @@ Candidate best_one_via(const RouteTable& t, bsp::TileId d, bsp::Work& work) noex
 Candidate best_two_vias(const RouteTable& t, bsp::TileId d, bsp::Work& work) noexcept {
   Candidate best{};
   for (std::uint32_t m1 = 0U; m1 < t.tiles; ++m1) {
-    if (m1 == t.self || m1 == d || (t.clear[t.self] & bit_of(m1)) == 0U) {
+    if (m1 == t.self || m1 == d || (t.no_forward & bit_of(m1)) != 0U || (t.clear[t.self] & bit_of(m1)) == 0U) {
       continue;
     }
     const std::uint32_t first = path_hops(t.cols, t.self, m1);
     for (std::uint32_t m2 = 0U; m2 < t.tiles; ++m2) {
       ++work.int_ops;
-      if (m2 == m1 || m2 == t.self || m2 == d || (t.clear[m1] & bit_of(m2)) == 0U ||
+      if (m2 == m1 || m2 == t.self || m2 == d || (t.no_forward & bit_of(m2)) != 0U || (t.clear[m1] & bit_of(m2)) == 0U ||
           (t.clear[m2] & bit_of(d)) == 0U) {
         continue;
       }
@@ -212,6 +213,7 @@ RouteError route_table_build(const FaultMap& map, bsp::TileId self, RouteTable& 
   table.cols = map.cols;
   table.tiles = tiles;
   table.map_version = map.version;
+  table.no_forward = map.no_forward;
   for (std::uint32_t a = 0U; a < tiles; ++a) {
     table.clear[a] = 0U;
     for (std::uint32_t b = 0U; b < tiles; ++b) {

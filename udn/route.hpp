@@ -44,6 +44,11 @@ struct FaultMap {
   std::uint32_t rows = 0U;
   std::uint64_t failed_tiles = 0U;                         ///< bit t: tile t (and its switch) failed
   std::array<std::uint8_t, kRouteMaxTiles> failed_links{};  ///< per tile, bit d: link leaving in UdnDir d failed
+  /**
+   * Bit t: tile t's switch routes, but no software runs there to re-inject a
+   * packet (a spare switched off), so it is never chosen as an intermediate.
+   */
+  std::uint64_t no_forward = 0U;
   std::uint32_t version = 0U;                               ///< incremented by every change
 };
 
@@ -79,6 +84,7 @@ struct RouteTable {
   std::uint32_t cols = 0U;
   std::uint32_t tiles = 0U;
   std::uint32_t map_version = 0U;
+  std::uint64_t no_forward = 0U;  ///< the map's tiles that cannot be intermediates
   std::array<Route, kRouteMaxTiles> to{};
   /** Scratch of the build: bit b of clear[a] = path_clear(a, b). */
   std::array<std::uint64_t, kRouteMaxTiles> clear{};

@@ -76,6 +76,16 @@ void on_suspect(void* ctx, bsp::TileId /*reporter*/, bsp::TileId suspect) noexce
   }
 }
 
+/** Stops probing neighbours that are off by design or failed in the fault map (nothing answers there). */
+void prune_probe(Endpoint& ep) noexcept {
+  const std::uint64_t skip = health_off_tiles() | g_map.failed_tiles;
+  for (bsp::TileId& n : ep.probe.neighbour) {
+    if (n != bsp::kNoTile && ((skip >> n) & 1ULL) != 0ULL) {
+      n = bsp::kNoTile;
+    }
+  }
+}
+
 /** Sends waiting suspect reports without blocking; what the network refuses waits for the next tick. */
 void send_reports(Endpoint& ep, bsp::TileId self) noexcept {
   const bsp::TileId to = health_tile();
@@ -122,6 +132,9 @@ void comm_task_main(void* /*arg*/) noexcept {
   ep.probing = health_tile() != bsp::kNoTile &&
                udn::ft_probe_init(ep.probe, *ep.node, udn::ProbeConfig{kProbeMissThreshold}, &on_suspect, &ep) ==
                    udn::ProbeError::kOk;
+  if (ep.probing) {
+    prune_probe(ep);
+  }
   for (std::uint32_t tick = 0;; ++tick) {
     {
       const IrqGuard guard;
@@ -132,6 +145,9 @@ void comm_task_main(void* /*arg*/) noexcept {
         bsp::Work work{};
         if (udn::ft_set_fault_map(*ep.node, g_map, work) == udn::FtError::kOk) {
           ep.map_version = g_map_version;
+        }
+        if (ep.probing) {
+          prune_probe(ep);
         }
         bsp::consume(work);
       }
@@ -166,8 +182,8 @@ udn::FtError comm_send(bsp::TileId dest, std::uint32_t channel, std::span<const 
       const IrqGuard guard;
       e = udn::ft_send(*node, dest, channel, words, tick32());
     }
-    if (e != udn::FtError::kWindowFull && e != udn::FtError::kNetFull) {
-      return e;
+    if ((e != udn::FtError::kWindowFull && e != udn::FtError::kNetFull) || i == max_ticks) {
+      return e;  // max_ticks 0: one attempt, never a wait
     }
     k::sleep(1);
   }

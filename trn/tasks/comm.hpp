@@ -30,7 +30,7 @@
 namespace trn::tasks {
 
 /** The fault-tolerant messaging settings every TRN tile uses. */
-inline constexpr udn::FtConfig kCommFtConfig{4U, 8U};
+inline constexpr udn::FtConfig kCommFtConfig{10U, 8U};  // detours re-injected by two tiles take several ticks per leg
 /** Packets the service handles per tick at most. */
 inline constexpr std::uint32_t kCommPacketsPerTick = 16U;
 

@@ -17,6 +17,7 @@ namespace {
 
 struct HealthState {
   bsp::TileId tile = bsp::kNoTile;
+  std::uint64_t off = 0;  ///< tiles switched off by design
   std::array<std::uint64_t, bsp::kMaxTiles> reporters{};  ///< per suspect: bit r = tile r reported it
   std::uint64_t failed = 0;                              ///< switches declared failed
   std::uint32_t written = 0;
@@ -30,8 +31,8 @@ void note(const HealthEvent& e) noexcept {
   ++g_health.written;
 }
 
-void take_report(const HealthConfig& cfg, std::uint32_t reporter, std::uint32_t suspect) noexcept {
-  if (reporter >= bsp::kMaxTiles || suspect >= bsp::kMaxTiles || ((cfg.off_tiles >> suspect) & 1ULL) != 0ULL ||
+void take_report(std::uint32_t reporter, std::uint32_t suspect) noexcept {
+  if (reporter >= bsp::kMaxTiles || suspect >= bsp::kMaxTiles || ((g_health.off >> suspect) & 1ULL) != 0ULL ||
       ((g_health.failed >> suspect) & 1ULL) != 0ULL) {
     return;  // off on purpose (it answers no ping), already failed, or nonsense
   }
@@ -58,12 +59,15 @@ void take_report(const HealthConfig& cfg, std::uint32_t reporter, std::uint32_t 
 
 }  // namespace
 
-void health_set_tile(bsp::TileId tile) noexcept {
+void health_set_tile(bsp::TileId tile, std::uint64_t off_by_design) noexcept {
   g_health = HealthState{};
   g_health.tile = tile;
+  g_health.off = off_by_design;
 }
 
 bsp::TileId health_tile() noexcept { return g_health.tile; }
+
+std::uint64_t health_off_tiles() noexcept { return g_health.off; }
 
 void health_task_main(void* arg) noexcept {
   const auto* cfg = static_cast<const HealthConfig*>(arg);
@@ -74,7 +78,7 @@ void health_task_main(void* arg) noexcept {
   for (;;) {
     while (comm_receive(kChanControl, m) == udn::FtError::kOk) {
       if (m.data_words == kSuspectWords && m.data[0] == kMsgSuspect && m.data[1] == m.source) {
-        take_report(*cfg, m.data[1], m.data[2]);
+        take_report(m.data[1], m.data[2]);
       }
     }
     k::sleep(1);

@@ -32,7 +32,7 @@ inline constexpr std::uint32_t kMsgSuspect = 0x53555331U;  // "SUS1"
 inline constexpr std::uint32_t kSuspectWords = 3U;
 
 struct HealthConfig {
-  std::uint64_t off_tiles = 0;  ///< tiles switched off on purpose (bit t): their silence is expected
+  std::uint32_t reserved = 0;  ///< the off-by-design tiles come from health_set_tile()
 };
 
 enum class HealthEventKind : std::uint8_t {
@@ -54,9 +54,15 @@ inline constexpr std::uint32_t kHealthEventCapacity = 64U;
 /** Health task entry (arg: const HealthConfig*). */
 void health_task_main(void* arg) noexcept;
 
-/** Tile the suspect reports go to (set by the image before boot; kNoTile: probing off). */
-void health_set_tile(bsp::TileId tile) noexcept;
+/**
+ * Tile the suspect reports go to and the tiles switched off by design (spares):
+ * set by the image before boot (kNoTile: probing off). Off tiles are neither
+ * probed (an off tile answers no ping, and pings would pile up in its queues
+ * until they block the sender) nor voted on.
+ */
+void health_set_tile(bsp::TileId tile, std::uint64_t off_by_design) noexcept;
 bsp::TileId health_tile() noexcept;
+std::uint64_t health_off_tiles() noexcept;
 
 /** Events written so far by the health task. [host] */
 std::uint32_t health_event_count() noexcept;

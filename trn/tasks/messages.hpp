@@ -35,6 +35,9 @@ inline constexpr std::uint32_t kMsgUnit = 0x554E5431U;     ///< "UNT1" vision wo
 inline constexpr std::uint32_t kMsgResult = 0x52534C31U;   ///< "RSL1" vision unit result
 inline constexpr std::uint32_t kMsgNav = 0x4E415631U;      ///< "NAV1" navigation solution
 inline constexpr std::uint32_t kMsgMatches = 0x4D544331U;  ///< "MTC1" part of a frame's match batch
+inline constexpr std::uint32_t kMsgRelight = 0x524C5431U;  ///< "RLT1" relight a band of the coarse map: [1] row0 [2] rows
+inline constexpr std::uint32_t kMsgRelightDone = 0x524C4431U;  ///< "RLD1" the band is done: [1] row0 [2] rows
+inline constexpr std::uint32_t kRelightWords = 3;
 
 /** Demux queue the filter tile binds kTagImu to. */
 inline constexpr std::uint32_t kImuQueue = 0;

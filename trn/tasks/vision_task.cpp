@@ -54,7 +54,32 @@ struct CoordState {
   std::uint32_t match_count;
   std::array<std::uint32_t, kMaxVisionTiles> misses;  ///< frames missed in a row, per vision tile
   std::uint32_t frames_planned;
+  vision::ImageU8 relit;  ///< the coarse layer relit to the descent sun (DDR)
+  std::array<bool, kMaxVisionTiles> band_done;
 };
+
+/** Ticks the coordinator waits for the vision tiles' relit bands before doing the rest itself. */
+constexpr k::Ticks kRelightWaitTicks = 400;
+
+/** Rows of band @p i of @p n over @p height rows. */
+void band_rows(std::int32_t height, std::uint32_t i, std::uint32_t n, std::int32_t& row0, std::int32_t& rows) noexcept {
+  const std::int32_t per = (height + static_cast<std::int32_t>(n) - 1) / static_cast<std::int32_t>(n);
+  row0 = per * static_cast<std::int32_t>(i);
+  rows = row0 >= height ? 0 : (height - row0 < per ? height - row0 : per);
+}
+
+/** Relights rows [row0, row0 + rows) of @p map into the same rows of @p relit. */
+bool relight_band(const vision::MapView& map, const double sun_m[3], vision::ImageU8 relit, std::int32_t row0,
+                  std::int32_t rows) noexcept {
+  if (rows <= 0) {
+    return true;
+  }
+  bsp::Work work{};
+  const vision::ImageU8 band = relit.sub(0, row0, relit.width, rows);
+  const bool ok = band.valid() && vision::relight_region(map, 0, row0, sun_m, band, work) == vision::Status::kOk;
+  bsp::consume(work);
+  return ok;
+}
 
 std::array<VisionCoordStats, bsp::kMaxTiles> g_coord_stats{};
 
@@ -80,6 +105,17 @@ const std::uint8_t* ddr_at(std::uint64_t offset, std::uint64_t bytes) noexcept {
     return nullptr;
   }
   return reinterpret_cast<const std::uint8_t*>(ddr.data() + offset);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): DDR bytes
+}
+
+/** The DDR carve named @p what, or nullptr. */
+const std::uint8_t* ddr_find(const char* what) noexcept {
+  const bsp::Region ddr{bsp::Region::kDdr};
+  for (const bsp::CarveRecord& r : bsp::region_carves(ddr)) {
+    if (r.what != nullptr && std::strcmp(r.what, what) == 0) {
+      return reinterpret_cast<const std::uint8_t*>(bsp::region_span(ddr).data() + r.offset);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
+    }
+  }
+  return nullptr;
 }
 
 k::Ticks seconds_to_ticks(double s) noexcept {
@@ -117,16 +153,7 @@ bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
     st.fine.descent_sun_m[i] = st.cfg->descent_sun_m[i];
     st.coarse_map.descent_sun_m[i] = st.cfg->descent_sun_m[i];
   }
-  // The coarse stage searches the coarse layer as the descent sun lights it:
-  // relit once here (the orbital sun's shading would bias it by ~60 m).
-  bsp::Work relight_work{};
-  const vision::ImageU8 relit_view{relit, orbital.width, orbital.height, orbital.width};
-  if (vision::relight_region(st.coarse_map, 0, 0, st.cfg->descent_sun_m, relit_view, relight_work) !=
-      vision::Status::kOk) {
-    return false;
-  }
-  bsp::consume(relight_work);
-  st.coarse_map.image = relit_view.as_const();
+  st.relit = vision::ImageU8{relit, orbital.width, orbital.height, orbital.width};
   // The product's elevation is int16 counts, the selection's optional view is
   // metres as float: the selection runs on the image alone and each chosen
   // landmark's 3D position is then read from the product.
@@ -143,6 +170,68 @@ bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
   work.flops += 3ULL * st.table->count;
   bsp::consume(work);
   stats.landmarks_selected = st.table->count;
+  return true;
+}
+
+/**
+ * The coarse stage searches the coarse layer as the descent sun lights it (the
+ * orbital sun's shading would bias it by ~60 m). Relighting the whole layer is
+ * ~2.5 G cycles: the vision tiles share it by bands (~90 ms each), and the
+ * coordinator does any band not reported done within kRelightWaitTicks.
+ */
+bool relight_coarse(CoordState& st) noexcept {
+  const std::uint32_t n = st.cfg->vision_count;
+  const std::int32_t height = st.relit.height;
+  std::uint32_t done = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    std::int32_t row0 = 0;
+    std::int32_t rows = 0;
+    band_rows(height, i, n, row0, rows);
+    const std::array<std::uint32_t, kRelightWords> w{kMsgRelight, static_cast<std::uint32_t>(row0),
+                                                     static_cast<std::uint32_t>(rows)};
+    // Band i goes to vision tile i, or the next one the network reaches
+    // (a tile out of the fault map refuses at once).
+    st.band_done[i] = rows == 0;
+    bool sent = st.band_done[i];
+    for (std::uint32_t k = 0; k < n && !sent; ++k) {
+      sent = comm_send(st.cfg->vision_tiles[(i + k) % n], kChanControl, w, kSendTicks) == udn::FtError::kOk;
+    }
+    if (!sent) {
+      if (!relight_band(st.coarse_map, st.cfg->descent_sun_m, st.relit, row0, rows)) {
+        return false;
+      }
+      st.band_done[i] = true;
+    }
+    done += st.band_done[i] ? 1U : 0U;
+  }
+  const k::Ticks until = k::now_ticks() + kRelightWaitTicks;
+  udn::FtMessage m{};
+  while (done < n && k::now_ticks() < until) {
+    while (comm_receive(kChanResult, m) == udn::FtError::kOk) {
+      if (m.data_words != kRelightWords || m.data[0] != kMsgRelightDone) {
+        continue;
+      }
+      for (std::uint32_t i = 0; i < n; ++i) {
+        std::int32_t row0 = 0;
+        std::int32_t rows = 0;
+        band_rows(height, i, n, row0, rows);
+        if (!st.band_done[i] && m.data[1] == static_cast<std::uint32_t>(row0)) {
+          st.band_done[i] = true;
+          ++done;
+        }
+      }
+    }
+    k::sleep(1);
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    std::int32_t row0 = 0;
+    std::int32_t rows = 0;
+    band_rows(height, i, n, row0, rows);
+    if (!st.band_done[i] && !relight_band(st.coarse_map, st.cfg->descent_sun_m, st.relit, row0, rows)) {
+      return false;
+    }
+  }
+  st.coarse_map.image = st.relit.as_const();
   return true;
 }
 
@@ -323,6 +412,9 @@ void distribute(CoordState& st, VisionCoordStats& stats, const vision::PosePrior
       ++stats.units_sent;
       stats.planned_total += n;
     } else {
+      // Not sent (no route: the tile is out of the fault map, or the network
+      // refused): it counts as a miss, so its share moves to the others.
+      unit.sent = true;
       ++stats.units_send_failed;
     }
   }
@@ -442,6 +534,7 @@ bool all_answered(const CoordState& st) noexcept {
 struct WorkerState {
   const VisionWorkerConfig* cfg;
   vision::MapView fine;
+  vision::MapView coarse;
   vision::LandmarkWorkspace* ws;
   std::array<std::uint32_t, kResultHeaderWords + kMaxLandmarksPerUnit * kMatchWords> out;
 };
@@ -451,8 +544,12 @@ bool worker_set_up(WorkerState& st) noexcept {
   if (product == nullptr || vision::map_view(product, bsp::kMapLayerFine, st.fine) != vision::Status::kOk) {
     return false;
   }
+  if (vision::map_view(product, bsp::kMapLayerCoarse, st.coarse) != vision::Status::kOk) {
+    return false;
+  }
   for (std::size_t i = 0; i < 3U; ++i) {
     st.fine.descent_sun_m[i] = st.cfg->descent_sun_m[i];
+    st.coarse.descent_sun_m[i] = st.cfg->descent_sun_m[i];
   }
   bsp::MemError err = bsp::MemError::kOk;
   st.ws = bsp::carve_array<vision::LandmarkWorkspace>(bsp::Region{bsp::current_tile()}, 1, "vision_ws", &err);
@@ -518,6 +615,24 @@ std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const udn::FtM
   return kResultHeaderWords + matched * kMatchWords;
 }
 
+/** A band of the coarse map to relight into the shared copy; answered when done. */
+void relight_request(WorkerState& st, VisionWorkerStats& stats, const udn::FtMessage& m) noexcept {
+  const std::uint8_t* relit = ddr_find("coarse_relit");
+  const vision::ConstImageU8 src = st.coarse.image;
+  const auto row0 = static_cast<std::int32_t>(m.data[1]);
+  const auto rows = static_cast<std::int32_t>(m.data[2]);
+  // The copy is the coordinator's carve, laid out like the layer.
+  const vision::ImageU8 dst{const_cast<std::uint8_t*>(relit), src.width, src.height, src.width};  // NOLINT(cppcoreguidelines-pro-type-const-cast): shared DDR buffer
+  if (relit == nullptr || !relight_band(st.coarse, st.cfg->descent_sun_m, dst, row0, rows)) {
+    ++stats.bad_units;
+    return;
+  }
+  const std::array<std::uint32_t, kRelightWords> w{kMsgRelightDone, m.data[1], m.data[2]};
+  if (comm_send(m.source, kChanResult, w, kSendTicks) != udn::FtError::kOk) {
+    ++stats.send_failed;
+  }
+}
+
 }  // namespace
 
 void vision_coord_main(void* arg) noexcept {
@@ -534,7 +649,7 @@ void vision_coord_main(void* arg) noexcept {
   st->cfg = cfg;
   g_events = EventRing{};
   g_events.owner = self;
-  if (!coord_set_up(*st, stats)) {
+  if (!coord_set_up(*st, stats) || !relight_coarse(*st)) {
     return;
   }
   for (;;) {
@@ -572,6 +687,10 @@ void vision_worker_main(void* arg) noexcept {
       k::sleep(1);
       continue;
     }
+    if (m.data_words == kRelightWords && m.data[0] == kMsgRelight) {
+      relight_request(*st, stats, m);
+      continue;
+    }
     const std::uint32_t words = run_unit(*st, stats, m);
     if (words == 0U) {
       ++stats.bad_units;
@@ -607,14 +726,7 @@ VisionWorkerStats vision_worker_stats(bsp::TileId tile) noexcept {
 }
 
 const vision::LandmarkTable* landmark_table_find() noexcept {
-  const bsp::Region ddr{bsp::Region::kDdr};
-  for (const bsp::CarveRecord& r : bsp::region_carves(ddr)) {
-    if (r.what != nullptr && std::strcmp(r.what, kLandmarkCarveName) == 0) {
-      return reinterpret_cast<const vision::LandmarkTable*>(  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
-          bsp::region_span(ddr).data() + r.offset);
-    }
-  }
-  return nullptr;
+  return reinterpret_cast<const vision::LandmarkTable*>(ddr_find(kLandmarkCarveName));  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
 }
 
 }  // namespace trn::tasks

@@ -54,7 +54,7 @@ struct VisionCoordConfig {
   vision::FramePlanParams plan{};
   vision::CoarseFrameParams coarse{};
   double coarse_above_sigma_m = 150.0; ///< coarse stage when the horizontal sigma exceeds this
-  double deadline_s = 0.5;             ///< from the frame notice to the batch leaving for the filter
+  double deadline_s = 0.8;             ///< from the frame notice to the batch leaving for the filter (frames come every 1 s)
   double max_prior_age_s = 0.05;       ///< newest solution at or before the capture must be this fresh
 };
 
