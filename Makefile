@@ -156,9 +156,10 @@ $(foreach f,$(call src_of,tests),$(eval EXTRA_CXXFLAGS_$(f) += -I$(GEN)))
 all: $(foreach p,$(PROGRAMS),$(BIN)/$(p)) $(TEST_BINS) $(BIN)/compile_commands.json ## Build libraries, images and tests
 
 ARGS ?=
-run: deps ## Build and run the mission image (ARGS='--help' for its options)
+RUN_ARGS ?= --demo-faults
+run: deps ## Build and fly the default descent with the demonstration faults (RUN_ARGS='--help' for the options)
 	@$(MAKE) --no-print-directory $(BIN)/trn_mission
-	$(BIN)/trn_mission $(ARGS)
+	$(BIN)/trn_mission $(RUN_ARGS) $(ARGS)
 
 test: deps ## Build and run every GoogleTest binary; ends with "tests: N passed, N failed"
 	@$(MAKE) --no-print-directory $(TEST_BINS) $(foreach p,$(PROGRAMS),$(BIN)/$(p))
@@ -190,7 +191,7 @@ cov: deps ## Coverage of the tests over the flight code (gcovr report under buil
 
 bench: deps ## Benchmarks (Google Benchmark and whole-run figures) into build/bench/
 	@tools/build/deps.sh base bench
-	@$(MAKE) --no-print-directory $(BENCH_BINS)
+	@$(MAKE) --no-print-directory $(BENCH_BINS) $(BIN)/trn_mission
 	@tools/build/run_bench.sh $(BIN) $(BENCH_BINS)
 
 clean: ## Remove build outputs

@@ -1,0 +1,122 @@
+/**
+ * @file pipeline_test.cpp
+ * @brief The whole TRN pipeline on the emulated chip: I/O tile, vision coordinator, 40 vision
+ *        tiles and the filter, on rendered frames of the default descent.
+ *
+ * One world per suite (building it takes seconds); each test boots the chip
+ * afresh. These are the acceptance tests of the distributed vision: frames
+ * finish inside their deadline on 40 tiles, and with 10 vision tiles removed
+ * the frames still finish, with fewer matches at first.
+ */
+#include "bsp_tile64/board.hpp"
+#include "tools/common/mission.hpp"
+#include "trn/tasks/filter_task.hpp"
+#include "trn/tasks/health.hpp"
+#include "trn/tasks/tile_map.hpp"
+#include "trn/tasks/vision_task.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <memory>
+#include <string>
+
+namespace {
+
+using trn::tasks::kCoordinatorTile;
+using trn::tasks::kFilterTile;
+
+double cycles_to_s(bsp::Cycles c) { return static_cast<double>(c) / static_cast<double>(bsp::kTile64.clock_hz); }
+
+void fly_s(double s) {
+  (void)bsp::run_for(static_cast<bsp::Cycles>(s * static_cast<double>(bsp::kTile64.clock_hz)));
+}
+
+class PipelineTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    mission_ = std::make_unique<tools::Mission>();
+    tools::MissionSetup setup;
+    setup.duration_s = 46.0;
+    std::string error;
+    ASSERT_TRUE(mission_->build(setup, error)) << error;
+  }
+  static void TearDownTestSuite() { mission_.reset(); }
+
+  static std::unique_ptr<tools::Mission> mission_;
+};
+
+std::unique_ptr<tools::Mission> PipelineTest::mission_;
+
+TEST_F(PipelineTest, FortyVisionTilesConvergeFromThreeKilometres) {
+  mission_->set_unpowered(0);
+  std::string error;
+  ASSERT_TRUE(mission_->boot(error)) << error;
+  const tools::NavSample start = [] {
+    fly_s(0.05);
+    return PipelineTest::mission_->nav();
+  }();
+  ASSERT_TRUE(start.valid);
+  EXPECT_GT(start.position_error_m, 2500.0);  // the scenario's 3 km horizontal error
+  fly_s(7.0);
+  const trn::tasks::VisionCoordStats c = trn::tasks::vision_coord_stats(kCoordinatorTile);
+  EXPECT_GT(c.landmarks_selected, 500U);
+  EXPECT_GE(c.frames_processed, 5U);
+  EXPECT_GE(c.coarse_accepted, 1U);
+  EXPECT_EQ(c.units_lost, 0U);
+  EXPECT_GE(c.last_frame_matches, 100U) << "planned " << c.planned_total;
+  // A fine-only frame (no coarse stage) ends well inside its 0.5 s deadline.
+  EXPECT_LT(cycles_to_s(c.last_frame_cycles), 0.25);
+  const tools::NavSample end = mission_->nav();
+  ASSERT_TRUE(end.valid);
+  EXPECT_LT(end.position_error_m, 20.0) << "after " << end.t_s << " s";
+  const trn::tasks::FilterTaskStats f = trn::tasks::filter_task_stats(kFilterTile);
+  EXPECT_GT(f.matches_applied, 300U);
+}
+
+TEST_F(PipelineTest, TenVisionTilesRemovedFramesStillComplete) {
+  // Ten vision tiles, scattered, never power up. The coordinator is not told:
+  // the probes find them (each has at least two live neighbours to vote) and
+  // the health task takes them out of the fault map, after which every other
+  // tile still has a route of at most two re-injecting tiles to and from the
+  // coordinator (checked for this set; two whole dead columns would cut some
+  // tiles off, as the spares around the coordinator run no forwarder).
+  constexpr std::array<bsp::TileId, 10> kRemoved{25, 31, 40, 44, 45, 47, 48, 53, 58, 59};
+  std::uint64_t off = 0;
+  std::uint32_t removed = 0;
+  for (const bsp::TileId t : kRemoved) {
+    off |= 1ULL << t;
+    ++removed;
+  }
+  ASSERT_EQ(removed, 10U);
+  mission_->set_unpowered(off);
+  std::string error;
+  ASSERT_TRUE(mission_->boot(error)) << error;
+  fly_s(0.5);
+  // The health task found them: their neighbours' probes get no answer, two agree.
+  std::uint32_t voted = 0;
+  for (std::uint32_t i = 0; i < trn::tasks::health_event_count(); ++i) {
+    trn::tasks::HealthEvent e{};
+    if (trn::tasks::health_event(i, &e) && e.kind == trn::tasks::HealthEventKind::kSwitchFailed) {
+      EXPECT_NE((off >> e.suspect) & 1ULL, 0ULL) << "tile " << e.suspect << " voted out but alive";
+      ++voted;
+    }
+  }
+  EXPECT_EQ(voted, 10U);
+  fly_s(5.5);  // the coordinator's start (selection, relit coarse map) takes the first frames
+  const trn::tasks::VisionCoordStats first = trn::tasks::vision_coord_stats(kCoordinatorTile);
+  ASSERT_GE(first.frames_processed, 3U);
+  EXPECT_GE(first.units_lost + first.units_send_failed, 10U);  // the removed tiles' shares, at first
+  EXPECT_GT(first.matches_total / first.frames_processed, 50U);
+  fly_s(4.0);
+  const trn::tasks::VisionCoordStats later = trn::tasks::vision_coord_stats(kCoordinatorTile);
+  EXPECT_EQ(later.suspect_tiles, 10U);
+  // Once isolated they get one probe unit every kProbeEveryFrames frames: only those are lost.
+  EXPECT_LE(later.units_lost - first.units_lost, 10U * (4U / trn::tasks::kProbeEveryFrames + 1U));
+  EXPECT_GE(later.frames_processed, first.frames_processed + 4U);
+  // Their landmarks went to the 30 others: full frames again.
+  EXPECT_GE(later.last_frame_matches, 80U);
+  mission_->set_unpowered(0);
+}
+
+}  // namespace

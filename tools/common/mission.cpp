@@ -1,0 +1,204 @@
+/**
+ * @file mission.cpp
+ * @brief World, devices, boot from the tile map, initial estimate, truth comparisons.
+ */
+#include "tools/common/mission.hpp"
+
+#include "bsp_tile64/board.hpp"
+#include "bsp_tile64/devices/device_bus.hpp"
+#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/rng.hpp"
+#include "bsp_tile64/udn_net.hpp"
+#include "bsp_tile64/world/refmap.hpp"
+#include "bsp_tile64/world/terrain.hpp"
+#include "kernel/kernel.hpp"
+#include "trn/tasks/roles.hpp"
+#include "trn/tasks/tile_map.hpp"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <numbers>
+
+namespace tools {
+namespace {
+
+/** Stream index of the initial-estimate draws within StreamId::kSensor (IMU 1, camera 2). */
+constexpr std::uint64_t kInitialStreamIndex = 7;
+
+double gaussian(bsp::Rng& rng) {
+  // Box-Muller; u1 in (0, 1] so the logarithm is finite.
+  const double u1 = 1.0 - rng.uniform();
+  const double u2 = rng.uniform();
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+}
+
+/** The datasheet the filter is configured with: the IMU's specified error figures. */
+trn::filter::ImuSpec imu_spec(const bsp::ImuErrorConfig& c) {
+  using trn::filter::kMicroG;
+  using trn::filter::kRadPerDeg;
+  using trn::filter::kSecPerHour;
+  trn::filter::ImuSpec s;
+  s.gyro_arw_rad_sqrts = c.gyro_arw_dpsh * kRadPerDeg / 60.0;
+  s.gyro_bias_on_rads = c.gyro_bias_turn_on_dph * kRadPerDeg / kSecPerHour;
+  s.gyro_bias_run_rads = c.gyro_bias_in_run_dph * kRadPerDeg / kSecPerHour;
+  s.gyro_bias_tau_s = c.gyro_bias_tau_s;
+  s.accel_vrw_mps_sqrts = c.accel_vrw_mpsph / 60.0;
+  s.accel_bias_on_mps2 = c.accel_bias_turn_on_ug * kMicroG;
+  s.accel_bias_run_mps2 = c.accel_bias_in_run_ug * kMicroG;
+  s.accel_bias_tau_s = c.accel_bias_tau_s;
+  return s;
+}
+
+}  // namespace
+
+void Mission::draw_initial_estimate() {
+  const InitialErrors& e = setup_.scenario.initial_error;
+  bsp::Rng rng{setup_.scenario.seed, bsp::StreamId::kSensor, kInitialStreamIndex};
+  const bsp::world::TruthState t0 = truth_.at(0.0);
+  const double heading = rng.uniform(0.0, 2.0 * std::numbers::pi);
+  const Eigen::Vector3d dp(e.horizontal_m * std::cos(heading), e.horizontal_m * std::sin(heading),
+                           e.altitude_m * gaussian(rng));
+  const Eigen::Vector3d dv(e.velocity_mps * gaussian(rng), e.velocity_mps * gaussian(rng),
+                           e.velocity_mps * gaussian(rng));
+  const double att_rad = e.attitude_deg * std::numbers::pi / 180.0;
+  const Eigen::Vector3d dth(att_rad * gaussian(rng), att_rad * gaussian(rng), att_rad * gaussian(rng));
+  const double angle = dth.norm();
+  const Eigen::Quaterniond dq =
+      angle > 0.0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, dth / angle)) : Eigen::Quaterniond::Identity();
+  initial_ = trn::filter::InitialEstimate{};
+  initial_.t_s = 0.0;
+  initial_.x.p_m = t0.r_m + dp;
+  initial_.x.v_mps = t0.v_mps + dv;
+  initial_.x.q_mb = (t0.q_mb * dq).normalized();  // body-frame attitude error
+  initial_.sigma_p_m = trn::filter::Vec3(e.position_m, e.position_m, std::max(e.altitude_m, 1.0));
+  initial_.sigma_v_mps = trn::filter::Vec3::Constant(std::max(e.velocity_mps, 0.01));
+  initial_.sigma_th_rad = trn::filter::Vec3::Constant(std::max(att_rad, 1e-4));
+}
+
+bool Mission::build(const MissionSetup& setup, std::string& error) {
+  setup_ = setup;
+  const Scenario& s = setup_.scenario;
+  if (bsp::world::terrain_build(s.terrain) != bsp::world::WorldError::kOk) {
+    error = "cannot build the terrain";
+    return false;
+  }
+  if (truth_.init(s.trajectory) != bsp::world::WorldError::kOk) {
+    error = "the trajectory of the scenario is not valid";
+    return false;
+  }
+  draw_initial_estimate();
+  return true;
+}
+
+bool Mission::boot(std::string& error) {
+  using trn::tasks::Role;
+  const Scenario& s = setup_.scenario;
+  bsp::BoardConfig cfg = bsp::default_config(bsp::kTile64);
+  cfg.seed = s.seed;
+  cfg.monitor_tile = bsp::kNoTile;
+  powered_ = 0;
+  for (std::uint32_t t = 0; t < trn::tasks::kMapTiles; ++t) {
+    const Role r = trn::tasks::kTileRoles[t];
+    if (trn::tasks::role_table(r).empty() || ((setup_.unpowered >> t) & 1ULL) != 0ULL) {
+      continue;
+    }
+    powered_ |= 1ULL << t;
+    cfg.boot[t] = &k::boot_entry;
+    k::set_task_table(static_cast<bsp::TileId>(t), trn::tasks::role_table(r), cfg.tick_cycles);
+  }
+  cfg.powered_at_start = powered_;
+  // The DDR products of a previous run in this process go first (tests boot several times).
+  (void)bsp::region_reset(bsp::Region{bsp::Region::kDdr});
+  if (bsp::board_init(cfg) != bsp::BoardError::kOk || bsp::udn_net_init(bsp::NetConfig{}) != bsp::NetError::kOk) {
+    error = "cannot initialise the board";
+    return false;
+  }
+  // DDR products after the board: the reference map, then the camera's frame ring.
+  bsp::world::WorldError werr = bsp::world::WorldError::kOk;
+  if (bsp::world::refmap_build(s.map, &werr) == nullptr) {
+    error = "cannot build the reference map (check [map] against the terrain size)";
+    return false;
+  }
+  // The devices start afresh with every boot (a test may boot several times).
+  if (imu_.init(&truth_, s.imu, s.seed) != bsp::ImuError::kOk) {
+    error = "the IMU configuration is not valid";
+    return false;
+  }
+  if (camera_.init(&truth_, s.camera, s.seed) != bsp::CameraError::kOk) {
+    error = "cannot set up the camera";
+    return false;
+  }
+  // A clear fault map, and the health tile the probes report to.
+  udn::FaultMap map{};
+  if (udn::fault_map_init(map, bsp::kTile64.cols, bsp::kTile64.rows) != udn::RouteError::kOk) {
+    error = "cannot make the fault map";
+    return false;
+  }
+  std::uint64_t spares = 0;
+  for (std::uint32_t t = 0; t < trn::tasks::kMapTiles; ++t) {
+    spares |= trn::tasks::role_table(trn::tasks::kTileRoles[t]).empty() ? (1ULL << t) : 0ULL;
+  }
+  // Tiles removed from a role (setup.unpowered) are not "off by design": the
+  // probes find them and the health task votes them out of the fault map.
+  trn::tasks::health_set_tile(trn::tasks::kSupervisorTile, spares);
+  // A spare's switch routes but nothing runs there to forward a detour.
+  map.no_forward = spares;
+  (void)trn::tasks::comm_set_fault_map(map);
+  // Role configurations: what each tile's tasks read at start.
+  trn::tasks::g_io_mission_config.filter_tile = trn::tasks::kFilterTile;
+  trn::tasks::g_io_mission_config.coordinator_tile = trn::tasks::kCoordinatorTile;
+  trn::tasks::FilterTaskConfig& f = trn::tasks::g_filter_role_config;
+  f.filter = trn::filter::FilterConfig{};
+  f.filter.imu = imu_spec(s.imu);
+  f.camera = camera_.model();
+  f.initial = initial_;
+  f.nav_sink = trn::tasks::kCoordinatorTile;
+  trn::tasks::VisionCoordConfig& c = trn::tasks::g_coord_config;
+  c = trn::tasks::VisionCoordConfig{};
+  c.camera = camera_.model();
+  c.filter_tile = trn::tasks::kFilterTile;
+  trn::tasks::tile_map_vision_tiles(c, 0);  // the coordinator learns of lost tiles by their silence
+  trn::vision::sun_direction(s.camera.sun.azimuth_deg, s.camera.sun.elevation_deg, c.descent_sun_m);
+  trn::tasks::g_vision_config.camera = camera_.model();
+  trn::vision::sun_direction(s.camera.sun.azimuth_deg, s.camera.sun.elevation_deg,
+                             trn::tasks::g_vision_config.descent_sun_m);
+  trn::tasks::g_vision_config.coordinator = trn::tasks::kCoordinatorTile;
+  bsp::DeviceBusConfig bus;
+  bus.io_tile = trn::tasks::kIoTile;
+  bus.imu = &imu_;
+  bus.camera = &camera_;
+  bus.last_time_s = setup_.duration_s;
+  if (bsp::attach_devices(bus) != bsp::DeviceBusError::kOk) {
+    error = "cannot attach the devices";
+    return false;
+  }
+  return true;
+}
+
+NavSample Mission::nav() const {
+  NavSample n;
+  trn::filter::NavOutput o{};
+  if (!trn::tasks::filter_task_output(trn::tasks::kFilterTile, &o)) {
+    return n;
+  }
+  const bsp::world::TruthState t = truth_.at(o.t_s);
+  n.valid = true;
+  n.t_s = o.t_s;
+  n.truth_p = t.r_m;
+  n.truth_v = t.v_mps;
+  n.est_p = Eigen::Vector3d(o.p_m[0], o.p_m[1], o.p_m[2]);
+  n.est_v = Eigen::Vector3d(o.v_mps[0], o.v_mps[1], o.v_mps[2]);
+  for (int i = 0; i < 3; ++i) {
+    n.sigma3_p[i] = 3.0 * std::sqrt(std::max(o.var_diag[i], 0.0));
+  }
+  n.position_error_m = (n.est_p - n.truth_p).norm();
+  n.velocity_error_mps = (n.est_v - n.truth_v).norm();
+  const Eigen::Quaterniond q(o.q_mb_wxyz[0], o.q_mb_wxyz[1], o.q_mb_wxyz[2], o.q_mb_wxyz[3]);
+  n.attitude_error_deg = t.q_mb.angularDistance(q.normalized()) * 180.0 / std::numbers::pi;
+  n.altitude_m = t.r_m.z();
+  n.flags = o.flags;
+  return n;
+}
+
+}  // namespace tools
