@@ -125,8 +125,11 @@ void send_batch(std::uint32_t frame, std::uint32_t n) {
     const std::span<const std::uint32_t> words(w.data(), kMatchHeaderWords + k * kMatchWords);
     udn::FtError e = udn::FtError::kWindowFull;
     for (int tries = 0; tries < 500 && (e == udn::FtError::kWindowFull || e == udn::FtError::kNetFull); ++tries) {
-      e = trn::tasks::comm_send(kFilterTile, trn::tasks::kChanMatches, words, 0U);  // sleeps a tick when full
+      e = trn::tasks::comm_send(kFilterTile, trn::tasks::kChanMatches, words, 0U);  // one attempt, no wait
       drain_nav();
+      if (e == udn::FtError::kWindowFull || e == udn::FtError::kNetFull) {
+        k::sleep(1);
+      }
     }
     if (e == udn::FtError::kOk) {
       ++g_result.parts_sent;
