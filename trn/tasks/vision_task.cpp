@@ -279,7 +279,7 @@ void take_result(CoordState& st, VisionCoordStats& stats, const udn::FtMessage& 
   st.units[unit].answered = true;
   ++stats.units_answered;
   for (std::uint32_t i = 0; i < n && st.match_count < st.matches.size(); ++i) {
-    const std::span<const std::uint32_t, kMatchWords> w(m.data.data() + kResultHeaderWords + i * kMatchWords,
+    const std::span<const std::uint32_t, kMatchWords> w(m.data.data() + kResultHeaderWords + static_cast<std::size_t>(i) * kMatchWords,
                                                         kMatchWords);
     st.matches[st.match_count] = unpack_match(w);
     ++st.match_count;
@@ -471,7 +471,7 @@ void send_batch(CoordState& st, VisionCoordStats& stats) noexcept {
     w[3] = n;
     for (std::uint32_t i = 0; i < n; ++i) {
       pack_match(st.matches[first + i],
-                 std::span<std::uint32_t, kMatchWords>(w.data() + kMatchHeaderWords + i * kMatchWords, kMatchWords));
+                 std::span<std::uint32_t, kMatchWords>(w.data() + kMatchHeaderWords + static_cast<std::size_t>(i) * kMatchWords, kMatchWords));
     }
     if (comm_send(st.cfg->filter_tile, kChanMatches,
                   std::span<const std::uint32_t>(w.data(), kMatchHeaderWords + n * kMatchWords),
@@ -601,7 +601,7 @@ std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const udn::FtM
       match.tile = static_cast<std::uint16_t>(bsp::current_tile());
       match.frame = m.data[1];
       match.t_s = prior.t_s;
-      pack_match(match, std::span<std::uint32_t, kMatchWords>(st.out.data() + kResultHeaderWords + matched * kMatchWords,
+      pack_match(match, std::span<std::uint32_t, kMatchWords>(st.out.data() + kResultHeaderWords + static_cast<std::size_t>(matched) * kMatchWords,
                                                               kMatchWords));
       ++matched;
     }
