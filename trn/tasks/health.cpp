@@ -26,6 +26,9 @@ struct HealthState {
 
 HealthState g_health{};
 
+/** Reports come a few per failure: the health task looks every few ticks. */
+constexpr k::Ticks kHealthIdleTicks = 4;
+
 void note(const HealthEvent& e) noexcept {
   g_health.ring[g_health.written % kHealthEventCapacity] = e;
   ++g_health.written;
@@ -81,7 +84,7 @@ void health_task_main(void* arg) noexcept {
         take_report(m.data[1], m.data[2]);
       }
     }
-    k::sleep(1);
+    k::sleep(kHealthIdleTicks);
   }
 }
 

@@ -58,6 +58,11 @@ struct CoordState {
   std::array<bool, kMaxVisionTiles> band_done;
 };
 
+/** Idle poll period of a vision tile: units come once a frame, and each idle wake costs two context switches. */
+constexpr k::Ticks kWorkerIdleTicks = 4;
+/** Idle poll period of the coordinator (results, notices and solutions are drained each time). */
+constexpr k::Ticks kCoordIdleTicks = 2;
+
 /** Ticks the coordinator waits for the vision tiles' relit bands before doing the rest itself. */
 constexpr k::Ticks kRelightWaitTicks = 400;
 
@@ -662,7 +667,7 @@ void vision_coord_main(void* arg) noexcept {
     if (!st->busy && st->have_pending) {
       start_frame(*st, stats);
     }
-    k::sleep(1);
+    k::sleep(kCoordIdleTicks);
   }
 }
 
@@ -684,7 +689,7 @@ void vision_worker_main(void* arg) noexcept {
   udn::FtMessage m{};
   for (;;) {
     if (comm_receive(kChanControl, m) != udn::FtError::kOk) {
-      k::sleep(1);
+      k::sleep(kWorkerIdleTicks);
       continue;
     }
     if (m.data_words == kRelightWords && m.data[0] == kMsgRelight) {
