@@ -4,10 +4,21 @@
  *
  * A new context starts in a trampoline that reads its entry and argument from a
  * launch record at the top of its own stack, so no pointer has to be squeezed
- * through makecontext's int arguments. swapcontext also saves and restores the
- * signal mask (one rt_sigprocmask syscall per switch); tests/bench/board_bench
- * measures what that costs.
+ * through makecontext's int arguments. A context is entered the first time
+ * with swapcontext (makecontext is the portable way onto a new stack); after
+ * that, every switch saves with _setjmp and resumes with _longjmp, which leave
+ * the signal mask alone: swapcontext's rt_sigprocmask syscall cost ~200 ns per
+ * switch (tests/bench/board_bench), the largest share of a mission's host
+ * time. The emulator takes no signals, so the mask never needs switching.
+ * Sanitizer builds keep swapcontext for every switch (ASan's fiber
+ * annotations are written for it, and its longjmp interceptor would clear the
+ * wrong stack's shadow).
  */
+// _FORTIFY_SOURCE turns _longjmp into __longjmp_chk, which refuses a jump to
+// another stack: these jumps go between fiber stacks by design.
+#if defined(_FORTIFY_SOURCE)
+#undef _FORTIFY_SOURCE
+#endif
 #include "bsp_tile64/board_state.hpp"
 #include "bsp_tile64/port.hpp"
 
@@ -82,9 +93,21 @@ void switch_raw(Context& from, Context& to) noexcept {
   g_switch_from = &from;
   g_switch_to = &to;
   asan_start(&from.asan_fake_stack, to.stack_base, to.stack_bytes);
+#if defined(__SANITIZE_ADDRESS__)
   if (swapcontext(&from.uc, &to.uc) != 0) {
     __builtin_trap();  // cannot happen with a context made by context_init: nothing sane to continue with
   }
+#else
+  if (_setjmp(from.jb) == 0) {  // NOLINT(cert-err52-cpp): fiber switch, see the file comment
+    from.has_jb = true;
+    if (to.has_jb) {
+      _longjmp(to.jb, 1);  // NOLINT(cert-err52-cpp): fiber switch, see the file comment
+    }
+    if (swapcontext(&from.uc, &to.uc) != 0) {  // first entry into a fresh context
+      __builtin_trap();
+    }
+  }
+#endif
   asan_finish(from.asan_fake_stack);
 }
 
@@ -92,6 +115,11 @@ void switch_abandon(Context& to) noexcept {
   g_switch_from = &board().scratch_ctx;
   g_switch_to = &to;
   asan_start(nullptr, to.stack_base, to.stack_bytes);  // nullptr: this fiber is gone for good
+#if !defined(__SANITIZE_ADDRESS__)
+  if (to.has_jb) {
+    _longjmp(to.jb, 1);  // NOLINT(cert-err52-cpp): fiber switch, see the file comment
+  }
+#endif
   static_cast<void>(setcontext(&to.uc));
   __builtin_trap();  // setcontext returns only on failure
 }
@@ -122,6 +150,7 @@ void context_init(Context& ctx, std::byte* stack, std::size_t stack_bytes, Conte
   ctx.stack_base = stack;
   ctx.stack_bytes = usable;
   ctx.asan_fake_stack = nullptr;
+  ctx.has_jb = false;
   makecontext(&ctx.uc, trampoline, 0);
 }
 

@@ -33,6 +33,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include <csetjmp>
+
 #include <ucontext.h>
 
 namespace bsp {
@@ -49,7 +51,9 @@ using ContextEntry = void (*)(void* arg);
 
 /** A saved execution context. Plain data, so the kernel can embed it in static TCBs. */
 struct Context {
-  ucontext_t uc;
+  ucontext_t uc;            ///< how a fresh context is entered the first time (and the sanitizer builds' switch)
+  jmp_buf jb;               ///< where a context that switched away resumes (no signal-mask syscall)
+  bool has_jb;              ///< jb is valid: the context has switched away at least once
   void* stack_base;         ///< lowest address of the stack
   std::size_t stack_bytes;  ///< stack size
   void* asan_fake_stack;    ///< AddressSanitizer fiber bookkeeping (unused without ASan)
