@@ -8,6 +8,8 @@
 #include "bsp_tile64/udn_hw.hpp"
 #include "tools/common/run_folder.hpp"
 
+#include "tools/common/text.hpp"
+
 #include <toml++/toml.h>
 
 #include <algorithm>
@@ -51,23 +53,8 @@ constexpr std::array<KindKeys, kFaultKinds> kKindKeys = {{
 
 constexpr std::array<const char*, 7> kAllFaultKeys = {"t_s", "kind", "tile", "channel", "offset", "word", "bit"};
 
-std::string cat(std::initializer_list<std::string_view> parts) {
-  std::string out;
-  for (const std::string_view p : parts) {
-    out.append(p);
-  }
-  return out;
-}
 
-std::string fmt(double v) {
-  if (std::isfinite(v) && v == std::floor(v) && std::fabs(v) < 9.0e15) {
-    return std::to_string(static_cast<long long>(v));
-  }
-  std::ostringstream o;
-  o.precision(10);
-  o << v;
-  return o.str();
-}
+std::string fmt(double v) { return format_number(v); }
 
 std::string kind_list() {
   std::string out;

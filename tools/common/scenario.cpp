@@ -4,6 +4,8 @@
  */
 #include "tools/common/scenario.hpp"
 
+#include "tools/common/text.hpp"
+
 #include <toml++/toml.h>
 
 #include <cerrno>
@@ -139,24 +141,8 @@ const std::vector<std::string>& sections() {
   return kSections;
 }
 
-/** Concatenation in one buffer. */
-std::string cat(std::initializer_list<std::string_view> parts) {
-  std::string out;
-  for (const std::string_view p : parts) {
-    out.append(p);
-  }
-  return out;
-}
 
-std::string fmt(double v) {
-  if (std::isfinite(v) && v == std::floor(v) && std::fabs(v) <= kMaxSeed) {
-    return std::to_string(static_cast<long long>(v));
-  }
-  std::ostringstream o;
-  o.precision(10);
-  o << v;
-  return o.str();
-}
+std::string fmt(double v) { return format_number(v); }
 
 std::string kind_name(Kind k) {
   switch (k) {
