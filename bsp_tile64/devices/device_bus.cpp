@@ -45,6 +45,8 @@ struct Bus {
   std::uint32_t next_imu_seq = 0;
   std::uint32_t next_frame = 0;
   FrameRecord pending{};  ///< captured, waiting for its readout delay
+  bool render_due = false;      ///< a capture happened; its image is rendered at the next barrier
+  std::uint32_t render_frame = 0;
 };
 
 Bus g_bus;
@@ -77,7 +79,30 @@ void on_imu(TileId /*tile*/, Cycles /*cycle*/, std::uint64_t seq) noexcept {
   }
 }
 
+/**
+ * Renders the captured frame into the camera's DDR ring. It runs at the
+ * barrier after the capture, on the host, not inside the capture event: an
+ * event runs on the I/O tile's current stack, and the renderer's frames
+ * (~2.5 KB, ~23 KB in sanitizer builds) are the camera's, not the tile's.
+ * The image depends only on the capture time, so when it is rendered does
+ * not change a bit of it.
+ */
+void render_pending() noexcept {
+  if (!g_bus.render_due) {
+    return;
+  }
+  g_bus.render_due = false;
+  const double t = frame_time(g_bus.render_frame);
+  const FrameInfo f = g_bus.cfg.camera->capture(t);
+  const CameraModel& m = g_bus.cfg.camera->model();
+  g_bus.pending = FrameRecord{f.pixels, f.seq, m.width_px, m.height_px,
+                              f.error == CameraError::kOk ? 0U : 1U, f.t_s};
+}
+
+void on_barrier(Cycles /*barrier*/) noexcept { render_pending(); }
+
 void on_frame_ready(TileId /*tile*/, Cycles /*cycle*/, std::uint64_t /*arg*/) noexcept {
+  render_pending();  // a readout shorter than a quantum comes before the barrier
   if (g_bus.frames.push(g_bus.pending)) {
     ++g_bus.stats.frames_delivered;
   } else {
@@ -87,10 +112,8 @@ void on_frame_ready(TileId /*tile*/, Cycles /*cycle*/, std::uint64_t /*arg*/) no
 
 void on_capture(TileId /*tile*/, Cycles /*cycle*/, std::uint64_t n) noexcept {
   const double t = frame_time(static_cast<std::uint32_t>(n));
-  const FrameInfo f = g_bus.cfg.camera->capture(t);
-  const CameraModel& m = g_bus.cfg.camera->model();
-  g_bus.pending = FrameRecord{f.pixels, f.seq, m.width_px, m.height_px,
-                              f.error == CameraError::kOk ? 0U : 1U, f.t_s};
+  g_bus.render_due = true;
+  g_bus.render_frame = static_cast<std::uint32_t>(n);
   // The readout delay is shorter than the frame period, so at most one frame is pending.
   (void)schedule_event(cycle_at(t + g_bus.cfg.frame_readout_s), g_bus.cfg.io_tile, Irq::kDevice, &on_frame_ready,
                        0);
@@ -115,7 +138,8 @@ DeviceBusError attach_devices(const DeviceBusConfig& cfg) noexcept {
     return DeviceBusError::kScheduleFailed;
   }
   if (cfg.camera != nullptr &&
-      schedule_event(cycle_at(cfg.first_frame_s), cfg.io_tile, Irq::kCount, &on_capture, 0) != BoardError::kOk) {
+      (add_barrier_hook(&on_barrier) != BoardError::kOk ||
+       schedule_event(cycle_at(cfg.first_frame_s), cfg.io_tile, Irq::kCount, &on_capture, 0) != BoardError::kOk)) {
     return DeviceBusError::kScheduleFailed;
   }
   return DeviceBusError::kOk;
