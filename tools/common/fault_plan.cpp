@@ -9,6 +9,7 @@
 #include "tools/common/run_folder.hpp"
 
 #include "tools/common/text.hpp"
+#include "tools/common/toml_input.hpp"
 
 #include <toml++/toml.h>
 
@@ -318,11 +319,7 @@ FaultPlanResult parse_fault_plan(std::string_view text, const std::string& sourc
     return r;
   }
   toml::table root;
-  try {
-    root = toml::parse(text, source);
-  } catch (const toml::parse_error& e) {
-    r.error = source + ":" + std::to_string(e.source().begin.line) + ":" + std::to_string(e.source().begin.column) +
-              ": TOML syntax error: " + std::string(e.description());
+  if (!parse_toml(text, source, root, r.error)) {
     return r;
   }
   FaultPlan plan;

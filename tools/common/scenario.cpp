@@ -5,6 +5,7 @@
 #include "tools/common/scenario.hpp"
 
 #include "tools/common/text.hpp"
+#include "tools/common/toml_input.hpp"
 
 #include <toml++/toml.h>
 
@@ -244,11 +245,7 @@ Scenario default_scenario() { return Scenario{}; }
 ScenarioResult parse_scenario(std::string_view text, const std::string& source) {
   ScenarioResult r;
   toml::table root;
-  try {
-    root = toml::parse(text, source);
-  } catch (const toml::parse_error& e) {
-    r.error = source + ":" + std::to_string(e.source().begin.line) + ":" + std::to_string(e.source().begin.column) +
-              ": TOML syntax error: " + std::string(e.description());
+  if (!parse_toml(text, source, root, r.error)) {
     return r;
   }
   Scenario s = default_scenario();
