@@ -1,16 +1,18 @@
 /**
  * @file ft_event.hpp
- * @brief Fixed-capacity log of fault-tolerant messaging events (give-ups, unreachable routes, suspects).
+ * @brief What the fault-tolerant messaging layer reports, and the sink it reports through.
  *
- * Written by the messaging layer of one tile, read later by the fdir layer.
- * When full the oldest entry is overwritten and overwritten counts it, so no
- * event disappears without a trace.
+ * The messaging layer sits below fault management, so it never includes the
+ * flight event log: a node is given a sink (a plain function and its context)
+ * and reports each event there as it happens, on the tile that saw it. The
+ * fault-management layer installs the sink that writes the flight event log
+ * (fdir::ft_event_sink); tests install one that records. A node without a sink
+ * only counts (FtStats).
  */
 #pragma once
 
 #include "bsp_tile64/port.hpp"
 
-#include <array>
 #include <cstdint>
 
 namespace udn {
@@ -20,6 +22,13 @@ enum class FtCause : std::uint8_t {
   kUnreachable,        ///< no route to the destination (send refused, or give-up without a route)
   kForwardUnreachable, ///< a forwarder had no route for a packet passing through
   kSuspectNeighbour,   ///< the probe missed a neighbour's switch too often
+  kCorrected,          ///< a packet decoded with corrected bits (peer: its source)
+  kForwarded,          ///< a packet for another tile was forwarded (peer: its source, seq: low bits of its destination)
+  kDamaged,            ///< a packet beyond correction (peer: its source if identified, else kNoTile; seq: 1 if NACKed)
+  kResentNack,         ///< a stream resent go-back-N after a NACK (peer: destination)
+  kResentTimeout,      ///< a stream resent go-back-N after its timeout (peer: destination)
+  kMapApplied,         ///< routes rebuilt from a newer fault map (peer: tile it came from; word: version)
+  kMapPushed,          ///< a neighbour probed with an older map version was sent ours (peer: neighbour; word: version)
 };
 
 struct FtEvent {
@@ -27,33 +36,21 @@ struct FtEvent {
   FtCause cause = FtCause::kRetriesExhausted;
   std::uint8_t channel = 0U;
   std::uint8_t seq = 0U;
-  bsp::TileId peer = bsp::kNoTile;  ///< destination, or the suspect tile
+  bsp::TileId peer = bsp::kNoTile;  ///< destination, source or suspect tile (see the cause)
+  std::uint32_t word = 0U;          ///< cause-specific value (a map version)
 };
 
-inline constexpr std::uint32_t kFtEventCapacity = 64U;
-
-struct FtEventLog {
-  std::array<FtEvent, kFtEventCapacity> ring{};
-  std::uint32_t next = 0U;         ///< total events written
-  std::uint32_t overwritten = 0U;  ///< events lost to wrap-around (still counted)
+/** Where a node's events go. Called on the tile that saw the event. [task|isr] */
+struct FtEventSink {
+  void (*fn)(void* ctx, bsp::TileId tile, const FtEvent& e) = nullptr;
+  void* ctx = nullptr;
 };
 
-/** Appends an event, overwriting the oldest when full. [task|host] */
-inline void ft_event_push(FtEventLog& log, const FtEvent& e) noexcept {
-  if (log.next >= kFtEventCapacity) {
-    ++log.overwritten;
+/** Hands @p e to @p sink if it has a function. */
+inline void ft_event_emit(const FtEventSink& sink, bsp::TileId tile, const FtEvent& e) noexcept {
+  if (sink.fn != nullptr) {
+    sink.fn(sink.ctx, tile, e);
   }
-  log.ring[log.next % kFtEventCapacity] = e;
-  ++log.next;
-}
-
-/** Events held (at most kFtEventCapacity); the i-th oldest is ft_event_at(log, i). */
-inline std::uint32_t ft_event_count(const FtEventLog& log) noexcept {
-  return log.next < kFtEventCapacity ? log.next : kFtEventCapacity;
-}
-inline const FtEvent& ft_event_at(const FtEventLog& log, std::uint32_t i) noexcept {
-  const std::uint32_t first = log.next < kFtEventCapacity ? 0U : log.next - kFtEventCapacity;
-  return log.ring[(first + i) % kFtEventCapacity];
 }
 
 }  // namespace udn

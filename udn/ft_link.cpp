@@ -54,7 +54,7 @@ FtError route_and_send(FtNode& n, std::span<std::uint32_t> image, bsp::TileId de
 
 void log_event(FtNode& n, FtCause cause, bsp::TileId peer, std::uint32_t channel, std::uint8_t seq,
                std::uint32_t now) noexcept {
-  ft_event_push(n.events, FtEvent{now, cause, static_cast<std::uint8_t>(channel), seq, peer});
+  ft_event_emit(n.sink, n.self, FtEvent{now, cause, static_cast<std::uint8_t>(channel), seq, peer, 0U});
 }
 
 /** Frees every slot of stream (dest, channel) that @p acked covers (cumulative). */
@@ -71,8 +71,10 @@ void take_ack(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint8_t a
   }
 }
 
-/** Retransmits the stream's outstanding slots in sequence order from @p from. */
-void resend_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint8_t from, std::uint32_t now) noexcept {
+/** Retransmits the stream's outstanding slots in sequence order from @p from; @p why is reported once. */
+void resend_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint8_t from, std::uint32_t now,
+                   FtCause why) noexcept {
+  bool reported = false;
   for (std::uint32_t k = 0U; k < kFtTxSlots; ++k) {
     const auto seq = static_cast<std::uint8_t>(from + k);
     for (detail::TxSlot& s : n.tx) {
@@ -85,6 +87,10 @@ void resend_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint
       if (route_and_send(n, std::span<std::uint32_t>(s.image.data(), s.words), dest) != FtError::kNetFull) {
         ++s.retries;
         ++n.stats.retransmitted;
+        if (!reported) {
+          reported = true;
+          log_event(n, why, dest, channel, seq, now);
+        }
       }
     }
   }
@@ -139,7 +145,7 @@ void run_timers(FtNode& n, std::uint32_t now) noexcept {
     if (first->retries >= n.config.max_retries) {
       give_up_stream(n, dest, channel, now);
     } else {
-      resend_stream(n, dest, channel, first->seq, now);
+      resend_stream(n, dest, channel, first->seq, now, FtCause::kResentTimeout);
     }
   }
 }
@@ -162,7 +168,7 @@ void send_ack(FtNode& n, std::uint32_t source, std::uint32_t channel, std::uint8
 /** Resends owed ACKs (the latest in-order sequence of each stream). Bounded: tiles x channels. */
 void pay_acks(FtNode& n) noexcept {
   for (std::uint32_t src = 0U; src < n.routes.tiles && n.acks_owed > 0U; ++src) {
-    for (std::uint32_t ch = 0U; ch < kFtChannels; ++ch) {
+    for (std::uint32_t ch = 0U; ch < kFtAllChannels; ++ch) {
       const detail::RxStream& rs = n.rx_stream[src][ch];
       if (rs.ack_owed) {
         send_ack(n, src, ch, static_cast<std::uint8_t>(rs.expected - 1U));
@@ -211,20 +217,24 @@ void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> da
 }
 
 /** Control packets: ACK/NACK to the sender state, PING answered, PONG recorded. */
-void on_control(FtNode& n, const ChannelWord& cw, std::uint32_t word, std::uint32_t now) noexcept {
+void on_control(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> data, std::uint32_t now) noexcept {
   if (cw.source >= n.routes.tiles) {
     return;
   }
+  const std::uint32_t word = data[0];
+  if ((cw.kind == FtKind::kPing || cw.kind == FtKind::kPong) && data.size() >= 2U) {
+    n.peer_map_version[cw.source] = data[1];
+  }
   switch (cw.kind) {
     case FtKind::kAck:
-      if (word < kFtChannels) {
+      if (word < kFtAllChannels) {
         take_ack(n, cw.source, word, cw.seq);
       }
       break;
     case FtKind::kNack:
-      if (word < kFtChannels) {
+      if (word < kFtAllChannels) {
         take_ack(n, cw.source, word, static_cast<std::uint8_t>(cw.seq - 1U));
-        resend_stream(n, cw.source, word, cw.seq, now);
+        resend_stream(n, cw.source, word, cw.seq, now, FtCause::kResentNack);
       }
       break;
     case FtKind::kPing:
@@ -239,23 +249,25 @@ void on_control(FtNode& n, const ChannelWord& cw, std::uint32_t word, std::uint3
 }
 
 /** The route code alone clean: word 4 (source, seq, channel) can be trusted for a NACK. */
-void nack_if_identified(FtNode& n, std::span<const std::uint32_t> image) noexcept {
+void nack_if_identified(FtNode& n, std::span<const std::uint32_t> image, std::uint32_t now) noexcept {
   const std::array<std::uint32_t, kRouteCodeWords> route = {image[kWordHwHeader], image[kWordHwTag],
                                                             image[kWordRouteData], image[kWordChannel]};
   if (RouteCode::check(route, image[kWordEcc] & RouteCode::kCheckMask).status != EccStatus::kClean) {
+    log_event(n, FtCause::kDamaged, bsp::kNoTile, 0U, 0U, now);
     return;
   }
   const ChannelWord cw = split(image[kWordChannel]);
-  if (cw.kind != FtKind::kData || cw.channel >= kFtChannels || cw.source >= n.routes.tiles ||
+  if (cw.kind != FtKind::kData || cw.channel >= kFtAllChannels || cw.source >= n.routes.tiles ||
       (image[kWordRouteData] >> 16U) != n.self) {
+    log_event(n, FtCause::kDamaged, bsp::kNoTile, 0U, 0U, now);
     return;
   }
   // NACK what this receiver still needs, not the damaged packet's sequence: a
   // NACK also acknowledges everything before it.
   const std::uint8_t need = n.rx_stream[cw.source][cw.channel].expected;
-  if (ft_send_control(n, cw.source, FtKind::kNack, need, cw.channel, true) == FtError::kOk) {
-    ++n.stats.nacks_sent;
-  }
+  const bool nacked = ft_send_control(n, cw.source, FtKind::kNack, need, cw.channel, true) == FtError::kOk;
+  n.stats.nacks_sent += nacked ? 1U : 0U;
+  log_event(n, FtCause::kDamaged, cw.source, cw.channel, nacked ? 1U : 0U, now);
 }
 
 /** Forwards a packet for another tile now, or holds it while the network refuses. */
@@ -307,31 +319,39 @@ bool flush_forwards(FtNode& n, std::uint32_t now) noexcept {
   return all_free;
 }
 
-void handle_packet(FtNode& n, std::span<std::uint32_t> image, std::uint32_t now) noexcept {
+void handle_packet(FtNode& n, std::span<std::uint32_t> image, std::uint32_t now, bool tag_damaged) noexcept {
   const Decoded d = decode_packet(image, static_cast<std::uint16_t>(n.self), CrcPolicy::kRequired);
   if (d.status != DecodeStatus::kOk && d.status != DecodeStatus::kCorrected &&
       d.status != DecodeStatus::kMisdelivered) {
     ++n.stats.uncorrectable_detected;
     if (d.status != DecodeStatus::kMalformed) {
-      nack_if_identified(n, image);
+      nack_if_identified(n, image, now);
+    } else {
+      log_event(n, FtCause::kDamaged, bsp::kNoTile, 0U, 0U, now);
     }
     return;
   }
   n.stats.corrected += (d.fix_count > 0U) ? 1U : 0U;
+  const ChannelWord cw = split(d.fields.channel);
   if (d.status == DecodeStatus::kMisdelivered) {
+    if (d.fix_count > 0U) {  // a flipped header brought it here; a clean one is a detour leg passing through
+      log_event(n, FtCause::kForwarded, cw.source, cw.channel, static_cast<std::uint8_t>(d.fields.dest_index), now);
+    }
     forward(n, image, d.fields.dest_index, now);
     return;
   }
-  const ChannelWord cw = split(d.fields.channel);
+  if (d.fix_count > 0U || tag_damaged) {  // a damaged tag sent it to the catch-all queue: found and undone here
+    log_event(n, FtCause::kCorrected, cw.source, cw.channel, cw.seq, now);
+  }
   const std::span<const std::uint32_t> data = packet_data(image, d);
-  if (cw.kind == FtKind::kData && cw.channel < kFtChannels && cw.source < n.routes.tiles) {
+  if (cw.kind == FtKind::kData && cw.channel < kFtAllChannels && cw.source < n.routes.tiles) {
     on_data(n, cw, data);
   } else if (cw.channel == kFtControlChannel && !data.empty()) {
-    on_control(n, cw, data[0], now);
+    on_control(n, cw, data, now);
   }
 }
 
-void take_image(FtNode& n, std::uint32_t payload_words, std::uint32_t now) noexcept;
+void take_image(FtNode& n, std::uint32_t payload_words, std::uint32_t now, bool tag_damaged) noexcept;
 
 /** Receives one packet of @p queue into the scratch image. @return false if none. */
 bool receive_one(FtNode& n, std::uint32_t queue, std::uint32_t now) noexcept {
@@ -340,27 +360,30 @@ bool receive_one(FtNode& n, std::uint32_t queue, std::uint32_t now) noexcept {
   if (n.port.receive(n.port.ctx, n.self, queue, rx, payload) != bsp::NetError::kOk) {
     return false;
   }
-  take_image(n, rx.payload_words, now);
+  take_image(n, rx.payload_words, now, queue != kFtQueue);
   return true;
 }
 
 /** Decodes the image whose payload (after the tag) is already in scratch[2 ..]. */
-void take_image(FtNode& n, std::uint32_t payload_words, std::uint32_t now) noexcept {
+void take_image(FtNode& n, std::uint32_t payload_words, std::uint32_t now, bool tag_damaged) noexcept {
   if (payload_words > n.scratch.size() - 2U || payload_words < kFtMinPacketWords - 2U) {
     ++n.stats.uncorrectable_detected;  // cut or padded by a length flip beyond repair
+    log_event(n, FtCause::kDamaged, bsp::kNoTile, 0U, 0U, now);
     return;
   }
   const auto x = static_cast<std::uint8_t>(n.self % n.routes.cols);
   const auto y = static_cast<std::uint8_t>(n.self / n.routes.cols);
   n.scratch[kWordHwHeader] = make_hw_header(x, y, static_cast<std::uint8_t>(payload_words + 1U));
   n.scratch[kWordHwTag] = kFtHwTag;
-  handle_packet(n, std::span<std::uint32_t>(n.scratch.data(), payload_words + 2U), now);
+  handle_packet(n, std::span<std::uint32_t>(n.scratch.data(), payload_words + 2U), now, tag_damaged);
 }
 
 /** Clears a node member by member: a whole FtNode temporary would not fit a task's stack. */
 void reset(FtNode& node) noexcept {
   node.stats = FtStats{};
-  node.events = FtEventLog{};
+  node.sink = FtEventSink{};
+  node.map_version = 0U;
+  node.peer_map_version.fill(0U);
   node.in_window.fill(0U);
   for (detail::TxSlot& s : node.tx) {
     s.used = false;
@@ -400,17 +423,23 @@ FtError ft_init(FtNode& node, bsp::TileId self, const FaultMap& map, const FtPor
       bsp::udn_net_bind(self, kFtHwTag, kFtQueue) != bsp::NetError::kOk) {
     return FtError::kBadArgs;
   }
+  node.map_version = map.version;
   return FtError::kOk;
 }
 
+void ft_set_event_sink(FtNode& node, const FtEventSink& sink) noexcept { node.sink = sink; }
+
 FtError ft_set_fault_map(FtNode& node, const FaultMap& map, bsp::Work& work) noexcept {
-  return (route_table_build(map, node.self, node.routes, work) == RouteError::kOk) ? FtError::kOk
-                                                                                     : FtError::kBadArgs;
+  if (route_table_build(map, node.self, node.routes, work) != RouteError::kOk) {
+    return FtError::kBadArgs;
+  }
+  node.map_version = map.version;
+  return FtError::kOk;
 }
 
 FtError ft_send(FtNode& node, bsp::TileId dest, std::uint32_t channel, std::span<const std::uint32_t> data,
                 std::uint32_t now_tick) noexcept {
-  if (node.self == bsp::kNoTile || channel >= kFtChannels || dest >= node.routes.tiles || data.empty() ||
+  if (node.self == bsp::kNoTile || channel >= kFtAllChannels || dest >= node.routes.tiles || data.empty() ||
       data.size() > kFtMaxDataWords) {
     return FtError::kBadArgs;
   }
@@ -457,8 +486,10 @@ FtError ft_send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_
   if (dest >= node.routes.tiles) {
     return FtError::kBadArgs;
   }
-  std::array<std::uint32_t, ft_packet_words(1U, true)> image{};
-  const std::array<std::uint32_t, 1> data = {word};
+  std::array<std::uint32_t, ft_packet_words(2U, true)> image{};
+  const std::array<std::uint32_t, 2> words = {word, node.map_version};
+  const bool versioned = kind == FtKind::kPing || kind == FtKind::kPong;
+  const std::span<const std::uint32_t> data(words.data(), versioned ? 2U : 1U);
   const FtFields f{static_cast<std::uint8_t>(dest % node.routes.cols),
                    static_cast<std::uint8_t>(dest / node.routes.cols), static_cast<std::uint16_t>(dest), kFtHwTag,
                    ft_channel_word(node.self, seq, kind, false, kFtControlChannel), true};
@@ -466,11 +497,12 @@ FtError ft_send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_
   if (encode_packet(f, data, image, written) != EncodeStatus::kOk) {
     return FtError::kBadArgs;
   }
+  const std::span<std::uint32_t> packet(image.data(), written);  // one or two data words
   if (routed) {
-    return route_and_send(node, image, dest);
+    return route_and_send(node, packet, dest);
   }
-  return (node.port.send(node.port.ctx, node.self, image) == bsp::NetError::kOk) ? FtError::kOk
-                                                                                   : FtError::kNetFull;
+  return (node.port.send(node.port.ctx, node.self, packet) == bsp::NetError::kOk) ? FtError::kOk
+                                                                                    : FtError::kNetFull;
 }
 
 std::uint32_t ft_poll(FtNode& node, std::uint32_t now_tick, std::uint32_t max_packets) noexcept {
@@ -496,11 +528,11 @@ void ft_accept(FtNode& node, std::span<const std::uint32_t> payload, std::uint32
   for (std::size_t i = 0U; i < n; ++i) {
     node.scratch[2U + i] = payload[i];
   }
-  take_image(node, static_cast<std::uint32_t>(payload.size()), now_tick);
+  take_image(node, static_cast<std::uint32_t>(payload.size()), now_tick, false);
 }
 
 FtError ft_receive(FtNode& node, std::uint32_t channel, FtMessage& out) noexcept {
-  if (channel >= kFtChannels) {
+  if (channel >= kFtAllChannels) {
     return FtError::kBadArgs;
   }
   detail::RxQueue& q = node.rxq[channel];

@@ -7,9 +7,12 @@
  * (word 4, covered by the route code) is laid out by this layer:
  *   [31..24] source tile index | [23..16] sequence (mod 256) |
  *   [15..12] kind (FtKind) | [11..8] flags (bit 8: resync) | [7..0] channel
- * Application channels are 0..kFtChannels-1; channel kFtControlChannel carries
- * the unreliable control kinds (ACK, NACK, PING, PONG) whose data word 0 names
- * the acknowledged channel (ACK/NACK) or the nonce (PING/PONG).
+ * Application channels are 0..kFtChannels-1, then two system channels
+ * (kFtChanFdir, kFtChanMap) for fault management; channel kFtControlChannel
+ * carries the unreliable control kinds (ACK, NACK, PING, PONG) whose data
+ * word 0 names the acknowledged channel (ACK/NACK) or the nonce (PING/PONG);
+ * PING and PONG carry the sender's fault-map version in word 1, so a tile
+ * that missed a map update is noticed by its neighbours' probes.
  *
  * Listener (ft_poll): rebuilds hardware words 0 and 1 (own x,y, delivered
  * count, kFtHwTag), decodes with CrcPolicy::kRequired, then
@@ -57,6 +60,9 @@ namespace udn {
 inline constexpr std::uint32_t kFtHwTag = 0x4654'0001U;  ///< hardware tag of every FT packet
 inline constexpr std::uint32_t kFtQueue = 3U;            ///< demux queue it is bound to
 inline constexpr std::uint32_t kFtChannels = 4U;         ///< application channels 0..3
+inline constexpr std::uint32_t kFtChanFdir = 4U;         ///< system: reports to fault-management tasks
+inline constexpr std::uint32_t kFtChanMap = 5U;          ///< system: fault maps, taken by the tile's endpoint
+inline constexpr std::uint32_t kFtAllChannels = 6U;      ///< application and system channels
 inline constexpr std::uint32_t kFtControlChannel = 0xFFU;
 inline constexpr std::uint32_t kFtWindow = 8U;    ///< unacknowledged packets per destination
 inline constexpr std::uint32_t kFtTxSlots = 16U;  ///< retransmit buffers per tile
@@ -158,12 +164,14 @@ struct FtNode {
   FtConfig config{};
   RouteTable routes{};
   FtStats stats{};
-  FtEventLog events{};
+  FtEventSink sink{};                ///< where events go (ft_set_event_sink); none: only counted
+  std::uint32_t map_version = 0U;    ///< version of the fault map the routes were built from
+  std::array<std::uint32_t, kRouteMaxTiles> peer_map_version{};  ///< last version a PING or PONG carried, per tile
   std::array<std::uint8_t, kRouteMaxTiles> in_window{};  ///< unacknowledged packets per destination
   std::array<detail::TxSlot, kFtTxSlots> tx{};
-  std::array<std::array<detail::TxStream, kFtChannels>, kRouteMaxTiles> tx_stream{};
-  std::array<std::array<detail::RxStream, kFtChannels>, kRouteMaxTiles> rx_stream{};
-  std::array<detail::RxQueue, kFtChannels> rxq{};
+  std::array<std::array<detail::TxStream, kFtAllChannels>, kRouteMaxTiles> tx_stream{};
+  std::array<std::array<detail::RxStream, kFtAllChannels>, kRouteMaxTiles> rx_stream{};
+  std::array<detail::RxQueue, kFtAllChannels> rxq{};
   std::array<detail::FwdSlot, kFtFwdSlots> fwd{};
   std::uint32_t acks_owed = 0U;
   std::array<std::uint32_t, kRouteMaxTiles> pong_nonce{};  ///< last PONG nonce seen per source tile
@@ -178,6 +186,9 @@ struct FtNode {
 FtError ft_init(FtNode& node, bsp::TileId self, const FaultMap& map, const FtPort& port,
                 const FtConfig& config) noexcept;
 
+/** Sends the node's events to @p sink from now on (ft_init clears it). */
+void ft_set_event_sink(FtNode& node, const FtEventSink& sink) noexcept;
+
 /** Rebuilds the route table from a new fault map version; traffic in flight is recovered by retransmission. */
 FtError ft_set_fault_map(FtNode& node, const FaultMap& map, bsp::Work& work) noexcept;
 
@@ -188,7 +199,10 @@ FtError ft_set_fault_map(FtNode& node, const FaultMap& map, bsp::Work& work) noe
 FtError ft_send(FtNode& node, bsp::TileId dest, std::uint32_t channel, std::span<const std::uint32_t> data,
                 std::uint32_t now_tick) noexcept;
 
-/** Sends one unreliable control packet (kind, seq, data word 0 = @p word) straight to @p dest (no routing). */
+/**
+ * Sends one unreliable control packet (kind, seq, data word 0 = @p word; PING and PONG add the
+ * node's map version as word 1) to @p dest, straight (one XY leg) or @p routed through the table.
+ */
 FtError ft_send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_t seq, std::uint32_t word,
                         bool routed) noexcept;
 

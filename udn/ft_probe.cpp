@@ -45,7 +45,7 @@ std::uint32_t ft_probe_round(FtProbe& probe, FtNode& node, std::uint32_t now_tic
     if (probe.misses[d] >= probe.config.miss_threshold && !probe.reported[d]) {
       probe.reported[d] = true;
       ++reported;
-      ft_event_push(node.events, FtEvent{now_tick, FtCause::kSuspectNeighbour, 0U, 0U, nb});
+      ft_event_emit(node.sink, node.self, FtEvent{now_tick, FtCause::kSuspectNeighbour, 0U, 0U, nb, 0U});
       if (probe.hook != nullptr) {
         probe.hook(probe.hook_ctx, node.self, nb);
       }

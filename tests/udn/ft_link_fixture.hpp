@@ -52,6 +52,26 @@ inline bsp::NetError host_receive(void* /*ctx*/, bsp::TileId self, std::uint32_t
 
 inline std::array<udn::FtNode, 64> g_nodes{};
 
+/** Every event each node reported through its sink, in order (boot() clears them). */
+inline std::array<std::vector<udn::FtEvent>, 64> g_events{};
+
+inline void record_event(void* /*ctx*/, bsp::TileId tile, const udn::FtEvent& e) {
+  if (tile < g_events.size()) {
+    g_events[tile].push_back(e);
+  }
+}
+
+/** The events of @p tile with cause @p cause. */
+inline std::vector<udn::FtEvent> events_of(bsp::TileId tile, udn::FtCause cause) {
+  std::vector<udn::FtEvent> out;
+  for (const udn::FtEvent& e : g_events[tile]) {
+    if (e.cause == cause) {
+      out.push_back(e);
+    }
+  }
+  return out;
+}
+
 /** The payload word i of message (source, channel, seq): what the receiver checks. */
 inline std::uint32_t pattern(std::uint32_t source, std::uint32_t channel, std::uint32_t seq, std::uint32_t i) {
   std::uint32_t h = (source * 0x9E3779B1U) ^ (channel * 0x85EBCA77U) ^ (seq * 0xC2B2AE3DU) ^ (i * 0x27D4EB2FU);
@@ -78,6 +98,8 @@ inline void boot(const udn::FaultMap& map, std::uint64_t seed = 7U, udn::FtConfi
   const udn::FtPort port{&host_send, &host_receive, nullptr};
   for (bsp::TileId t = 0; t < map.cols * map.rows; ++t) {
     ASSERT_EQ(udn::ft_init(g_nodes[t], t, map, port, cfg), udn::FtError::kOk);
+    udn::ft_set_event_sink(g_nodes[t], udn::FtEventSink{&record_event, nullptr});
+    g_events[t].clear();
   }
 }
 

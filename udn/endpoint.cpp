@@ -1,0 +1,349 @@
+/**
+ * @file endpoint.cpp
+ * @brief Per-tile fault-tolerant messaging endpoint, its fault map and its service task.
+ */
+#include "udn/endpoint.hpp"
+
+#include "bsp_tile64/memory.hpp"
+#include "kernel/kernel.hpp"
+#include "udn/ft_probe.hpp"
+
+#include <array>
+#include <new>
+
+namespace udn {
+namespace {
+
+/** Suspect reports waiting to be sent. */
+constexpr std::uint32_t kPendingReports = 4U;
+/** A neighbour's map version not heard yet. */
+constexpr std::uint32_t kVersionUnknown = 0xFFFF'FFFFU;
+
+/** Everything of a tile's endpoint, carved in its RAM. */
+struct Endpoint {
+  FtNode node;
+  FaultMap map;  ///< the tile's copy; the routes are built from it
+  const EndpointConfig* cfg;
+  FtProbe probe;
+  bool probing;
+  std::array<std::uint32_t, bsp::kUdnDirs> pushed;  ///< map version last sent to each neighbour
+  std::array<std::uint32_t, bsp::kUdnDirs> behind;  ///< probe rounds in a row the neighbour's version was older
+  std::array<bsp::TileId, kPendingReports> pending;
+  std::uint32_t pending_count;
+  std::uint8_t local_links;  ///< links leaving this tile towards neighbours its probe found silent (bit per UdnDir)
+};
+
+/** Per-tile pointer to the carve (a tile's base register); reset with the tile by its service start. */
+std::array<Endpoint*, bsp::kMaxTiles> g_ep{};
+
+/** Runs a node operation with interrupts masked (no preemption inside the node). */
+class IrqGuard {
+ public:
+  IrqGuard() noexcept : was_(bsp::mask_irqs(true)) {}
+  ~IrqGuard() { (void)bsp::mask_irqs(was_); }
+  IrqGuard(const IrqGuard&) = delete;
+  IrqGuard& operator=(const IrqGuard&) = delete;
+  IrqGuard(IrqGuard&&) = delete;
+  IrqGuard& operator=(IrqGuard&&) = delete;
+
+ private:
+  bool was_;
+};
+
+std::uint32_t tick32() noexcept { return static_cast<std::uint32_t>(k::now_ticks()); }
+
+Endpoint* current() noexcept {
+  const bsp::TileId t = bsp::current_tile();
+  return t < bsp::kMaxTiles ? g_ep[t] : nullptr;
+}
+
+/**
+ * Builds the node's routes from @p map plus this tile's own observations: a
+ * link to a neighbour that stopped answering is avoided here at once, so the
+ * tile's report (and its traffic) goes around it before the vote. Caller holds the guard.
+ */
+bool build_routes(Endpoint& ep, const FaultMap& map) noexcept {
+  FaultMap local = map;
+  const bsp::TileId self = ep.node.self;
+  if (self < kRouteMaxTiles) {
+    local.failed_links[self] = static_cast<std::uint8_t>(local.failed_links[self] | ep.local_links);
+  }
+  bsp::Work work{};
+  const bool ok = ft_set_fault_map(ep.node, local, work) == FtError::kOk;
+  ep.node.map_version = map.version;  // probes carry the published version, not the local additions
+  bsp::consume(work);
+  return ok;
+}
+
+/** Probe hook (inside the guarded section): avoids the silent neighbour here; the report is sent after. */
+void on_suspect(void* ctx, bsp::TileId /*reporter*/, bsp::TileId suspect) noexcept {
+  auto* ep = static_cast<Endpoint*>(ctx);
+  for (std::size_t d = 0; d < ep->probe.neighbour.size(); ++d) {
+    if (ep->probe.neighbour[d] == suspect) {
+      ep->local_links = static_cast<std::uint8_t>(ep->local_links | (1U << d));
+    }
+  }
+  (void)build_routes(*ep, ep->map);
+  if (ep->pending_count < kPendingReports) {
+    ep->pending[ep->pending_count] = suspect;
+    ++ep->pending_count;
+  }
+}
+
+/** True if the link leaving @p t towards neighbour @p nb is marked failed in @p map. */
+bool link_failed(const FaultMap& map, bsp::TileId t, std::size_t dir) noexcept {
+  return t < kRouteMaxTiles && ((map.failed_links[t] >> dir) & 1U) != 0U;
+}
+
+/** Stops probing neighbours that are off by design, failed, or behind a failed link (nothing answers). */
+void prune_probe(Endpoint& ep) noexcept {
+  const std::uint64_t skip = ep.cfg->not_probed | ep.map.failed_tiles;
+  for (std::size_t d = 0; d < ep.probe.neighbour.size(); ++d) {
+    bsp::TileId& n = ep.probe.neighbour[d];
+    if (n != bsp::kNoTile && (((skip >> n) & 1ULL) != 0ULL || link_failed(ep.map, ep.node.self, d))) {
+      n = bsp::kNoTile;
+    }
+  }
+}
+
+/** Rebuilds the routes from @p map if it is newer; reports it. Caller holds the guard. */
+bool install(Endpoint& ep, const FaultMap& map, bsp::TileId from) noexcept {
+  if (map.version <= ep.map.version || map.cols != ep.map.cols || map.rows != ep.map.rows) {
+    return false;
+  }
+  if (!build_routes(ep, map)) {
+    return false;
+  }
+  ep.map = map;
+  if (ep.probing) {
+    prune_probe(ep);
+  }
+  ft_event_emit(ep.node.sink, ep.node.self, FtEvent{tick32(), FtCause::kMapApplied, 0U, 0U, from, map.version});
+  return true;
+}
+
+bool open(Endpoint*& out, bsp::TileId self, const EndpointConfig& cfg) noexcept {
+  bsp::MemError err = bsp::MemError::kOk;
+  auto* ep = bsp::carve_array<Endpoint>(bsp::Region{self}, 1, "endpoint", &err);
+  if (err != bsp::MemError::kOk || ep == nullptr) {
+    return false;
+  }
+  ::new (ep) Endpoint{};
+  ep->cfg = &cfg;
+  ep->map = cfg.boot_map;
+  const std::uint32_t cols = bsp::udn_grid_cols();
+  if (ep->map.cols == 0U && (cols == 0U || fault_map_init(ep->map, cols, bsp::udn_grid_rows()) != RouteError::kOk)) {
+    return false;  // no boot map and no network to draw an all-clear one from
+  }
+  if (ft_init(ep->node, self, ep->map, ft_task_port(), cfg.ft) != FtError::kOk) {
+    return false;
+  }
+  ft_set_event_sink(ep->node, cfg.sink);
+  ep->node.peer_map_version.fill(kVersionUnknown);
+  ep->pushed.fill(kVersionUnknown);
+  ep->probing = cfg.report_to != bsp::kNoTile &&
+                ft_probe_init(ep->probe, ep->node, ProbeConfig{cfg.probe_miss_threshold}, &on_suspect, ep) ==
+                    ProbeError::kOk;
+  if (ep->probing) {
+    prune_probe(*ep);
+  }
+  out = ep;
+  return true;
+}
+
+/** Sends a waiting item without blocking; @return false if the network or window refused (retry next tick). */
+bool send_now(Endpoint& ep, bsp::TileId to, std::uint32_t channel, std::span<const std::uint32_t> w) noexcept {
+  FtError e = FtError::kOk;
+  {
+    const IrqGuard guard;
+    e = ft_send(ep.node, to, channel, w, tick32());
+  }
+  return e != FtError::kWindowFull && e != FtError::kNetFull;  // sent, or no route: nothing more to do
+}
+
+void send_reports(Endpoint& ep) noexcept {
+  const bsp::TileId to = ep.cfg->report_to;
+  while (ep.pending_count > 0U && to != bsp::kNoTile) {
+    const std::array<std::uint32_t, kSuspectWords> w{kMsgSuspect, ep.node.self, ep.pending[ep.pending_count - 1U]};
+    if (!send_now(ep, to, kFtChanFdir, w)) {
+      return;
+    }
+    --ep.pending_count;
+  }
+}
+
+/** Catch-up: a neighbour whose probes carry an older map version is sent ours, once per version. */
+void push_to_stale(Endpoint& ep) noexcept {
+  std::array<std::uint32_t, kFaultMapWords> w{};
+  bool packed = false;
+  for (std::size_t d = 0; d < ep.probe.neighbour.size(); ++d) {
+    const bsp::TileId nb = ep.probe.neighbour[d];
+    if (nb == bsp::kNoTile || nb >= kRouteMaxTiles) {
+      continue;
+    }
+    const std::uint32_t theirs = ep.node.peer_map_version[nb];
+    const bool older = theirs != kVersionUnknown && theirs < ep.map.version;
+    ep.behind[d] = older ? ep.behind[d] + 1U : 0U;
+    // Behind for two rounds: not a neighbour that is being sent the same map by the health tile right now.
+    if (ep.behind[d] < 2U || ep.pushed[d] == ep.map.version) {
+      continue;
+    }
+    if (!packed) {
+      pack_fault_map(ep.map, w);
+      packed = true;
+    }
+    if (!send_now(ep, nb, kFtChanMap, w)) {
+      return;
+    }
+    ep.pushed[d] = ep.map.version;
+    ft_event_emit(ep.node.sink, ep.node.self, FtEvent{tick32(), FtCause::kMapPushed, 0U, 0U, nb, ep.map.version});
+  }
+}
+
+/** Takes the fault maps waiting on kFtChanMap (a bounded number per tick). Caller holds the guard. */
+void take_maps(Endpoint& ep) noexcept {
+  FtMessage m{};
+  for (std::uint32_t i = 0; i < kFtRxDepth && ft_receive(ep.node, kFtChanMap, m) == FtError::kOk; ++i) {
+    FaultMap map{};
+    if (unpack_fault_map(std::span<const std::uint32_t>(m.data.data(), m.data_words), map)) {
+      (void)install(ep, map, m.source);
+    }
+  }
+}
+
+}  // namespace
+
+void pack_fault_map(const FaultMap& map, std::span<std::uint32_t, kFaultMapWords> w) noexcept {
+  w[0] = kMsgFaultMap;
+  w[1] = map.version;
+  w[2] = map.cols;
+  w[3] = map.rows;
+  w[4] = static_cast<std::uint32_t>(map.failed_tiles);
+  w[5] = static_cast<std::uint32_t>(map.failed_tiles >> 32U);
+  w[6] = static_cast<std::uint32_t>(map.no_forward);
+  w[7] = static_cast<std::uint32_t>(map.no_forward >> 32U);
+  for (std::uint32_t i = 0; i < kRouteMaxTiles / 4U; ++i) {
+    std::uint32_t word = 0U;
+    for (std::uint32_t k = 0; k < 4U; ++k) {
+      word |= static_cast<std::uint32_t>(map.failed_links[4U * i + k]) << (8U * k);
+    }
+    w[8U + i] = word;
+  }
+}
+
+bool unpack_fault_map(std::span<const std::uint32_t> w, FaultMap& map) noexcept {
+  if (w.size() != kFaultMapWords || w[0] != kMsgFaultMap || w[2] == 0U || w[3] == 0U ||
+      w[2] > kRouteMaxTiles || w[3] > kRouteMaxTiles || w[2] * w[3] > kRouteMaxTiles) {
+    return false;
+  }
+  map = FaultMap{};
+  map.version = w[1];
+  map.cols = w[2];
+  map.rows = w[3];
+  map.failed_tiles = static_cast<std::uint64_t>(w[4]) | (static_cast<std::uint64_t>(w[5]) << 32U);
+  map.no_forward = static_cast<std::uint64_t>(w[6]) | (static_cast<std::uint64_t>(w[7]) << 32U);
+  for (std::uint32_t i = 0; i < kRouteMaxTiles / 4U; ++i) {
+    for (std::uint32_t k = 0; k < 4U; ++k) {
+      map.failed_links[4U * i + k] = static_cast<std::uint8_t>(w[8U + i] >> (8U * k));
+    }
+  }
+  return true;
+}
+
+void endpoint_task_main(void* arg) noexcept {
+  const bsp::TileId self = bsp::current_tile();
+  const auto* cfg = static_cast<const EndpointConfig*>(arg);
+  if (self >= bsp::kMaxTiles) {
+    return;
+  }
+  g_ep[self] = nullptr;  // a restart carves afresh: the old state is gone with the region
+  Endpoint* opened = nullptr;
+  if (cfg == nullptr || !open(opened, self, *cfg)) {
+    return;
+  }
+  g_ep[self] = opened;
+  Endpoint& ep = *opened;
+  const std::uint32_t period = cfg->probe_period_ticks == 0U ? 1U : cfg->probe_period_ticks;
+  for (std::uint32_t tick = 0;; ++tick) {
+    const bool probe_now = ep.probing && tick % period == 0U;
+    {
+      const IrqGuard guard;
+      if (probe_now) {
+        (void)ft_probe_round(ep.probe, ep.node, tick32());
+      }
+      (void)ft_poll(ep.node, tick32(), cfg->packets_per_tick);
+      take_maps(ep);
+    }
+    send_reports(ep);
+    if (probe_now) {
+      push_to_stale(ep);
+    }
+    (void)k::wait_period();
+  }
+}
+
+bool endpoint_ready() noexcept { return current() != nullptr; }
+
+bool endpoint_wait_ready(std::uint32_t max_ticks) noexcept {
+  for (std::uint32_t i = 0; i <= max_ticks; ++i) {
+    if (endpoint_ready()) {
+      return true;
+    }
+    k::sleep(1);
+  }
+  return false;
+}
+
+FtError endpoint_send(bsp::TileId dest, std::uint32_t channel, std::span<const std::uint32_t> words,
+                      std::uint32_t max_ticks) noexcept {
+  Endpoint* ep = current();
+  if (ep == nullptr) {
+    return FtError::kBadArgs;
+  }
+  FtError e = FtError::kBadArgs;
+  for (std::uint32_t i = 0; i <= max_ticks; ++i) {
+    {
+      const IrqGuard guard;
+      e = ft_send(ep->node, dest, channel, words, tick32());
+    }
+    if ((e != FtError::kWindowFull && e != FtError::kNetFull) || i == max_ticks) {
+      return e;
+    }
+    k::sleep(1);
+  }
+  return e;
+}
+
+FtError endpoint_receive(std::uint32_t channel, FtMessage& out) noexcept {
+  Endpoint* ep = current();
+  if (ep == nullptr || channel == kFtChanMap) {
+    return FtError::kBadArgs;  // maps belong to the endpoint itself
+  }
+  const IrqGuard guard;
+  return ft_receive(ep->node, channel, out);
+}
+
+FtError endpoint_install_map(const FaultMap& map) noexcept {
+  Endpoint* ep = current();
+  if (ep == nullptr) {
+    return FtError::kBadArgs;
+  }
+  const IrqGuard guard;
+  (void)install(*ep, map, ep->node.self);
+  return FtError::kOk;
+}
+
+FaultMap endpoint_fault_map() noexcept {
+  const Endpoint* ep = current();
+  return ep != nullptr ? ep->map : FaultMap{};
+}
+
+const FtNode* endpoint_node(bsp::TileId tile) noexcept {
+  return (tile < bsp::kMaxTiles && g_ep[tile] != nullptr) ? &g_ep[tile]->node : nullptr;
+}
+
+std::uint32_t endpoint_map_version(bsp::TileId tile) noexcept {
+  return (tile < bsp::kMaxTiles && g_ep[tile] != nullptr) ? g_ep[tile]->map.version : 0U;
+}
+
+}  // namespace udn

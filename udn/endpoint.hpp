@@ -1,0 +1,106 @@
+/**
+ * @file endpoint.hpp
+ * @brief A tile's fault-tolerant messaging endpoint: its node and fault map in tile RAM, the
+ *        service task that polls it every tick and probes the neighbours, and send and receive
+ *        for the tile's tasks.
+ *
+ * Every tile that talks over the fault-tolerant UDN runs the endpoint service
+ * task (endpoint_task_spec: highest priority, period one tick) from its task
+ * table, with one EndpointConfig set by the image before boot. The endpoint's
+ * state (FtNode, the tile's copy of the fault map, the probe) is carved in the
+ * tile's RAM at the service's start, so an upset can hit it and a restart
+ * starts it afresh from the boot map. The tile's tasks share it, so every node
+ * operation runs with interrupts masked.
+ *
+ * Fault map by message: a newer map arrives on kFtChanMap (from the health
+ * tile, or from a neighbour) and the service rebuilds the routes from it. A
+ * tile that missed an update catches up through the probes: PING and PONG carry
+ * the sender's map version, and a tile that hears an older version from a
+ * neighbour sends that neighbour its own map (once per version).
+ *
+ * Reports: the probe's suspects go to config.report_to on kFtChanFdir
+ * (kMsgSuspect); events (corrections, resends, suspects, maps applied) go to
+ * config.sink. The endpoint never includes the layers above it.
+ */
+#pragma once
+
+#include "bsp_tile64/port.hpp"
+#include "kernel/task_table.hpp"
+#include "udn/ft_link.hpp"
+#include "udn/route.hpp"
+
+#include <cstdint>
+#include <span>
+
+namespace udn {
+
+struct EndpointConfig {
+  FtConfig ft{10U, 8U};  ///< detours re-injected by two tiles take several ticks per leg
+  std::uint32_t packets_per_tick = 16U;
+  FaultMap boot_map{};                  ///< the map every tile starts from (cols 0: all clear on the network's grid)
+  bsp::TileId report_to = bsp::kNoTile; ///< suspect reports go here (kNoTile: no probing)
+  std::uint64_t not_probed = 0U;        ///< tiles off by design (spares): they answer no ping
+  std::uint32_t probe_period_ticks = 10U;
+  std::uint32_t probe_miss_threshold = 3U;
+  FtEventSink sink{};
+};
+
+/** Suspect report (kFtChanFdir): [0] kMsgSuspect [1] reporter [2] suspect. */
+inline constexpr std::uint32_t kMsgSuspect = 0x53555331U;  // "SUS1"
+inline constexpr std::uint32_t kSuspectWords = 3U;
+
+/**
+ * Fault map (kFtChanMap), kFaultMapWords words:
+ *   [0] kMsgFaultMap [1] version [2] cols [3] rows [4..5] failed tiles [6..7] no-forward tiles
+ *   [8..23] failed links, four tiles per word (tile 4i + k in bits 8k .. 8k + 7 of word 8 + i).
+ */
+inline constexpr std::uint32_t kMsgFaultMap = 0x464D4150U;  // "FMAP"
+inline constexpr std::uint32_t kFaultMapWords = 8U + kRouteMaxTiles / 4U;
+
+void pack_fault_map(const FaultMap& map, std::span<std::uint32_t, kFaultMapWords> w) noexcept;
+/** @return false if @p w is not a fault map message of a grid of at most kRouteMaxTiles tiles. */
+[[nodiscard]] bool unpack_fault_map(std::span<const std::uint32_t> w, FaultMap& map) noexcept;
+
+/** Service task entry (arg: const EndpointConfig*): opens the node, then serves it every tick. */
+void endpoint_task_main(void* arg) noexcept;
+
+/** The service task's table entry for @p cfg (priority 0, period 1, preemptive). */
+constexpr k::TaskSpec endpoint_task_spec(EndpointConfig* cfg) noexcept {
+  return k::TaskSpec{"comm", &endpoint_task_main, cfg, 0, 1, 0, 16U * 1024U, k::Policy::kPreemptive};
+}
+
+/** True once the current tile's endpoint is open. [task] */
+bool endpoint_ready() noexcept;
+
+/** Waits (sleeping a tick at a time) up to @p max_ticks for the current tile's endpoint. [task] */
+bool endpoint_wait_ready(std::uint32_t max_ticks) noexcept;
+
+/**
+ * Sends @p words reliably to @p dest on @p channel from the current tile,
+ * retrying each tick while the window or the network is full, for at most
+ * @p max_ticks ticks (0: one attempt, never a wait).
+ * @return kOk, or the last error (kUnreachable at once).
+ */
+[[nodiscard]] FtError endpoint_send(bsp::TileId dest, std::uint32_t channel, std::span<const std::uint32_t> words,
+                                    std::uint32_t max_ticks) noexcept;
+
+/** Pops the current tile's oldest message on @p channel. @return kOk or kEmpty (kBadArgs when closed). */
+[[nodiscard]] FtError endpoint_receive(std::uint32_t channel, FtMessage& out) noexcept;
+
+/**
+ * Installs @p map on the current tile if it is newer than the tile's copy (the
+ * health tile applies its own decisions this way). @return kOk, or kBadArgs
+ * when the endpoint is closed or the map does not fit the grid. [task]
+ */
+[[nodiscard]] FtError endpoint_install_map(const FaultMap& map) noexcept;
+
+/** The current tile's copy of the fault map (the boot map before the endpoint opens). [task] */
+[[nodiscard]] FaultMap endpoint_fault_map() noexcept;
+
+/** The node of @p tile, or nullptr when it is not open. [host: statistics] */
+const FtNode* endpoint_node(bsp::TileId tile) noexcept;
+
+/** Fault-map version @p tile routes by (0 when closed). [host] */
+std::uint32_t endpoint_map_version(bsp::TileId tile) noexcept;
+
+}  // namespace udn
