@@ -11,6 +11,8 @@
 #include "bsp_tile64/udn_net.hpp"
 #include "bsp_tile64/world/refmap.hpp"
 #include "bsp_tile64/world/terrain.hpp"
+#include "fdir/event_log.hpp"
+#include "fdir/ft_sink.hpp"
 #include "kernel/kernel.hpp"
 #include "trn/tasks/roles.hpp"
 #include "trn/tasks/tile_map.hpp"
@@ -114,6 +116,11 @@ bool Mission::boot(std::string& error) {
     error = "cannot initialise the board";
     return false;
   }
+  // The flight event log first: its rings are DDR the tiles write from their first event.
+  if (fdir::event_log_init() != fdir::LogError::kOk) {
+    error = "cannot carve the flight event log";
+    return false;
+  }
   // DDR products after the board: the reference map, then the camera's frame ring.
   bsp::world::WorldError werr = bsp::world::WorldError::kOk;
   if (bsp::world::refmap_build(s.map, &werr) == nullptr) {
@@ -129,9 +136,10 @@ bool Mission::boot(std::string& error) {
     error = "cannot set up the camera";
     return false;
   }
-  // A clear fault map, and the health tile the probes report to.
-  udn::FaultMap map{};
-  if (udn::fault_map_init(map, bsp::kTile64.cols, bsp::kTile64.rows) != udn::RouteError::kOk) {
+  // The boot fault map every endpoint starts from, and the health tile the probes report to.
+  udn::EndpointConfig& ep = trn::tasks::g_endpoint_config;
+  ep = udn::EndpointConfig{};
+  if (udn::fault_map_init(ep.boot_map, bsp::kTile64.cols, bsp::kTile64.rows) != udn::RouteError::kOk) {
     error = "cannot make the fault map";
     return false;
   }
@@ -141,10 +149,13 @@ bool Mission::boot(std::string& error) {
   }
   // Tiles removed from a role (setup.unpowered) are not "off by design": the
   // probes find them and the health task votes them out of the fault map.
-  trn::tasks::health_set_tile(trn::tasks::kSupervisorTile, spares);
   // A spare's switch routes but nothing runs there to forward a detour.
-  map.no_forward = spares;
-  (void)trn::tasks::comm_set_fault_map(map);
+  ep.boot_map.no_forward = spares;
+  ep.report_to = trn::tasks::kSupervisorTile;
+  ep.not_probed = spares;
+  ep.sink = fdir::ft_event_sink();
+  trn::tasks::g_net_health_config = fdir::NetHealthConfig{};
+  trn::tasks::g_net_health_config.not_voted = spares;
   // Role configurations: what each tile's tasks read at start.
   trn::tasks::g_io_mission_config.filter_tile = trn::tasks::kFilterTile;
   trn::tasks::g_io_mission_config.coordinator_tile = trn::tasks::kCoordinatorTile;

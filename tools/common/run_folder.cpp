@@ -575,6 +575,8 @@ const char* event_category_name(EventCategory c) noexcept {
       return "INJECT";
     case EventCategory::kDetect:
       return "DETECT";
+    case EventCategory::kIsolate:
+      return "ISOLATE";
     case EventCategory::kRecover:
       return "RECOVER";
     case EventCategory::kInfo:

@@ -153,9 +153,9 @@ class NavCsv {
   bool failed_ = false;
 };
 
-enum class EventCategory : std::uint8_t { kInject, kDetect, kRecover, kInfo };
+enum class EventCategory : std::uint8_t { kInject, kDetect, kIsolate, kRecover, kInfo };
 
-/** "INJECT", "DETECT", "RECOVER", "INFO". */
+/** "INJECT", "DETECT", "ISOLATE", "RECOVER", "INFO". */
 const char* event_category_name(EventCategory c) noexcept;
 
 /** Longest text of one event, bytes (longer texts are cut). */

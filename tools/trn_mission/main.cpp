@@ -7,9 +7,11 @@
  * made before anything runs (bad input: a message and exit status 2, nothing
  * written); the world is built and the chip booted; the heap is sealed; the
  * descent is flown in steps of kStepS emulated seconds, sampling the
- * navigation against the truth and turning what the flight code reports
- * (fault-tolerant messaging counters, the vision coordinator's events) into
- * the event log; then the heap is unsealed and the outputs written. Host time
+ * navigation against the truth and collecting the flight event log (every
+ * detection, isolation and recovery the flight code reports) into events.log;
+ * then the heap is unsealed, the flight's events are joined to the injector's
+ * ground truth (tools/common/fdir_join.hpp, docs/FDIR.md) and the outputs
+ * written. The final error is scored against the truth at the end of the run. Host time
  * is measured here, in the front end, never in emulated behaviour.
  */
 #include "bsp_tile64/board.hpp"
@@ -18,14 +20,13 @@
 #include "bsp_tile64/trace.hpp"
 #include "kernel/kernel.hpp"
 #include "tools/common/fault_plan.hpp"
+#include "tools/common/fdir_join.hpp"
 #include "tools/common/memory_report.hpp"
 #include "tools/common/mission.hpp"
 #include "tools/common/run_folder.hpp"
 #include "tools/common/scenario.hpp"
 #include "tools/common/tile_view.hpp"
-#include "trn/tasks/comm.hpp"
 #include "trn/tasks/filter_task.hpp"
-#include "trn/tasks/health.hpp"
 #include "trn/tasks/tile_map.hpp"
 #include "trn/tasks/vision_task.hpp"
 
@@ -126,238 +127,65 @@ int prepare(const Options& o, Inputs& in) {
   return 0;
 }
 
-// ------------------------------------------------------------------ what the flight code reports
-
-struct FtTotals {
-  std::uint64_t corrected = 0;
-  std::uint64_t damaged = 0;
-  std::uint64_t retransmitted = 0;
-  std::uint64_t gave_up = 0;
-};
-
-/** Turns flight-code counters and events into the event log and the fault accounting; no allocation. */
-class Observer {
- public:
-  explicit Observer(tools::EventLog& log) : log_(log) {}
-
-  void poll(double clock_hz) {
-    poll_injections();
-    poll_messaging(clock_hz);
-    poll_health(clock_hz);
-    poll_vision(clock_hz);
-  }
-
-  std::uint64_t injected() const { return injected_; }
-  std::uint64_t detected() const { return detected_; }
-  std::uint64_t recovered() const { return recovered_; }
-  std::uint32_t frames() const { return frames_; }
-  std::uint64_t matches() const { return matches_; }
-  const std::array<std::uint32_t, bsp::kMaxTiles>& tile_faults() const { return tile_faults_; }
-  const std::array<std::uint8_t, bsp::kMaxTiles>& tile_state() const { return tile_state_; }
-
-  enum : std::uint8_t { kOk = 0, kSuspect = 1, kRecovered = 2, kFailed = 3 };
-
- private:
-  void poll_injections() {
-    const std::span<const bsp::FaultRecord> all = bsp::fault_log();
-    for (; seen_faults_ < all.size(); ++seen_faults_) {
-      const bsp::FaultRecord& r = all[seen_faults_];
-      if (r.status == bsp::FaultStatus::kScheduled || r.status == bsp::FaultStatus::kArmed) {
-        break;  // not applied yet: look again next step (lines are written after the flight)
-      }
-      if (r.status != bsp::FaultStatus::kApplied) {
-        continue;
-      }
-      ++injected_;
-      if (r.spec.tile < bsp::kMaxTiles) {
-        ++tile_faults_[r.spec.tile];
-      }
-      if (r.spec.kind == bsp::FaultKind::kPacketBitFlip) {
-        ++flips_pending_;
-      } else if (r.spec.tile < bsp::kMaxTiles) {
-        ++pending_[r.spec.tile];
-      }
-    }
-  }
-
-  void poll_messaging(double clock_hz) {
-    const double t = static_cast<double>(bsp::board_time()) / clock_hz;
-    for (bsp::TileId tile = 0; tile < bsp::kTile64.tiles(); ++tile) {
-      const udn::FtNode* n = trn::tasks::comm_node(tile);
-      if (n == nullptr) {
-        continue;
-      }
-      FtTotals& last = ft_[tile];
-      const std::uint64_t corrected = n->stats.corrected - last.corrected;
-      const std::uint64_t damaged = n->stats.uncorrectable_detected - last.damaged;
-      const std::uint64_t retx = n->stats.retransmitted - last.retransmitted;
-      const std::uint64_t gave_up = n->stats.gave_up - last.gave_up;
-      last = FtTotals{n->stats.corrected, n->stats.uncorrectable_detected, n->stats.retransmitted, n->stats.gave_up};
-      for (std::uint64_t i = 0; i < corrected; ++i) {
-        (void)log_.add(t, tools::EventCategory::kDetect, tile, "packet bit error found by the SECDED code");
-        (void)log_.add(t, tools::EventCategory::kRecover, tile, "packet corrected and delivered");
-        account_flip(true);
-      }
-      for (std::uint64_t i = 0; i < damaged; ++i) {
-        (void)log_.add(t, tools::EventCategory::kDetect, tile, "packet damaged beyond correction: NACK");
-        account_flip(false);
-      }
-      for (std::uint64_t i = 0; i < retx && damaged_unrecovered_ > 0U; ++i) {
-        (void)log_.add(t, tools::EventCategory::kRecover, tile, "damaged packet retransmitted");
-        --damaged_unrecovered_;
-        ++recovered_;
-      }
-      if (gave_up > 0U) {
-        (void)log_.addf(t, tools::EventCategory::kInfo, tile,
-                        "%llu packet(s) given up after retries (receiver busy, or no route yet)",
-                        static_cast<unsigned long long>(gave_up));
-      }
-    }
-  }
-
-  void account_flip(bool corrected) {
-    if (flips_pending_ == 0U) {
-      return;  // a detection without an injected flip would be a model error: not counted as ours
-    }
-    --flips_pending_;
-    ++detected_;
-    if (corrected) {
-      ++recovered_;
-    } else {
-      ++damaged_unrecovered_;
-    }
-  }
-
-  void poll_vision(double clock_hz) {
-    const std::uint32_t count = trn::tasks::vision_coord_event_count(kCoordinatorTile);
-    for (; seen_vision_ < count; ++seen_vision_) {
-      trn::tasks::VisionEvent e{};
-      if (!trn::tasks::vision_coord_event(kCoordinatorTile, seen_vision_, &e)) {
-        continue;
-      }
-      const double t = static_cast<double>(e.cycle) / clock_hz;
-      switch (e.kind) {
-        case trn::tasks::VisionEventKind::kTileSilent:
-          (void)log_.addf(t, tools::EventCategory::kDetect, kCoordinatorTile,
-                          "vision tile %u silent for %u frames: isolated, its landmarks go to the others", e.tile,
-                          trn::tasks::kSuspectAfterMisses);
-          tile_state_[e.tile] = kSuspect;
-          detect_tile_fault(e.tile);
-          break;
-        case trn::tasks::VisionEventKind::kTileBack:
-          (void)log_.addf(t, tools::EventCategory::kRecover, kCoordinatorTile,
-                          "vision tile %u answers again: back in the frame", e.tile);
-          tile_state_[e.tile] = kRecovered;
-          break;
-        case trn::tasks::VisionEventKind::kFrameDone:
-          ++frames_;
-          matches_ += e.matches;
-          if (awaiting_recovery_ > 0U && e.units_lost == 0U) {
-            (void)log_.addf(t, tools::EventCategory::kRecover, kCoordinatorTile,
-                            "frame %u complete without the failed tile(s): %u matches", e.frame, e.matches);
-            recovered_ += awaiting_recovery_;
-            awaiting_recovery_ = 0;
-          }
-          break;
-      }
-    }
-  }
-
-  /** An injected fault of @p tile (other than a packet flip) is found: detected, recovery pending. */
-  void detect_tile_fault(bsp::TileId tile) {
-    if (tile < bsp::kMaxTiles && pending_[tile] > 0U) {
-      --pending_[tile];
-      ++detected_;
-      ++awaiting_recovery_;
-    }
-  }
-
-  void poll_health(double clock_hz) {
-    const std::uint32_t count = trn::tasks::health_event_count();
-    for (; seen_health_ < count; ++seen_health_) {
-      trn::tasks::HealthEvent e{};
-      if (!trn::tasks::health_event(seen_health_, &e)) {
-        continue;
-      }
-      const double t = static_cast<double>(e.cycle) / clock_hz;
-      if (e.kind == trn::tasks::HealthEventKind::kReport) {
-        (void)log_.addf(t, tools::EventCategory::kDetect, e.reporter,
-                        "neighbour switch %u does not answer the probe (vote %u of %u)", e.suspect, e.votes,
-                        trn::tasks::kVotesToFail);
-        continue;
-      }
-      (void)log_.addf(t, tools::EventCategory::kDetect, trn::tasks::kSupervisorTile,
-                      "switch of tile %u declared failed (%u neighbours agree)", e.suspect, e.votes);
-      (void)log_.addf(t, tools::EventCategory::kRecover, trn::tasks::kSupervisorTile,
-                      "fault map version %u published: every tile routes around tile %u", e.map_version, e.suspect);
-      tile_state_[e.suspect] = kFailed;
-      detect_tile_fault(e.suspect);
-    }
-  }
-
-  tools::EventLog& log_;
-  std::uint32_t seen_health_ = 0;
-  std::array<std::uint32_t, bsp::kMaxTiles> pending_{};
-  std::uint64_t awaiting_recovery_ = 0;
-  std::size_t seen_faults_ = 0;
-  std::uint32_t seen_vision_ = 0;
-  std::array<FtTotals, bsp::kMaxTiles> ft_{};
-  std::array<std::uint32_t, bsp::kMaxTiles> tile_faults_{};
-  std::array<std::uint8_t, bsp::kMaxTiles> tile_state_{};
-  std::uint64_t injected_ = 0;
-  std::uint64_t detected_ = 0;
-  std::uint64_t recovered_ = 0;
-  std::uint64_t flips_pending_ = 0;
-  std::uint64_t damaged_unrecovered_ = 0;
-  std::uint32_t frames_ = 0;
-  std::uint64_t matches_ = 0;
-};
-
 // ------------------------------------------------------------------ flight
+
+/** A run whose newest navigation output is older than this at the end has lost its navigation. */
+constexpr double kLostOutputAgeS = 0.5;
 
 struct FlightRecord {
   tools::NavSample last{};
   double max_error_after_convergence_m = 0.0;
   double converged_at_s = -1.0;
+  double longest_gap_s = 0.0;  ///< longest time between two successive new outputs (or the start and the first)
 };
 
-const char* health_name(bool on, std::uint8_t state) {
-  if (!on) {
-    return "off";
-  }
-  switch (state) {
-    case Observer::kSuspect: return "suspect";
-    case Observer::kRecovered: return "recovered";
-    case Observer::kFailed: return "failed";
-    default: return "ok";
+/** Faults applied so far per tile, from the injector's log (ground truth: the view's count, never a detection). */
+void count_tile_faults(std::array<std::uint32_t, bsp::kMaxTiles>& per_tile) {
+  per_tile.fill(0U);
+  for (const bsp::FaultRecord& r : bsp::fault_log()) {
+    if (r.status == bsp::FaultStatus::kApplied && r.spec.tile < bsp::kMaxTiles) {
+      ++per_tile[r.spec.tile];
+    }
   }
 }
 
-std::vector<tools::TileInfo> tile_infos(const tools::Mission& m, const Observer& obs) {
+std::uint64_t count_applied() {
+  std::uint64_t n = 0;
+  for (const bsp::FaultRecord& r : bsp::fault_log()) {
+    n += r.status == bsp::FaultStatus::kApplied ? 1U : 0U;
+  }
+  return n;
+}
+
+const char* health_name(bool on, tools::TileHealth h) { return on ? tools::tile_health_name(h) : "off"; }
+
+std::vector<tools::TileInfo> tile_infos(const tools::Mission& m, const tools::FlightEventCollector& flight) {
+  std::array<std::uint32_t, bsp::kMaxTiles> faults{};
+  count_tile_faults(faults);
   std::vector<tools::TileInfo> v(bsp::kTile64.tiles());
   for (std::uint32_t t = 0; t < v.size(); ++t) {
     const trn::tasks::Role r = trn::tasks::kTileRoles[t];
     v[t].role = trn::tasks::role_name(r);
     const bool on = ((m.powered_mask() >> t) & 1ULL) != 0ULL;
-    v[t].health = health_name(on, obs.tile_state()[t]);
-    v[t].faults_injected = obs.tile_faults()[t];
+    v[t].health = health_name(on, flight.tile_health()[t]);
+    v[t].faults_injected = faults[t];
   }
   return v;
 }
 
-void progress(const Options& o, const FlightRecord& rec, const Observer& obs, bool tty) {
+void progress(const Options& o, const FlightRecord& rec, const tools::FlightEventCollector& flight, bool tty) {
   if (o.quiet) {
     return;
   }
   const tools::NavSample& n = rec.last;
   std::printf("%s  t %5.1f s  altitude %6.0f m  position error %9.2f m (3-sigma %8.2f m)  frames %3u  faults %llu%s",
-              tty ? "\r" : "", n.t_s, n.altitude_m, n.position_error_m, n.sigma3_p.head<2>().norm(), obs.frames(),
-              static_cast<unsigned long long>(obs.injected()), tty ? "" : "\n");
+              tty ? "\r" : "", n.t_s, n.altitude_m, n.position_error_m, n.sigma3_p.head<2>().norm(), flight.frames(),
+              static_cast<unsigned long long>(count_applied()), tty ? "" : "\n");
   std::fflush(stdout);
 }
 
-void fly(const Options& o, const tools::Mission& m, double duration_s, tools::NavCsv& csv, Observer& obs,
-         FlightRecord& rec, std::vector<tools::TileInfo>& infos) {
+void fly(const Options& o, const tools::Mission& m, double duration_s, tools::NavCsv& csv, tools::EventLog& log,
+         tools::FlightEventCollector& flight, FlightRecord& rec, std::vector<tools::TileInfo>& infos) {
   const double clock_hz = static_cast<double>(bsp::kTile64.clock_hz);
   const auto steps = static_cast<std::uint32_t>(std::llround(duration_s / kStepS));
   const bool tty = ::isatty(::fileno(stdout)) != 0;
@@ -368,11 +196,12 @@ void fly(const Options& o, const tools::Mission& m, double duration_s, tools::Na
     if (target > bsp::board_time()) {
       (void)bsp::run_for(target - bsp::board_time());
     }
-    obs.poll(clock_hz);
+    flight.poll(clock_hz, log);
     const tools::NavSample n = m.nav();
-    if (!n.valid) {
-      continue;
+    if (!n.valid || (rec.last.valid && n.t_s == rec.last.t_s)) {
+      continue;  // no output yet, or no new one since the last step
     }
+    rec.longest_gap_s = std::max(rec.longest_gap_s, n.t_s - (rec.last.valid ? rec.last.t_s : 0.0));
     rec.last = n;
     tools::NavRow row;
     row.t_s = n.t_s;
@@ -397,18 +226,19 @@ void fly(const Options& o, const tools::Mission& m, double duration_s, tools::Na
     }
     if (o.view) {
       // The grid's strings are rebuilt in place (same lengths), so the view allocates nothing.
+      std::array<std::uint32_t, bsp::kMaxTiles> faults{};
+      count_tile_faults(faults);
       for (std::uint32_t t = 0; t < infos.size(); ++t) {
         const bool on = ((m.powered_mask() >> t) & 1ULL) != 0ULL;
-        const std::uint8_t st = obs.tile_state()[t];  // NOLINT(readability-identifier-length)
-        infos[t].health.assign(health_name(on, st));
-        infos[t].faults_injected = obs.tile_faults()[t];
+        infos[t].health.assign(health_name(on, flight.tile_health()[t]));
+        infos[t].faults_injected = faults[t];
       }
       const std::size_t len =
           tools::render_tile_grid_to(bsp::kTile64.cols, bsp::kTile64.rows, infos, tty, grid);
       std::printf("%s%.*s", tty ? "\x1b[H\x1b[2J" : "\n", static_cast<int>(len), grid.data());
-      progress(o, rec, obs, false);
+      progress(o, rec, flight, false);
     } else if (tty || s % (5U * per_second) == 0U || s == steps) {
-      progress(o, rec, obs, tty);
+      progress(o, rec, flight, tty);
     }
   }
   if (!o.quiet && tty && !o.view) {
@@ -418,9 +248,33 @@ void fly(const Options& o, const tools::Mission& m, double duration_s, tools::Na
 
 // ------------------------------------------------------------------ outputs
 
-tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const Observer& obs, const FlightRecord& rec,
-                            double host_s, std::uint64_t allocs) {
-  (void)m;
+/** The navigation at the end of the run against the truth then: the last output, dead-reckoned to the end. */
+struct FinalScore {
+  double output_age_s = 0.0;  ///< end time minus the newest output's time (the whole run without any)
+  double position_error_m = NAN;
+  double velocity_error_mps = NAN;
+  bool lost = true;           ///< no output, or the newest one older than kLostOutputAgeS
+};
+
+FinalScore score_end(const tools::Mission& m, const FlightRecord& rec, double end_s) {
+  FinalScore f;
+  if (!rec.last.valid) {
+    f.output_age_s = end_s;
+    return f;
+  }
+  f.output_age_s = std::max(0.0, end_s - rec.last.t_s);
+  const bsp::world::TruthState t = m.truth().at(end_s);
+  // What guidance would hold at the end: the last solution carried forward at its own velocity.
+  const Eigen::Vector3d p = rec.last.est_p + rec.last.est_v * f.output_age_s;
+  f.position_error_m = (p - t.r_m).norm();
+  f.velocity_error_mps = (rec.last.est_v - t.v_mps).norm();
+  f.lost = f.output_age_s > kLostOutputAgeS;
+  return f;
+}
+
+tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const tools::FlightEventCollector& flight,
+                            const tools::FaultAccount& faults, const FlightRecord& rec, double host_s,
+                            std::uint64_t allocs) {
   tools::Summary s;
   s.scenario = in.scenario.name;
   s.fault_plan = in.plan.has_value() ? in.plan->name : "";
@@ -428,12 +282,14 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const Obs
   s.emulated_s = in.duration_s;
   s.host_s = host_s;
   s.realtime_factor = host_s > 0.0 ? in.duration_s / host_s : 0.0;
-  s.final_position_error_m = rec.last.position_error_m;
+  const FinalScore end = score_end(m, rec, in.duration_s);
+  s.final_position_error_m = end.position_error_m;
   s.max_position_error_after_convergence_m = rec.converged_at_s >= 0.0 ? rec.max_error_after_convergence_m : NAN;
-  s.final_velocity_error_mps = rec.last.velocity_error_mps;
-  s.final_attitude_error_deg = rec.last.attitude_error_deg;
-  s.frames = obs.frames();
-  s.matches_per_frame_mean = obs.frames() > 0U ? static_cast<double>(obs.matches()) / obs.frames() : 0.0;
+  s.final_velocity_error_mps = end.velocity_error_mps;
+  s.final_attitude_error_deg = rec.last.valid ? rec.last.attitude_error_deg : NAN;
+  s.frames = flight.frames();
+  s.matches_per_frame_mean =
+      flight.frames() > 0U ? static_cast<double>(flight.matches()) / static_cast<double>(flight.frames()) : 0.0;
   std::uint64_t misses = 0;
   for (bsp::TileId t = 0; t < bsp::kTile64.tiles(); ++t) {
     if (((m.powered_mask() >> t) & 1ULL) == 0ULL) {
@@ -449,11 +305,19 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const Obs
   }
   s.deadline_misses = misses;
   s.heap_allocs_after_init = allocs;
-  s.faults_injected = obs.injected();
-  s.faults_detected = obs.detected();
-  s.faults_recovered = obs.recovered();
+  s.faults_injected = faults.injected;
+  s.faults_detected = faults.detected;
+  s.faults_recovered = faults.recovered;
   s.trace_hash = tools::trace_hash_hex(bsp::trace_hash());
   const trn::tasks::VisionCoordStats c = trn::tasks::vision_coord_stats(kCoordinatorTile);
+  s.extra.emplace_back("mission_lost", end.lost ? 1.0 : 0.0);
+  s.extra.emplace_back("nav_output_age_at_end_s", end.output_age_s);
+  s.extra.emplace_back("nav_longest_gap_s", std::max(rec.longest_gap_s, end.output_age_s));
+  s.extra.emplace_back("faults_not_delivered", static_cast<double>(faults.not_delivered));
+  s.extra.emplace_back("detection_latency_mean_ms", faults.mean_detection_latency_s * 1e3);
+  s.extra.emplace_back("detection_latency_max_ms", faults.max_detection_latency_s * 1e3);
+  s.extra.emplace_back("flight_events", static_cast<double>(flight.events().size()));
+  s.extra.emplace_back("flight_events_lost", static_cast<double>(flight.lost()));
   s.extra.emplace_back("converged_at_s", rec.converged_at_s);
   s.extra.emplace_back("landmarks_selected", c.landmarks_selected);
   s.extra.emplace_back("coarse_accepted", c.coarse_accepted);
@@ -471,8 +335,13 @@ void print_summary(const tools::Summary& s, const std::string& dir) {
               s.fault_plan.c_str());
   std::printf("  emulated time          %.1f s in %.2f host s (real-time factor %.1f)\n", s.emulated_s, s.host_s,
               s.realtime_factor);
-  std::printf("  final position error   %.2f m (max after convergence %.2f m)\n", s.final_position_error_m,
-              s.max_position_error_after_convergence_m);
+  std::printf("  final position error   %.2f m at the end (max after convergence %.2f m)\n",
+              s.final_position_error_m, s.max_position_error_after_convergence_m);
+  for (const auto& [key, value] : s.extra) {
+    if (key == "mission_lost" && value != 0.0) {
+      std::printf("  NAVIGATION LOST        the newest navigation output is stale at the end (see nav_output_age_at_end_s)\n");
+    }
+  }
   std::printf("  final velocity error   %.3f m/s, attitude error %.4f deg\n", s.final_velocity_error_mps,
               s.final_attitude_error_deg);
   std::printf("  frames                 %llu, %.1f matches per frame\n", static_cast<unsigned long long>(s.frames),
@@ -543,7 +412,7 @@ int run(int argc, char** argv) {
   if (!csv.open(in.folder->staging_path("nav.csv"), error)) {
     return bad_input(error);
   }
-  Observer obs(log);
+  tools::FlightEventCollector flight;
   FlightRecord rec;
   std::printf("trn_mission: %u tiles booted (vision coordinator %u, I/O %u, filter %u, 40 vision tiles); "
               "flying %.0f s%s\n",
@@ -551,16 +420,18 @@ int run(int argc, char** argv) {
               trn::tasks::kIoTile, kFilterTile, in.duration_s,
               in.plan.has_value() ? (", fault plan " + in.plan->name).c_str() : "");
   std::fflush(stdout);
-  std::vector<tools::TileInfo> infos = tile_infos(mission, obs);
+  std::vector<tools::TileInfo> infos = tile_infos(mission, flight);
   const auto t0 = std::chrono::steady_clock::now();
   bsp::heap::seal(bsp::heap::SealMode::kFatal);
-  fly(o, mission, in.duration_s, csv, obs, rec, infos);
+  fly(o, mission, in.duration_s, csv, log, flight, rec, infos);
   const std::uint64_t allocs = bsp::heap::allocs_after_seal();
   bsp::heap::unseal();
   const double host_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  (void)tools::log_injections(bsp::fault_log(), static_cast<double>(bsp::kTile64.clock_hz), log);
-  const tools::Summary s = make_summary(in, mission, obs, rec, host_s, allocs);
-  if (!csv.close(error) || !write_outputs(in, s, log, tile_infos(mission, obs), error)) {
+  const double clock_hz = static_cast<double>(bsp::kTile64.clock_hz);
+  const tools::FaultAccount faults = tools::join_faults(bsp::fault_log(), flight.events(), clock_hz);
+  tools::log_fault_outcomes(bsp::fault_log(), faults, clock_hz, log);
+  const tools::Summary s = make_summary(in, mission, flight, faults, rec, host_s, allocs);
+  if (!csv.close(error) || !write_outputs(in, s, log, tile_infos(mission, flight), error)) {
     std::fprintf(stderr, "trn_mission: cannot write the run folder: %s\n", error.c_str());
     return 1;
   }

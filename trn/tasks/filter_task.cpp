@@ -6,8 +6,8 @@
 
 #include "bsp_tile64/memory.hpp"
 #include "kernel/kernel.hpp"
-#include "trn/tasks/comm.hpp"
 #include "trn/tasks/messages.hpp"
+#include "udn/endpoint.hpp"
 #include "udn/raw.hpp"
 
 #include <array>
@@ -112,7 +112,7 @@ void consume_parts(Slot& slot) noexcept {
   udn::FtMessage msg{};
   bsp::Work work{};
   for (std::uint32_t p = 0; p < kMaxPartsPerJob; ++p) {
-    if (comm_receive(kChanMatches, msg) != udn::FtError::kOk) {
+    if (udn::endpoint_receive(kChanMatches, msg) != udn::FtError::kOk) {
       break;  // empty, or the node is not open yet
     }
     ++slot.stats.parts_received;
@@ -172,7 +172,7 @@ void send_nav(Slot& slot) noexcept {
   std::array<std::uint32_t, kNavWords> w{};
   pack_nav(slot.latest, w);
   bsp::consume(bsp::Work{2ULL * kNavWords, 0U, 0U, 0U, kNavWords});
-  if (comm_send(slot.cfg->nav_sink, kChanNav, w, 0U) == udn::FtError::kOk) {
+  if (udn::endpoint_send(slot.cfg->nav_sink, kChanNav, w, 0U) == udn::FtError::kOk) {
     ++slot.stats.nav_sent;
   } else {
     ++slot.stats.nav_send_failed;

@@ -7,8 +7,8 @@
 #include "bsp_tile64/devices/device_io.hpp"
 #include "bsp_tile64/memory.hpp"
 #include "kernel/kernel.hpp"
-#include "trn/tasks/comm.hpp"
 #include "trn/tasks/messages.hpp"
+#include "udn/endpoint.hpp"
 #include "udn/raw.hpp"
 
 #include <array>
@@ -41,7 +41,7 @@ void forward_frames(const IoTaskConfig& cfg) noexcept {
                        static_cast<std::uint64_t>(f.pixels - base)};
     std::array<std::uint32_t, kFrameNoticeWords> w{};
     pack_frame_notice(notice, w);
-    if (comm_send(cfg.coordinator_tile, kChanControl, w, kNoticeTicks) == udn::FtError::kOk) {
+    if (udn::endpoint_send(cfg.coordinator_tile, kChanControl, w, kNoticeTicks) == udn::FtError::kOk) {
       ++g_stats.frames_forwarded;
     } else {
       ++g_stats.frame_send_failures;

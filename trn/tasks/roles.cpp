@@ -6,6 +6,7 @@
 
 namespace trn::tasks {
 
+udn::EndpointConfig g_endpoint_config{};
 IoTaskConfig g_io_role_config{};
 FilterTaskConfig g_filter_role_config{};
 

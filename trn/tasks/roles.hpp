@@ -10,11 +10,16 @@
 #pragma once
 
 #include "kernel/task_table.hpp"
-#include "trn/tasks/comm.hpp"
+#include "udn/endpoint.hpp"
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/io_task.hpp"
 
 namespace trn::tasks {
+
+/** Configuration of every tile's messaging endpoint (boot map, probes, report tile, event sink); set before boot. */
+extern udn::EndpointConfig g_endpoint_config;
+/** The endpoint service every TRN tile runs first in its table. */
+inline constexpr k::TaskSpec kCommTask = udn::endpoint_task_spec(&g_endpoint_config);
 
 /** Configuration read by the I/O role's task; set before boot. */
 extern IoTaskConfig g_io_role_config;

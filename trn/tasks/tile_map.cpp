@@ -11,7 +11,7 @@ namespace trn::tasks {
 VisionCoordConfig g_coord_config{};
 VisionWorkerConfig g_vision_config{};
 IoTaskConfig g_io_mission_config{};
-HealthConfig g_health_config{};
+fdir::NetHealthConfig g_net_health_config{};
 
 const char* role_name(Role r) noexcept {
   switch (r) {

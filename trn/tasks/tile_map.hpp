@@ -12,16 +12,17 @@
  *   rows 3-7: v v v v v v v v          . spare (powered off)
  *
  * The supervisors' tiles are reserved for the fault-management layer. Today
- * the TRN supervisor's tile runs the network-health task (switch-failure
- * voting, health.hpp) and the filter supervisor's tile stays off.
+ * the TRN supervisor's tile runs the network-health task (switch and link
+ * voting, fault-map publication: fdir/net_health.hpp) and the filter
+ * supervisor's tile stays off.
  */
 #pragma once
 
 #include "kernel/task_table.hpp"
-#include "trn/tasks/comm.hpp"
+#include "fdir/net_health.hpp"
 #include "trn/tasks/filter_task.hpp"
-#include "trn/tasks/health.hpp"
 #include "trn/tasks/io_task.hpp"
+#include "trn/tasks/roles.hpp"
 #include "trn/tasks/vision_task.hpp"
 
 #include <array>
@@ -87,12 +88,12 @@ static_assert(kTileRoles[kCoordinatorTile] == Role::kVisionCoordinator && kTileR
 extern VisionCoordConfig g_coord_config;
 extern VisionWorkerConfig g_vision_config;
 extern IoTaskConfig g_io_mission_config;
-extern HealthConfig g_health_config;
+extern fdir::NetHealthConfig g_net_health_config;
 
 /** The TRN supervisor's tile: network health (suspect voting, fault map). */
 inline constexpr k::TaskSpec kSupervisorRole[] = {
     kCommTask,
-    {"net_health", &health_task_main, &g_health_config, 1, 0, 0, 16U * 1024U, k::Policy::kPreemptive},
+    {"net_health", &fdir::net_health_task_main, &g_net_health_config, 1, 0, 0, 16U * 1024U, k::Policy::kPreemptive},
 };
 static_assert(k::check_table(kSupervisorRole) == k::TableError::kOk);
 

@@ -6,10 +6,12 @@
 
 #include "bsp_tile64/devices/map_product.hpp"
 #include "bsp_tile64/memory.hpp"
+#include "fdir/event_log.hpp"
+#include "fdir/liveness.hpp"
 #include "kernel/kernel.hpp"
 #include "trn/match.hpp"
-#include "trn/tasks/comm.hpp"
 #include "trn/tasks/messages.hpp"
+#include "udn/endpoint.hpp"
 
 #include <array>
 #include <cmath>
@@ -52,7 +54,7 @@ struct CoordState {
   std::array<vision::PlannedLandmark, kMaxMatchesPerFrame> planned;
   std::array<Match, kMaxMatchesPerFrame + 1U> matches;  ///< [0] the coarse match when there is one
   std::uint32_t match_count;
-  std::array<std::uint32_t, kMaxVisionTiles> misses;  ///< frames missed in a row, per vision tile
+  fdir::Liveness live;  ///< misses in a row per vision tile, isolation and probe rounds
   std::uint32_t frames_planned;
   vision::ImageU8 relit;  ///< the coarse layer relit to the descent sun (DDR)
   std::array<bool, kMaxVisionTiles> band_done;
@@ -88,20 +90,6 @@ bool relight_band(const vision::MapView& map, const double sun_m[3], vision::Ima
 
 std::array<VisionCoordStats, bsp::kMaxTiles> g_coord_stats{};
 
-/** The coordinator's event ring (one coordinator per chip). */
-struct EventRing {
-  bsp::TileId owner = bsp::kNoTile;
-  std::uint32_t written = 0;
-  std::array<VisionEvent, kVisionEventCapacity> ring{};
-};
-EventRing g_events{};
-
-void note(VisionEventKind kind, bsp::TileId tile, std::uint32_t frame, std::uint32_t matches,
-          std::uint32_t units_lost) noexcept {
-  g_events.ring[g_events.written % kVisionEventCapacity] =
-      VisionEvent{bsp::now(), kind, tile, frame, matches, units_lost};
-  ++g_events.written;
-}
 std::array<VisionWorkerStats, bsp::kMaxTiles> g_worker_stats{};
 
 const std::uint8_t* ddr_at(std::uint64_t offset, std::uint64_t bytes) noexcept {
@@ -199,7 +187,7 @@ bool relight_coarse(CoordState& st) noexcept {
     st.band_done[i] = rows == 0;
     bool sent = st.band_done[i];
     for (std::uint32_t k = 0; k < n && !sent; ++k) {
-      sent = comm_send(st.cfg->vision_tiles[(i + k) % n], kChanControl, w, kSendTicks) == udn::FtError::kOk;
+      sent = udn::endpoint_send(st.cfg->vision_tiles[(i + k) % n], kChanControl, w, kSendTicks) == udn::FtError::kOk;
     }
     if (!sent) {
       if (!relight_band(st.coarse_map, st.cfg->descent_sun_m, st.relit, row0, rows)) {
@@ -212,7 +200,7 @@ bool relight_coarse(CoordState& st) noexcept {
   const k::Ticks until = k::now_ticks() + kRelightWaitTicks;
   udn::FtMessage m{};
   while (done < n && k::now_ticks() < until) {
-    while (comm_receive(kChanResult, m) == udn::FtError::kOk) {
+    while (udn::endpoint_receive(kChanResult, m) == udn::FtError::kOk) {
       if (m.data_words != kRelightWords || m.data[0] != kMsgRelightDone) {
         continue;
       }
@@ -244,7 +232,7 @@ bool relight_coarse(CoordState& st) noexcept {
 
 void drain_nav(CoordState& st) noexcept {
   udn::FtMessage m{};
-  for (std::uint32_t i = 0; i < kDrainPerPass && comm_receive(kChanNav, m) == udn::FtError::kOk; ++i) {
+  for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanNav, m) == udn::FtError::kOk; ++i) {
     if (m.data_words == kNavWords && m.data[0] == kMsgNav) {
       st.nav[st.nav_count % kNavRing] = unpack_nav(std::span<const std::uint32_t, kNavWords>(m.data.data(), kNavWords));
       ++st.nav_count;
@@ -254,7 +242,7 @@ void drain_nav(CoordState& st) noexcept {
 
 void drain_notices(CoordState& st, VisionCoordStats& stats) noexcept {
   udn::FtMessage m{};
-  for (std::uint32_t i = 0; i < kDrainPerPass && comm_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
+  for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
     if (m.data_words != kFrameNoticeWords || m.data[0] != kMsgFrame) {
       continue;
     }
@@ -293,7 +281,7 @@ void take_result(CoordState& st, VisionCoordStats& stats, const udn::FtMessage& 
 
 void drain_results(CoordState& st, VisionCoordStats& stats) noexcept {
   udn::FtMessage m{};
-  for (std::uint32_t i = 0; i < kDrainPerPass && comm_receive(kChanResult, m) == udn::FtError::kOk; ++i) {
+  for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanResult, m) == udn::FtError::kOk; ++i) {
     take_result(st, stats, m);
   }
 }
@@ -359,7 +347,7 @@ bool coarse_if_needed(CoordState& st, VisionCoordStats& stats, const vision::Con
 
 /** Whether vision tile @p i gets work this frame (suspects only on their probe frames). */
 bool tile_gets_work(const CoordState& st, std::uint32_t i) noexcept {
-  return st.misses[i] < kSuspectAfterMisses || (st.frames_planned % kProbeEveryFrames) == 0U;
+  return fdir::liveness_gets_work(st.live, i, st.frames_planned);
 }
 
 void pack_unit_header(const CoordState& st, const vision::PosePrior& prior, std::uint32_t unit, std::uint32_t n,
@@ -410,7 +398,7 @@ void distribute(CoordState& st, VisionCoordStats& stats, const vision::PosePrior
       continue;
     }
     pack_unit_header(st, prior, u, n, w);
-    const udn::FtError e = comm_send(unit.tile, kChanControl,
+    const udn::FtError e = udn::endpoint_send(unit.tile, kChanControl,
                                      std::span<const std::uint32_t>(w.data(), kUnitHeaderWords + n), kSendTicks);
     if (e == udn::FtError::kOk) {
       unit.sent = true;
@@ -478,7 +466,7 @@ void send_batch(CoordState& st, VisionCoordStats& stats) noexcept {
       pack_match(st.matches[first + i],
                  std::span<std::uint32_t, kMatchWords>(w.data() + kMatchHeaderWords + static_cast<std::size_t>(i) * kMatchWords, kMatchWords));
     }
-    if (comm_send(st.cfg->filter_tile, kChanMatches,
+    if (udn::endpoint_send(st.cfg->filter_tile, kChanMatches,
                   std::span<const std::uint32_t>(w.data(), kMatchHeaderWords + n * kMatchWords),
                   kSendTicks) != udn::FtError::kOk) {
       ++stats.batch_send_failed;
@@ -488,7 +476,6 @@ void send_batch(CoordState& st, VisionCoordStats& stats) noexcept {
 
 /** Closes the frame: misses counted per tile, the batch sent to the filter. */
 void finish_frame(CoordState& st, VisionCoordStats& stats) noexcept {
-  std::uint32_t suspects = 0;
   std::uint32_t lost = 0;
   for (std::uint32_t i = 0; i < st.cfg->vision_count; ++i) {
     const bsp::TileId t = st.cfg->vision_tiles[i];
@@ -497,27 +484,20 @@ void finish_frame(CoordState& st, VisionCoordStats& stats) noexcept {
         continue;
       }
       if (st.units[u].answered) {
-        if (st.misses[i] >= kSuspectAfterMisses) {
-          note(VisionEventKind::kTileBack, t, st.frame.seq, 0, 0);
-        }
-        st.misses[i] = 0;
+        fdir::liveness_answered(st.live, i);
       } else {
         ++lost;
-        ++st.misses[i];
-        if (st.misses[i] == kSuspectAfterMisses) {
-          note(VisionEventKind::kTileSilent, t, st.frame.seq, 0, 0);
-        }
+        fdir::liveness_missed(st.live, i);
       }
     }
-    suspects += (st.misses[i] >= kSuspectAfterMisses) ? 1U : 0U;
   }
   stats.units_lost += lost;
-  stats.suspect_tiles = suspects;
+  stats.suspect_tiles = fdir::liveness_isolated(st.live);
   const std::uint32_t fine = st.match_count - ((st.match_count > 0U && st.matches[0].landmark == kCoarseLandmark) ? 1U : 0U);
   stats.matches_total += fine;
   stats.last_frame_matches = fine;
   send_batch(st, stats);
-  note(VisionEventKind::kFrameDone, bsp::kNoTile, st.frame.seq, fine, lost);
+  fdir::report(fdir::EventId::kFrameDone, fdir::kUnknown, lost, st.frame.seq, fine);
   st.busy = false;
   stats.last_frame_cycles = bsp::now() - st.frame_start;
   if (stats.last_frame_cycles > stats.max_frame_cycles) {
@@ -633,7 +613,7 @@ void relight_request(WorkerState& st, VisionWorkerStats& stats, const udn::FtMes
     return;
   }
   const std::array<std::uint32_t, kRelightWords> w{kMsgRelightDone, m.data[1], m.data[2]};
-  if (comm_send(m.source, kChanResult, w, kSendTicks) != udn::FtError::kOk) {
+  if (udn::endpoint_send(m.source, kChanResult, w, kSendTicks) != udn::FtError::kOk) {
     ++stats.send_failed;
   }
 }
@@ -647,14 +627,14 @@ void vision_coord_main(void* arg) noexcept {
   const auto* cfg = static_cast<const VisionCoordConfig*>(arg);
   bsp::MemError err = bsp::MemError::kOk;
   auto* st = bsp::carve_array<CoordState>(bsp::Region{self}, 1, "vision_coord", &err);
-  if (cfg == nullptr || cfg->vision_count > kMaxVisionTiles || err != bsp::MemError::kOk || !comm_wait_ready(100)) {
+  if (cfg == nullptr || cfg->vision_count > kMaxVisionTiles || err != bsp::MemError::kOk || !udn::endpoint_wait_ready(100)) {
     return;
   }
   ::new (st) CoordState{};
   st->cfg = cfg;
-  g_events = EventRing{};
-  g_events.owner = self;
-  if (!coord_set_up(*st, stats) || !relight_coarse(*st)) {
+  if (fdir::liveness_init(st->live, fdir::LivenessConfig{kSuspectAfterMisses, kProbeEveryFrames},
+                          cfg->vision_tiles.data(), cfg->vision_count) != fdir::LivenessError::kOk ||
+      !coord_set_up(*st, stats) || !relight_coarse(*st)) {
     return;
   }
   for (;;) {
@@ -678,7 +658,7 @@ void vision_worker_main(void* arg) noexcept {
   const auto* cfg = static_cast<const VisionWorkerConfig*>(arg);
   bsp::MemError err = bsp::MemError::kOk;
   auto* st = bsp::carve_array<WorkerState>(bsp::Region{self}, 1, "vision_task", &err);
-  if (cfg == nullptr || err != bsp::MemError::kOk || !comm_wait_ready(100)) {
+  if (cfg == nullptr || err != bsp::MemError::kOk || !udn::endpoint_wait_ready(100)) {
     return;
   }
   ::new (st) WorkerState{};
@@ -688,7 +668,7 @@ void vision_worker_main(void* arg) noexcept {
   }
   udn::FtMessage m{};
   for (;;) {
-    if (comm_receive(kChanControl, m) != udn::FtError::kOk) {
+    if (udn::endpoint_receive(kChanControl, m) != udn::FtError::kOk) {
       k::sleep(kWorkerIdleTicks);
       continue;
     }
@@ -702,7 +682,7 @@ void vision_worker_main(void* arg) noexcept {
       continue;
     }
     ++stats.units;
-    if (comm_send(m.source, kChanResult, std::span<const std::uint32_t>(st->out.data(), words), kSendTicks) !=
+    if (udn::endpoint_send(m.source, kChanResult, std::span<const std::uint32_t>(st->out.data(), words), kSendTicks) !=
         udn::FtError::kOk) {
       ++stats.send_failed;
     }
@@ -711,19 +691,6 @@ void vision_worker_main(void* arg) noexcept {
 
 VisionCoordStats vision_coord_stats(bsp::TileId tile) noexcept {
   return tile < bsp::kMaxTiles ? g_coord_stats[tile] : VisionCoordStats{};
-}
-
-std::uint32_t vision_coord_event_count(bsp::TileId tile) noexcept {
-  return tile == g_events.owner ? g_events.written : 0U;
-}
-
-bool vision_coord_event(bsp::TileId tile, std::uint32_t i, VisionEvent* out) noexcept {
-  if (out == nullptr || tile != g_events.owner || i >= g_events.written ||
-      g_events.written - i > kVisionEventCapacity) {
-    return false;
-  }
-  *out = g_events.ring[i % kVisionEventCapacity];
-  return true;
 }
 
 VisionWorkerStats vision_worker_stats(bsp::TileId tile) noexcept {

@@ -93,29 +93,11 @@ struct VisionWorkerStats {
   std::uint32_t send_failed;
 };
 
-/** What the coordinator reports about its tiles and frames (for the fault-management layer and logs). */
-enum class VisionEventKind : std::uint8_t {
-  kTileSilent,  ///< a vision tile missed kSuspectAfterMisses frames in a row: it gets no more work
-  kTileBack,    ///< a silent tile answered its probe unit: it gets work again
-  kFrameDone,   ///< a frame's batch left for the filter (matches, units lost)
-};
-
-struct VisionEvent {
-  bsp::Cycles cycle = 0;  ///< coordinator tile time
-  VisionEventKind kind = VisionEventKind::kFrameDone;
-  bsp::TileId tile = bsp::kNoTile;  ///< the vision tile (kTileSilent, kTileBack)
-  std::uint32_t frame = 0;
-  std::uint32_t matches = 0;     ///< kFrameDone: fine matches sent
-  std::uint32_t units_lost = 0;  ///< kFrameDone
-};
-
-/** Events the coordinator keeps (older ones are overwritten; the count says how many were written). */
-inline constexpr std::uint32_t kVisionEventCapacity = 64;
-
-/** Events written so far by the coordinator on @p tile. [host] */
-std::uint32_t vision_coord_event_count(bsp::TileId tile) noexcept;
-/** Event @p i (0-based, in order) of the coordinator on @p tile; false if overwritten or not written. [host] */
-bool vision_coord_event(bsp::TileId tile, std::uint32_t i, VisionEvent* out) noexcept;
+/**
+ * The coordinator reports through the flight event log: a tile isolated or
+ * back (fdir/liveness.hpp: kWorkerSilent, kWorkerBack) and every frame's batch
+ * (kFrameDone: frame, matches, units lost).
+ */
 
 /** Coordinator entry (arg: const VisionCoordConfig*). */
 void vision_coord_main(void* arg) noexcept;

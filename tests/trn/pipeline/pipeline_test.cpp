@@ -9,9 +9,9 @@
  * the frames still finish, with fewer matches at first.
  */
 #include "bsp_tile64/board.hpp"
+#include "fdir/event_log.hpp"
 #include "tools/common/mission.hpp"
 #include "trn/tasks/filter_task.hpp"
-#include "trn/tasks/health.hpp"
 #include "trn/tasks/tile_map.hpp"
 #include "trn/tasks/vision_task.hpp"
 
@@ -95,10 +95,10 @@ TEST_F(PipelineTest, TenVisionTilesRemovedFramesStillComplete) {
   fly_s(0.5);
   // The health task found them: their neighbours' probes get no answer, two agree.
   std::uint32_t voted = 0;
-  for (std::uint32_t i = 0; i < trn::tasks::health_event_count(); ++i) {
-    trn::tasks::HealthEvent e{};
-    if (trn::tasks::health_event(i, &e) && e.kind == trn::tasks::HealthEventKind::kSwitchFailed) {
-      EXPECT_NE((off >> e.suspect) & 1ULL, 0ULL) << "tile " << e.suspect << " voted out but alive";
+  for (std::uint64_t i = 0; i < fdir::event_log_written(trn::tasks::kSupervisorTile); ++i) {
+    fdir::Event e{};
+    if (fdir::event_log_read(trn::tasks::kSupervisorTile, i, &e) && e.id == fdir::EventId::kSwitchFailed) {
+      EXPECT_NE((off >> e.subject) & 1ULL, 0ULL) << "tile " << e.subject << " voted out but alive";
       ++voted;
     }
   }

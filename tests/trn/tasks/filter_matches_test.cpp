@@ -13,10 +13,10 @@
 #include "bsp_tile64/world/trajectory.hpp"
 #include "kernel/kernel.hpp"
 #include "tests/support/heap_probe.hpp"
-#include "trn/tasks/comm.hpp"
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/messages.hpp"
 #include "trn/tasks/roles.hpp"
+#include "udn/endpoint.hpp"
 
 #include <gtest/gtest.h>
 
@@ -93,7 +93,7 @@ trn::Match make_match(const bsp::world::TruthState& t, const bsp::CameraModel& c
 
 void drain_nav() {
   udn::FtMessage msg{};
-  for (int i = 0; i < 64 && trn::tasks::comm_receive(trn::tasks::kChanNav, msg) == udn::FtError::kOk; ++i) {
+  for (int i = 0; i < 64 && udn::endpoint_receive(trn::tasks::kChanNav, msg) == udn::FtError::kOk; ++i) {
     if (msg.data_words != trn::tasks::kNavWords || msg.data[0] != trn::tasks::kMsgNav) {
       ++g_result.nav_bad;
       continue;
@@ -125,7 +125,7 @@ void send_batch(std::uint32_t frame, std::uint32_t n) {
     const std::span<const std::uint32_t> words(w.data(), kMatchHeaderWords + k * kMatchWords);
     udn::FtError e = udn::FtError::kWindowFull;
     for (int tries = 0; tries < 500 && (e == udn::FtError::kWindowFull || e == udn::FtError::kNetFull); ++tries) {
-      e = trn::tasks::comm_send(kFilterTile, trn::tasks::kChanMatches, words, 0U);  // one attempt, no wait
+      e = udn::endpoint_send(kFilterTile, trn::tasks::kChanMatches, words, 0U);  // one attempt, no wait
       drain_nav();
       if (e == udn::FtError::kWindowFull || e == udn::FtError::kNetFull) {
         k::sleep(1);
@@ -156,7 +156,7 @@ void build_frame(const FramePlan& f, std::uint32_t frame, bsp::Rng& rng) {
 
 /** The test's vision coordinator: sends each planned frame at its image time plus lag; takes every solution. */
 void coord_main(void* /*arg*/) {
-  if (!trn::tasks::comm_wait_ready(50)) {
+  if (!udn::endpoint_wait_ready(50)) {
     return;
   }
   bsp::Rng rng(g_setup.seed, bsp::StreamId::kTest, 40);

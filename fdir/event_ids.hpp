@@ -1,0 +1,120 @@
+/**
+ * @file event_ids.hpp
+ * @brief The flight event ids: one reviewable table of every detection, isolation and recovery step.
+ *
+ * Every event a flight layer writes (fdir/event_log.hpp) has an id from this
+ * table. The table gives each id its severity and the fault-management steps
+ * it stands for (an event can be a detection and a recovery at once, as a
+ * packet corrected by its code). The host formats the text of each id and
+ * joins the events to the injector's ground truth by the rule of docs/FDIR.md;
+ * it never decides a step itself. Ids are grouped by layer: 0x01xx messaging,
+ * 0x02xx network health, 0x03xx vision, 0x04xx health table and asserts.
+ */
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+namespace fdir {
+
+/** How bad (F Prime / cFS EVS style). */
+enum class Severity : std::uint8_t { kInfo = 0, kWarningLo = 1, kWarningHi = 2, kFatal = 3 };
+
+/** Fault-management steps an event stands for (bit set). */
+enum Step : std::uint8_t {
+  kStepNone = 0U,
+  kStepDetect = 1U,   ///< a fault was noticed
+  kStepIsolate = 2U,  ///< the faulty part was cut out (routes, work, role)
+  kStepRecover = 4U,  ///< service is whole again (data corrected or resent, routes rebuilt)
+};
+
+enum class EventId : std::uint16_t {
+  // ---- messaging (udn, through the endpoint's event sink)
+  kPacketCorrected = 0x0101,   ///< subject: source tile, cause: channel, a: seq
+  kPacketForwarded = 0x0102,   ///< misdelivered packet forwarded; subject: source tile, cause: destination index
+  kPacketDamaged = 0x0103,     ///< beyond correction; subject: source tile (kUnknown if not identified), a: 1 if NACKed
+  kPacketResent = 0x0104,      ///< go-back-N; subject: destination, cause: 0 NACK / 1 timeout, a: channel, b: seq
+  kPacketGaveUp = 0x0105,      ///< retries exhausted; subject: destination, a: channel, b: seq
+  kRouteUnreachable = 0x0106,  ///< no route; subject: destination
+  kForwardUnreachable = 0x0107,///< a forwarder had no route; subject: destination
+  kNeighbourSuspect = 0x0108,  ///< the probe missed a neighbour N rounds; subject: neighbour
+  kMapApplied = 0x0109,        ///< routes rebuilt from a fault map; subject: version, cause: tile it came from
+  kMapPushed = 0x010A,         ///< a neighbour was behind: our map sent to it; subject: neighbour, a: version
+  // ---- network health (fdir/net_health)
+  kSuspectVote = 0x0201,       ///< subject: suspect tile, cause: reporter, a: distinct reporters so far
+  kSwitchFailed = 0x0202,      ///< subject: tile, a: votes, b: map version
+  kLinkFailed = 0x0203,        ///< subject: tile, cause: neighbour across the link, b: map version
+  kMapPublished = 0x0204,      ///< every live tile was sent the map; subject: version, a: tiles sent to
+  kCoreSuspect = 0x0205,       ///< the probes see a silent core behind a switch that still routes; subject: tile
+  // ---- vision (trn, through fdir/liveness)
+  kWorkerSilent = 0x0301,      ///< subject: worker tile, a: frames missed in a row; its work goes to the others
+  kWorkerBack = 0x0302,        ///< subject: worker tile; it answered again and gets work
+  kFrameDone = 0x0303,         ///< a: frame, b: matches, cause: units lost
+  // ---- health table, asserts
+  kMonitorWarn = 0x0401,       ///< subject: monitor index, a: value, b: threshold
+  kMonitorFatal = 0x0402,      ///< subject: monitor index, a: value, b: threshold; the action is taken
+  kActionCapped = 0x0403,      ///< subject: monitor index, a: actions taken; no more (no reset loop)
+  kAssertFailed = 0x0404,      ///< subject: assert id, cause: line; the tile asks for its recovery
+};
+
+struct EventInfo {
+  EventId id;
+  const char* name;
+  Severity severity;
+  std::uint8_t steps;  ///< Step bits
+};
+
+/** The table: every id once. */
+inline constexpr std::array<EventInfo, 22> kEventTable{{
+    {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
+    {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
+    {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
+    {EventId::kPacketResent, "packet_resent", Severity::kWarningLo, kStepRecover},
+    {EventId::kPacketGaveUp, "packet_gave_up", Severity::kWarningHi, kStepDetect},
+    {EventId::kRouteUnreachable, "route_unreachable", Severity::kWarningHi, kStepDetect},
+    {EventId::kForwardUnreachable, "forward_unreachable", Severity::kWarningHi, kStepDetect},
+    {EventId::kNeighbourSuspect, "neighbour_suspect", Severity::kWarningHi, kStepDetect},
+    {EventId::kMapApplied, "map_applied", Severity::kInfo, kStepRecover},
+    {EventId::kMapPushed, "map_pushed", Severity::kInfo, kStepNone},
+    {EventId::kSuspectVote, "suspect_vote", Severity::kWarningLo, kStepDetect},
+    {EventId::kSwitchFailed, "switch_failed", Severity::kWarningHi, kStepDetect | kStepIsolate},
+    {EventId::kLinkFailed, "link_failed", Severity::kWarningHi, kStepDetect | kStepIsolate},
+    {EventId::kMapPublished, "map_published", Severity::kInfo, kStepRecover},
+    {EventId::kCoreSuspect, "core_suspect", Severity::kWarningHi, kStepDetect},
+    {EventId::kWorkerSilent, "worker_silent", Severity::kWarningHi, kStepDetect | kStepIsolate},
+    {EventId::kWorkerBack, "worker_back", Severity::kInfo, kStepRecover},
+    {EventId::kFrameDone, "frame_done", Severity::kInfo, kStepNone},
+    {EventId::kMonitorWarn, "monitor_warn", Severity::kWarningLo, kStepDetect},
+    {EventId::kMonitorFatal, "monitor_fatal", Severity::kWarningHi, kStepDetect | kStepIsolate},
+    {EventId::kActionCapped, "action_capped", Severity::kFatal, kStepNone},
+    {EventId::kAssertFailed, "assert_failed", Severity::kFatal, kStepDetect},
+}};
+
+namespace detail {
+constexpr bool ids_unique() noexcept {
+  for (std::size_t i = 0; i < kEventTable.size(); ++i) {
+    for (std::size_t j = i + 1U; j < kEventTable.size(); ++j) {
+      if (kEventTable[i].id == kEventTable[j].id || static_cast<std::uint16_t>(kEventTable[i].id) == 0U) {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+}  // namespace detail
+static_assert(detail::ids_unique(), "every event id once in the table");
+
+/** The table row of @p id, or nullptr for an id not in the table. */
+constexpr const EventInfo* event_info(EventId id) noexcept {
+  for (const EventInfo& e : kEventTable) {
+    if (e.id == id) {
+      return &e;
+    }
+  }
+  return nullptr;
+}
+
+/** Subject or cause that is not known (e.g. the source of a packet too damaged to read). */
+inline constexpr std::uint32_t kUnknown = 0xFFFF'FFFFU;
+
+}  // namespace fdir

@@ -1,0 +1,187 @@
+/**
+ * @file net_health.cpp
+ * @brief Suspect voting (switches and links) and fault-map publication on the health tile.
+ */
+#include "fdir/net_health.hpp"
+
+#include "bsp_tile64/memory.hpp"
+#include "fdir/assert.hpp"
+#include "fdir/event_log.hpp"
+#include "kernel/kernel.hpp"
+#include "udn/endpoint.hpp"
+
+#include <bit>
+#include <new>
+
+namespace fdir {
+namespace detail {
+namespace {
+
+bool has(std::uint64_t mask, bsp::TileId t) noexcept { return t < 64U && ((mask >> t) & 1ULL) != 0ULL; }
+
+/** Direction of the link from @p a to its mesh neighbour @p b, or false if they are not neighbours. */
+bool link_dir(const udn::FaultMap& map, bsp::TileId a, bsp::TileId b, bsp::UdnDir& dir) noexcept {
+  const std::uint32_t cols = map.cols;
+  if (cols == 0U || a >= map.cols * map.rows || b >= map.cols * map.rows) {
+    return false;
+  }
+  if (b == a + 1U && a / cols == b / cols) {
+    dir = bsp::UdnDir::kEast;
+  } else if (a == b + 1U && a / cols == b / cols) {
+    dir = bsp::UdnDir::kWest;
+  } else if (b + cols == a) {
+    dir = bsp::UdnDir::kNorth;
+  } else if (a + cols == b) {
+    dir = bsp::UdnDir::kSouth;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+Verdict take_report(Votes& v, udn::FaultMap& map, bsp::TileId reporter, bsp::TileId suspect,
+                    std::uint32_t& votes_out) noexcept {
+  votes_out = 0U;
+  if (reporter >= udn::kRouteMaxTiles || suspect >= udn::kRouteMaxTiles || reporter == suspect ||
+      has(v.not_voted, suspect) || has(v.failed, suspect) || has(v.failed, reporter)) {
+    return Verdict::kIgnored;  // off on purpose (it answers no ping), already failed, or nonsense
+  }
+  std::uint64_t& who = v.reporters[suspect];
+  who |= 1ULL << reporter;
+  votes_out = static_cast<std::uint32_t>(std::popcount(who));
+  if (votes_out >= v.votes_to_fail) {
+    if (udn::fault_map_fail_tile(map, suspect) != udn::RouteError::kOk) {
+      return Verdict::kCounted;
+    }
+    v.failed |= 1ULL << suspect;
+    return Verdict::kSwitchFailed;
+  }
+  // Both ends of one link report each other and nobody reports either: the link.
+  const std::uint64_t back = v.reporters[reporter];
+  bsp::UdnDir dir = bsp::UdnDir::kEast;
+  if (votes_out == 1U && back == (1ULL << suspect) && link_dir(map, reporter, suspect, dir) &&
+      udn::fault_map_fail_link(map, reporter, dir, true) == udn::RouteError::kOk) {
+    v.reporters[suspect] &= ~(1ULL << reporter);  // a link's reports are no votes against either switch
+    v.reporters[reporter] &= ~(1ULL << suspect);
+    ++v.links;
+    return Verdict::kLinkFailed;
+  }
+  return Verdict::kCounted;
+}
+
+}  // namespace detail
+
+namespace {
+
+/** Check id: the health tile could not apply its own decision (its endpoint is closed). */
+constexpr std::uint32_t kAssertOwnMap = 0x0201U;
+
+/** The health task's state, carved in its tile's RAM. */
+struct State {
+  detail::Votes votes;
+  udn::FaultMap map;
+  std::uint64_t targets;      ///< tiles a map goes to (neither off by design nor failed, not this one)
+  std::uint64_t to_send;      ///< targets not yet sent the current version
+  std::uint32_t sent_count;
+  std::uint32_t published;    ///< latest version sent to every target
+};
+
+std::array<State*, bsp::kMaxTiles> g_state{};
+
+std::uint64_t all_tiles(const udn::FaultMap& map) noexcept {
+  const std::uint32_t n = map.cols * map.rows;
+  return n >= 64U ? ~0ULL : ((1ULL << n) - 1ULL);
+}
+
+/** A new decision: apply it here and start sending it to every target. */
+void decided(State& s, bsp::TileId self) noexcept {
+  (void)check(udn::endpoint_install_map(s.map) == udn::FtError::kOk, kAssertOwnMap);
+  s.targets = all_tiles(s.map) & ~s.votes.not_voted & ~s.votes.failed & ~(1ULL << self);
+  s.to_send = s.targets;
+  s.sent_count = 0U;
+}
+
+void take(State& s, bsp::TileId self, std::uint32_t reporter, std::uint32_t suspect) noexcept {
+  std::uint32_t votes = 0U;
+  const auto r = static_cast<bsp::TileId>(reporter);
+  const auto x = static_cast<bsp::TileId>(suspect);
+  const detail::Verdict v = detail::take_report(s.votes, s.map, r, x, votes);
+  if (v == detail::Verdict::kIgnored) {
+    return;
+  }
+  report(EventId::kSuspectVote, x, r, votes, s.votes.votes_to_fail);
+  if (v == detail::Verdict::kSwitchFailed) {
+    report(EventId::kSwitchFailed, x, r, votes, s.map.version);
+    decided(s, self);
+  } else if (v == detail::Verdict::kLinkFailed) {
+    report(EventId::kLinkFailed, r, x, 0U, s.map.version);
+    decided(s, self);
+  }
+}
+
+/** Sends the current map to the targets not sent yet, as far as the window allows this tick. */
+void publish(State& s) noexcept {
+  std::array<std::uint32_t, udn::kFaultMapWords> w{};
+  udn::pack_fault_map(s.map, w);
+  for (bsp::TileId t = 0; t < 64U && s.to_send != 0ULL; ++t) {
+    if (((s.to_send >> t) & 1ULL) == 0ULL) {
+      continue;
+    }
+    const udn::FtError e = udn::endpoint_send(t, udn::kFtChanMap, w, 0U);
+    if (e == udn::FtError::kWindowFull || e == udn::FtError::kNetFull) {
+      return;  // the rest next tick
+    }
+    s.to_send &= ~(1ULL << t);
+    s.sent_count += (e == udn::FtError::kOk) ? 1U : 0U;  // no route: it catches up through the probes
+  }
+  s.published = s.map.version;
+  report(EventId::kMapPublished, s.map.version, 0U, s.sent_count, static_cast<std::uint32_t>(std::popcount(s.targets)));
+}
+
+}  // namespace
+
+void net_health_task_main(void* arg) noexcept {
+  const auto* cfg = static_cast<const NetHealthConfig*>(arg);
+  const bsp::TileId self = bsp::current_tile();
+  if (cfg == nullptr || self >= bsp::kMaxTiles || cfg->votes_to_fail < 2U || !udn::endpoint_wait_ready(100)) {
+    return;
+  }
+  g_state[self] = nullptr;
+  bsp::MemError err = bsp::MemError::kOk;
+  auto* s = bsp::carve_array<State>(bsp::Region{self}, 1, "net_health", &err);
+  if (err != bsp::MemError::kOk || s == nullptr) {
+    return;
+  }
+  ::new (s) State{};
+  s->votes.not_voted = cfg->not_voted;
+  s->votes.votes_to_fail = cfg->votes_to_fail;
+  s->map = udn::endpoint_fault_map();
+  s->votes.failed = s->map.failed_tiles;
+  s->published = s->map.version;
+  g_state[self] = s;
+  udn::FtMessage m{};
+  for (;;) {
+    for (std::uint32_t i = 0; i < udn::kFtRxDepth && udn::endpoint_receive(udn::kFtChanFdir, m) == udn::FtError::kOk;
+         ++i) {
+      if (m.data_words == udn::kSuspectWords && m.data[0] == udn::kMsgSuspect && m.data[1] == m.source) {
+        take(*s, self, m.data[1], m.data[2]);
+      }
+    }
+    if (s->to_send != 0ULL) {
+      publish(*s);
+    }
+    k::sleep(s->to_send != 0ULL ? 1 : static_cast<k::Ticks>(cfg->idle_ticks));
+  }
+}
+
+NetHealthView net_health_view(bsp::TileId tile) noexcept {
+  if (tile >= bsp::kMaxTiles || g_state[tile] == nullptr) {
+    return NetHealthView{};
+  }
+  const State& s = *g_state[tile];
+  return NetHealthView{s.votes.failed, s.votes.links, s.map.version, s.published};
+}
+
+}  // namespace fdir

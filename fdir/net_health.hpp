@@ -1,0 +1,75 @@
+/**
+ * @file net_health.hpp
+ * @brief Network health on the health tile: votes the probes' suspects into failed switches and
+ *        links, and publishes each new fault map to every live tile by message.
+ *
+ * Every tile's endpoint probes its mesh neighbours and reports a neighbour that
+ * misses kProbeMissThreshold rounds (udn::kMsgSuspect on kFtChanFdir). One
+ * report is never enough: a tile that lost its own links would accuse all its
+ * neighbours.
+ * - Switch: declared failed once votes_to_fail distinct neighbours report it.
+ * - Link: a link has two observers, its ends. When both ends report each other
+ *   and nobody else reports either, the switches answer everyone else: the
+ *   link between them is declared failed (both ways).
+ * Each decision is a new fault-map version, applied on the health tile and
+ * sent to every tile that is neither off by design nor failed (kFtChanMap),
+ * paced by the messaging window; when every target was sent it, a
+ * kMapPublished event closes the recovery. Reports about tiles off by design,
+ * already failed, or from a tile about itself are ignored. The state (votes,
+ * decisions, the map, the publication cursor) is carved in the health tile's
+ * RAM at the task's start.
+ */
+#pragma once
+
+#include "bsp_tile64/port.hpp"
+#include "udn/route.hpp"
+
+#include <array>
+#include <cstdint>
+
+namespace fdir {
+
+struct NetHealthConfig {
+  std::uint64_t not_voted = 0U;       ///< tiles off by design (spares): they answer no ping, so reports are expected
+  std::uint32_t votes_to_fail = 2U;   ///< distinct reporters that fail a switch (>= 2)
+  std::uint32_t idle_ticks = 4U;      ///< ticks between looks at the reports when nothing is being published
+};
+
+/** Health task entry (arg: const NetHealthConfig*). */
+void net_health_task_main(void* arg) noexcept;
+
+/** What the health tile has decided so far. [host: displays and tests] */
+struct NetHealthView {
+  std::uint64_t failed_switches = 0U;
+  std::uint32_t failed_links = 0U;     ///< links declared failed (pairs)
+  std::uint32_t map_version = 0U;      ///< latest version decided
+  std::uint32_t published_version = 0U;///< latest version every target was sent
+};
+
+/** The decisions of the health task on @p tile (all zero if it does not run there). [host] */
+NetHealthView net_health_view(bsp::TileId tile) noexcept;
+
+/** Pure vote step, for tests: see net_health.cpp. */
+namespace detail {
+
+struct Votes {
+  std::uint64_t not_voted = 0U;
+  std::uint32_t votes_to_fail = 2U;
+  std::uint64_t failed = 0U;                         ///< switches declared failed
+  std::uint32_t links = 0U;                          ///< links declared failed
+  std::array<std::uint64_t, udn::kRouteMaxTiles> reporters{};  ///< per suspect: bit r = tile r reported it
+};
+
+enum class Verdict : std::uint8_t { kIgnored, kCounted, kSwitchFailed, kLinkFailed };
+
+/**
+ * Takes one report of @p reporter about @p suspect into @p v and, on a
+ * decision, marks it in @p map (version moves). @p votes_out: distinct reporters
+ * of the suspect after the report.
+ */
+Verdict take_report(Votes& v, udn::FaultMap& map, bsp::TileId reporter, bsp::TileId suspect,
+                    std::uint32_t& votes_out) noexcept;
+
+}  // namespace detail
+
+}  // namespace fdir

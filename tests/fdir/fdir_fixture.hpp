@@ -1,0 +1,63 @@
+/**
+ * @file fdir_fixture.hpp
+ * @brief Runs a test body as a task on tile 0 of a fresh board with the flight event log carved.
+ */
+#pragma once
+
+#include "bsp_tile64/board.hpp"
+#include "bsp_tile64/memory.hpp"
+#include "fdir/event_log.hpp"
+#include "kernel/kernel.hpp"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace fdir_test {
+
+inline constexpr bsp::Cycles kTick = bsp::kTile64.cycles_per_ms();
+
+/** The body the task runs once (a plain function: it runs on the tile's stack). */
+inline void (*g_body)() = nullptr;
+
+inline void body_task(void* /*arg*/) {
+  if (g_body != nullptr) {
+    g_body();
+  }
+  for (;;) {
+    k::sleep(1000);
+  }
+}
+
+inline constexpr k::TaskSpec kBodyTable[] = {
+    {"body", &body_task, nullptr, 1, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
+};
+
+/** Boots tile 0 alone, carves the event log, runs @p body on the tile. */
+inline void run_on_tile0(void (*body)()) {
+  g_body = body;
+  bsp::BoardConfig cfg = bsp::default_config(bsp::kTile64);
+  cfg.powered_at_start = 1U;
+  cfg.monitor_tile = bsp::kNoTile;
+  cfg.boot[0] = &k::boot_entry;
+  k::set_task_table(0, kBodyTable, kTick);
+  ASSERT_EQ(bsp::region_reset(bsp::Region{bsp::Region::kDdr}), bsp::MemError::kOk);
+  ASSERT_EQ(bsp::board_init(cfg), bsp::BoardError::kOk);
+  ASSERT_EQ(fdir::event_log_init(), fdir::LogError::kOk);
+  (void)bsp::run_for(10U * kTick);
+}
+
+/** The events tile @p tile still holds, oldest first. */
+inline std::vector<fdir::Event> events_of(bsp::TileId tile) {
+  std::vector<fdir::Event> out;
+  const std::uint64_t n = fdir::event_log_written(tile);
+  for (std::uint64_t i = 0; i < n; ++i) {
+    fdir::Event e{};
+    if (fdir::event_log_read(tile, i, &e)) {
+      out.push_back(e);
+    }
+  }
+  return out;
+}
+
+}  // namespace fdir_test

@@ -1,0 +1,377 @@
+/**
+ * @file fdir_join.cpp
+ * @brief Flight events collected into the run log; detections and recoveries joined to the ground truth.
+ */
+#include "tools/common/fdir_join.hpp"
+
+#include "bsp_tile64/profile.hpp"
+#include "tools/common/fault_plan.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+
+namespace tools {
+namespace {
+
+using fdir::EventId;
+
+/** How long after an injection a detection may come and still be its (emulated seconds). */
+constexpr double kDetectWindowS = 5.0;
+/** How long after its detection the recovery may come. */
+constexpr double kRecoverWindowS = 5.0;
+
+double seconds(bsp::Cycles c, double clock_hz) { return static_cast<double>(c) / clock_hz; }
+
+EventCategory category_of(const fdir::Event& e) {
+  if ((e.steps & fdir::kStepDetect) != 0U) {
+    return EventCategory::kDetect;
+  }
+  if ((e.steps & fdir::kStepIsolate) != 0U) {
+    return EventCategory::kIsolate;
+  }
+  if ((e.steps & fdir::kStepRecover) != 0U) {
+    return EventCategory::kRecover;
+  }
+  return EventCategory::kInfo;
+}
+
+/** Neighbour of @p t in direction @p dir on the 8x8 grid (kNoTile off the grid). */
+bsp::TileId neighbour_of(bsp::TileId t, std::uint64_t dir, std::uint32_t cols, std::uint32_t rows) {
+  const std::uint32_t x = t % cols;
+  const std::uint32_t y = t / cols;
+  switch (dir) {
+    case 0: return x + 1U < cols ? t + 1U : bsp::kNoTile;
+    case 1: return x > 0U ? t - 1U : bsp::kNoTile;
+    case 2: return y > 0U ? t - cols : bsp::kNoTile;
+    case 3: return y + 1U < rows ? t + cols : bsp::kNoTile;
+    default: return bsp::kNoTile;
+  }
+}
+
+/** Whether flight event @p e detects the injection @p r (see docs/FDIR.md, "The join"). */
+bool detects(const bsp::FaultRecord& r, const fdir::Event& e) {
+  const bsp::TileId t = r.spec.tile;
+  switch (r.spec.kind) {
+    case bsp::FaultKind::kPacketBitFlip:
+      // The receiver (or a forwarder) decodes the packet from source t; a packet too damaged to
+      // name its source is any flip's; a resend by t after a timeout recovers a lost one.
+      if (e.id == EventId::kPacketCorrected || e.id == EventId::kPacketForwarded || e.id == EventId::kPacketDamaged) {
+        return e.subject == t || e.subject == fdir::kUnknown;
+      }
+      return e.id == EventId::kPacketResent && e.tile == t && e.cause == 1U;
+    case bsp::FaultKind::kSwitchFail:
+      return e.id == EventId::kSwitchFailed && e.subject == t;
+    case bsp::FaultKind::kLinkFail: {
+      const bsp::TileId n = neighbour_of(t, r.spec.param, bsp::kTile64.cols, bsp::kTile64.rows);
+      return e.id == EventId::kLinkFailed && ((e.subject == t && e.cause == n) || (e.subject == n && e.cause == t));
+    }
+    default:
+      // A fault of the core (hang, reset, upset, corrupted output, watchdog): the tile named by a
+      // detection of its silence or its switch.
+      return (e.id == EventId::kWorkerSilent || e.id == EventId::kSwitchFailed ||
+              e.id == EventId::kNeighbourSuspect || e.id == EventId::kCoreSuspect) &&
+             e.subject == t;
+  }
+}
+
+/** Whether @p e recovers a fault detected by @p d. */
+bool recovers(const fdir::Event& d, const fdir::Event& e) {
+  switch (d.id) {
+    case EventId::kPacketCorrected:
+    case EventId::kPacketForwarded:
+    case EventId::kPacketResent:
+      return false;  // recovered by the detecting event itself
+    case EventId::kPacketDamaged:
+      return e.id == EventId::kPacketResent && (d.subject == fdir::kUnknown || e.tile == d.subject);
+    case EventId::kSwitchFailed:
+    case EventId::kLinkFailed:
+      return e.id == EventId::kMapPublished && e.subject >= d.b;
+    case EventId::kWorkerSilent:
+      return (e.id == EventId::kFrameDone && e.cause == 0U) || (e.id == EventId::kWorkerBack && e.subject == d.subject);
+    default:
+      return false;  // a neighbour's suspicion alone isolates nothing
+  }
+}
+
+}  // namespace
+
+const char* tile_health_name(TileHealth h) noexcept {
+  switch (h) {
+    case TileHealth::kSuspect: return "suspect";
+    case TileHealth::kRecovered: return "recovered";
+    case TileHealth::kFailed: return "failed";
+    case TileHealth::kOk: break;
+  }
+  return "ok";
+}
+
+std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noexcept {
+  if (out.empty()) {
+    return 0U;
+  }
+  const fdir::EventInfo* info = fdir::event_info(e.id);
+  const int head = std::snprintf(out.data(), out.size(), "%s: ", info != nullptr ? info->name : "unknown");
+  const std::size_t used = head > 0 ? std::min(static_cast<std::size_t>(head), out.size() - 1U) : 0U;
+  const std::span<char> b = out.subspan(used);
+  std::array<char, 12> subject{};
+  if (e.subject == fdir::kUnknown) {
+    subject[0] = '?';
+  } else {
+    (void)std::snprintf(subject.data(), subject.size(), "%u", e.subject);
+  }
+  const char* s = subject.data();
+  switch (e.id) {
+    case EventId::kPacketCorrected:
+      (void)std::snprintf(b.data(), b.size(), "packet from tile %s corrected by its SECDED code (channel %u, seq %u)",
+                          s, e.cause, e.a);
+      break;
+    case EventId::kPacketForwarded:
+      (void)std::snprintf(b.data(), b.size(), "packet from tile %s misdelivered here, forwarded to tile %u", s,
+                          e.cause);
+      break;
+    case EventId::kPacketDamaged:
+      (void)std::snprintf(b.data(), b.size(), "packet from tile %s damaged beyond correction%s", s,
+                          e.a != 0U ? ": NACK sent" : ": left to the sender's timeout");
+      break;
+    case EventId::kPacketResent:
+      (void)std::snprintf(b.data(), b.size(), "stream to tile %s resent go-back-N after a %s (channel %u, from seq %u)",
+                          s, e.cause == 0U ? "NACK" : "timeout", e.a, e.b);
+      break;
+    case EventId::kPacketGaveUp:
+      (void)std::snprintf(b.data(), b.size(), "packet to tile %s given up after its retries (channel %u, seq %u)",
+                          s, e.a, e.b);
+      break;
+    case EventId::kRouteUnreachable:
+      (void)std::snprintf(b.data(), b.size(), "no route to tile %s", s);
+      break;
+    case EventId::kForwardUnreachable:
+      (void)std::snprintf(b.data(), b.size(), "no route to forward a packet to tile %s", s);
+      break;
+    case EventId::kNeighbourSuspect:
+      (void)std::snprintf(b.data(), b.size(), "neighbour tile %s does not answer the probe: reported", s);
+      break;
+    case EventId::kMapApplied:
+      (void)std::snprintf(b.data(), b.size(), "fault map version %u applied (from tile %u): routes rebuilt", e.subject,
+                          e.cause);
+      break;
+    case EventId::kMapPushed:
+      (void)std::snprintf(b.data(), b.size(), "neighbour tile %s probes with an older map: sent version %u", s,
+                          e.a);
+      break;
+    case EventId::kSuspectVote:
+      (void)std::snprintf(b.data(), b.size(), "tile %u reports tile %s (vote %u of %u)", e.cause, s, e.a, e.b);
+      break;
+    case EventId::kSwitchFailed:
+      (void)std::snprintf(b.data(), b.size(), "switch of tile %s declared failed (%u neighbours agree): map version %u",
+                          s, e.a, e.b);
+      break;
+    case EventId::kLinkFailed:
+      (void)std::snprintf(b.data(), b.size(), "link between tiles %s and %u declared failed (both ends report each "
+                          "other only): map version %u", s, e.cause, e.b);
+      break;
+    case EventId::kMapPublished:
+      (void)std::snprintf(b.data(), b.size(), "fault map version %u sent to %u of %u live tiles: traffic routes around",
+                          e.subject, e.a, e.b);
+      break;
+    case EventId::kCoreSuspect:
+      (void)std::snprintf(b.data(), b.size(), "core of tile %s silent behind a switch that routes", s);
+      break;
+    case EventId::kWorkerSilent:
+      (void)std::snprintf(b.data(), b.size(), "worker tile %s silent for %u frames: isolated, its work goes to the others",
+                          s, e.a);
+      break;
+    case EventId::kWorkerBack:
+      (void)std::snprintf(b.data(), b.size(), "worker tile %s answers again: back in the frame", s);
+      break;
+    case EventId::kFrameDone:
+      (void)std::snprintf(b.data(), b.size(), "frame %u done: %u matches, %u units lost", e.a, e.b, e.cause);
+      break;
+    case EventId::kMonitorWarn:
+    case EventId::kMonitorFatal:
+      (void)std::snprintf(b.data(), b.size(), "monitor %s %s: value %u against %u", s,
+                          e.id == EventId::kMonitorWarn ? "warning" : "fatal", e.a, e.b);
+      break;
+    case EventId::kActionCapped:
+      (void)std::snprintf(b.data(), b.size(), "monitor %s: %u actions taken, no more (cap)", s, e.a);
+      break;
+    case EventId::kAssertFailed:
+      (void)std::snprintf(b.data(), b.size(), "assertion %s failed (line %u): recovery requested", s, e.cause);
+      break;
+  }
+  return used + std::char_traits<char>::length(b.data());
+}
+
+std::string describe_flight_event(const fdir::Event& e) {
+  std::array<char, kEventTextBytes> buf{};
+  const std::size_t n = describe_flight_event(e, buf);
+  return std::string(buf.data(), n);
+}
+
+FlightEventCollector::FlightEventCollector(std::size_t capacity) { events_.reserve(capacity); }
+
+void FlightEventCollector::take(const fdir::Event& e) noexcept {
+  switch (e.id) {
+    case EventId::kSwitchFailed: health_[e.subject % bsp::kMaxTiles] = TileHealth::kFailed; break;
+    case EventId::kWorkerSilent:
+    case EventId::kCoreSuspect:
+    case EventId::kNeighbourSuspect:
+      if (e.subject < bsp::kMaxTiles && health_[e.subject] != TileHealth::kFailed) {
+        health_[e.subject] = TileHealth::kSuspect;
+      }
+      break;
+    case EventId::kWorkerBack:
+      if (e.subject < bsp::kMaxTiles) {
+        health_[e.subject] = TileHealth::kRecovered;
+      }
+      break;
+    case EventId::kFrameDone:
+      ++frames_;
+      matches_ += e.b;
+      break;
+    default: break;
+  }
+}
+
+void FlightEventCollector::poll(double clock_hz, EventLog& log) noexcept {
+  for (bsp::TileId t = 0; t < bsp::kMaxTiles; ++t) {
+    const std::uint64_t written = fdir::event_log_written(t);
+    for (; next_[t] < written; ++next_[t]) {
+      fdir::Event e{};
+      if (!fdir::event_log_read(t, next_[t], &e)) {
+        ++lost_;  // overwritten before this poll
+        continue;
+      }
+      take(e);
+      if (events_.size() < events_.capacity()) {
+        events_.push_back(e);
+      } else {
+        ++lost_;
+      }
+      if (e.id == EventId::kFrameDone) {
+        continue;  // one a second: the summary counts them, the log stays readable
+      }
+      std::array<char, kEventTextBytes> text{};
+      const std::size_t n = describe_flight_event(e, text);
+      (void)log.add(seconds(e.cycle, clock_hz), category_of(e), e.tile, std::string_view(text.data(), n));
+    }
+  }
+}
+
+FaultAccount join_faults(std::span<const bsp::FaultRecord> records, std::span<const fdir::Event> events,
+                         double clock_hz) {
+  FaultAccount acc;
+  acc.outcomes.resize(records.size());
+  // Events in time order (ties: tile, then the order read).
+  std::vector<std::size_t> order(events.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    order[i] = i;
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return events[a].cycle < events[b].cycle || (events[a].cycle == events[b].cycle && events[a].tile < events[b].tile);
+  });
+  std::vector<bool> claimed(events.size(), false);
+  // Injections in the order they took effect.
+  std::vector<std::size_t> inj;
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    if (records[i].status == bsp::FaultStatus::kApplied) {
+      inj.push_back(i);
+    } else {
+      ++acc.not_delivered;
+    }
+  }
+  std::stable_sort(inj.begin(), inj.end(),
+                   [&](std::size_t a, std::size_t b) { return records[a].applied_cycle < records[b].applied_cycle; });
+  double latency_sum = 0.0;
+  for (const std::size_t i : inj) {
+    const bsp::FaultRecord& r = records[i];
+    FaultOutcome& o = acc.outcomes[i];
+    o.delivered = true;
+    o.injected_s = seconds(r.applied_cycle, clock_hz);
+    ++acc.injected;
+    std::size_t det = events.size();
+    for (const std::size_t k : order) {
+      const double t = seconds(events[k].cycle, clock_hz);
+      if (events[k].cycle < r.applied_cycle || claimed[k]) {
+        continue;
+      }
+      if (t - o.injected_s > kDetectWindowS) {
+        break;
+      }
+      if (detects(r, events[k])) {
+        det = k;
+        break;
+      }
+    }
+    if (det == events.size()) {
+      continue;
+    }
+    claimed[det] = true;
+    const fdir::Event& d = events[det];
+    o.detected = true;
+    o.detected_s = seconds(d.cycle, clock_hz);
+    o.detected_by = d.id;
+    o.detector = d.tile;
+    ++acc.detected;
+    latency_sum += o.detected_s - o.injected_s;
+    acc.max_detection_latency_s = std::max(acc.max_detection_latency_s, o.detected_s - o.injected_s);
+    if ((d.steps & fdir::kStepRecover) != 0U) {
+      o.recovered = true;
+      o.recovered_s = o.detected_s;
+      ++acc.recovered;
+      continue;
+    }
+    for (const std::size_t k : order) {
+      if (events[k].cycle < d.cycle || claimed[k] || k == det) {
+        continue;
+      }
+      if (seconds(events[k].cycle, clock_hz) - o.detected_s > kRecoverWindowS) {
+        break;
+      }
+      if (recovers(d, events[k])) {
+        // A map publication or a complete frame closes every fault it covers: not claimed.
+        if (events[k].id == EventId::kPacketResent) {
+          claimed[k] = true;
+        }
+        o.recovered = true;
+        o.recovered_s = seconds(events[k].cycle, clock_hz);
+        ++acc.recovered;
+        break;
+      }
+    }
+  }
+  acc.mean_detection_latency_s = acc.detected > 0U ? latency_sum / static_cast<double>(acc.detected) : 0.0;
+  return acc;
+}
+
+void log_fault_outcomes(std::span<const bsp::FaultRecord> records, const FaultAccount& account, double clock_hz,
+                        EventLog& log) {
+  for (std::size_t i = 0; i < records.size() && i < account.outcomes.size(); ++i) {
+    const bsp::FaultRecord& r = records[i];
+    const FaultOutcome& o = account.outcomes[i];
+    const double t_s = o.delivered ? o.injected_s : seconds(r.spec.cycle, clock_hz);
+    std::string text = describe_fault(r);
+    if (o.delivered) {
+      std::array<char, 160> b{};
+      if (!o.detected) {
+        (void)std::snprintf(b.data(), b.size(), " -> not detected by the flight software");
+      } else {
+        const fdir::EventInfo* info = fdir::event_info(o.detected_by);
+        (void)std::snprintf(b.data(), b.size(), " -> detected by tile %u (%s) %.1f ms later%s", o.detector,
+                            info != nullptr ? info->name : "?", (o.detected_s - o.injected_s) * 1e3,
+                            o.recovered ? "" : ", not recovered");
+        if (o.recovered) {
+          const std::size_t used = std::char_traits<char>::length(b.data());
+          (void)std::snprintf(b.data() + used, b.size() - used, ", recovered %.1f ms after detection",
+                              (o.recovered_s - o.detected_s) * 1e3);
+        }
+      }
+      text += b.data();
+    } else {
+      text += " -> not delivered";
+    }
+    (void)log.add(t_s, o.delivered ? EventCategory::kInject : EventCategory::kInfo, r.spec.tile, text);
+  }
+}
+
+}  // namespace tools
