@@ -13,7 +13,6 @@
 #include "bsp_tile64/port.hpp"
 
 #include <cstdint>
-#include <source_location>
 
 namespace fdir {
 
@@ -22,9 +21,9 @@ void assert_failed(std::uint32_t id, std::uint32_t line) noexcept;
 
 /** @return @p cond; when false, assert_failed(id, line of the call). [task|isr] */
 [[nodiscard]] inline bool check(bool cond, std::uint32_t id,
-                                std::source_location where = std::source_location::current()) noexcept {
+                                std::uint32_t line = static_cast<std::uint32_t>(__builtin_LINE())) noexcept {
   if (!cond) {
-    assert_failed(id, where.line());
+    assert_failed(id, line);
   }
   return cond;
 }

@@ -178,7 +178,7 @@ void push_to_stale(Endpoint& ep) noexcept {
   bool packed = false;
   for (std::size_t d = 0; d < ep.probe.neighbour.size(); ++d) {
     const bsp::TileId nb = ep.probe.neighbour[d];
-    if (nb == bsp::kNoTile || nb >= kRouteMaxTiles) {
+    if (nb >= kRouteMaxTiles) {  // kNoTile included
       continue;
     }
     const std::uint32_t theirs = ep.node.peer_map_version[nb];
