@@ -588,6 +588,12 @@ bool udn_net_can_send(TileId tile) noexcept {
   return on_grid(tile) && g_net.tile[tile].in_flight < g_net.config.max_in_flight_per_tile;
 }
 
+std::uint32_t udn_net_send_credits(TileId tile) noexcept {
+  return (on_grid(tile) && g_net.tile[tile].in_flight < g_net.config.max_in_flight_per_tile)
+             ? g_net.config.max_in_flight_per_tile - g_net.tile[tile].in_flight
+             : 0U;
+}
+
 NetError udn_net_bind(TileId tile, std::uint32_t tag, std::uint32_t queue) noexcept {
   if (!on_grid(tile)) {
     return NetError::kBadTile;

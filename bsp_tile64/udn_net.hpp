@@ -127,6 +127,12 @@ std::uint32_t udn_net_queue_packets(TileId tile, std::uint32_t queue) noexcept;
 bool udn_net_can_send(TileId tile) noexcept;
 
 /**
+ * Packets the tile may still put in flight (the send credits its network
+ * interface shows; 0 for a tile off the grid). [task|isr|host]
+ */
+std::uint32_t udn_net_send_credits(TileId tile) noexcept;
+
+/**
  * Binds @p tag to demux queue @p queue (< kUdnDemuxQueues) on @p tile; the
  * binding takes effect at the next barrier. Rebinding a tag replaces it.
  * Unbound tags go to the catch-all queue. [task|host]

@@ -40,12 +40,15 @@ enum class EventId : std::uint16_t {
   kNeighbourSuspect = 0x0108,  ///< the probe missed a neighbour N rounds; subject: neighbour
   kMapApplied = 0x0109,        ///< routes rebuilt from a fault map; subject: version, cause: tile it came from
   kMapPushed = 0x010A,         ///< a neighbour was behind: our map sent to it; subject: neighbour, a: version
+  kTransitLost = 0x010B,       ///< a transit probe's target stopped answering; subject: target
+  kTransitBack = 0x010C,       ///< a lost transit answers again; subject: target
   // ---- network health (fdir/net_health)
   kSuspectVote = 0x0201,       ///< subject: suspect tile, cause: reporter, a: distinct reporters so far
   kSwitchFailed = 0x0202,      ///< subject: tile, a: votes, b: map version
   kLinkFailed = 0x0203,        ///< subject: tile, cause: neighbour across the link, b: map version
   kMapPublished = 0x0204,      ///< every live tile was sent the map; subject: version, a: tiles sent to
-  kCoreSuspect = 0x0205,       ///< the probes see a silent core behind a switch that still routes; subject: tile
+  kCoreSuspect = 0x0205,       ///< the probes see a silent core behind a switch that still routes; subject: tile, a: transits through it that answer
+  kTransitFailed = 0x0206,     ///< every transit probe through a switch lost: declared failed; subject: tile, a: transits, b: map version
   // ---- vision (trn, through fdir/liveness)
   kWorkerSilent = 0x0301,      ///< subject: worker tile, a: frames missed in a row; its work goes to the others
   kWorkerBack = 0x0302,        ///< subject: worker tile; it answered again and gets work
@@ -65,7 +68,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 22> kEventTable{{
+inline constexpr std::array<EventInfo, 25> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -76,11 +79,14 @@ inline constexpr std::array<EventInfo, 22> kEventTable{{
     {EventId::kNeighbourSuspect, "neighbour_suspect", Severity::kWarningHi, kStepDetect},
     {EventId::kMapApplied, "map_applied", Severity::kInfo, kStepRecover},
     {EventId::kMapPushed, "map_pushed", Severity::kInfo, kStepNone},
+    {EventId::kTransitLost, "transit_lost", Severity::kWarningLo, kStepNone},
+    {EventId::kTransitBack, "transit_back", Severity::kInfo, kStepNone},
     {EventId::kSuspectVote, "suspect_vote", Severity::kWarningLo, kStepDetect},
     {EventId::kSwitchFailed, "switch_failed", Severity::kWarningHi, kStepDetect | kStepIsolate},
     {EventId::kLinkFailed, "link_failed", Severity::kWarningHi, kStepDetect | kStepIsolate},
     {EventId::kMapPublished, "map_published", Severity::kInfo, kStepRecover},
     {EventId::kCoreSuspect, "core_suspect", Severity::kWarningHi, kStepDetect},
+    {EventId::kTransitFailed, "transit_failed", Severity::kWarningHi, kStepDetect | kStepIsolate},
     {EventId::kWorkerSilent, "worker_silent", Severity::kWarningHi, kStepDetect | kStepIsolate},
     {EventId::kWorkerBack, "worker_back", Severity::kInfo, kStepRecover},
     {EventId::kFrameDone, "frame_done", Severity::kInfo, kStepNone},

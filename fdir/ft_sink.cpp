@@ -25,6 +25,8 @@ void on_ft_event(void* /*ctx*/, bsp::TileId /*tile*/, const udn::FtEvent& e) noe
     case udn::FtCause::kSuspectNeighbour: report(EventId::kNeighbourSuspect, peer, 0U); break;
     case udn::FtCause::kMapApplied: report(EventId::kMapApplied, e.word, peer); break;
     case udn::FtCause::kMapPushed: report(EventId::kMapPushed, peer, 0U, e.word); break;
+    case udn::FtCause::kTransitLost: report(EventId::kTransitLost, peer, 0U); break;
+    case udn::FtCause::kTransitBack: report(EventId::kTransitBack, peer, 0U); break;
   }
 }
 

@@ -82,6 +82,10 @@ constexpr std::uint32_t kAssertOwnMap = 0x0201U;
 struct State {
   detail::Votes votes;
   udn::FaultMap map;
+  std::uint64_t lost;          ///< plan transits reported lost (bit per plan index)
+  k::Ticks transit_change;     ///< when the last transit report arrived
+  std::uint64_t core_told;     ///< tiles already reported kCoreSuspect
+  std::array<k::Ticks, udn::kRouteMaxTiles> suspected_at;  ///< first neighbour report of each tile (0: none)
   std::uint64_t targets;      ///< tiles a map goes to (neither off by design nor failed, not this one)
   std::uint64_t to_send;      ///< targets not yet sent the current version
   std::uint32_t sent_count;
@@ -112,12 +116,68 @@ void take(State& s, bsp::TileId self, std::uint32_t reporter, std::uint32_t susp
     return;
   }
   report(EventId::kSuspectVote, x, r, votes, s.votes.votes_to_fail);
+  if (x < udn::kRouteMaxTiles && s.suspected_at[x] == 0U) {
+    s.suspected_at[x] = k::now_ticks() == 0U ? 1U : k::now_ticks();
+  }
   if (v == detail::Verdict::kSwitchFailed) {
     report(EventId::kSwitchFailed, x, r, votes, s.map.version);
     decided(s, self);
   } else if (v == detail::Verdict::kLinkFailed) {
     report(EventId::kLinkFailed, r, x, 0U, s.map.version);
     decided(s, self);
+  }
+}
+
+/** A transit report: the plan's bit for (prober, target) set or cleared. */
+void take_transit(State& s, const NetHealthConfig& cfg, const udn::FtMessage& m) noexcept {
+  const auto prober = static_cast<bsp::TileId>(m.data[1]);
+  const auto target = static_cast<bsp::TileId>(m.data[2]);
+  const std::uint32_t i = transit_index(cfg.transits, prober, target);
+  if (i >= kMaxTransits) {
+    return;  // not a planned transit: nothing to judge it against
+  }
+  const std::uint64_t bit = std::uint64_t{1} << i;
+  s.lost = m.data[3] != 0U ? (s.lost | bit) : (s.lost & ~bit);
+  s.transit_change = k::now_ticks();
+}
+
+/** Transits whose answer tells about their switches: neither end nor any switch on the way known failed. */
+std::uint64_t telling(const State& s, const NetHealthConfig& cfg) noexcept {
+  std::uint64_t m = 0U;
+  for (std::uint32_t i = 0; i < cfg.transits.count && i < kMaxTransits; ++i) {
+    m |= (cfg.transits.t[i].path & s.votes.failed) == 0U ? (std::uint64_t{1} << i) : 0U;
+  }
+  return m;
+}
+
+/** Judges the transits once the reports are quiet: a switch failed, or a silent core behind a switch that routes. */
+void judge_transits(State& s, const NetHealthConfig& cfg, bsp::TileId self) noexcept {
+  const k::Ticks now = k::now_ticks();
+  if (cfg.transits.count == 0U || now - s.transit_change < cfg.settle_ticks) {
+    return;
+  }
+  if (s.lost != 0U) {
+    const bsp::TileId x = transit_verdict(cfg.transits, s.lost, cfg.transit_subjects, s.votes.failed);
+    if (x != bsp::kNoTile && udn::fault_map_fail_tile(s.map, x) == udn::RouteError::kOk) {
+      s.votes.failed |= std::uint64_t{1} << x;
+      const std::uint64_t through = transits_through(cfg.transits, x);
+      report(EventId::kTransitFailed, x, 0U, static_cast<std::uint32_t>(std::popcount(through)), s.map.version);
+      decided(s, self);
+      return;
+    }
+  }
+  const std::uint64_t ok = telling(s, cfg) & ~s.lost;
+  for (bsp::TileId t = 0; t < udn::kRouteMaxTiles; ++t) {
+    const std::uint64_t bit = std::uint64_t{1} << t;
+    if (s.suspected_at[t] == 0U || (s.core_told & bit) != 0U || (s.votes.failed & bit) != 0U ||
+        now - s.suspected_at[t] < cfg.settle_ticks) {
+      continue;
+    }
+    const std::uint64_t answering = transits_through(cfg.transits, t) & ok;
+    if (answering != 0U) {
+      s.core_told |= bit;
+      report(EventId::kCoreSuspect, t, 0U, static_cast<std::uint32_t>(std::popcount(answering)));
+    }
   }
 }
 
@@ -167,7 +227,12 @@ void net_health_task_main(void* arg) noexcept {
          ++i) {
       if (m.data_words == udn::kSuspectWords && m.data[0] == udn::kMsgSuspect && m.data[1] == m.source) {
         take(*s, self, m.data[1], m.data[2]);
+      } else if (m.data_words == udn::kTransitWords && m.data[0] == udn::kMsgTransit && m.data[1] == m.source) {
+        take_transit(*s, *cfg, m);
       }
+    }
+    if (s->to_send == 0ULL) {
+      judge_transits(*s, *cfg, self);
     }
     if (s->to_send != 0ULL) {
       publish(*s);

@@ -11,6 +11,14 @@
  * - Link: a link has two observers, its ends. When both ends report each other
  *   and nobody else reports either, the switches answer everyone else: the
  *   link between them is declared failed (both ways).
+ * - Transits (fdir/transit.hpp): a switch no two live neighbours can vote on
+ *   (a spare's, or a live tile's with one live neighbour) is declared failed
+ *   when every planned transit through it is reported lost and the reports
+ *   have been quiet for settle_ticks (so neighbour votes on live switches,
+ *   which explain lost transits too, come first).
+ * - Core or switch: a tile reported by a neighbour whose transits keep
+ *   answering for settle_ticks has a switch that routes: its core is silent
+ *   (kCoreSuspect), which is what the evidence can tell.
  * Each decision is a new fault-map version, applied on the health tile and
  * sent to every tile that is neither off by design nor failed (kFtChanMap),
  * paced by the messaging window; when every target was sent it, a
@@ -22,6 +30,7 @@
 #pragma once
 
 #include "bsp_tile64/port.hpp"
+#include "fdir/transit.hpp"
 #include "udn/route.hpp"
 
 #include <array>
@@ -33,6 +42,9 @@ struct NetHealthConfig {
   std::uint64_t not_voted = 0U;       ///< tiles off by design (spares): they answer no ping, so reports are expected
   std::uint32_t votes_to_fail = 2U;   ///< distinct reporters that fail a switch (>= 2)
   std::uint32_t idle_ticks = 4U;      ///< ticks between looks at the reports when nothing is being published
+  TransitPlan transits{};              ///< the transit probes the endpoints run (same plan as their configuration)
+  std::uint64_t transit_subjects = 0U; ///< switches judged by transits (the plan's subjects)
+  std::uint32_t settle_ticks = 60U;    ///< quiet time before transits are judged
 };
 
 /** Health task entry (arg: const NetHealthConfig*). */

@@ -16,6 +16,15 @@ namespace {
 
 /** Suspect reports waiting to be sent. */
 constexpr std::uint32_t kPendingReports = 4U;
+
+/** One transit probe of this tile: a straight ping to a distant tile across switches nobody else probes. */
+struct TransitProbe {
+  bsp::TileId target;
+  std::uint32_t nonce;   ///< of the outstanding ping (0: none)
+  std::uint32_t misses;  ///< rounds in a row without its PONG
+  bool lost;             ///< reported lost, not back yet
+  bool report_owed;      ///< the change of `lost` is still to be sent
+};
 /** A neighbour's map version not heard yet. */
 constexpr std::uint32_t kVersionUnknown = 0xFFFF'FFFFU;
 
@@ -31,6 +40,8 @@ struct Endpoint {
   std::array<bsp::TileId, kPendingReports> pending;
   std::uint32_t pending_count;
   std::uint8_t local_links;  ///< links leaving this tile towards neighbours its probe found silent (bit per UdnDir)
+  std::array<TransitProbe, kMaxTransitTargets> transit;
+  std::uint32_t transit_count;
 };
 
 /** Per-tile pointer to the carve (a tile's base register); reset with the tile by its service start. */
@@ -146,9 +157,49 @@ bool open(Endpoint*& out, bsp::TileId self, const EndpointConfig& cfg) noexcept 
                     ProbeError::kOk;
   if (ep->probing) {
     prune_probe(*ep);
+    const std::uint64_t targets = cfg.transit_targets[self];
+    // One transit per tick of the probe period, after the tick of the neighbour pings.
+    const std::uint32_t room = cfg.probe_period_ticks > 1U ? cfg.probe_period_ticks - 1U : 0U;
+    const std::uint32_t most = room < kMaxTransitTargets ? room : kMaxTransitTargets;
+    for (std::uint32_t t = 0; t < kRouteMaxTiles && ep->transit_count < most; ++t) {
+      if (((targets >> t) & 1ULL) != 0ULL && t != self) {
+        ep->transit[ep->transit_count] = TransitProbe{static_cast<bsp::TileId>(t), 0U, 0U, false, false};
+        ++ep->transit_count;
+      }
+    }
   }
   out = ep;
   return true;
+}
+
+/**
+ * Scores transit @p i's last ping and pings its target again, straight (one
+ * X-then-Y leg each way, so the round trip crosses exactly the planned
+ * switches). Each transit has its own tick in the probe period, offset by the
+ * tile, so a tile's pings and its targets' answers are spread over the period
+ * instead of leaving in one burst. A target the map says failed is left
+ * alone. Caller holds the guard.
+ */
+void transit_probe(Endpoint& ep, std::uint32_t i) noexcept {
+  TransitProbe& p = ep.transit[i];
+  if (((ep.map.failed_tiles >> p.target) & 1ULL) != 0ULL) {
+    return;
+  }
+  const std::uint32_t threshold = ep.cfg->probe_miss_threshold == 0U ? 1U : ep.cfg->probe_miss_threshold;
+  if (p.nonce != 0U) {
+    const bool answered = ep.node.pong_nonce[p.target] == p.nonce;
+    p.misses = answered ? 0U : p.misses + 1U;
+    if (answered == p.lost && (answered || p.misses >= threshold)) {  // back, or silent long enough
+      p.lost = !answered;
+      p.report_owed = true;
+      ft_event_emit(ep.node.sink, ep.node.self,
+                    FtEvent{tick32(), p.lost ? FtCause::kTransitLost : FtCause::kTransitBack, 0U, 0U, p.target, 0U});
+    }
+  }
+  // Nonce: the tick in the high bits, the probe's index above the four directions, never 0.
+  const std::uint32_t nonce = (tick32() << 4U) | (4U + i) | 0x8000'0000U;
+  const bool sent = ft_send_control(ep.node, p.target, FtKind::kPing, 0U, nonce, false) == FtError::kOk;
+  p.nonce = sent ? nonce : 0U;  // a refused ping is not a miss of the target
 }
 
 /** Sends a waiting item without blocking; @return false if the network or window refused (retry next tick). */
@@ -169,6 +220,17 @@ void send_reports(Endpoint& ep) noexcept {
       return;
     }
     --ep.pending_count;
+  }
+  for (std::uint32_t i = 0; i < ep.transit_count && to != bsp::kNoTile; ++i) {
+    TransitProbe& p = ep.transit[i];
+    if (!p.report_owed) {
+      continue;
+    }
+    const std::array<std::uint32_t, kTransitWords> w{kMsgTransit, ep.node.self, p.target, p.lost ? 1U : 0U};
+    if (!send_now(ep, to, kFtChanFdir, w)) {
+      return;
+    }
+    p.report_owed = false;
   }
 }
 
@@ -270,6 +332,11 @@ void endpoint_task_main(void* arg) noexcept {
       const IrqGuard guard;
       if (probe_now) {
         (void)ft_probe_round(ep.probe, ep.node, tick32());
+      }
+      // Transit i on its own tick of the period: after the neighbour pings, offset by the tile.
+      const std::uint32_t slot = (tick + period - (self % period)) % period;
+      if (ep.probing && slot >= 1U && slot <= ep.transit_count) {
+        transit_probe(ep, slot - 1U);
       }
       (void)ft_poll(ep.node, tick32(), cfg->packets_per_tick);
       take_maps(ep);

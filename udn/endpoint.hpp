@@ -19,7 +19,8 @@
  * neighbour sends that neighbour its own map (once per version).
  *
  * Reports: the probe's suspects go to config.report_to on kFtChanFdir
- * (kMsgSuspect); events (corrections, resends, suspects, maps applied) go to
+ * (kMsgSuspect), and so do the transit probes' targets lost or back
+ * (kMsgTransit); events (corrections, resends, suspects, maps applied) go to
  * config.sink. The endpoint never includes the layers above it.
  */
 #pragma once
@@ -29,6 +30,7 @@
 #include "udn/ft_link.hpp"
 #include "udn/route.hpp"
 
+#include <array>
 #include <cstdint>
 #include <span>
 
@@ -42,12 +44,26 @@ struct EndpointConfig {
   std::uint64_t not_probed = 0U;        ///< tiles off by design (spares): they answer no ping
   std::uint32_t probe_period_ticks = 10U;
   std::uint32_t probe_miss_threshold = 3U;
+  /**
+   * Transit probes: bit b of transit_targets[t] makes tile t ping tile b
+   * straight once per probe period, testing the switches between them (at
+   * most kMaxTransitTargets per tile and probe_period_ticks - 1; planned by
+   * fdir/transit.hpp). Each transit has its own tick of the period.
+   */
+  std::array<std::uint64_t, kRouteMaxTiles> transit_targets{};
   FtEventSink sink{};
 };
+
+/** Transit targets one tile pings at most. */
+inline constexpr std::uint32_t kMaxTransitTargets = 4U;
 
 /** Suspect report (kFtChanFdir): [0] kMsgSuspect [1] reporter [2] suspect. */
 inline constexpr std::uint32_t kMsgSuspect = 0x53555331U;  // "SUS1"
 inline constexpr std::uint32_t kSuspectWords = 3U;
+
+/** Transit report (kFtChanFdir): [0] kMsgTransit [1] prober [2] target [3] 1 lost, 0 answers again. */
+inline constexpr std::uint32_t kMsgTransit = 0x54524E31U;  // "TRN1"
+inline constexpr std::uint32_t kTransitWords = 4U;
 
 /**
  * Fault map (kFtChanMap), kFaultMapWords words:

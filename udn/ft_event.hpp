@@ -29,6 +29,8 @@ enum class FtCause : std::uint8_t {
   kResentTimeout,      ///< a stream resent go-back-N after its timeout (peer: destination)
   kMapApplied,         ///< routes rebuilt from a newer fault map (peer: tile it came from; word: version)
   kMapPushed,          ///< a neighbour probed with an older map version was sent ours (peer: neighbour; word: version)
+  kTransitLost,        ///< a transit probe's target stopped answering (peer: target)
+  kTransitBack,        ///< a lost transit answers again (peer: target)
 };
 
 struct FtEvent {

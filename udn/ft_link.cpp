@@ -38,8 +38,18 @@ bsp::NetError task_receive(void* /*ctx*/, bsp::TileId /*self*/, std::uint32_t qu
   return bsp::udn_net_receive(queue, rx, payload);
 }
 
-/** Points the image at the next hop for its destination index and sends it. */
-FtError route_and_send(FtNode& n, std::span<std::uint32_t> image, bsp::TileId dest) noexcept {
+std::uint32_t task_credits(void* /*ctx*/, bsp::TileId self) noexcept { return bsp::udn_net_send_credits(self); }
+
+/** True if a packet that is not a reply may leave now: more credits than kFtReplyReserve. */
+bool room_beyond_reserve(const FtNode& n) noexcept {
+  return n.port.credits == nullptr || n.port.credits(n.port.ctx, n.self) > kFtReplyReserve;
+}
+
+/**
+ * Points the image at the next hop for its destination index and sends it.
+ * Only a @p reply (ACK, NACK, PONG) may use the credits of the reserve.
+ */
+FtError route_and_send(FtNode& n, std::span<std::uint32_t> image, bsp::TileId dest, bool reply = false) noexcept {
   bsp::TileId next = bsp::kNoTile;
   if (route_next_hop(n.routes, dest, next) != RouteError::kOk) {
     return FtError::kUnreachable;
@@ -48,6 +58,9 @@ FtError route_and_send(FtNode& n, std::span<std::uint32_t> image, bsp::TileId de
   const auto y = static_cast<std::uint8_t>(next / n.routes.cols);
   if (readdress_packet(image, x, y, kFtHwTag) != ReaddressStatus::kOk) {
     return FtError::kBadArgs;
+  }
+  if (!reply && !room_beyond_reserve(n)) {
+    return FtError::kNetFull;
   }
   return (n.port.send(n.port.ctx, n.self, image) == bsp::NetError::kOk) ? FtError::kOk : FtError::kNetFull;
 }
@@ -216,6 +229,27 @@ void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> da
   send_ack(n, cw.source, cw.channel, cw.seq);
 }
 
+/** Answers a PING; if the network refuses, the PONG is owed to the next polls (the prober scores it a round later). */
+void answer_ping(FtNode& n, bsp::TileId prober, std::uint32_t nonce) noexcept {
+  const bool sent = ft_send_control(n, prober, FtKind::kPong, 0U, nonce, false) == FtError::kOk;
+  const bool was_owed = n.pong_owed[prober] != 0U;
+  n.pong_owed[prober] = sent ? 0U : nonce;
+  if (sent && was_owed) {
+    --n.pongs_owed;
+  } else if (!sent && !was_owed) {
+    ++n.pongs_owed;
+  }
+}
+
+/** Resends owed PONGs. Bounded: one per tile. */
+void pay_pongs(FtNode& n) noexcept {
+  for (std::uint32_t t = 0U; t < n.routes.tiles && n.pongs_owed > 0U; ++t) {
+    if (n.pong_owed[t] != 0U) {
+      answer_ping(n, static_cast<bsp::TileId>(t), n.pong_owed[t]);
+    }
+  }
+}
+
 /** Control packets: ACK/NACK to the sender state, PING answered, PONG recorded. */
 void on_control(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> data, std::uint32_t now) noexcept {
   if (cw.source >= n.routes.tiles) {
@@ -238,7 +272,7 @@ void on_control(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t>
       }
       break;
     case FtKind::kPing:
-      (void)ft_send_control(n, cw.source, FtKind::kPong, 0U, word, false);
+      answer_ping(n, cw.source, word);
       break;
     case FtKind::kPong:
       n.pong_nonce[cw.source] = word;
@@ -402,12 +436,14 @@ void reset(FtNode& node) noexcept {
     f.used = false;
   }
   node.acks_owed = 0U;
+  node.pong_owed.fill(0U);
+  node.pongs_owed = 0U;
   node.pong_nonce.fill(0U);
 }
 
 }  // namespace
 
-FtPort ft_task_port() noexcept { return FtPort{&task_send, &task_receive, nullptr}; }
+FtPort ft_task_port() noexcept { return FtPort{&task_send, &task_receive, nullptr, &task_credits}; }
 
 FtError ft_init(FtNode& node, bsp::TileId self, const FaultMap& map, const FtPort& port,
                 const FtConfig& config) noexcept {
@@ -498,8 +534,12 @@ FtError ft_send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_
     return FtError::kBadArgs;
   }
   const std::span<std::uint32_t> packet(image.data(), written);  // one or two data words
+  const bool reply = kind != FtKind::kPing;
   if (routed) {
-    return route_and_send(node, packet, dest);
+    return route_and_send(node, packet, dest, reply);
+  }
+  if (!reply && !room_beyond_reserve(node)) {
+    return FtError::kNetFull;  // a probe is not a reply: the reserve stays for ACKs and PONGs
   }
   return (node.port.send(node.port.ctx, node.self, packet) == bsp::NetError::kOk) ? FtError::kOk
                                                                                     : FtError::kNetFull;
@@ -512,6 +552,7 @@ std::uint32_t ft_poll(FtNode& node, std::uint32_t now_tick, std::uint32_t max_pa
   }
   (void)flush_forwards(node, now_tick);
   pay_acks(node);
+  pay_pongs(node);
   while (handled < max_packets &&
          (receive_one(node, kFtQueue, now_tick) || receive_one(node, bsp::kUdnCatchAll, now_tick))) {
     ++handled;

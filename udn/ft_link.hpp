@@ -59,15 +59,23 @@ namespace udn {
 
 inline constexpr std::uint32_t kFtHwTag = 0x4654'0001U;  ///< hardware tag of every FT packet
 inline constexpr std::uint32_t kFtQueue = 3U;            ///< demux queue it is bound to
-inline constexpr std::uint32_t kFtChannels = 4U;         ///< application channels 0..3
-inline constexpr std::uint32_t kFtChanFdir = 4U;         ///< system: reports to fault-management tasks
-inline constexpr std::uint32_t kFtChanMap = 5U;          ///< system: fault maps, taken by the tile's endpoint
-inline constexpr std::uint32_t kFtAllChannels = 6U;      ///< application and system channels
+inline constexpr std::uint32_t kFtChannels = 5U;         ///< application channels 0..4
+inline constexpr std::uint32_t kFtChanFdir = kFtChannels;       ///< system: reports to fault-management tasks
+inline constexpr std::uint32_t kFtChanMap = kFtChannels + 1U;   ///< system: fault maps, taken by the tile's endpoint
+inline constexpr std::uint32_t kFtAllChannels = kFtChannels + 2U;  ///< application and system channels
 inline constexpr std::uint32_t kFtControlChannel = 0xFFU;
 inline constexpr std::uint32_t kFtWindow = 8U;    ///< unacknowledged packets per destination
 inline constexpr std::uint32_t kFtTxSlots = 16U;  ///< retransmit buffers per tile
 inline constexpr std::uint32_t kFtRxDepth = 8U;   ///< messages per channel receive queue
 inline constexpr std::uint32_t kFtFwdSlots = 8U;  ///< packets held for forwarding while the network refuses
+/**
+ * Send credits kept for replies (ACK, NACK, PONG): data, forwards and PINGs
+ * leave only while the network interface shows more than this many. Packets
+ * towards a tile that stopped reading (a hung core) wait in the network for
+ * its queue; without the reserve they would take every credit and the sender,
+ * alive, would stop answering its neighbours' probes and be blamed.
+ */
+inline constexpr std::uint32_t kFtReplyReserve = 2U;
 inline constexpr std::uint32_t kFtMaxData = static_cast<std::uint32_t>(kFtMaxDataWords);
 
 enum class FtKind : std::uint8_t { kData = 0, kAck = 1, kNack = 2, kPing = 3, kPong = 4 };
@@ -87,6 +95,8 @@ struct FtPort {
   bsp::NetError (*receive)(void* ctx, bsp::TileId self, std::uint32_t queue, bsp::RxPacket& rx,
                            std::span<std::uint32_t> payload) = nullptr;
   void* ctx = nullptr;
+  /** Send credits left (bsp::udn_net_send_credits); nullptr: no reserve is kept (host tests). */
+  std::uint32_t (*credits)(void* ctx, bsp::TileId self) = nullptr;
 };
 
 /** The port of a task on the current tile: udn_net_send / udn_net_receive. */
@@ -175,6 +185,8 @@ struct FtNode {
   std::array<detail::FwdSlot, kFtFwdSlots> fwd{};
   std::uint32_t acks_owed = 0U;
   std::array<std::uint32_t, kRouteMaxTiles> pong_nonce{};  ///< last PONG nonce seen per source tile
+  std::array<std::uint32_t, kRouteMaxTiles> pong_owed{};   ///< nonce of a PONG the network refused, per prober (0: none)
+  std::uint32_t pongs_owed = 0U;
   std::array<std::uint32_t, kFtMaxPacketWords> scratch{};  ///< one packet image being decoded
 };
 

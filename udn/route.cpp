@@ -201,6 +201,31 @@ bool path_clear(const FaultMap& map, bsp::TileId s, bsp::TileId d) noexcept {
   return false;
 }
 
+std::uint64_t path_tiles(const FaultMap& map, bsp::TileId s, bsp::TileId d) noexcept {
+  if (!on_grid(map, s) || !on_grid(map, d)) {
+    return 0U;
+  }
+  std::uint64_t on_path = 0U;
+  bsp::TileId t = s;
+  // At most cols + rows steps: each moves one column or row toward d.
+  for (std::uint32_t step = 0U; step <= map.cols + map.rows; ++step) {
+    on_path |= bit_of(t);
+    if (t == d) {
+      break;
+    }
+    const std::uint32_t x = t % map.cols;
+    const std::uint32_t dx = d % map.cols;
+    bsp::UdnDir dir = bsp::UdnDir::kEast;
+    if (x != dx) {
+      dir = (dx > x) ? bsp::UdnDir::kEast : bsp::UdnDir::kWest;
+    } else {
+      dir = (d > t) ? bsp::UdnDir::kSouth : bsp::UdnDir::kNorth;
+    }
+    t = neighbour(map, t, dir);
+  }
+  return on_path;
+}
+
 RouteError route_table_build(const FaultMap& map, bsp::TileId self, RouteTable& table, bsp::Work& work) noexcept {
   const std::uint32_t tiles = map.cols * map.rows;
   if (tiles == 0U || tiles > kRouteMaxTiles) {

@@ -67,6 +67,9 @@ RouteError fault_map_fail_link(FaultMap& map, bsp::TileId t, bsp::UdnDir dir, bo
 /** True if the X-then-Y path from @p s to @p d touches no failed tile or link (false off the grid). */
 bool path_clear(const FaultMap& map, bsp::TileId s, bsp::TileId d) noexcept;
 
+/** Tiles (bit t) whose switches the X-then-Y path from @p s to @p d passes, both ends included (0 off the grid). */
+std::uint64_t path_tiles(const FaultMap& map, bsp::TileId s, bsp::TileId d) noexcept;
+
 /** Mesh hops of the X-then-Y path (Manhattan distance). */
 std::uint32_t path_hops(std::uint32_t cols, bsp::TileId s, bsp::TileId d) noexcept;
 

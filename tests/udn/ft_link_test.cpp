@@ -198,3 +198,61 @@ TEST(FtLink, UnreachableAndGiveUpAreLoggedEvents) {
 }
 
 }  // namespace
+
+namespace {
+
+std::uint32_t g_credits = 8U;
+std::uint32_t test_credits(void* /*ctx*/, bsp::TileId /*self*/) { return g_credits; }
+
+}  // namespace
+
+// A tile whose data waits in the network (say, for a hung tile's full queue) keeps
+// kFtReplyReserve send credits for ACKs and PONGs, so it still answers its neighbours'
+// probes and is not blamed; data, forwards and its own PINGs wait for credits beyond it.
+TEST(FtLink, RepliesKeepTheirReserveOfSendCredits) {
+  ft_test::boot(ft_test::grid_map());
+  udn::FtPort port{&ft_test::host_send, &ft_test::host_receive, nullptr, &test_credits};
+  ASSERT_EQ(udn::ft_init(g_nodes[9], 9U, ft_test::grid_map(), port, udn::FtConfig{}), udn::FtError::kOk);
+  g_credits = udn::kFtReplyReserve;
+  EXPECT_EQ(udn::ft_send(g_nodes[9], 10U, 0U, message(9U, 0U, 0U), ft_test::now_tick()), udn::FtError::kNetFull)
+      << "data waits for credits beyond the reserve";
+  EXPECT_EQ(udn::ft_send_control(g_nodes[9], 10U, udn::FtKind::kPing, 0U, 0x8000'0001U, false),
+            udn::FtError::kNetFull)
+      << "a probe is not a reply";
+  EXPECT_EQ(udn::ft_send_control(g_nodes[9], 10U, udn::FtKind::kPong, 0U, 0x8000'0001U, false), udn::FtError::kOk);
+  EXPECT_EQ(udn::ft_send_control(g_nodes[9], 10U, udn::FtKind::kAck, 0U, 0U, true), udn::FtError::kOk);
+  // A PING from a neighbour is answered from the reserve.
+  ASSERT_EQ(udn::ft_send_control(g_nodes[1], 9U, udn::FtKind::kPing, 0U, 0x8000'0042U, false), udn::FtError::kOk);
+  for (int i = 0; i < 10; ++i) ft_test::step();  // a leg shows about two quanta after its send
+  EXPECT_EQ(g_nodes[1].pong_nonce[9], 0x8000'0042U);
+  // With credits beyond the reserve, data goes again.
+  g_credits = udn::kFtReplyReserve + 1U;
+  EXPECT_EQ(udn::ft_send(g_nodes[9], 10U, 0U, message(9U, 0U, 0U), ft_test::now_tick()), udn::FtError::kOk);
+  settle();
+  const auto got = drain(10U, 0U);
+  ASSERT_EQ(got.size(), 1U);
+  EXPECT_TRUE(intact(got[0]));
+}
+
+// A PONG the network refuses is owed and sent by the next polls: the prober scores it a round later.
+namespace {
+bool g_refuse = false;
+bsp::NetError refusing_send(void* ctx, bsp::TileId self, std::span<const std::uint32_t> words) {
+  return g_refuse ? bsp::NetError::kFull : ft_test::host_send(ctx, self, words);
+}
+}  // namespace
+
+TEST(FtLink, ARefusedPongIsOwedAndSentLater) {
+  ft_test::boot(ft_test::grid_map());
+  const udn::FtPort port{&refusing_send, &ft_test::host_receive, nullptr, nullptr};
+  ASSERT_EQ(udn::ft_init(g_nodes[9], 9U, ft_test::grid_map(), port, udn::FtConfig{}), udn::FtError::kOk);
+  g_refuse = true;
+  ASSERT_EQ(udn::ft_send_control(g_nodes[1], 9U, udn::FtKind::kPing, 0U, 0x8000'0077U, false), udn::FtError::kOk);
+  for (int i = 0; i < 10; ++i) ft_test::step();
+  EXPECT_EQ(g_nodes[9].pongs_owed, 1U) << "the answer could not leave: owed";
+  EXPECT_NE(g_nodes[1].pong_nonce[9], 0x8000'0077U);
+  g_refuse = false;
+  for (int i = 0; i < 10; ++i) ft_test::step();
+  EXPECT_EQ(g_nodes[9].pongs_owed, 0U);
+  EXPECT_EQ(g_nodes[1].pong_nonce[9], 0x8000'0077U);
+}

@@ -61,7 +61,7 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e) {
       }
       return e.id == EventId::kPacketResent && e.tile == t && e.cause == 1U;
     case bsp::FaultKind::kSwitchFail:
-      return e.id == EventId::kSwitchFailed && e.subject == t;
+      return (e.id == EventId::kSwitchFailed || e.id == EventId::kTransitFailed) && e.subject == t;
     case bsp::FaultKind::kLinkFail: {
       const bsp::TileId n = neighbour_of(t, r.spec.param, bsp::kTile64.cols, bsp::kTile64.rows);
       return e.id == EventId::kLinkFailed && ((e.subject == t && e.cause == n) || (e.subject == n && e.cause == t));
@@ -85,6 +85,7 @@ bool recovers(const fdir::Event& d, const fdir::Event& e) {
     case EventId::kPacketDamaged:
       return e.id == EventId::kPacketResent && (d.subject == fdir::kUnknown || e.tile == d.subject);
     case EventId::kSwitchFailed:
+    case EventId::kTransitFailed:
     case EventId::kLinkFailed:
       return e.id == EventId::kMapPublished && e.subject >= d.b;
     case EventId::kWorkerSilent:
@@ -159,6 +160,12 @@ std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noe
       (void)std::snprintf(b.data(), b.size(), "neighbour tile %s probes with an older map: sent version %u", s,
                           e.a);
       break;
+    case EventId::kTransitLost:
+      (void)std::snprintf(b.data(), b.size(), "transit probe to tile %s unanswered: reported", s);
+      break;
+    case EventId::kTransitBack:
+      (void)std::snprintf(b.data(), b.size(), "transit probe to tile %s answers again: reported", s);
+      break;
     case EventId::kSuspectVote:
       (void)std::snprintf(b.data(), b.size(), "tile %u reports tile %s (vote %u of %u)", e.cause, s, e.a, e.b);
       break;
@@ -175,7 +182,12 @@ std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noe
                           e.subject, e.a, e.b);
       break;
     case EventId::kCoreSuspect:
-      (void)std::snprintf(b.data(), b.size(), "core of tile %s silent behind a switch that routes", s);
+      (void)std::snprintf(b.data(), b.size(), "core of tile %s silent behind a switch that routes (%u transits "
+                          "through it answer)", s, e.a);
+      break;
+    case EventId::kTransitFailed:
+      (void)std::snprintf(b.data(), b.size(), "switch of tile %s declared failed (all %u transit probes through it "
+                          "lost): map version %u", s, e.a, e.b);
       break;
     case EventId::kWorkerSilent:
       (void)std::snprintf(b.data(), b.size(), "worker tile %s silent for %u frames: isolated, its work goes to the others",
@@ -212,7 +224,8 @@ FlightEventCollector::FlightEventCollector(std::size_t capacity) { events_.reser
 
 void FlightEventCollector::take(const fdir::Event& e) noexcept {
   switch (e.id) {
-    case EventId::kSwitchFailed: health_[e.subject % bsp::kMaxTiles] = TileHealth::kFailed; break;
+    case EventId::kSwitchFailed:
+    case EventId::kTransitFailed: health_[e.subject % bsp::kMaxTiles] = TileHealth::kFailed; break;
     case EventId::kWorkerSilent:
     case EventId::kCoreSuspect:
     case EventId::kNeighbourSuspect:

@@ -13,8 +13,8 @@
 #include "bsp_tile64/world/terrain.hpp"
 #include "fdir/event_log.hpp"
 #include "fdir/ft_sink.hpp"
+#include "fdir/transit.hpp"
 #include "kernel/kernel.hpp"
-#include "trn/tasks/roles.hpp"
 #include "trn/tasks/tile_map.hpp"
 
 #include <Eigen/Geometry>
@@ -136,9 +136,10 @@ bool Mission::boot(std::string& error) {
     error = "cannot set up the camera";
     return false;
   }
+  // Every role's configuration, given to the image in one step.
+  trn::tasks::ImageConfig image{};
   // The boot fault map every endpoint starts from, and the health tile the probes report to.
-  udn::EndpointConfig& ep = trn::tasks::g_endpoint_config;
-  ep = udn::EndpointConfig{};
+  udn::EndpointConfig& ep = image.endpoint;
   if (udn::fault_map_init(ep.boot_map, bsp::kTile64.cols, bsp::kTile64.rows) != udn::RouteError::kOk) {
     error = "cannot make the fault map";
     return false;
@@ -154,27 +155,42 @@ bool Mission::boot(std::string& error) {
   ep.report_to = trn::tasks::kSupervisorTile;
   ep.not_probed = spares;
   ep.sink = fdir::ft_event_sink();
-  trn::tasks::g_net_health_config = fdir::NetHealthConfig{};
-  trn::tasks::g_net_health_config.not_voted = spares;
-  // Role configurations: what each tile's tasks read at start.
-  trn::tasks::g_io_mission_config.filter_tile = trn::tasks::kFilterTile;
-  trn::tasks::g_io_mission_config.coordinator_tile = trn::tasks::kCoordinatorTile;
-  trn::tasks::FilterTaskConfig& f = trn::tasks::g_filter_role_config;
-  f.filter = trn::filter::FilterConfig{};
+  image.net_health.not_voted = spares;
+  // Transit probes test the switches no two live neighbours can vote on: the
+  // spares' (they route but run nothing) and those of live tiles with one live
+  // neighbour. The coordinator and the filter take the mission's busiest
+  // inbound traffic: they are crossed by transits but neither ping nor answer
+  // them (probes queued behind a frame's results would tip their queues over).
+  const std::uint64_t subjects = spares | fdir::under_observed(ep.boot_map, powered_, image.net_health.votes_to_fail);
+  const std::uint64_t probers =
+      powered_ & ~(1ULL << trn::tasks::kCoordinatorTile) & ~(1ULL << trn::tasks::kFilterTile);
+  if (fdir::plan_transits(ep.boot_map, probers, subjects, image.net_health.transits) != fdir::TransitError::kOk) {
+    error = "cannot plan the transit probes";
+    return false;
+  }
+  image.net_health.transit_subjects = subjects;
+  for (bsp::TileId t = 0; t < trn::tasks::kMapTiles; ++t) {
+    ep.transit_targets[t] = fdir::transit_targets(image.net_health.transits, t);
+  }
+  image.io.filter_tile = trn::tasks::kFilterTile;
+  image.io.coordinator_tile = trn::tasks::kCoordinatorTile;
+  trn::tasks::FilterTaskConfig& f = image.filter;
   f.filter.imu = imu_spec(s.imu);
   f.camera = camera_.model();
   f.initial = initial_;
   f.nav_sink = trn::tasks::kCoordinatorTile;
-  trn::tasks::VisionCoordConfig& c = trn::tasks::g_coord_config;
-  c = trn::tasks::VisionCoordConfig{};
+  trn::tasks::VisionCoordConfig& c = image.coord;
   c.camera = camera_.model();
   c.filter_tile = trn::tasks::kFilterTile;
   trn::tasks::tile_map_vision_tiles(c, 0);  // the coordinator learns of lost tiles by their silence
   trn::vision::sun_direction(s.camera.sun.azimuth_deg, s.camera.sun.elevation_deg, c.descent_sun_m);
-  trn::tasks::g_vision_config.camera = camera_.model();
-  trn::vision::sun_direction(s.camera.sun.azimuth_deg, s.camera.sun.elevation_deg,
-                             trn::tasks::g_vision_config.descent_sun_m);
-  trn::tasks::g_vision_config.coordinator = trn::tasks::kCoordinatorTile;
+  image.vision.camera = camera_.model();
+  trn::vision::sun_direction(s.camera.sun.azimuth_deg, s.camera.sun.elevation_deg, image.vision.descent_sun_m);
+  image.vision.coordinator = trn::tasks::kCoordinatorTile;
+  if (trn::tasks::configure_image(image) != trn::tasks::ImageError::kOk) {
+    error = "the image configuration is not valid";
+    return false;
+  }
   bsp::DeviceBusConfig bus;
   bus.io_tile = trn::tasks::kIoTile;
   bus.imu = &imu_;

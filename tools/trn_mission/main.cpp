@@ -28,7 +28,7 @@
 #include "tools/common/tile_view.hpp"
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/tile_map.hpp"
-#include "trn/tasks/vision_task.hpp"
+#include "trn/tasks/vision_coord.hpp"
 
 #include <CLI/CLI.hpp>
 

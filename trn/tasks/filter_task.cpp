@@ -8,7 +8,6 @@
 #include "kernel/kernel.hpp"
 #include "trn/tasks/messages.hpp"
 #include "udn/endpoint.hpp"
-#include "udn/raw.hpp"
 
 #include <array>
 #include <new>
@@ -35,19 +34,18 @@ struct Slot {
 
 std::array<Slot, bsp::kMaxTiles> g_slots{};
 
-/** Integrates up to kMaxImuPerJob samples waiting in the IMU queue. */
+/** Integrates up to kMaxImuPerJob samples waiting on kChanImu. */
 void consume_imu(Slot& slot) noexcept {
-  std::array<std::uint32_t, kImuWords> words{};
+  udn::FtMessage msg{};
   for (std::uint32_t n = 0; n < kMaxImuPerJob; ++n) {
-    udn::RxInfo info{};
-    if (udn::receive(kImuQueue, info, words, k::kNoWait) != udn::RawError::kOk) {
+    if (udn::endpoint_receive(kChanImu, msg) != udn::FtError::kOk) {
       return;
     }
-    if (info.data_words != kImuWords) {
+    if (msg.data_words != kImuWords) {
       ++slot.stats.imu_rejected;
       continue;
     }
-    const bsp::ImuSample s = unpack_imu(words);
+    const bsp::ImuSample s = unpack_imu(std::span<const std::uint32_t, kImuWords>{msg.data.data(), kImuWords});
     filter::UpdateReport rep{};
     const filter::FilterStatus st = slot.ekf->step(filter::StepInput{&s, nullptr, 0}, rep);
     if (st == filter::FilterStatus::kOk) {
@@ -199,8 +197,7 @@ bool set_up(Slot& slot, const FilterTaskConfig& cfg) noexcept {
   ::new (queue) MatchQueue{};
   slot.queue = queue;
   return slot.ekf->configure(cfg.filter, cfg.camera) == filter::FilterStatus::kOk &&
-         slot.ekf->init(cfg.initial) == filter::FilterStatus::kOk && udn::activate() == udn::RawError::kOk &&
-         udn::bind(kTagImu, kImuQueue) == udn::RawError::kOk;
+         slot.ekf->init(cfg.initial) == filter::FilterStatus::kOk;
 }
 
 }  // namespace

@@ -5,7 +5,7 @@
  *
  * A periodic kernel task (period 10 ticks of 1 ms) on a tile whose table also
  * runs the fault-tolerant messaging service (kCommTask). Each job:
- *  1. takes the IMU samples that arrived over the raw UDN (tag kTagImu,
+ *  1. takes the IMU samples that arrived on kChanImu (fault-tolerant UDN,
  *     bounded per job) and propagates the EKF with each;
  *  2. takes the match-batch parts waiting on kChanMatches into a queue in tile
  *     RAM (two frames; on overflow the oldest frame's remainder is dropped);

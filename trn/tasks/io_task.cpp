@@ -9,7 +9,6 @@
 #include "kernel/kernel.hpp"
 #include "trn/tasks/messages.hpp"
 #include "udn/endpoint.hpp"
-#include "udn/raw.hpp"
 
 #include <array>
 
@@ -23,7 +22,7 @@ IoTaskStats g_stats{};
 void device_isr(bsp::TileId /*tile*/) noexcept { (void)g_device_ready.give_from_isr(); }
 
 /** A sample that cannot be sent within this many ticks is counted and dropped. */
-constexpr k::Timeout kSendTimeout{5};
+constexpr std::uint32_t kSendTicks = 5;
 /** Samples forwarded per wake-up at most (the FIFO depth). */
 constexpr std::uint32_t kMaxPerWake = bsp::kImuFifoDepth;
 /** Ticks a frame notice may wait for the network. */
@@ -55,8 +54,7 @@ void io_task_main(void* arg) noexcept {
   const auto* cfg = static_cast<const IoTaskConfig*>(arg);
   g_stats = IoTaskStats{};
   g_device_ready = k::Semaphore{0, 1000};
-  if (cfg == nullptr || udn::activate() != udn::RawError::kOk ||
-      k::set_isr(bsp::Irq::kDevice, &device_isr) != k::Status::kOk) {
+  if (cfg == nullptr || k::set_isr(bsp::Irq::kDevice, &device_isr) != k::Status::kOk) {
     return;  // the tile's health monitor sees a task that never runs
   }
   std::array<std::uint32_t, kImuWords> words{};
@@ -65,7 +63,7 @@ void io_task_main(void* arg) noexcept {
     bsp::ImuSample s{};
     for (std::uint32_t n = 0; n < kMaxPerWake && bsp::imu_read(&s); ++n) {
       pack_imu(s, words);
-      if (udn::send(cfg->filter_tile, kTagImu, words, kSendTimeout) == udn::RawError::kOk) {
+      if (udn::endpoint_send(cfg->filter_tile, kChanImu, words, kSendTicks) == udn::FtError::kOk) {
         ++g_stats.imu_forwarded;
       } else {
         ++g_stats.send_failures;

@@ -17,9 +17,6 @@
 
 namespace trn::tasks {
 
-/** UDN tags of TRN traffic (the hardware tag word selects the receive queue). */
-inline constexpr std::uint32_t kTagImu = 0x54490001U;  ///< I/O tile -> filter: one ImuSample
-
 /**
  * Fault-tolerant UDN channels (udn/ft_link.hpp) of TRN traffic. A tile's
  * receive queue is per channel, so each kind of traffic a tile takes has its own.
@@ -28,6 +25,7 @@ inline constexpr std::uint32_t kChanControl = 0U;  ///< I/O -> coordinator frame
 inline constexpr std::uint32_t kChanResult = 1U;   ///< vision -> coordinator unit results
 inline constexpr std::uint32_t kChanNav = 2U;      ///< filter -> coordinator navigation solutions (pose priors)
 inline constexpr std::uint32_t kChanMatches = 3U;  ///< coordinator -> filter match batches
+inline constexpr std::uint32_t kChanImu = 4U;      ///< I/O -> filter IMU samples, one per message
 
 /** First word of every FT message: what it is. */
 inline constexpr std::uint32_t kMsgFrame = 0x46524D31U;    ///< "FRM1" frame notice
@@ -38,9 +36,6 @@ inline constexpr std::uint32_t kMsgMatches = 0x4D544331U;  ///< "MTC1" part of a
 inline constexpr std::uint32_t kMsgRelight = 0x524C5431U;  ///< "RLT1" relight a band of the coarse map: [1] row0 [2] rows
 inline constexpr std::uint32_t kMsgRelightDone = 0x524C4431U;  ///< "RLD1" the band is done: [1] row0 [2] rows
 inline constexpr std::uint32_t kRelightWords = 3;
-
-/** Demux queue the filter tile binds kTagImu to. */
-inline constexpr std::uint32_t kImuQueue = 0;
 
 inline constexpr std::uint32_t kImuWords = 16;
 

@@ -4,14 +4,48 @@
  */
 #include "trn/tasks/tile_map.hpp"
 
-#include "trn/tasks/roles.hpp"
-
 namespace trn::tasks {
 
-VisionCoordConfig g_coord_config{};
-VisionWorkerConfig g_vision_config{};
-IoTaskConfig g_io_mission_config{};
-fdir::NetHealthConfig g_net_health_config{};
+namespace detail {
+ImageConfig g_image{};
+}  // namespace detail
+
+namespace {
+
+/** A tile a role sends to: on the chip, or kNoTile (none: a role that is not flown). */
+bool tile_ok(bsp::TileId t) noexcept { return t < kMapTiles || t == bsp::kNoTile; }
+
+ImageError check(const ImageConfig& c) noexcept {
+  if (!tile_ok(c.endpoint.report_to) || !tile_ok(c.io.filter_tile) || !tile_ok(c.io.coordinator_tile) ||
+      !tile_ok(c.filter.nav_sink) || !tile_ok(c.coord.filter_tile) || !tile_ok(c.vision.coordinator)) {
+    return ImageError::kBadTile;
+  }
+  if (c.coord.vision_count > kMaxVisionTiles) {
+    return ImageError::kBadVisionList;
+  }
+  for (std::uint32_t i = 0; i < c.coord.vision_count; ++i) {
+    if (c.coord.vision_tiles[i] >= kMapTiles) {
+      return ImageError::kBadVisionList;
+    }
+  }
+  if (c.net_health.votes_to_fail < 2U || c.filter.matches_per_job == 0U ||
+      c.filter.matches_per_job > kMaxMatchesPerFrame || !(c.coord.deadline_s > 0.0)) {
+    return ImageError::kBadConfig;
+  }
+  return ImageError::kOk;
+}
+
+}  // namespace
+
+ImageError configure_image(const ImageConfig& cfg) noexcept {
+  const ImageError e = check(cfg);
+  if (e == ImageError::kOk) {
+    detail::g_image = cfg;
+  }
+  return e;
+}
+
+const ImageConfig& image_config() noexcept { return detail::g_image; }
 
 const char* role_name(Role r) noexcept {
   switch (r) {
@@ -41,7 +75,7 @@ char role_code(Role r) noexcept {
 
 k::TaskTable role_table(Role r) noexcept {
   switch (r) {
-    case Role::kIo: return kIoMissionRole;
+    case Role::kIo: return kIoRole;
     case Role::kFilter: return kFilterRole;
     case Role::kVisionCoordinator: return kCoordinatorRole;
     case Role::kVision: return kVisionRole;

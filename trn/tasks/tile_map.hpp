@@ -4,7 +4,7 @@
  *
  * One static table (kTileRoles) is the single source: the image powers the
  * tiles whose role is not a spare, registers each role's task table, and
- * fills the role configurations before boot. Default 8x8 layout (tile = row * 8 + col):
+ * configures every role in one step before boot (configure_image). Default 8x8 layout (tile = row * 8 + col):
  *
  *   row 0:  T  V  F  .  .  .  .  .     T TRN supervisor, V vision coordinator,
  *   row 1:  .  I  .  .  .  .  .  .     F filter supervisor, I I/O tile,
@@ -18,12 +18,13 @@
  */
 #pragma once
 
-#include "kernel/task_table.hpp"
 #include "fdir/net_health.hpp"
+#include "kernel/task_table.hpp"
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/io_task.hpp"
-#include "trn/tasks/roles.hpp"
-#include "trn/tasks/vision_task.hpp"
+#include "trn/tasks/vision_coord.hpp"
+#include "trn/tasks/vision_worker.hpp"
+#include "udn/endpoint.hpp"
 
 #include <array>
 #include <cstdint>
@@ -84,43 +85,82 @@ static_assert(kTileRoles[kCoordinatorTile] == Role::kVisionCoordinator && kTileR
                   kTileRoles[kFilterTile] == Role::kFilter,
               "named tiles match the map");
 
-/** Configurations the role tables point to; the image fills them before boot. */
-extern VisionCoordConfig g_coord_config;
-extern VisionWorkerConfig g_vision_config;
-extern IoTaskConfig g_io_mission_config;
-extern fdir::NetHealthConfig g_net_health_config;
+/** Everything the image's tasks are configured with: one value, given before boot. */
+struct ImageConfig {
+  udn::EndpointConfig endpoint{};        ///< every tile's messaging endpoint (boot map, probes, report tile, sink)
+  fdir::NetHealthConfig net_health{};    ///< the TRN supervisor's network-health task
+  IoTaskConfig io{};                     ///< the I/O tile's driver
+  FilterTaskConfig filter{};             ///< the navigation filter
+  VisionCoordConfig coord{};             ///< the vision coordinator
+  VisionWorkerConfig vision{};           ///< every vision tile
+};
+
+enum class ImageError : std::uint8_t {
+  kOk,
+  kBadTile,        ///< a tile a role sends to or reports to is off the chip
+  kBadVisionList,  ///< more vision tiles than a coordinator drives, or one off the chip
+  kBadConfig,      ///< a role's own setting out of range (votes to fail < 2, matches per job, deadline)
+};
+
+/**
+ * The image's one configuration step: checks @p cfg and makes it what every
+ * role's task reads at its start. Call before the board boots the tiles (a
+ * running task keeps the pointer it was given). [host, before boot]
+ * @return kOk, or what is wrong (nothing is changed then).
+ */
+[[nodiscard]] ImageError configure_image(const ImageConfig& cfg) noexcept;
+
+/** The configuration the tasks read (what configure_image last accepted). */
+const ImageConfig& image_config() noexcept;
+
+namespace detail {
+/** The storage the task tables point into; written only by configure_image. */
+extern ImageConfig g_image;
+}  // namespace detail
+
+/** The endpoint service every TRN tile runs first in its table. */
+inline constexpr k::TaskSpec kCommTask = udn::endpoint_task_spec(&detail::g_image.endpoint);
 
 /** The TRN supervisor's tile: network health (suspect voting, fault map). */
 inline constexpr k::TaskSpec kSupervisorRole[] = {
     kCommTask,
-    {"net_health", &fdir::net_health_task_main, &g_net_health_config, 1, 0, 0, 16U * 1024U, k::Policy::kPreemptive},
+    {"net_health", &fdir::net_health_task_main, &detail::g_image.net_health, 1, 0, 0, 16U * 1024U,
+     k::Policy::kPreemptive},
 };
-static_assert(k::check_table(kSupervisorRole) == k::TableError::kOk);
-
-/** I/O tile of the mission: the device driver with its messaging service. */
-inline constexpr k::TaskSpec kIoMissionRole[] = {
+/** I/O tile: the device driver, most urgent after its messaging service. */
+inline constexpr k::TaskSpec kIoRole[] = {
     kCommTask,
-    {"io", &io_task_main, &g_io_mission_config, 1, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
+    {"io", &io_task_main, &detail::g_image.io, 1, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
+};
+/**
+ * Filter tile: the messaging service (IMU and match batches in, solutions out)
+ * and the navigation filter, 100 Hz (10 ticks of 1 ms), deadline one period.
+ */
+inline constexpr k::TaskSpec kFilterRole[] = {
+    kCommTask,
+    {"filter", &filter_task_main, &detail::g_image.filter, 2, 10, 10, 32U * 1024U, k::Policy::kPreemptive},
 };
 /** Vision coordinator. */
 inline constexpr k::TaskSpec kCoordinatorRole[] = {
     kCommTask,
-    {"vision_coord", &vision_coord_main, &g_coord_config, 2, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
+    {"vision_coord", &vision_coord_main, &detail::g_image.coord, 2, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
 };
 /** A vision tile. */
 inline constexpr k::TaskSpec kVisionRole[] = {
     kCommTask,
-    {"vision", &vision_worker_main, &g_vision_config, 2, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
+    {"vision", &vision_worker_main, &detail::g_image.vision, 2, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
 };
 
-static_assert(k::check_table(kIoMissionRole) == k::TableError::kOk);
+static_assert(k::check_table(kSupervisorRole) == k::TableError::kOk);
+static_assert(k::check_table(kIoRole) == k::TableError::kOk);
+static_assert(k::check_table(kFilterRole) == k::TableError::kOk);
 static_assert(k::check_table(kCoordinatorRole) == k::TableError::kOk);
 static_assert(k::check_table(kVisionRole) == k::TableError::kOk);
 
 /** Task table of role @p r (empty for spares and roles without tasks yet). */
 k::TaskTable role_table(Role r) noexcept;
 
-/** Fills g_coord_config's vision tile list from kTileRoles (skipping tiles in @p exclude_mask). */
+/** Fills @p cfg's vision tile list from kTileRoles (skipping tiles in @p exclude_mask). */
 void tile_map_vision_tiles(VisionCoordConfig& cfg, std::uint64_t exclude_mask) noexcept;
 
 }  // namespace trn::tasks

@@ -147,6 +147,35 @@ TEST_F(TrnMissionBinary, AHungFilterIsALostMissionScoredAtTheEnd) {
   EXPECT_GT(s["nav_longest_gap_s"].get<double>(), 20.0);
   EXPECT_GT(s["final_position_error_m"].get<double>(), 10.0) << "the stale solution is far off at the end";
   EXPECT_EQ(s["faults_injected"], 1);
+  // The diagnosis names the hung tile, as a core behind a switch that still routes (transits
+  // through it answer); its senders, stuck behind its full queue, keep answering their probes and
+  // are blamed for nothing (before, the coordinator and a vision tile were voted failed).
+  const std::string log = read_text(dir_ / "h" / "events.log");
+  EXPECT_NE(log.find("core_suspect: core of tile 18 silent behind a switch that routes"), std::string::npos) << log;
+  EXPECT_EQ(count_of(log, "declared failed"), 0U) << log;
+  EXPECT_NE(log.find("core_hang (planned) -> detected by tile 26 (neighbour_suspect)"), std::string::npos);
+}
+
+// Point 9: the switch of a spare tile (it routes traffic but runs nothing that could answer a
+// probe) fails mid-run: transit probes across it are lost, the health tile names it, the map goes
+// out by message and traffic routes around. Upsets on the I/O tile's packets are corrected by the
+// filter tile: the IMU travels over the fault-tolerant UDN like every other message.
+TEST_F(TrnMissionBinary, ASparesSwitchIsFoundByTransitsAndTheImuStreamIsProtected) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 10 --faults " + fixture("spare_switch_imu_flips.toml") + " --out " +
+                (dir_ / "s").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "s" / "summary.json");
+  const std::string log = read_text(dir_ / "s" / "events.log");
+  EXPECT_EQ(s["faults_injected"], 3);
+  EXPECT_EQ(s["faults_detected"], 3);
+  EXPECT_EQ(s["faults_recovered"], 3);
+  EXPECT_NE(log.find("switch_fail (planned) -> detected by tile 0 (transit_failed)"), std::string::npos) << log;
+  EXPECT_NE(log.find("switch of tile 11 declared failed (all"), std::string::npos);
+  EXPECT_NE(log.find("map_published: fault map version 1"), std::string::npos);
+  EXPECT_EQ(count_of(log, "tile  9  packet_bit_flip"), 2U);
+  EXPECT_EQ(count_of(log, "detected by tile 18 (packet_corrected)"), 2U) << "the filter tile corrects the IMU packets";
+  EXPECT_EQ(count_of(log, "declared failed"), 1U) << "no other switch is blamed";
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
 }
 
 // Every injection is counted, random ones too (it said 1 of 718 before); a failed link is voted

@@ -13,7 +13,7 @@
 #include "tools/common/mission.hpp"
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/tile_map.hpp"
-#include "trn/tasks/vision_task.hpp"
+#include "trn/tasks/vision_coord.hpp"
 
 #include <gtest/gtest.h>
 

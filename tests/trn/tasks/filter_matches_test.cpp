@@ -15,7 +15,7 @@
 #include "tests/support/heap_probe.hpp"
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/messages.hpp"
-#include "trn/tasks/roles.hpp"
+#include "trn/tasks/tile_map.hpp"
 #include "udn/endpoint.hpp"
 
 #include <gtest/gtest.h>
@@ -142,7 +142,7 @@ void send_batch(std::uint32_t frame, std::uint32_t n) {
 
 /** Builds frame @p f's matches from the truth at its image time (a coarse one first if planned). */
 void build_frame(const FramePlan& f, std::uint32_t frame, bsp::Rng& rng) {
-  const bsp::CameraModel cam = trn::tasks::g_filter_role_config.camera;
+  const bsp::CameraModel cam = trn::tasks::image_config().filter.camera;
   const bsp::world::TruthState t = g_setup.truth->at(f.t_img_s);
   for (std::uint32_t i = 0; i < f.matches; ++i) {
     const bool coarse = f.coarse_first && i == 0U;
@@ -180,15 +180,15 @@ static_assert(k::check_table(kCoordRole) == k::TableError::kOk);
 
 class FilterMatches : public ::testing::Test {
  protected:
-  /** I/O tile (IMU, raw UDN), filter tile, coordinator tile; the filter starts @p err_m off the truth. */
+  /** I/O tile (IMU over the fault-tolerant UDN), filter tile, coordinator tile; the filter starts @p err_m off the truth. */
   void boot(const Eigen::Vector3d& err_m, std::uint32_t matches_per_job) {
     ASSERT_EQ(traj_.init(bsp::world::TrajectoryConfig{}), bsp::world::WorldError::kOk);
     bsp::ImuErrorConfig ic;
     ic.enabled = true;
     ASSERT_EQ(imu_.init(&traj_, ic, 23), bsp::ImuError::kOk);
     const bsp::world::TruthState t0 = traj_.at(0.0);
-    trn::tasks::FilterTaskConfig& f = trn::tasks::g_filter_role_config;
-    f = trn::tasks::FilterTaskConfig{};
+    trn::tasks::ImageConfig image{};
+    trn::tasks::FilterTaskConfig& f = image.filter;
     f.initial.t_s = 0.0;
     f.initial.x.p_m = t0.r_m + err_m;
     f.initial.x.v_mps = t0.v_mps;
@@ -197,7 +197,8 @@ class FilterMatches : public ::testing::Test {
     f.initial.sigma_v_mps = trn::filter::Vec3::Constant(0.1);
     f.nav_sink = kCoordTile;
     f.matches_per_job = matches_per_job;
-    trn::tasks::g_io_role_config.filter_tile = kFilterTile;
+    image.io.filter_tile = kFilterTile;
+    ASSERT_EQ(trn::tasks::configure_image(image), trn::tasks::ImageError::kOk);
     g_setup.truth = &traj_;
     g_result = CoordResult{};
     bsp::BoardConfig cfg = bsp::default_config(bsp::kTile64);

@@ -14,7 +14,7 @@
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/io_task.hpp"
 #include "trn/tasks/messages.hpp"
-#include "trn/tasks/roles.hpp"
+#include "trn/tasks/tile_map.hpp"
 
 #include <gtest/gtest.h>
 
@@ -34,14 +34,15 @@ class FilterTask : public ::testing::Test {
     ic.enabled = imu_errors;
     ASSERT_EQ(imu_.init(&traj_, ic, 21), bsp::ImuError::kOk);
     const bsp::world::TruthState t0 = traj_.at(0.0);
-    trn::tasks::g_filter_role_config = trn::tasks::FilterTaskConfig{};
-    trn::tasks::g_io_role_config.filter_tile = kFilterTile;
-    trn::tasks::g_filter_role_config.initial.t_s = 0.0;
-    trn::tasks::g_filter_role_config.initial.x.p_m = t0.r_m;
-    trn::tasks::g_filter_role_config.initial.x.v_mps = t0.v_mps;
-    trn::tasks::g_filter_role_config.initial.x.q_mb = t0.q_mb;
-    trn::tasks::g_filter_role_config.initial.sigma_p_m = trn::filter::Vec3::Constant(1.0);
-    trn::tasks::g_filter_role_config.initial.sigma_v_mps = trn::filter::Vec3::Constant(0.01);
+    trn::tasks::ImageConfig image{};
+    image.io.filter_tile = kFilterTile;
+    image.filter.initial.t_s = 0.0;
+    image.filter.initial.x.p_m = t0.r_m;
+    image.filter.initial.x.v_mps = t0.v_mps;
+    image.filter.initial.x.q_mb = t0.q_mb;
+    image.filter.initial.sigma_p_m = trn::filter::Vec3::Constant(1.0);
+    image.filter.initial.sigma_v_mps = trn::filter::Vec3::Constant(0.01);
+    ASSERT_EQ(trn::tasks::configure_image(image), trn::tasks::ImageError::kOk);
     bsp::BoardConfig cfg = bsp::default_config(bsp::kTile64);
     cfg.powered_at_start = (1ULL << kIoTile) | (1ULL << kFilterTile);
     cfg.monitor_tile = bsp::kNoTile;

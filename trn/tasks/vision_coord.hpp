@@ -1,6 +1,6 @@
 /**
- * @file vision_task.hpp
- * @brief The vision coordinator and the vision tiles: a frame's landmarks spread over 40 tiles
+ * @file vision_coord.hpp
+ * @brief The vision coordinator: a frame's landmarks spread over 40 tiles
  *        by the fault-tolerant UDN, gathered before the frame's deadline, sent to the filter.
  *
  * Coordinator (one tile): selects the landmarks from the reference map at its
@@ -20,8 +20,6 @@
  * (its landmarks go to the others) except one probe unit every
  * kProbeEveryFrames frames, which brings it back when it answers.
  *
- * Vision tile: waits for units, matches each landmark (trn/vision/frame.hpp)
- * in the frame in shared DDR, charges the work, and answers with the matches.
  */
 #pragma once
 
@@ -41,8 +39,6 @@ inline constexpr std::uint32_t kMaxVisionTiles = 48;
 inline constexpr std::uint32_t kSuspectAfterMisses = 2;
 /** A suspect tile is sent one unit every this many frames (it comes back by answering). */
 inline constexpr std::uint32_t kProbeEveryFrames = 5;
-/** Name of the shared DDR carve holding the landmark table. */
-inline constexpr const char* kLandmarkCarveName = "landmarks";
 
 struct VisionCoordConfig {
   bsp::CameraModel camera{};
@@ -56,12 +52,6 @@ struct VisionCoordConfig {
   double coarse_above_sigma_m = 150.0; ///< coarse stage when the horizontal sigma exceeds this
   double deadline_s = 0.8;             ///< from the frame notice to the batch leaving for the filter (frames come every 1 s)
   double max_prior_age_s = 0.05;       ///< newest solution at or before the capture must be this fresh
-};
-
-struct VisionWorkerConfig {
-  bsp::CameraModel camera{};
-  double descent_sun_m[3] = {0.0, 0.0, 0.0};  ///< unit vector to the descent sun, map frame (mission knowledge)
-  bsp::TileId coordinator = bsp::kNoTile;
 };
 
 struct VisionCoordStats {
@@ -85,14 +75,6 @@ struct VisionCoordStats {
   bsp::Cycles last_frame_cycles;
 };
 
-struct VisionWorkerStats {
-  std::uint32_t units;
-  std::uint32_t landmarks;
-  std::uint32_t matches;
-  std::uint32_t bad_units;
-  std::uint32_t send_failed;
-};
-
 /**
  * The coordinator reports through the flight event log: a tile isolated or
  * back (fdir/liveness.hpp: kWorkerSilent, kWorkerBack) and every frame's batch
@@ -102,16 +84,7 @@ struct VisionWorkerStats {
 /** Coordinator entry (arg: const VisionCoordConfig*). */
 void vision_coord_main(void* arg) noexcept;
 
-/** Vision tile entry (arg: const VisionWorkerConfig*). */
-void vision_worker_main(void* arg) noexcept;
-
 /** Counters of the coordinator on @p tile. [host] */
 VisionCoordStats vision_coord_stats(bsp::TileId tile) noexcept;
-
-/** Counters of the vision task on @p tile. [host] */
-VisionWorkerStats vision_worker_stats(bsp::TileId tile) noexcept;
-
-/** The shared landmark table, or nullptr before the coordinator selected it. [task|host] */
-const vision::LandmarkTable* landmark_table_find() noexcept;
 
 }  // namespace trn::tasks

@@ -1,8 +1,8 @@
 /**
- * @file vision_task.cpp
- * @brief Vision coordinator (frame planning, distribution, gathering) and the vision tile task.
+ * @file vision_coord.cpp
+ * @brief Vision coordinator: frame planning, distribution to the vision tiles, gathering.
  */
-#include "trn/tasks/vision_task.hpp"
+#include "trn/tasks/vision_coord.hpp"
 
 #include "bsp_tile64/devices/map_product.hpp"
 #include "bsp_tile64/memory.hpp"
@@ -11,11 +11,11 @@
 #include "kernel/kernel.hpp"
 #include "trn/match.hpp"
 #include "trn/tasks/messages.hpp"
+#include "trn/tasks/vision_shared.hpp"
 #include "udn/endpoint.hpp"
 
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <new>
 
 namespace trn::tasks {
@@ -23,8 +23,6 @@ namespace {
 
 /** Solutions the coordinator keeps (10 ms apart: 0.64 s). */
 constexpr std::uint32_t kNavRing = 64;
-/** Ticks a unit or batch part may wait for the network before it is counted as failed. */
-constexpr std::uint32_t kSendTicks = 20;
 /** Messages drained per channel per pass (the receive queues hold kFtRxDepth each). */
 constexpr std::uint32_t kDrainPerPass = 64;
 
@@ -60,56 +58,13 @@ struct CoordState {
   std::array<bool, kMaxVisionTiles> band_done;
 };
 
-/** Idle poll period of a vision tile: units come once a frame, and each idle wake costs two context switches. */
-constexpr k::Ticks kWorkerIdleTicks = 4;
 /** Idle poll period of the coordinator (results, notices and solutions are drained each time). */
 constexpr k::Ticks kCoordIdleTicks = 2;
 
 /** Ticks the coordinator waits for the vision tiles' relit bands before doing the rest itself. */
 constexpr k::Ticks kRelightWaitTicks = 400;
 
-/** Rows of band @p i of @p n over @p height rows. */
-void band_rows(std::int32_t height, std::uint32_t i, std::uint32_t n, std::int32_t& row0, std::int32_t& rows) noexcept {
-  const std::int32_t per = (height + static_cast<std::int32_t>(n) - 1) / static_cast<std::int32_t>(n);
-  row0 = per * static_cast<std::int32_t>(i);
-  rows = row0 >= height ? 0 : (height - row0 < per ? height - row0 : per);
-}
-
-/** Relights rows [row0, row0 + rows) of @p map into the same rows of @p relit. */
-bool relight_band(const vision::MapView& map, const double sun_m[3], vision::ImageU8 relit, std::int32_t row0,
-                  std::int32_t rows) noexcept {
-  if (rows <= 0) {
-    return true;
-  }
-  bsp::Work work{};
-  const vision::ImageU8 band = relit.sub(0, row0, relit.width, rows);
-  const bool ok = band.valid() && vision::relight_region(map, 0, row0, sun_m, band, work) == vision::Status::kOk;
-  bsp::consume(work);
-  return ok;
-}
-
 std::array<VisionCoordStats, bsp::kMaxTiles> g_coord_stats{};
-
-std::array<VisionWorkerStats, bsp::kMaxTiles> g_worker_stats{};
-
-const std::uint8_t* ddr_at(std::uint64_t offset, std::uint64_t bytes) noexcept {
-  const std::span<std::byte> ddr = bsp::region_span(bsp::Region{bsp::Region::kDdr});
-  if (offset > ddr.size() || bytes > ddr.size() - offset) {
-    return nullptr;
-  }
-  return reinterpret_cast<const std::uint8_t*>(ddr.data() + offset);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): DDR bytes
-}
-
-/** The DDR carve named @p what, or nullptr. */
-const std::uint8_t* ddr_find(const char* what) noexcept {
-  const bsp::Region ddr{bsp::Region::kDdr};
-  for (const bsp::CarveRecord& r : bsp::region_carves(ddr)) {
-    if (r.what != nullptr && std::strcmp(r.what, what) == 0) {
-      return reinterpret_cast<const std::uint8_t*>(bsp::region_span(ddr).data() + r.offset);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
-    }
-  }
-  return nullptr;
-}
 
 k::Ticks seconds_to_ticks(double s) noexcept {
   // The kernel tick is 1 ms (board default); the frame logic works in ticks.
@@ -136,7 +91,7 @@ bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
   }
   const vision::ConstImageU8 orbital = st.coarse_map.image;
   auto* relit = bsp::carve_array<std::uint8_t>(
-      ddr, static_cast<std::size_t>(orbital.width) * static_cast<std::size_t>(orbital.height), "coarse_relit", &err);
+      ddr, static_cast<std::size_t>(orbital.width) * static_cast<std::size_t>(orbital.height), kRelitCarveName, &err);
   if (err != bsp::MemError::kOk) {
     return false;
   }
@@ -187,7 +142,7 @@ bool relight_coarse(CoordState& st) noexcept {
     st.band_done[i] = rows == 0;
     bool sent = st.band_done[i];
     for (std::uint32_t k = 0; k < n && !sent; ++k) {
-      sent = udn::endpoint_send(st.cfg->vision_tiles[(i + k) % n], kChanControl, w, kSendTicks) == udn::FtError::kOk;
+      sent = udn::endpoint_send(st.cfg->vision_tiles[(i + k) % n], kChanControl, w, kVisionSendTicks) == udn::FtError::kOk;
     }
     if (!sent) {
       if (!relight_band(st.coarse_map, st.cfg->descent_sun_m, st.relit, row0, rows)) {
@@ -399,7 +354,7 @@ void distribute(CoordState& st, VisionCoordStats& stats, const vision::PosePrior
     }
     pack_unit_header(st, prior, u, n, w);
     const udn::FtError e = udn::endpoint_send(unit.tile, kChanControl,
-                                     std::span<const std::uint32_t>(w.data(), kUnitHeaderWords + n), kSendTicks);
+                                     std::span<const std::uint32_t>(w.data(), kUnitHeaderWords + n), kVisionSendTicks);
     if (e == udn::FtError::kOk) {
       unit.sent = true;
       ++stats.units_sent;
@@ -468,7 +423,7 @@ void send_batch(CoordState& st, VisionCoordStats& stats) noexcept {
     }
     if (udn::endpoint_send(st.cfg->filter_tile, kChanMatches,
                   std::span<const std::uint32_t>(w.data(), kMatchHeaderWords + n * kMatchWords),
-                  kSendTicks) != udn::FtError::kOk) {
+                  kVisionSendTicks) != udn::FtError::kOk) {
       ++stats.batch_send_failed;
     }
   }
@@ -514,110 +469,6 @@ bool all_answered(const CoordState& st) noexcept {
   return true;
 }
 
-// ------------------------------------------------------------------ vision tile
-
-struct WorkerState {
-  const VisionWorkerConfig* cfg;
-  vision::MapView fine;
-  vision::MapView coarse;
-  vision::LandmarkWorkspace* ws;
-  std::array<std::uint32_t, kResultHeaderWords + kMaxLandmarksPerUnit * kMatchWords> out;
-};
-
-bool worker_set_up(WorkerState& st) noexcept {
-  const bsp::MapProductHeader* product = bsp::map_product_find();
-  if (product == nullptr || vision::map_view(product, bsp::kMapLayerFine, st.fine) != vision::Status::kOk) {
-    return false;
-  }
-  if (vision::map_view(product, bsp::kMapLayerCoarse, st.coarse) != vision::Status::kOk) {
-    return false;
-  }
-  for (std::size_t i = 0; i < 3U; ++i) {
-    st.fine.descent_sun_m[i] = st.cfg->descent_sun_m[i];
-    st.coarse.descent_sun_m[i] = st.cfg->descent_sun_m[i];
-  }
-  bsp::MemError err = bsp::MemError::kOk;
-  st.ws = bsp::carve_array<vision::LandmarkWorkspace>(bsp::Region{bsp::current_tile()}, 1, "vision_ws", &err);
-  if (err != bsp::MemError::kOk) {
-    return false;
-  }
-  ::new (st.ws) vision::LandmarkWorkspace{};
-  return true;
-}
-
-/** Matches the landmarks of unit @p m; returns the result's length in words (0: bad unit). */
-std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const udn::FtMessage& m) noexcept {
-  const std::uint32_t n = m.data[3];
-  const vision::LandmarkTable* table = landmark_table_find();
-  if (m.data[0] != kMsgUnit || n > kMaxLandmarksPerUnit || m.data_words != kUnitHeaderWords + n || table == nullptr) {
-    return 0U;
-  }
-  const std::span<const std::uint32_t> w(m.data.data(), m.data_words);
-  vision::PosePrior prior{};
-  prior.t_s = detail::get_f64(w, 4);
-  const std::uint64_t offset = static_cast<std::uint64_t>(w[6]) | (static_cast<std::uint64_t>(w[7]) << 32U);
-  const std::uint32_t width = w[8] & 0xFFFFU;
-  const std::uint32_t height = w[8] >> 16U;
-  for (std::size_t i = 0; i < 3U; ++i) {
-    prior.p_m[i] = detail::get_f64(w, 9U + 2U * i);
-  }
-  for (std::size_t i = 0; i < 4U; ++i) {
-    prior.q_mb[i] = detail::get_f64(w, 15U + 2U * i);
-  }
-  const std::uint8_t* pixels = ddr_at(offset, static_cast<std::uint64_t>(width) * height);
-  if (pixels == nullptr) {
-    return 0U;
-  }
-  const vision::ConstImageU8 image{pixels, static_cast<std::int32_t>(width), static_cast<std::int32_t>(height),
-                                   static_cast<std::int32_t>(width)};
-  std::uint32_t matched = 0;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const auto index = static_cast<std::uint16_t>(w[kUnitHeaderWords + i] & 0xFFFFU);
-    const auto radius = static_cast<std::int32_t>(w[kUnitHeaderWords + i] >> 16U);
-    Match match{};
-    bool accepted = false;
-    vision::LandmarkDiag diag{};
-    bsp::Work work{};
-    const vision::Status s = vision::match_landmark(image, st.cfg->camera, prior, st.fine, *table, index, radius,
-                                                    *st.ws, match, accepted, diag, work);
-    bsp::consume(work);
-    ++stats.landmarks;
-    if (s == vision::Status::kOk && accepted) {
-      match.tile = static_cast<std::uint16_t>(bsp::current_tile());
-      match.frame = m.data[1];
-      match.t_s = prior.t_s;
-      pack_match(match, std::span<std::uint32_t, kMatchWords>(st.out.data() + kResultHeaderWords + static_cast<std::size_t>(matched) * kMatchWords,
-                                                              kMatchWords));
-      ++matched;
-    }
-  }
-  st.out[0] = kMsgResult;
-  st.out[1] = m.data[1];
-  st.out[2] = m.data[2];
-  st.out[3] = n;
-  st.out[4] = matched;
-  stats.matches += matched;
-  return kResultHeaderWords + matched * kMatchWords;
-}
-
-/** A band of the coarse map to relight into the shared copy; answered when done. */
-void relight_request(WorkerState& st, VisionWorkerStats& stats, const udn::FtMessage& m) noexcept {
-  const std::uint8_t* relit = ddr_find("coarse_relit");
-  const vision::ConstImageU8 src = st.coarse.image;
-  const auto row0 = static_cast<std::int32_t>(m.data[1]);
-  const auto rows = static_cast<std::int32_t>(m.data[2]);
-  // The copy is the coordinator's carve, laid out like the layer.
-  const vision::ImageU8 dst{const_cast<std::uint8_t*>(relit), src.width, src.height, src.width};  // NOLINT(cppcoreguidelines-pro-type-const-cast): shared DDR buffer
-  if (relit == nullptr || !relight_band(st.coarse, st.cfg->descent_sun_m, dst, row0, rows)) {
-    ++stats.bad_units;
-    return;
-  }
-  const std::array<std::uint32_t, kRelightWords> w{kMsgRelightDone, m.data[1], m.data[2]};
-  if (udn::endpoint_send(m.source, kChanResult, w, kSendTicks) != udn::FtError::kOk) {
-    ++stats.send_failed;
-  }
-}
-
 }  // namespace
 
 void vision_coord_main(void* arg) noexcept {
@@ -651,54 +502,8 @@ void vision_coord_main(void* arg) noexcept {
   }
 }
 
-void vision_worker_main(void* arg) noexcept {
-  const bsp::TileId self = bsp::current_tile();
-  VisionWorkerStats& stats = g_worker_stats[self];
-  stats = VisionWorkerStats{};
-  const auto* cfg = static_cast<const VisionWorkerConfig*>(arg);
-  bsp::MemError err = bsp::MemError::kOk;
-  auto* st = bsp::carve_array<WorkerState>(bsp::Region{self}, 1, "vision_task", &err);
-  if (cfg == nullptr || err != bsp::MemError::kOk || !udn::endpoint_wait_ready(100)) {
-    return;
-  }
-  ::new (st) WorkerState{};
-  st->cfg = cfg;
-  if (!worker_set_up(*st)) {
-    return;
-  }
-  udn::FtMessage m{};
-  for (;;) {
-    if (udn::endpoint_receive(kChanControl, m) != udn::FtError::kOk) {
-      k::sleep(kWorkerIdleTicks);
-      continue;
-    }
-    if (m.data_words == kRelightWords && m.data[0] == kMsgRelight) {
-      relight_request(*st, stats, m);
-      continue;
-    }
-    const std::uint32_t words = run_unit(*st, stats, m);
-    if (words == 0U) {
-      ++stats.bad_units;
-      continue;
-    }
-    ++stats.units;
-    if (udn::endpoint_send(m.source, kChanResult, std::span<const std::uint32_t>(st->out.data(), words), kSendTicks) !=
-        udn::FtError::kOk) {
-      ++stats.send_failed;
-    }
-  }
-}
-
 VisionCoordStats vision_coord_stats(bsp::TileId tile) noexcept {
   return tile < bsp::kMaxTiles ? g_coord_stats[tile] : VisionCoordStats{};
-}
-
-VisionWorkerStats vision_worker_stats(bsp::TileId tile) noexcept {
-  return tile < bsp::kMaxTiles ? g_worker_stats[tile] : VisionWorkerStats{};
-}
-
-const vision::LandmarkTable* landmark_table_find() noexcept {
-  return reinterpret_cast<const vision::LandmarkTable*>(ddr_find(kLandmarkCarveName));  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
 }
 
 }  // namespace trn::tasks

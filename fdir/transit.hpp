@@ -1,0 +1,91 @@
+/**
+ * @file transit.hpp
+ * @brief Transit probes: how the switches of spare tiles, which route traffic but run nothing
+ *        that could answer a probe, are tested, and how a lost transit names the failed one.
+ *
+ * A transit is a PING from one live tile (the prober) to another (the target),
+ * sent straight (one X-then-Y leg, no routing) and answered straight: the
+ * round trip crosses every switch on both legs. The plan (plan_transits, made
+ * once by the image before boot) chooses transits so that every subject
+ * switch on a leg between live tiles (every spare that carries traffic, and
+ * live tiles too poorly watched for a neighbour vote) is crossed by at least
+ * kTransitsPerSpare of them, and no two subjects touch the same
+ * transits. A failed switch kills exactly the transits through it, so the
+ * verdict names the one subject whose transits are all lost and are not a
+ * part of another such subject's. A live switch whose failure kills a
+ * subject's transits is voted by its neighbours first; its transits then tell
+ * nothing and are left out. Each prober pings its targets every probe round
+ * (udn/endpoint.hpp) and reports a target lost after the miss threshold and
+ * back when it answers again (udn::kMsgTransit); the health tile decides
+ * (fdir/net_health.hpp).
+ *
+ * Static storage, bounded loops; the plan is computed from the boot fault map.
+ */
+#pragma once
+
+#include "bsp_tile64/port.hpp"
+#include "udn/route.hpp"
+
+#include <array>
+#include <cstdint>
+
+namespace fdir {
+
+inline constexpr std::uint32_t kMaxTransits = 64U;        ///< transits in one plan (bits of a 64-bit mask)
+inline constexpr std::uint32_t kTransitsPerProber = 4U;   ///< targets one tile pings at most
+inline constexpr std::uint32_t kTransitsPerSpare = 2U;    ///< transits crossing each testable spare, at least
+
+struct Transit {
+  bsp::TileId prober = bsp::kNoTile;
+  bsp::TileId target = bsp::kNoTile;
+  std::uint64_t path = 0U;  ///< switches of the round trip (bit per tile), both ends included
+};
+
+struct TransitPlan {
+  std::uint32_t count = 0U;
+  std::array<Transit, kMaxTransits> t{};
+  std::uint64_t tested = 0U;      ///< subjects that meet the plan's rule (two transits, told apart)
+  std::uint64_t untested = 0U;    ///< subjects on some leg between probers that the plan could not test so
+};
+
+enum class TransitError : std::uint8_t { kOk, kBadArgs };
+
+/**
+ * Plans the transits between tiles in @p probers (live tiles running an
+ * endpoint) for the switches of @p subjects on @p map's grid: the spares, and
+ * live tiles with too few live neighbours for a vote. A transit tests a switch
+ * it passes through, never its own ends. Mesh neighbours are never paired
+ * (the neighbour probe tests them). Deterministic: the same inputs give the
+ * same plan. [host, before boot]
+ * @return kBadArgs for an empty grid or more than 64 tiles.
+ */
+TransitError plan_transits(const udn::FaultMap& map, std::uint64_t probers, std::uint64_t subjects,
+                           TransitPlan& out) noexcept;
+
+/** Transits of @p plan that pass through @p tile (bit per plan index), its own ends excluded. */
+std::uint64_t transits_through(const TransitPlan& plan, bsp::TileId tile) noexcept;
+
+/**
+ * Tiles of @p live with fewer than @p votes live mesh neighbours on @p map's
+ * grid: no neighbour vote can fail their switch, so transits must judge it.
+ */
+std::uint64_t under_observed(const udn::FaultMap& map, std::uint64_t live, std::uint32_t votes) noexcept;
+
+/** Targets (bit per tile) @p prober pings in @p plan. */
+std::uint64_t transit_targets(const TransitPlan& plan, bsp::TileId prober) noexcept;
+
+/** Index of transit (@p prober, @p target) in @p plan, or kMaxTransits. */
+std::uint32_t transit_index(const TransitPlan& plan, bsp::TileId prober, bsp::TileId target) noexcept;
+
+/**
+ * The subject a failed switch explains the lost transits by, given the
+ * transits reported lost (@p lost, bit per plan index) and the tiles already
+ * known failed (a transit touching one tells nothing new and is left out).
+ * Candidates have at least kTransitsPerSpare transits that count, all lost;
+ * the answer is the one candidate whose transits no other candidate's include.
+ * @return the subject, or bsp::kNoTile when there is no such one.
+ */
+bsp::TileId transit_verdict(const TransitPlan& plan, std::uint64_t lost, std::uint64_t subjects,
+                            std::uint64_t known_failed) noexcept;
+
+}  // namespace fdir

@@ -1,0 +1,74 @@
+/**
+ * @file image_config_test.cpp
+ * @brief The image's one configuration step: checked, all or nothing, and what the role tables point to.
+ */
+#include "trn/tasks/tile_map.hpp"
+
+#include <gtest/gtest.h>
+
+namespace {
+
+using trn::tasks::configure_image;
+using trn::tasks::ImageConfig;
+using trn::tasks::ImageError;
+using trn::tasks::image_config;
+
+ImageConfig mission_like() {
+  ImageConfig c{};
+  c.endpoint.report_to = trn::tasks::kSupervisorTile;
+  c.io.filter_tile = trn::tasks::kFilterTile;
+  c.io.coordinator_tile = trn::tasks::kCoordinatorTile;
+  c.filter.nav_sink = trn::tasks::kCoordinatorTile;
+  c.coord.filter_tile = trn::tasks::kFilterTile;
+  trn::tasks::tile_map_vision_tiles(c.coord, 0);
+  c.vision.coordinator = trn::tasks::kCoordinatorTile;
+  return c;
+}
+
+TEST(ImageConfig, AcceptedConfigurationIsWhatTheRoleTablesPointTo) {
+  ImageConfig c = mission_like();
+  c.filter.matches_per_job = 7;
+  ASSERT_EQ(configure_image(c), ImageError::kOk);
+  EXPECT_EQ(image_config().filter.matches_per_job, 7U);
+  EXPECT_EQ(image_config().coord.vision_count, 40U);
+  // Every role's task gets its part of the one configuration.
+  EXPECT_EQ(trn::tasks::kFilterRole[1].arg, &image_config().filter);
+  EXPECT_EQ(trn::tasks::kIoRole[1].arg, &image_config().io);
+  EXPECT_EQ(trn::tasks::kCoordinatorRole[1].arg, &image_config().coord);
+  EXPECT_EQ(trn::tasks::kVisionRole[1].arg, &image_config().vision);
+  EXPECT_EQ(trn::tasks::kSupervisorRole[1].arg, &image_config().net_health);
+  EXPECT_EQ(trn::tasks::kCommTask.arg, &image_config().endpoint);
+}
+
+TEST(ImageConfig, RefusedConfigurationChangesNothing) {
+  ImageConfig good = mission_like();
+  good.filter.matches_per_job = 9;
+  ASSERT_EQ(configure_image(good), ImageError::kOk);
+
+  ImageConfig c = mission_like();
+  c.io.filter_tile = 64;  // off the 8x8 chip
+  EXPECT_EQ(configure_image(c), ImageError::kBadTile);
+  c = mission_like();
+  c.endpoint.report_to = 200;
+  EXPECT_EQ(configure_image(c), ImageError::kBadTile);
+  c = mission_like();
+  c.coord.vision_count = trn::tasks::kMaxVisionTiles + 1U;
+  EXPECT_EQ(configure_image(c), ImageError::kBadVisionList);
+  c = mission_like();
+  c.coord.vision_tiles[3] = bsp::kNoTile;
+  EXPECT_EQ(configure_image(c), ImageError::kBadVisionList);
+  c = mission_like();
+  c.net_health.votes_to_fail = 1;  // one vote is never enough
+  EXPECT_EQ(configure_image(c), ImageError::kBadConfig);
+  c = mission_like();
+  c.filter.matches_per_job = 0;
+  EXPECT_EQ(configure_image(c), ImageError::kBadConfig);
+  c = mission_like();
+  c.coord.deadline_s = 0.0;
+  EXPECT_EQ(configure_image(c), ImageError::kBadConfig);
+
+  EXPECT_EQ(image_config().filter.matches_per_job, 9U) << "the last accepted configuration stands";
+  EXPECT_EQ(image_config().io.filter_tile, trn::tasks::kFilterTile);
+}
+
+}  // namespace

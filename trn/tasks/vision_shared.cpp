@@ -1,0 +1,55 @@
+/**
+ * @file vision_shared.cpp
+ * @brief The DDR lookups and the band relight the coordinator and the vision tiles share.
+ */
+#include "trn/tasks/vision_shared.hpp"
+
+#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/work.hpp"
+
+#include <cstring>
+#include <span>
+
+namespace trn::tasks {
+
+void band_rows(std::int32_t height, std::uint32_t i, std::uint32_t n, std::int32_t& row0, std::int32_t& rows) noexcept {
+  const std::int32_t per = (height + static_cast<std::int32_t>(n) - 1) / static_cast<std::int32_t>(n);
+  row0 = per * static_cast<std::int32_t>(i);
+  rows = row0 >= height ? 0 : (height - row0 < per ? height - row0 : per);
+}
+
+bool relight_band(const vision::MapView& map, const double sun_m[3], vision::ImageU8 relit, std::int32_t row0,
+                  std::int32_t rows) noexcept {
+  if (rows <= 0) {
+    return true;
+  }
+  bsp::Work work{};
+  const vision::ImageU8 band = relit.sub(0, row0, relit.width, rows);
+  const bool ok = band.valid() && vision::relight_region(map, 0, row0, sun_m, band, work) == vision::Status::kOk;
+  bsp::consume(work);
+  return ok;
+}
+
+const std::uint8_t* ddr_at(std::uint64_t offset, std::uint64_t bytes) noexcept {
+  const std::span<std::byte> ddr = bsp::region_span(bsp::Region{bsp::Region::kDdr});
+  if (offset > ddr.size() || bytes > ddr.size() - offset) {
+    return nullptr;
+  }
+  return reinterpret_cast<const std::uint8_t*>(ddr.data() + offset);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): DDR bytes
+}
+
+const std::uint8_t* ddr_find(const char* what) noexcept {
+  const bsp::Region ddr{bsp::Region::kDdr};
+  for (const bsp::CarveRecord& r : bsp::region_carves(ddr)) {
+    if (r.what != nullptr && std::strcmp(r.what, what) == 0) {
+      return reinterpret_cast<const std::uint8_t*>(bsp::region_span(ddr).data() + r.offset);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
+    }
+  }
+  return nullptr;
+}
+
+const vision::LandmarkTable* landmark_table_find() noexcept {
+  return reinterpret_cast<const vision::LandmarkTable*>(ddr_find(kLandmarkCarveName));  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
+}
+
+}  // namespace trn::tasks

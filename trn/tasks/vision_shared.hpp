@@ -1,0 +1,39 @@
+/**
+ * @file vision_shared.hpp
+ * @brief What the vision coordinator and the vision tiles share: the landmark table and the
+ *        relit coarse layer in DDR, the bands of the relight, the frame's pixels by offset.
+ */
+#pragma once
+
+#include "kernel/kernel.hpp"
+#include "trn/vision/frame.hpp"
+#include "trn/vision/landmarks.hpp"
+
+#include <cstdint>
+
+namespace trn::tasks {
+
+/** Name of the shared DDR carve holding the landmark table. */
+inline constexpr const char* kLandmarkCarveName = "landmarks";
+/** Name of the shared DDR carve holding the coarse layer relit to the descent sun. */
+inline constexpr const char* kRelitCarveName = "coarse_relit";
+/** Ticks a unit, a result or a batch part may wait for the network before it is counted as failed. */
+inline constexpr std::uint32_t kVisionSendTicks = 20;
+
+/** The shared landmark table, or nullptr before the coordinator selected it. [task|host] */
+const vision::LandmarkTable* landmark_table_find() noexcept;
+
+/** @p bytes of DDR at @p offset, or nullptr when they are not all inside DDR. */
+const std::uint8_t* ddr_at(std::uint64_t offset, std::uint64_t bytes) noexcept;
+
+/** The DDR carve named @p what, or nullptr. */
+const std::uint8_t* ddr_find(const char* what) noexcept;
+
+/** Rows [@p row0, @p row0 + @p rows) of band @p i of @p n over @p height rows. */
+void band_rows(std::int32_t height, std::uint32_t i, std::uint32_t n, std::int32_t& row0, std::int32_t& rows) noexcept;
+
+/** Relights rows [row0, row0 + rows) of @p map into the same rows of @p relit, charging the work. */
+bool relight_band(const vision::MapView& map, const double sun_m[3], vision::ImageU8 relit, std::int32_t row0,
+                  std::int32_t rows) noexcept;
+
+}  // namespace trn::tasks
