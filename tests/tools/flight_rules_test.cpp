@@ -266,7 +266,11 @@ TEST(FlightRules, EachShapeOfCycleIsFound) {
                                         {"kernel/config_check.hpp", "#include \"kernel/config.hpp\"\n"}};
   const std::vector<fr::Source> relative = {{"tests/x/a.hpp", "#include \"b.hpp\"\n"},
                                             {"tests/x/b.hpp", "#include \"tests/x/a.hpp\"\n"}};
-  for (const auto* graph : {&self, &pair, &relative}) {
+  // A quoted name is looked up next to the including file before the root, as the compiler does.
+  const std::vector<fr::Source> shadowing = {{"tests/x/a.hpp", "#include \"b.hpp\"\n"},
+                                             {"tests/x/b.hpp", "#include \"tests/x/a.hpp\"\n"},
+                                             {"b.hpp", ""}};
+  for (const auto* graph : {&self, &pair, &relative, &shadowing}) {
     const auto f = fr::find_include_cycles(*graph);
     ASSERT_EQ(f.size(), 1U) << (*graph)[0].path;
     EXPECT_EQ(f[0].rule, "cycle");

@@ -198,9 +198,13 @@ std::vector<std::vector<Edge>> include_graph(const std::vector<Source>& sources)
   for (std::size_t i = 0; i < sources.size(); ++i) {
     const std::string dir = std::filesystem::path(normal_path(sources[i].path)).parent_path().generic_string();
     for (const Include& inc : includes_of(sources[i].text)) {
-      auto it = index.find(normal_path(inc.path));
-      if (it == index.end() && !dir.empty()) {
+      // As the compiler looks: a quoted name in the including file's folder first, then from the root (-I.).
+      auto it = index.end();
+      if (!inc.angled && !dir.empty()) {
         it = index.find(normal_path(dir + "/" + inc.path));
+      }
+      if (it == index.end()) {
+        it = index.find(normal_path(inc.path));
       }
       if (it != index.end()) {
         graph[i].push_back({it->second, inc.line});

@@ -97,9 +97,10 @@ std::vector<Finding> check_source(std::string_view file, std::string_view text, 
 std::vector<Finding> check_file(const std::string& path);
 
 /**
- * Include cycles among @p sources. An include names a file of @p sources by
- * its repo-relative path, or by a path relative to the including file's folder;
- * includes of anything else (system and generated headers) are not edges.
+ * Include cycles among @p sources. An include names a file of @p sources as
+ * the compiler finds it: a quoted name relative to the including file's folder
+ * first, then (quoted or angled) relative to the repository root; includes of
+ * anything else (system and generated headers) are not edges.
  * @return one "cycle" finding per cycle found by a depth-first walk in path
  *         order, at the include that closes it, naming the files around it.
  */
