@@ -4,9 +4,11 @@
  *
  * This is the single documented interface between the per-tile kernel and the
  * emulated board (as Zephyr's kernel_arch_interface.h is between kernel and
- * arch). The kernel includes this header and bsp_tile64/work.hpp,
- * bsp_tile64/memory.hpp, bsp_tile64/rng.hpp; it never includes the board's
- * internals.
+ * arch). The kernel includes this header, bsp_tile64/work.hpp and
+ * bsp_tile64/memory.hpp; it never includes the board's internals. The layers
+ * above the board may include from bsp_tile64/ only the board's interface
+ * headers (these, the UDN driver and the device interfaces: kBoardInterface in
+ * tools/common/flight_rules.hpp), and `make lint` rejects anything else.
  *
  * Execution model (DESIGN.md section 3):
  * - Each tile runs one context at a time: a boot context provided by the board,

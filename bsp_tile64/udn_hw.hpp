@@ -48,25 +48,4 @@ static_assert(udn_header_y(udn_make_header(7U, 3U, 129U)) == 3U, "header y");
 static_assert(udn_header_length(udn_make_header(7U, 3U, 129U)) == 129U, "header length");
 static_assert(kUdnMaxLength <= 0xFFU, "the length field is 8 bits");
 
-/**
- * Network trace kinds, inside the board's range (0x0000-0x0FFF) above BoardEvent.
- * Time is the barrier cycle, tile the source tile.
- */
-enum class UdnTrace : std::uint16_t {
-  kLost = 0x0100,       ///< a = UdnLoss cause, b = (sequence << 8) | destination tile (or 0xFF off grid)
-  kBitFlip = 0x0101,    ///< a = word index, b = bit
-  kSwitchFail = 0x0102, ///< a = failed tile
-  kLinkFail = 0x0103,   ///< a = tile, b = UdnDir
-  kResized = 0x0104,    ///< a = sent length, b = length after a header flip
-};
-
-/** Why a packet was lost (statistics and trace). */
-enum class UdnLoss : std::uint8_t {
-  kOffGrid = 0,       ///< the (corrupted) header names a tile outside the grid
-  kFailedSwitch = 1,  ///< the X-then-Y path crosses a failed switch (source and destination included)
-  kFailedLink = 2,    ///< the path crosses a failed link
-  kBadLength = 3,     ///< a corrupted length of 0 or above kUdnMaxLength
-  kCount = 4,
-};
-
 }  // namespace bsp

@@ -24,11 +24,17 @@
  *
  * Tiles: id = y * cols + x on the profile's grid. Static storage only.
  * See docs/NETWORK.md.
+ *
+ * This header is the model's control and observation side (initialisation,
+ * faults, sending or receiving as any tile, statistics), for images, tests and
+ * tools. What a tile's software may do with the network is udn_driver.hpp,
+ * which this header includes; flight code includes only that one.
  */
 #pragma once
 
 #include "bsp_tile64/memory.hpp"
 #include "bsp_tile64/port.hpp"
+#include "bsp_tile64/udn_driver.hpp"
 #include "bsp_tile64/udn_hw.hpp"
 
 #include <cstddef>
@@ -36,17 +42,6 @@
 #include <span>
 
 namespace bsp {
-
-enum class NetError : std::uint8_t {
-  kOk,
-  kNotInit,    ///< udn_net_init() was not called since board_init()
-  kBadTile,    ///< tile outside the grid
-  kBadLength,  ///< length field 0, above the maximum, or not the number of words given
-  kBadQueue,   ///< queue index >= kUdnQueues
-  kBadConfig,  ///< see udn_net_init()
-  kFull,       ///< the source has its maximum of packets in flight, or a table is full
-  kEmpty,      ///< nothing in the queue
-};
 
 /** Compile-time capacities of the static storage; NetConfig picks values up to them. */
 inline constexpr std::uint32_t kUdnMaxInFlightPerTile = 16U;
@@ -68,13 +63,6 @@ struct NetConfig {
  */
 NetError udn_net_init(const NetConfig& config) noexcept;
 
-/** Incremented by every successful udn_net_init(): drivers tell a new board from the last one. [any] */
-std::uint32_t udn_net_generation() noexcept;
-
-/** Grid of the network (0 before udn_net_init()). [any] */
-std::uint32_t udn_grid_cols() noexcept;
-std::uint32_t udn_grid_rows() noexcept;
-
 /** Hop cycles of the current profile: ceil(hop_x16 / 16). [host|task] */
 Cycles udn_hop_cycles() noexcept;
 
@@ -89,56 +77,11 @@ std::size_t udn_route(std::uint32_t cols, std::uint32_t rows, TileId src, TileId
 /** Direction of the link from @p from to its neighbour @p to (both on the grid). [any] */
 UdnDir udn_dir(std::uint32_t cols, TileId from, TileId to) noexcept;
 
-/**
- * Sends one packet from the current tile: words[0] is the header, words[1] the
- * tag, the rest payload; words.size() must be 1 + the header's length. [task]
- * @return kOk (queued for the next barrier), kFull (back-pressure: retry after
- *         Irq::kUdn), kBadLength, kNotInit.
- */
-NetError udn_net_send(std::span<const std::uint32_t> words) noexcept;
-
 /** Sends as tile @p src at cycle @p at, from the host (tests, tools; not during a run). [host] */
 NetError udn_net_send_from(TileId src, Cycles at, std::span<const std::uint32_t> words) noexcept;
 
-/** A received packet and its statistics. */
-struct RxPacket {
-  TileId source;
-  std::uint32_t tag;
-  std::uint32_t payload_words;  ///< payload words (the length field minus the tag)
-  Cycles send_cycle;            ///< sender's local time at the send
-  Cycles arrival_cycle;         ///< modelled arrival (last word in the ejection port)
-  Cycles delivered_cycle;       ///< barrier at which software could see it
-};
-
-/**
- * Pops the oldest packet of queue @p queue of the current tile, non-blocking,
- * copying up to payload.size() payload words (the rest are discarded). [task]
- * @return kOk, kEmpty, kBadQueue, kNotInit.
- */
-NetError udn_net_receive(std::uint32_t queue, RxPacket& out, std::span<std::uint32_t> payload) noexcept;
-
 /** Same as udn_net_receive for an explicit tile (tests, host tools). [host] */
 NetError udn_net_receive_on(TileId tile, std::uint32_t queue, RxPacket& out, std::span<std::uint32_t> payload) noexcept;
-
-/** Packets waiting in a queue (0 for bad arguments). [task|isr|host] */
-std::uint32_t udn_net_queue_packets(TileId tile, std::uint32_t queue) noexcept;
-
-/** True if the tile may send (fewer than the maximum packets in flight). [task|isr|host] */
-bool udn_net_can_send(TileId tile) noexcept;
-
-/**
- * Packets the tile may still put in flight (the send credits its network
- * interface shows; 0 for a tile off the grid). [task|isr|host]
- */
-std::uint32_t udn_net_send_credits(TileId tile) noexcept;
-
-/**
- * Binds @p tag to demux queue @p queue (< kUdnDemuxQueues) on @p tile; the
- * binding takes effect at the next barrier. Rebinding a tag replaces it.
- * Unbound tags go to the catch-all queue. [task|host]
- * @return kOk, kBadTile, kBadQueue, kFull (kUdnTagBindings entries used).
- */
-NetError udn_net_bind(TileId tile, std::uint32_t tag, std::uint32_t queue) noexcept;
 
 /** Sets the random bit-error rate per word per packet in transit (stream kFaults, index 0x0DE). [host] */
 void udn_net_set_ber(double per_word_probability) noexcept;
@@ -146,6 +89,27 @@ void udn_net_set_ber(double per_word_probability) noexcept;
 /** Fails a switch or a link at once (the fault handlers call these too). [host] */
 NetError udn_net_fail_switch(TileId tile) noexcept;
 NetError udn_net_fail_link(TileId tile, UdnDir dir) noexcept;
+
+/**
+ * Network trace kinds, inside the board's range (0x0000-0x0FFF) above BoardEvent.
+ * Time is the barrier cycle, tile the source tile.
+ */
+enum class UdnTrace : std::uint16_t {
+  kLost = 0x0100,       ///< a = UdnLoss cause, b = (sequence << 8) | destination tile (or 0xFF off grid)
+  kBitFlip = 0x0101,    ///< a = word index, b = bit
+  kSwitchFail = 0x0102, ///< a = failed tile
+  kLinkFail = 0x0103,   ///< a = tile, b = UdnDir
+  kResized = 0x0104,    ///< a = sent length, b = length after a header flip
+};
+
+/** Why a packet was lost (statistics and trace): the model's truth, which a tile only sees as a missing packet. */
+enum class UdnLoss : std::uint8_t {
+  kOffGrid = 0,       ///< the (corrupted) header names a tile outside the grid
+  kFailedSwitch = 1,  ///< the X-then-Y path crosses a failed switch (source and destination included)
+  kFailedLink = 2,    ///< the path crosses a failed link
+  kBadLength = 3,     ///< a corrupted length of 0 or above kUdnMaxLength
+  kCount = 4,
+};
 
 /** Network statistics since udn_net_init(). */
 struct NetStats {

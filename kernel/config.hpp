@@ -1,6 +1,11 @@
 /**
  * @file config.hpp
  * @brief Kernel configuration: capacities and defaults, in one place (checked in config_check.hpp).
+ *
+ * The check header includes this one, not the other way round (no include
+ * cycle). The kernel's task control block header (detail/tcb.hpp) includes
+ * both, so the kernel library, whose scheduler includes it, never builds
+ * without the checks.
  */
 #pragma once
 
@@ -22,5 +27,3 @@ inline constexpr std::uint8_t kPaintByte = 0xA5;
 inline constexpr std::uint32_t kTraceRing = 64;
 
 }  // namespace k::config
-
-#include "kernel/config_check.hpp"

@@ -1,6 +1,9 @@
 /**
  * @file config_check.hpp
  * @brief Fails the build on kernel configuration values out of range.
+ *
+ * Included by kernel/detail/tcb.hpp, which the scheduler and the
+ * synchronisation objects include, so no build of the kernel skips it.
  */
 #pragma once
 

@@ -14,6 +14,7 @@
 #pragma once
 
 #include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/port.hpp"
 #include "kernel/config.hpp"
 
 #include <cstddef>

@@ -46,7 +46,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/udn_net.hpp"
+#include "bsp_tile64/udn_driver.hpp"
 #include "udn/ft_event.hpp"
 #include "udn/ft_packet.hpp"
 #include "udn/route.hpp"

@@ -14,7 +14,7 @@
 #pragma once
 
 #include "bsp_tile64/udn_hw.hpp"
-#include "bsp_tile64/udn_net.hpp"
+#include "bsp_tile64/udn_driver.hpp"
 #include "kernel/types.hpp"
 
 #include <cstdint>

@@ -6,6 +6,7 @@
 
 #include "bsp_tile64/port.hpp"
 #include "kernel/config.hpp"
+#include "kernel/config_check.hpp"
 #include "kernel/task_table.hpp"
 #include "kernel/types.hpp"
 

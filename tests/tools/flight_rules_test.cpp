@@ -1,28 +1,44 @@
 /**
  * @file flight_rules_test.cpp
- * @brief The flight-rules checker rejects heap use, exceptions and upward includes, and
- *        accepts clean code (fixtures under tests/fixtures/flight_rules/).
+ * @brief The flight-rules checker rejects heap use, exceptions, upward includes, board headers
+ *        outside the board's interface and include cycles, accepts clean code (fixtures under
+ *        tests/fixtures/flight_rules/), and finds nothing in the real tree.
  */
 #include "tools/common/flight_rules.hpp"
 #include "build_info.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
 namespace fr = tools::flight_rules;
 
-std::vector<fr::Finding> check_fixture(const std::string& name, const char* layer) {
-  const std::string path = std::string(build_info::kRepoRoot) + "/tests/fixtures/flight_rules/" + name;
+const std::string kFixtureDir = "tests/fixtures/flight_rules/";
+
+std::string read_fixture(const std::string& name) {
+  const std::string path = std::string(build_info::kRepoRoot) + "/" + kFixtureDir + name;
   std::ifstream in(path);
   EXPECT_TRUE(in.good()) << "missing fixture " << path;
   std::ostringstream ss;
   ss << in.rdbuf();
-  return fr::check_source(name, ss.str(), layer, false);
+  return ss.str();
+}
+
+std::vector<fr::Finding> check_fixture(const std::string& name, const char* layer) {
+  return fr::check_source(name, read_fixture(name), layer, false);
+}
+
+void print(const std::vector<fr::Finding>& f) {
+  for (const auto& x : f) {
+    ADD_FAILURE() << x.file << ":" << x.line << " [" << x.rule << "] " << x.message;
+  }
 }
 
 bool has_rule(const std::vector<fr::Finding>& f, const std::string& rule, int line) {
@@ -58,9 +74,7 @@ TEST(FlightRules, SameIncludeIsFineFromTheTopLayer) {
 
 TEST(FlightRules, AcceptsCleanCode) {
   const auto f = check_fixture("clean.cpp", "kernel");
-  for (const auto& x : f) {
-    ADD_FAILURE() << x.file << ":" << x.line << " [" << x.rule << "] " << x.message;
-  }
+  print(f);
   EXPECT_TRUE(f.empty());
 }
 
@@ -87,6 +101,9 @@ TEST(FlightRules, EachRuleTriggersOnItsConstruct) {
       {"auto t = std::chrono::steady_clock::now();", "host-time"},
       {"#include \"tools/common/flight_rules.hpp\"", "layering"},
       {"#include \"bsp_tile64/world/terrain.hpp\"", "truth"},
+      {"#include \"bsp_tile64/devices/camera.hpp\"", "truth"},
+      {"#include \"bsp_tile64/udn_net.hpp\"", "truth"},
+      {"#include <bsp_tile64/board.hpp>", "truth"},
   };
   for (const Case& c : cases) {
     const auto f = fr::check_source("case.cpp", c.code, "udn", false);
@@ -116,8 +133,169 @@ TEST(FlightRules, StripKeepsLinesAndBlanksCommentsAndLiterals) {
 TEST(FlightRules, LayerOfAPath) {
   EXPECT_EQ(fr::layer_of("kernel/sched.cpp"), "kernel");
   EXPECT_EQ(fr::layer_of("./udn/ecc.hpp"), "udn");
-  EXPECT_EQ(fr::layer_of("tools/x.cpp"), "");
+  EXPECT_EQ(fr::layer_of("tools/x.cpp"), "tools");
+  EXPECT_EQ(fr::layer_of("docs/x.md"), "");
   EXPECT_LT(fr::layer_rank("bsp_tile64"), fr::layer_rank("trn"));
+  EXPECT_LT(fr::layer_rank("trn"), fr::layer_rank("tools"));
+  EXPECT_EQ(fr::layer_rank("tools"), fr::layer_rank("tests"));
+  EXPECT_TRUE(fr::is_flight_layer("trn"));
+  EXPECT_FALSE(fr::is_flight_layer("tests"));
+}
+
+// ---------------------------------------------------------------- layering
+
+TEST(FlightRules, RejectsTheBoardIncludingTheKernel) {
+  const auto f = check_fixture("board_includes_kernel.cpp", "bsp_tile64");
+  ASSERT_EQ(f.size(), 1U);
+  EXPECT_TRUE(has_rule(f, "layering", 2));
+}
+
+TEST(FlightRules, EveryUpwardIncludeIsRejectedAndEveryDownwardOneAccepted) {
+  // Exhaustive over the ordered layers: an include of a strictly higher rank
+  // fires, one of the same or a lower rank does not. Board headers are named
+  // by an interface header so the truth rule stays out of it.
+  const std::vector<std::string> layers = {"bsp_tile64", "kernel", "udn", "fdir", "trn", "tools", "tests"};
+  for (const std::string& from : layers) {
+    for (const std::string& to : layers) {
+      const std::string header = to == "bsp_tile64" ? "bsp_tile64/port.hpp" : to + "/x.hpp";
+      const auto f = fr::check_source("f.cpp", "#include \"" + header + "\"\n", from, false);
+      if (fr::layer_rank(to) > fr::layer_rank(from)) {
+        ASSERT_EQ(f.size(), 1U) << from << " -> " << to;
+        EXPECT_EQ(f[0].rule, "layering") << from << " -> " << to;
+      } else {
+        EXPECT_TRUE(f.empty()) << from << " -> " << to;
+      }
+    }
+  }
+}
+
+// ---------------------------------------------------------------- the board's interface
+
+TEST(FlightRules, RejectsTrnIncludingTheCamerasSimulation) {
+  const auto f = check_fixture("trn_includes_camera.cpp", "trn");
+  ASSERT_EQ(f.size(), 1U);
+  EXPECT_TRUE(has_rule(f, "truth", 3));  // camera.hpp; camera_model.hpp on line 2 is interface
+  EXPECT_NE(f[0].message.find("bsp_tile64/devices/camera.hpp"), std::string::npos);
+}
+
+TEST(FlightRules, RejectsFlightCodeIncludingTheNetworkModel) {
+  for (const char* layer : {"kernel", "udn", "fdir", "trn"}) {
+    const auto f = check_fixture("flight_includes_udn_net.cpp", layer);
+    ASSERT_EQ(f.size(), 1U) << layer;
+    EXPECT_TRUE(has_rule(f, "truth", 3)) << layer;  // udn_net.hpp; udn_driver.hpp on line 2 is interface
+  }
+}
+
+TEST(FlightRules, TheBoardMayIncludeItsOwnModel) {
+  EXPECT_TRUE(check_fixture("trn_includes_camera.cpp", "bsp_tile64").empty());
+  EXPECT_TRUE(check_fixture("flight_includes_udn_net.cpp", "bsp_tile64").empty());
+}
+
+TEST(FlightRules, BoardInterfaceNamesHeadersOfTheBoardThatExist) {
+  for (const std::string_view h : fr::kBoardInterface) {
+    EXPECT_EQ(h.rfind("bsp_tile64/", 0), 0U) << h;
+    EXPECT_TRUE(std::filesystem::is_regular_file(std::string(build_info::kRepoRoot) + "/" + std::string(h))) << h;
+    EXPECT_TRUE(fr::is_board_interface(h)) << h;
+  }
+}
+
+TEST(FlightRules, AboveTheBoardOnlyTheInterfaceOfTheBoardIsIncluded) {
+  // Every header of the real board, from every layer above it: the interface
+  // headers pass, every other one (model, world, devices' simulation) fires.
+  std::size_t outside = 0;
+  for (const std::string& path : fr::project_files(build_info::kRepoRoot)) {
+    if (path.rfind("bsp_tile64/", 0) != 0 || path.find(".hpp") == std::string::npos) {
+      continue;
+    }
+    const bool allowed = fr::is_board_interface(path);
+    outside += allowed ? 0U : 1U;
+    for (const char* layer : {"kernel", "udn", "fdir", "trn"}) {
+      const auto f = fr::check_source("f.cpp", "#include \"" + path + "\"\n", layer, false);
+      if (allowed) {
+        EXPECT_TRUE(f.empty()) << layer << " -> " << path;
+      } else {
+        ASSERT_EQ(f.size(), 1U) << layer << " -> " << path;
+        EXPECT_EQ(f[0].rule, "truth") << layer << " -> " << path;
+      }
+    }
+  }
+  EXPECT_GT(outside, 10U);  // the model is most of the board: the walk really saw it
+}
+
+// ---------------------------------------------------------------- include cycles
+
+std::vector<fr::Source> cycle_fixtures() {
+  std::vector<fr::Source> s;
+  for (const char* name : {"include_cycle_user.cpp", "include_cycle_c.hpp", "include_cycle_b.hpp", "include_cycle_a.hpp"}) {
+    s.push_back({kFixtureDir + name, read_fixture(name)});
+  }
+  return s;
+}
+
+TEST(FlightRules, RejectsAnIncludeCycleOnceAtTheIncludeThatClosesIt) {
+  const auto f = fr::find_include_cycles(cycle_fixtures());
+  ASSERT_EQ(f.size(), 1U);
+  EXPECT_EQ(f[0].rule, "cycle");
+  EXPECT_EQ(f[0].file, kFixtureDir + "include_cycle_c.hpp");
+  EXPECT_EQ(f[0].line, 4);
+  const std::string a = kFixtureDir + "include_cycle_a.hpp";
+  const std::string b = kFixtureDir + "include_cycle_b.hpp";
+  const std::string c = kFixtureDir + "include_cycle_c.hpp";
+  EXPECT_NE(f[0].message.find(a + " -> " + b + " -> " + c + " -> " + a), std::string::npos) << f[0].message;
+  // The same through the whole check: the fixtures are test files, so nothing else fires.
+  const auto all = fr::check_sources(cycle_fixtures());
+  ASSERT_EQ(all.size(), 1U);
+  EXPECT_EQ(all[0].rule, "cycle");
+}
+
+TEST(FlightRules, IncludeGraphsWithoutCyclesPass) {
+  // A diamond (two paths to one header) is not a cycle; a relative include resolves
+  // against the including file's folder.
+  const std::vector<fr::Source> diamond = {
+      {"kernel/top.hpp", "#include \"kernel/left.hpp\"\n#include \"kernel/right.hpp\"\n"},
+      {"kernel/left.hpp", "#include \"kernel/base.hpp\"\n"},
+      {"kernel/right.hpp", "#include \"base.hpp\"\n#include <cstdint>\n"},
+      {"kernel/base.hpp", "#include \"bsp_tile64/port.hpp\"\n"},
+  };
+  EXPECT_TRUE(fr::find_include_cycles(diamond).empty());
+}
+
+TEST(FlightRules, EachShapeOfCycleIsFound) {
+  const std::vector<fr::Source> self = {{"udn/a.hpp", "#include \"udn/a.hpp\"\n"}};
+  const std::vector<fr::Source> pair = {{"kernel/config.hpp", "#include \"kernel/config_check.hpp\"\n"},
+                                        {"kernel/config_check.hpp", "#include \"kernel/config.hpp\"\n"}};
+  const std::vector<fr::Source> relative = {{"tests/x/a.hpp", "#include \"b.hpp\"\n"},
+                                            {"tests/x/b.hpp", "#include \"tests/x/a.hpp\"\n"}};
+  // A quoted name is looked up next to the including file before the root, as the compiler does.
+  const std::vector<fr::Source> shadowing = {{"tests/x/a.hpp", "#include \"b.hpp\"\n"},
+                                             {"tests/x/b.hpp", "#include \"tests/x/a.hpp\"\n"},
+                                             {"b.hpp", ""}};
+  for (const auto* graph : {&self, &pair, &relative, &shadowing}) {
+    const auto f = fr::find_include_cycles(*graph);
+    ASSERT_EQ(f.size(), 1U) << (*graph)[0].path;
+    EXPECT_EQ(f[0].rule, "cycle");
+  }
+}
+
+// ---------------------------------------------------------------- the real tree
+
+TEST(FlightRules, TheRealTreeIsClean) {
+  const std::string root = build_info::kRepoRoot;
+  const std::vector<std::string> files = fr::project_files(root);
+  auto has = [&](const std::string& p) { return std::find(files.begin(), files.end(), p) != files.end(); };
+  ASSERT_TRUE(has("kernel/sched.cpp"));
+  ASSERT_TRUE(has("bsp_tile64/udn_driver.hpp"));
+  ASSERT_TRUE(has("tests/tools/flight_rules_test.cpp"));
+  for (const std::string& p : files) {
+    EXPECT_NE(p.rfind("tests/fixtures/", 0), 0U) << p;
+  }
+  std::vector<fr::Finding> errors;
+  const std::vector<fr::Source> sources = fr::read_sources(root, files, errors);
+  print(errors);
+  EXPECT_EQ(sources.size(), files.size());
+  const auto f = fr::check_sources(sources);
+  print(f);
+  EXPECT_TRUE(f.empty());
 }
 
 }  // namespace

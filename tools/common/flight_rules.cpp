@@ -1,20 +1,36 @@
 /**
  * @file flight_rules.cpp
- * @brief Token-level checks of the flight-code rules.
+ * @brief Token-level checks of the flight-code rules, the include rules and the include graph.
  */
 #include "tools/common/flight_rules.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cstdint>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <sstream>
 
 namespace tools::flight_rules {
 namespace {
 
-constexpr std::array<std::string_view, 5> kLayers = {"bsp_tile64", "kernel", "udn", "fdir", "trn"};
+/** Ranked folders, lowest first; tools and tests share the top rank. */
+struct Layer {
+  std::string_view name;
+  int rank;
+};
+constexpr std::array<Layer, 7> kLayers = {{{"bsp_tile64", 0},
+                                           {"kernel", 1},
+                                           {"udn", 2},
+                                           {"fdir", 3},
+                                           {"trn", 4},
+                                           {"tools", 5},
+                                           {"tests", 5}}};
+constexpr int kTopFlightRank = 4;
+constexpr std::string_view kFixtures = "tests/fixtures/";
 
 struct Token {
   std::string text;
@@ -109,47 +125,109 @@ void check_tokens(std::string_view file, const std::vector<Token>& t, std::vecto
   }
 }
 
-void check_includes(std::string_view file, std::string_view text, std::string_view layer, bool host_side,
-                    std::vector<Finding>& out) {
+struct Include {
+  int line;
+  bool angled;
+  std::string path;
+};
+
+/** The #include directives of a text, in order (line-based, as the preprocessor sees them). */
+std::vector<Include> includes_of(std::string_view text) {
   static const std::regex kInclude(R"(^\s*#\s*include\s*([<"])([^>"]+)[>"])");
-  const int rank = layer_rank(layer);
+  std::vector<Include> out;
   std::istringstream in_text{std::string(text)};
   std::string line;
   int ln = 0;
   while (std::getline(in_text, line)) {
     ++ln;
     std::smatch m;
-    if (!std::regex_search(line, m, kInclude)) {
-      continue;
+    if (std::regex_search(line, m, kInclude)) {
+      out.push_back({ln, m[1].str() == "<", m[2].str()});
     }
-    const std::string path = m[2].str();
+  }
+  return out;
+}
+
+void check_includes(std::string_view file, std::string_view text, std::string_view layer, bool host_side,
+                    std::vector<Finding>& out) {
+  const int rank = layer_rank(layer);
+  const bool flight = is_flight_layer(layer);
+  for (const Include& inc : includes_of(text)) {
+    const std::string& path = inc.path;
     const std::string top = path.substr(0, path.find('/'));
     auto add = [&](const char* rule, const std::string& msg) {
-      out.push_back({std::string(file), ln, rule, msg});
+      out.push_back({std::string(file), inc.line, rule, msg});
     };
-    if (m[1].str() == "<" && !host_side && in(kBannedHeaders, path)) {
+    if (inc.angled && flight && !host_side && in(kBannedHeaders, path)) {
       add("heap", "<" + path + "> is not for flight code (heap, streams, host time or host randomness)");
-    } else if (top == "tools" || top == "tests") {
+    } else if (flight && (top == "tools" || top == "tests")) {
       add("layering", "flight code includes host code '" + path + "'");
     } else if (layer_rank(top) > rank) {
       std::string msg = "'";
       msg.append(path).append("' is in layer ").append(top).append(", above ").append(layer);
       add("layering", msg);
-    } else if (rank > 0 && path.rfind("bsp_tile64/world/", 0) == 0) {
-      add("truth", "'" + path + "' is the world's truth; flight code sees only what devices report");
+    } else if (rank > 0 && rank <= kTopFlightRank && top == "bsp_tile64" && !is_board_interface(path)) {
+      if (path.rfind("bsp_tile64/world/", 0) == 0) {
+        add("truth", "'" + path + "' is the world's truth; flight code sees only what devices report");
+      } else {
+        add("truth", "'" + path + "' is not a board interface header (kBoardInterface); " + std::string(layer) +
+                         " sees the board, its devices and the network only through those");
+      }
     }
   }
+}
+
+/** "a/./b/../c" -> "a/c"; "./x" -> "x". */
+std::string normal_path(const std::string& p) {
+  std::string n = std::filesystem::path(p).lexically_normal().generic_string();
+  return n.rfind("./", 0) == 0 ? n.substr(2) : n;
+}
+
+struct Edge {
+  std::size_t to;
+  int line;
+};
+
+/** Edges of the include graph: for each source, the includes that name another source. */
+std::vector<std::vector<Edge>> include_graph(const std::vector<Source>& sources) {
+  std::map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < sources.size(); ++i) {
+    index.emplace(normal_path(sources[i].path), i);
+  }
+  std::vector<std::vector<Edge>> graph(sources.size());
+  for (std::size_t i = 0; i < sources.size(); ++i) {
+    const std::string dir = std::filesystem::path(normal_path(sources[i].path)).parent_path().generic_string();
+    for (const Include& inc : includes_of(sources[i].text)) {
+      // As the compiler looks: a quoted name in the including file's folder first, then from the root (-I.).
+      auto it = index.end();
+      if (!inc.angled && !dir.empty()) {
+        it = index.find(normal_path(dir + "/" + inc.path));
+      }
+      if (it == index.end()) {
+        it = index.find(normal_path(inc.path));
+      }
+      if (it != index.end()) {
+        graph[i].push_back({it->second, inc.line});
+      }
+    }
+  }
+  return graph;
 }
 
 }  // namespace
 
 int layer_rank(std::string_view layer) {
-  for (std::size_t i = 0; i < kLayers.size(); ++i) {
-    if (kLayers[i] == layer) {
-      return static_cast<int>(i);
+  for (const Layer& l : kLayers) {
+    if (l.name == layer) {
+      return l.rank;
     }
   }
   return -1;
+}
+
+bool is_flight_layer(std::string_view layer) {
+  const int rank = layer_rank(layer);
+  return rank >= 0 && rank <= kTopFlightRank;
 }
 
 std::string layer_of(std::string_view path) {
@@ -159,6 +237,10 @@ std::string layer_of(std::string_view path) {
   }
   const std::string top = p.substr(0, p.find('/'));
   return layer_rank(top) >= 0 ? top : std::string();
+}
+
+bool is_board_interface(std::string_view path) {
+  return std::find(kBoardInterface.begin(), kBoardInterface.end(), path) != kBoardInterface.end();
 }
 
 std::string strip_comments_and_literals(std::string_view text) {
@@ -220,8 +302,9 @@ std::string strip_comments_and_literals(std::string_view text) {
 std::vector<Finding> check_source(std::string_view file, std::string_view text, std::string_view layer,
                                   bool host_side) {
   std::vector<Finding> out;
-  check_includes(file, text, layer, host_side, out);
-  if (!host_side) {
+  const bool host = host_side || !is_flight_layer(layer);
+  check_includes(file, text, layer, host, out);
+  if (!host) {
     // Directives are checked by check_includes; blank them so <new> is not 'new'.
     std::string code = strip_comments_and_literals(text);
     std::size_t bol = 0;
@@ -240,14 +323,112 @@ std::vector<Finding> check_source(std::string_view file, std::string_view text, 
 }
 
 std::vector<Finding> check_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) {
-    return {{path, 0, "io", "cannot read file"}};
+  std::vector<Finding> out;
+  const std::vector<Finding> f = check_sources(read_sources(".", {path}, out));
+  out.insert(out.end(), f.begin(), f.end());
+  return out;
+}
+
+std::vector<Finding> find_include_cycles(const std::vector<Source>& sources) {
+  // Iterative depth-first walk (white, grey on the stack, black done); an edge
+  // to a grey file closes a cycle. Starting points and edges in a fixed order
+  // make the findings the same on every run.
+  const std::vector<std::vector<Edge>> graph = include_graph(sources);
+  std::vector<std::size_t> order(sources.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    order[i] = i;
   }
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  const bool host_side = path.find("/host/") != std::string::npos;
-  return check_source(path, ss.str(), layer_of(path), host_side);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return sources[a].path < sources[b].path; });
+  enum class Colour : std::uint8_t { kWhite, kGrey, kBlack };
+  std::vector<Colour> colour(sources.size(), Colour::kWhite);
+  struct Frame {
+    std::size_t node;
+    std::size_t next_edge;
+  };
+  std::vector<Finding> out;
+  for (const std::size_t start : order) {
+    if (colour[start] != Colour::kWhite) {
+      continue;
+    }
+    std::vector<Frame> stack{{start, 0U}};
+    colour[start] = Colour::kGrey;
+    while (!stack.empty()) {
+      const std::size_t node = stack.back().node;
+      if (stack.back().next_edge == graph[node].size()) {
+        colour[node] = Colour::kBlack;
+        stack.pop_back();
+        continue;
+      }
+      const Edge e = graph[node][stack.back().next_edge++];
+      if (colour[e.to] == Colour::kWhite) {
+        colour[e.to] = Colour::kGrey;
+        stack.push_back({e.to, 0U});
+      } else if (colour[e.to] == Colour::kGrey) {
+        auto first = std::find_if(stack.begin(), stack.end(), [&](const Frame& f) { return f.node == e.to; });
+        std::string msg = "include cycle: ";
+        for (auto it = first; it != stack.end(); ++it) {
+          msg.append(sources[it->node].path).append(" -> ");
+        }
+        msg.append(sources[e.to].path).append("; break it (a header that both need, or one direction only)");
+        out.push_back({sources[node].path, e.line, "cycle", msg});
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<Finding> check_sources(const std::vector<Source>& sources) {
+  std::vector<Finding> out;
+  for (const Source& s : sources) {
+    // A host/ folder inside a layer holds host infrastructure (the board's heap guard).
+    const bool host_side = s.path.find("/host/") != std::string::npos;
+    const std::vector<Finding> f = check_source(s.path, s.text, layer_of(s.path), host_side);
+    out.insert(out.end(), f.begin(), f.end());
+  }
+  const std::vector<Finding> cycles = find_include_cycles(sources);
+  out.insert(out.end(), cycles.begin(), cycles.end());
+  return out;
+}
+
+std::vector<std::string> project_files(const std::string& root) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> out;
+  for (const Layer& l : kLayers) {
+    const fs::path dir = fs::path(root) / l.name;
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) {
+      continue;
+    }
+    for (fs::recursive_directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+      const fs::path& p = it->path();
+      const std::string ext = p.extension().string();
+      if (!it->is_regular_file(ec) || (ext != ".cpp" && ext != ".hpp" && ext != ".h")) {
+        continue;
+      }
+      std::string rel = p.lexically_relative(root).generic_string();
+      if (rel.rfind(kFixtures, 0) != 0) {
+        out.push_back(std::move(rel));
+      }
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<Source> read_sources(const std::string& root, const std::vector<std::string>& paths,
+                                 std::vector<Finding>& errors) {
+  std::vector<Source> out;
+  for (const std::string& rel : paths) {
+    std::ifstream in(std::filesystem::path(root) / rel);
+    if (!in) {
+      errors.push_back({rel, 0, "io", "cannot read file"});
+      continue;
+    }
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    out.push_back({normal_path(rel), ss.str()});
+  }
+  return out;
 }
 
 }  // namespace tools::flight_rules

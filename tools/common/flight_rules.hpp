@@ -2,46 +2,127 @@
  * @file flight_rules.hpp
  * @brief Checker for the flight-code rules that a compiler does not enforce.
  *
- * Rejects, in flight folders (bsp_tile64 kernel udn fdir trn): heap use,
+ * Per file, in flight folders (bsp_tile64 kernel udn fdir trn): heap use,
  * owning standard containers and streams, exceptions, RTTI, host time and host
- * randomness, and includes that go up the layer order (or into tools/, tests/,
- * or from a flight layer into the world's truth, bsp_tile64/world/).
- * Files under a `host/` folder of a layer are host infrastructure: only the
- * include rules apply to them.
+ * randomness. Files under a `host/` folder of a layer are host infrastructure:
+ * only the include rules apply to them; in tools/ and tests/ only the include
+ * rules apply too.
  *
- * Comments and string/character literals are blanked before matching, so a
- * word in a comment never trips a rule.
+ * Include rules, on every file of the tree:
+ * - layering: includes point down the layer order
+ *   bsp_tile64 < kernel < udn < fdir < trn < tools, tests (tools and tests share
+ *   the top rank); flight code never includes tools/ or tests/.
+ * - truth: a layer above the board (kernel udn fdir trn) includes from
+ *   bsp_tile64/ only the headers of kBoardInterface. Everything else there is
+ *   the model (its controls, its statistics, the world's truth, the devices'
+ *   simulation of that truth) and flight code does not see it.
+ * - cycle: the include graph of the tree has no cycles.
+ *
+ * Comments and string/character literals are blanked before the token rules
+ * match, so a word in a comment never trips a rule.
  */
 #pragma once
 
+#include <array>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace tools::flight_rules {
 
+/**
+ * The board's interface: the only bsp_tile64/ headers that kernel, udn, fdir
+ * and trn may include. Each is interface control, as a datasheet or a driver's
+ * register map is: it says what software on a tile can do and receive, and
+ * nothing of how the board, the network or the world are simulated.
+ * Left out on purpose: udn_net.hpp (the network model's controls: init, failing
+ * switches and links, bit-error rate, sending or receiving as another tile,
+ * statistics), trace.hpp (trace reset, sink, hash, records for any tile and
+ * time; tiles trace through port.hpp), rng.hpp (the board's seeded streams,
+ * from which the sensor noise and the faults could be redrawn), profile.hpp and
+ * cost_model.hpp (the chip profile is board configuration; tiles charge work
+ * through port.hpp), board.hpp, board_state.hpp, event_queue.hpp,
+ * fault_injector.hpp, stack_paint.hpp, host/ (the driver and its internals),
+ * devices/camera.hpp, devices/imu.hpp, devices/device_bus.hpp (the devices'
+ * simulation, which reads the world) and world/ (the truth).
+ */
+inline constexpr std::array<std::string_view, 10> kBoardInterface = {
+    "bsp_tile64/port.hpp",                  // the port contract: contexts, time, charging work, interrupts,
+                                            // watchdog, the tile's trace, publication
+    "bsp_tile64/work.hpp",                  // counted work, which the port charges through the cost model
+    "bsp_tile64/memory.hpp",                // the memory map: tile RAM and DDR regions, carving at init
+    "bsp_tile64/udn_hw.hpp",                // UDN vocabulary: header word, directions, queue counts, limits
+    "bsp_tile64/udn_driver.hpp",            // UDN driver: send, receive, bind, poll, the grid's size
+    "bsp_tile64/devices/device_io.hpp",     // the I/O tile's IMU and camera FIFOs and device counters
+    "bsp_tile64/devices/imu_sample.hpp",    // the IMU's output record
+    "bsp_tile64/devices/camera_model.hpp",  // camera intrinsics and mounting, known to flight code
+    "bsp_tile64/devices/frames.hpp",        // reference frames and planet constants, shared by convention
+    "bsp_tile64/devices/map_product.hpp",   // the reference-map product in DDR, as an orbiter delivers it
+};
+
 struct Finding {
   std::string file;
   int line;
-  std::string rule;  ///< "heap", "exceptions", "rtti", "host-time", "layering", "truth"
+  std::string rule;  ///< "heap", "exceptions", "rtti", "host-time", "layering", "truth", "cycle", "io"
   std::string message;
 };
 
-/** Layer rank: bsp_tile64 0, kernel 1, udn 2, fdir 3, trn 4; -1 if not a flight layer. */
+/** One file of the tree: its path relative to the repository root, and its text. */
+struct Source {
+  std::string path;
+  std::string text;
+};
+
+/** Layer rank: bsp_tile64 0, kernel 1, udn 2, fdir 3, trn 4, tools and tests 5; -1 if none. */
 int layer_rank(std::string_view layer);
+
+/** True for the flight layers (bsp_tile64 kernel udn fdir trn). */
+bool is_flight_layer(std::string_view layer);
 
 /** The layer of a path relative to the repository root ("" if none). */
 std::string layer_of(std::string_view path);
 
+/** True if a layer above the board may include @p path (a bsp_tile64/ header of kBoardInterface). */
+bool is_board_interface(std::string_view path);
+
 /**
  * Checks one source text as if it lived in @p layer.
- * @param host_side true for host infrastructure inside a layer (only include rules apply).
+ * @param host_side true for host infrastructure inside a layer (only include rules apply);
+ *        files of tools/ and tests/ are always treated so.
  */
 std::vector<Finding> check_source(std::string_view file, std::string_view text, std::string_view layer,
                                   bool host_side);
 
-/** Reads and checks a file whose layer follows from its repo-relative path. */
+/** Reads and checks one file whose layer follows from its repo-relative path. */
 std::vector<Finding> check_file(const std::string& path);
+
+/**
+ * Include cycles among @p sources. An include names a file of @p sources as
+ * the compiler finds it: a quoted name relative to the including file's folder
+ * first, then (quoted or angled) relative to the repository root; includes of
+ * anything else (system and generated headers) are not edges.
+ * @return one "cycle" finding per cycle found by a depth-first walk in path
+ *         order, at the include that closes it, naming the files around it.
+ */
+std::vector<Finding> find_include_cycles(const std::vector<Source>& sources);
+
+/** Per-file rules on each source (its layer from its path) and the include cycles among them. */
+std::vector<Finding> check_sources(const std::vector<Source>& sources);
+
+/**
+ * The files the checker covers under the repository root @p root: every .cpp,
+ * .hpp and .h in bsp_tile64 kernel udn fdir trn tools tests, except
+ * tests/fixtures/ (deliberately broken inputs of the checker's own tests),
+ * as sorted repo-relative paths.
+ */
+std::vector<std::string> project_files(const std::string& root);
+
+/**
+ * Reads @p paths (relative to @p root) into sources; an unreadable file
+ * becomes an "io" finding in @p errors.
+ */
+std::vector<Source> read_sources(const std::string& root, const std::vector<std::string>& paths,
+                                 std::vector<Finding>& errors);
 
 /** Blanks comments and string/char literals, keeping line structure (exposed for tests). */
 std::string strip_comments_and_literals(std::string_view text);
