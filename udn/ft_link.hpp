@@ -73,9 +73,11 @@ inline constexpr std::uint32_t kFtFwdSlots = 8U;  ///< packets held for forwardi
  * leave only while the network interface shows more than this many. Packets
  * towards a tile that stopped reading (a hung core) wait in the network for
  * its queue; without the reserve they would take every credit and the sender,
- * alive, would stop answering its neighbours' probes and be blamed.
+ * alive, would stop answering its neighbours' probes and be blamed. One
+ * credit is enough for that; two starve the detour forwarders of a congested
+ * mesh (docs/FT_MESSAGING.md).
  */
-inline constexpr std::uint32_t kFtReplyReserve = 2U;
+inline constexpr std::uint32_t kFtReplyReserve = 1U;
 inline constexpr std::uint32_t kFtMaxData = static_cast<std::uint32_t>(kFtMaxDataWords);
 
 enum class FtKind : std::uint8_t { kData = 0, kAck = 1, kNack = 2, kPing = 3, kPong = 4 };

@@ -153,6 +153,7 @@ TEST_F(TrnMissionBinary, AHungFilterIsALostMissionScoredAtTheEnd) {
   const std::string log = read_text(dir_ / "h" / "events.log");
   EXPECT_NE(log.find("core_suspect: core of tile 18 silent behind a switch that routes"), std::string::npos) << log;
   EXPECT_EQ(count_of(log, "declared failed"), 0U) << log;
+  EXPECT_EQ(count_of(log, "core_suspect:"), 1U) << "only tile 18 is named (without the reply reserve, the coordinator was too)";
   EXPECT_NE(log.find("core_hang (planned) -> detected by tile 26 (neighbour_suspect)"), std::string::npos);
 }
 
