@@ -201,10 +201,12 @@ void add_stress_options(CLI::App& app, StressOptions& opts) {
   app.add_option("--rate", opts.rate_per_us, "Packets per tile per microsecond of emulated time")
       ->check(CLI::Range(1e-6, 10.0));
   app.add_option("--packets", opts.packets, "Total packets over all tiles")->check(CLI::Range(1, 10'000'000));
-  app.add_option("--words", opts.words, "Data words per packet (1..128)")
+  app.add_option("--words", opts.words, "Data words per packet (1..128; 1..124 with --ft on)")
       ->check(CLI::Range(1U, udn::kMaxDataWords));
   app.add_option("--seed", opts.seed, "Run seed (traffic, faults)");
-  app.add_option("--failed-switches", opts.failed_switches, "Tile indices whose switch fails at t=0, comma-separated")
+  app.add_option("--failed-switches", opts.failed_switches,
+                 "Tile indices whose switch fails at t=0, comma-separated (both modes; with --ft on those tiles "
+                 "also run nothing)")
       ->delimiter(',');
   app.add_option("--profile", opts.profile, "Chip profile: tile64 (8x8) or maestro (7x7)")
       ->check(CLI::IsMember({"tile64", "maestro"}));
