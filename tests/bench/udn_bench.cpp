@@ -62,7 +62,7 @@ void BM_StressUniform64(benchmark::State& state) {
   double emulated_s = 0.0;
   for (auto _ : state) {
     const tools::StressResult r = tools::run_stress(o, bsp::heap::SealMode::kCount);
-    if (!r.completed) {
+    if (!r.completed()) {
       state.SkipWithError("run did not complete");
       return;
     }

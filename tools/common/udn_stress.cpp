@@ -1,21 +1,23 @@
 /**
  * @file udn_stress.cpp
- * @brief udn_stress: option parsing, synthetic traffic on every tile through the raw API, JSON report.
+ * @brief udn_stress: options, the raw run (checked traffic through the raw API), JSON report, exit statuses.
  */
 #include "tools/common/udn_stress.hpp"
 
 #include "bsp_tile64/board.hpp"
-#include "bsp_tile64/fault_injector.hpp"
 #include "bsp_tile64/rng.hpp"
 #include "kernel/kernel.hpp"
+#include "tools/common/udn_stress_payload.hpp"
+#include "tools/common/udn_stress_plan.hpp"
+#include "udn/ft_link.hpp"
 #include "udn/raw.hpp"
 
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <iomanip>
 #include <map>
 #include <span>
+#include <type_traits>
 
 namespace tools {
 namespace {
@@ -23,44 +25,23 @@ namespace {
 constexpr std::uint32_t kTag = 0x5755U;
 constexpr std::uint32_t kStackBytes = 16U * 1024U;
 
-/** What the tasks of every tile read: written before the run, read-only during it. */
+using PerTile = std::array<std::uint64_t, bsp::kMaxTiles>;
+
+/** What the tasks of every tile read and count: the plan is fixed before the run, counters per tile. */
 struct Shared {
   StressOptions opts;
-  bsp::ChipProfile profile = bsp::kTile64;
-  std::array<std::uint64_t, bsp::kMaxTiles> quota{};
-  std::array<std::uint64_t, bsp::kMaxTiles> sent{};
-  std::array<std::uint64_t, bsp::kMaxTiles> received{};
-  std::array<std::uint64_t, bsp::kMaxTiles> errors{};
+  detail::TrafficPlan plan;
+  PerTile sent{};
+  PerTile errors{};
+  PerTile received{};  ///< every packet the receiver read, whatever its state
+  PerTile corrupted{};
+  PerTile misdelivered{};
+  PerTile duplicated{};
+  PerTile misordered{};
+  /** [source][receiver]: 0 before the first intact packet, else 0x10000 | its packet number. */
+  std::array<std::array<std::uint32_t, bsp::kMaxTiles>, bsp::kMaxTiles> last{};
 };
 Shared g_shared;
-
-const bsp::ChipProfile& profile_named(const std::string& name) {
-  return name == "maestro" ? bsp::kMaestro : bsp::kTile64;
-}
-
-bsp::TileId uniform_other(bsp::Rng& rng, bsp::TileId self, std::uint32_t tiles) {
-  const auto d = static_cast<bsp::TileId>(rng.below(tiles - 1U));
-  return d >= self ? d + 1U : d;
-}
-
-bsp::TileId pick_destination(bsp::Rng& rng, bsp::TileId self) {
-  const bsp::ChipProfile& p = g_shared.profile;
-  const std::uint32_t tiles = p.tiles();
-  switch (g_shared.opts.pattern) {
-    case TrafficPattern::kTranspose:
-      return (self % p.cols) * p.cols + self / p.cols;  // grids are square
-    case TrafficPattern::kHotspot: {
-      const bsp::TileId hot = (p.rows / 2U) * p.cols + p.cols / 2U;
-      if (rng.below(4U) == 0U && hot != self) {
-        return hot;
-      }
-      return uniform_other(rng, self, tiles);
-    }
-    case TrafficPattern::kUniform:
-      break;
-  }
-  return uniform_other(rng, self, tiles);
-}
 
 void sender(void* /*arg*/) {
   const bsp::TileId self = bsp::current_tile();
@@ -69,16 +50,15 @@ void sender(void* /*arg*/) {
   }
   bsp::Rng rng(g_shared.opts.seed, bsp::StreamId::kTraffic, self);
   const double mean_gap_cycles =
-      static_cast<double>(g_shared.profile.clock_hz) / 1e6 / g_shared.opts.rate_per_us;
+      static_cast<double>(g_shared.plan.profile.clock_hz) / 1e6 / g_shared.opts.rate_per_us;
   std::array<std::uint32_t, udn::kMaxDataWords> data{};
-  const std::span<const std::uint32_t> payload(data.data(), g_shared.opts.words);
-  for (std::uint64_t i = 0; i < g_shared.quota[self]; ++i) {
+  const std::span<std::uint32_t> payload(data.data(), g_shared.opts.words);
+  for (std::uint64_t i = 0; i < g_shared.plan.quota[self]; ++i) {
     // Exponential gaps (a Poisson source), counted from the end of the previous send.
     const double gap = -std::log(1.0 - rng.uniform()) * mean_gap_cycles;
     bsp::consume(static_cast<bsp::Cycles>(gap) + 1U);
-    const bsp::TileId dest = pick_destination(rng, self);
-    data[0] = self;
-    data[1] = static_cast<std::uint32_t>(i);
+    const bsp::TileId dest = detail::pick_destination(g_shared.plan, rng, self);
+    stamp_payload(PayloadStamp{self, dest, static_cast<std::uint16_t>(i)}, payload);
     if (udn::send(dest, kTag, payload, k::kForever) == udn::RawError::kOk) {
       ++g_shared.sent[self];
     } else {
@@ -90,6 +70,22 @@ void sender(void* /*arg*/) {
   }
 }
 
+/** Order of the intact packets of one (source, receiver) pair: the network keeps it. Needs packet numbers. */
+void check_order(const PayloadStamp& st, bsp::TileId self) {
+  if (g_shared.opts.words < 2U) {
+    return;  // a one-word payload has no packet number
+  }
+  std::uint32_t& last = g_shared.last[st.source][self];
+  const auto ahead = static_cast<std::uint16_t>(st.number - static_cast<std::uint16_t>(last));
+  if (last != 0U && ahead == 0U) {
+    ++g_shared.duplicated[self];
+  } else if (last != 0U && ahead >= 0x8000U) {
+    ++g_shared.misordered[self];
+  } else {
+    last = 0x10000U | st.number;
+  }
+}
+
 void receiver(void* /*arg*/) {
   const bsp::TileId self = bsp::current_tile();
   if (udn::activate() != udn::RawError::kOk) {
@@ -98,8 +94,26 @@ void receiver(void* /*arg*/) {
   std::array<std::uint32_t, udn::kMaxDataWords> data{};
   for (;;) {
     udn::RxInfo info{};
-    if (udn::receive(udn::kCatchAll, info, data, k::kForever) == udn::RawError::kOk) {
-      ++g_shared.received[self];
+    if (udn::receive(udn::kCatchAll, info, data, k::kForever) != udn::RawError::kOk) {
+      continue;
+    }
+    ++g_shared.received[self];
+    const std::size_t n = info.data_words < data.size() ? info.data_words : data.size();
+    PayloadStamp st{};
+    // A flipped tag is corruption too: it would pick another demux queue had any tag been bound.
+    const PayloadVerdict v = info.tag != kTag ? PayloadVerdict::kCorrupted
+                                              : check_payload(std::span(data.data(), n), info.data_words,
+                                                              g_shared.opts.words, info.source, self, st);
+    switch (v) {
+      case PayloadVerdict::kCorrupted:
+        ++g_shared.corrupted[self];
+        break;
+      case PayloadVerdict::kMisdelivered:
+        ++g_shared.misdelivered[self];
+        break;
+      case PayloadVerdict::kIntact:
+        check_order(st, self);
+        break;
     }
   }
 }
@@ -111,7 +125,7 @@ constexpr k::TaskSpec kTasks[] = {
 };
 static_assert(k::check_table(kTasks) == k::TableError::kOk);
 
-std::uint64_t sum(const std::array<std::uint64_t, bsp::kMaxTiles>& a) {
+std::uint64_t sum(const PerTile& a) {
   std::uint64_t s = 0U;
   for (const std::uint64_t v : a) {
     s += v;
@@ -119,60 +133,48 @@ std::uint64_t sum(const std::array<std::uint64_t, bsp::kMaxTiles>& a) {
   return s;
 }
 
+/** Every packet sent or refused, none in flight, and each one that left the network read or counted lost. */
 bool all_done(void* /*arg*/) {
-  const std::uint64_t finished = sum(g_shared.sent) + sum(g_shared.errors);
-  return finished == g_shared.opts.packets && bsp::udn_net_in_flight() == 0U;
+  const std::uint64_t sent = sum(g_shared.sent);
+  return sent + sum(g_shared.errors) == g_shared.opts.packets && bsp::udn_net_in_flight() == 0U &&
+         sum(g_shared.received) + bsp::udn_net_stats().lost_total() == sent;
 }
 
-bool boot_board(const StressOptions& opts) {
-  g_shared = Shared{};
-  g_shared.opts = opts;
-  g_shared.profile = profile_named(opts.profile);
-  const bsp::ChipProfile& p = g_shared.profile;
-  bsp::BoardConfig cfg = bsp::default_config(p);
-  const auto quantum = static_cast<bsp::Cycles>(opts.quantum_us * static_cast<double>(p.clock_hz) / 1e6);
-  cfg.quantum_cycles = quantum < 1U ? 1U : (quantum > cfg.tick_cycles ? cfg.tick_cycles : quantum);
-  cfg.seed = opts.seed;
-  cfg.monitor_tile = bsp::kNoTile;
-  for (bsp::TileId t = 0; t < p.tiles(); ++t) {
-    cfg.boot[t] = &k::boot_entry;
-    k::set_task_table(t, kTasks, cfg.tick_cycles);
-    g_shared.quota[t] = opts.packets / p.tiles() + (t < opts.packets % p.tiles() ? 1U : 0U);
-  }
-  if (bsp::board_init(cfg) != bsp::BoardError::kOk || bsp::udn_net_init(bsp::NetConfig{}) != bsp::NetError::kOk) {
-    return false;
-  }
-  for (const std::uint32_t t : opts.failed_switches) {
-    bsp::FaultSpec f{};
-    f.kind = bsp::FaultKind::kSwitchFail;
-    f.tile = t;
-    if (bsp::fault_plan_add(f) != bsp::FaultError::kOk) {
-      return false;
-    }
-  }
-  return true;
+void collect(StressResult& r) {
+  StressResult::Delivery& d = r.delivery;
+  d.sent = sum(g_shared.sent);
+  d.delivered = sum(g_shared.received);
+  d.lost = d.sent > d.delivered ? d.sent - d.delivered : 0U;
+  d.duplicated = sum(g_shared.duplicated);
+  d.misordered = sum(g_shared.misordered);
+  d.corrupted_delivered = sum(g_shared.corrupted);
+  d.misdelivered = sum(g_shared.misdelivered);
+  r.send_errors = sum(g_shared.errors);
 }
 
-void link_utilisation(StressResult& r, bsp::Cycles elapsed) {
-  const bsp::ChipProfile& p = g_shared.profile;
-  double total = 0.0;
-  std::uint32_t links = 0U;
-  for (bsp::TileId t = 0; t < p.tiles(); ++t) {
-    const std::uint32_t x = t % p.cols;
-    const std::uint32_t y = t / p.cols;
-    const std::array<bool, bsp::kUdnDirs> exists{x + 1U < p.cols, x > 0U, y > 0U, y + 1U < p.rows};
-    for (std::uint32_t d = 0; d < bsp::kUdnDirs; ++d) {
-      if (!exists[d] || elapsed == 0U) {
-        continue;
-      }
-      const double u = static_cast<double>(bsp::udn_link_busy_cycles(t, static_cast<bsp::UdnDir>(d))) /
-                       static_cast<double>(elapsed);
-      total += u;
-      r.link_utilisation_max = std::max(r.link_utilisation_max, u);
-      ++links;
+std::string option_checks(const StressOptions& opts) {
+  if (opts.ft && opts.words > udn::kFtMaxData) {
+    return "--words " + std::to_string(opts.words) + ": the fault-tolerant layer carries at most " +
+           std::to_string(udn::kFtMaxData) + " data words (--ft on)";
+  }
+  if (detail::make_plan(opts).sender_count == 0U) {
+    return std::string("--failed-tiles") + (opts.ft ? "/--failed-switches" : "") + ": no tile is left to run traffic";
+  }
+  return "";
+}
+
+template <typename T>
+void write_list(std::ostream& out, const char* key, const std::vector<T>& items) {
+  out << ",\"" << key << "\":[";
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    out << (i == 0U ? "" : ",");
+    if constexpr (std::is_same_v<T, std::string>) {
+      out << '"' << items[i] << '"';
+    } else {
+      out << items[i];
     }
   }
-  r.link_utilisation_mean = links == 0U ? 0.0 : total / links;
+  out << ']';
 }
 
 }  // namespace
@@ -199,30 +201,41 @@ void add_stress_options(CLI::App& app, StressOptions& opts) {
   app.add_option("--rate", opts.rate_per_us, "Packets per tile per microsecond of emulated time")
       ->check(CLI::Range(1e-6, 10.0));
   app.add_option("--packets", opts.packets, "Total packets over all tiles")->check(CLI::Range(1, 10'000'000));
-  app.add_option("--words", opts.words, "Data words per packet (1..128)")
+  app.add_option("--words", opts.words, "Data words per packet (1..128; 1..124 with --ft on)")
       ->check(CLI::Range(1U, udn::kMaxDataWords));
   app.add_option("--seed", opts.seed, "Run seed (traffic, faults)");
-  app.add_option("--failed-switches", opts.failed_switches, "Tile indices whose switch fails at t=0, comma-separated")
+  app.add_option("--failed-switches", opts.failed_switches,
+                 "Tile indices whose switch fails at t=0, comma-separated (both modes; with --ft on those tiles "
+                 "also run nothing)")
       ->delimiter(',');
   app.add_option("--profile", opts.profile, "Chip profile: tile64 (8x8) or maestro (7x7)")
       ->check(CLI::IsMember({"tile64", "maestro"}));
-  app.add_option("--max-ms", opts.max_ms, "Bound on emulated milliseconds")->check(CLI::Range(0.001, 1e6));
+  app.add_option("--max-ms", opts.max_ms,
+                 "Bound on emulated milliseconds (default: 1000 plus twice what the busiest tile needs at --rate)")
+      ->check(CLI::Range(0.001, 1e6));
   app.add_option("--quantum-us", opts.quantum_us, "Board quantum in microseconds (1..1000): delivery granularity")
       ->check(CLI::Range(1.0, 1000.0));
   app.add_option_function<std::string>(
          "--ft", [&opts](const std::string& v) { opts.ft = v == "on"; },
          "on: traffic through the fault-tolerant layer (ECC, retransmission, virtual routing); off: raw")
       ->check(CLI::IsMember({"on", "off"}));
-  app.add_option("--ber", opts.ber, "Probability of a bit flip per word in transit")->check(CLI::Range(0.0, 0.1));
-  app.add_option("--failed-tiles", opts.failed_tiles, "Tiles that run nothing and whose switch fails at t=0")
+  app.add_option("--ber", opts.ber, "Probability of a bit flip per word in transit (both modes)")
+      ->check(CLI::Range(0.0, 0.1));
+  app.add_option("--failed-tiles", opts.failed_tiles,
+                 "Tiles that run nothing, are sent nothing and whose switch fails at t=0 (both modes)")
       ->delimiter(',');
   app.add_option("--failed-links", opts.failed_links,
                  "Failed links at t=0: 12E (leaving tile 12 eastwards; E W N S) or 12-13; both directions")
       ->delimiter(',');
+  app.footer(
+      "Exit status: 0 every packet delivered or lost within the bound; 1 internal error (the board, the network\n"
+      "or a fault could not be set up); 2 bad arguments, or an option the chosen mode cannot use (a message names\n"
+      "it); 3 stopped by the --max-ms bound (or the derived one) first: one line on stderr, the JSON object all the\n"
+      "same.");
 }
 
 std::string validate_stress_options(const StressOptions& opts) {
-  const bsp::ChipProfile& p = profile_named(opts.profile);
+  const bsp::ChipProfile& p = detail::profile_named(opts.profile);
   for (const std::uint32_t t : opts.failed_switches) {
     if (t >= p.tiles()) {
       return "--failed-switches: tile " + std::to_string(t) + " is outside the " + std::to_string(p.cols) + "x" +
@@ -241,7 +254,7 @@ std::string validate_stress_options(const StressOptions& opts) {
       return "--failed-links: " + m;
     }
   }
-  return "";
+  return option_checks(opts);
 }
 
 std::string parse_link(const std::string& text, std::uint32_t cols, std::uint32_t rows, LinkSpec& out) {
@@ -312,60 +325,78 @@ StressResult run_stress(const StressOptions& opts, bsp::heap::SealMode seal) {
     return run_stress_ft(opts, seal);
   }
   StressResult r;
-  if (!boot_board(opts)) {
+  g_shared = Shared{};
+  g_shared.opts = opts;
+  g_shared.plan = detail::make_plan(opts);
+  if (g_shared.plan.sender_count == 0U || !detail::boot_stress_board(opts, g_shared.plan, kTasks, bsp::NetConfig{})) {
     return r;
   }
-  const bsp::ChipProfile& p = g_shared.profile;
-  const auto max_cycles = static_cast<bsp::Cycles>(opts.max_ms * static_cast<double>(p.cycles_per_ms()));
-  const auto t0 = std::chrono::steady_clock::now();
-  bsp::heap::seal(seal);
-  const bsp::RunResult run = bsp::run_until(&all_done, nullptr, max_cycles);
-  bsp::heap::unseal();
-  const auto t1 = std::chrono::steady_clock::now();
-  r.heap_allocs_during_run = bsp::heap::allocs_after_seal();
-  r.host_s = std::chrono::duration<double>(t1 - t0).count();
-  r.net = bsp::udn_net_stats();
-  r.sent_by_tasks = sum(g_shared.sent);
-  r.received = sum(g_shared.received);
-  r.send_errors = sum(g_shared.errors);
-  r.completed = all_done(nullptr);
-  r.emulated_s = static_cast<double>(run.end_cycle) / static_cast<double>(p.clock_hz);
-  link_utilisation(r, run.end_cycle);
+  detail::run_stress_board(opts, g_shared.plan, &all_done, seal, r);
+  collect(r);
   return r;
 }
 
 void write_stress_json(std::ostream& out, const StressOptions& opts, const StressResult& r) {
   const bsp::NetStats& s = r.net;
+  const StressResult::Delivery& d = r.delivery;
+  const StressResult::Ft& f = r.ft;
   const auto lost = [&s](bsp::UdnLoss c) { return s.lost[static_cast<std::size_t>(c)]; };
   out << std::setprecision(9) << "{\"profile\":\"" << opts.profile << "\",\"pattern\":\"" << pattern_name(opts.pattern)
       << "\",\"rate_per_us\":" << opts.rate_per_us << ",\"packets\":" << opts.packets << ",\"words\":" << opts.words
-      << ",\"seed\":" << opts.seed << ",\"quantum_us\":" << opts.quantum_us << ",\"failed_switches\":[";
-  for (std::size_t i = 0; i < opts.failed_switches.size(); ++i) {
-    out << (i == 0U ? "" : ",") << opts.failed_switches[i];
-  }
-  out << "],\"completed\":" << (r.completed ? "true" : "false") << ",\"sent\":" << (opts.ft ? r.ft.sent : s.sent)
-      << ",\"delivered\":" << (opts.ft ? r.ft.delivered : s.delivered) << ",\"received\":" << r.received
+      << ",\"seed\":" << opts.seed << ",\"quantum_us\":" << opts.quantum_us
+      << ",\"ft\":" << (opts.ft ? "true" : "false") << ",\"ber\":" << opts.ber;
+  write_list(out, "failed_switches", opts.failed_switches);
+  write_list(out, "failed_tiles", opts.failed_tiles);
+  write_list(out, "failed_links", opts.failed_links);
+  out << ",\"bound_ms\":" << r.bound_ms << ",\"completed\":" << (r.completed() ? "true" : "false")
+      << ",\"sent\":" << d.sent << ",\"delivered\":" << d.delivered << ",\"lost\":" << d.lost
+      << ",\"duplicated\":" << d.duplicated << ",\"misordered\":" << d.misordered
+      << ",\"corrupted_delivered\":" << d.corrupted_delivered << ",\"misdelivered\":" << d.misdelivered
+      << ",\"corrected\":" << f.corrected << ",\"forwarded\":" << f.forwarded
+      << ",\"retransmitted\":" << f.retransmitted << ",\"uncorrectable_detected\":" << f.uncorrectable_detected
+      << ",\"gave_up\":" << f.gave_up
+      << ",\"unreachable\":" << f.unreachable << ",\"send_errors\":" << r.send_errors << ",\"net_sent\":" << s.sent
+      << ",\"net_delivered\":" << s.delivered << ",\"bit_flips\":" << s.bit_flips
       << ",\"lost_offgrid\":" << lost(bsp::UdnLoss::kOffGrid)
       << ",\"lost_failed_switch\":" << lost(bsp::UdnLoss::kFailedSwitch)
       << ",\"lost_failed_link\":" << lost(bsp::UdnLoss::kFailedLink)
-      << ",\"lost_bad_length\":" << lost(bsp::UdnLoss::kBadLength) << ",\"send_errors\":" << r.send_errors
-      << ",\"refused_full\":" << s.refused_full << ",\"queue_full_retries\":" << s.queue_full_retries
-      << ",\"latency_cycles_min\":" << s.latency_min << ",\"latency_cycles_mean\":" << s.latency_mean()
-      << ",\"latency_cycles_max\":" << s.latency_max << ",\"link_utilisation_mean\":" << r.link_utilisation_mean
-      << ",\"link_utilisation_max\":" << r.link_utilisation_max << ",\"emulated_s\":" << r.emulated_s
-      << ",\"host_s\":" << r.host_s << ",\"packets_per_host_s\":"
+      << ",\"lost_bad_length\":" << lost(bsp::UdnLoss::kBadLength) << ",\"refused_full\":" << s.refused_full
+      << ",\"queue_full_retries\":" << s.queue_full_retries << ",\"latency_cycles_min\":" << s.latency_min
+      << ",\"latency_cycles_mean\":" << s.latency_mean() << ",\"latency_cycles_max\":" << s.latency_max
+      << ",\"link_utilisation_mean\":" << r.link_utilisation_mean
+      << ",\"link_utilisation_max\":" << r.link_utilisation_max
+      << ",\"emulated_s\":" << r.emulated_s << ",\"host_s\":" << r.host_s << ",\"packets_per_host_s\":"
       << (r.host_s > 0.0 ? static_cast<double>(s.sent) / r.host_s : 0.0)
-      << ",\"heap_allocs_during_run\":" << r.heap_allocs_during_run;
-  if (opts.ft) {
-    const StressResult::Ft& f = r.ft;
-    out << ",\"ft\":true,\"ber\":" << opts.ber << ",\"net_sent\":" << s.sent << ",\"net_delivered\":" << s.delivered
-        << ",\"corrected\":" << f.corrected << ",\"forwarded\":" << f.forwarded
-        << ",\"retransmitted\":" << f.retransmitted << ",\"uncorrectable_detected\":" << f.uncorrectable_detected
-        << ",\"lost\":" << f.lost << ",\"gave_up\":" << f.gave_up << ",\"duplicated\":" << f.duplicated
-        << ",\"misordered\":" << f.misordered << ",\"corrupted_delivered\":" << f.corrupted_delivered
-        << ",\"unreachable\":" << f.unreachable;
+      << ",\"heap_allocs_during_run\":" << r.heap_allocs_during_run << "}\n";
+}
+
+int stress_main(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
+  StressOptions opts;
+  std::string message;
+  const int rc = parse_stress_args(argc, argv, opts, message);
+  if (rc == 0) {
+    out << message;
+    return kExitCompleted;
   }
-  out << "}\n";
+  if (rc > 0) {
+    err << "udn_stress: " << message << "\nRun with --help for the options.\n";
+    return kExitBadArguments;
+  }
+  const StressResult r = run_stress(opts, bsp::heap::SealMode::kFatal);
+  if (r.end == StressEnd::kSetupFailed) {
+    err << "udn_stress: the board, the network or a fault could not be set up; nothing ran\n";
+    return kExitInternal;
+  }
+  write_stress_json(out, opts, r);
+  if (r.end == StressEnd::kBound) {
+    const char* what = opts.ft ? "messages" : "packets";
+    err << "udn_stress: stopped by the bound of " << r.bound_ms << " emulated ms ("
+        << (opts.max_ms > 0.0 ? "--max-ms" : "derived from --rate and --packets; raise it with --max-ms") << "): "
+        << r.delivery.sent << " of " << opts.packets << " " << what << " sent, " << r.delivery.delivered
+        << " delivered\n";
+    return kExitBound;
+  }
+  return kExitCompleted;
 }
 
 }  // namespace tools
