@@ -141,11 +141,11 @@ void take_transit(State& s, const NetHealthConfig& cfg, const udn::FtMessage& m)
   s.transit_change = k::now_ticks();
 }
 
-/** Transits whose answer tells about their switches: neither end nor any switch on the way known failed. */
-std::uint64_t telling(const State& s, const NetHealthConfig& cfg) noexcept {
+/** Transits whose answer tells about their switches: nothing on the way known failed but @p except. */
+std::uint64_t telling(const State& s, const NetHealthConfig& cfg, std::uint64_t except) noexcept {
   std::uint64_t m = 0U;
   for (std::uint32_t i = 0; i < cfg.transits.count && i < kMaxTransits; ++i) {
-    m |= (cfg.transits.t[i].path & s.votes.failed) == 0U ? (std::uint64_t{1} << i) : 0U;
+    m |= (cfg.transits.t[i].path & s.votes.failed & ~except) == 0U ? (std::uint64_t{1} << i) : 0U;
   }
   return m;
 }
@@ -166,14 +166,13 @@ void judge_transits(State& s, const NetHealthConfig& cfg, bsp::TileId self) noex
       return;
     }
   }
-  const std::uint64_t ok = telling(s, cfg) & ~s.lost;
+  // A reported tile, voted failed or not, whose switch still carries transits: its core is silent.
   for (bsp::TileId t = 0; t < udn::kRouteMaxTiles; ++t) {
     const std::uint64_t bit = std::uint64_t{1} << t;
-    if (s.suspected_at[t] == 0U || (s.core_told & bit) != 0U || (s.votes.failed & bit) != 0U ||
-        now - s.suspected_at[t] < cfg.settle_ticks) {
+    if (s.suspected_at[t] == 0U || (s.core_told & bit) != 0U || now - s.suspected_at[t] < cfg.settle_ticks) {
       continue;
     }
-    const std::uint64_t answering = transits_through(cfg.transits, t) & ok;
+    const std::uint64_t answering = transits_through(cfg.transits, t) & telling(s, cfg, bit) & ~s.lost;
     if (answering != 0U) {
       s.core_told |= bit;
       report(EventId::kCoreSuspect, t, 0U, static_cast<std::uint32_t>(std::popcount(answering)));

@@ -192,6 +192,20 @@ TEST_F(TrnMissionBinary, EveryInjectionIsCountedAndAFailedLinkEntersTheMap) {
   EXPECT_GT(s["faults_detected"].get<int>(), s["faults_injected"].get<int>() / 2);
   EXPECT_NE(log.find("link_fail east link (planned) -> detected by tile 0 (link_failed)"), std::string::npos);
   EXPECT_NE(log.find("switch_fail (planned) -> detected by tile 0 (switch_failed)"), std::string::npos);
+  EXPECT_EQ(count_of(log, "core_suspect:"), 0U) << "a failed switch carries no transit: it is no silent core";
+}
+
+// A hung core with two live neighbours is voted as a switch first (nothing else can be told in
+// 33 ms); the transits through it keep answering, so the health tile then names its core.
+TEST_F(TrnMissionBinary, AHungCoordinatorIsNamedACoreOnceItsTransitsAnswer) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 16 --faults " + fixture("coordinator_hang.toml") + " --out " +
+                (dir_ / "c").string()),
+            0);
+  const std::string log = read_text(dir_ / "c" / "events.log");
+  EXPECT_NE(log.find("switch_failed: switch of tile 1 declared failed"), std::string::npos) << log;
+  EXPECT_NE(log.find("core_suspect: core of tile 1 silent behind a switch that routes"), std::string::npos) << log;
+  EXPECT_EQ(count_of(log, "core_suspect:"), 1U);
+  EXPECT_EQ(count_of(log, "declared failed"), 1U) << "no other tile is blamed";
 }
 
 }  // namespace
