@@ -177,13 +177,15 @@ bool open(Endpoint*& out, bsp::TileId self, const EndpointConfig& cfg) noexcept 
  * X-then-Y leg each way, so the round trip crosses exactly the planned
  * switches). Each transit has its own tick in the probe period, offset by the
  * tile, so a tile's pings and its targets' answers are spread over the period
- * instead of leaving in one burst. A target the map says failed is left
- * alone. Caller holds the guard.
+ * instead of leaving in one burst. A transit crossing a switch the map says
+ * failed is left alone. Caller holds the guard.
  */
 void transit_probe(Endpoint& ep, std::uint32_t i) noexcept {
   TransitProbe& p = ep.transit[i];
-  if (((ep.map.failed_tiles >> p.target) & 1ULL) != 0ULL) {
-    return;
+  const bsp::TileId self = ep.node.self;
+  const std::uint64_t round_trip = path_tiles(ep.map, self, p.target) | path_tiles(ep.map, p.target, self);
+  if ((round_trip & ep.map.failed_tiles) != 0ULL) {
+    return;  // crosses a switch the map says failed: it can tell nothing more
   }
   const std::uint32_t threshold = ep.cfg->probe_miss_threshold == 0U ? 1U : ep.cfg->probe_miss_threshold;
   if (p.nonce != 0U) {
