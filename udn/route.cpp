@@ -172,6 +172,20 @@ std::uint32_t path_hops(std::uint32_t cols, bsp::TileId s, bsp::TileId d) noexce
   return ((sx > dx) ? sx - dx : dx - sx) + ((sy > dy) ? sy - dy : dy - sy);
 }
 
+namespace {
+
+/** Direction of the next X-then-Y hop from @p t towards @p d (t != d, both on the grid). */
+bsp::UdnDir xy_step(const FaultMap& map, bsp::TileId t, bsp::TileId d) noexcept {
+  const std::uint32_t x = t % map.cols;
+  const std::uint32_t dx = d % map.cols;
+  if (x != dx) {
+    return (dx > x) ? bsp::UdnDir::kEast : bsp::UdnDir::kWest;
+  }
+  return (d > t) ? bsp::UdnDir::kSouth : bsp::UdnDir::kNorth;
+}
+
+}  // namespace
+
 bool path_clear(const FaultMap& map, bsp::TileId s, bsp::TileId d) noexcept {
   if (!on_grid(map, s) || !on_grid(map, d)) {
     return false;
@@ -185,14 +199,7 @@ bool path_clear(const FaultMap& map, bsp::TileId s, bsp::TileId d) noexcept {
     if (t == d) {
       return true;
     }
-    const std::uint32_t x = t % map.cols;
-    const std::uint32_t dx = d % map.cols;
-    bsp::UdnDir dir = bsp::UdnDir::kEast;
-    if (x != dx) {
-      dir = (dx > x) ? bsp::UdnDir::kEast : bsp::UdnDir::kWest;
-    } else {
-      dir = (d > t) ? bsp::UdnDir::kSouth : bsp::UdnDir::kNorth;
-    }
+    const bsp::UdnDir dir = xy_step(map, t, d);
     if (link_failed(map, t, dir)) {
       return false;
     }
@@ -213,14 +220,7 @@ std::uint64_t path_tiles(const FaultMap& map, bsp::TileId s, bsp::TileId d) noex
     if (t == d) {
       break;
     }
-    const std::uint32_t x = t % map.cols;
-    const std::uint32_t dx = d % map.cols;
-    bsp::UdnDir dir = bsp::UdnDir::kEast;
-    if (x != dx) {
-      dir = (dx > x) ? bsp::UdnDir::kEast : bsp::UdnDir::kWest;
-    } else {
-      dir = (d > t) ? bsp::UdnDir::kSouth : bsp::UdnDir::kNorth;
-    }
+    const bsp::UdnDir dir = xy_step(map, t, d);
     t = neighbour(map, t, dir);
   }
   return on_path;
