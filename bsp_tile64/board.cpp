@@ -37,6 +37,7 @@ void clear_tile(Tile& t, TileId id) noexcept {
   t.stopped = false;
   t.reset_pending = false;
   t.reset_reason = ResetReason::kCommand;
+  t.boot_cause = BootCause::kPowerOn;
   t.masked = true;
   t.pending = 0U;
   t.handler = nullptr;
@@ -107,6 +108,7 @@ void do_power_on(Tile& t) noexcept {
     return;  // already on: switching on is idempotent
   }
   t.power = PowerState::kBooting;
+  t.boot_cause = BootCause::kPowerOn;
   t.boot_at = t.time + g_board.config.boot_delay_cycles;
   board_trace(t.time, t.id, BoardEvent::kPowerOn, t.boot_at, 0U);
 }
@@ -121,6 +123,9 @@ void do_reset(Tile& t, ResetReason reason) noexcept {
   discard_tile_state(t);
   ++t.stats.resets;
   t.power = PowerState::kBooting;
+  t.boot_cause = reason == ResetReason::kCommand    ? BootCause::kCommand
+                 : reason == ResetReason::kWatchdog ? BootCause::kWatchdog
+                                                    : BootCause::kOther;
   t.boot_at = t.time + g_board.config.boot_delay_cycles;
   board_trace(t.time, t.id, BoardEvent::kReset, static_cast<std::uint64_t>(reason), t.boot_at);
 }

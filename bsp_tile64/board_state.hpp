@@ -30,6 +30,7 @@ struct Tile {
   bool stopped;        ///< hang fault or returned context: contexts are not run
   bool reset_pending;  ///< a reset was requested while the tile was running
   ResetReason reset_reason;
+  BootCause boot_cause;  ///< why the tile last booted (its reset-cause register)
   bool masked;
   std::uint32_t pending;  ///< bit per Irq
   IrqHandler handler;

@@ -152,6 +152,17 @@ void watchdog_kick() noexcept;
 /** Takes (reads and clears) the set of tiles whose watchdog expired, as a bit mask. [task|isr] */
 std::uint64_t watchdog_take_expired() noexcept;
 
+/** The tile's reset-cause register: why it last booted. */
+enum class BootCause : std::uint8_t {
+  kPowerOn = 0,   ///< switched on
+  kCommand = 1,   ///< reset on command (another tile's power control, or the host)
+  kWatchdog = 2,  ///< its own watchdog expired with reset on expiry
+  kOther = 3,     ///< not commanded: a crash or an external reset
+};
+
+/** Why the current tile last booted. [task|isr] */
+BootCause boot_cause() noexcept;
+
 // ------------------------------------------------------------------ boot and trace
 
 /**

@@ -286,6 +286,11 @@ std::uint64_t watchdog_take_expired() noexcept {
   return expired;
 }
 
+BootCause boot_cause() noexcept {
+  const detail::Tile* t = detail::running_tile();
+  return t == nullptr ? BootCause::kPowerOn : t->boot_cause;
+}
+
 void trace(std::uint16_t kind, std::uint64_t a, std::uint64_t b) noexcept {
   trace_record(detail::current_time(), detail::board().running, kind, a, b);
 }

@@ -462,6 +462,20 @@ Status wait_period() noexcept {
   return Status::kOk;
 }
 
+void checkin() noexcept {
+  KernelState* ks = detail::current_kernel();
+  if (ks == nullptr || !detail::can_block()) {
+    return;
+  }
+  const bool m = bsp::mask_irqs(true);
+  Tcb& t = ks->tcbs[ks->current];
+  const Ticks gap = ks->ticks - t.last_checkin;
+  t.max_checkin_gap = gap > t.max_checkin_gap ? gap : t.max_checkin_gap;
+  t.last_checkin = ks->ticks;
+  ++t.checkins;
+  (void)bsp::mask_irqs(m);
+}
+
 TaskId self() noexcept {
   const KernelState* ks = detail::current_kernel();
   return ks == nullptr ? kNoTask : ks->current;
@@ -491,7 +505,8 @@ Status task_stats(bsp::TileId tile, TaskId id, TaskStats* out) noexcept {
   *out = TaskStats{t.spec->name,    t.priority,       static_cast<std::uint8_t>(t.state),
                    t.activations,   t.jobs,           t.deadline_misses,
                    t.overruns,      t.last_run_cycle, t.stack_bytes,
-                   detail::stack_high_water(t.stack, t.stack_bytes)};
+                   detail::stack_high_water(t.stack, t.stack_bytes),
+                   t.spec->watch_ticks, t.last_checkin, t.checkins, t.max_checkin_gap};
   return Status::kOk;
 }
 

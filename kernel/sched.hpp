@@ -53,6 +53,12 @@ void boot_entry(bsp::TileId tile) noexcept;
  */
 Status start(TaskTable table, bsp::Cycles tick_cycles) noexcept;
 
+/**
+ * The running task tells its tile's health agent it is making progress (the
+ * task watchdog's feed): records the current tick as its last check-in. [task]
+ */
+void checkin() noexcept;
+
 /** Moves the running task behind the other ready tasks of its priority. [task] */
 void yield() noexcept;
 
@@ -89,6 +95,10 @@ struct TaskStats {
   bsp::Cycles last_run_cycle;
   std::uint32_t stack_bytes;
   std::uint32_t stack_high_water;  ///< most stack bytes ever used (from the paint)
+  std::uint32_t watch_ticks;       ///< check-in budget from the task table (0: not watched)
+  Ticks last_checkin;              ///< tick of the last check-in (0 before the first)
+  std::uint64_t checkins;
+  Ticks max_checkin_gap;           ///< longest time between two check-ins, in ticks
 };
 
 /** Number of tasks on @p tile including idle; 0 if its kernel is not running. [task|host] */

@@ -41,6 +41,12 @@ struct TaskSpec {
   std::uint32_t deadline_ticks; ///< relative deadline; 0 means equal to the period
   std::uint32_t stack_bytes;    ///< multiple of 16, at least bsp::kMinStackBytes
   Policy policy;
+  /**
+   * Check-in budget for the tile's health agent: the task calls k::checkin()
+   * at least once every watch_ticks, or the agent stops kicking the tile's
+   * hardware watchdog. 0: not watched.
+   */
+  std::uint32_t watch_ticks = 0U;
 };
 
 using TaskTable = std::span<const TaskSpec>;

@@ -53,6 +53,9 @@ struct Tcb {
   std::uint32_t deadline_misses;
   std::uint32_t overruns;       ///< releases skipped because the previous job ran on
   bsp::Cycles last_run_cycle;
+  Ticks last_checkin;           ///< tick of the last k::checkin() (the task's start before the first)
+  std::uint64_t checkins;
+  Ticks max_checkin_gap;        ///< longest time between two check-ins (the task's start counts as one)
 };
 
 /** A FIFO of task ids linked through Tcb::next_ready. */
