@@ -8,7 +8,8 @@
  * packet corrected by its code). The host formats the text of each id and
  * joins the events to the injector's ground truth by the rule of docs/FDIR.md;
  * it never decides a step itself. Ids are grouped by layer: 0x01xx messaging,
- * 0x02xx network health, 0x03xx vision, 0x04xx health table and asserts.
+ * 0x02xx network health, 0x03xx vision, 0x04xx health table and asserts, 0x05xx core
+ * health (watchdogs, resets).
  */
 #pragma once
 
@@ -58,6 +59,13 @@ enum class EventId : std::uint16_t {
   kMonitorFatal = 0x0402,      ///< subject: monitor index, a: value, b: threshold; the action is taken
   kActionCapped = 0x0403,      ///< subject: monitor index, a: actions taken; no more (no reset loop)
   kAssertFailed = 0x0404,      ///< subject: assert id, cause: line; the tile asks for its recovery
+  // ---- core health (fdir/tile_health)
+  kTaskOverdue = 0x0501,       ///< a task missed its check-in; subject: task id, cause: tile, a: ticks late, b: budget; the watchdog is no longer kicked
+  kWatchdogExpired = 0x0502,   ///< the supervisor took a tile's watchdog interrupt; subject: tile, a: expiries so far
+  kTileReset = 0x0503,         ///< the supervisor reset a silent tile; subject: tile, a: resets of it, b: cap
+  kTileRecovered = 0x0504,     ///< a reset tile booted its role again and reported; subject: tile, cause: boot cause, a: ms since the reset
+  kTileRebooted = 0x0505,      ///< a tile booted again without a command (crash); subject: tile, cause: boot cause
+  kTileLost = 0x0506,          ///< a reset tile never reported back; subject: tile, a: ms waited
 };
 
 struct EventInfo {
@@ -68,7 +76,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 25> kEventTable{{
+inline constexpr std::array<EventInfo, 31> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -94,6 +102,12 @@ inline constexpr std::array<EventInfo, 25> kEventTable{{
     {EventId::kMonitorFatal, "monitor_fatal", Severity::kWarningHi, kStepDetect | kStepIsolate},
     {EventId::kActionCapped, "action_capped", Severity::kFatal, kStepNone},
     {EventId::kAssertFailed, "assert_failed", Severity::kFatal, kStepDetect},
+    {EventId::kTaskOverdue, "task_overdue", Severity::kWarningHi, kStepDetect},
+    {EventId::kWatchdogExpired, "watchdog_expired", Severity::kWarningHi, kStepDetect},
+    {EventId::kTileReset, "tile_reset", Severity::kWarningHi, kStepIsolate},
+    {EventId::kTileRecovered, "tile_recovered", Severity::kInfo, kStepRecover},
+    {EventId::kTileRebooted, "tile_rebooted", Severity::kWarningHi, kStepDetect | kStepRecover},
+    {EventId::kTileLost, "tile_lost", Severity::kFatal, kStepDetect},
 }};
 
 namespace detail {

@@ -236,6 +236,7 @@ void net_health_task_main(void* arg) noexcept {
     if (s->to_send != 0ULL) {
       publish(*s);
     }
+    k::checkin();
     k::sleep(s->to_send != 0ULL ? 1 : static_cast<k::Ticks>(cfg->idle_ticks));
   }
 }

@@ -347,6 +347,7 @@ void endpoint_task_main(void* arg) noexcept {
     if (probe_now) {
       push_to_stale(ep);
     }
+    k::checkin();
     (void)k::wait_period();
   }
 }

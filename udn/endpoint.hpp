@@ -81,8 +81,11 @@ void pack_fault_map(const FaultMap& map, std::span<std::uint32_t, kFaultMapWords
 void endpoint_task_main(void* arg) noexcept;
 
 /** The service task's table entry for @p cfg (priority 0, period 1, preemptive). */
+/** The service's check-in budget with the tile's health agent (it checks in every tick). */
+inline constexpr std::uint32_t kCommWatchTicks = 20U;
+
 constexpr k::TaskSpec endpoint_task_spec(EndpointConfig* cfg) noexcept {
-  return k::TaskSpec{"comm", &endpoint_task_main, cfg, 0, 1, 0, 16U * 1024U, k::Policy::kPreemptive};
+  return k::TaskSpec{"comm", &endpoint_task_main, cfg, 0, 1, 0, 16U * 1024U, k::Policy::kPreemptive, kCommWatchTicks};
 }
 
 /** True once the current tile's endpoint is open. [task] */

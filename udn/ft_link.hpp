@@ -7,8 +7,8 @@
  * (word 4, covered by the route code) is laid out by this layer:
  *   [31..24] source tile index | [23..16] sequence (mod 256) |
  *   [15..12] kind (FtKind) | [11..8] flags (bit 8: resync) | [7..0] channel
- * Application channels are 0..kFtChannels-1, then two system channels
- * (kFtChanFdir, kFtChanMap) for fault management; channel kFtControlChannel
+ * Application channels are 0..kFtChannels-1, then three system channels
+ * (kFtChanFdir, kFtChanMap, kFtChanHealth) for fault management; channel kFtControlChannel
  * carries the unreliable control kinds (ACK, NACK, PING, PONG) whose data
  * word 0 names the acknowledged channel (ACK/NACK) or the nonce (PING/PONG);
  * PING and PONG carry the sender's fault-map version in word 1, so a tile
@@ -62,7 +62,8 @@ inline constexpr std::uint32_t kFtQueue = 3U;            ///< demux queue it is 
 inline constexpr std::uint32_t kFtChannels = 5U;         ///< application channels 0..4
 inline constexpr std::uint32_t kFtChanFdir = kFtChannels;       ///< system: reports to fault-management tasks
 inline constexpr std::uint32_t kFtChanMap = kFtChannels + 1U;   ///< system: fault maps, taken by the tile's endpoint
-inline constexpr std::uint32_t kFtAllChannels = kFtChannels + 2U;  ///< application and system channels
+inline constexpr std::uint32_t kFtChanHealth = kFtChannels + 2U;  ///< system: boot reports to the tile-health supervisor
+inline constexpr std::uint32_t kFtAllChannels = kFtChannels + 3U;  ///< application and system channels
 inline constexpr std::uint32_t kFtControlChannel = 0xFFU;
 inline constexpr std::uint32_t kFtWindow = 8U;    ///< unacknowledged packets per destination
 inline constexpr std::uint32_t kFtTxSlots = 16U;  ///< retransmit buffers per tile

@@ -49,6 +49,15 @@ bsp::TileId neighbour_of(bsp::TileId t, std::uint64_t dir, std::uint32_t cols, s
   }
 }
 
+const char* boot_cause_name(std::uint32_t cause) noexcept {
+  switch (cause) {
+    case static_cast<std::uint32_t>(bsp::BootCause::kPowerOn): return "power-on";
+    case static_cast<std::uint32_t>(bsp::BootCause::kCommand): return "command";
+    case static_cast<std::uint32_t>(bsp::BootCause::kWatchdog): return "own watchdog";
+    default: return "crash or external reset";
+  }
+}
+
 /** Whether flight event @p e detects the injection @p r (see docs/FDIR.md, "The join"). */
 bool detects(const bsp::FaultRecord& r, const fdir::Event& e) {
   const bsp::TileId t = r.spec.tile;
@@ -69,8 +78,12 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e) {
     default:
       // A fault of the core (hang, reset, upset, corrupted output, watchdog): the tile named by a
       // detection of its silence or its switch.
+      if (e.id == EventId::kTaskOverdue) {
+        return e.tile == t;  // the tile's own agent names one of its tasks
+      }
       return (e.id == EventId::kWorkerSilent || e.id == EventId::kSwitchFailed ||
-              e.id == EventId::kNeighbourSuspect || e.id == EventId::kCoreSuspect) &&
+              e.id == EventId::kNeighbourSuspect || e.id == EventId::kCoreSuspect ||
+              e.id == EventId::kWatchdogExpired || e.id == EventId::kTileRebooted) &&
              e.subject == t;
   }
 }
@@ -90,6 +103,14 @@ bool recovers(const fdir::Event& d, const fdir::Event& e) {
       return e.id == EventId::kMapPublished && e.subject >= d.b;
     case EventId::kWorkerSilent:
       return (e.id == EventId::kFrameDone && e.cause == 0U) || (e.id == EventId::kWorkerBack && e.subject == d.subject);
+    case EventId::kWatchdogExpired:
+    case EventId::kCoreSuspect:
+    case EventId::kNeighbourSuspect:
+      return e.id == EventId::kTileRecovered && e.subject == d.subject;
+    case EventId::kTaskOverdue:
+      return e.id == EventId::kTileRecovered && e.subject == d.tile;
+    case EventId::kTileRebooted:
+      return false;  // recovered by the detecting event itself: the tile runs its role again
     default:
       return false;  // a neighbour's suspicion alone isolates nothing
   }
@@ -210,6 +231,27 @@ std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noe
     case EventId::kAssertFailed:
       (void)std::snprintf(b.data(), b.size(), "assertion %s failed (line %u): recovery requested", s, e.cause);
       break;
+    case EventId::kTaskOverdue:
+      (void)std::snprintf(b.data(), b.size(), "task %s of tile %u missed its check-in by %u ticks (budget %u): "
+                          "the watchdog is no longer kicked", s, e.cause, e.a, e.b);
+      break;
+    case EventId::kWatchdogExpired:
+      (void)std::snprintf(b.data(), b.size(), "watchdog of tile %s expired (%u expiries so far)", s, e.a);
+      break;
+    case EventId::kTileReset:
+      (void)std::snprintf(b.data(), b.size(), "tile %s reset by the supervisor (reset %u of at most %u)", s, e.a, e.b);
+      break;
+    case EventId::kTileRecovered:
+      (void)std::snprintf(b.data(), b.size(), "tile %s booted its role again and reported, %u ms after its reset", s,
+                          e.a);
+      break;
+    case EventId::kTileRebooted:
+      (void)std::snprintf(b.data(), b.size(), "tile %s booted again without a command (cause %s): its role restarts",
+                          s, boot_cause_name(e.cause));
+      break;
+    case EventId::kTileLost:
+      (void)std::snprintf(b.data(), b.size(), "tile %s did not report back %u ms after its reset", s, e.a);
+      break;
   }
   return used + std::char_traits<char>::length(b.data());
 }
@@ -233,7 +275,18 @@ void FlightEventCollector::take(const fdir::Event& e) noexcept {
         health_[e.subject] = TileHealth::kSuspect;
       }
       break;
+    case EventId::kWatchdogExpired:
+    case EventId::kTileReset:
+      if (e.subject < bsp::kMaxTiles && health_[e.subject] != TileHealth::kFailed) {
+        health_[e.subject] = TileHealth::kSuspect;
+      }
+      break;
+    case EventId::kTileLost:
+      health_[e.subject % bsp::kMaxTiles] = TileHealth::kFailed;
+      break;
     case EventId::kWorkerBack:
+    case EventId::kTileRecovered:
+    case EventId::kTileRebooted:
       if (e.subject < bsp::kMaxTiles) {
         health_[e.subject] = TileHealth::kRecovered;
       }

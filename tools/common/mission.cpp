@@ -98,7 +98,8 @@ bool Mission::boot(std::string& error) {
   const Scenario& s = setup_.scenario;
   bsp::BoardConfig cfg = bsp::default_config(bsp::kTile64);
   cfg.seed = s.seed;
-  cfg.monitor_tile = bsp::kNoTile;
+  // Every watchdog interrupt goes to the tile-health supervisor's tile.
+  cfg.monitor_tile = trn::tasks::kSupervisorTile;
   powered_ = 0;
   for (std::uint32_t t = 0; t < trn::tasks::kMapTiles; ++t) {
     const Role r = trn::tasks::kTileRoles[t];
@@ -153,6 +154,8 @@ bool Mission::boot(std::string& error) {
   // A spare's switch routes but nothing runs there to forward a detour.
   ep.boot_map.no_forward = spares;
   ep.report_to = trn::tasks::kSupervisorTile;
+  image.agent.supervisor = trn::tasks::kSupervisorTile;
+  image.tile_health.watched = powered_;
   ep.not_probed = spares;
   ep.sink = fdir::ft_event_sink();
   image.net_health.not_voted = spares;

@@ -42,6 +42,7 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <unistd.h>
@@ -291,6 +292,8 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.matches_per_frame_mean =
       flight.frames() > 0U ? static_cast<double>(flight.matches()) / static_cast<double>(flight.frames()) : 0.0;
   std::uint64_t misses = 0;
+  // Longest time between two check-ins of each task with its tile's health agent (the budgets' margin).
+  std::vector<std::pair<std::string, double>> gaps;
   for (bsp::TileId t = 0; t < bsp::kTile64.tiles(); ++t) {
     if (((m.powered_mask() >> t) & 1ULL) == 0ULL) {
       continue;
@@ -300,6 +303,13 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
       k::TaskStats ks{};
       if (k::task_stats(t, k::find_task(t, spec.name), &ks) == k::Status::kOk) {
         misses += ks.deadline_misses;
+        const std::string key = std::string("checkin_gap_max_ms_") + spec.name;
+        auto g = std::find_if(gaps.begin(), gaps.end(), [&](const auto& x) { return x.first == key; });
+        if (g == gaps.end()) {
+          gaps.emplace_back(key, 0.0);
+          g = gaps.end() - 1;
+        }
+        g->second = std::max(g->second, static_cast<double>(ks.max_checkin_gap));
       }
     }
   }
@@ -318,6 +328,9 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("detection_latency_max_ms", faults.max_detection_latency_s * 1e3);
   s.extra.emplace_back("flight_events", static_cast<double>(flight.events().size()));
   s.extra.emplace_back("flight_events_lost", static_cast<double>(flight.lost()));
+  for (const auto& g : gaps) {
+    s.extra.push_back(g);
+  }
   s.extra.emplace_back("converged_at_s", rec.converged_at_s);
   s.extra.emplace_back("landmarks_selected", c.landmarks_selected);
   s.extra.emplace_back("coarse_accepted", c.coarse_accepted);

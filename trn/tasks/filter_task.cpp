@@ -224,6 +224,7 @@ void filter_task_main(void* arg) noexcept {
     if (slot.stats.last_job_cycles > slot.stats.max_job_cycles) {
       slot.stats.max_job_cycles = slot.stats.last_job_cycles;
     }
+    k::checkin();
     (void)k::wait_period();
   }
 }

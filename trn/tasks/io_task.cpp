@@ -25,6 +25,8 @@ void device_isr(bsp::TileId /*tile*/) noexcept { (void)g_device_ready.give_from_
 constexpr std::uint32_t kSendTicks = 5;
 /** Samples forwarded per wake-up at most (the FIFO depth). */
 constexpr std::uint32_t kMaxPerWake = bsp::kImuFifoDepth;
+/** Longest wait for a device interrupt between two check-ins with the health agent. */
+constexpr std::uint32_t kIdleCheckinTicks = 20;
 /** Ticks a frame notice may wait for the network. */
 constexpr std::uint32_t kNoticeTicks = 20;
 
@@ -59,7 +61,9 @@ void io_task_main(void* arg) noexcept {
   }
   std::array<std::uint32_t, kImuWords> words{};
   for (;;) {  // the driver loop: one pass per device interrupt
-    (void)g_device_ready.take(k::kForever);
+    // The IMU interrupts every 10 ms in flight; the timeout keeps the check-ins going before and after.
+    (void)g_device_ready.take(k::Timeout{kIdleCheckinTicks});
+    k::checkin();
     bsp::ImuSample s{};
     for (std::uint32_t n = 0; n < kMaxPerWake && bsp::imu_read(&s); ++n) {
       pack_imu(s, words);

@@ -17,7 +17,8 @@ bool tile_ok(bsp::TileId t) noexcept { return t < kMapTiles || t == bsp::kNoTile
 
 ImageError check(const ImageConfig& c) noexcept {
   if (!tile_ok(c.endpoint.report_to) || !tile_ok(c.io.filter_tile) || !tile_ok(c.io.coordinator_tile) ||
-      !tile_ok(c.filter.nav_sink) || !tile_ok(c.coord.filter_tile) || !tile_ok(c.vision.coordinator)) {
+      !tile_ok(c.filter.nav_sink) || !tile_ok(c.coord.filter_tile) || !tile_ok(c.vision.coordinator) ||
+      !tile_ok(c.agent.supervisor)) {
     return ImageError::kBadTile;
   }
   if (c.coord.vision_count > kMaxVisionTiles) {
@@ -27,6 +28,10 @@ ImageError check(const ImageConfig& c) noexcept {
     if (c.coord.vision_tiles[i] >= kMapTiles) {
       return ImageError::kBadVisionList;
     }
+  }
+  if (c.agent.watchdog_ticks < 2U * fdir::kAgentPeriodTicks || c.tile_health.max_resets == 0U ||
+      c.tile_health.poll_ticks == 0U) {
+    return ImageError::kBadConfig;
   }
   if (c.net_health.votes_to_fail < 2U || c.filter.matches_per_job == 0U ||
       c.filter.matches_per_job > kMaxMatchesPerFrame || !(c.coord.deadline_s > 0.0)) {

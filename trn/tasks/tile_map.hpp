@@ -13,12 +13,15 @@
  *
  * The supervisors' tiles are reserved for the fault-management layer. Today
  * the TRN supervisor's tile runs the network-health task (switch and link
- * voting, fault-map publication: fdir/net_health.hpp) and the filter
- * supervisor's tile stays off.
+ * voting, fault-map publication: fdir/net_health.hpp) and the tile-health
+ * supervisor (watchdog interrupts, resets: fdir/tile_health.hpp); the filter
+ * supervisor's tile stays off. Every role tile runs a health agent that
+ * kicks its hardware watchdog while its tasks check in.
  */
 #pragma once
 
 #include "fdir/net_health.hpp"
+#include "fdir/tile_health.hpp"
 #include "kernel/task_table.hpp"
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/io_task.hpp"
@@ -88,7 +91,9 @@ static_assert(kTileRoles[kCoordinatorTile] == Role::kVisionCoordinator && kTileR
 /** Everything the image's tasks are configured with: one value, given before boot. */
 struct ImageConfig {
   udn::EndpointConfig endpoint{};        ///< every tile's messaging endpoint (boot map, probes, report tile, sink)
+  fdir::HealthAgentConfig agent{};       ///< every tile's health agent (supervisor tile, watchdog timeout)
   fdir::NetHealthConfig net_health{};    ///< the TRN supervisor's network-health task
+  fdir::TileHealthConfig tile_health{};  ///< the TRN supervisor's tile-health task
   IoTaskConfig io{};                     ///< the I/O tile's driver
   FilterTaskConfig filter{};             ///< the navigation filter
   VisionCoordConfig coord{};             ///< the vision coordinator
@@ -120,17 +125,34 @@ extern ImageConfig g_image;
 
 /** The endpoint service every TRN tile runs first in its table. */
 inline constexpr k::TaskSpec kCommTask = udn::endpoint_task_spec(&detail::g_image.endpoint);
+/** The health agent every TRN tile runs second (task watchdog, hardware watchdog kicks, boot report). */
+inline constexpr k::TaskSpec kAgentTask = fdir::health_agent_task_spec(&detail::g_image.agent);
 
-/** The TRN supervisor's tile: network health (suspect voting, fault map). */
+/**
+ * Check-in budgets (ticks) of the role tasks with their tile's health agent:
+ * a few times the longest gap between two check-ins measured in flight
+ * (docs/FDIR.md, "Core health").
+ */
+inline constexpr std::uint32_t kWatchSupervisor = 50U;
+inline constexpr std::uint32_t kWatchIo = 100U;
+inline constexpr std::uint32_t kWatchFilter = 50U;
+inline constexpr std::uint32_t kWatchCoordinator = 3000U;
+inline constexpr std::uint32_t kWatchVision = 500U;
+
+/** The TRN supervisor's tile: network health (suspect voting, fault map) and tile health (watchdogs). */
 inline constexpr k::TaskSpec kSupervisorRole[] = {
     kCommTask,
-    {"net_health", &fdir::net_health_task_main, &detail::g_image.net_health, 1, 0, 0, 16U * 1024U,
-     k::Policy::kPreemptive},
+    kAgentTask,
+    {"tile_health", &fdir::tile_health_task_main, &detail::g_image.tile_health, 2, 0, 0, 16U * 1024U,
+     k::Policy::kPreemptive, kWatchSupervisor},
+    {"net_health", &fdir::net_health_task_main, &detail::g_image.net_health, 3, 0, 0, 16U * 1024U,
+     k::Policy::kPreemptive, kWatchSupervisor},
 };
-/** I/O tile: the device driver, most urgent after its messaging service. */
+/** I/O tile: the device driver, most urgent after its messaging service and agent. */
 inline constexpr k::TaskSpec kIoRole[] = {
     kCommTask,
-    {"io", &io_task_main, &detail::g_image.io, 1, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
+    kAgentTask,
+    {"io", &io_task_main, &detail::g_image.io, 2, 0, 0, 32U * 1024U, k::Policy::kPreemptive, kWatchIo},
 };
 /**
  * Filter tile: the messaging service (IMU and match batches in, solutions out)
@@ -138,17 +160,23 @@ inline constexpr k::TaskSpec kIoRole[] = {
  */
 inline constexpr k::TaskSpec kFilterRole[] = {
     kCommTask,
-    {"filter", &filter_task_main, &detail::g_image.filter, 2, 10, 10, 32U * 1024U, k::Policy::kPreemptive},
+    kAgentTask,
+    {"filter", &filter_task_main, &detail::g_image.filter, 2, 10, 10, 32U * 1024U, k::Policy::kPreemptive,
+     kWatchFilter},
 };
 /** Vision coordinator. */
 inline constexpr k::TaskSpec kCoordinatorRole[] = {
     kCommTask,
-    {"vision_coord", &vision_coord_main, &detail::g_image.coord, 2, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
+    kAgentTask,
+    {"vision_coord", &vision_coord_main, &detail::g_image.coord, 2, 0, 0, 32U * 1024U, k::Policy::kPreemptive,
+     kWatchCoordinator},
 };
 /** A vision tile. */
 inline constexpr k::TaskSpec kVisionRole[] = {
     kCommTask,
-    {"vision", &vision_worker_main, &detail::g_image.vision, 2, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
+    kAgentTask,
+    {"vision", &vision_worker_main, &detail::g_image.vision, 2, 0, 0, 32U * 1024U, k::Policy::kPreemptive,
+     kWatchVision},
 };
 
 static_assert(k::check_table(kSupervisorRole) == k::TableError::kOk);

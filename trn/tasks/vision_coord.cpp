@@ -498,6 +498,7 @@ void vision_coord_main(void* arg) noexcept {
     if (!st->busy && st->have_pending) {
       start_frame(*st, stats);
     }
+    k::checkin();
     k::sleep(kCoordIdleTicks);
   }
 }

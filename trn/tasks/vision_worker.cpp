@@ -144,6 +144,7 @@ void vision_worker_main(void* arg) noexcept {
   }
   udn::FtMessage m{};
   for (;;) {
+    k::checkin();
     if (udn::endpoint_receive(kChanControl, m) != udn::FtError::kOk) {
       k::sleep(kWorkerIdleTicks);
       continue;

@@ -1,0 +1,81 @@
+/**
+ * @file tile_health.hpp
+ * @brief Core health, two-level watchdogs: every tile's health agent, and the tile-health
+ *        supervisor that takes the watchdog interrupt, resets a silent tile and sees it back.
+ *
+ * Level 1, on every tile (health_agent_main, a periodic task): each watched
+ * task (TaskSpec::watch_ticks > 0) checks in with k::checkin() within its
+ * budget; the agent kicks the tile's hardware watchdog only while every
+ * watched task is within budget. A task past its budget is written once as
+ * kTaskOverdue and the kicks stop, so the hardware watchdog expires. At its
+ * start the agent arms the watchdog and sends the supervisor a boot report
+ * with the tile's reset cause (kMsgBooted on kFtChanHealth).
+ *
+ * Level 2, on the supervisor's tile (tile_health_task_main): the board raises
+ * Irq::kWatchdog there when any tile's watchdog expires. The supervisor names
+ * the tile (kWatchdogExpired) and, through a health-table monitor per tile
+ * (fdir/health_table.hpp; cap max_resets, as cFS HS), resets it
+ * (kTileReset). The reset tile boots its role's task table again; its agent's
+ * boot report closes the recovery (kTileRecovered, with the time since the
+ * reset). A boot report nobody commanded (a crash) is kTileRebooted; a reset
+ * tile silent for boot_timeout_ticks is kTileLost. Past the cap the tile is
+ * left alone (kActionCapped).
+ *
+ * The supervisor's own tile has no monitor above it on the board: its agent
+ * arms the hardware watchdog with reset on expiry, and the supervisor writes
+ * kTileRebooted about itself when it starts after such a reset.
+ */
+#pragma once
+
+#include "bsp_tile64/port.hpp"
+#include "kernel/task_table.hpp"
+
+#include <cstdint>
+
+namespace fdir {
+
+/** Boot report (udn::kFtChanHealth): [0] kMsgBooted [1] tile [2] bsp::BootCause. */
+inline constexpr std::uint32_t kMsgBooted = 0x424F4F54U;  // "BOOT"
+inline constexpr std::uint32_t kBootedWords = 3U;
+
+struct HealthAgentConfig {
+  bsp::TileId supervisor = bsp::kNoTile;  ///< tile of the tile-health supervisor (boot reports, watchdog monitor)
+  std::uint32_t watchdog_ticks = 20U;     ///< hardware watchdog timeout (>= 2 agent periods)
+};
+
+/** Agent period: it looks at the check-ins and kicks every this many ticks. */
+inline constexpr std::uint32_t kAgentPeriodTicks = 5U;
+
+/** The health agent's task entry (arg: const HealthAgentConfig*). */
+void health_agent_main(void* arg) noexcept;
+
+/** The agent's task row for a role's table: just below the messaging service. */
+constexpr k::TaskSpec health_agent_task_spec(HealthAgentConfig* cfg) noexcept {
+  return k::TaskSpec{"health", &health_agent_main, cfg, 1, kAgentPeriodTicks, 0, 16U * 1024U,
+                     k::Policy::kPreemptive, 0U};
+}
+
+struct TileHealthConfig {
+  std::uint64_t watched = 0U;              ///< tiles whose agents report here (role tiles)
+  std::uint32_t max_resets = 3U;           ///< resets per tile over the mission (>= 1)
+  std::uint32_t boot_timeout_ticks = 200U; ///< a reset tile reports within this or is lost
+  std::uint32_t poll_ticks = 2U;           ///< looks at boot reports and timeouts at least this often
+};
+
+/** The tile-health supervisor's task entry (arg: const TileHealthConfig*). */
+void tile_health_task_main(void* arg) noexcept;
+
+/** What the supervisor has seen and done. [host: displays and tests] */
+struct TileHealthView {
+  std::uint32_t expiries = 0U;   ///< watchdog expiries taken
+  std::uint32_t resets = 0U;     ///< resets commanded
+  std::uint32_t recovered = 0U;  ///< reset tiles that reported back
+  std::uint32_t rebooted = 0U;   ///< boots nobody commanded
+  std::uint32_t lost = 0U;       ///< reset tiles that never reported
+  std::uint64_t pending = 0U;    ///< tiles reset and not yet back
+};
+
+/** The view of the supervisor on @p tile (all zero when none runs there). [host] */
+TileHealthView tile_health_view(bsp::TileId tile) noexcept;
+
+}  // namespace fdir

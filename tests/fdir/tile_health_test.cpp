@@ -1,0 +1,188 @@
+/**
+ * @file tile_health_test.cpp
+ * @brief Two-level watchdogs on a small board: the tile-health supervisor on tile 0, two worker
+ *        tiles with their health agents; hangs, stalled tasks, crashes and the reset cap.
+ */
+#include "fdir/tile_health.hpp"
+
+#include "bsp_tile64/board.hpp"
+#include "bsp_tile64/udn_net.hpp"
+#include "fdir/event_log.hpp"
+#include "fdir/ft_sink.hpp"
+#include "kernel/kernel.hpp"
+#include "tests/fdir/fdir_fixture.hpp"
+#include "trn/tasks/tile_map.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace {
+
+using fdir::EventId;
+using fdir_test::events_of;
+using fdir_test::kTick;
+
+constexpr bsp::TileId kSup = 0;
+constexpr bsp::TileId kA = 1;
+constexpr bsp::TileId kB = 2;
+constexpr std::uint32_t kWorkBudget = 30U;
+
+/** Set by the test: the worker of that tile stops checking in (once; a restart runs normally). */
+std::array<bool, 3> g_stall{};
+
+void work_main(void* /*arg*/) {
+  const bsp::TileId self = bsp::current_tile();
+  for (;;) {
+    if (self < g_stall.size() && g_stall[self]) {
+      g_stall[self] = false;
+      for (;;) {
+        k::sleep(5);  // alive, but never checks in again
+      }
+    }
+    k::checkin();
+    k::sleep(5);
+  }
+}
+
+constexpr k::TaskSpec kWorkerTable[] = {
+    trn::tasks::kCommTask,
+    trn::tasks::kAgentTask,
+    {"work", &work_main, nullptr, 2, 0, 0, 16U * 1024U, k::Policy::kPreemptive, kWorkBudget},
+};
+static_assert(k::check_table(kWorkerTable) == k::TableError::kOk);
+
+std::vector<fdir::Event> events_with(bsp::TileId tile, EventId id, std::uint32_t subject) {
+  std::vector<fdir::Event> out;
+  for (const fdir::Event& e : events_of(tile)) {
+    if (e.id == id && e.subject == subject) {
+      out.push_back(e);
+    }
+  }
+  return out;
+}
+
+double ms(bsp::Cycles c) { return static_cast<double>(c) / static_cast<double>(kTick); }
+
+class TileHealth : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    g_stall = {};
+    trn::tasks::ImageConfig image{};
+    ASSERT_EQ(udn::fault_map_init(image.endpoint.boot_map, bsp::kTile64.cols, bsp::kTile64.rows),
+              udn::RouteError::kOk);
+    image.endpoint.sink = fdir::ft_event_sink();
+    image.agent.supervisor = kSup;
+    image.tile_health.watched = (1ULL << kA) | (1ULL << kB);
+    ASSERT_EQ(trn::tasks::configure_image(image), trn::tasks::ImageError::kOk);
+    bsp::BoardConfig cfg = bsp::default_config(bsp::kTile64);
+    cfg.powered_at_start = (1ULL << kSup) | (1ULL << kA) | (1ULL << kB);
+    cfg.monitor_tile = kSup;
+    for (const bsp::TileId t : {kSup, kA, kB}) {
+      cfg.boot[t] = &k::boot_entry;
+    }
+    k::set_task_table(kSup, trn::tasks::kSupervisorRole, kTick);
+    k::set_task_table(kA, kWorkerTable, kTick);
+    k::set_task_table(kB, kWorkerTable, kTick);
+    ASSERT_EQ(bsp::region_reset(bsp::Region{bsp::Region::kDdr}), bsp::MemError::kOk);
+    ASSERT_EQ(bsp::board_init(cfg), bsp::BoardError::kOk);
+    ASSERT_EQ(bsp::udn_net_init(bsp::NetConfig{}), bsp::NetError::kOk);
+    ASSERT_EQ(fdir::event_log_init(), fdir::LogError::kOk);
+    (void)bsp::run_for(200U * kTick);
+  }
+};
+
+TEST_F(TileHealth, AQuietBoardRaisesNothing) {
+  (void)bsp::run_for(500U * kTick);
+  const fdir::TileHealthView v = fdir::tile_health_view(kSup);
+  EXPECT_EQ(v.expiries, 0U);
+  EXPECT_EQ(v.resets, 0U);
+  EXPECT_EQ(v.rebooted, 0U);
+  for (const bsp::TileId t : {kSup, kA, kB}) {
+    EXPECT_EQ(bsp::tile_stats(t).watchdog_expiries, 0U) << "tile " << t;
+  }
+}
+
+TEST_F(TileHealth, AHungTileIsNamedResetAndReportsBack) {
+  const bsp::Cycles hung_at = bsp::board_time();
+  ASSERT_EQ(bsp::hang_tile(kA), bsp::BoardError::kOk);
+  (void)bsp::run_for(400U * kTick);
+  const auto expired = events_with(kSup, EventId::kWatchdogExpired, kA);
+  ASSERT_EQ(expired.size(), 1U);
+  // The agent kicks every 5 ms with a 20 ms timeout: named within 30 ms.
+  EXPECT_LE(ms(expired[0].cycle - hung_at), 30.0);
+  ASSERT_EQ(events_with(kSup, EventId::kTileReset, kA).size(), 1U);
+  const auto back = events_with(kSup, EventId::kTileRecovered, kA);
+  ASSERT_EQ(back.size(), 1U);
+  EXPECT_EQ(back[0].cause, static_cast<std::uint32_t>(bsp::BootCause::kCommand));
+  EXPECT_EQ(bsp::tile_stats(kA).resets, 1U);
+  EXPECT_FALSE(bsp::tile_stopped(kA));
+  EXPECT_TRUE(events_with(kSup, EventId::kWatchdogExpired, kB).empty());
+  const fdir::TileHealthView v = fdir::tile_health_view(kSup);
+  EXPECT_EQ(v.recovered, 1U);
+  EXPECT_EQ(v.pending, 0U);
+}
+
+TEST_F(TileHealth, AStalledTaskStopsTheKicksOfItsTile) {
+  g_stall[kB] = true;
+  (void)bsp::run_for(400U * kTick);
+  const auto overdue = events_with(kB, EventId::kTaskOverdue, k::find_task(kB, "work"));
+  ASSERT_FALSE(overdue.empty());
+  EXPECT_EQ(overdue[0].cause, kB);
+  EXPECT_EQ(overdue[0].b, kWorkBudget);
+  EXPECT_EQ(events_with(kSup, EventId::kWatchdogExpired, kB).size(), 1U);
+  EXPECT_EQ(events_with(kSup, EventId::kTileRecovered, kB).size(), 1U);
+  EXPECT_TRUE(events_with(kSup, EventId::kWatchdogExpired, kA).empty());
+}
+
+TEST_F(TileHealth, ACrashIsReportedAsAnUncommandedBoot) {
+  ASSERT_EQ(bsp::reset_tile_for(kB, bsp::ResetReason::kFault), bsp::BoardError::kOk);
+  (void)bsp::run_for(300U * kTick);
+  const auto rebooted = events_with(kSup, EventId::kTileRebooted, kB);
+  ASSERT_EQ(rebooted.size(), 1U);
+  EXPECT_EQ(rebooted[0].cause, static_cast<std::uint32_t>(bsp::BootCause::kOther));
+  EXPECT_TRUE(events_with(kSup, EventId::kTileReset, kB).empty());
+}
+
+TEST_F(TileHealth, ResetsStopAtTheCap) {
+  for (int i = 0; i < 4; ++i) {
+    ASSERT_EQ(bsp::hang_tile(kA), bsp::BoardError::kOk);
+    (void)bsp::run_for(400U * kTick);
+  }
+  EXPECT_EQ(events_with(kSup, EventId::kTileReset, kA).size(), 3U);
+  EXPECT_EQ(events_with(kSup, EventId::kTileRecovered, kA).size(), 3U);
+  EXPECT_EQ(events_with(kSup, EventId::kActionCapped, kA).size(), 1U);
+  EXPECT_EQ(bsp::tile_stats(kA).resets, 3U);
+  EXPECT_TRUE(bsp::tile_stopped(kA));  // the fourth hang is left alone
+}
+
+TEST_F(TileHealth, AResetTileThatNeverReportsIsLost) {
+  ASSERT_EQ(bsp::hang_tile(kA), bsp::BoardError::kOk);
+  for (int i = 0; i < 100 && events_with(kSup, EventId::kTileReset, kA).empty(); ++i) {
+    (void)bsp::run_for(kTick);
+  }
+  ASSERT_EQ(events_with(kSup, EventId::kTileReset, kA).size(), 1U);
+  ASSERT_EQ(bsp::power_off(kA), bsp::BoardError::kOk);  // it never boots
+  (void)bsp::run_for(400U * kTick);
+  EXPECT_EQ(events_with(kSup, EventId::kTileLost, kA).size(), 1U);
+  EXPECT_TRUE(events_with(kSup, EventId::kTileRecovered, kA).empty());
+  EXPECT_EQ(fdir::tile_health_view(kSup).lost, 1U);
+}
+
+TEST_F(TileHealth, TheSupervisorsOwnWatchdogResetsItsTile) {
+  ASSERT_EQ(bsp::hang_tile(kSup), bsp::BoardError::kOk);
+  (void)bsp::run_for(300U * kTick);
+  EXPECT_EQ(bsp::tile_stats(kSup).resets, 1U);
+  EXPECT_FALSE(bsp::tile_stopped(kSup));
+  const auto rebooted = events_with(kSup, EventId::kTileRebooted, kSup);
+  ASSERT_EQ(rebooted.size(), 1U);
+  EXPECT_EQ(rebooted[0].cause, static_cast<std::uint32_t>(bsp::BootCause::kWatchdog));
+  // Back in service: a hang of a worker is handled by the restarted supervisor.
+  ASSERT_EQ(bsp::hang_tile(kB), bsp::BoardError::kOk);
+  (void)bsp::run_for(400U * kTick);
+  EXPECT_EQ(events_with(kSup, EventId::kTileReset, kB).size(), 1U);
+}
+
+}  // namespace
