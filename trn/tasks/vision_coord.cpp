@@ -79,20 +79,16 @@ bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
       vision::map_view(product, bsp::kMapLayerCoarse, st.coarse_map) != vision::Status::kOk) {
     return false;
   }
-  const bsp::Region ddr{bsp::Region::kDdr};
-  bsp::MemError err = bsp::MemError::kOk;
-  st.table = bsp::carve_array<vision::LandmarkTable>(ddr, 1, kLandmarkCarveName, &err);
-  if (err != bsp::MemError::kOk) {
-    return false;
-  }
-  st.coarse_ws = bsp::carve_array<vision::CoarseFrameWorkspace>(ddr, 1, "coarse_ws", &err);
-  if (err != bsp::MemError::kOk) {
-    return false;
-  }
+  // A restarted coordinator takes back the DDR its predecessor carved (the
+  // products are rebuilt below): restarts never use up the shared region.
+  st.table = reinterpret_cast<vision::LandmarkTable*>(  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
+      ddr_carve_named(kLandmarkCarveName, sizeof(vision::LandmarkTable), alignof(vision::LandmarkTable)));
+  st.coarse_ws = reinterpret_cast<vision::CoarseFrameWorkspace*>(  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
+      ddr_carve_named(kCoarseWsCarveName, sizeof(vision::CoarseFrameWorkspace), alignof(vision::CoarseFrameWorkspace)));
   const vision::ConstImageU8 orbital = st.coarse_map.image;
-  auto* relit = bsp::carve_array<std::uint8_t>(
-      ddr, static_cast<std::size_t>(orbital.width) * static_cast<std::size_t>(orbital.height), kRelitCarveName, &err);
-  if (err != bsp::MemError::kOk) {
+  std::uint8_t* relit =
+      ddr_carve_named(kRelitCarveName, static_cast<std::size_t>(orbital.width) * static_cast<std::size_t>(orbital.height), 1U);
+  if (st.table == nullptr || st.coarse_ws == nullptr || relit == nullptr) {
     return false;
   }
   ::new (st.table) vision::LandmarkTable{};
@@ -117,6 +113,7 @@ bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
   }
   work.flops += 3ULL * st.table->count;
   bsp::consume(work);
+  k::checkin();
   stats.landmarks_selected = st.table->count;
   return true;
 }
@@ -141,6 +138,7 @@ bool relight_coarse(CoordState& st) noexcept {
     // (a tile out of the fault map refuses at once).
     st.band_done[i] = rows == 0;
     bool sent = st.band_done[i];
+    k::checkin();
     for (std::uint32_t k = 0; k < n && !sent; ++k) {
       sent = udn::endpoint_send(st.cfg->vision_tiles[(i + k) % n], kChanControl, w, kVisionSendTicks) == udn::FtError::kOk;
     }
@@ -169,12 +167,14 @@ bool relight_coarse(CoordState& st) noexcept {
         }
       }
     }
+    k::checkin();
     k::sleep(1);
   }
   for (std::uint32_t i = 0; i < n; ++i) {
     std::int32_t row0 = 0;
     std::int32_t rows = 0;
     band_rows(height, i, n, row0, rows);
+    k::checkin();
     if (!st.band_done[i] && !relight_band(st.coarse_map, st.cfg->descent_sun_m, st.relit, row0, rows)) {
       return false;
     }

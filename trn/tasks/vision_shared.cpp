@@ -48,6 +48,20 @@ const std::uint8_t* ddr_find(const char* what) noexcept {
   return nullptr;
 }
 
+std::uint8_t* ddr_carve_named(const char* what, std::size_t bytes, std::size_t align) noexcept {
+  const bsp::Region ddr{bsp::Region::kDdr};
+  for (const bsp::CarveRecord& r : bsp::region_carves(ddr)) {
+    if (r.what != nullptr && std::strcmp(r.what, what) == 0) {
+      return r.bytes == bytes ? reinterpret_cast<std::uint8_t*>(  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
+                                    bsp::region_span(ddr).data() + r.offset)
+                              : nullptr;
+    }
+  }
+  const bsp::Carve c = bsp::carve(ddr, bytes, align, what);
+  return c.error == bsp::MemError::kOk ? reinterpret_cast<std::uint8_t*>(c.ptr)  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
+                                       : nullptr;
+}
+
 const vision::LandmarkTable* landmark_table_find() noexcept {
   return reinterpret_cast<const vision::LandmarkTable*>(ddr_find(kLandmarkCarveName));  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
 }

@@ -9,6 +9,7 @@
 #include "trn/vision/frame.hpp"
 #include "trn/vision/landmarks.hpp"
 
+#include <cstddef>
 #include <cstdint>
 
 namespace trn::tasks {
@@ -17,6 +18,8 @@ namespace trn::tasks {
 inline constexpr const char* kLandmarkCarveName = "landmarks";
 /** Name of the shared DDR carve holding the coarse layer relit to the descent sun. */
 inline constexpr const char* kRelitCarveName = "coarse_relit";
+/** DDR carve name of the coordinator's coarse-stage workspace. */
+inline constexpr const char* kCoarseWsCarveName = "coarse_ws";
 /** Ticks a unit, a result or a batch part may wait for the network before it is counted as failed. */
 inline constexpr std::uint32_t kVisionSendTicks = 20;
 
@@ -28,6 +31,14 @@ const std::uint8_t* ddr_at(std::uint64_t offset, std::uint64_t bytes) noexcept;
 
 /** The DDR carve named @p what, or nullptr. */
 const std::uint8_t* ddr_find(const char* what) noexcept;
+
+/**
+ * The DDR carve named @p what if one of @p bytes exists (a restarted task
+ * takes back what it carved before; the bytes are as left), else a new zeroed
+ * carve. nullptr when the region is full or a carve of that name has another
+ * size. [task]
+ */
+std::uint8_t* ddr_carve_named(const char* what, std::size_t bytes, std::size_t align) noexcept;
 
 /** Rows [@p row0, @p row0 + @p rows) of band @p i of @p n over @p height rows. */
 void band_rows(std::int32_t height, std::uint32_t i, std::uint32_t n, std::int32_t& row0, std::int32_t& rows) noexcept;
