@@ -66,6 +66,9 @@ enum class EventId : std::uint16_t {
   kTileRecovered = 0x0504,     ///< a reset tile booted its role again and reported; subject: tile, cause: boot cause, a: ms since the reset
   kTileRebooted = 0x0505,      ///< a tile booted again without a command (crash); subject: tile, cause: boot cause
   kTileLost = 0x0506,          ///< a reset tile never reported back; subject: tile, a: ms waited
+  kRoleMoved = 0x0507,         ///< a retired tile's role goes to a spare; subject: role slot, cause: old tile, a: spare, b: directory version
+  kRoleRestored = 0x0508,      ///< the spare booted the role and reported; subject: role slot, cause: retired tile, a: spare, b: ms since the move
+  kNoSpare = 0x0509,           ///< a role could not move (no spare left, or it would not switch on); subject: slot, cause: old tile
 };
 
 struct EventInfo {
@@ -76,7 +79,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 31> kEventTable{{
+inline constexpr std::array<EventInfo, 34> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -108,6 +111,9 @@ inline constexpr std::array<EventInfo, 31> kEventTable{{
     {EventId::kTileRecovered, "tile_recovered", Severity::kInfo, kStepRecover},
     {EventId::kTileRebooted, "tile_rebooted", Severity::kWarningHi, kStepDetect | kStepRecover},
     {EventId::kTileLost, "tile_lost", Severity::kFatal, kStepDetect},
+    {EventId::kRoleMoved, "role_moved", Severity::kWarningHi, kStepIsolate},
+    {EventId::kRoleRestored, "role_restored", Severity::kInfo, kStepRecover},
+    {EventId::kNoSpare, "no_spare", Severity::kFatal, kStepNone},
 }};
 
 namespace detail {

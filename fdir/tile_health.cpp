@@ -48,6 +48,14 @@ Overdue find_overdue(bsp::TileId self, k::Ticks now) noexcept {
 
 struct State {
   k::Semaphore expired{0, 1};  ///< given by the watchdog interrupt
+  std::uint64_t watched = 0U;  ///< tiles whose agents report here now
+  std::array<std::uint64_t, udn::kRoleSlots> to_tell{};  ///< per slot: tiles still to be sent its latest move
+  std::uint64_t map_to_tell = 0U;  ///< tiles that booted and are still to be sent the fault map
+  std::uint64_t adopted = 0U;      ///< spares that took a role: sent every new fault map (the health task skips spares)
+  std::array<std::uint32_t, bsp::kMaxTiles> map_sent{};  ///< fault-map version last sent to each tile
+  std::array<std::uint32_t, bsp::kMaxTiles> arriving{};  ///< per spare switched on: the slot it takes (kNoSlot: none)
+  std::array<bsp::TileId, bsp::kMaxTiles> arriving_from{};  ///< per spare switched on: the retired tile
+  std::array<k::Ticks, bsp::kMaxTiles> moved_at{};
   MonitorSpec spec{};
   std::array<MonitorState, bsp::kMaxTiles> wd{};
   std::array<k::Ticks, bsp::kMaxTiles> reset_at{};
@@ -56,6 +64,9 @@ struct State {
 };
 
 std::array<State*, bsp::kMaxTiles> g_state{};
+
+/** Boot assignments in DDR (survive the spare's switch-on); nullptr before boot_slots_init. */
+std::uint32_t* g_boot_slots = nullptr;
 
 void watchdog_isr(bsp::TileId tile) noexcept {
   if (tile < bsp::kMaxTiles && g_state[tile] != nullptr) {
@@ -73,15 +84,127 @@ std::uint32_t ms_since(k::Ticks then) noexcept {
   return static_cast<std::uint32_t>(per_ms == 0U ? d : cycles / per_ms);
 }
 
+std::uint32_t distance(bsp::TileId a, bsp::TileId b) noexcept {
+  const std::uint32_t cols = bsp::kTile64.cols;
+  const std::uint32_t ax = a % cols;
+  const std::uint32_t ay = a / cols;
+  const std::uint32_t bx = b % cols;
+  const std::uint32_t by = b / cols;
+  return (ax > bx ? ax - bx : bx - ax) + (ay > by ? ay - by : by - ay);
+}
+
+/** The free spare nearest @p failed whose switch the fault map does not name; kNoTile for none. */
+bsp::TileId pick_spare(const State& s, bsp::TileId failed) noexcept {
+  const std::uint64_t failed_switches = udn::endpoint_fault_map().failed_tiles;
+  bsp::TileId best = bsp::kNoTile;
+  std::uint32_t best_d = 0xFFFF'FFFFU;
+  for (bsp::TileId t = 0; t < bsp::kMaxTiles; ++t) {
+    if ((s.view.spares & bit(t)) == 0ULL || (failed_switches & bit(t)) != 0ULL) {
+      continue;
+    }
+    const std::uint32_t d = distance(t, failed);
+    if (d < best_d) {
+      best = t;
+      best_d = d;
+    }
+  }
+  return best;
+}
+
+/** Switches @p t off for good and moves every movable role slot it ran to a spare. */
+void retire(State& s, const TileHealthConfig& cfg, bsp::TileId t) noexcept {
+  if ((s.view.retired & bit(t)) != 0ULL) {
+    return;
+  }
+  const udn::RoleDirectory held = udn::endpoint_roles();
+  for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
+    if (held.tile[slot] == t && (cfg.movable_slots & (1U << slot)) == 0U) {
+      // A role bound to this tile (the I/O tile's devices): nowhere to go, so
+      // the tile is kept and a later expiry may reset it again.
+      report(EventId::kNoSpare, slot, t);
+      return;
+    }
+  }
+  s.view.retired |= bit(t);
+  s.view.pending &= ~bit(t);
+  s.watched &= ~bit(t);
+  (void)bsp::power_off(t);
+  const udn::RoleDirectory dir = udn::endpoint_roles();
+  for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
+    if ((cfg.movable_slots & (1U << slot)) == 0U || dir.tile[slot] != t) {
+      continue;
+    }
+    const bsp::TileId p = pick_spare(s, t);
+    if (p == bsp::kNoTile || g_boot_slots == nullptr) {
+      report(EventId::kNoSpare, slot, t);
+      continue;
+    }
+    s.view.spares &= ~bit(p);
+    g_boot_slots[p] = slot;
+    if (bsp::power_on(p) != bsp::BoardError::kOk) {
+      report(EventId::kNoSpare, slot, t);
+      continue;
+    }
+    const std::uint32_t version = dir.version[slot] + 1U;
+    (void)udn::endpoint_move_role(slot, p, version);
+    s.watched |= bit(p);
+    s.adopted |= bit(p);
+    s.arriving[p] = slot;
+    s.arriving_from[p] = t;
+    s.moved_at[p] = k::now_ticks();
+    s.to_tell[slot] = s.watched;
+    ++s.view.moves;
+    report(EventId::kRoleMoved, slot, t, p, version);
+  }
+}
+
+/** Sends the latest move of each slot, and the fault map, to the tiles still to be told (one try each per pass). */
+void tell_moves(State& s) noexcept {
+  const udn::FaultMap map = udn::endpoint_fault_map();
+  const std::uint64_t map_targets = (s.map_to_tell | s.adopted) & s.watched;
+  if (map_targets != 0ULL && map.version != 0U) {
+    std::array<std::uint32_t, udn::kFaultMapWords> w{};
+    udn::pack_fault_map(map, w);
+    for (bsp::TileId t = 0; t < bsp::kMaxTiles; ++t) {
+      const bool due = (s.map_to_tell & bit(t)) != 0ULL || ((s.adopted & bit(t)) != 0ULL && s.map_sent[t] < map.version);
+      if ((map_targets & bit(t)) != 0ULL && due && udn::endpoint_send(t, udn::kFtChanMap, w, 0U) == udn::FtError::kOk) {
+        s.map_to_tell &= ~bit(t);
+        s.map_sent[t] = map.version;
+      }
+    }
+  }
+  const udn::RoleDirectory dir = udn::endpoint_roles();
+  for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
+    if (s.to_tell[slot] == 0ULL) {
+      continue;
+    }
+    const std::array<std::uint32_t, udn::kRoleMoveWords> w{udn::kMsgRoleMove, slot, dir.tile[slot],
+                                                          dir.version[slot]};
+    for (bsp::TileId t = 0; t < bsp::kMaxTiles; ++t) {
+      if ((s.to_tell[slot] & bit(t)) == 0ULL) {
+        continue;
+      }
+      if ((s.watched & bit(t)) == 0ULL) {
+        s.to_tell[slot] &= ~bit(t);  // retired meanwhile
+      } else if (udn::endpoint_send(t, udn::kFtChanMap, w, 0U) == udn::FtError::kOk) {
+        s.to_tell[slot] &= ~bit(t);
+      }
+    }
+  }
+}
+
 void on_expired(State& s, const TileHealthConfig& cfg, bsp::TileId self, bsp::TileId t) noexcept {
   ++s.view.expiries;
   report(EventId::kWatchdogExpired, t, 0U, s.view.expiries);
-  if (t == self || (cfg.watched & bit(t)) == 0ULL || (s.view.pending & bit(t)) != 0ULL) {
+  if (t == self || (s.watched & bit(t)) == 0ULL || (s.view.pending & bit(t)) != 0ULL) {
     return;  // its own (the hardware resets it), not ours, or already being reset
   }
   const MonitorResult r = monitor_sample(s.spec, s.wd[t], t, 1U);
   if (!r.act) {
-    return;  // past the cap: the tile is left as it is (kActionCapped was written)
+    if (s.wd[t].capped) {
+      retire(s, cfg, t);  // past the cap: given up, its roles go to spares
+    }
+    return;
   }
   if (bsp::reset_tile(t) != bsp::BoardError::kOk) {
     report(EventId::kTileLost, t, 1U);
@@ -94,6 +217,23 @@ void on_expired(State& s, const TileHealthConfig& cfg, bsp::TileId self, bsp::Ti
 }
 
 void on_booted(State& s, bsp::TileId t, std::uint32_t cause) noexcept {
+  // It starts from the boot map and directory: the current map and every move
+  // so far are sent to it (a spare is not on the health task's publication
+  // list, a reset tile may have missed a version).
+  s.map_to_tell |= bit(t);
+  const udn::RoleDirectory dir = udn::endpoint_roles();
+  for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
+    if (dir.version[slot] != 0U) {
+      s.to_tell[slot] |= bit(t);
+    }
+  }
+  if (s.arriving[t] != kNoSlot) {
+    ++s.view.restored;
+    report(EventId::kRoleRestored, s.arriving[t], s.arriving_from[t], t, ms_since(s.moved_at[t]));
+    s.arriving[t] = kNoSlot;
+    s.booted |= bit(t);
+    return;
+  }
   if ((s.view.pending & bit(t)) != 0ULL) {
     s.view.pending &= ~bit(t);
     ++s.view.recovered;
@@ -114,6 +254,7 @@ void check_timeouts(State& s, const TileHealthConfig& cfg) noexcept {
       s.view.pending &= ~bit(t);
       ++s.view.lost;
       report(EventId::kTileLost, t, 0U, ms_since(s.reset_at[t]));
+      retire(s, cfg, t);
     }
   }
 }
@@ -162,6 +303,9 @@ void tile_health_task_main(void* arg) noexcept {
     return;
   }
   ::new (s) State{};
+  s->watched = cfg->watched;
+  s->view.spares = cfg->spares;
+  s->arriving.fill(kNoSlot);
   // A silent tile is one sample of 1: fatal at once, the action a reset, at most max_resets.
   s->spec = MonitorSpec{"watchdog", 0U, 1U, 1U, MonitorAction::kRestart, cfg->max_resets};
   g_state[self] = s;
@@ -191,8 +335,27 @@ void tile_health_task_main(void* arg) noexcept {
       }
     }
     check_timeouts(*s, *cfg);
+    tell_moves(*s);
     k::checkin();
   }
+}
+
+bool boot_slots_init() noexcept {
+  bsp::MemError err = bsp::MemError::kOk;
+  auto* slots = bsp::carve_array<std::uint32_t>(bsp::Region{bsp::Region::kDdr}, bsp::kMaxTiles, "fdir_boot_slots", &err);
+  if (err != bsp::MemError::kOk || slots == nullptr) {
+    g_boot_slots = nullptr;
+    return false;
+  }
+  for (bsp::TileId t = 0; t < bsp::kMaxTiles; ++t) {
+    slots[t] = kNoSlot;
+  }
+  g_boot_slots = slots;
+  return true;
+}
+
+std::uint32_t boot_slot(bsp::TileId tile) noexcept {
+  return (g_boot_slots == nullptr || tile >= bsp::kMaxTiles) ? kNoSlot : g_boot_slots[tile];
 }
 
 TileHealthView tile_health_view(bsp::TileId tile) noexcept {

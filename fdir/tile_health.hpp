@@ -18,8 +18,19 @@
  * (kTileReset). The reset tile boots its role's task table again; its agent's
  * boot report closes the recovery (kTileRecovered, with the time since the
  * reset). A boot report nobody commanded (a crash) is kTileRebooted; a reset
- * tile silent for boot_timeout_ticks is kTileLost. Past the cap the tile is
- * left alone (kActionCapped).
+ * tile silent for boot_timeout_ticks is kTileLost.
+ *
+ * Retirement and spares: a tile past its reset cap (kActionCapped), or lost,
+ * is retired: switched off (its switch still routes) and every movable role
+ * slot it ran (the messaging role directory, udn::RoleDirectory) moves to the
+ * nearest free spare: the supervisor writes the slot into the spare's boot
+ * assignment (boot_slot, in DDR), switches it on (boot delay), applies the
+ * move to its own directory and sends it to every running tile
+ * (kMsgRoleMove), so senders follow without knowing tile numbers
+ * (kRoleMoved). The spare's boot report closes the move (kRoleRestored);
+ * the role takes over its state from where the role keeps it (the filter's
+ * DDR checkpoint, the coordinator's DDR tables). A tile that boots is sent
+ * every move made so far, as it starts from the boot directory.
  *
  * The supervisor's own tile has no monitor above it on the board: its agent
  * arms the hardware watchdog with reset on expiry, and the supervisor writes
@@ -55,8 +66,13 @@ constexpr k::TaskSpec health_agent_task_spec(HealthAgentConfig* cfg) noexcept {
                      k::Policy::kPreemptive, 0U};
 }
 
+/** No role slot (boot_slot of a tile that was never assigned one). */
+inline constexpr std::uint32_t kNoSlot = 0xFFFF'FFFFU;
+
 struct TileHealthConfig {
   std::uint64_t watched = 0U;              ///< tiles whose agents report here (role tiles)
+  std::uint64_t spares = 0U;               ///< tiles off at boot that can take a role
+  std::uint32_t movable_slots = 0U;        ///< role slots that move to a spare (bit per udn role slot)
   std::uint32_t max_resets = 3U;           ///< resets per tile over the mission (>= 1)
   std::uint32_t boot_timeout_ticks = 200U; ///< a reset tile reports within this or is lost
   std::uint32_t poll_ticks = 2U;           ///< looks at boot reports and timeouts at least this often
@@ -72,8 +88,18 @@ struct TileHealthView {
   std::uint32_t recovered = 0U;  ///< reset tiles that reported back
   std::uint32_t rebooted = 0U;   ///< boots nobody commanded
   std::uint32_t lost = 0U;       ///< reset tiles that never reported
+  std::uint32_t moves = 0U;      ///< roles moved to a spare
+  std::uint32_t restored = 0U;   ///< moved roles whose spare reported
   std::uint64_t pending = 0U;    ///< tiles reset and not yet back
+  std::uint64_t retired = 0U;    ///< tiles switched off and given up
+  std::uint64_t spares = 0U;     ///< spares still free
 };
+
+/** Carves the boot assignments of the spares in DDR, all empty (after bsp::board_init). [host] @return false when full. */
+[[nodiscard]] bool boot_slots_init() noexcept;
+
+/** The role slot a supervisor assigned to @p tile before switching it on; kNoSlot for none. [task|host] */
+std::uint32_t boot_slot(bsp::TileId tile) noexcept;
 
 /** The view of the supervisor on @p tile (all zero when none runs there). [host] */
 TileHealthView tile_health_view(bsp::TileId tile) noexcept;

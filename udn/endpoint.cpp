@@ -42,6 +42,7 @@ struct Endpoint {
   std::uint8_t local_links;  ///< links leaving this tile towards neighbours its probe found silent (bit per UdnDir)
   std::array<TransitProbe, kMaxTransitTargets> transit;
   std::uint32_t transit_count;
+  RoleDirectory roles;  ///< the tile's copy of the role directory
 };
 
 /** Per-tile pointer to the carve (a tile's base register); reset with the tile by its service start. */
@@ -142,6 +143,7 @@ bool open(Endpoint*& out, bsp::TileId self, const EndpointConfig& cfg) noexcept 
   ::new (ep) Endpoint{};
   ep->cfg = &cfg;
   ep->map = cfg.boot_map;
+  ep->roles = cfg.roles;
   const std::uint32_t cols = bsp::udn_grid_cols();
   if (ep->map.cols == 0U && (cols == 0U || fault_map_init(ep->map, cols, bsp::udn_grid_rows()) != RouteError::kOk)) {
     return false;  // no boot map and no network to draw an all-clear one from
@@ -264,12 +266,23 @@ void push_to_stale(Endpoint& ep) noexcept {
   }
 }
 
-/** Takes the fault maps waiting on kFtChanMap (a bounded number per tick). Caller holds the guard. */
+bool move_role(Endpoint& ep, std::uint32_t slot, bsp::TileId tile, std::uint32_t version) noexcept {
+  if (slot >= kRoleSlots || version <= ep.roles.version[slot]) {
+    return false;  // unknown slot, or an older move arriving late
+  }
+  ep.roles.tile[slot] = tile;
+  ep.roles.version[slot] = version;
+  return true;
+}
+
+/** Takes the fault maps and role moves waiting on kFtChanMap (a bounded number per tick). Caller holds the guard. */
 void take_maps(Endpoint& ep) noexcept {
   FtMessage m{};
   for (std::uint32_t i = 0; i < kFtRxDepth && ft_receive(ep.node, kFtChanMap, m) == FtError::kOk; ++i) {
     FaultMap map{};
-    if (unpack_fault_map(std::span<const std::uint32_t>(m.data.data(), m.data_words), map)) {
+    if (m.data_words == kRoleMoveWords && m.data[0] == kMsgRoleMove) {
+      (void)move_role(ep, m.data[1], m.data[2], m.data[3]);
+    } else if (unpack_fault_map(std::span<const std::uint32_t>(m.data.data(), m.data_words), map)) {
       (void)install(ep, map, m.source);
     }
   }
@@ -401,6 +414,38 @@ FtError endpoint_install_map(const FaultMap& map) noexcept {
   const IrqGuard guard;
   (void)install(*ep, map, ep->node.self);
   return FtError::kOk;
+}
+
+bsp::TileId endpoint_role_tile(std::uint32_t slot, bsp::TileId fallback) noexcept {
+  const Endpoint* ep = current();
+  if (ep == nullptr || slot >= kRoleSlots) {
+    return fallback;
+  }
+  const IrqGuard guard;
+  const bsp::TileId t = ep->roles.tile[slot];
+  return t == bsp::kNoTile ? fallback : t;
+}
+
+bool endpoint_move_role(std::uint32_t slot, bsp::TileId tile, std::uint32_t version) noexcept {
+  Endpoint* ep = current();
+  if (ep == nullptr) {
+    return false;
+  }
+  const IrqGuard guard;
+  return move_role(*ep, slot, tile, version);
+}
+
+RoleDirectory endpoint_roles() noexcept {
+  const Endpoint* ep = current();
+  if (ep == nullptr) {
+    return RoleDirectory{};
+  }
+  const IrqGuard guard;
+  return ep->roles;
+}
+
+RoleDirectory endpoint_roles_of(bsp::TileId tile) noexcept {
+  return (tile < bsp::kMaxTiles && g_ep[tile] != nullptr) ? g_ep[tile]->roles : RoleDirectory{};
 }
 
 FaultMap endpoint_fault_map() noexcept {

@@ -18,6 +18,13 @@
  * the sender's map version, and a tile that hears an older version from a
  * neighbour sends that neighbour its own map (once per version).
  *
+ * Roles, not tiles: a message to a role (the filter, the coordinator) goes
+ * through the role directory, the paper's destination index over the cores
+ * that run: slot -> tile. Every tile starts from config.roles; a supervisor
+ * that moves a role to a spare sends each tile a role move (kMsgRoleMove on
+ * kFtChanMap) and the service applies the newest move of each slot, so
+ * senders follow a move without knowing tile numbers.
+ *
  * Reports: the probe's suspects go to config.report_to on kFtChanFdir
  * (kMsgSuspect), and so do the transit probes' targets lost or back
  * (kMsgTransit); events (corrections, resends, suspects, maps applied) go to
@@ -36,6 +43,19 @@
 
 namespace udn {
 
+/** Role slots of the directory (logical destinations the image names). */
+inline constexpr std::uint32_t kRoleSlots = 8U;
+
+/** Where each role slot runs. kNoTile: the slot is not used. */
+struct RoleDirectory {
+  std::array<bsp::TileId, kRoleSlots> tile = [] {
+    std::array<bsp::TileId, kRoleSlots> t{};
+    t.fill(bsp::kNoTile);
+    return t;
+  }();
+  std::array<std::uint32_t, kRoleSlots> version{};  ///< moves of each slot so far
+};
+
 struct EndpointConfig {
   FtConfig ft{10U, 8U};  ///< detours re-injected by two tiles take several ticks per leg
   std::uint32_t packets_per_tick = 16U;
@@ -52,6 +72,7 @@ struct EndpointConfig {
    */
   std::array<std::uint64_t, kRouteMaxTiles> transit_targets{};
   FtEventSink sink{};
+  RoleDirectory roles{};  ///< the boot directory: where each role slot starts
 };
 
 /** Transit targets one tile pings at most. */
@@ -76,6 +97,10 @@ inline constexpr std::uint32_t kFaultMapWords = 8U + kRouteMaxTiles / 4U;
 void pack_fault_map(const FaultMap& map, std::span<std::uint32_t, kFaultMapWords> w) noexcept;
 /** @return false if @p w is not a fault map message of a grid of at most kRouteMaxTiles tiles. */
 [[nodiscard]] bool unpack_fault_map(std::span<const std::uint32_t> w, FaultMap& map) noexcept;
+
+/** Role move (kFtChanMap): [0] kMsgRoleMove [1] slot [2] tile [3] the slot's version after the move. */
+inline constexpr std::uint32_t kMsgRoleMove = 0x524F4C45U;  // "ROLE"
+inline constexpr std::uint32_t kRoleMoveWords = 4U;
 
 /** Service task entry (arg: const EndpointConfig*): opens the node, then serves it every tick. */
 void endpoint_task_main(void* arg) noexcept;
@@ -112,6 +137,25 @@ bool endpoint_wait_ready(std::uint32_t max_ticks) noexcept;
  * when the endpoint is closed or the map does not fit the grid. [task]
  */
 [[nodiscard]] FtError endpoint_install_map(const FaultMap& map) noexcept;
+
+/**
+ * The tile the current tile's directory names for @p slot; @p fallback when the
+ * slot is out of range or unused, or the endpoint is closed. [task]
+ */
+[[nodiscard]] bsp::TileId endpoint_role_tile(std::uint32_t slot, bsp::TileId fallback) noexcept;
+
+/**
+ * Applies a move of @p slot to @p tile with @p version on the current tile if it
+ * is newer than the tile's entry (the supervisor applies its own moves this
+ * way). @return true if applied. [task]
+ */
+bool endpoint_move_role(std::uint32_t slot, bsp::TileId tile, std::uint32_t version) noexcept;
+
+/** The current tile's copy of the role directory (empty when the endpoint is closed). [task] */
+[[nodiscard]] RoleDirectory endpoint_roles() noexcept;
+
+/** The role directory of @p tile's endpoint (empty when closed). [host] */
+RoleDirectory endpoint_roles_of(bsp::TileId tile) noexcept;
 
 /** The current tile's copy of the fault map (the boot map before the endpoint opens). [task] */
 [[nodiscard]] FaultMap endpoint_fault_map() noexcept;

@@ -106,9 +106,11 @@ bool recovers(const fdir::Event& d, const fdir::Event& e) {
     case EventId::kWatchdogExpired:
     case EventId::kCoreSuspect:
     case EventId::kNeighbourSuspect:
-      return e.id == EventId::kTileRecovered && e.subject == d.subject;
+      return (e.id == EventId::kTileRecovered && e.subject == d.subject) ||
+             (e.id == EventId::kRoleRestored && e.cause == d.subject);
     case EventId::kTaskOverdue:
-      return e.id == EventId::kTileRecovered && e.subject == d.tile;
+      return (e.id == EventId::kTileRecovered && e.subject == d.tile) ||
+             (e.id == EventId::kRoleRestored && e.cause == d.tile);
     case EventId::kTileRebooted:
       return false;  // recovered by the detecting event itself: the tile runs its role again
     default:
@@ -252,6 +254,17 @@ std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noe
     case EventId::kTileLost:
       (void)std::snprintf(b.data(), b.size(), "tile %s did not report back %u ms after its reset", s, e.a);
       break;
+    case EventId::kRoleMoved:
+      (void)std::snprintf(b.data(), b.size(), "role slot %s moves from retired tile %u to spare %u (directory "
+                          "version %u)", s, e.cause, e.a, e.b);
+      break;
+    case EventId::kRoleRestored:
+      (void)std::snprintf(b.data(), b.size(), "role slot %s runs again on tile %u (was tile %u), %u ms after the move",
+                          s, e.a, e.cause, e.b);
+      break;
+    case EventId::kNoSpare:
+      (void)std::snprintf(b.data(), b.size(), "role slot %s of tile %u cannot move: no spare", s, e.cause);
+      break;
   }
   return used + std::char_traits<char>::length(b.data());
 }
@@ -283,6 +296,12 @@ void FlightEventCollector::take(const fdir::Event& e) noexcept {
       break;
     case EventId::kTileLost:
       health_[e.subject % bsp::kMaxTiles] = TileHealth::kFailed;
+      break;
+    case EventId::kRoleMoved:
+      health_[e.cause % bsp::kMaxTiles] = TileHealth::kFailed;
+      break;
+    case EventId::kRoleRestored:
+      health_[e.a % bsp::kMaxTiles] = TileHealth::kRecovered;
       break;
     case EventId::kWorkerBack:
     case EventId::kTileRecovered:

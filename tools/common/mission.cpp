@@ -110,6 +110,13 @@ bool Mission::boot(std::string& error) {
     cfg.boot[t] = &k::boot_entry;
     k::set_task_table(static_cast<bsp::TileId>(t), trn::tasks::role_table(r), cfg.tick_cycles);
   }
+  // A spare boots the role the supervisor assigns it before switching it on.
+  for (std::uint32_t t = 0; t < trn::tasks::kMapTiles; ++t) {
+    if (trn::tasks::kTileRoles[t] != Role::kSpare) {
+      continue;
+    }
+    cfg.boot[t] = &trn::tasks::spare_boot_entry;
+  }
   cfg.powered_at_start = powered_;
   // The DDR products of a previous run in this process go first (tests boot several times).
   (void)bsp::region_reset(bsp::Region{bsp::Region::kDdr});
@@ -118,7 +125,7 @@ bool Mission::boot(std::string& error) {
     return false;
   }
   // The flight event log first: its rings are DDR the tiles write from their first event.
-  if (fdir::event_log_init() != fdir::LogError::kOk) {
+  if (fdir::event_log_init() != fdir::LogError::kOk || !fdir::boot_slots_init()) {
     error = "cannot carve the flight event log";
     return false;
   }
@@ -156,6 +163,13 @@ bool Mission::boot(std::string& error) {
   ep.report_to = trn::tasks::kSupervisorTile;
   image.agent.supervisor = trn::tasks::kSupervisorTile;
   image.tile_health.watched = powered_;
+  image.tile_health.spares = spares;
+  // The coordinator and the filter move to a spare when their tile is given
+  // up; the I/O tile is wired to the devices and is only reset.
+  image.tile_health.movable_slots = (1U << trn::tasks::kSlotCoordinator) | (1U << trn::tasks::kSlotFilter);
+  for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
+    ep.roles.tile[slot] = trn::tasks::slot_boot_tile(slot);
+  }
   ep.not_probed = spares;
   ep.sink = fdir::ft_event_sink();
   image.net_health.not_voted = spares;
@@ -209,7 +223,7 @@ bool Mission::boot(std::string& error) {
 NavSample Mission::nav() const {
   NavSample n;
   trn::filter::NavOutput o{};
-  if (!trn::tasks::filter_task_output(trn::tasks::kFilterTile, &o)) {
+  if (!trn::tasks::filter_task_output(trn::tasks::slot_tile_now(trn::tasks::kSlotFilter), &o)) {
     return n;
   }
   const bsp::world::TruthState t = truth_.at(o.t_s);

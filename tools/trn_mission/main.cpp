@@ -319,7 +319,8 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.faults_detected = faults.detected;
   s.faults_recovered = faults.recovered;
   s.trace_hash = tools::trace_hash_hex(bsp::trace_hash());
-  const trn::tasks::VisionCoordStats c = trn::tasks::vision_coord_stats(kCoordinatorTile);
+  const trn::tasks::VisionCoordStats c =
+      trn::tasks::vision_coord_stats(trn::tasks::slot_tile_now(trn::tasks::kSlotCoordinator));
   s.extra.emplace_back("mission_lost", end.lost ? 1.0 : 0.0);
   s.extra.emplace_back("nav_output_age_at_end_s", end.output_age_s);
   s.extra.emplace_back("nav_longest_gap_s", std::max(rec.longest_gap_s, end.output_age_s));

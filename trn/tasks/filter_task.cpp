@@ -170,7 +170,8 @@ void send_nav(Slot& slot) noexcept {
   std::array<std::uint32_t, kNavWords> w{};
   pack_nav(slot.latest, w);
   bsp::consume(bsp::Work{2ULL * kNavWords, 0U, 0U, 0U, kNavWords});
-  if (udn::endpoint_send(slot.cfg->nav_sink, kChanNav, w, 0U) == udn::FtError::kOk) {
+  const bsp::TileId sink = udn::endpoint_role_tile(kSlotCoordinator, slot.cfg->nav_sink);
+  if (udn::endpoint_send(sink, kChanNav, w, 0U) == udn::FtError::kOk) {
     ++slot.stats.nav_sent;
   } else {
     ++slot.stats.nav_send_failed;

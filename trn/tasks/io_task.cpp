@@ -42,7 +42,8 @@ void forward_frames(const IoTaskConfig& cfg) noexcept {
                        static_cast<std::uint64_t>(f.pixels - base)};
     std::array<std::uint32_t, kFrameNoticeWords> w{};
     pack_frame_notice(notice, w);
-    if (udn::endpoint_send(cfg.coordinator_tile, kChanControl, w, kNoticeTicks) == udn::FtError::kOk) {
+    const bsp::TileId coord = udn::endpoint_role_tile(kSlotCoordinator, cfg.coordinator_tile);
+    if (udn::endpoint_send(coord, kChanControl, w, kNoticeTicks) == udn::FtError::kOk) {
       ++g_stats.frames_forwarded;
     } else {
       ++g_stats.frame_send_failures;
@@ -67,7 +68,8 @@ void io_task_main(void* arg) noexcept {
     bsp::ImuSample s{};
     for (std::uint32_t n = 0; n < kMaxPerWake && bsp::imu_read(&s); ++n) {
       pack_imu(s, words);
-      if (udn::endpoint_send(cfg->filter_tile, kChanImu, words, kSendTicks) == udn::FtError::kOk) {
+      const bsp::TileId filter = udn::endpoint_role_tile(kSlotFilter, cfg->filter_tile);
+      if (udn::endpoint_send(filter, kChanImu, words, kSendTicks) == udn::FtError::kOk) {
         ++g_stats.imu_forwarded;
       } else {
         ++g_stats.send_failures;

@@ -25,6 +25,14 @@ inline constexpr std::uint32_t kChanControl = 0U;  ///< I/O -> coordinator frame
 inline constexpr std::uint32_t kChanResult = 1U;   ///< vision -> coordinator unit results
 inline constexpr std::uint32_t kChanNav = 2U;      ///< filter -> coordinator navigation solutions (pose priors)
 inline constexpr std::uint32_t kChanMatches = 3U;  ///< coordinator -> filter match batches
+/**
+ * Role slots of the messaging role directory (udn::RoleDirectory): a sender
+ * to one of these roles asks the directory where it runs now, the configured
+ * tile being the answer until a role has a directory entry.
+ */
+inline constexpr std::uint32_t kSlotCoordinator = 0U;
+inline constexpr std::uint32_t kSlotIo = 1U;
+inline constexpr std::uint32_t kSlotFilter = 2U;
 inline constexpr std::uint32_t kChanImu = 4U;      ///< I/O -> filter IMU samples, one per message
 
 /** First word of every FT message: what it is. */

@@ -4,6 +4,11 @@
  */
 #include "trn/tasks/tile_map.hpp"
 
+#include "fdir/tile_health.hpp"
+#include "kernel/kernel.hpp"
+#include "trn/tasks/messages.hpp"
+#include "udn/endpoint.hpp"
+
 namespace trn::tasks {
 
 namespace detail {
@@ -99,6 +104,40 @@ void tile_map_vision_tiles(VisionCoordConfig& cfg, std::uint64_t exclude_mask) n
       ++cfg.vision_count;
     }
   }
+}
+
+Role slot_role(std::uint32_t slot) noexcept {
+  switch (slot) {
+    case kSlotCoordinator: return Role::kVisionCoordinator;
+    case kSlotIo: return Role::kIo;
+    case kSlotFilter: return Role::kFilter;
+    default: return Role::kSpare;
+  }
+}
+
+bsp::TileId slot_boot_tile(std::uint32_t slot) noexcept {
+  switch (slot) {
+    case kSlotCoordinator: return kCoordinatorTile;
+    case kSlotIo: return kIoTile;
+    case kSlotFilter: return kFilterTile;
+    default: return bsp::kNoTile;
+  }
+}
+
+bsp::TileId slot_tile_now(std::uint32_t slot) noexcept {
+  if (slot >= udn::kRoleSlots) {
+    return bsp::kNoTile;
+  }
+  const bsp::TileId t = udn::endpoint_roles_of(kSupervisorTile).tile[slot];
+  return t == bsp::kNoTile ? slot_boot_tile(slot) : t;
+}
+
+void spare_boot_entry(bsp::TileId tile) noexcept {
+  const k::TaskTable table = role_table(slot_role(fdir::boot_slot(tile)));
+  if (table.empty()) {
+    return;  // nothing assigned: the tile idles
+  }
+  (void)k::start(table, bsp::tick_cycles());
 }
 
 }  // namespace trn::tasks

@@ -25,6 +25,7 @@
 #include "kernel/task_table.hpp"
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/io_task.hpp"
+#include "trn/tasks/messages.hpp"
 #include "trn/tasks/vision_coord.hpp"
 #include "trn/tasks/vision_worker.hpp"
 #include "udn/endpoint.hpp"
@@ -187,6 +188,25 @@ static_assert(k::check_table(kVisionRole) == k::TableError::kOk);
 
 /** Task table of role @p r (empty for spares and roles without tasks yet). */
 k::TaskTable role_table(Role r) noexcept;
+
+/** The role behind a role slot of the directory (kSlotFilter -> kFilter, ...); kSpare for none. */
+Role slot_role(std::uint32_t slot) noexcept;
+
+/** The tile the map boots a role slot on (kNoTile for none). */
+bsp::TileId slot_boot_tile(std::uint32_t slot) noexcept;
+
+/**
+ * Where role slot @p slot runs now as the supervisor's directory says (the
+ * boot tile before the supervisor's endpoint opens). [host: scoring, fault plans]
+ */
+bsp::TileId slot_tile_now(std::uint32_t slot) noexcept;
+
+/**
+ * Boot entry of a spare: starts the task table of the role slot the
+ * tile-health supervisor assigned it before switching it on
+ * (fdir::boot_slot); a spare with no assignment idles.
+ */
+void spare_boot_entry(bsp::TileId tile) noexcept;
 
 /** Fills @p cfg's vision tile list from kTileRoles (skipping tiles in @p exclude_mask). */
 void tile_map_vision_tiles(VisionCoordConfig& cfg, std::uint64_t exclude_mask) noexcept;

@@ -421,7 +421,7 @@ void send_batch(CoordState& st, VisionCoordStats& stats) noexcept {
       pack_match(st.matches[first + i],
                  std::span<std::uint32_t, kMatchWords>(w.data() + kMatchHeaderWords + static_cast<std::size_t>(i) * kMatchWords, kMatchWords));
     }
-    if (udn::endpoint_send(st.cfg->filter_tile, kChanMatches,
+    if (udn::endpoint_send(udn::endpoint_role_tile(kSlotFilter, st.cfg->filter_tile), kChanMatches,
                   std::span<const std::uint32_t>(w.data(), kMatchHeaderWords + n * kMatchWords),
                   kVisionSendTicks) != udn::FtError::kOk) {
       ++stats.batch_send_failed;
