@@ -163,6 +163,9 @@ enum class BootCause : std::uint8_t {
 /** Why the current tile last booted. [task|isr] */
 BootCause boot_cause() noexcept;
 
+/** The current tile's boot counter register: boots since the board started (1 at the first). [task|isr] */
+std::uint32_t boot_count() noexcept;
+
 // ------------------------------------------------------------------ boot and trace
 
 /**

@@ -291,6 +291,11 @@ BootCause boot_cause() noexcept {
   return t == nullptr ? BootCause::kPowerOn : t->boot_cause;
 }
 
+std::uint32_t boot_count() noexcept {
+  const detail::Tile* t = detail::running_tile();
+  return t == nullptr ? 0U : t->stats.boots;
+}
+
 void trace(std::uint16_t kind, std::uint64_t a, std::uint64_t b) noexcept {
   trace_record(detail::current_time(), detail::board().running, kind, a, b);
 }

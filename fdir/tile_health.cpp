@@ -19,6 +19,9 @@ namespace {
 
 // ------------------------------------------------------------------ agent
 
+/** Boot reports the supervisor's queue takes per tick at start (its receive queue holds 8). */
+constexpr bsp::TileId kReportsPerTick = 4U;
+
 /** Ticks of the watched task furthest past its budget; 0 when all are within. */
 struct Overdue {
   k::TaskId task = k::kNoTask;
@@ -283,7 +286,8 @@ void health_agent_main(void* arg) noexcept {
       report(EventId::kTaskOverdue, o.task, self, o.late, o.budget);
       overdue_written = true;
     }
-    if (!reported && udn::endpoint_ready()) {
+    // Staggered by tile: 40 tiles booting together would overrun the supervisor's queue.
+    if (!reported && udn::endpoint_ready() && k::now_ticks() >= self / kReportsPerTick) {
       reported = udn::endpoint_send(cfg->supervisor, udn::kFtChanHealth, boot, 0U) == udn::FtError::kOk;
     }
     (void)k::wait_period();

@@ -152,6 +152,8 @@ bool open(Endpoint*& out, bsp::TileId self, const EndpointConfig& cfg) noexcept 
     return false;
   }
   ft_set_event_sink(ep->node, cfg.sink);
+  // Each boot is a new incarnation of the node: its peers restart its streams.
+  ft_set_epoch(ep->node, bsp::boot_count());
   ep->node.peer_map_version.fill(kVersionUnknown);
   ep->pushed.fill(kVersionUnknown);
   ep->probing = cfg.report_to != bsp::kNoTile &&

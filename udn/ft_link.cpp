@@ -17,12 +17,18 @@ struct ChannelWord {
   FtKind kind;
   bool resync;
   std::uint32_t channel;
+  std::uint8_t epoch;
 };
 
 ChannelWord split(std::uint32_t w) noexcept {
   return ChannelWord{w >> 24U, static_cast<std::uint8_t>((w >> 16U) & 0xFFU),
-                     static_cast<FtKind>((w >> 12U) & 0xFU), ((w >> 8U) & 1U) != 0U, w & 0xFFU};
+                     static_cast<FtKind>((w >> 12U) & 0xFU), ((w >> 8U) & 1U) != 0U, w & 0xFFU,
+                     static_cast<std::uint8_t>((w >> 9U) & (kFtEpochs - 1U))};
 }
+
+/** A control packet (ACK, NACK, PING, PONG) with the epoch of the stream it answers. */
+FtError send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_t seq, std::uint32_t word, bool routed,
+                     std::uint8_t epoch) noexcept;
 
 /** (a - b) mod 256: how far a is ahead of b. */
 std::uint32_t seq_ahead(std::uint8_t a, std::uint8_t b) noexcept {
@@ -166,7 +172,7 @@ void run_timers(FtNode& n, std::uint32_t now) noexcept {
 /** ACKs @p seq of (source, channel); if the network refuses, the ACK is owed to the next poll. */
 void send_ack(FtNode& n, std::uint32_t source, std::uint32_t channel, std::uint8_t seq) noexcept {
   detail::RxStream& rs = n.rx_stream[source][channel];
-  if (ft_send_control(n, source, FtKind::kAck, seq, channel, true) == FtError::kOk) {
+  if (send_control(n, source, FtKind::kAck, seq, channel, true, rs.epoch) == FtError::kOk) {
     ++n.stats.acks_sent;
     if (rs.ack_owed) {
       rs.ack_owed = false;
@@ -193,6 +199,19 @@ void pay_acks(FtNode& n) noexcept {
 /** Accepts or drops one data packet of (source, channel) in sequence; ACKs or NACKs. */
 void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> data) noexcept {
   detail::RxStream& rs = n.rx_stream[cw.source][cw.channel];
+  if (!rs.synced || (cw.epoch != rs.epoch && cw.resync)) {
+    // Nothing taken since this node started, or the sender restarted: this
+    // packet starts the stream.
+    rs.synced = true;
+    rs.epoch = cw.epoch;
+    rs.expected = cw.seq;
+    rs.nack_sent = false;
+  } else if (cw.epoch != rs.epoch) {
+    // Another incarnation's packet that does not start a stream: its sender's
+    // timeout brings the one that does (a NACK would name the wrong stream).
+    ++n.stats.out_of_order_dropped;
+    return;
+  }
   const std::uint32_t ahead = seq_ahead(cw.seq, rs.expected);
   const bool resync = cw.resync && ahead != 0U && ahead < kHalfSeq;
   if (ahead >= kHalfSeq) {  // already delivered: the ACK was lost
@@ -203,7 +222,7 @@ void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> da
   if (ahead != 0U && !resync) {  // a gap: ask once for the missing one
     ++n.stats.out_of_order_dropped;
     if (!rs.nack_sent || rs.nacked != rs.expected) {
-      rs.nack_sent = ft_send_control(n, cw.source, FtKind::kNack, rs.expected, cw.channel, true) == FtError::kOk;
+      rs.nack_sent = send_control(n, cw.source, FtKind::kNack, rs.expected, cw.channel, true, rs.epoch) == FtError::kOk;
       rs.nacked = rs.expected;
       n.stats.nacks_sent += rs.nack_sent ? 1U : 0U;
     }
@@ -259,6 +278,9 @@ void on_control(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t>
   if ((cw.kind == FtKind::kPing || cw.kind == FtKind::kPong) && data.size() >= 2U) {
     n.peer_map_version[cw.source] = data[1];
   }
+  if ((cw.kind == FtKind::kAck || cw.kind == FtKind::kNack) && cw.epoch != n.epoch) {
+    return;  // it answers this node's previous incarnation
+  }
   switch (cw.kind) {
     case FtKind::kAck:
       if (word < kFtAllChannels) {
@@ -298,8 +320,13 @@ void nack_if_identified(FtNode& n, std::span<const std::uint32_t> image, std::ui
   }
   // NACK what this receiver still needs, not the damaged packet's sequence: a
   // NACK also acknowledges everything before it.
-  const std::uint8_t need = n.rx_stream[cw.source][cw.channel].expected;
-  const bool nacked = ft_send_control(n, cw.source, FtKind::kNack, need, cw.channel, true) == FtError::kOk;
+  const detail::RxStream& rs = n.rx_stream[cw.source][cw.channel];
+  if (!rs.synced || rs.epoch != cw.epoch) {
+    log_event(n, FtCause::kDamaged, cw.source, cw.channel, 0U, now);  // no stream to NACK in: the timeout recovers
+    return;
+  }
+  const std::uint8_t need = rs.expected;
+  const bool nacked = send_control(n, cw.source, FtKind::kNack, need, cw.channel, true, rs.epoch) == FtError::kOk;
   n.stats.nacks_sent += nacked ? 1U : 0U;
   log_event(n, FtCause::kDamaged, cw.source, cw.channel, nacked ? 1U : 0U, now);
 }
@@ -417,6 +444,7 @@ void reset(FtNode& node) noexcept {
   node.stats = FtStats{};
   node.sink = FtEventSink{};
   node.map_version = 0U;
+  node.epoch = 0U;
   node.peer_map_version.fill(0U);
   node.in_window.fill(0U);
   for (detail::TxSlot& s : node.tx) {
@@ -465,6 +493,10 @@ FtError ft_init(FtNode& node, bsp::TileId self, const FaultMap& map, const FtPor
 
 void ft_set_event_sink(FtNode& node, const FtEventSink& sink) noexcept { node.sink = sink; }
 
+void ft_set_epoch(FtNode& node, std::uint32_t epoch) noexcept {
+  node.epoch = static_cast<std::uint8_t>(epoch % kFtEpochs);
+}
+
 FtError ft_set_fault_map(FtNode& node, const FaultMap& map, bsp::Work& work) noexcept {
   if (route_table_build(map, node.self, node.routes, work) != RouteError::kOk) {
     return FtError::kBadArgs;
@@ -495,7 +527,7 @@ FtError ft_send(FtNode& node, bsp::TileId dest, std::uint32_t channel, std::span
   detail::TxStream& st = node.tx_stream[dest][channel];
   const bool resync = st.resync && st.resync_seq == st.next_seq;
   const FtFields f{0U, 0U, static_cast<std::uint16_t>(dest), kFtHwTag,
-                   ft_channel_word(node.self, st.next_seq, FtKind::kData, resync, channel), true};
+                   ft_channel_word(node.self, st.next_seq, FtKind::kData, resync, channel, node.epoch), true};
   std::size_t written = 0U;
   if (encode_packet(f, data, slot->image, written) != EncodeStatus::kOk) {
     return FtError::kBadArgs;
@@ -519,6 +551,12 @@ FtError ft_send(FtNode& node, bsp::TileId dest, std::uint32_t channel, std::span
 
 FtError ft_send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_t seq, std::uint32_t word,
                         bool routed) noexcept {
+  return send_control(node, dest, kind, seq, word, routed, 0U);
+}
+
+namespace {
+FtError send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_t seq, std::uint32_t word, bool routed,
+                     std::uint8_t epoch) noexcept {
   if (dest >= node.routes.tiles) {
     return FtError::kBadArgs;
   }
@@ -528,7 +566,7 @@ FtError ft_send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_
   const std::span<const std::uint32_t> data(words.data(), versioned ? 2U : 1U);
   const FtFields f{static_cast<std::uint8_t>(dest % node.routes.cols),
                    static_cast<std::uint8_t>(dest / node.routes.cols), static_cast<std::uint16_t>(dest), kFtHwTag,
-                   ft_channel_word(node.self, seq, kind, false, kFtControlChannel), true};
+                   ft_channel_word(node.self, seq, kind, false, kFtControlChannel, epoch), true};
   std::size_t written = 0U;
   if (encode_packet(f, data, image, written) != EncodeStatus::kOk) {
     return FtError::kBadArgs;
@@ -544,6 +582,7 @@ FtError ft_send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_
   return (node.port.send(node.port.ctx, node.self, packet) == bsp::NetError::kOk) ? FtError::kOk
                                                                                     : FtError::kNetFull;
 }
+}  // namespace
 
 std::uint32_t ft_poll(FtNode& node, std::uint32_t now_tick, std::uint32_t max_packets) noexcept {
   std::uint32_t handled = 0U;

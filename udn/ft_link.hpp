@@ -6,7 +6,7 @@
  * with hardware tag kFtHwTag bound to demux queue kFtQueue. The channel word
  * (word 4, covered by the route code) is laid out by this layer:
  *   [31..24] source tile index | [23..16] sequence (mod 256) |
- *   [15..12] kind (FtKind) | [11..8] flags (bit 8: resync) | [7..0] channel
+ *   [15..12] kind (FtKind) | [11..9] epoch | [8] resync | [7..0] channel
  * Application channels are 0..kFtChannels-1, then three system channels
  * (kFtChanFdir, kFtChanMap, kFtChanHealth) for fault management; channel kFtControlChannel
  * carries the unreliable control kinds (ACK, NACK, PING, PONG) whose data
@@ -38,6 +38,16 @@
  * tile; after max_retries counted retries an FtEvent is logged, the
  * stream's outstanding packets are given up (each logged) and the next packet
  * carries the resync flag so the receiver restarts the sequence there.
+ *
+ * Restarts: a node's epoch (3 bits, ft_set_epoch: the endpoint takes the
+ * tile's boot count) is in every data packet, and an ACK or NACK carries the
+ * epoch of the stream it answers. A receive stream adopts the first packet
+ * it gets after ft_init at whatever sequence (a restarted receiver joins a
+ * stream in progress); a packet of another epoch with the resync flag starts
+ * the stream again (a restarted sender begins each stream at sequence 0 with
+ * the flag until that packet is acknowledged), and one without it is dropped
+ * for the sender's timeout to bring the flagged one. A sender ignores ACKs
+ * and NACKs of another epoch (they answer its previous incarnation).
  *
  * Time is in kernel ticks, passed by the caller (k::now_ticks() on a task).
  * The node talks to the network through an FtPort so the same code runs in a
@@ -150,9 +160,11 @@ struct TxSlot {
 struct TxStream {
   std::uint8_t next_seq = 0U;
   std::uint8_t resync_seq = 0U;
-  bool resync = false;  ///< the packet with resync_seq carries the resync flag
+  bool resync = true;  ///< the packet with resync_seq carries the resync flag (a new stream's first does)
 };
 struct RxStream {
+  bool synced = false;     ///< a packet was accepted since ft_init
+  std::uint8_t epoch = 0U; ///< the sender's epoch this stream follows
   std::uint8_t expected = 0U;
   std::uint8_t nacked = 0U;
   bool nack_sent = false;
@@ -178,6 +190,7 @@ struct FtNode {
   RouteTable routes{};
   FtStats stats{};
   FtEventSink sink{};                ///< where events go (ft_set_event_sink); none: only counted
+  std::uint8_t epoch = 0U;           ///< this incarnation of the node (ft_set_epoch), 0..7
   std::uint32_t map_version = 0U;    ///< version of the fault map the routes were built from
   std::array<std::uint32_t, kRouteMaxTiles> peer_map_version{};  ///< last version a PING or PONG carried, per tile
   std::array<std::uint8_t, kRouteMaxTiles> in_window{};  ///< unacknowledged packets per destination
@@ -200,6 +213,16 @@ struct FtNode {
  */
 FtError ft_init(FtNode& node, bsp::TileId self, const FaultMap& map, const FtPort& port,
                 const FtConfig& config) noexcept;
+
+/** Number of distinct epochs (3 bits of the channel word). */
+inline constexpr std::uint32_t kFtEpochs = 8U;
+
+/**
+ * Sets the node's epoch (taken mod kFtEpochs; ft_init sets 0). A node that
+ * restarts must come back with another epoch than its previous incarnation
+ * (the endpoint uses the tile's boot count), so its peers restart its streams.
+ */
+void ft_set_epoch(FtNode& node, std::uint32_t epoch) noexcept;
 
 /** Sends the node's events to @p sink from now on (ft_init clears it). */
 void ft_set_event_sink(FtNode& node, const FtEventSink& sink) noexcept;
@@ -245,9 +268,10 @@ std::uint32_t ft_outstanding(const FtNode& node) noexcept;
 
 /** Channel word of a packet (see the file comment). */
 constexpr std::uint32_t ft_channel_word(std::uint32_t source, std::uint8_t seq, FtKind kind, bool resync,
-                                        std::uint32_t channel) noexcept {
+                                        std::uint32_t channel, std::uint32_t epoch = 0U) noexcept {
   return ((source & 0xFFU) << 24U) | (static_cast<std::uint32_t>(seq) << 16U) |
-         (static_cast<std::uint32_t>(kind) << 12U) | ((resync ? 1U : 0U) << 8U) | (channel & 0xFFU);
+         (static_cast<std::uint32_t>(kind) << 12U) | ((epoch % kFtEpochs) << 9U) | ((resync ? 1U : 0U) << 8U) |
+         (channel & 0xFFU);
 }
 
 }  // namespace udn

@@ -29,6 +29,8 @@ constexpr bsp::TileId kSup = 0;
 constexpr bsp::TileId kA = 1;
 constexpr bsp::TileId kB = 2;
 constexpr std::uint32_t kWorkBudget = 30U;
+/** Reset or switch-on to boot entry, as a test can still catch a tile in between. */
+constexpr std::uint32_t kBootDelayTicks = 10U;
 
 /** Set by the test: the worker of that tile stops checking in (once; a restart runs normally). */
 std::array<bool, 3> g_stall{};
@@ -80,6 +82,7 @@ class TileHealth : public ::testing::Test {
     bsp::BoardConfig cfg = bsp::default_config(bsp::kTile64);
     cfg.powered_at_start = (1ULL << kSup) | (1ULL << kA) | (1ULL << kB);
     cfg.monitor_tile = kSup;
+    cfg.boot_delay_cycles = kBootDelayTicks * kTick;
     for (const bsp::TileId t : {kSup, kA, kB}) {
       cfg.boot[t] = &k::boot_entry;
     }
@@ -155,7 +158,9 @@ TEST_F(TileHealth, ResetsStopAtTheCap) {
   EXPECT_EQ(events_with(kSup, EventId::kTileRecovered, kA).size(), 3U);
   EXPECT_EQ(events_with(kSup, EventId::kActionCapped, kA).size(), 1U);
   EXPECT_EQ(bsp::tile_stats(kA).resets, 3U);
-  EXPECT_TRUE(bsp::tile_stopped(kA));  // the fourth hang is left alone
+  // The fourth hang retires the tile: switched off, no role to move here.
+  EXPECT_EQ(bsp::power_state(kA), bsp::PowerState::kOff);
+  EXPECT_NE(fdir::tile_health_view(kSup).retired & (1ULL << kA), 0ULL);
 }
 
 TEST_F(TileHealth, AResetTileThatNeverReportsIsLost) {
@@ -164,6 +169,8 @@ TEST_F(TileHealth, AResetTileThatNeverReportsIsLost) {
     (void)bsp::run_for(kTick);
   }
   ASSERT_EQ(events_with(kSup, EventId::kTileReset, kA).size(), 1U);
+  (void)bsp::run_for(2U * kTick);  // the reset command is applied at the next barrier
+  ASSERT_EQ(bsp::power_state(kA), bsp::PowerState::kBooting);
   ASSERT_EQ(bsp::power_off(kA), bsp::BoardError::kOk);  // it never boots
   (void)bsp::run_for(400U * kTick);
   EXPECT_EQ(events_with(kSup, EventId::kTileLost, kA).size(), 1U);

@@ -256,3 +256,117 @@ TEST(FtLink, ARefusedPongIsOwedAndSentLater) {
   EXPECT_EQ(g_nodes[9].pongs_owed, 0U);
   EXPECT_EQ(g_nodes[1].pong_nonce[9], 0x8000'0077U);
 }
+
+// ------------------------------------------------------------------ restarts
+
+namespace {
+
+/** Restarts node @p t as a reset tile's endpoint does: ft_init again, a new epoch. */
+void restart(bsp::TileId t, std::uint32_t epoch) {
+  const udn::FtPort port{&ft_test::host_send, &ft_test::host_receive, nullptr};
+  ASSERT_EQ(udn::ft_init(g_nodes[t], t, ft_test::grid_map(), port, udn::FtConfig{}), udn::FtError::kOk);
+  udn::ft_set_event_sink(g_nodes[t], udn::FtEventSink{&ft_test::record_event, nullptr});
+  udn::ft_set_epoch(g_nodes[t], epoch);
+}
+
+/** What tile 20 took on channel 2 since the last take_got(). */
+std::vector<udn::FtMessage> g_got;
+
+std::vector<udn::FtMessage> take_got() {
+  std::vector<udn::FtMessage> out;
+  out.swap(g_got);
+  return out;
+}
+
+/** Sends @p count messages 10 -> 20 on channel 2 from sequence number @p first, taking each delivery. */
+void send_run(std::uint32_t first, std::uint32_t count) {
+  for (std::uint32_t s = first; s < first + count; ++s) {
+    ASSERT_EQ(udn::ft_send(g_nodes[10], 20U, 2U, message(10U, 2U, s % 256U), ft_test::now_tick()),
+              udn::FtError::kOk);
+    settle();
+    for (const udn::FtMessage& m : drain(20U, 2U)) g_got.push_back(m);
+  }
+}
+
+}  // namespace
+
+// A reset receiver expects sequence 0 while its peer goes on: it joins the stream in progress.
+TEST(FtLink, ARestartedReceiverJoinsTheStreamInProgress) {
+  ft_test::boot(ft_test::grid_map());
+  (void)take_got();
+  send_run(0U, 20U);
+  ASSERT_EQ(take_got().size(), 20U);
+  restart(20U, 1U);
+  send_run(20U, 5U);
+  const auto got = take_got();
+  ASSERT_EQ(got.size(), 5U);
+  for (std::uint32_t i = 0; i < 5U; ++i) {
+    EXPECT_EQ(got[i].seq, 20U + i);
+    EXPECT_TRUE(intact(got[i]));
+  }
+  EXPECT_EQ(g_nodes[10].stats.gave_up, 0U);
+  EXPECT_EQ(g_nodes[10].stats.retransmitted, 0U);
+}
+
+// A reset sender starts again at sequence 0 while the receiver expects 20: its first packet,
+// flagged, starts the stream again; nothing is lost, nothing delivered twice.
+TEST(FtLink, ARestartedSenderStartsItsStreamsAgain) {
+  ft_test::boot(ft_test::grid_map());
+  (void)take_got();
+  send_run(0U, 20U);
+  ASSERT_EQ(take_got().size(), 20U);
+  restart(10U, 1U);
+  send_run(0U, 5U);
+  const auto got = take_got();
+  ASSERT_EQ(got.size(), 5U);
+  for (std::uint32_t i = 0; i < 5U; ++i) {
+    EXPECT_EQ(got[i].seq, i);
+    EXPECT_TRUE(intact(got[i]));
+  }
+  EXPECT_EQ(g_nodes[10].stats.gave_up, 0U);
+  // Restarted twice with one message each time (a boot report): both arrive.
+  restart(10U, 2U);
+  send_run(0U, 1U);
+  restart(10U, 3U);
+  send_run(0U, 1U);
+  EXPECT_EQ(take_got().size(), 2U);
+  EXPECT_EQ(g_nodes[10].stats.gave_up, 0U);
+}
+
+// The flagged first packet of a restarted sender is delivered, its ACK lost: the
+// retransmission is a duplicate, not a second delivery.
+TEST(FtLink, ALostAckOfTheFirstPacketDoesNotDeliverItTwice) {
+  ft_test::boot(ft_test::grid_map());
+  (void)take_got();
+  send_run(0U, 3U);
+  ASSERT_EQ(take_got().size(), 3U);
+  restart(10U, 5U);
+  // Corrupt the receiver's next ACK beyond repair: both its data words flipped twice.
+  ft_test::g_flip = ft_test::FlipPlan{20U, {{5U, 0U}, {5U, 1U}, {6U, 0U}, {6U, 1U}}, 1U};
+  ASSERT_EQ(udn::ft_send(g_nodes[10], 20U, 2U, message(10U, 2U, 0U), ft_test::now_tick()), udn::FtError::kOk);
+  settle();
+  EXPECT_EQ(drain(20U, 2U).size(), 1U);
+  EXPECT_EQ(ft_test::outstanding(), 0U);
+}
+
+// An ACK that answers a sender's previous incarnation is not taken for the new one's.
+TEST(FtLink, AStaleAckIsNotTakenByTheRestartedSender) {
+  ft_test::boot(ft_test::grid_map());
+  (void)take_got();
+  send_run(0U, 2U);
+  ASSERT_EQ(take_got().size(), 2U);
+  restart(10U, 1U);
+  // The first packet of the new incarnation is damaged beyond repair: only its resend can deliver it.
+  ft_test::g_flip = ft_test::FlipPlan{10U, {{5U, 0U}, {5U, 1U}}, 1U};
+  ASSERT_EQ(udn::ft_send(g_nodes[10], 20U, 2U, message(10U, 2U, 0U), ft_test::now_tick()), udn::FtError::kOk);
+  // Meanwhile an ACK of epoch 0 for sequence 5 comes in: it must not free the packet.
+  ASSERT_EQ(udn::ft_send_control(g_nodes[20], 10U, udn::FtKind::kAck, 5U, 2U, true), udn::FtError::kOk);
+  for (int i = 0; i < 2; ++i) ft_test::step();
+  settle();
+  const auto got = drain(20U, 2U);
+  ASSERT_EQ(got.size(), 1U);  // resent, delivered, and acknowledged by the receiver, not by the stale ACK
+  EXPECT_EQ(got[0].seq, 0U);
+  EXPECT_TRUE(intact(got[0]));
+  EXPECT_GE(g_nodes[10].stats.retransmitted, 1U);
+  EXPECT_EQ(g_nodes[10].stats.gave_up, 0U);
+}
