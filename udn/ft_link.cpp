@@ -26,9 +26,12 @@ ChannelWord split(std::uint32_t w) noexcept {
                      static_cast<std::uint8_t>((w >> 9U) & (kFtEpochs - 1U))};
 }
 
-/** A control packet (ACK, NACK, PING, PONG) with the epoch of the stream it answers. */
+/**
+ * A control packet (ACK, NACK, PING, PONG) with the epoch of the stream it
+ * answers; a NACK with @p resync asks the sender to start the stream again.
+ */
 FtError send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_t seq, std::uint32_t word, bool routed,
-                     std::uint8_t epoch) noexcept;
+                     std::uint8_t epoch, bool resync = false) noexcept;
 
 /** (a - b) mod 256: how far a is ahead of b. */
 std::uint32_t seq_ahead(std::uint8_t a, std::uint8_t b) noexcept {
@@ -146,6 +149,47 @@ detail::TxSlot* oldest(FtNode& n, bsp::TileId dest, std::uint32_t channel) noexc
   return best;
 }
 
+/** Rewrites a queued packet's channel word with the resync flag (its codes are computed again). */
+void flag_resync(detail::TxSlot& s) noexcept {
+  const std::span<std::uint32_t> image(s.image.data(), s.words);
+  const std::uint32_t rd = image[kWordRouteData];
+  const std::size_t n_data = rd & 0xFFU;
+  const bool with_crc = (rd & kFlagCrc) != 0U;
+  if (n_data == 0U || n_data > kFtMaxDataWords || kWordData + n_data > s.words) {
+    return;
+  }
+  std::array<std::uint32_t, kFtMaxDataWords> data{};
+  for (std::size_t i = 0U; i < n_data && i < data.size(); ++i) {
+    data[i] = image[kWordData + i];
+  }
+  const FtFields f{0U, 0U, static_cast<std::uint16_t>(rd >> 16U), kFtHwTag, image[kWordChannel] | (1U << 8U), with_crc};
+  std::size_t written = 0U;
+  if (encode_packet(f, std::span<const std::uint32_t>(data.data(), n_data), s.image, written) == EncodeStatus::kOk) {
+    s.words = static_cast<std::uint32_t>(written);
+  }
+}
+
+/**
+ * The receiver has no stream of ours (it restarted, or our first packet was
+ * lost): the oldest outstanding packet of the stream is flagged and the
+ * stream resent from it; with nothing outstanding the next packet is flagged.
+ */
+void restart_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint32_t now) noexcept {
+  detail::TxStream& st = n.tx_stream[dest][channel];
+  detail::TxSlot* o = oldest(n, dest, channel);
+  if (o == nullptr) {
+    st.resync = true;
+    st.resync_seq = st.next_seq;
+    return;
+  }
+  if (!st.resync || st.resync_seq != o->seq) {
+    flag_resync(*o);
+    st.resync = true;
+    st.resync_seq = o->seq;
+  }
+  resend_stream(n, dest, channel, o->seq, now, FtCause::kResentNack);
+}
+
 void run_timers(FtNode& n, std::uint32_t now) noexcept {
   for (std::uint32_t i = 0U; i < kFtTxSlots; ++i) {
     const detail::TxSlot& s = n.tx[i];
@@ -199,18 +243,23 @@ void pay_acks(FtNode& n) noexcept {
 /** Accepts or drops one data packet of (source, channel) in sequence; ACKs or NACKs. */
 void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> data) noexcept {
   detail::RxStream& rs = n.rx_stream[cw.source][cw.channel];
-  if (!rs.synced || (cw.epoch != rs.epoch && cw.resync)) {
-    // Nothing taken since this node started, or the sender restarted: this
-    // packet starts the stream.
+  if (!rs.synced || cw.epoch != rs.epoch) {
+    // Nothing taken since this node started, or the sender restarted: only a
+    // flagged packet starts the stream (the sender's oldest outstanding one).
+    // For any other, the sender is asked once to flag its oldest and resend.
+    if (!cw.resync) {
+      ++n.stats.out_of_order_dropped;
+      if (!rs.resync_asked) {
+        rs.resync_asked =
+            send_control(n, cw.source, FtKind::kNack, cw.seq, cw.channel, true, cw.epoch, true) == FtError::kOk;
+      }
+      return;
+    }
     rs.synced = true;
     rs.epoch = cw.epoch;
     rs.expected = cw.seq;
     rs.nack_sent = false;
-  } else if (cw.epoch != rs.epoch) {
-    // Another incarnation's packet that does not start a stream: its sender's
-    // timeout brings the one that does (a NACK would name the wrong stream).
-    ++n.stats.out_of_order_dropped;
-    return;
+    rs.resync_asked = false;
   }
   const std::uint32_t ahead = seq_ahead(cw.seq, rs.expected);
   const bool resync = cw.resync && ahead != 0U && ahead < kHalfSeq;
@@ -288,7 +337,9 @@ void on_control(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t>
       }
       break;
     case FtKind::kNack:
-      if (word < kFtAllChannels) {
+      if (word < kFtAllChannels && cw.resync) {
+        restart_stream(n, cw.source, word, now);
+      } else if (word < kFtAllChannels) {
         take_ack(n, cw.source, word, static_cast<std::uint8_t>(cw.seq - 1U));
         resend_stream(n, cw.source, word, cw.seq, now, FtCause::kResentNack);
       }
@@ -556,7 +607,7 @@ FtError ft_send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_
 
 namespace {
 FtError send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_t seq, std::uint32_t word, bool routed,
-                     std::uint8_t epoch) noexcept {
+                     std::uint8_t epoch, bool resync) noexcept {
   if (dest >= node.routes.tiles) {
     return FtError::kBadArgs;
   }
@@ -566,7 +617,7 @@ FtError send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_t s
   const std::span<const std::uint32_t> data(words.data(), versioned ? 2U : 1U);
   const FtFields f{static_cast<std::uint8_t>(dest % node.routes.cols),
                    static_cast<std::uint8_t>(dest / node.routes.cols), static_cast<std::uint16_t>(dest), kFtHwTag,
-                   ft_channel_word(node.self, seq, kind, false, kFtControlChannel, epoch), true};
+                   ft_channel_word(node.self, seq, kind, resync, kFtControlChannel, epoch), true};
   std::size_t written = 0U;
   if (encode_packet(f, data, image, written) != EncodeStatus::kOk) {
     return FtError::kBadArgs;

@@ -42,12 +42,15 @@
  * Restarts: a node's epoch (3 bits, ft_set_epoch: the endpoint takes the
  * tile's boot count) is in every data packet, and an ACK or NACK carries the
  * epoch of the stream it answers. A receive stream adopts the first packet
- * it gets after ft_init at whatever sequence (a restarted receiver joins a
- * stream in progress); a packet of another epoch with the resync flag starts
- * the stream again (a restarted sender begins each stream at sequence 0 with
- * the flag until that packet is acknowledged), and one without it is dropped
- * for the sender's timeout to bring the flagged one. A sender ignores ACKs
- * and NACKs of another epoch (they answer its previous incarnation).
+ * A receive stream starts (again) only at a packet with the resync flag: a
+ * fresh sender flags the first packet of each stream until it is
+ * acknowledged. A receiver with no stream from the source (it restarted, or
+ * the source did, with another epoch) answers an unflagged packet with a
+ * resync request (a NACK with the flag): the sender flags its oldest
+ * outstanding packet of the stream and resends from it, so a restarted
+ * receiver joins a stream in progress without a loss and a restarted sender
+ * is followed at once. A sender ignores ACKs and NACKs of another epoch (they
+ * answer its previous incarnation).
  *
  * Time is in kernel ticks, passed by the caller (k::now_ticks() on a task).
  * The node talks to the network through an FtPort so the same code runs in a
@@ -164,6 +167,7 @@ struct TxStream {
 };
 struct RxStream {
   bool synced = false;     ///< a packet was accepted since ft_init
+  bool resync_asked = false;  ///< a resync request was sent for the stream not yet started
   std::uint8_t epoch = 0U; ///< the sender's epoch this stream follows
   std::uint8_t expected = 0U;
   std::uint8_t nacked = 0U;
