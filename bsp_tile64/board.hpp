@@ -19,6 +19,7 @@
 #include "bsp_tile64/event_queue.hpp"
 #include "bsp_tile64/memory.hpp"
 #include "bsp_tile64/port.hpp"
+#include "bsp_tile64/power.hpp"
 #include "bsp_tile64/profile.hpp"
 
 #include <array>
@@ -26,14 +27,6 @@
 #include <cstdint>
 
 namespace bsp {
-
-enum class BoardError : std::uint8_t {
-  kOk,
-  kBadConfig,  ///< see board_init()
-  kBadTile,    ///< tile id outside the profile's grid
-  kFull,       ///< a fixed-capacity table is full
-  kBadState,   ///< operation not allowed in the tile's current state
-};
 
 /** Capacity of the global event queue. */
 inline constexpr std::size_t kEventCapacity = 2048U;
@@ -124,17 +117,6 @@ struct TileStats {
   Cycles active_cycles;  ///< cycles charged while kActive (not idle, not booting)
 };
 TileStats tile_stats(TileId tile) noexcept;
-
-/**
- * Power control. From the host (outside a run) the change is immediate; from a
- * tile it is applied at the next barrier. Switching on a tile that is off boots
- * it after boot_delay_cycles; switching off discards its contexts, timer and
- * watchdog; reset discards its contexts, empties its RAM region and boots it
- * again after the boot delay. [host|task]
- */
-BoardError power_on(TileId tile) noexcept;
-BoardError power_off(TileId tile) noexcept;
-BoardError reset_tile(TileId tile) noexcept;
 
 /**
  * Schedules an event at exactly @p cycle on @p tile: @p callback (may be nullptr)

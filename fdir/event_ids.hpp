@@ -63,11 +63,11 @@ enum class EventId : std::uint16_t {
   kTaskOverdue = 0x0501,       ///< a task missed its check-in; subject: task id, cause: tile, a: ticks late, b: budget; the watchdog is no longer kicked
   kWatchdogExpired = 0x0502,   ///< the supervisor took a tile's watchdog interrupt; subject: tile, a: expiries so far
   kTileReset = 0x0503,         ///< the supervisor reset a silent tile; subject: tile, a: resets of it, b: cap
-  kTileRecovered = 0x0504,     ///< a reset tile booted its role again and reported; subject: tile, cause: boot cause, a: ms since the reset
+  kTileRecovered = 0x0504,     ///< a reset tile booted its role again and reported; subject: tile, cause: boot cause, a: ticks since the reset
   kTileRebooted = 0x0505,      ///< a tile booted again without a command (crash); subject: tile, cause: boot cause
-  kTileLost = 0x0506,          ///< a reset tile never reported back; subject: tile, a: ms waited
+  kTileLost = 0x0506,          ///< a reset tile never reported back; subject: tile, a: ticks waited
   kRoleMoved = 0x0507,         ///< a retired tile's role goes to a spare; subject: role slot, cause: old tile, a: spare, b: directory version
-  kRoleRestored = 0x0508,      ///< the spare booted the role and reported; subject: role slot, cause: retired tile, a: spare, b: ms since the move
+  kRoleRestored = 0x0508,      ///< the spare booted the role and reported; subject: role slot, cause: retired tile, a: spare, b: ticks since the move
   kNoSpare = 0x0509,           ///< a role could not move (no spare left, or it would not switch on); subject: slot, cause: old tile
 };
 

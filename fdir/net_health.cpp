@@ -4,6 +4,8 @@
  */
 #include "fdir/net_health.hpp"
 
+#include "fdir/tile_health.hpp"
+
 #include "bsp_tile64/memory.hpp"
 #include "fdir/assert.hpp"
 #include "fdir/event_log.hpp"
@@ -176,6 +178,7 @@ void judge_transits(State& s, const NetHealthConfig& cfg, bsp::TileId self) noex
     if (answering != 0U) {
       s.core_told |= bit;
       report(EventId::kCoreSuspect, t, 0U, static_cast<std::uint32_t>(std::popcount(answering)));
+      tile_health_core_suspect(t);  // a core its watchdog did not name: the tile-health supervisor acts
     }
   }
 }

@@ -4,8 +4,9 @@
  */
 #include "fdir/tile_health.hpp"
 
-#include "bsp_tile64/board.hpp"
 #include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/power.hpp"
+#include "bsp_tile64/udn_driver.hpp"
 #include "fdir/event_log.hpp"
 #include "fdir/health_table.hpp"
 #include "kernel/kernel.hpp"
@@ -52,6 +53,7 @@ Overdue find_overdue(bsp::TileId self, k::Ticks now) noexcept {
 struct State {
   k::Semaphore expired{0, 1};  ///< given by the watchdog interrupt
   std::uint64_t watched = 0U;  ///< tiles whose agents report here now
+  std::uint64_t suspects = 0U; ///< silent cores named by the network-health task, to act on
   std::array<std::uint64_t, udn::kRoleSlots> to_tell{};  ///< per slot: tiles still to be sent its latest move
   std::uint64_t map_to_tell = 0U;  ///< tiles that booted and are still to be sent the fault map
   std::uint64_t adopted = 0U;      ///< spares that took a role: sent every new fault map (the health task skips spares)
@@ -79,16 +81,14 @@ void watchdog_isr(bsp::TileId tile) noexcept {
 
 constexpr std::uint64_t bit(bsp::TileId t) noexcept { return 1ULL << t; }
 
-std::uint32_t ms_since(k::Ticks then) noexcept {
+/** Kernel ticks (1 ms in the mission) since @p then. */
+std::uint32_t ticks_since(k::Ticks then) noexcept {
   const k::Ticks now = k::now_ticks();
-  const k::Ticks d = now >= then ? now - then : 0U;
-  const bsp::Cycles per_ms = bsp::kTile64.cycles_per_ms();
-  const bsp::Cycles cycles = static_cast<bsp::Cycles>(d) * bsp::tick_cycles();
-  return static_cast<std::uint32_t>(per_ms == 0U ? d : cycles / per_ms);
+  return static_cast<std::uint32_t>(now >= then ? now - then : 0U);
 }
 
 std::uint32_t distance(bsp::TileId a, bsp::TileId b) noexcept {
-  const std::uint32_t cols = bsp::kTile64.cols;
+  const std::uint32_t cols = bsp::udn_grid_cols() == 0U ? 1U : bsp::udn_grid_cols();
   const std::uint32_t ax = a % cols;
   const std::uint32_t ay = a / cols;
   const std::uint32_t bx = b % cols;
@@ -164,7 +164,12 @@ void retire(State& s, const TileHealthConfig& cfg, bsp::TileId t) noexcept {
 /** Sends the latest move of each slot, and the fault map, to the tiles still to be told (one try each per pass). */
 void tell_moves(State& s) noexcept {
   const udn::FaultMap map = udn::endpoint_fault_map();
-  const std::uint64_t map_targets = (s.map_to_tell | s.adopted) & s.watched;
+  // A tile whose switch the map names failed cannot be reached: nothing is sent to it.
+  s.map_to_tell &= ~map.failed_tiles;
+  for (std::uint64_t& m : s.to_tell) {
+    m &= ~map.failed_tiles;
+  }
+  const std::uint64_t map_targets = (s.map_to_tell | s.adopted) & s.watched & ~map.failed_tiles;
   if (map_targets != 0ULL && map.version != 0U) {
     std::array<std::uint32_t, udn::kFaultMapWords> w{};
     udn::pack_fault_map(map, w);
@@ -196,9 +201,8 @@ void tell_moves(State& s) noexcept {
   }
 }
 
+/** A tile found silent (its watchdog, or the pings): reset under the cap, else retired. */
 void on_expired(State& s, const TileHealthConfig& cfg, bsp::TileId self, bsp::TileId t) noexcept {
-  ++s.view.expiries;
-  report(EventId::kWatchdogExpired, t, 0U, s.view.expiries);
   if (t == self || (s.watched & bit(t)) == 0ULL || (s.view.pending & bit(t)) != 0ULL) {
     return;  // its own (the hardware resets it), not ours, or already being reset
   }
@@ -223,7 +227,9 @@ void on_booted(State& s, bsp::TileId t, std::uint32_t cause) noexcept {
   // It starts from the boot map and directory: the current map and every move
   // so far are sent to it (a spare is not on the health task's publication
   // list, a reset tile may have missed a version).
-  s.map_to_tell |= bit(t);
+  if (udn::endpoint_fault_map().version != 0U) {
+    s.map_to_tell |= bit(t);  // a first boot starts from the current map already
+  }
   const udn::RoleDirectory dir = udn::endpoint_roles();
   for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
     if (dir.version[slot] != 0U) {
@@ -232,7 +238,7 @@ void on_booted(State& s, bsp::TileId t, std::uint32_t cause) noexcept {
   }
   if (s.arriving[t] != kNoSlot) {
     ++s.view.restored;
-    report(EventId::kRoleRestored, s.arriving[t], s.arriving_from[t], t, ms_since(s.moved_at[t]));
+    report(EventId::kRoleRestored, s.arriving[t], s.arriving_from[t], t, ticks_since(s.moved_at[t]));
     s.arriving[t] = kNoSlot;
     s.booted |= bit(t);
     return;
@@ -241,7 +247,7 @@ void on_booted(State& s, bsp::TileId t, std::uint32_t cause) noexcept {
     s.view.pending &= ~bit(t);
     ++s.view.recovered;
     monitor_clear(s.wd[t]);
-    report(EventId::kTileRecovered, t, cause, ms_since(s.reset_at[t]));
+    report(EventId::kTileRecovered, t, cause, ticks_since(s.reset_at[t]));
   } else if ((s.booted & bit(t)) != 0ULL || cause != static_cast<std::uint32_t>(bsp::BootCause::kPowerOn)) {
     ++s.view.rebooted;
     monitor_clear(s.wd[t]);
@@ -256,7 +262,7 @@ void check_timeouts(State& s, const TileHealthConfig& cfg) noexcept {
     if ((s.view.pending & bit(t)) != 0ULL && now - s.reset_at[t] > cfg.boot_timeout_ticks) {
       s.view.pending &= ~bit(t);
       ++s.view.lost;
-      report(EventId::kTileLost, t, 0U, ms_since(s.reset_at[t]));
+      report(EventId::kTileLost, t, 0U, ticks_since(s.reset_at[t]));
       retire(s, cfg, t);
     }
   }
@@ -326,9 +332,15 @@ void tile_health_task_main(void* arg) noexcept {
   for (;;) {
     (void)s->expired.take(k::Timeout{cfg->poll_ticks});
     const std::uint64_t expired = bsp::watchdog_take_expired();
+    const std::uint64_t suspects = s->suspects;
+    s->suspects = 0U;
     for (bsp::TileId t = 0; t < bsp::kMaxTiles; ++t) {
       if ((expired & bit(t)) != 0ULL) {
+        ++s->view.expiries;
+        report(EventId::kWatchdogExpired, t, 0U, s->view.expiries);
         on_expired(*s, *cfg, self, t);
+      } else if ((suspects & bit(t)) != 0ULL) {
+        on_expired(*s, *cfg, self, t);  // its watchdog did not expire: the pings found it
       }
     }
     for (std::uint32_t i = 0;
@@ -341,6 +353,13 @@ void tile_health_task_main(void* arg) noexcept {
     check_timeouts(*s, *cfg);
     tell_moves(*s);
     k::checkin();
+  }
+}
+
+void tile_health_core_suspect(bsp::TileId tile) noexcept {
+  const bsp::TileId self = bsp::current_tile();
+  if (self < bsp::kMaxTiles && tile < bsp::kMaxTiles && g_state[self] != nullptr) {
+    g_state[self]->suspects |= bit(tile);
   }
 }
 

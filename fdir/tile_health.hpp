@@ -81,6 +81,14 @@ struct TileHealthConfig {
 /** The tile-health supervisor's task entry (arg: const TileHealthConfig*). */
 void tile_health_task_main(void* arg) noexcept;
 
+/**
+ * The network-health task on the supervisor's tile names a silent core whose
+ * switch still routes (kCoreSuspect, from the neighbours' pings and the
+ * transits): the tile-health supervisor treats it as an expired watchdog
+ * (a tile whose watchdog failed is still found). [task, on the supervisor's tile]
+ */
+void tile_health_core_suspect(bsp::TileId tile) noexcept;
+
 /** What the supervisor has seen and done. [host: displays and tests] */
 struct TileHealthView {
   std::uint32_t expiries = 0U;   ///< watchdog expiries taken

@@ -244,7 +244,7 @@ std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noe
       (void)std::snprintf(b.data(), b.size(), "tile %s reset by the supervisor (reset %u of at most %u)", s, e.a, e.b);
       break;
     case EventId::kTileRecovered:
-      (void)std::snprintf(b.data(), b.size(), "tile %s booted its role again and reported, %u ms after its reset", s,
+      (void)std::snprintf(b.data(), b.size(), "tile %s booted its role again and reported, %u ticks (ms) after its reset", s,
                           e.a);
       break;
     case EventId::kTileRebooted:
@@ -252,14 +252,14 @@ std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noe
                           s, boot_cause_name(e.cause));
       break;
     case EventId::kTileLost:
-      (void)std::snprintf(b.data(), b.size(), "tile %s did not report back %u ms after its reset", s, e.a);
+      (void)std::snprintf(b.data(), b.size(), "tile %s did not report back %u ticks (ms) after its reset", s, e.a);
       break;
     case EventId::kRoleMoved:
       (void)std::snprintf(b.data(), b.size(), "role slot %s moves from retired tile %u to spare %u (directory "
                           "version %u)", s, e.cause, e.a, e.b);
       break;
     case EventId::kRoleRestored:
-      (void)std::snprintf(b.data(), b.size(), "role slot %s runs again on tile %u (was tile %u), %u ms after the move",
+      (void)std::snprintf(b.data(), b.size(), "role slot %s runs again on tile %u (was tile %u), %u ticks (ms) after the move",
                           s, e.a, e.cause, e.b);
       break;
     case EventId::kNoSpare:

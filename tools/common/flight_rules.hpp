@@ -46,11 +46,12 @@ namespace tools::flight_rules {
  * devices/camera.hpp, devices/imu.hpp, devices/device_bus.hpp (the devices'
  * simulation, which reads the world) and world/ (the truth).
  */
-inline constexpr std::array<std::string_view, 10> kBoardInterface = {
+inline constexpr std::array<std::string_view, 11> kBoardInterface = {
     "bsp_tile64/port.hpp",                  // the port contract: contexts, time, charging work, interrupts,
                                             // watchdog, the tile's trace, publication
     "bsp_tile64/work.hpp",                  // counted work, which the port charges through the cost model
     "bsp_tile64/memory.hpp",                // the memory map: tile RAM and DDR regions, carving at init
+    "bsp_tile64/power.hpp",                 // power control: switch on, switch off, reset a tile
     "bsp_tile64/udn_hw.hpp",                // UDN vocabulary: header word, directions, queue counts, limits
     "bsp_tile64/udn_driver.hpp",            // UDN driver: send, receive, bind, poll, the grid's size
     "bsp_tile64/devices/device_io.hpp",     // the I/O tile's IMU and camera FIFOs and device counters

@@ -336,6 +336,10 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("landmarks_selected", c.landmarks_selected);
   s.extra.emplace_back("coarse_accepted", c.coarse_accepted);
   s.extra.emplace_back("vision_units_lost", c.units_lost);
+  // Where the roles ran at the end (the supervisor's directory) and what that coordinator did.
+  s.extra.emplace_back("coordinator_tile", trn::tasks::slot_tile_now(trn::tasks::kSlotCoordinator));
+  s.extra.emplace_back("filter_tile", trn::tasks::slot_tile_now(trn::tasks::kSlotFilter));
+  s.extra.emplace_back("coordinator_frames_processed", c.frames_processed);
   s.extra.emplace_back("worst_frame_ms", static_cast<double>(c.max_frame_cycles) * 1000.0 /
                                              static_cast<double>(bsp::kTile64.clock_hz));
   s.extra.emplace_back("final_position_3sigma_m", rec.last.sigma3_p.norm());

@@ -26,6 +26,11 @@ ImageError check(const ImageConfig& c) noexcept {
       !tile_ok(c.agent.supervisor)) {
     return ImageError::kBadTile;
   }
+  for (const bsp::TileId t : c.endpoint.roles.tile) {
+    if (!tile_ok(t)) {
+      return ImageError::kBadTile;
+    }
+  }
   if (c.coord.vision_count > kMaxVisionTiles) {
     return ImageError::kBadVisionList;
   }

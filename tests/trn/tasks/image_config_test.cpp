@@ -32,12 +32,19 @@ TEST(ImageConfig, AcceptedConfigurationIsWhatTheRoleTablesPointTo) {
   EXPECT_EQ(image_config().filter.matches_per_job, 7U);
   EXPECT_EQ(image_config().coord.vision_count, 40U);
   // Every role's task gets its part of the one configuration.
-  EXPECT_EQ(trn::tasks::kFilterRole[1].arg, &image_config().filter);
-  EXPECT_EQ(trn::tasks::kIoRole[1].arg, &image_config().io);
-  EXPECT_EQ(trn::tasks::kCoordinatorRole[1].arg, &image_config().coord);
-  EXPECT_EQ(trn::tasks::kVisionRole[1].arg, &image_config().vision);
-  EXPECT_EQ(trn::tasks::kSupervisorRole[1].arg, &image_config().net_health);
+  EXPECT_EQ(trn::tasks::kFilterRole[2].arg, &image_config().filter);
+  EXPECT_EQ(trn::tasks::kIoRole[2].arg, &image_config().io);
+  EXPECT_EQ(trn::tasks::kCoordinatorRole[2].arg, &image_config().coord);
+  EXPECT_EQ(trn::tasks::kVisionRole[2].arg, &image_config().vision);
+  EXPECT_EQ(trn::tasks::kSupervisorRole[2].arg, &image_config().tile_health);
+  EXPECT_EQ(trn::tasks::kSupervisorRole[3].arg, &image_config().net_health);
   EXPECT_EQ(trn::tasks::kCommTask.arg, &image_config().endpoint);
+  // Every role tile runs the health agent second, configured once.
+  for (const k::TaskTable t : {k::TaskTable(trn::tasks::kFilterRole), k::TaskTable(trn::tasks::kIoRole),
+                               k::TaskTable(trn::tasks::kCoordinatorRole), k::TaskTable(trn::tasks::kVisionRole),
+                               k::TaskTable(trn::tasks::kSupervisorRole)}) {
+    EXPECT_EQ(t[1].arg, &image_config().agent);
+  }
 }
 
 TEST(ImageConfig, RefusedConfigurationChangesNothing) {
@@ -65,6 +72,18 @@ TEST(ImageConfig, RefusedConfigurationChangesNothing) {
   EXPECT_EQ(configure_image(c), ImageError::kBadConfig);
   c = mission_like();
   c.coord.deadline_s = 0.0;
+  EXPECT_EQ(configure_image(c), ImageError::kBadConfig);
+  c = mission_like();
+  c.agent.supervisor = 64;
+  EXPECT_EQ(configure_image(c), ImageError::kBadTile);
+  c = mission_like();
+  c.endpoint.roles.tile[trn::tasks::kSlotFilter] = 99;  // the directory names a tile off the chip
+  EXPECT_EQ(configure_image(c), ImageError::kBadTile);
+  c = mission_like();
+  c.agent.watchdog_ticks = fdir::kAgentPeriodTicks;  // shorter than two kicks: it would expire between them
+  EXPECT_EQ(configure_image(c), ImageError::kBadConfig);
+  c = mission_like();
+  c.tile_health.max_resets = 0;
   EXPECT_EQ(configure_image(c), ImageError::kBadConfig);
 
   EXPECT_EQ(image_config().filter.matches_per_job, 9U) << "the last accepted configuration stands";
