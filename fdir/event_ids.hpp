@@ -9,7 +9,7 @@
  * joins the events to the injector's ground truth by the rule of docs/FDIR.md;
  * it never decides a step itself. Ids are grouped by layer: 0x01xx messaging,
  * 0x02xx network health, 0x03xx vision, 0x04xx health table and asserts, 0x05xx core
- * health (watchdogs, resets).
+ * health (watchdogs, resets, spares), 0x06xx filter restarts.
  */
 #pragma once
 
@@ -69,6 +69,10 @@ enum class EventId : std::uint16_t {
   kRoleMoved = 0x0507,         ///< a retired tile's role goes to a spare; subject: role slot, cause: old tile, a: spare, b: directory version
   kRoleRestored = 0x0508,      ///< the spare booted the role and reported; subject: role slot, cause: retired tile, a: spare, b: ticks since the move
   kNoSpare = 0x0509,           ///< a role could not move (no spare left, or it would not switch on); subject: slot, cause: old tile
+  // ---- navigation filter restarts (trn/tasks/filter_task)
+  kFilterResumed = 0x0601,     ///< the filter started from a DDR checkpoint; subject: checkpoint number, a: IMU samples to replay, b: last sample it holds
+  kCheckpointBad = 0x0602,     ///< a checkpoint slot failed its checks and is not used; subject: slot, a: bad slots
+  kImuGap = 0x0603,            ///< IMU samples neither received nor still recorded; subject: first missing, a: samples
 };
 
 struct EventInfo {
@@ -79,7 +83,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 34> kEventTable{{
+inline constexpr std::array<EventInfo, 37> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -114,6 +118,9 @@ inline constexpr std::array<EventInfo, 34> kEventTable{{
     {EventId::kRoleMoved, "role_moved", Severity::kWarningHi, kStepIsolate},
     {EventId::kRoleRestored, "role_restored", Severity::kInfo, kStepRecover},
     {EventId::kNoSpare, "no_spare", Severity::kFatal, kStepNone},
+    {EventId::kFilterResumed, "filter_resumed", Severity::kInfo, kStepRecover},
+    {EventId::kCheckpointBad, "checkpoint_bad", Severity::kWarningHi, kStepDetect},
+    {EventId::kImuGap, "imu_gap", Severity::kWarningHi, kStepDetect},
 }};
 
 namespace detail {

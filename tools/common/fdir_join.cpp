@@ -262,6 +262,16 @@ std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noe
       (void)std::snprintf(b.data(), b.size(), "role slot %s runs again on tile %u (was tile %u), %u ticks (ms) after the move",
                           s, e.a, e.cause, e.b);
       break;
+    case EventId::kFilterResumed:
+      (void)std::snprintf(b.data(), b.size(), "filter resumed from checkpoint %s (IMU sample %u), %u samples to "
+                          "replay from the I/O record", s, e.b, e.a);
+      break;
+    case EventId::kCheckpointBad:
+      (void)std::snprintf(b.data(), b.size(), "filter checkpoint slot %s failed its checks: not used (%u bad)", s, e.a);
+      break;
+    case EventId::kImuGap:
+      (void)std::snprintf(b.data(), b.size(), "%u IMU samples from sample %s neither received nor recorded", e.a, s);
+      break;
     case EventId::kNoSpare:
       (void)std::snprintf(b.data(), b.size(), "role slot %s of tile %u cannot move: no spare", s, e.cause);
       break;

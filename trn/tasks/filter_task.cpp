@@ -5,7 +5,10 @@
 #include "trn/tasks/filter_task.hpp"
 
 #include "bsp_tile64/memory.hpp"
+#include "fdir/event_log.hpp"
 #include "kernel/kernel.hpp"
+#include "trn/tasks/filter_checkpoint.hpp"
+#include "trn/tasks/imu_ring.hpp"
 #include "trn/tasks/messages.hpp"
 #include "udn/endpoint.hpp"
 
@@ -30,13 +33,83 @@ struct Slot {
   FilterTaskStats stats;
   filter::NavOutput latest;
   bool published;
+  CheckpointArea* ckpt;      ///< nullptr: no checkpoints (disabled, or no DDR)
+  const ImuRing* ring;       ///< the I/O tile's record; nullptr until it exists
+  bool have_imu;             ///< last_imu is valid
+  std::uint32_t last_imu;    ///< seq of the last sample integrated
+  bool catching_up;          ///< samples to replay from the record before the live ones
+  std::uint32_t ckpt_seq;    ///< number of the last checkpoint written or resumed from
+  std::uint32_t ckpt_slot;   ///< slot it is in (the next write goes to the other)
+  std::uint32_t since_ckpt;  ///< jobs since it
 };
 
 std::array<Slot, bsp::kMaxTiles> g_slots{};
 
-/** Integrates up to kMaxImuPerJob samples waiting on kChanImu. */
+/** Propagates with one sample and remembers it as the last integrated. */
+void integrate(Slot& slot, const bsp::ImuSample& s) noexcept {
+  filter::UpdateReport rep{};
+  const filter::FilterStatus st = slot.ekf->step(filter::StepInput{&s, nullptr, 0}, rep);
+  if (st == filter::FilterStatus::kOk) {
+    ++slot.stats.imu_used;
+  } else if (st == filter::FilterStatus::kImuInvalid) {
+    ++slot.stats.imu_rejected;
+  } else {
+    ++slot.stats.filter_errors;
+  }
+  slot.have_imu = true;
+  slot.last_imu = s.seq;
+}
+
+/**
+ * Integrates from the DDR record the samples after the last one up to
+ * (not including) @p until, at most @p budget of them. @return false if the
+ * budget ran out first. Samples the record lost are skipped and reported.
+ */
+bool replay(Slot& slot, std::uint32_t until, std::uint32_t& budget) noexcept {
+  if (slot.ring == nullptr) {
+    slot.ring = imu_ring();
+  }
+  for (std::uint32_t n = 0; n < kMaxReplayPerJob + 1U && slot.last_imu + 1U < until; ++n) {
+    if (budget == 0U) {
+      return false;
+    }
+    bsp::ImuSample s{};
+    const RingRead rr = slot.ring == nullptr ? RingRead::kNotYet : imu_ring_get(*slot.ring, slot.last_imu + 1U, s);
+    if (rr == RingRead::kNotYet) {
+      return true;  // nothing newer recorded yet
+    }
+    if (rr == RingRead::kGone) {
+      const std::uint32_t oldest = imu_ring_oldest(*slot.ring);
+      const std::uint32_t first = oldest > slot.last_imu + 1U ? oldest : until;
+      const std::uint32_t missing = first - (slot.last_imu + 1U);
+      slot.stats.imu_lost += missing;
+      fdir::report(fdir::EventId::kImuGap, slot.last_imu + 1U, 0U, missing);
+      slot.last_imu = first - 1U;
+      continue;
+    }
+    integrate(slot, s);
+    ++slot.stats.imu_replayed;
+    --budget;
+  }
+  return slot.last_imu + 1U >= until;
+}
+
+/** After a resume: replays the record until it has nothing newer (bounded per job). */
+void catch_up(Slot& slot) noexcept {
+  if (!slot.catching_up) {
+    return;
+  }
+  std::uint32_t budget = kMaxReplayPerJob;
+  const std::uint32_t newest = slot.ring != nullptr ? slot.ring->written : 0U;
+  if (replay(slot, newest > slot.last_imu + 1U ? newest : slot.last_imu + 1U, budget) && budget > 0U) {
+    slot.catching_up = false;
+  }
+}
+
+/** Integrates up to kMaxImuPerJob samples waiting on kChanImu (filling gaps from the record). */
 void consume_imu(Slot& slot) noexcept {
   udn::FtMessage msg{};
+  std::uint32_t budget = kMaxReplayPerJob;
   for (std::uint32_t n = 0; n < kMaxImuPerJob; ++n) {
     if (udn::endpoint_receive(kChanImu, msg) != udn::FtError::kOk) {
       return;
@@ -46,16 +119,34 @@ void consume_imu(Slot& slot) noexcept {
       continue;
     }
     const bsp::ImuSample s = unpack_imu(std::span<const std::uint32_t, kImuWords>{msg.data.data(), kImuWords});
-    filter::UpdateReport rep{};
-    const filter::FilterStatus st = slot.ekf->step(filter::StepInput{&s, nullptr, 0}, rep);
-    if (st == filter::FilterStatus::kOk) {
-      ++slot.stats.imu_used;
-    } else if (st == filter::FilterStatus::kImuInvalid) {
-      ++slot.stats.imu_rejected;
-    } else {
-      ++slot.stats.filter_errors;
+    if (slot.have_imu && s.seq <= slot.last_imu) {
+      ++slot.stats.imu_duplicates;  // replayed before it arrived
+      continue;
     }
+    if (slot.have_imu && s.seq > slot.last_imu + 1U && slot.cfg->checkpoint_every != 0U &&
+        !replay(slot, s.seq, budget)) {
+      slot.catching_up = true;  // the rest of the gap (and this sample) come from the record next jobs
+      continue;
+    }
+    if (slot.have_imu && s.seq <= slot.last_imu) {
+      ++slot.stats.imu_duplicates;
+      continue;
+    }
+    integrate(slot, s);
   }
+}
+
+/** Every checkpoint_every jobs (not while catching up): the whole state to DDR. */
+void checkpoint(Slot& slot) noexcept {
+  if (slot.ckpt == nullptr || slot.catching_up || !slot.have_imu || ++slot.since_ckpt < slot.cfg->checkpoint_every) {
+    return;
+  }
+  slot.since_ckpt = 0U;
+  bsp::Work work{};
+  slot.ckpt_slot = 1U - slot.ckpt_slot;
+  checkpoint_write(*slot.ckpt, slot.ekf->state(), slot.last_imu, ++slot.ckpt_seq, slot.ckpt_slot, work);
+  bsp::consume(work);
+  ++slot.stats.checkpoints;
 }
 
 /** Drops what is left of the oldest frame in the queue. */
@@ -197,8 +288,34 @@ bool set_up(Slot& slot, const FilterTaskConfig& cfg) noexcept {
   }
   ::new (queue) MatchQueue{};
   slot.queue = queue;
-  return slot.ekf->configure(cfg.filter, cfg.camera) == filter::FilterStatus::kOk &&
-         slot.ekf->init(cfg.initial) == filter::FilterStatus::kOk;
+  if (slot.ekf->configure(cfg.filter, cfg.camera) != filter::FilterStatus::kOk) {
+    return false;
+  }
+  slot.ckpt = cfg.checkpoint_every != 0U ? checkpoint_area() : nullptr;
+  slot.ring = cfg.checkpoint_every != 0U ? imu_ring() : nullptr;
+  if (slot.ckpt != nullptr) {
+    // A checkpoint left by an earlier start (a reset, or the tile this role moved from).
+    filter::FilterState st{};
+    bsp::Work work{};
+    const CheckpointRead r = checkpoint_read(*slot.ckpt, st, work);
+    bsp::consume(work);
+    if (r.bad != 0U) {
+      fdir::report(fdir::EventId::kCheckpointBad, r.bad_slot, 0U, r.bad);
+    }
+    if (r.found && slot.ekf->restore(st) == filter::FilterStatus::kOk) {
+      slot.have_imu = true;
+      slot.last_imu = r.imu_seq;
+      slot.catching_up = true;
+      slot.ckpt_seq = r.seq;
+      slot.ckpt_slot = r.slot;
+      slot.stats.resumed_from = r.seq;
+      const std::uint32_t recorded = slot.ring != nullptr ? slot.ring->written : 0U;
+      fdir::report(fdir::EventId::kFilterResumed, r.seq, 0U, recorded > r.imu_seq + 1U ? recorded - r.imu_seq - 1U : 0U,
+                   r.imu_seq);
+      return true;
+    }
+  }
+  return slot.ekf->init(cfg.initial) == filter::FilterStatus::kOk;
 }
 
 }  // namespace
@@ -213,6 +330,7 @@ void filter_task_main(void* arg) noexcept {
   }
   for (;;) {  // one pass per 10 ms release
     const bsp::Cycles start = bsp::now();
+    catch_up(slot);
     consume_imu(slot);
     bsp::consume(slot.ekf->take_work());
     consume_parts(slot);
@@ -220,6 +338,7 @@ void filter_task_main(void* arg) noexcept {
     bsp::consume(slot.ekf->take_work());
     publish(slot);
     send_nav(slot);
+    checkpoint(slot);
     ++slot.stats.jobs;
     slot.stats.last_job_cycles = bsp::now() - start;
     if (slot.stats.last_job_cycles > slot.stats.max_job_cycles) {

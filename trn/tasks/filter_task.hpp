@@ -17,6 +17,16 @@
  * queue live in the tile's RAM (carved at task start), like any state a
  * single-event upset could hit. How many matches a job applies depends only
  * on the queue, never on timing, so replicas fed the same parts stay in step.
+ *
+ * Restarts (trn/tasks/filter_checkpoint.hpp): every checkpoint_every jobs the
+ * whole state goes to DDR. A task that starts and finds a good checkpoint,
+ * on whatever tile (after a reset, or as a spare that took the role over),
+ * resumes from it (kFilterResumed) instead of the initial estimate, and
+ * replays the IMU samples it missed from the I/O tile's DDR record
+ * (trn/tasks/imu_ring.hpp), at most kMaxReplayPerJob per job, before the live
+ * ones; a live sample already replayed is skipped, and a gap in the live
+ * stream is filled from the record too. Samples the record no longer holds
+ * are reported (kImuGap).
  */
 #pragma once
 
@@ -42,6 +52,10 @@ inline constexpr std::uint32_t kMatchQueueLen = 2U * kMaxMatchesPerFrame;
 inline constexpr std::uint32_t kMaxPartsPerJob = 16;
 /** Matches applied per job by default: 15 x ~0.3 ms of TILE64 time keeps a job under half its period. */
 inline constexpr std::uint32_t kDefaultMatchesPerJob = 15;
+/** IMU samples one job replays at most from the I/O tile's DDR record when it is behind. */
+inline constexpr std::uint32_t kMaxReplayPerJob = 20;
+/** Jobs between two checkpoints by default (100 ms). */
+inline constexpr std::uint32_t kDefaultCheckpointEvery = 10;
 
 struct FilterTaskConfig {
   filter::FilterConfig filter{};
@@ -49,6 +63,7 @@ struct FilterTaskConfig {
   filter::InitialEstimate initial{};
   bsp::TileId nav_sink = bsp::kNoTile;  ///< tile sent the solution every job on kChanNav (kNoTile: none)
   std::uint32_t matches_per_job = kDefaultMatchesPerJob;  ///< 1..kMaxMatchesPerFrame
+  std::uint32_t checkpoint_every = kDefaultCheckpointEvery;  ///< jobs between DDR checkpoints (0: none, no resume)
 };
 
 struct FilterTaskStats {
@@ -68,6 +83,11 @@ struct FilterTaskStats {
   std::uint32_t queue_high_water;  ///< most matches queued at once
   std::uint32_t nav_sent;          ///< solutions handed to the messaging layer for nav_sink
   std::uint32_t nav_send_failed;   ///< refused (window full, no route, node not open)
+  std::uint32_t imu_replayed;      ///< samples integrated from the I/O tile's DDR record (missed on the network)
+  std::uint32_t imu_duplicates;    ///< live samples already integrated (replayed before they arrived)
+  std::uint32_t imu_lost;          ///< samples neither received nor still in the record
+  std::uint32_t checkpoints;       ///< checkpoints written
+  std::uint32_t resumed_from;      ///< checkpoint the task started from (0: the initial estimate)
   bsp::Cycles max_job_cycles;      ///< longest job, from its start to the end of its sends
   bsp::Cycles last_job_cycles;
 };

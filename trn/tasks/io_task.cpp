@@ -7,6 +7,7 @@
 #include "bsp_tile64/devices/device_io.hpp"
 #include "bsp_tile64/memory.hpp"
 #include "kernel/kernel.hpp"
+#include "trn/tasks/imu_ring.hpp"
 #include "trn/tasks/messages.hpp"
 #include "udn/endpoint.hpp"
 
@@ -61,12 +62,17 @@ void io_task_main(void* arg) noexcept {
     return;  // the tile's health monitor sees a task that never runs
   }
   std::array<std::uint32_t, kImuWords> words{};
+  // Every sample is also recorded in DDR, for a filter that restarts to replay what it missed.
+  ImuRing* const ring = imu_ring();
   for (;;) {  // the driver loop: one pass per device interrupt
     // The IMU interrupts every 10 ms in flight; the timeout keeps the check-ins going before and after.
     (void)g_device_ready.take(k::Timeout{kIdleCheckinTicks});
     k::checkin();
     bsp::ImuSample s{};
     for (std::uint32_t n = 0; n < kMaxPerWake && bsp::imu_read(&s); ++n) {
+      if (ring != nullptr) {
+        imu_ring_put(*ring, s);
+      }
       pack_imu(s, words);
       const bsp::TileId filter = udn::endpoint_role_tile(kSlotFilter, cfg->filter_tile);
       if (udn::endpoint_send(filter, kChanImu, words, kSendTicks) == udn::FtError::kOk) {

@@ -173,6 +173,39 @@ TEST_F(TrnMissionBinary, AHungFilterIsResetByItsWatchdogAndNavigates) {
   EXPECT_EQ(count_of(log, "declared failed"), 0U) << "no switch is blamed for a hung core";
 }
 
+// Core health and the filter's checkpoints: a crashed filter tile boots its role again, the
+// filter resumes from its last DDR checkpoint and replays the IMU samples it missed from the I/O
+// tile's record: the descent ends as accurate as without the fault (3 km off before).
+TEST_F(TrnMissionBinary, ACrashedFilterResumesFromItsCheckpoint) {
+  ASSERT_EQ(run(binary() + " --quiet --faults " + fixture("filter_reset.toml") + " --out " + (dir_ / "fr").string()), 0);
+  const nlohmann::json s = read_json(dir_ / "fr" / "summary.json");
+  const std::string log = read_text(dir_ / "fr" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 1);
+  EXPECT_EQ(s["faults_recovered"], 1);
+  EXPECT_NE(log.find("core_reset (planned) -> detected by tile 0 (tile_rebooted)"), std::string::npos) << log;
+  EXPECT_NE(log.find("tile 18  filter_resumed: filter resumed from checkpoint"), std::string::npos) << log;
+  EXPECT_EQ(count_of(log, "imu_gap:"), 0U) << "every missed sample was replayed";
+  EXPECT_LT(s["nav_longest_gap_s"].get<double>(), 1.0);
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+}
+
+// Past its cap of resets the filter tile is retired; the filter role moves to a spare, which
+// resumes from the checkpoint: the output never stops for a camera frame.
+TEST_F(TrnMissionBinary, AFilterHungFourTimesMovesToASpareWithItsState) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 26 --faults " + fixture("filter_hang_four.toml") + " --out " +
+                (dir_ / "f4").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "f4" / "summary.json");
+  const std::string log = read_text(dir_ / "f4" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 4);
+  EXPECT_EQ(s["faults_recovered"], 4);
+  EXPECT_EQ(count_of(log, "filter_resumed:"), 4U) << log;
+  EXPECT_NE(log.find("role_moved: role slot 2 moves from retired tile 18 to spare 10"), std::string::npos);
+  EXPECT_EQ(s["filter_tile"], 10);
+  EXPECT_LT(s["nav_longest_gap_s"].get<double>(), 1.0);
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+}
+
 // Point 9: the switch of a spare tile (it routes traffic but runs nothing that could answer a
 // probe) fails mid-run: transit probes across it are lost, the health tile names it, the map goes
 // out by message and traffic routes around. Upsets on the I/O tile's packets are corrected by the

@@ -6,6 +6,7 @@
  *        a full queue drops its oldest frame, stale frames are refused, and runs repeat bit for bit.
  */
 #include "bsp_tile64/board.hpp"
+#include "bsp_tile64/memory.hpp"
 #include "bsp_tile64/devices/device_bus.hpp"
 #include "bsp_tile64/rng.hpp"
 #include "bsp_tile64/trace.hpp"
@@ -210,6 +211,8 @@ class FilterMatches : public ::testing::Test {
     k::set_task_table(kIoTile, trn::tasks::kIoRole, bsp::kTile64.cycles_per_ms());
     k::set_task_table(kFilterTile, trn::tasks::kFilterRole, bsp::kTile64.cycles_per_ms());
     k::set_task_table(kCoordTile, kCoordRole, bsp::kTile64.cycles_per_ms());
+    // A fresh shared DDR: no checkpoint or IMU record of an earlier test to resume from.
+    ASSERT_EQ(bsp::region_reset(bsp::Region{bsp::Region::kDdr}), bsp::MemError::kOk);
     ASSERT_EQ(bsp::board_init(cfg), bsp::BoardError::kOk);
     ASSERT_EQ(bsp::udn_net_init(bsp::NetConfig{}), bsp::NetError::kOk);
     bsp::DeviceBusConfig bus;

@@ -5,6 +5,7 @@
  *        and repeats bit for bit.
  */
 #include "bsp_tile64/board.hpp"
+#include "bsp_tile64/memory.hpp"
 #include "bsp_tile64/devices/device_bus.hpp"
 #include "bsp_tile64/trace.hpp"
 #include "bsp_tile64/udn_net.hpp"
@@ -50,6 +51,8 @@ class FilterTask : public ::testing::Test {
     cfg.boot[kFilterTile] = &k::boot_entry;
     k::set_task_table(kIoTile, trn::tasks::kIoRole, bsp::kTile64.cycles_per_ms());
     k::set_task_table(kFilterTile, trn::tasks::kFilterRole, bsp::kTile64.cycles_per_ms());
+    // A fresh shared DDR: no checkpoint or IMU record of an earlier test to resume from.
+    ASSERT_EQ(bsp::region_reset(bsp::Region{bsp::Region::kDdr}), bsp::MemError::kOk);
     ASSERT_EQ(bsp::board_init(cfg), bsp::BoardError::kOk);
     ASSERT_EQ(bsp::udn_net_init(bsp::NetConfig{}), bsp::NetError::kOk);
     bsp::DeviceBusConfig bus;
