@@ -192,9 +192,8 @@ void tell_moves(State& s) noexcept {
       if ((s.to_tell[slot] & bit(t)) == 0ULL) {
         continue;
       }
-      if ((s.watched & bit(t)) == 0ULL) {
-        s.to_tell[slot] &= ~bit(t);  // retired meanwhile
-      } else if (udn::endpoint_send(t, udn::kFtChanMap, w, 0U) == udn::FtError::kOk) {
+      // Told, or retired meanwhile: nothing more to send it.
+      if ((s.watched & bit(t)) == 0ULL || udn::endpoint_send(t, udn::kFtChanMap, w, 0U) == udn::FtError::kOk) {
         s.to_tell[slot] &= ~bit(t);
       }
     }

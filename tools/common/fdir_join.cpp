@@ -111,10 +111,10 @@ bool recovers(const fdir::Event& d, const fdir::Event& e) {
     case EventId::kTaskOverdue:
       return (e.id == EventId::kTileRecovered && e.subject == d.tile) ||
              (e.id == EventId::kRoleRestored && e.cause == d.tile);
-    case EventId::kTileRebooted:
-      return false;  // recovered by the detecting event itself: the tile runs its role again
     default:
-      return false;  // a neighbour's suspicion alone isolates nothing
+      // A neighbour's suspicion alone isolates nothing; a tile_rebooted recovers by itself (the
+      // tile runs its role again).
+      return false;
   }
 }
 
@@ -294,10 +294,6 @@ void FlightEventCollector::take(const fdir::Event& e) noexcept {
     case EventId::kWorkerSilent:
     case EventId::kCoreSuspect:
     case EventId::kNeighbourSuspect:
-      if (e.subject < bsp::kMaxTiles && health_[e.subject] != TileHealth::kFailed) {
-        health_[e.subject] = TileHealth::kSuspect;
-      }
-      break;
     case EventId::kWatchdogExpired:
     case EventId::kTileReset:
       if (e.subject < bsp::kMaxTiles && health_[e.subject] != TileHealth::kFailed) {
