@@ -69,6 +69,8 @@ enum class EventId : std::uint16_t {
   kRoleMoved = 0x0507,         ///< a retired tile's role goes to a spare; subject: role slot, cause: old tile, a: spare, b: directory version
   kRoleRestored = 0x0508,      ///< the spare booted the role and reported; subject: role slot, cause: retired tile, a: spare, b: ticks since the move
   kNoSpare = 0x0509,           ///< a role could not move (no spare left, or it would not switch on); subject: slot, cause: old tile
+  kSelfTestMismatch = 0x050A,  ///< a tile was outvoted by two others in a self-test; subject: tile, cause: round, a: disagreements in a row, b: to retire
+  kSelfTestAgree = 0x050B,     ///< an outvoted tile agrees again; subject: tile, cause: round, a: disagreements before
   // ---- navigation filter restarts (trn/tasks/filter_task)
   kFilterResumed = 0x0601,     ///< the filter started from a DDR checkpoint; subject: checkpoint number, a: IMU samples to replay, b: last sample it holds
   kCheckpointBad = 0x0602,     ///< a checkpoint slot failed its checks and is not used; subject: slot, a: bad slots
@@ -83,7 +85,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 37> kEventTable{{
+inline constexpr std::array<EventInfo, 39> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -118,6 +120,8 @@ inline constexpr std::array<EventInfo, 37> kEventTable{{
     {EventId::kRoleMoved, "role_moved", Severity::kWarningHi, kStepIsolate},
     {EventId::kRoleRestored, "role_restored", Severity::kInfo, kStepRecover},
     {EventId::kNoSpare, "no_spare", Severity::kFatal, kStepNone},
+    {EventId::kSelfTestMismatch, "self_test_mismatch", Severity::kWarningHi, kStepDetect},
+    {EventId::kSelfTestAgree, "self_test_agree", Severity::kInfo, kStepRecover},
     {EventId::kFilterResumed, "filter_resumed", Severity::kInfo, kStepRecover},
     {EventId::kCheckpointBad, "checkpoint_bad", Severity::kWarningHi, kStepDetect},
     {EventId::kImuGap, "imu_gap", Severity::kWarningHi, kStepDetect},

@@ -10,9 +10,11 @@
 #include "fdir/event_log.hpp"
 #include "fdir/health_table.hpp"
 #include "kernel/kernel.hpp"
+#include "udn/crc32c.hpp"
 #include "udn/endpoint.hpp"
 
 #include <array>
+#include <bit>
 #include <new>
 
 namespace fdir {
@@ -29,6 +31,22 @@ struct Overdue {
   std::uint32_t late = 0U;
   std::uint32_t budget = 0U;
 };
+
+/** Answers the self-test requests waiting on the health channel (a few per pass). */
+void answer_self_tests(bsp::TileId self, bsp::TileId supervisor) noexcept {
+  udn::FtMessage m{};
+  for (std::uint32_t i = 0; i < 2U && udn::endpoint_receive(udn::kFtChanHealth, m) == udn::FtError::kOk; ++i) {
+    if (m.data_words != kSelfTestWords || m.data[0] != kMsgSelfTest || m.source != supervisor) {
+      continue;
+    }
+    bsp::Work work{};
+    std::uint32_t digest = self_test_kernel(m.data[2], work);
+    bsp::consume(work);
+    (void)bsp::publish_filter(kSelfTestChannel, &digest, sizeof digest);
+    const std::array<std::uint32_t, kSelfTestResultWords> w{kMsgSelfTestResult, self, m.data[1], digest};
+    (void)udn::endpoint_send(supervisor, udn::kFtChanHealth, w, 0U);  // a lost answer is a missing vote
+  }
+}
 
 Overdue find_overdue(bsp::TileId self, k::Ticks now) noexcept {
   Overdue o{};
@@ -54,6 +72,15 @@ struct State {
   k::Semaphore expired{0, 1};  ///< given by the watchdog interrupt
   std::uint64_t watched = 0U;  ///< tiles whose agents report here now
   std::uint64_t suspects = 0U; ///< silent cores named by the network-health task, to act on
+  // Self-tests: the round in flight, its three tiles and their digests.
+  std::uint32_t round = 0U;
+  bool round_open = false;
+  k::Ticks round_at = 0U;
+  bsp::TileId next_target = 0U;
+  std::array<bsp::TileId, 3> tested{};
+  std::array<std::uint32_t, 3> digest{};
+  std::array<bool, 3> answered{};
+  std::array<std::uint32_t, bsp::kMaxTiles> disagreements{};  ///< rounds in a row a tile was outvoted
   std::array<std::uint64_t, udn::kRoleSlots> to_tell{};  ///< per slot: tiles still to be sent its latest move
   std::uint64_t map_to_tell = 0U;  ///< tiles that booted and are still to be sent the fault map
   std::uint64_t adopted = 0U;      ///< spares that took a role: sent every new fault map (the health task skips spares)
@@ -222,6 +249,87 @@ void on_expired(State& s, const TileHealthConfig& cfg, bsp::TileId self, bsp::Ti
   report(EventId::kTileReset, t, 0U, s.wd[t].actions, s.spec.max_actions);
 }
 
+/** The @p n watched tiles nearest @p target (not it, not @p self), into @p out; @return how many. */
+std::uint32_t nearest_watched(const State& s, bsp::TileId target, bsp::TileId self, bsp::TileId* out,
+                              std::uint32_t n) noexcept {
+  std::uint32_t got = 0U;
+  for (std::uint32_t d = 1U; d < 16U && got < n; ++d) {
+    for (bsp::TileId t = 0; t < bsp::kMaxTiles && got < n; ++t) {
+      if (t != target && t != self && (s.watched & bit(t)) != 0ULL && (s.view.retired & bit(t)) == 0ULL &&
+          distance(t, target) == d) {
+        out[got++] = t;
+      }
+    }
+  }
+  return got;
+}
+
+/** Opens a self-test round: the next watched tile and its two nearest watched tiles compute one seed. */
+void open_round(State& s, bsp::TileId self) noexcept {
+  for (std::uint32_t k = 0; k < bsp::kMaxTiles; ++k) {
+    const bsp::TileId t = static_cast<bsp::TileId>((s.next_target + k) % bsp::kMaxTiles);
+    if (t == self || (s.watched & bit(t)) == 0ULL || ((s.view.retired | s.view.pending) & bit(t)) != 0ULL) {
+      continue;
+    }
+    std::array<bsp::TileId, 2> near{};
+    if (nearest_watched(s, t, self, near.data(), 2U) < 2U) {
+      return;  // fewer than three tiles to vote
+    }
+    s.next_target = static_cast<bsp::TileId>((t + 1U) % bsp::kMaxTiles);
+    s.tested = {t, near[0], near[1]};
+    s.answered = {false, false, false};
+    ++s.round;
+    s.round_open = true;
+    s.round_at = k::now_ticks();
+    const std::array<std::uint32_t, kSelfTestWords> w{kMsgSelfTest, s.round, 0x9E3779B9U * s.round};
+    for (const bsp::TileId x : s.tested) {
+      (void)udn::endpoint_send(x, udn::kFtChanHealth, w, 0U);  // a request the network refuses is a missing vote
+    }
+    return;
+  }
+}
+
+/** Votes a round: a tile outvoted by the two others disagrees; two that differ with a third missing decide nothing. */
+void close_round(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexcept {
+  s.round_open = false;
+  if (!(s.answered[0] && s.answered[1] && s.answered[2])) {
+    return;  // a silent tile is the watchdog's; no vote without three answers
+  }
+  ++s.view.self_tests;
+  for (std::uint32_t i = 0; i < 3U; ++i) {
+    const std::uint32_t j = (i + 1U) % 3U;
+    const std::uint32_t k = (i + 2U) % 3U;
+    const bsp::TileId t = s.tested[i];
+    const bool outvoted = s.digest[j] == s.digest[k] && s.digest[i] != s.digest[j];
+    if (outvoted) {
+      ++s.view.mismatches;
+      ++s.disagreements[t];
+      report(EventId::kSelfTestMismatch, t, s.round, s.disagreements[t], cfg.disagreements_to_fail);
+      if (s.disagreements[t] >= cfg.disagreements_to_fail) {
+        retire(s, cfg, t);
+      }
+    } else if (s.digest[j] == s.digest[i] || s.digest[k] == s.digest[i]) {
+      if (s.disagreements[t] != 0U) {
+        report(EventId::kSelfTestAgree, t, s.round, s.disagreements[t]);
+      }
+      s.disagreements[t] = 0U;
+    }
+  }
+  (void)self;
+}
+
+void take_result(State& s, const udn::FtMessage& m) noexcept {
+  if (!s.round_open || m.data[2] != s.round) {
+    return;  // late: its round was voted without it
+  }
+  for (std::uint32_t i = 0; i < 3U; ++i) {
+    if (s.tested[i] == m.source && !s.answered[i]) {
+      s.answered[i] = true;
+      s.digest[i] = m.data[3];
+    }
+  }
+}
+
 void on_booted(State& s, bsp::TileId t, std::uint32_t cause) noexcept {
   // It starts from the boot map and directory: the current map and every move
   // so far are sent to it (a spare is not on the health task's publication
@@ -295,6 +403,9 @@ void health_agent_main(void* arg) noexcept {
     if (!reported && udn::endpoint_ready() && k::now_ticks() >= self / kReportsPerTick) {
       reported = udn::endpoint_send(cfg->supervisor, udn::kFtChanHealth, boot, 0U) == udn::FtError::kOk;
     }
+    if (!own_supervisor && cfg->supervisor != bsp::kNoTile && udn::endpoint_ready()) {
+      answer_self_tests(self, cfg->supervisor);
+    }
     (void)k::wait_period();
   }
 }
@@ -302,7 +413,8 @@ void health_agent_main(void* arg) noexcept {
 void tile_health_task_main(void* arg) noexcept {
   const auto* cfg = static_cast<const TileHealthConfig*>(arg);
   const bsp::TileId self = bsp::current_tile();
-  if (cfg == nullptr || self >= bsp::kMaxTiles || cfg->max_resets == 0U || cfg->poll_ticks == 0U) {
+  if (cfg == nullptr || self >= bsp::kMaxTiles || cfg->max_resets == 0U || cfg->poll_ticks == 0U ||
+      cfg->disagreements_to_fail == 0U) {
     return;
   }
   g_state[self] = nullptr;
@@ -347,10 +459,24 @@ void tile_health_task_main(void* arg) noexcept {
       if (m.data_words == kBootedWords && m.data[0] == kMsgBooted && m.data[1] == m.source &&
           m.source < bsp::kMaxTiles) {
         on_booted(*s, m.source, m.data[2]);
+      } else if (m.data_words == kSelfTestResultWords && m.data[0] == kMsgSelfTestResult && m.data[1] == m.source &&
+                 m.source < bsp::kMaxTiles) {
+        take_result(*s, m);
       }
     }
     check_timeouts(*s, *cfg);
     tell_moves(*s);
+    if (cfg->self_test_ticks != 0U) {
+      const k::Ticks now = k::now_ticks();
+      const bool all_in = s->round_open && s->answered[0] && s->answered[1] && s->answered[2];
+      if (s->round_open && (all_in || now - s->round_at >= cfg->self_test_wait_ticks)) {
+        close_round(*s, *cfg, self);
+      }
+      if (!s->round_open && now - s->round_at >= cfg->self_test_ticks) {
+        open_round(*s, self);
+        s->round_at = now;
+      }
+    }
     k::checkin();
   }
 }
@@ -360,6 +486,51 @@ void tile_health_core_suspect(bsp::TileId tile) noexcept {
   if (self < bsp::kMaxTiles && tile < bsp::kMaxTiles && g_state[self] != nullptr) {
     g_state[self]->suspects |= bit(tile);
   }
+}
+
+std::uint32_t self_test_kernel(std::uint32_t seed, bsp::Work& work) noexcept {
+  constexpr std::size_t kN = 6U;
+  constexpr std::size_t kBytes = 256U;
+  std::array<double, kN * kN> a{};
+  std::array<double, kN * kN> b{};
+  std::array<double, kN * kN> c{};
+  std::array<std::uint8_t, kBytes> img{};
+  std::uint32_t x = seed | 1U;
+  for (std::size_t i = 0; i < kN * kN; ++i) {
+    x = x * 1664525U + 1013904223U;  // the seed's sequence: the same on every tile
+    a[i] = static_cast<double>(x >> 8U) * 0x1p-24 - 0.5;
+    x = x * 1664525U + 1013904223U;
+    b[i] = static_cast<double>(x >> 8U) * 0x1p-24 - 0.5;
+  }
+  for (std::size_t i = 0; i < kBytes; ++i) {
+    x = x * 1664525U + 1013904223U;
+    img[i] = static_cast<std::uint8_t>(x >> 24U);
+  }
+  for (std::size_t i = 0; i < kN; ++i) {
+    for (std::size_t j = 0; j < kN; ++j) {
+      double acc = 0.0;
+      for (std::size_t k = 0; k < kN; ++k) {
+        acc += a[i * kN + k] * b[k * kN + j];
+      }
+      c[i * kN + j] = acc;
+    }
+  }
+  std::uint32_t macs = 0U;
+  for (std::size_t i = 0; i + 16U < kBytes; ++i) {
+    macs += static_cast<std::uint32_t>(img[i]) * static_cast<std::uint32_t>(img[i + 16U]);
+  }
+  std::array<std::uint32_t, 2U * kN * kN + 1U> words{};
+  for (std::size_t i = 0; i < kN * kN; ++i) {
+    const auto bits = std::bit_cast<std::uint64_t>(c[i]);
+    words[2U * i] = static_cast<std::uint32_t>(bits);
+    words[2U * i + 1U] = static_cast<std::uint32_t>(bits >> 32U);
+  }
+  words[2U * kN * kN] = macs;
+  work.flops += 2ULL * kN * kN * kN;
+  work.int_macs += kBytes;
+  work.int_ops += 4ULL * (2U * kN * kN + kBytes);
+  work.mem_words += 3ULL * kN * kN * 2U + kBytes / 4U + words.size();
+  return udn::crc32c_words(words);
 }
 
 bool boot_slots_init() noexcept {

@@ -20,6 +20,18 @@
  * reset). A boot report nobody commanded (a crash) is kTileRebooted; a reset
  * tile silent for boot_timeout_ticks is kTileLost.
  *
+ * Computational self-tests (the paper's "neighbours ask C to compute a task
+ * and check the result"): every self_test_ticks the supervisor asks a target
+ * tile (round robin over the watched tiles) and two tiles nearest it to
+ * compute self_test_kernel from the same seed; each agent passes its digest
+ * through bsp::publish_filter (where a corrupted output is injected) and
+ * sends it back. The digests are voted: a tile outvoted by the other two is
+ * written (kSelfTestMismatch, detection) and, after disagreements_to_fail
+ * rounds in a row, retired like a silent tile; a suspect that agrees again is
+ * kSelfTestAgree (recovery). A tile that does not answer in time counts as
+ * neither (the watchdog covers silence). A ping echo would pass a tile that
+ * computes wrong; the vote does not.
+ *
  * Retirement and spares: a tile past its reset cap (kActionCapped), or lost,
  * is retired: switched off (its switch still routes) and every movable role
  * slot it ran (the messaging role directory, udn::RoleDirectory) moves to the
@@ -39,6 +51,7 @@
 #pragma once
 
 #include "bsp_tile64/port.hpp"
+#include "bsp_tile64/work.hpp"
 #include "kernel/task_table.hpp"
 
 #include <cstdint>
@@ -48,6 +61,24 @@ namespace fdir {
 /** Boot report (udn::kFtChanHealth): [0] kMsgBooted [1] tile [2] bsp::BootCause. */
 inline constexpr std::uint32_t kMsgBooted = 0x424F4F54U;  // "BOOT"
 inline constexpr std::uint32_t kBootedWords = 3U;
+
+/** Self-test request (supervisor -> agent, kFtChanHealth): [0] kMsgSelfTest [1] round [2] seed. */
+inline constexpr std::uint32_t kMsgSelfTest = 0x53545251U;  // "STRQ"
+/** Self-test result (agent -> supervisor): [0] kMsgSelfTestResult [1] tile [2] round [3] digest. */
+inline constexpr std::uint32_t kMsgSelfTestResult = 0x53545253U;  // "STRS"
+inline constexpr std::uint32_t kSelfTestWords = 3U;
+inline constexpr std::uint32_t kSelfTestResultWords = 4U;
+/** Publication channel of a self-test digest (bsp::publish_filter: where corrupted outputs are injected). */
+inline constexpr std::uint32_t kSelfTestChannel = 7U;
+
+/**
+ * The self-test kernel: from @p seed, a 6x6 double-precision matrix product
+ * with accumulation (the filter's arithmetic), integer multiply-accumulates
+ * over a pseudo-random byte image (the correlator's), through the tile's RAM;
+ * the digest is a CRC-32C of the results. Every healthy tile computes the
+ * same digest for the same seed. Charges @p work.
+ */
+std::uint32_t self_test_kernel(std::uint32_t seed, bsp::Work& work) noexcept;
 
 struct HealthAgentConfig {
   bsp::TileId supervisor = bsp::kNoTile;  ///< tile of the tile-health supervisor (boot reports, watchdog monitor)
@@ -76,6 +107,9 @@ struct TileHealthConfig {
   std::uint32_t max_resets = 3U;           ///< resets per tile over the mission (>= 1)
   std::uint32_t boot_timeout_ticks = 200U; ///< a reset tile reports within this or is lost
   std::uint32_t poll_ticks = 2U;           ///< looks at boot reports and timeouts at least this often
+  std::uint32_t self_test_ticks = 50U;     ///< a self-test round this often (0: none)
+  std::uint32_t self_test_wait_ticks = 40U;///< results of a round are voted this long after the requests
+  std::uint32_t disagreements_to_fail = 2U;///< self-tests in a row a tile disagrees in before it is retired (>= 1)
 };
 
 /** The tile-health supervisor's task entry (arg: const TileHealthConfig*). */
@@ -100,6 +134,8 @@ struct TileHealthView {
   std::uint32_t restored = 0U;   ///< moved roles whose spare reported
   std::uint64_t pending = 0U;    ///< tiles reset and not yet back
   std::uint64_t retired = 0U;    ///< tiles switched off and given up
+  std::uint32_t self_tests = 0U; ///< rounds voted
+  std::uint32_t mismatches = 0U; ///< tiles outvoted
   std::uint64_t spares = 0U;     ///< spares still free
 };
 

@@ -192,4 +192,14 @@ TEST_F(TileHealth, TheSupervisorsOwnWatchdogResetsItsTile) {
   EXPECT_EQ(events_with(kSup, EventId::kTileReset, kB).size(), 1U);
 }
 
+TEST(SelfTestKernel, EveryTileComputesTheSameDigestForASeed) {
+  bsp::Work w1{};
+  bsp::Work w2{};
+  const std::uint32_t a = fdir::self_test_kernel(41U, w1);
+  EXPECT_EQ(fdir::self_test_kernel(41U, w2), a);
+  EXPECT_NE(fdir::self_test_kernel(42U, w2), a) << "another seed, another digest";
+  EXPECT_GT(w1.flops, 0U);
+  EXPECT_GT(w1.int_macs, 0U);
+}
+
 }  // namespace

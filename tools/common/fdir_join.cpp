@@ -83,7 +83,8 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e) {
       }
       return (e.id == EventId::kWorkerSilent || e.id == EventId::kSwitchFailed ||
               e.id == EventId::kNeighbourSuspect || e.id == EventId::kCoreSuspect ||
-              e.id == EventId::kWatchdogExpired || e.id == EventId::kTileRebooted) &&
+              e.id == EventId::kWatchdogExpired || e.id == EventId::kTileRebooted ||
+              e.id == EventId::kSelfTestMismatch) &&
              e.subject == t;
   }
 }
@@ -107,6 +108,9 @@ bool recovers(const fdir::Event& d, const fdir::Event& e) {
     case EventId::kCoreSuspect:
     case EventId::kNeighbourSuspect:
       return (e.id == EventId::kTileRecovered && e.subject == d.subject) ||
+             (e.id == EventId::kRoleRestored && e.cause == d.subject);
+    case EventId::kSelfTestMismatch:
+      return (e.id == EventId::kSelfTestAgree && e.subject == d.subject) ||
              (e.id == EventId::kRoleRestored && e.cause == d.subject);
     case EventId::kTaskOverdue:
       return (e.id == EventId::kTileRecovered && e.subject == d.tile) ||
@@ -261,6 +265,13 @@ std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noe
     case EventId::kRoleRestored:
       (void)std::snprintf(b.data(), b.size(), "role slot %s runs again on tile %u (was tile %u), %u ticks (ms) after the move",
                           s, e.a, e.cause, e.b);
+      break;
+    case EventId::kSelfTestMismatch:
+      (void)std::snprintf(b.data(), b.size(), "tile %s outvoted by two others in self-test round %u (%u in a row, "
+                          "retired at %u)", s, e.cause, e.a, e.b);
+      break;
+    case EventId::kSelfTestAgree:
+      (void)std::snprintf(b.data(), b.size(), "tile %s agrees again in self-test round %u", s, e.cause);
       break;
     case EventId::kFilterResumed:
       (void)std::snprintf(b.data(), b.size(), "filter resumed from checkpoint %s (IMU sample %u), %u samples to "

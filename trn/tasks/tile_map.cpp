@@ -40,7 +40,8 @@ ImageError check(const ImageConfig& c) noexcept {
     }
   }
   if (c.agent.watchdog_ticks < 2U * fdir::kAgentPeriodTicks || c.tile_health.max_resets == 0U ||
-      c.tile_health.poll_ticks == 0U) {
+      c.tile_health.poll_ticks == 0U || c.tile_health.disagreements_to_fail == 0U ||
+      (c.tile_health.self_test_ticks != 0U && c.tile_health.self_test_wait_ticks >= c.tile_health.self_test_ticks)) {
     return ImageError::kBadConfig;
   }
   if (c.net_health.votes_to_fail < 2U || c.filter.matches_per_job == 0U ||

@@ -206,6 +206,25 @@ TEST_F(TrnMissionBinary, AFilterHungFourTimesMovesToASpareWithItsState) {
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
 }
 
+// Neighbour self-tests: a coordinator that computes wrong (its next two self-test digests
+// corrupted) answers every ping, but is outvoted twice by the two tiles nearest it, retired, and
+// its role moves to a spare.
+TEST_F(TrnMissionBinary, ACoreThatComputesWrongIsOutvotedAndReplaced) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 26 --faults " + fixture("coordinator_sdc_twice.toml") + " --out " +
+                (dir_ / "sdc").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "sdc" / "summary.json");
+  const std::string log = read_text(dir_ / "sdc" / "events.log");
+  EXPECT_EQ(s["faults_injected"], 2);
+  EXPECT_EQ(s["faults_detected"], 2);
+  EXPECT_EQ(s["faults_recovered"], 2);
+  EXPECT_EQ(count_of(log, "self_test_mismatch: tile 1 outvoted"), 2U) << log;
+  EXPECT_NE(log.find("role_moved: role slot 0 moves from retired tile 1 to spare 2"), std::string::npos);
+  EXPECT_EQ(count_of(log, "self_test_mismatch:"), 2U) << "no healthy tile is outvoted";
+  EXPECT_EQ(s["coordinator_tile"], 2);
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+}
+
 // Point 9: the switch of a spare tile (it routes traffic but runs nothing that could answer a
 // probe) fails mid-run: transit probes across it are lost, the health tile names it, the map goes
 // out by message and traffic routes around. Upsets on the I/O tile's packets are corrected by the

@@ -85,6 +85,12 @@ TEST(ImageConfig, RefusedConfigurationChangesNothing) {
   c = mission_like();
   c.tile_health.max_resets = 0;
   EXPECT_EQ(configure_image(c), ImageError::kBadConfig);
+  c = mission_like();
+  c.tile_health.disagreements_to_fail = 0;
+  EXPECT_EQ(configure_image(c), ImageError::kBadConfig);
+  c = mission_like();
+  c.tile_health.self_test_wait_ticks = c.tile_health.self_test_ticks;  // a round would overlap the next
+  EXPECT_EQ(configure_image(c), ImageError::kBadConfig);
 
   EXPECT_EQ(image_config().filter.matches_per_job, 9U) << "the last accepted configuration stands";
   EXPECT_EQ(image_config().io.filter_tile, trn::tasks::kFilterTile);
