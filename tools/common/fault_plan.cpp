@@ -4,8 +4,10 @@
  */
 #include "tools/common/fault_plan.hpp"
 
+#include "bsp_tile64/board.hpp"
 #include "bsp_tile64/memory.hpp"
 #include "bsp_tile64/udn_hw.hpp"
+#include "trn/tasks/tile_map.hpp"
 #include "tools/common/run_folder.hpp"
 
 #include "tools/common/text.hpp"
@@ -52,7 +54,31 @@ constexpr std::array<KindKeys, kFaultKinds> kKindKeys = {{
     {{"direction", nullptr}},    // link_fail
 }};
 
-constexpr std::array<const char*, 7> kAllFaultKeys = {"t_s", "kind", "tile", "channel", "offset", "word", "bit"};
+constexpr std::array<const char*, 9> kAllFaultKeys = {"t_s",    "kind", "tile", "channel", "offset",
+                                                      "word",   "bit",  "role", "instance"};
+
+/** Roles a plan can name (every role of the tile map but spare). */
+std::vector<trn::tasks::Role> plan_roles() {
+  using trn::tasks::Role;
+  return {Role::kTrnSupervisor, Role::kVisionCoordinator, Role::kIo, Role::kFilter, Role::kVision};
+}
+
+std::string role_list() {
+  std::string out;
+  for (const trn::tasks::Role r : plan_roles()) {
+    out += (out.empty() ? "" : ", ") + std::string(trn::tasks::role_name(r));
+  }
+  return out;
+}
+
+std::optional<trn::tasks::Role> role_from_name(const std::string& name) {
+  for (const trn::tasks::Role r : plan_roles()) {
+    if (name == trn::tasks::role_name(r)) {
+      return r;
+    }
+  }
+  return std::nullopt;
+}
 
 
 std::string fmt(double v) { return format_number(v); }
@@ -66,7 +92,7 @@ std::string kind_list() {
 }
 
 std::string keys_of(bsp::FaultKind k) {
-  std::string out = "t_s, kind, tile";
+  std::string out = "t_s, kind, tile or role (and instance)";
   for (const char* key : kKindKeys[static_cast<std::size_t>(k)].keys) {
     if (key != nullptr) {
       out += ", " + std::string(key);
@@ -76,7 +102,7 @@ std::string keys_of(bsp::FaultKind k) {
 }
 
 bool kind_uses(bsp::FaultKind k, std::string_view key) {
-  if (key == "t_s" || key == "kind" || key == "tile") {
+  if (key == "t_s" || key == "kind" || key == "tile" || key == "role" || key == "instance") {
     return true;
   }
   const KindKeys& kk = kKindKeys[static_cast<std::size_t>(k)];
@@ -168,6 +194,18 @@ std::string read_fault_key(const std::string& key, const toml::node& node, const
                                                                           : std::int64_t{kMaxSdcBit};
     e = read_int(node, 0, hi, v);
     item.bit = static_cast<std::uint32_t>(v);
+  } else if (key == "role") {
+    if (!node.is_string()) {
+      return "wrong type: expected a string (" + role_list() + ")";
+    }
+    const std::string r = node.as_string()->get();
+    if (!role_from_name(r)) {
+      return "unknown role \"" + r + "\" (allowed: " + role_list() + ")";
+    }
+    item.role = r;
+  } else if (key == "instance") {
+    e = read_int(node, 0, static_cast<std::int64_t>(trn::tasks::count_role(trn::tasks::Role::kVision)) - 1, v);
+    item.instance = static_cast<std::uint32_t>(v);
   } else if (key == "direction") {
     if (!node.is_string()) {
       return "wrong type: expected a string (east, west, north, south)";
@@ -210,8 +248,15 @@ void parse_fault(const std::string& source, std::size_t index, const toml::table
       errors.push_back(cat({where, " ", key, ": ", e}));
     }
   }
-  if (t.get("tile") == nullptr) {
-    errors.push_back(cat({where, ": missing key tile (allowed 0 .. ", std::to_string(lim.tile_count - 1U), ")"}));
+  if (t.get("tile") == nullptr && t.get("role") == nullptr) {
+    errors.push_back(cat({where, ": missing key tile (allowed 0 .. ", std::to_string(lim.tile_count - 1U),
+                          ") or role (", role_list(), ")"}));
+  }
+  if (t.get("tile") != nullptr && t.get("role") != nullptr) {
+    errors.push_back(where + " role: a fault names a tile or a role, not both");
+  }
+  if (t.get("instance") != nullptr && item.role != "vision") {
+    errors.push_back(where + " instance: only with role = \"vision\" (which of the vision tiles)");
   }
   if (item.kind == bsp::FaultKind::kLinkFail && t.get("direction") == nullptr) {
     errors.push_back(where + ": missing key direction (allowed: east, west, north, south)");
@@ -417,7 +462,54 @@ double demo_fault_plan_end_s() {
   return end;
 }
 
+namespace {
+
+/** A planned fault that names a role: added to the injector when it is nearly due. */
+struct RoleFault {
+  bsp::FaultSpec spec;
+  trn::tasks::Role role;
+  std::uint32_t instance;
+};
+
+std::vector<RoleFault> g_role_faults;  // sorted by cycle; filled before the flight, read by the hook
+std::size_t g_role_next = 0U;
+
+/** The tile that runs @p role now (the supervisor's directory for the roles that move). */
+bsp::TileId role_tile(trn::tasks::Role role, std::uint32_t instance) {
+  using trn::tasks::Role;
+  switch (role) {
+    case Role::kVisionCoordinator: return trn::tasks::slot_tile_now(trn::tasks::kSlotCoordinator);
+    case Role::kIo: return trn::tasks::slot_tile_now(trn::tasks::kSlotIo);
+    case Role::kFilter: return trn::tasks::slot_tile_now(trn::tasks::kSlotFilter);
+    case Role::kTrnSupervisor: return trn::tasks::kSupervisorTile;
+    case Role::kVision: {
+      std::uint32_t seen = 0U;
+      for (bsp::TileId t = 0; t < trn::tasks::kMapTiles; ++t) {
+        if (trn::tasks::kTileRoles[t] == Role::kVision && seen++ == instance) {
+          return t;
+        }
+      }
+      return bsp::kNoTile;
+    }
+    default: return bsp::kNoTile;
+  }
+}
+
+/** Barrier hook: role faults due within two quanta get their tile now and go to the injector. */
+void add_due_role_faults(bsp::Cycles barrier) noexcept {
+  const bsp::Cycles horizon = barrier + 2U * bsp::board_config().quantum_cycles;
+  for (; g_role_next < g_role_faults.size() && g_role_faults[g_role_next].spec.cycle <= horizon; ++g_role_next) {
+    RoleFault& f = g_role_faults[g_role_next];
+    f.spec.tile = role_tile(f.role, f.instance);
+    (void)bsp::fault_plan_add(f.spec);  // a role no tile runs is refused (kBadTile): nothing to hit
+  }
+}
+
+}  // namespace
+
 bool arm_fault_plan(const FaultPlan& plan, double clock_hz, std::string& error) {
+  g_role_faults.clear();
+  g_role_next = 0U;
   if (!(std::isfinite(clock_hz) && clock_hz > 0.0)) {
     error = "fault plan " + plan.name + ": invalid clock frequency " + fmt(clock_hz);
     return false;
@@ -443,6 +535,15 @@ bool arm_fault_plan(const FaultPlan& plan, double clock_hz, std::string& error) 
     s.offset = it.offset;
     s.bit = it.bit;
     s.param = it.param;
+    if (!it.role.empty()) {
+      const std::optional<trn::tasks::Role> r = role_from_name(it.role);
+      if (!r) {
+        error = what + ": unknown role " + it.role;
+        return false;
+      }
+      g_role_faults.push_back(RoleFault{s, *r, it.instance});
+      continue;
+    }
     const bsp::FaultError e = bsp::fault_plan_add(s);
     if (e == bsp::FaultError::kBadTile) {
       error = what + ": the board has no such tile (tiles 0 .. " + std::to_string(bsp::tile_count() - 1U) + ")";
@@ -452,6 +553,14 @@ bool arm_fault_plan(const FaultPlan& plan, double clock_hz, std::string& error) 
       error = what + (e == bsp::FaultError::kFull
                           ? ": the injector's plan is full (" + std::to_string(bsp::kFaultPlanCapacity) + " entries)"
                           : std::string(": refused by the injector"));
+      return false;
+    }
+  }
+  if (!g_role_faults.empty()) {
+    std::stable_sort(g_role_faults.begin(), g_role_faults.end(),
+                     [](const RoleFault& a, const RoleFault& b) { return a.spec.cycle < b.spec.cycle; });
+    if (bsp::add_barrier_hook(&add_due_role_faults) != bsp::BoardError::kOk) {
+      error = "fault plan " + plan.name + ": no barrier hook left for the faults that name a role";
       return false;
     }
   }
@@ -471,8 +580,10 @@ bool arm_fault_plan(const FaultPlan& plan, double clock_hz, std::string& error) 
 std::string format_fault_plan(const FaultPlan& plan) {
   std::string out = "# fault plan (docs/FAULT_PLANS.md)\nname = " + toml_string(plan.name) + "\n";
   for (const FaultPlanItem& it : plan.items) {
-    out += "\n[[fault]]\nt_s = " + toml_float(it.t_s) + "\nkind = \"" + fault_kind_name(it.kind) +
-           "\"\ntile = " + std::to_string(it.tile) + "\n";
+    out += "\n[[fault]]\nt_s = " + toml_float(it.t_s) + "\nkind = \"" + fault_kind_name(it.kind) + "\"\n";
+    out += it.role.empty() ? "tile = " + std::to_string(it.tile) + "\n"
+                           : "role = " + toml_string(it.role) + "\n" +
+                                 (it.role == "vision" ? "instance = " + std::to_string(it.instance) + "\n" : "");
     switch (it.kind) {
       case bsp::FaultKind::kSdc:
         out += it.channel != bsp::kAnyChannel ? "channel = " + std::to_string(it.channel) + "\n" : "";

@@ -41,6 +41,13 @@ struct FaultPlanItem {
   std::uint64_t offset = bsp::kRandomOffset;  ///< seu: byte offset in the tile's RAM; packet_bit_flip: word index
   std::uint32_t bit = bsp::kRandomBit;        ///< seu: 0..7; sdc: bit of the value; packet_bit_flip: 0..31
   std::uint64_t param = 0U;                   ///< link_fail: direction (bsp::UdnDir)
+  /**
+   * Instead of a tile: a role of the tile map (trn::tasks::role_name, e.g.
+   * "filter"), resolved to the tile that runs it when the fault is due (the
+   * supervisor's role directory: a role that moved to a spare is hit there).
+   */
+  std::string role;
+  std::uint32_t instance = 0U;  ///< role "vision": which of the vision tiles (0 .. 39)
 };
 
 struct FaultPlan {
@@ -95,7 +102,10 @@ double demo_fault_plan_end_s();
  * round(t_s * @p clock_hz) cycles, then fault_set_rate() for each nonzero rate
  * in kind order (so the injector's stream is drawn the same way every run).
  * Call after board_init() (which empties the injector). Network kinds need the
- * handlers that udn_net_init() registers before the run starts.
+ * handlers that udn_net_init() registers before the run starts. Items that
+ * name a role are held back and added by a barrier hook two quanta before
+ * their time, with the tile that runs the role then (one that no tile runs is
+ * added for no tile and logged as skipped).
  * @return false with a message naming the item if the injector refuses one.
  */
 bool arm_fault_plan(const FaultPlan& plan, double clock_hz, std::string& error);

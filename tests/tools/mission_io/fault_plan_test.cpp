@@ -204,10 +204,13 @@ TEST(FaultPlanErrors, BitRangeDependsOnTheKind) {
 
 TEST(FaultPlanErrors, KeysOfOtherKindsAreRejected) {
   std::string e = error_of("key_not_for_kind.toml");
-  EXPECT_NE(e.find("bit: not used by switch_fail (allowed keys for switch_fail: t_s, kind, tile)"), std::string::npos)
+  EXPECT_NE(e.find("bit: not used by switch_fail (allowed keys for switch_fail: t_s, kind, tile or role (and "
+                   "instance))"),
+            std::string::npos)
       << e;
   e = error_of("unknown_fault_key.toml");
-  EXPECT_NE(e.find("address: unknown key (allowed keys for seu: t_s, kind, tile, offset, bit)"), std::string::npos)
+  EXPECT_NE(e.find("address: unknown key (allowed keys for seu: t_s, kind, tile or role (and instance), offset, bit)"),
+            std::string::npos)
       << e;
 }
 
@@ -241,7 +244,44 @@ TEST(FaultPlanErrors, MissingKindOrTile) {
   std::string e = error_of("missing_kind.toml");
   EXPECT_NE(e.find("[[fault]] #1 (line 1): missing key kind (allowed: core_hang"), std::string::npos) << e;
   e = error_of("missing_tile.toml");
-  EXPECT_NE(e.find("[[fault]] #1 (line 1): missing key tile (allowed 0 .. 63)"), std::string::npos) << e;
+  EXPECT_NE(e.find("[[fault]] #1 (line 1): missing key tile (allowed 0 .. 63) or role (trn_supervisor, "
+                   "vision_coordinator, io, filter, vision)"),
+            std::string::npos)
+      << e;
+}
+
+// Core health moves roles between tiles: a plan can name the role, resolved when the fault is due.
+TEST(FaultPlan, ARoleIsNamedInsteadOfATile) {
+  const tools::FaultPlanResult r = tools::parse_fault_plan(
+      "[[fault]]\nt_s = 3.0\nkind = \"core_hang\"\nrole = \"filter\"\n"
+      "[[fault]]\nt_s = 4.0\nkind = \"sdc\"\nrole = \"vision\"\ninstance = 39\nchannel = 7\n",
+      "<text>", kTiles, kDuration);
+  ASSERT_TRUE(r.ok()) << r.error;
+  ASSERT_EQ(r.plan->items.size(), 2U);
+  EXPECT_EQ(r.plan->items[0].role, "filter");
+  EXPECT_EQ(r.plan->items[1].role, "vision");
+  EXPECT_EQ(r.plan->items[1].instance, 39U);
+  // It formats back as a role.
+  const tools::FaultPlanResult again =
+      tools::parse_fault_plan(tools::format_fault_plan(*r.plan), "<formatted>", kTiles, kDuration);
+  ASSERT_TRUE(again.ok()) << again.error;
+  EXPECT_EQ(again.plan->items[0].role, "filter");
+  EXPECT_EQ(again.plan->items[1].instance, 39U);
+}
+
+TEST(FaultPlanErrors, RoleMistakesAreNamed) {
+  std::string e = error_of("unknown_role.toml");
+  EXPECT_NE(e.find("unknown_role.toml: [[fault]] #1 (line 1) role: unknown role \"navigator\" (allowed: "
+                   "trn_supervisor, vision_coordinator, io, filter, vision)"),
+            std::string::npos)
+      << e;
+  e = error_of("role_and_tile.toml");
+  EXPECT_NE(e.find("role: a fault names a tile or a role, not both"), std::string::npos) << e;
+  EXPECT_NE(e.find("instance: only with role = \"vision\""), std::string::npos) << e;
+  const tools::FaultPlanResult r = tools::parse_fault_plan(
+      "[[fault]]\nt_s = 1.0\nkind = \"core_hang\"\nrole = \"vision\"\ninstance = 40\n", "<text>", kTiles, kDuration);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error.find("instance: 40 is out of range: allowed 0 .. 39"), std::string::npos) << r.error;
 }
 
 TEST(FaultPlanErrors, SeuOffsetBeyondTheTileRam) {

@@ -87,6 +87,10 @@ TEST_F(TrnMissionBinary, BadInputsExit2AndWriteNothing) {
   EXPECT_EQ(run(binary() + " --scenario " + (dir_ / "bad_scenario.toml").string() + out), 2);
   EXPECT_EQ(run(binary() + " --faults " + (dir_ / "bad_plan.toml").string() + out), 2);
   EXPECT_EQ(run(binary() + " --faults " + (dir_ / "bad_plan.toml").string() + " --demo-faults" + out), 2);
+  // A plan that names an unknown role (its message names the key and the roles: fault_plan_test).
+  EXPECT_EQ(run(binary() + " --faults " + std::string(build_info::kRepoRoot) +
+                "/tests/fixtures/fault_plans/unknown_role.toml" + out),
+            2);
   EXPECT_EQ(run(binary() + " --duration 999" + out), 2);
   EXPECT_EQ(run(binary() + " --no-such-option" + out), 2);
   EXPECT_EQ(run(binary() + " --out /proc/trn_mission_cannot_write_here"), 2);
@@ -222,6 +226,23 @@ TEST_F(TrnMissionBinary, ACoreThatComputesWrongIsOutvotedAndReplaced) {
   EXPECT_NE(log.find("role_moved: role slot 0 moves from retired tile 1 to spare 2"), std::string::npos);
   EXPECT_EQ(count_of(log, "self_test_mismatch:"), 2U) << "no healthy tile is outvoted";
   EXPECT_EQ(s["coordinator_tile"], 2);
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+}
+
+// A plan that names the role follows it: the fifth hang of "filter" lands on the spare the role
+// moved to after the fourth.
+TEST_F(TrnMissionBinary, AFaultThatNamesARoleHitsTheTileThatRunsItThen) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 26 --faults " + fixture("filter_role_hang_five.toml") + " --out " +
+                (dir_ / "role").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "role" / "summary.json");
+  const std::string log = read_text(dir_ / "role" / "events.log");
+  EXPECT_EQ(s["faults_injected"], 5);
+  EXPECT_EQ(s["faults_detected"], 5);
+  EXPECT_EQ(s["faults_recovered"], 5);
+  EXPECT_EQ(count_of(log, "tile 18  core_hang (planned)"), 4U) << log;
+  EXPECT_EQ(count_of(log, "tile 10  core_hang (planned)"), 1U) << log;
+  EXPECT_EQ(s["filter_tile"], 10);
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
 }
 
