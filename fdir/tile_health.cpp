@@ -375,6 +375,54 @@ void check_timeouts(State& s, const TileHealthConfig& cfg) noexcept {
   }
 }
 
+/** The watchdogs that expired and the cores the pings named: reset, or retire past the cap. */
+void take_expiries(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexcept {
+  const std::uint64_t expired = bsp::watchdog_take_expired();
+  const std::uint64_t suspects = s.suspects;
+  s.suspects = 0U;
+  for (bsp::TileId t = 0; t < bsp::kMaxTiles; ++t) {
+    if ((expired & bit(t)) != 0ULL) {
+      ++s.view.expiries;
+      report(EventId::kWatchdogExpired, t, 0U, s.view.expiries);
+      on_expired(s, cfg, self, t);
+    } else if ((suspects & bit(t)) != 0ULL) {
+      on_expired(s, cfg, self, t);  // its watchdog did not expire: the pings found it
+    }
+  }
+}
+
+/** Boot reports and self-test results waiting on the health channel. */
+void take_reports(State& s) noexcept {
+  udn::FtMessage m{};
+  for (std::uint32_t i = 0; i < udn::kFtRxDepth && udn::endpoint_receive(udn::kFtChanHealth, m) == udn::FtError::kOk;
+       ++i) {
+    if (m.source >= bsp::kMaxTiles || m.data_words < 2U || m.data[1] != m.source) {
+      continue;
+    }
+    if (m.data_words == kBootedWords && m.data[0] == kMsgBooted) {
+      on_booted(s, m.source, m.data[2]);
+    } else if (m.data_words == kSelfTestResultWords && m.data[0] == kMsgSelfTestResult) {
+      take_result(s, m);
+    }
+  }
+}
+
+/** Votes a round when all answered or its wait is over; opens the next every self_test_ticks. */
+void run_self_tests(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexcept {
+  if (cfg.self_test_ticks == 0U) {
+    return;
+  }
+  const k::Ticks now = k::now_ticks();
+  const bool all_in = s.round_open && s.answered[0] && s.answered[1] && s.answered[2];
+  if (s.round_open && (all_in || now - s.round_at >= cfg.self_test_wait_ticks)) {
+    close_round(s, cfg, self);
+  }
+  if (!s.round_open && now - s.round_at >= cfg.self_test_ticks) {
+    open_round(s, self);
+    s.round_at = now;
+  }
+}
+
 }  // namespace
 
 void health_agent_main(void* arg) noexcept {
@@ -439,44 +487,13 @@ void tile_health_task_main(void* arg) noexcept {
     report(EventId::kTileRebooted, self, static_cast<std::uint32_t>(own));
   }
   s->booted |= bit(self);
-  udn::FtMessage m{};
   for (;;) {
     (void)s->expired.take(k::Timeout{cfg->poll_ticks});
-    const std::uint64_t expired = bsp::watchdog_take_expired();
-    const std::uint64_t suspects = s->suspects;
-    s->suspects = 0U;
-    for (bsp::TileId t = 0; t < bsp::kMaxTiles; ++t) {
-      if ((expired & bit(t)) != 0ULL) {
-        ++s->view.expiries;
-        report(EventId::kWatchdogExpired, t, 0U, s->view.expiries);
-        on_expired(*s, *cfg, self, t);
-      } else if ((suspects & bit(t)) != 0ULL) {
-        on_expired(*s, *cfg, self, t);  // its watchdog did not expire: the pings found it
-      }
-    }
-    for (std::uint32_t i = 0;
-         i < udn::kFtRxDepth && udn::endpoint_receive(udn::kFtChanHealth, m) == udn::FtError::kOk; ++i) {
-      if (m.data_words == kBootedWords && m.data[0] == kMsgBooted && m.data[1] == m.source &&
-          m.source < bsp::kMaxTiles) {
-        on_booted(*s, m.source, m.data[2]);
-      } else if (m.data_words == kSelfTestResultWords && m.data[0] == kMsgSelfTestResult && m.data[1] == m.source &&
-                 m.source < bsp::kMaxTiles) {
-        take_result(*s, m);
-      }
-    }
+    take_expiries(*s, *cfg, self);
+    take_reports(*s);
     check_timeouts(*s, *cfg);
     tell_moves(*s);
-    if (cfg->self_test_ticks != 0U) {
-      const k::Ticks now = k::now_ticks();
-      const bool all_in = s->round_open && s->answered[0] && s->answered[1] && s->answered[2];
-      if (s->round_open && (all_in || now - s->round_at >= cfg->self_test_wait_ticks)) {
-        close_round(*s, *cfg, self);
-      }
-      if (!s->round_open && now - s->round_at >= cfg->self_test_ticks) {
-        open_round(*s, self);
-        s->round_at = now;
-      }
-    }
+    run_self_tests(*s, *cfg, self);
     k::checkin();
   }
 }
@@ -488,15 +505,20 @@ void tile_health_core_suspect(bsp::TileId tile) noexcept {
   }
 }
 
+namespace {
+constexpr std::size_t kN = 6U;             ///< self-test matrices are kN x kN
+constexpr std::size_t kCells = kN * kN;
+constexpr std::size_t kBytes = 256U;       ///< self-test byte image
+constexpr std::size_t kDigestWords = 2U * kCells + 1U;
+}  // namespace
+
 std::uint32_t self_test_kernel(std::uint32_t seed, bsp::Work& work) noexcept {
-  constexpr std::size_t kN = 6U;
-  constexpr std::size_t kBytes = 256U;
-  std::array<double, kN * kN> a{};
-  std::array<double, kN * kN> b{};
-  std::array<double, kN * kN> c{};
+  std::array<double, kCells> a{};
+  std::array<double, kCells> b{};
+  std::array<double, kCells> c{};
   std::array<std::uint8_t, kBytes> img{};
   std::uint32_t x = seed | 1U;
-  for (std::size_t i = 0; i < kN * kN; ++i) {
+  for (std::size_t i = 0; i < kCells; ++i) {
     x = x * 1664525U + 1013904223U;  // the seed's sequence: the same on every tile
     a[i] = static_cast<double>(x >> 8U) * 0x1p-24 - 0.5;
     x = x * 1664525U + 1013904223U;
@@ -519,13 +541,13 @@ std::uint32_t self_test_kernel(std::uint32_t seed, bsp::Work& work) noexcept {
   for (std::size_t i = 0; i + 16U < kBytes; ++i) {
     macs += static_cast<std::uint32_t>(img[i]) * static_cast<std::uint32_t>(img[i + 16U]);
   }
-  std::array<std::uint32_t, 2U * kN * kN + 1U> words{};
-  for (std::size_t i = 0; i < kN * kN; ++i) {
+  std::array<std::uint32_t, kDigestWords> words{};
+  for (std::size_t i = 0; i < kCells; ++i) {
     const auto bits = std::bit_cast<std::uint64_t>(c[i]);
     words[2U * i] = static_cast<std::uint32_t>(bits);
     words[2U * i + 1U] = static_cast<std::uint32_t>(bits >> 32U);
   }
-  words[2U * kN * kN] = macs;
+  words[kDigestWords - 1U] = macs;
   work.flops += 2ULL * kN * kN * kN;
   work.int_macs += kBytes;
   work.int_ops += 4ULL * (2U * kN * kN + kBytes);

@@ -134,6 +134,68 @@ const char* tile_health_name(TileHealth h) noexcept {
   return "ok";
 }
 
+namespace {
+
+/** The text of the core-health and filter-restart events (after the name), into @p b. */
+void describe_health_event(const fdir::Event& e, const char* s, std::span<char> b) noexcept {
+  switch (e.id) {
+    case EventId::kTaskOverdue:
+      (void)std::snprintf(b.data(), b.size(), "task %s of tile %u missed its check-in by %u ticks (budget %u): "
+                          "the watchdog is no longer kicked", s, e.cause, e.a, e.b);
+      break;
+    case EventId::kWatchdogExpired:
+      (void)std::snprintf(b.data(), b.size(), "watchdog of tile %s expired (%u expiries so far)", s, e.a);
+      break;
+    case EventId::kTileReset:
+      (void)std::snprintf(b.data(), b.size(), "tile %s reset by the supervisor (reset %u of at most %u)", s, e.a, e.b);
+      break;
+    case EventId::kTileRecovered:
+      (void)std::snprintf(b.data(), b.size(), "tile %s booted its role again and reported, %u ticks (ms) after its reset", s,
+                          e.a);
+      break;
+    case EventId::kTileRebooted:
+      (void)std::snprintf(b.data(), b.size(), "tile %s booted again without a command (cause %s): its role restarts",
+                          s, boot_cause_name(e.cause));
+      break;
+    case EventId::kTileLost:
+      (void)std::snprintf(b.data(), b.size(), "tile %s did not report back %u ticks (ms) after its reset", s, e.a);
+      break;
+    case EventId::kRoleMoved:
+      (void)std::snprintf(b.data(), b.size(), "role slot %s moves from retired tile %u to spare %u (directory "
+                          "version %u)", s, e.cause, e.a, e.b);
+      break;
+    case EventId::kRoleRestored:
+      (void)std::snprintf(b.data(), b.size(), "role slot %s runs again on tile %u (was tile %u), %u ticks (ms) after the move",
+                          s, e.a, e.cause, e.b);
+      break;
+    case EventId::kSelfTestMismatch:
+      (void)std::snprintf(b.data(), b.size(), "tile %s outvoted by two others in self-test round %u (%u in a row, "
+                          "retired at %u)", s, e.cause, e.a, e.b);
+      break;
+    case EventId::kSelfTestAgree:
+      (void)std::snprintf(b.data(), b.size(), "tile %s agrees again in self-test round %u", s, e.cause);
+      break;
+    case EventId::kFilterResumed:
+      (void)std::snprintf(b.data(), b.size(), "filter resumed from checkpoint %s (IMU sample %u), %u samples to "
+                          "replay from the I/O record", s, e.b, e.a);
+      break;
+    case EventId::kCheckpointBad:
+      (void)std::snprintf(b.data(), b.size(), "filter checkpoint slot %s failed its checks: not used (%u bad)", s, e.a);
+      break;
+    case EventId::kImuGap:
+      (void)std::snprintf(b.data(), b.size(), "%u IMU samples from sample %s neither received nor recorded", e.a, s);
+      break;
+    case EventId::kNoSpare:
+      (void)std::snprintf(b.data(), b.size(), "role slot %s of tile %u cannot move: no spare", s, e.cause);
+      break;
+    default:
+      (void)std::snprintf(b.data(), b.size(), "subject %s, cause %u, %u, %u", s, e.cause, e.a, e.b);
+      break;
+  }
+}
+
+}  // namespace
+
 std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noexcept {
   if (out.empty()) {
     return 0U;
@@ -237,54 +299,8 @@ std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noe
     case EventId::kAssertFailed:
       (void)std::snprintf(b.data(), b.size(), "assertion %s failed (line %u): recovery requested", s, e.cause);
       break;
-    case EventId::kTaskOverdue:
-      (void)std::snprintf(b.data(), b.size(), "task %s of tile %u missed its check-in by %u ticks (budget %u): "
-                          "the watchdog is no longer kicked", s, e.cause, e.a, e.b);
-      break;
-    case EventId::kWatchdogExpired:
-      (void)std::snprintf(b.data(), b.size(), "watchdog of tile %s expired (%u expiries so far)", s, e.a);
-      break;
-    case EventId::kTileReset:
-      (void)std::snprintf(b.data(), b.size(), "tile %s reset by the supervisor (reset %u of at most %u)", s, e.a, e.b);
-      break;
-    case EventId::kTileRecovered:
-      (void)std::snprintf(b.data(), b.size(), "tile %s booted its role again and reported, %u ticks (ms) after its reset", s,
-                          e.a);
-      break;
-    case EventId::kTileRebooted:
-      (void)std::snprintf(b.data(), b.size(), "tile %s booted again without a command (cause %s): its role restarts",
-                          s, boot_cause_name(e.cause));
-      break;
-    case EventId::kTileLost:
-      (void)std::snprintf(b.data(), b.size(), "tile %s did not report back %u ticks (ms) after its reset", s, e.a);
-      break;
-    case EventId::kRoleMoved:
-      (void)std::snprintf(b.data(), b.size(), "role slot %s moves from retired tile %u to spare %u (directory "
-                          "version %u)", s, e.cause, e.a, e.b);
-      break;
-    case EventId::kRoleRestored:
-      (void)std::snprintf(b.data(), b.size(), "role slot %s runs again on tile %u (was tile %u), %u ticks (ms) after the move",
-                          s, e.a, e.cause, e.b);
-      break;
-    case EventId::kSelfTestMismatch:
-      (void)std::snprintf(b.data(), b.size(), "tile %s outvoted by two others in self-test round %u (%u in a row, "
-                          "retired at %u)", s, e.cause, e.a, e.b);
-      break;
-    case EventId::kSelfTestAgree:
-      (void)std::snprintf(b.data(), b.size(), "tile %s agrees again in self-test round %u", s, e.cause);
-      break;
-    case EventId::kFilterResumed:
-      (void)std::snprintf(b.data(), b.size(), "filter resumed from checkpoint %s (IMU sample %u), %u samples to "
-                          "replay from the I/O record", s, e.b, e.a);
-      break;
-    case EventId::kCheckpointBad:
-      (void)std::snprintf(b.data(), b.size(), "filter checkpoint slot %s failed its checks: not used (%u bad)", s, e.a);
-      break;
-    case EventId::kImuGap:
-      (void)std::snprintf(b.data(), b.size(), "%u IMU samples from sample %s neither received nor recorded", e.a, s);
-      break;
-    case EventId::kNoSpare:
-      (void)std::snprintf(b.data(), b.size(), "role slot %s of tile %u cannot move: no spare", s, e.cause);
+    default:
+      describe_health_event(e, s, b);
       break;
   }
   return used + std::char_traits<char>::length(b.data());

@@ -246,6 +246,27 @@ TEST_F(TrnMissionBinary, AFaultThatNamesARoleHitsTheTileThatRunsItThen) {
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
 }
 
+// Core health on the other roles, named by role: a hung I/O tile and a hung supervisor (reset by
+// its own watchdog), a crashed vision tile and a crashed coordinator are each named within 50 ms
+// and run their roles again; the descent stays accurate.
+TEST_F(TrnMissionBinary, EveryRoleIsRestartedAfterAHangOrACrash) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 26 --faults " + fixture("roles_hang_reset.toml") + " --out " +
+                (dir_ / "roles").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "roles" / "summary.json");
+  const std::string log = read_text(dir_ / "roles" / "events.log");
+  EXPECT_EQ(s["faults_injected"], 4);
+  EXPECT_EQ(s["faults_detected"], 4);
+  EXPECT_EQ(s["faults_recovered"], 4);
+  EXPECT_LT(s["detection_latency_max_ms"].get<double>(), 50.0);
+  EXPECT_NE(log.find("tile  9  core_hang (planned) -> detected by tile 0 (watchdog_expired)"), std::string::npos) << log;
+  EXPECT_NE(log.find("tile 35  core_reset (planned) -> detected by tile 0 (tile_rebooted)"), std::string::npos);
+  EXPECT_NE(log.find("tile  0  core_hang (planned) -> detected by tile 0 (tile_rebooted)"), std::string::npos);
+  EXPECT_NE(log.find("tile  1  core_reset (planned) -> detected by tile 0 (tile_rebooted)"), std::string::npos);
+  EXPECT_EQ(count_of(log, "declared failed"), 0U) << "no switch is blamed for a core";
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+}
+
 // Point 9: the switch of a spare tile (it routes traffic but runs nothing that could answer a
 // probe) fails mid-run: transit probes across it are lost, the health tile names it, the map goes
 // out by message and traffic routes around. Upsets on the I/O tile's packets are corrected by the
