@@ -75,9 +75,14 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e) {
       const bsp::TileId n = neighbour_of(t, r.spec.param, bsp::kTile64.cols, bsp::kTile64.rows);
       return e.id == EventId::kLinkFailed && ((e.subject == t && e.cause == n) || (e.subject == n && e.cause == t));
     }
+    case bsp::FaultKind::kSeu:
+    case bsp::FaultKind::kSdc:
+      // Wrong data leaves the tile answering: only a check of what it computed or stored names it
+      // (a neighbour that stops hearing it nearby is about something else, e.g. a failed link).
+      return e.id == EventId::kSelfTestMismatch && e.subject == t;
     default:
-      // A fault of the core (hang, reset, upset, corrupted output, watchdog): the tile named by a
-      // detection of its silence or its switch.
+      // A fault of the core (hang, reset, watchdog): the tile named by a detection of its silence
+      // or its switch.
       if (e.id == EventId::kTaskOverdue) {
         return e.tile == t;  // the tile's own agent names one of its tasks
       }

@@ -1,0 +1,88 @@
+/**
+ * @file fdir_join_test.cpp
+ * @brief The host's join of flight events to the injector's ground truth (docs/FDIR.md, "The join"):
+ *        each injection is credited only to an event that names what it did.
+ */
+#include "tools/common/fdir_join.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <vector>
+
+namespace {
+
+constexpr double kHz = 1.0e6;  // one cycle per microsecond keeps the times readable
+
+bsp::FaultRecord record(bsp::FaultKind kind, bsp::TileId tile, bsp::Cycles at) {
+  bsp::FaultRecord r{};
+  r.spec.kind = kind;
+  r.spec.tile = tile;
+  r.spec.cycle = at;
+  r.status = bsp::FaultStatus::kApplied;
+  r.applied_cycle = at;
+  return r;
+}
+
+fdir::Event event(fdir::EventId id, bsp::TileId writer, std::uint32_t subject, bsp::Cycles at,
+                  std::uint32_t cause = 0U) {
+  fdir::Event e{};
+  e.id = id;
+  e.tile = writer;
+  e.subject = subject;
+  e.cause = cause;
+  e.cycle = at;
+  const fdir::EventInfo* info = fdir::event_info(id);
+  e.steps = info != nullptr ? info->steps : 0U;
+  return e;
+}
+
+// FDIR-JN-02: an upset on one tile is not credited to a neighbour's report about another tile, nor to
+// a watchdog of the same tile (a tile with wrong data still answers); only a self-test naming it.
+TEST(FdirJoin, AnUpsetIsCreditedOnlyToASelfTestThatNamesItsTile) {
+  const std::array<bsp::FaultRecord, 1> faults{record(bsp::FaultKind::kSeu, 35U, 1'000'000U)};
+  const std::vector<fdir::Event> unrelated{
+      event(fdir::EventId::kLinkFailed, 0U, 43U, 1'100'000U, 35U),
+      event(fdir::EventId::kNeighbourSuspect, 36U, 35U, 1'200'000U),
+      event(fdir::EventId::kSelfTestMismatch, 0U, 36U, 1'300'000U),
+  };
+  const tools::FaultAccount none = tools::join_faults(faults, unrelated, kHz);
+  EXPECT_EQ(none.injected, 1U);
+  EXPECT_EQ(none.detected, 0U);
+
+  std::vector<fdir::Event> named = unrelated;
+  named.push_back(event(fdir::EventId::kSelfTestMismatch, 0U, 35U, 1'400'000U));
+  named.push_back(event(fdir::EventId::kSelfTestAgree, 0U, 35U, 1'450'000U));
+  const tools::FaultAccount hit = tools::join_faults(faults, named, kHz);
+  ASSERT_EQ(hit.detected, 1U);
+  EXPECT_EQ(hit.recovered, 1U);
+  EXPECT_EQ(hit.outcomes[0].detected_by, fdir::EventId::kSelfTestMismatch);
+  EXPECT_NEAR(hit.outcomes[0].detected_s - hit.outcomes[0].injected_s, 0.4, 1e-9);
+}
+
+// A hang is still credited to the tile's watchdog and recovered by the tile's return.
+TEST(FdirJoin, AHangIsCreditedToItsWatchdogAndRecoveredByTheTile) {
+  const std::array<bsp::FaultRecord, 1> faults{record(bsp::FaultKind::kCoreHang, 18U, 2'000'000U)};
+  const std::vector<fdir::Event> events{
+      event(fdir::EventId::kWatchdogExpired, 0U, 19U, 2'010'000U),  // another tile: not this one
+      event(fdir::EventId::kWatchdogExpired, 0U, 18U, 2'016'000U),
+      event(fdir::EventId::kTileRecovered, 0U, 18U, 2'030'000U),
+  };
+  const tools::FaultAccount a = tools::join_faults(faults, events, kHz);
+  ASSERT_EQ(a.detected, 1U);
+  EXPECT_EQ(a.recovered, 1U);
+  EXPECT_NEAR(a.outcomes[0].detected_s - a.outcomes[0].injected_s, 0.016, 1e-9);
+  EXPECT_NEAR(a.outcomes[0].recovered_s, 2.030, 1e-9);
+}
+
+// A detection that comes before the fault, or after the 5 s window, is not the fault's.
+TEST(FdirJoin, ADetectionOutsideTheWindowIsNotTheFaults) {
+  const std::array<bsp::FaultRecord, 1> faults{record(bsp::FaultKind::kCoreHang, 18U, 2'000'000U)};
+  const std::vector<fdir::Event> events{
+      event(fdir::EventId::kWatchdogExpired, 0U, 18U, 1'900'000U),
+      event(fdir::EventId::kWatchdogExpired, 0U, 18U, 7'100'000U),
+  };
+  EXPECT_EQ(tools::join_faults(faults, events, kHz).detected, 0U);
+}
+
+}  // namespace
