@@ -75,6 +75,16 @@ enum class EventId : std::uint16_t {
   kFilterResumed = 0x0601,     ///< the filter started from a DDR checkpoint; subject: checkpoint number, a: IMU samples to replay, b: last sample it holds
   kCheckpointBad = 0x0602,     ///< a checkpoint slot failed its checks and is not used; subject: slot, a: bad slots
   kImuGap = 0x0603,            ///< IMU samples neither received nor still recorded; subject: first missing, a: samples
+  kCommandTaken = 0x0604,      ///< a telecommand reached the filter; subject: code, cause: its sequence number, a: job
+  // ---- TMR of the filter (trn/tasks/filter_task, fdir/tmr)
+  kTmrStarting = 0x0701,       ///< replicas seeded with the filter's state; subject: job, cause: epoch
+  kTmrEstablished = 0x0702,    ///< three replicas agree with the filter: the voter delivers; subject: job, cause: epoch, a: jobs it took
+  kTmrSimplex = 0x0703,        ///< one filter again; subject: job, cause: 0 command, 2 TMR not established in time
+  kTmrOutvoted = 0x0704,       ///< a replica's output was outvoted; subject: its tile, cause: job, a: replica, b: 1 different, 2 missing
+  kTmrAgrees = 0x0705,         ///< an outvoted replica agrees again; subject: its tile, cause: job, a: replica, b: disagreements before
+  kTmrExcluded = 0x0706,       ///< a replica no longer votes and must re-synchronise; subject: its tile, cause: job, a: replica, b: replicas left
+  kTmrResynced = 0x0707,       ///< a replica seeded from the voted state votes again; subject: its tile, cause: job, a: replica, b: replicas voting
+  kTmrNoMajority = 0x0708,     ///< no two replicas agree: nothing delivered; subject: job, cause: voting mask, a: different, b: missing
 };
 
 struct EventInfo {
@@ -85,7 +95,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 39> kEventTable{{
+inline constexpr std::array<EventInfo, 48> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -125,6 +135,15 @@ inline constexpr std::array<EventInfo, 39> kEventTable{{
     {EventId::kFilterResumed, "filter_resumed", Severity::kInfo, kStepRecover},
     {EventId::kCheckpointBad, "checkpoint_bad", Severity::kWarningHi, kStepDetect},
     {EventId::kImuGap, "imu_gap", Severity::kWarningHi, kStepDetect},
+    {EventId::kCommandTaken, "command_taken", Severity::kInfo, kStepNone},
+    {EventId::kTmrStarting, "tmr_starting", Severity::kInfo, kStepNone},
+    {EventId::kTmrEstablished, "tmr_established", Severity::kInfo, kStepNone},
+    {EventId::kTmrSimplex, "tmr_simplex", Severity::kInfo, kStepNone},
+    {EventId::kTmrOutvoted, "tmr_outvoted", Severity::kWarningHi, kStepDetect},
+    {EventId::kTmrAgrees, "tmr_agrees", Severity::kInfo, kStepRecover},
+    {EventId::kTmrExcluded, "tmr_excluded", Severity::kWarningHi, kStepIsolate},
+    {EventId::kTmrResynced, "tmr_resynced", Severity::kInfo, kStepRecover},
+    {EventId::kTmrNoMajority, "tmr_no_majority", Severity::kFatal, kStepDetect},
 }};
 
 namespace detail {

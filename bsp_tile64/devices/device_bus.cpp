@@ -41,6 +41,8 @@ struct Bus {
   bool attached = false;
   Fifo<ImuSample, kImuFifoDepth> imu;
   Fifo<FrameRecord, kFrameFifoDepth> frames;
+  Fifo<Telecommand, kCommandFifoDepth> commands;
+  std::uint32_t next_command = 0;
   DeviceStats stats{};
   std::uint32_t next_imu_seq = 0;
   std::uint32_t next_frame = 0;
@@ -123,6 +125,15 @@ void on_capture(TileId /*tile*/, Cycles /*cycle*/, std::uint64_t n) noexcept {
   }
 }
 
+void on_command(TileId /*tile*/, Cycles /*cycle*/, std::uint64_t arg) noexcept {
+  const Telecommand c{g_bus.next_command++, static_cast<std::uint32_t>(arg >> 32U), static_cast<std::uint32_t>(arg)};
+  if (g_bus.commands.push(c)) {
+    ++g_bus.stats.commands_delivered;
+  } else {
+    ++g_bus.stats.commands_dropped;
+  }
+}
+
 }  // namespace
 
 DeviceBusError attach_devices(const DeviceBusConfig& cfg) noexcept {
@@ -148,6 +159,18 @@ DeviceBusError attach_devices(const DeviceBusConfig& cfg) noexcept {
 bool imu_read(ImuSample* out) noexcept { return g_bus.imu.pop(out); }
 
 bool frame_read(FrameRecord* out) noexcept { return g_bus.frames.pop(out); }
+
+bool command_read(Telecommand* out) noexcept { return g_bus.commands.pop(out); }
+
+DeviceBusError schedule_command(double t_s, std::uint32_t code, std::uint32_t arg) noexcept {
+  if (!g_bus.attached || !(t_s >= 0.0)) {
+    return DeviceBusError::kBadConfig;
+  }
+  const std::uint64_t word = (static_cast<std::uint64_t>(code) << 32U) | arg;
+  return schedule_event(cycle_at(t_s), g_bus.cfg.io_tile, Irq::kDevice, &on_command, word) == BoardError::kOk
+             ? DeviceBusError::kOk
+             : DeviceBusError::kScheduleFailed;
+}
 
 DeviceStats device_stats() noexcept { return g_bus.stats; }
 

@@ -6,7 +6,8 @@
  * emulated time the IMU's sample for the interval just ended is pushed into the
  * I/O tile's IMU FIFO; at each capture time the camera renders the truth pose
  * into its DDR ring and, after the readout delay, the frame record is pushed
- * into the frame FIFO. Each delivery raises Irq::kDevice on the I/O tile.
+ * into the frame FIFO; a telecommand scheduled by the image (the uplink)
+ * goes into the command FIFO at its time. Each delivery raises Irq::kDevice on the I/O tile.
  * Flight code reads them through device_io.hpp only.
  */
 #pragma once
@@ -33,5 +34,12 @@ enum class DeviceBusError : std::uint8_t { kOk, kBadConfig, kScheduleFailed };
  * nothing by itself, so call this once per run). Resets the FIFOs and counters.
  */
 DeviceBusError attach_devices(const DeviceBusConfig& cfg) noexcept;
+
+/**
+ * The uplink: a telecommand (@p code, @p arg; their meaning is the
+ * application's) received at emulated time @p t_s goes into the I/O tile's
+ * command FIFO and raises Irq::kDevice there. After attach_devices().
+ */
+DeviceBusError schedule_command(double t_s, std::uint32_t code, std::uint32_t arg) noexcept;
 
 }  // namespace bsp

@@ -1,6 +1,6 @@
 /**
  * @file device_io.hpp
- * @brief What flight code sees of the devices: the I/O tile's IMU and camera FIFOs.
+ * @brief What flight code sees of the devices: the I/O tile's IMU, camera and telecommand FIFOs.
  *
  * Interface control, like a driver's register map: the devices deliver into
  * bounded FIFOs on the I/O tile and raise Irq::kDevice there; the I/O tile's
@@ -26,8 +26,16 @@ struct FrameRecord {
   double t_s;                  ///< capture time, emulated seconds
 };
 
+/** A command from the ground (the uplink), as its receiver hands it over; codes are the application's. */
+struct Telecommand {
+  std::uint32_t seq;   ///< from 0, in the order received
+  std::uint32_t code;
+  std::uint32_t arg;
+};
+
 inline constexpr std::uint32_t kImuFifoDepth = 32;
 inline constexpr std::uint32_t kFrameFifoDepth = 2;
+inline constexpr std::uint32_t kCommandFifoDepth = 8;
 
 /** Pops the oldest IMU sample. @return false when the FIFO is empty. [task|isr on the I/O tile] */
 bool imu_read(ImuSample* out) noexcept;
@@ -35,12 +43,17 @@ bool imu_read(ImuSample* out) noexcept;
 /** Pops the oldest frame record. @return false when none is ready. [task|isr on the I/O tile] */
 bool frame_read(FrameRecord* out) noexcept;
 
+/** Pops the oldest telecommand. @return false when none is waiting. [task|isr on the I/O tile] */
+bool command_read(Telecommand* out) noexcept;
+
 /** Device counters, for health monitoring and reports. */
 struct DeviceStats {
   std::uint32_t imu_delivered;
   std::uint32_t imu_dropped;     ///< FIFO full
   std::uint32_t frames_delivered;
   std::uint32_t frames_dropped;  ///< FIFO full
+  std::uint32_t commands_delivered;
+  std::uint32_t commands_dropped;  ///< FIFO full
 };
 DeviceStats device_stats() noexcept;
 

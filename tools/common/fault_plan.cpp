@@ -5,6 +5,7 @@
 #include "tools/common/fault_plan.hpp"
 
 #include "bsp_tile64/board.hpp"
+#include "bsp_tile64/devices/device_bus.hpp"
 #include "bsp_tile64/memory.hpp"
 #include "bsp_tile64/udn_hw.hpp"
 #include "trn/tasks/tile_map.hpp"
@@ -20,6 +21,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <utility>
 #include <fstream>
 #include <initializer_list>
 #include <sstream>
@@ -60,7 +62,8 @@ constexpr std::array<const char*, 9> kAllFaultKeys = {"t_s",    "kind", "tile", 
 /** Roles a plan can name (every role of the tile map but spare). */
 std::vector<trn::tasks::Role> plan_roles() {
   using trn::tasks::Role;
-  return {Role::kTrnSupervisor, Role::kVisionCoordinator, Role::kIo, Role::kFilter, Role::kVision};
+  return {Role::kTrnSupervisor, Role::kVisionCoordinator, Role::kIo, Role::kFilter, Role::kVision,
+          Role::kFilterReplica};
 }
 
 std::string role_list() {
@@ -204,7 +207,8 @@ std::string read_fault_key(const std::string& key, const toml::node& node, const
     }
     item.role = r;
   } else if (key == "instance") {
-    e = read_int(node, 0, static_cast<std::int64_t>(trn::tasks::count_role(trn::tasks::Role::kVision)) - 1, v);
+    const trn::tasks::Role of = item.role == "filter_replica" ? trn::tasks::Role::kFilterReplica : trn::tasks::Role::kVision;
+    e = read_int(node, 0, static_cast<std::int64_t>(trn::tasks::count_role(of)) - 1, v);
     item.instance = static_cast<std::uint32_t>(v);
   } else if (key == "direction") {
     if (!node.is_string()) {
@@ -255,8 +259,13 @@ void parse_fault(const std::string& source, std::size_t index, const toml::table
   if (t.get("tile") != nullptr && t.get("role") != nullptr) {
     errors.push_back(where + " role: a fault names a tile or a role, not both");
   }
-  if (t.get("instance") != nullptr && item.role != "vision") {
-    errors.push_back(where + " instance: only with role = \"vision\" (which of the vision tiles)");
+  if (t.get("instance") != nullptr && item.role != "vision" && item.role != "filter_replica") {
+    errors.push_back(where + " instance: only with role = \"vision\" or \"filter_replica\" (which of its tiles)");
+  }
+  if (item.role == "filter_replica" && item.instance >= trn::tasks::count_role(trn::tasks::Role::kFilterReplica)) {
+    errors.push_back(cat({where, " instance: ", std::to_string(item.instance), " is out of range: allowed 0 .. ",
+                          std::to_string(trn::tasks::count_role(trn::tasks::Role::kFilterReplica) - 1U),
+                          " (the filter's replicas)"}));
   }
   if (item.kind == bsp::FaultKind::kLinkFail && t.get("direction") == nullptr) {
     errors.push_back(where + ": missing key direction (allowed: east, west, north, south)");
@@ -297,6 +306,64 @@ void parse_faults(const std::string& source, const toml::node& node, const Limit
   }
   for (std::size_t i = 0; i < arr->size(); ++i) {
     parse_fault(source, i, *arr->get(i)->as_table(), lim, plan, errors);
+  }
+}
+
+constexpr std::array<std::pair<const char*, std::uint32_t>, 2> kCommandNames{{
+    {"filter_tmr", trn::tasks::kCmdFilterTmr},
+    {"filter_simplex", trn::tasks::kCmdFilterSimplex},
+}};
+
+void parse_command(const std::string& where, const toml::table& t, const Limits& lim, FaultPlan& plan,
+                   std::vector<std::string>& errors) {
+  PlanCommand c{};
+  const std::size_t before = errors.size();
+  for (const auto& [k, node] : t) {
+    const std::string key(k.str());
+    if (key == "t_s") {
+      const std::string e = read_float(node, 0.0, lim.max_time_s, " s", c.t_s);
+      if (!e.empty()) {
+        errors.push_back(cat({where, " t_s: ", e}));
+      }
+    } else if (key == "name") {
+      const std::string n = node.is_string() ? node.as_string()->get() : std::string();
+      const auto* it = std::find_if(kCommandNames.begin(), kCommandNames.end(),
+                                    [&n](const auto& p) { return n == p.first; });
+      if (it == kCommandNames.end()) {
+        errors.push_back(cat({where, " name: unknown command \"", n, "\" (allowed: filter_tmr, filter_simplex)"}));
+      } else {
+        c.name = n;
+        c.code = it->second;
+      }
+    } else {
+      errors.push_back(cat({where, " ", key, ": unknown key (allowed keys for a command: t_s, name)"}));
+    }
+  }
+  if (t.get("name") == nullptr) {
+    errors.push_back(where + ": missing key name (allowed: filter_tmr, filter_simplex)");
+  }
+  if (errors.size() == before) {
+    plan.commands.push_back(c);
+  }
+}
+
+void parse_commands(const std::string& source, const toml::node& node, const Limits& lim, FaultPlan& plan,
+                    std::vector<std::string>& errors) {
+  const toml::array* arr = node.as_array();
+  if (arr == nullptr || !arr->is_array_of_tables()) {
+    errors.push_back(source + ": command: must be an array of tables ([[command]] entries)");
+    return;
+  }
+  if (arr->size() > bsp::kCommandFifoDepth * 4U) {
+    errors.push_back(cat({source, ": [[command]]: ", std::to_string(arr->size()), " entries (allowed 0 .. ",
+                          std::to_string(bsp::kCommandFifoDepth * 4U), ")"}));
+    return;
+  }
+  for (std::size_t i = 0; i < arr->size(); ++i) {
+    const toml::table& t = *arr->get(i)->as_table();
+    parse_command(cat({source, ": [[command]] #", std::to_string(i + 1U), " (line ",
+                       std::to_string(t.source().begin.line), ")"}),
+                  t, lim, plan, errors);
   }
 }
 
@@ -380,6 +447,8 @@ FaultPlanResult parse_fault_plan(std::string_view text, const std::string& sourc
       }
     } else if (key == "fault") {
       parse_faults(source, node, lim, plan, errors);
+    } else if (key == "command") {
+      parse_commands(source, node, lim, plan, errors);
     } else if (key == "rates") {
       if (!node.is_table()) {
         errors.push_back(source + ": rates: must be a table ([rates])");
@@ -387,7 +456,7 @@ FaultPlanResult parse_fault_plan(std::string_view text, const std::string& sourc
         parse_rates(source, *node.as_table(), plan, errors);
       }
     } else {
-      errors.push_back(cat({source, ": ", key, ": unknown key (allowed at the top: name, [[fault]], [rates])"}));
+      errors.push_back(cat({source, ": ", key, ": unknown key (allowed at the top: name, [[fault]], [[command]], [rates])"}));
     }
   }
   if (!errors.empty()) {
@@ -481,6 +550,7 @@ bsp::TileId role_tile(trn::tasks::Role role, std::uint32_t instance) {
     case Role::kVisionCoordinator: return trn::tasks::slot_tile_now(trn::tasks::kSlotCoordinator);
     case Role::kIo: return trn::tasks::slot_tile_now(trn::tasks::kSlotIo);
     case Role::kFilter: return trn::tasks::slot_tile_now(trn::tasks::kSlotFilter);
+    case Role::kFilterReplica: return trn::tasks::slot_tile_now(trn::tasks::kSlotReplica0 + instance);
     case Role::kTrnSupervisor: return trn::tasks::kSupervisorTile;
     case Role::kVision: {
       std::uint32_t seen = 0U;
@@ -564,6 +634,13 @@ bool arm_fault_plan(const FaultPlan& plan, double clock_hz, std::string& error) 
       return false;
     }
   }
+  for (const PlanCommand& c : plan.commands) {
+    if (bsp::schedule_command(c.t_s, c.code, 0U) != bsp::DeviceBusError::kOk) {
+      error = cat({"fault plan ", plan.name, ": [[command]] ", c.name, " at ", fmt(c.t_s),
+                   " s: refused by the uplink (no devices attached)"});
+      return false;
+    }
+  }
   for (std::size_t k = 0; k < kFaultKinds; ++k) {
     if (plan.rates[k] == 0.0) {
       continue;  // a zero rate draws nothing: a plan without rates leaves the injector's stream untouched
@@ -583,7 +660,9 @@ std::string format_fault_plan(const FaultPlan& plan) {
     out += "\n[[fault]]\nt_s = " + toml_float(it.t_s) + "\nkind = \"" + fault_kind_name(it.kind) + "\"\n";
     out += it.role.empty() ? "tile = " + std::to_string(it.tile) + "\n"
                            : "role = " + toml_string(it.role) + "\n" +
-                                 (it.role == "vision" ? "instance = " + std::to_string(it.instance) + "\n" : "");
+                                 (it.role == "vision" || it.role == "filter_replica"
+                                      ? "instance = " + std::to_string(it.instance) + "\n"
+                                      : "");
     switch (it.kind) {
       case bsp::FaultKind::kSdc:
         out += it.channel != bsp::kAnyChannel ? "channel = " + std::to_string(it.channel) + "\n" : "";
@@ -603,6 +682,9 @@ std::string format_fault_plan(const FaultPlan& plan) {
     const bool has_bit = it.kind == bsp::FaultKind::kSdc || it.kind == bsp::FaultKind::kSeu ||
                          it.kind == bsp::FaultKind::kPacketBitFlip;
     out += has_bit && it.bit != bsp::kRandomBit ? "bit = " + std::to_string(it.bit) + "\n" : "";
+  }
+  for (const PlanCommand& c : plan.commands) {
+    out += "\n[[command]]\nt_s = " + toml_float(c.t_s) + "\nname = " + toml_string(c.name) + "\n";
   }
   std::string rates;
   for (std::size_t k = 0; k < kFaultKinds; ++k) {

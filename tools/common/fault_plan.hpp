@@ -50,8 +50,16 @@ struct FaultPlanItem {
   std::uint32_t instance = 0U;  ///< role "vision": which of the vision tiles (0 .. 39)
 };
 
+/** A telecommand sent up at a time (the uplink to the I/O tile, forwarded to the role it is for). */
+struct PlanCommand {
+  double t_s = 0.0;
+  std::string name;   ///< "filter_tmr" or "filter_simplex"
+  std::uint32_t code = 0U;
+};
+
 struct FaultPlan {
   std::string name = "plan";
+  std::vector<PlanCommand> commands;  ///< in file order
   std::vector<FaultPlanItem> items;  ///< in file order (the injector orders them by time)
   std::array<double, kFaultKinds> rates{};  ///< random faults per tile per emulated second, by kind
 };

@@ -79,7 +79,7 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e) {
     case bsp::FaultKind::kSdc:
       // Wrong data leaves the tile answering: only a check of what it computed or stored names it
       // (a neighbour that stops hearing it nearby is about something else, e.g. a failed link).
-      return e.id == EventId::kSelfTestMismatch && e.subject == t;
+      return (e.id == EventId::kSelfTestMismatch || (e.id == EventId::kTmrOutvoted && e.b == 1U)) && e.subject == t;
     default:
       // A fault of the core (hang, reset, watchdog): the tile named by a detection of its silence
       // or its switch.
@@ -89,7 +89,7 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e) {
       return (e.id == EventId::kWorkerSilent || e.id == EventId::kSwitchFailed ||
               e.id == EventId::kNeighbourSuspect || e.id == EventId::kCoreSuspect ||
               e.id == EventId::kWatchdogExpired || e.id == EventId::kTileRebooted ||
-              e.id == EventId::kSelfTestMismatch) &&
+              e.id == EventId::kSelfTestMismatch || e.id == EventId::kTmrOutvoted) &&
              e.subject == t;
   }
 }
@@ -117,6 +117,9 @@ bool recovers(const fdir::Event& d, const fdir::Event& e) {
     case EventId::kSelfTestMismatch:
       return (e.id == EventId::kSelfTestAgree && e.subject == d.subject) ||
              (e.id == EventId::kRoleRestored && e.cause == d.subject);
+    case EventId::kTmrOutvoted:
+      // A replica outvoted is recovered once it agrees again or was seeded with the voted state.
+      return (e.id == EventId::kTmrAgrees || e.id == EventId::kTmrResynced) && e.subject == d.subject;
     case EventId::kTaskOverdue:
       return (e.id == EventId::kTileRecovered && e.subject == d.tile) ||
              (e.id == EventId::kRoleRestored && e.cause == d.tile);
@@ -140,6 +143,48 @@ const char* tile_health_name(TileHealth h) noexcept {
 }
 
 namespace {
+
+/** The text of the filter's TMR events (after the name), into @p b; false for another event. */
+bool describe_tmr_event(const fdir::Event& e, const char* s, std::span<char> b) noexcept {
+  switch (e.id) {
+    case EventId::kCommandTaken:
+      (void)std::snprintf(b.data(), b.size(), "telecommand %u (code %s) taken by the filter at job %u", e.cause, s, e.a);
+      return true;
+    case EventId::kTmrStarting:
+      (void)std::snprintf(b.data(), b.size(), "filter to TMR: replicas seeded with the state after job %s (epoch %u)", s,
+                          e.cause);
+      return true;
+    case EventId::kTmrEstablished:
+      (void)std::snprintf(b.data(), b.size(), "TMR established at job %s: three replicas agree with the filter "
+                          "(%u jobs after the command); the voter delivers", s, e.a);
+      return true;
+    case EventId::kTmrSimplex:
+      (void)std::snprintf(b.data(), b.size(), "filter simplex again at job %s (%s)", s,
+                          e.cause == 0U ? "command" : "TMR not established in time");
+      return true;
+    case EventId::kTmrOutvoted:
+      (void)std::snprintf(b.data(), b.size(), "replica %u on tile %s outvoted at job %u (%s)", e.a, s, e.cause,
+                          e.b == 1U ? "different output or state" : "no output");
+      return true;
+    case EventId::kTmrAgrees:
+      (void)std::snprintf(b.data(), b.size(), "replica %u on tile %s agrees again at job %u", e.a, s, e.cause);
+      return true;
+    case EventId::kTmrExcluded:
+      (void)std::snprintf(b.data(), b.size(), "replica %u on tile %s excluded at job %u: it re-synchronises (%u voting)",
+                          e.a, s, e.cause, e.b);
+      return true;
+    case EventId::kTmrResynced:
+      (void)std::snprintf(b.data(), b.size(), "replica %u on tile %s seeded with the voted state, votes again from job "
+                          "%u (%u voting)", e.a, s, e.cause, e.b);
+      return true;
+    case EventId::kTmrNoMajority:
+      (void)std::snprintf(b.data(), b.size(), "no majority at job %s (different 0x%x, missing 0x%x): nothing delivered",
+                          s, e.a, e.b);
+      return true;
+    default:
+      return false;
+  }
+}
 
 /** The text of the core-health and filter-restart events (after the name), into @p b. */
 void describe_health_event(const fdir::Event& e, const char* s, std::span<char> b) noexcept {
@@ -194,7 +239,9 @@ void describe_health_event(const fdir::Event& e, const char* s, std::span<char> 
       (void)std::snprintf(b.data(), b.size(), "role slot %s of tile %u cannot move: no spare", s, e.cause);
       break;
     default:
-      (void)std::snprintf(b.data(), b.size(), "subject %s, cause %u, %u, %u", s, e.cause, e.a, e.b);
+      if (!describe_tmr_event(e, s, b)) {
+        (void)std::snprintf(b.data(), b.size(), "subject %s, cause %u, %u, %u", s, e.cause, e.a, e.b);
+      }
       break;
   }
 }

@@ -166,7 +166,8 @@ bool Mission::boot(std::string& error) {
   image.tile_health.spares = spares;
   // The coordinator and the filter move to a spare when their tile is given
   // up; the I/O tile is wired to the devices and is only reset.
-  image.tile_health.movable_slots = (1U << trn::tasks::kSlotCoordinator) | (1U << trn::tasks::kSlotFilter);
+  image.tile_health.movable_slots = (1U << trn::tasks::kSlotCoordinator) | (1U << trn::tasks::kSlotFilter) |
+                                    (7U << trn::tasks::kSlotReplica0);
   for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
     ep.roles.tile[slot] = trn::tasks::slot_boot_tile(slot);
   }
@@ -196,6 +197,7 @@ bool Mission::boot(std::string& error) {
   f.camera = camera_.model();
   f.initial = initial_;
   f.nav_sink = trn::tasks::kCoordinatorTile;
+  f.replica_tiles = trn::tasks::kReplicaTiles;
   trn::tasks::VisionCoordConfig& c = image.coord;
   c.camera = camera_.model();
   c.filter_tile = trn::tasks::kFilterTile;

@@ -340,6 +340,17 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("coordinator_tile", trn::tasks::slot_tile_now(trn::tasks::kSlotCoordinator));
   s.extra.emplace_back("filter_tile", trn::tasks::slot_tile_now(trn::tasks::kSlotFilter));
   s.extra.emplace_back("coordinator_frames_processed", c.frames_processed);
+  // The filter role's delivered solutions, in job order (a simplex or a voted one alike), and its TMR counts.
+  const trn::tasks::FilterTaskStats f = trn::tasks::filter_task_stats(trn::tasks::slot_tile_now(trn::tasks::kSlotFilter));
+  s.extra.emplace_back("filter_outputs_delivered", f.outputs_delivered);
+  s.extra.emplace_back("filter_outputs_skipped", f.outputs_skipped);
+  s.extra.emplace_back("filter_output_crc", f.output_crc);
+  s.extra.emplace_back("filter_last_job", f.last_delivered_job);
+  s.extra.emplace_back("tmr_voted_outputs", f.tmr_jobs);
+  s.extra.emplace_back("tmr_outvoted", f.tmr_outvoted);
+  s.extra.emplace_back("tmr_no_majority", f.tmr_no_majority);
+  s.extra.emplace_back("tmr_exclusions", f.tmr_exclusions);
+  s.extra.emplace_back("tmr_resyncs", f.tmr_resyncs);
   s.extra.emplace_back("worst_frame_ms", static_cast<double>(c.max_frame_cycles) * 1000.0 /
                                              static_cast<double>(bsp::kTile64.clock_hz));
   s.extra.emplace_back("final_position_3sigma_m", rec.last.sigma3_p.norm());

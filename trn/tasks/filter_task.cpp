@@ -7,9 +7,13 @@
 #include "bsp_tile64/memory.hpp"
 #include "fdir/event_log.hpp"
 #include "kernel/kernel.hpp"
+#include "fdir/tmr.hpp"
 #include "trn/tasks/filter_checkpoint.hpp"
+#include "trn/tasks/filter_core.hpp"
+#include "trn/tasks/filter_tmr.hpp"
 #include "trn/tasks/imu_ring.hpp"
 #include "trn/tasks/messages.hpp"
+#include "udn/crc32c.hpp"
 #include "udn/endpoint.hpp"
 
 #include <array>
@@ -19,51 +23,65 @@
 namespace trn::tasks {
 namespace {
 
-/** Matches waiting to be applied, oldest first (a ring). */
-struct MatchQueue {
-  std::uint32_t head;
-  std::uint32_t count;
-  std::array<Match, kMatchQueueLen> m;
+/** What the front does with the records it fills. */
+enum class Mode : std::uint8_t {
+  kSimplex,   ///< runs them itself
+  kStarting,  ///< runs them itself and compares the replicas, seeded from its state, until they agree
+  kTmr,       ///< the replicas run them; the front votes and delivers
 };
 
+/** Outputs kept per replica (and the front's own while starting), by job. */
+constexpr std::uint32_t kOutRing = 8U;
+/** Jobs a switch to TMR may take before it is given up. */
+constexpr std::uint32_t kStartJobs = 100U;
+/** Voted words: the packed solution and the state digest. */
+constexpr std::uint32_t kVotedWords = kNavWords + 1U;
+
 struct Slot {
-  filter::Ekf* ekf;
-  MatchQueue* queue;
+  FilterCore core;
   const FilterTaskConfig* cfg;
   FilterTaskStats stats;
   filter::NavOutput latest;
   bool published;
+  JobRecord record;          ///< the job being filled
   CheckpointArea* ckpt;      ///< nullptr: no checkpoints (disabled, or no DDR)
   const ImuRing* ring;       ///< the I/O tile's record; nullptr until it exists
-  bool have_imu;             ///< last_imu is valid
-  std::uint32_t last_imu;    ///< seq of the last sample integrated
+  bool have_imu;             ///< last_imu is valid (the front's cursor: samples put into records)
+  std::uint32_t last_imu;    ///< seq of the last sample put into a record
   bool catching_up;          ///< samples to replay from the record before the live ones
   std::uint32_t ckpt_seq;    ///< number of the last checkpoint written or resumed from
   std::uint32_t ckpt_slot;   ///< slot it is in (the next write goes to the other)
   std::uint32_t since_ckpt;  ///< jobs since it
+  std::uint32_t job;         ///< this job's number
+  // ---- TMR
+  Mode mode;
+  TmrArea* tmr;
+  std::uint32_t command;     ///< a telecommand taken this job (0: none)
+  std::uint32_t next_deliver;  ///< the job whose solution is delivered next
+  bool delivered_any;
+  std::uint32_t start_job;
+  fdir::TmrGroup group;
+  std::array<std::array<fdir::TmrRecord, kOutRing>, kReplicas> out;  ///< replicas' outputs by job
+  std::array<fdir::TmrRecord, kOutRing> own;  ///< the front's own outputs while starting
+  std::uint32_t hello_mask;  ///< replicas that asked for a seed since the last one
+  std::uint32_t seed_asked;  ///< jobs since a seed was asked (0: none pending)
 };
 
 std::array<Slot, bsp::kMaxTiles> g_slots{};
 
-/** Propagates with one sample and remembers it as the last integrated. */
-void integrate(Slot& slot, const bsp::ImuSample& s) noexcept {
-  filter::UpdateReport rep{};
-  const filter::FilterStatus st = slot.ekf->step(filter::StepInput{&s, nullptr, 0}, rep);
-  if (st == filter::FilterStatus::kOk) {
-    ++slot.stats.imu_used;
-  } else if (st == filter::FilterStatus::kImuInvalid) {
-    ++slot.stats.imu_rejected;
-  } else {
-    ++slot.stats.filter_errors;
+// ------------------------------------------------------------------ the front: inputs into a record
+
+void add_sample(Slot& slot, const bsp::ImuSample& s) noexcept {
+  if (record_add_imu(slot.record, s)) {
+    slot.have_imu = true;
+    slot.last_imu = s.seq;
   }
-  slot.have_imu = true;
-  slot.last_imu = s.seq;
 }
 
 /**
- * Integrates from the DDR record the samples after the last one up to
- * (not including) @p until, at most @p budget of them. @return false if the
- * budget ran out first. Samples the record lost are skipped and reported.
+ * Puts from the DDR record the samples after the last one up to (not
+ * including) @p until into the job's record, at most @p budget of them.
+ * @return false if the budget ran out first. Samples the record lost are skipped and reported.
  */
 bool replay(Slot& slot, std::uint32_t until, std::uint32_t& budget) noexcept {
   if (slot.ring == nullptr) {
@@ -87,7 +105,7 @@ bool replay(Slot& slot, std::uint32_t until, std::uint32_t& budget) noexcept {
       slot.last_imu = first - 1U;
       continue;
     }
-    integrate(slot, s);
+    add_sample(slot, s);
     ++slot.stats.imu_replayed;
     --budget;
   }
@@ -106,13 +124,24 @@ void catch_up(Slot& slot) noexcept {
   }
 }
 
-/** Integrates up to kMaxImuPerJob samples waiting on kChanImu (filling gaps from the record). */
+/** A telecommand in the IMU stream: taken at this job, in order with the samples. */
+void take_command(Slot& slot, const udn::FtMessage& msg) noexcept {
+  ++slot.stats.commands;
+  slot.command = msg.data[2];
+  fdir::report(fdir::EventId::kCommandTaken, msg.data[2], msg.data[1], slot.job);
+}
+
+/** Puts up to kMaxImuPerJob samples waiting on kChanImu into the record (filling gaps from the DDR record). */
 void consume_imu(Slot& slot) noexcept {
   udn::FtMessage msg{};
   std::uint32_t budget = kMaxReplayPerJob;
   for (std::uint32_t n = 0; n < kMaxImuPerJob; ++n) {
     if (udn::endpoint_receive(kChanImu, msg) != udn::FtError::kOk) {
       return;
+    }
+    if (msg.data_words == kCommandWords && msg.data[0] == kMsgCommand) {
+      take_command(slot, msg);
+      continue;
     }
     if (msg.data_words != kImuWords) {
       ++slot.stats.imu_rejected;
@@ -132,50 +161,8 @@ void consume_imu(Slot& slot) noexcept {
       ++slot.stats.imu_duplicates;
       continue;
     }
-    integrate(slot, s);
+    add_sample(slot, s);
   }
-}
-
-/** Every checkpoint_every jobs (not while catching up): the whole state to DDR. */
-void checkpoint(Slot& slot) noexcept {
-  if (slot.ckpt == nullptr || slot.catching_up || !slot.have_imu || ++slot.since_ckpt < slot.cfg->checkpoint_every) {
-    return;
-  }
-  slot.since_ckpt = 0U;
-  bsp::Work work{};
-  slot.ckpt_slot = 1U - slot.ckpt_slot;
-  checkpoint_write(*slot.ckpt, slot.ekf->state(), slot.last_imu, ++slot.ckpt_seq, slot.ckpt_slot, work);
-  bsp::consume(work);
-  ++slot.stats.checkpoints;
-}
-
-/** Drops what is left of the oldest frame in the queue. */
-void drop_oldest_frame(MatchQueue& q, FilterTaskStats& st) noexcept {
-  const std::uint32_t frame = q.m[q.head].frame;
-  for (std::uint32_t i = 0; i < kMatchQueueLen && q.count > 0U && q.m[q.head].frame == frame; ++i) {
-    q.head = (q.head + 1U) % kMatchQueueLen;
-    --q.count;
-    ++st.matches_dropped;
-  }
-}
-
-/**
- * Queues @p m. A full queue first loses its oldest frame's remainder: fresher
- * images are worth more, and the oldest is the nearest to leaving the history.
- * A queue full of @p m's own frame (more than a frame can hold) drops @p m.
- */
-void push(MatchQueue& q, const Match& m, FilterTaskStats& st) noexcept {
-  // Each pass empties at least one slot, so one pass suffices; the bound is for the reader.
-  for (std::uint32_t i = 0; i < kMatchQueueLen && q.count == kMatchQueueLen; ++i) {
-    if (q.m[q.head].frame == m.frame) {
-      ++st.matches_dropped;
-      return;
-    }
-    drop_oldest_frame(q, st);
-  }
-  q.m[(q.head + q.count) % kMatchQueueLen] = m;
-  ++q.count;
-  st.queue_high_water = q.count > st.queue_high_water ? q.count : st.queue_high_water;
 }
 
 /** True if @p msg is a well-formed match-batch part whose matches all belong to its frame. */
@@ -196,7 +183,7 @@ bool part_ok(const udn::FtMessage& msg) noexcept {
   return true;
 }
 
-/** Takes the match-batch parts waiting on kChanMatches into the queue. */
+/** Puts the matches of the parts waiting on kChanMatches into the record. */
 void consume_parts(Slot& slot) noexcept {
   udn::FtMessage msg{};
   bsp::Work work{};
@@ -213,54 +200,42 @@ void consume_parts(Slot& slot) noexcept {
     const std::uint32_t n = msg.data[3];
     for (std::uint32_t i = 0; i < n; ++i) {
       const std::size_t at = kMatchHeaderWords + static_cast<std::size_t>(i) * kMatchWords;
-      const std::span<const std::uint32_t, kMatchWords> w(msg.data.data() + at, kMatchWords);
-      push(*slot.queue, unpack_match(w), slot.stats);
+      // kMaxPartsPerJob full parts fit a record: never refused.
+      (void)record_add_match(slot.record, std::span<const std::uint32_t, kMatchWords>(msg.data.data() + at, kMatchWords));
       ++slot.stats.matches_received;
     }
-    work.mem_words += 2ULL * msg.data_words;  // read from the node, written into the queue
+    work.mem_words += 2ULL * msg.data_words;  // read from the node, written into the record
   }
   bsp::consume(work);
 }
 
-/** Applies at most matches_per_job queued matches (two calls when the ring wraps). */
-void apply_matches(Slot& slot) noexcept {
-  MatchQueue& q = *slot.queue;
-  std::uint32_t budget = slot.cfg->matches_per_job;
-  for (int pass = 0; pass < 2 && budget > 0U && q.count > 0U; ++pass) {
-    const std::uint32_t contiguous = kMatchQueueLen - q.head;
-    std::uint32_t n = budget < q.count ? budget : q.count;
-    n = n < contiguous ? n : contiguous;
-    filter::UpdateReport rep{};
-    if (slot.ekf->update(&q.m[q.head], n, rep) != filter::FilterStatus::kOk) {
-      ++slot.stats.filter_errors;
-    }
-    slot.stats.matches_applied += rep.accepted;
-    slot.stats.coarse_applied += rep.coarse_accepted;
-    slot.stats.rejected_gate += rep.rejected_gate;
-    slot.stats.rejected_stale += rep.rejected_stale;
-    slot.stats.rejected_invalid += rep.rejected_invalid;
-    q.head = (q.head + n) % kMatchQueueLen;
-    q.count -= n;
-    budget -= n;
-  }
-}
+// ------------------------------------------------------------------ the front: outputs
 
-void publish(Slot& slot) noexcept {
-  filter::NavOutput out = filter::make_nav_output(slot.ekf->state(), slot.ekf->config());
+/** Publishes and sends the solution of job @p job if it is the next one due; never twice, never back. */
+void deliver(Slot& slot, std::uint32_t job, std::span<const std::uint32_t, kNavWords> words) noexcept {
+  if (slot.delivered_any && job < slot.next_deliver) {
+    return;  // delivered already
+  }
+  if (slot.delivered_any && job > slot.next_deliver) {
+    slot.stats.outputs_skipped += job - slot.next_deliver;
+  }
+  filter::NavOutput out = unpack_nav(words);
   // The published value is what a fault may corrupt on its way out.
   (void)bsp::publish_filter(kNavChannel, &out, sizeof out);
   slot.latest = out;
   slot.published = true;
-}
-
-/** Sends the published solution to nav_sink; never waits (a full window counts as a failure). */
-void send_nav(Slot& slot) noexcept {
+  std::array<std::uint32_t, kNavWords> w{};
+  pack_nav(out, w);
+  const std::array<std::uint32_t, 1> j{job};
+  slot.stats.output_crc = udn::crc32c_words_continue(udn::crc32c_words_continue(slot.stats.output_crc, j), w);
+  ++slot.stats.outputs_delivered;
+  slot.stats.last_delivered_job = job;
+  slot.delivered_any = true;
+  slot.next_deliver = job + 1U;
+  bsp::consume(bsp::Work{2ULL * kNavWords, 0U, 0U, 0U, kNavWords});
   if (slot.cfg->nav_sink == bsp::kNoTile) {
     return;
   }
-  std::array<std::uint32_t, kNavWords> w{};
-  pack_nav(slot.latest, w);
-  bsp::consume(bsp::Work{2ULL * kNavWords, 0U, 0U, 0U, kNavWords});
   const bsp::TileId sink = udn::endpoint_role_tile(kSlotCoordinator, slot.cfg->nav_sink);
   if (udn::endpoint_send(sink, kChanNav, w, 0U) == udn::FtError::kOk) {
     ++slot.stats.nav_sent;
@@ -269,27 +244,52 @@ void send_nav(Slot& slot) noexcept {
   }
 }
 
+/** The front's own solution of this job, as words (and kept while starting, to compare). */
+void run_own(Slot& slot) noexcept {
+  core_run(slot.core, slot.record);
+  std::array<std::uint32_t, kNavWords> w{};
+  pack_nav(core_output(slot.core), w);
+  if (slot.mode == Mode::kStarting) {
+    fdir::TmrRecord& r = slot.own[slot.job % kOutRing];
+    r.job = slot.job;
+    r.words = kVotedWords;
+    for (std::uint32_t i = 0; i < kNavWords; ++i) {
+      r.w[i] = w[i];
+    }
+    bsp::Work work{};
+    r.w[kNavWords] = core_digest(slot.core, work);
+    bsp::consume(work);
+  }
+  deliver(slot, slot.job, w);
+}
+
+/** Every checkpoint_every jobs (not while catching up): the whole state to DDR. */
+void checkpoint(Slot& slot) noexcept {
+  if (slot.ckpt == nullptr || slot.catching_up || !slot.core.have_imu ||
+      ++slot.since_ckpt < slot.cfg->checkpoint_every) {
+    return;
+  }
+  slot.since_ckpt = 0U;
+  bsp::Work work{};
+  slot.ckpt_slot = 1U - slot.ckpt_slot;
+  // Numbered by job, so that a replica's later checkpoint is the newer one.
+  slot.ckpt_seq = slot.job / slot.cfg->checkpoint_every + 1U;
+  checkpoint_write(*slot.ckpt, slot.core.ekf->state(), slot.core.last_imu, slot.ckpt_seq, slot.ckpt_slot, work);
+  bsp::consume(work);
+  ++slot.stats.checkpoints;
+}
+
 bool set_up(Slot& slot, const FilterTaskConfig& cfg) noexcept {
   if (cfg.matches_per_job == 0U || cfg.matches_per_job > kMaxMatchesPerFrame) {
     return false;
   }
   slot.cfg = &cfg;
-  bsp::MemError err = bsp::MemError::kOk;
-  const bsp::Region ram{bsp::current_tile()};
-  auto* ekf = bsp::carve_array<filter::Ekf>(ram, 1, "ekf", &err);
-  if (err != bsp::MemError::kOk) {
+  if (!core_set_up(slot.core, cfg, slot.stats)) {
     return false;
   }
-  ::new (ekf) filter::Ekf{};
-  slot.ekf = ekf;
-  auto* queue = bsp::carve_array<MatchQueue>(ram, 1, "match queue", &err);
-  if (err != bsp::MemError::kOk) {
-    return false;
-  }
-  ::new (queue) MatchQueue{};
-  slot.queue = queue;
-  if (slot.ekf->configure(cfg.filter, cfg.camera) != filter::FilterStatus::kOk) {
-    return false;
+  slot.tmr = cfg.replica_tiles[0] != bsp::kNoTile ? tmr_area() : nullptr;
+  if (slot.tmr != nullptr) {
+    slot.tmr->control.mode = 0U;  // a (re)started front is simplex; the replicas go idle
   }
   slot.ckpt = cfg.checkpoint_every != 0U ? checkpoint_area() : nullptr;
   slot.ring = cfg.checkpoint_every != 0U ? imu_ring() : nullptr;
@@ -302,7 +302,9 @@ bool set_up(Slot& slot, const FilterTaskConfig& cfg) noexcept {
     if (r.bad != 0U) {
       fdir::report(fdir::EventId::kCheckpointBad, r.bad_slot, 0U, r.bad);
     }
-    if (r.found && slot.ekf->restore(st) == filter::FilterStatus::kOk) {
+    if (r.found && slot.core.ekf->restore(st) == filter::FilterStatus::kOk) {
+      slot.core.have_imu = true;
+      slot.core.last_imu = r.imu_seq;
       slot.have_imu = true;
       slot.last_imu = r.imu_seq;
       slot.catching_up = true;
@@ -315,7 +317,186 @@ bool set_up(Slot& slot, const FilterTaskConfig& cfg) noexcept {
       return true;
     }
   }
-  return slot.ekf->init(cfg.initial) == filter::FilterStatus::kOk;
+  return slot.core.ekf->init(cfg.initial) == filter::FilterStatus::kOk;
+}
+
+// ------------------------------------------------------------------ the front: TMR
+
+bsp::TileId replica_tile(const Slot& slot, std::uint32_t i) noexcept {
+  return udn::endpoint_role_tile(kSlotReplica0 + i, slot.cfg->replica_tiles[i]);
+}
+
+/** Takes the replicas' outputs and hellos waiting on kChanNav. */
+void drain_replicas(Slot& slot) noexcept {
+  udn::FtMessage m{};
+  for (std::uint32_t n = 0; n < 4U * kReplicas && udn::endpoint_receive(kChanNav, m) == udn::FtError::kOk; ++n) {
+    const std::uint32_t i = m.data_words >= 2U ? m.data[1] : kNoReplica;
+    if (i >= kReplicas) {
+      continue;
+    }
+    if (m.data_words == kReplicaHelloWords && m.data[0] == kMsgReplicaHello) {
+      slot.hello_mask |= 1U << i;
+      continue;
+    }
+    if (m.data_words != kReplicaOutWords || m.data[0] != kMsgReplicaOut) {
+      continue;
+    }
+    fdir::TmrRecord& r = slot.out[i][m.data[2] % kOutRing];
+    r.job = m.data[2];
+    r.words = kVotedWords;
+    for (std::uint32_t w = 0; w < kNavWords; ++w) {
+      r.w[w] = m.data[4U + w];
+    }
+    r.w[kNavWords] = m.data[3];
+  }
+}
+
+const fdir::TmrRecord* output_of(const Slot& slot, std::uint32_t i, std::uint32_t job) noexcept {
+  const fdir::TmrRecord& r = slot.out[i][job % kOutRing];
+  return (r.words == kVotedWords && r.job == job) ? &r : nullptr;
+}
+
+/** Switch to TMR after this job: the front's state is the replicas' seed. */
+void start_tmr(Slot& slot) noexcept {
+  if (slot.tmr == nullptr || slot.mode != Mode::kSimplex) {
+    return;
+  }
+  TmrControl& c = slot.tmr->control;
+  ++c.epoch;
+  c.mode = 1U;
+  c.seed_by = kNoReplica;
+  c.ckpt_by = kNoReplica;
+  bsp::Work work{};
+  tmr_write_seed(*slot.tmr, slot.core, slot.job, fdir::kTmrAllReplicas, work);
+  bsp::consume(work);
+  (void)slot.group.configure(fdir::TmrGroupConfig{});
+  slot.mode = Mode::kStarting;
+  slot.start_job = slot.job;
+  slot.hello_mask = 0U;
+  slot.seed_asked = 0U;
+  fdir::report(fdir::EventId::kTmrStarting, slot.job, c.epoch);
+}
+
+/** Back to simplex (the front runs its own state): replicas go idle. */
+void stop_tmr(Slot& slot, std::uint32_t reason) noexcept {
+  slot.tmr->control.mode = 0U;
+  slot.mode = Mode::kSimplex;
+  fdir::report(fdir::EventId::kTmrSimplex, slot.job, reason);
+}
+
+/** While starting: a replica whose output equals the front's own joins; all three: TMR runs. */
+void compare_starting(Slot& slot, std::uint32_t v) noexcept {
+  const fdir::TmrRecord& own = slot.own[v % kOutRing];
+  if (own.job != v || own.words != kVotedWords) {
+    return;
+  }
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    const fdir::TmrRecord* r = output_of(slot, i, v);
+    if (r != nullptr && fdir::tmr_same(*r, own) && (slot.group.active_mask() & (1U << i)) == 0U) {
+      slot.group.admit(i);
+    }
+  }
+  if (slot.group.active_count() == kReplicas) {
+    slot.mode = Mode::kTmr;
+    slot.tmr->control.ckpt_by = 0U;
+    fdir::report(fdir::EventId::kTmrEstablished, v, slot.tmr->control.epoch, slot.job - slot.start_job);
+  } else if (slot.job - slot.start_job > kStartJobs) {
+    stop_tmr(slot, 2U);
+  }
+}
+
+/** Reports what the vote says of each replica; excludes past the thresholds. */
+void account_vote(Slot& slot, const fdir::TmrVote& v, std::uint32_t job) noexcept {
+  std::array<std::uint32_t, kReplicas> before{};
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    before[i] = slot.group.count(i).disagree_in_row;
+  }
+  const std::uint32_t active = slot.group.active_mask();
+  const std::uint32_t out = slot.group.account(v);
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    const std::uint32_t bit = 1U << i;
+    if ((active & bit) == 0U) {
+      continue;
+    }
+    if (((v.differ_mask | v.missing_mask) & bit) != 0U) {
+      ++slot.stats.tmr_outvoted;
+      fdir::report(fdir::EventId::kTmrOutvoted, replica_tile(slot, i), job, i, (v.differ_mask & bit) != 0U ? 1U : 2U);
+    } else if (before[i] != 0U) {
+      fdir::report(fdir::EventId::kTmrAgrees, replica_tile(slot, i), job, i, before[i]);
+    }
+    if ((out & bit) != 0U) {
+      ++slot.stats.tmr_exclusions;
+      ++slot.tmr->control.gen[i];  // it drops its state and waits for a seed
+      fdir::report(fdir::EventId::kTmrExcluded, replica_tile(slot, i), job, i, slot.group.active_count());
+    }
+  }
+}
+
+/** A replica not voting whose output equals the vote is readmitted (it loaded a seed). */
+void readmit(Slot& slot, const fdir::TmrRecord& voted, std::uint32_t job) noexcept {
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    const fdir::TmrRecord* r = output_of(slot, i, job);
+    if ((slot.group.active_mask() & (1U << i)) == 0U && r != nullptr && fdir::tmr_same(*r, voted)) {
+      slot.group.admit(i);
+      ++slot.stats.tmr_resyncs;
+      slot.hello_mask &= ~(1U << i);
+      fdir::report(fdir::EventId::kTmrResynced, replica_tile(slot, i), job, i, slot.group.active_count());
+    }
+  }
+}
+
+/** Votes job @p v; delivers the voted solution; counts, excludes, readmits. */
+void vote(Slot& slot, std::uint32_t v) noexcept {
+  std::array<const fdir::TmrRecord*, kReplicas> recs{};
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    recs[i] = output_of(slot, i, v);
+  }
+  const fdir::TmrVote res = fdir::tmr_vote(recs, slot.group.active_mask());
+  bsp::consume(bsp::Work{4ULL * kVotedWords * kReplicas, 0U, 0U, 0U, std::uint64_t{kVotedWords} * kReplicas});
+  if (res.verdict == fdir::TmrVerdict::kNoMajority) {
+    ++slot.stats.tmr_no_majority;
+    fdir::report(fdir::EventId::kTmrNoMajority, v, slot.group.active_mask(), res.differ_mask, res.missing_mask);
+    return;
+  }
+  account_vote(slot, res, v);
+  const fdir::TmrRecord& voted = *recs[res.winner];
+  readmit(slot, voted, v);
+  ++slot.stats.tmr_jobs;
+  deliver(slot, v, std::span<const std::uint32_t, kNavWords>(voted.w.data(), kNavWords));
+  // A replica that asked for a seed (rebooted, or excluded) gets one from the voted state.
+  const std::uint32_t waiting = slot.hello_mask & ~slot.group.active_mask();
+  TmrControl& c = slot.tmr->control;
+  if (waiting != 0U && (slot.seed_asked == 0U || slot.seed_asked > kOutRing)) {
+    c.seed_for = waiting;
+    c.seed_job = slot.job;  // the record written this job: the winner saves its state after it
+    c.seed_by = res.winner;
+    slot.seed_asked = 1U;
+    slot.hello_mask = 0U;
+  } else if (slot.seed_asked != 0U) {
+    ++slot.seed_asked;
+  }
+  if (c.ckpt_by >= kReplicas || (slot.group.active_mask() & (1U << c.ckpt_by)) == 0U) {
+    c.ckpt_by = res.winner;
+  }
+}
+
+/** One job of the front in TMR or starting TMR: the record to the ring, then the vote kVoteLag jobs back. */
+void tmr_job(Slot& slot) noexcept {
+  drain_replicas(slot);
+  const std::uint32_t v = slot.job >= kVoteLag ? slot.job - kVoteLag : 0U;
+  if (slot.mode == Mode::kTmr) {
+    vote(slot, v);
+  }
+  // The control block is written before the record it names, so a replica that sees the record sees it.
+  bsp::Work work{};
+  record_seal(slot.record, work);
+  slot.tmr->ring[slot.job % kJobRingLen] = slot.record;
+  work.mem_words += kRecordWords;
+  bsp::consume(work);
+  if (slot.mode == Mode::kStarting) {
+    run_own(slot);
+    compare_starting(slot, v);
+  }
 }
 
 }  // namespace
@@ -323,23 +504,33 @@ bool set_up(Slot& slot, const FilterTaskConfig& cfg) noexcept {
 void filter_task_main(void* arg) noexcept {
   const bsp::TileId tile = bsp::current_tile();
   Slot& slot = g_slots[tile];
-  slot = Slot{};
+  ::new (&slot) Slot{};  // in place: the slot is too large for a temporary on the task's stack
   const auto* cfg = static_cast<const FilterTaskConfig*>(arg);
   if (cfg == nullptr || !set_up(slot, *cfg)) {
     return;
   }
+  slot.job = static_cast<std::uint32_t>(bsp::now() / (10U * bsp::tick_cycles()));
   for (;;) {  // one pass per 10 ms release
     const bsp::Cycles start = bsp::now();
+    slot.command = 0U;
+    record_begin(slot.record, slot.job);
     catch_up(slot);
     consume_imu(slot);
-    bsp::consume(slot.ekf->take_work());
     consume_parts(slot);
-    apply_matches(slot);
-    bsp::consume(slot.ekf->take_work());
-    publish(slot);
-    send_nav(slot);
-    checkpoint(slot);
+    if (slot.mode == Mode::kSimplex) {
+      run_own(slot);
+      checkpoint(slot);
+      if (slot.command == kCmdFilterTmr) {
+        start_tmr(slot);
+      }
+    } else {
+      tmr_job(slot);
+      if (slot.command == kCmdFilterSimplex && slot.mode == Mode::kStarting) {
+        stop_tmr(slot, 0U);
+      }
+    }
     ++slot.stats.jobs;
+    ++slot.job;
     slot.stats.last_job_cycles = bsp::now() - start;
     if (slot.stats.last_job_cycles > slot.stats.max_job_cycles) {
       slot.stats.max_job_cycles = slot.stats.last_job_cycles;

@@ -38,6 +38,7 @@
 #include "trn/filter/nav_state.hpp"
 #include "trn/match.hpp"
 
+#include <array>
 #include <cstdint>
 
 namespace trn::tasks {
@@ -64,6 +65,8 @@ struct FilterTaskConfig {
   bsp::TileId nav_sink = bsp::kNoTile;  ///< tile sent the solution every job on kChanNav (kNoTile: none)
   std::uint32_t matches_per_job = kDefaultMatchesPerJob;  ///< 1..kMaxMatchesPerFrame
   std::uint32_t checkpoint_every = kDefaultCheckpointEvery;  ///< jobs between DDR checkpoints (0: none, no resume)
+  /** Boot tiles of the TMR replicas (slots kSlotReplica0..): kNoTile for none (no TMR). */
+  std::array<bsp::TileId, 3> replica_tiles{bsp::kNoTile, bsp::kNoTile, bsp::kNoTile};
 };
 
 struct FilterTaskStats {
@@ -90,6 +93,16 @@ struct FilterTaskStats {
   std::uint32_t resumed_from;      ///< checkpoint the task started from (0: the initial estimate)
   bsp::Cycles max_job_cycles;      ///< longest job, from its start to the end of its sends
   bsp::Cycles last_job_cycles;
+  std::uint32_t outputs_delivered; ///< solutions delivered (published and sent), in job order
+  std::uint32_t outputs_skipped;   ///< jobs whose solution was never delivered (no majority, a gap)
+  std::uint32_t output_crc;        ///< CRC-32C over the delivered solutions' job numbers and words
+  std::uint32_t last_delivered_job;
+  std::uint32_t tmr_jobs;          ///< jobs whose delivered solution was voted
+  std::uint32_t tmr_outvoted;      ///< replica outputs outvoted (different or missing)
+  std::uint32_t tmr_no_majority;   ///< votes without a majority
+  std::uint32_t tmr_exclusions;
+  std::uint32_t tmr_resyncs;       ///< replicas readmitted after a seed
+  std::uint32_t commands;          ///< telecommands taken
 };
 
 /** Task entry (arg: const FilterTaskConfig*). Never returns unless set-up fails (bad config included). */

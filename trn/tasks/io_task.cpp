@@ -52,6 +52,18 @@ void forward_frames(const IoTaskConfig& cfg) noexcept {
   }
 }
 
+/** Telecommands for the filter go in its IMU stream, so it takes them at a defined job. */
+void forward_commands(const IoTaskConfig& cfg) noexcept {
+  bsp::Telecommand c{};
+  for (std::uint32_t n = 0; n < bsp::kCommandFifoDepth && bsp::command_read(&c); ++n) {
+    const std::array<std::uint32_t, kCommandWords> w{kMsgCommand, c.seq, c.code, c.arg};
+    const bsp::TileId filter = udn::endpoint_role_tile(kSlotFilter, cfg.filter_tile);
+    if (udn::endpoint_send(filter, kChanImu, w, kSendTicks) != udn::FtError::kOk) {
+      ++g_stats.send_failures;
+    }
+  }
+}
+
 }  // namespace
 
 void io_task_main(void* arg) noexcept {
@@ -82,6 +94,7 @@ void io_task_main(void* arg) noexcept {
       }
     }
     forward_frames(*cfg);
+    forward_commands(*cfg);
   }
 }
 

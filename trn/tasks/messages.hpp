@@ -33,6 +33,8 @@ inline constexpr std::uint32_t kChanMatches = 3U;  ///< coordinator -> filter ma
 inline constexpr std::uint32_t kSlotCoordinator = 0U;
 inline constexpr std::uint32_t kSlotIo = 1U;
 inline constexpr std::uint32_t kSlotFilter = 2U;
+/** The filter's TMR replicas: slots kSlotReplica0 .. kSlotReplica0 + 2. */
+inline constexpr std::uint32_t kSlotReplica0 = 3U;
 inline constexpr std::uint32_t kChanImu = 4U;      ///< I/O -> filter IMU samples, one per message
 
 /** First word of every FT message: what it is. */
@@ -44,6 +46,17 @@ inline constexpr std::uint32_t kMsgMatches = 0x4D544331U;  ///< "MTC1" part of a
 inline constexpr std::uint32_t kMsgRelight = 0x524C5431U;  ///< "RLT1" relight a band of the coarse map: [1] row0 [2] rows
 inline constexpr std::uint32_t kMsgRelightDone = 0x524C4431U;  ///< "RLD1" the band is done: [1] row0 [2] rows
 inline constexpr std::uint32_t kRelightWords = 3;
+inline constexpr std::uint32_t kMsgReplicaOut = 0x52504F31U;    ///< "RPO1" a TMR replica's job output (filter_tmr.hpp)
+inline constexpr std::uint32_t kMsgReplicaHello = 0x52504831U;  ///< "RPH1" a TMR replica waits for a seed
+/**
+ * Telecommand (I/O -> filter, kChanImu, in order with the samples), 4 words:
+ * [0] kMsgCommand [1] sequence number [2] code [3] argument.
+ */
+inline constexpr std::uint32_t kMsgCommand = 0x434D4431U;  ///< "CMD1"
+inline constexpr std::uint32_t kCommandWords = 4U;
+/** Telecommand codes of the filter. */
+inline constexpr std::uint32_t kCmdFilterTmr = 1U;      ///< run the filter as TMR from the next job
+inline constexpr std::uint32_t kCmdFilterSimplex = 2U;  ///< back to one filter
 
 inline constexpr std::uint32_t kImuWords = 16;
 

@@ -70,6 +70,7 @@ const char* role_name(Role r) noexcept {
     case Role::kFilterSupervisor: return "filter_supervisor";
     case Role::kIo: return "io";
     case Role::kFilter: return "filter";
+    case Role::kFilterReplica: return "filter_replica";
     case Role::kVision: return "vision";
     case Role::kSpare: break;
   }
@@ -83,6 +84,7 @@ char role_code(Role r) noexcept {
     case Role::kFilterSupervisor: return 'F';
     case Role::kIo: return 'I';
     case Role::kFilter: return 'N';
+    case Role::kFilterReplica: return 'R';
     case Role::kVision: return 'v';
     case Role::kSpare: break;
   }
@@ -93,6 +95,7 @@ k::TaskTable role_table(Role r) noexcept {
   switch (r) {
     case Role::kIo: return kIoRole;
     case Role::kFilter: return kFilterRole;
+    case Role::kFilterReplica: return kReplicaRole;
     case Role::kVisionCoordinator: return kCoordinatorRole;
     case Role::kVision: return kVisionRole;
     case Role::kTrnSupervisor: return kSupervisorRole;
@@ -117,6 +120,9 @@ Role slot_role(std::uint32_t slot) noexcept {
     case kSlotCoordinator: return Role::kVisionCoordinator;
     case kSlotIo: return Role::kIo;
     case kSlotFilter: return Role::kFilter;
+    case kSlotReplica0:
+    case kSlotReplica0 + 1U:
+    case kSlotReplica0 + 2U: return Role::kFilterReplica;
     default: return Role::kSpare;
   }
 }
@@ -126,6 +132,9 @@ bsp::TileId slot_boot_tile(std::uint32_t slot) noexcept {
     case kSlotCoordinator: return kCoordinatorTile;
     case kSlotIo: return kIoTile;
     case kSlotFilter: return kFilterTile;
+    case kSlotReplica0: return kReplicaTiles[0];
+    case kSlotReplica0 + 1U: return kReplicaTiles[1];
+    case kSlotReplica0 + 2U: return kReplicaTiles[2];
     default: return bsp::kNoTile;
   }
 }

@@ -7,9 +7,10 @@
  * configures every role in one step before boot (configure_image). Default 8x8 layout (tile = row * 8 + col):
  *
  *   row 0:  T  V  F  .  .  .  .  .     T TRN supervisor, V vision coordinator,
- *   row 1:  .  I  .  .  .  .  .  .     F filter supervisor, I I/O tile,
- *   row 2:  .  .  N  .  .  .  .  .     N navigation filter, v vision tile,
- *   rows 3-7: v v v v v v v v          . spare (powered off)
+ *   row 1:  .  I  .  R  .  .  .  .     F filter supervisor, I I/O tile,
+ *   row 2:  .  .  N  R  R  .  .  .     N navigation filter (and TMR voter),
+ *   rows 3-7: v v v v v v v v          R filter replica (idle until TMR),
+ *                                      v vision tile, . spare (powered off)
  *
  * The supervisors' tiles are reserved for the fault-management layer. Today
  * the TRN supervisor's tile runs the network-health task (switch and link
@@ -24,6 +25,7 @@
 #include "fdir/tile_health.hpp"
 #include "kernel/task_table.hpp"
 #include "trn/tasks/filter_task.hpp"
+#include "trn/tasks/filter_tmr.hpp"
 #include "trn/tasks/io_task.hpp"
 #include "trn/tasks/messages.hpp"
 #include "trn/tasks/vision_coord.hpp"
@@ -43,6 +45,7 @@ enum class Role : std::uint8_t {
   kIo,
   kFilter,
   kVision,
+  kFilterReplica,
 };
 
 inline constexpr std::uint32_t kMapTiles = 64;
@@ -62,6 +65,9 @@ constexpr std::array<Role, kMapTiles> make_roles() noexcept {
   r[1] = Role::kVisionCoordinator;
   r[9] = Role::kIo;
   r[18] = Role::kFilter;
+  r[11] = Role::kFilterReplica;
+  r[19] = Role::kFilterReplica;
+  r[20] = Role::kFilterReplica;
   for (std::uint32_t t = 24; t < kMapTiles; ++t) {
     r[t] = Role::kVision;
   }
@@ -76,6 +82,8 @@ constexpr bsp::TileId kSupervisorTile = 0;
 constexpr bsp::TileId kCoordinatorTile = 1;
 constexpr bsp::TileId kIoTile = 9;
 constexpr bsp::TileId kFilterTile = 18;
+/** The filter's TMR replicas, by replica index (role slots kSlotReplica0 + i). */
+constexpr std::array<bsp::TileId, 3> kReplicaTiles{19, 20, 11};
 
 constexpr std::uint32_t count_role(Role r) noexcept {
   std::uint32_t n = 0;
@@ -85,6 +93,9 @@ constexpr std::uint32_t count_role(Role r) noexcept {
   return n;
 }
 static_assert(count_role(Role::kVision) == 40, "40 vision tiles");
+static_assert(kTileRoles[kReplicaTiles[0]] == Role::kFilterReplica && kTileRoles[kReplicaTiles[1]] == Role::kFilterReplica &&
+                  kTileRoles[kReplicaTiles[2]] == Role::kFilterReplica,
+              "replica tiles match the map");
 static_assert(kTileRoles[kCoordinatorTile] == Role::kVisionCoordinator && kTileRoles[kIoTile] == Role::kIo &&
                   kTileRoles[kFilterTile] == Role::kFilter,
               "named tiles match the map");
@@ -165,6 +176,17 @@ inline constexpr k::TaskSpec kFilterRole[] = {
     {"filter", &filter_task_main, &detail::g_image.filter, 2, 10, 10, 32U * 1024U, k::Policy::kPreemptive,
      kWatchFilter},
 };
+/**
+ * A TMR replica of the filter: idle while the filter is simplex; in TMR it
+ * runs the filter's job records as they come (releases every 2 ticks, up to
+ * kReplicaJobsPerRelease records each) and sends the voter its outputs.
+ */
+inline constexpr k::TaskSpec kReplicaRole[] = {
+    kCommTask,
+    kAgentTask,
+    {"replica", &filter_replica_main, &detail::g_image.filter, 2, 2, 2, 32U * 1024U, k::Policy::kPreemptive,
+     kWatchFilter},
+};
 /** Vision coordinator. */
 inline constexpr k::TaskSpec kCoordinatorRole[] = {
     kCommTask,
@@ -184,6 +206,7 @@ static_assert(k::check_table(kSupervisorRole) == k::TableError::kOk);
 static_assert(k::check_table(kIoRole) == k::TableError::kOk);
 static_assert(k::check_table(kFilterRole) == k::TableError::kOk);
 static_assert(k::check_table(kCoordinatorRole) == k::TableError::kOk);
+static_assert(k::check_table(kReplicaRole) == k::TableError::kOk);
 static_assert(k::check_table(kVisionRole) == k::TableError::kOk);
 
 /** Task table of role @p r (empty for spares and roles without tasks yet). */

@@ -10,6 +10,7 @@
 #include "bsp_tile64/udn_hw.hpp"
 #include "bsp_tile64/udn_net.hpp"
 #include "tools/common/run_folder.hpp"
+#include "trn/tasks/messages.hpp"
 
 #include "build_info.hpp"
 
@@ -175,7 +176,7 @@ TEST(FaultPlanErrors, UnknownKindListsTheKinds) {
 
 TEST(FaultPlanErrors, UnknownTopLevelKey) {
   const std::string e = error_of("unknown_top_key.toml");
-  EXPECT_NE(e.find("unknown_top_key.toml: severity: unknown key (allowed at the top: name, [[fault]], [rates])"),
+  EXPECT_NE(e.find("unknown_top_key.toml: severity: unknown key (allowed at the top: name, [[fault]], [[command]], [rates])"),
             std::string::npos)
       << e;
 }
@@ -245,7 +246,7 @@ TEST(FaultPlanErrors, MissingKindOrTile) {
   EXPECT_NE(e.find("[[fault]] #1 (line 1): missing key kind (allowed: core_hang"), std::string::npos) << e;
   e = error_of("missing_tile.toml");
   EXPECT_NE(e.find("[[fault]] #1 (line 1): missing key tile (allowed 0 .. 63) or role (trn_supervisor, "
-                   "vision_coordinator, io, filter, vision)"),
+                   "vision_coordinator, io, filter, vision, filter_replica)"),
             std::string::npos)
       << e;
 }
@@ -272,7 +273,7 @@ TEST(FaultPlan, ARoleIsNamedInsteadOfATile) {
 TEST(FaultPlanErrors, RoleMistakesAreNamed) {
   std::string e = error_of("unknown_role.toml");
   EXPECT_NE(e.find("unknown_role.toml: [[fault]] #1 (line 1) role: unknown role \"navigator\" (allowed: "
-                   "trn_supervisor, vision_coordinator, io, filter, vision)"),
+                   "trn_supervisor, vision_coordinator, io, filter, vision, filter_replica)"),
             std::string::npos)
       << e;
   e = error_of("role_and_tile.toml");
@@ -282,6 +283,40 @@ TEST(FaultPlanErrors, RoleMistakesAreNamed) {
       "[[fault]]\nt_s = 1.0\nkind = \"core_hang\"\nrole = \"vision\"\ninstance = 40\n", "<text>", kTiles, kDuration);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error.find("instance: 40 is out of range: allowed 0 .. 39"), std::string::npos) << r.error;
+}
+
+// Telecommands: timed, named, formatted back; an unknown one is an error naming the allowed ones.
+TEST(FaultPlan, CommandsAreParsedAndFormatted) {
+  const tools::FaultPlanResult r = tools::parse_fault_plan(
+      "[[command]]\nt_s = 5.0\nname = \"filter_tmr\"\n[[command]]\nt_s = 9.5\nname = \"filter_simplex\"\n"
+      "[[fault]]\nt_s = 6.0\nkind = \"core_hang\"\nrole = \"filter_replica\"\ninstance = 2\n",
+      "<text>", kTiles, kDuration);
+  ASSERT_TRUE(r.ok()) << r.error;
+  ASSERT_EQ(r.plan->commands.size(), 2U);
+  EXPECT_EQ(r.plan->commands[0].code, trn::tasks::kCmdFilterTmr);
+  EXPECT_EQ(r.plan->commands[1].code, trn::tasks::kCmdFilterSimplex);
+  EXPECT_DOUBLE_EQ(r.plan->commands[1].t_s, 9.5);
+  EXPECT_EQ(r.plan->items[0].instance, 2U);
+  const tools::FaultPlanResult again =
+      tools::parse_fault_plan(tools::format_fault_plan(*r.plan), "<formatted>", kTiles, kDuration);
+  ASSERT_TRUE(again.ok()) << again.error;
+  EXPECT_EQ(again.plan->commands.size(), 2U);
+  EXPECT_EQ(again.plan->items[0].role, "filter_replica");
+}
+
+TEST(FaultPlanErrors, CommandMistakesAreNamed) {
+  const std::string e = error_of("unknown_command.toml");
+  EXPECT_NE(e.find("[[command]] #1 (line 2) name: unknown command \"filter_quintuple\" (allowed: filter_tmr, "
+                   "filter_simplex)"),
+            std::string::npos)
+      << e;
+  const tools::FaultPlanResult r = tools::parse_fault_plan(
+      "[[command]]\nt_s = 1.0\n[[fault]]\nkind = \"core_hang\"\nrole = \"filter_replica\"\ninstance = 3\n",
+      "<text>", kTiles, kDuration);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error.find("missing key name"), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("instance: 3 is out of range: allowed 0 .. 2 (the filter's replicas)"), std::string::npos)
+      << r.error;
 }
 
 TEST(FaultPlanErrors, SeuOffsetBeyondTheTileRam) {

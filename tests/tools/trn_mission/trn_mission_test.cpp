@@ -91,6 +91,9 @@ TEST_F(TrnMissionBinary, BadInputsExit2AndWriteNothing) {
   EXPECT_EQ(run(binary() + " --faults " + std::string(build_info::kRepoRoot) +
                 "/tests/fixtures/fault_plans/unknown_role.toml" + out),
             2);
+  EXPECT_EQ(run(binary() + " --faults " + std::string(build_info::kRepoRoot) +
+                "/tests/fixtures/fault_plans/unknown_command.toml" + out),
+            2);
   EXPECT_EQ(run(binary() + " --duration 999" + out), 2);
   EXPECT_EQ(run(binary() + " --no-such-option" + out), 2);
   EXPECT_EQ(run(binary() + " --out /proc/trn_mission_cannot_write_here"), 2);
@@ -327,6 +330,34 @@ TEST_F(TrnMissionBinary, AHungCoordinatorIsResetThenMovedToASpare) {
   EXPECT_EQ(s["coordinator_tile"], 2);
   EXPECT_GE(s["coordinator_frames_processed"].get<int>(), 3);
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+}
+
+// FDIR-TMR-02: a telecommand switches the filter to TMR during the descent: three replicas seeded
+// with its state agree within a few jobs, the voter delivers from then on, and each replica fault
+// is handled by flight code: a corrupted output outvoted (never delivered), a hung replica and a
+// crashed one excluded, reset by core health and re-seeded with the voted state.
+TEST_F(TrnMissionBinary, TmrOfTheFilterOutvotesExcludesAndReseedsFaultyReplicas) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 20 --faults " + fixture("filter_tmr_faults.toml") + " --out " +
+                (dir_ / "tmr").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "tmr" / "summary.json");
+  EXPECT_EQ(s["mission_lost"], 0.0);
+  EXPECT_EQ(s["faults_injected"], 3);
+  EXPECT_EQ(s["faults_detected"], 3);
+  EXPECT_EQ(s["faults_recovered"], 3);
+  EXPECT_EQ(s["tmr_no_majority"], 0.0);
+  EXPECT_EQ(s["filter_outputs_skipped"], 0.0) << "no job without a delivered solution";
+  EXPECT_GT(s["tmr_voted_outputs"].get<double>(), 1400.0) << "voted from 5 s to 20 s";
+  EXPECT_GE(s["tmr_resyncs"].get<double>(), 2.0);
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+  const std::string log = read_text(dir_ / "tmr" / "events.log");
+  EXPECT_NE(log.find("tmr_established: TMR established"), std::string::npos) << log;
+  EXPECT_NE(log.find("sdc channel 1 value bit 70 (planned) -> detected by tile 18 (tmr_outvoted)"), std::string::npos);
+  EXPECT_NE(log.find("tmr_agrees: replica 1 on tile 20"), std::string::npos);
+  EXPECT_NE(log.find("tmr_excluded: replica 2 on tile 11"), std::string::npos);
+  EXPECT_NE(log.find("tmr_resynced: replica 2 on tile 11"), std::string::npos);
+  EXPECT_NE(log.find("tmr_resynced: replica 0 on tile 19"), std::string::npos);
+  EXPECT_EQ(count_of(log, "not detected"), 0U);
 }
 
 }  // namespace

@@ -1,0 +1,251 @@
+/**
+ * @file filter_core.cpp
+ * @brief Job records and the filter step that runs them (see filter_core.hpp).
+ */
+#include "trn/tasks/filter_core.hpp"
+
+#include "bsp_tile64/memory.hpp"
+#include "udn/crc32c.hpp"
+
+#include <new>
+
+namespace trn::tasks {
+namespace {
+
+constexpr std::uint32_t kImuAt = kRecordHeaderWords;
+constexpr std::uint32_t kMatchAt = kRecordHeaderWords + kRecordImuMax * kImuWords;
+
+std::span<const std::uint32_t> record_body(const JobRecord& r) noexcept {
+  return {r.w.data() + kRecordHeaderWords, kRecordWords - kRecordHeaderWords};
+}
+
+/** Propagates with one sample and remembers it as the last integrated. */
+void integrate(FilterCore& c, const bsp::ImuSample& s) noexcept {
+  filter::UpdateReport rep{};
+  const filter::FilterStatus st = c.ekf->step(filter::StepInput{&s, nullptr, 0}, rep);
+  if (st == filter::FilterStatus::kOk) {
+    ++c.stats->imu_used;
+  } else if (st == filter::FilterStatus::kImuInvalid) {
+    ++c.stats->imu_rejected;
+  } else {
+    ++c.stats->filter_errors;
+  }
+  c.have_imu = true;
+  c.last_imu = s.seq;
+}
+
+/** Drops what is left of the oldest frame in the queue. */
+void drop_oldest_frame(MatchQueue& q, FilterTaskStats& st) noexcept {
+  const std::uint32_t frame = q.m[q.head].frame;
+  for (std::uint32_t i = 0; i < kMatchQueueLen && q.count > 0U && q.m[q.head].frame == frame; ++i) {
+    q.head = (q.head + 1U) % kMatchQueueLen;
+    --q.count;
+    ++st.matches_dropped;
+  }
+}
+
+/**
+ * Queues @p m. A full queue first loses its oldest frame's remainder: fresher
+ * images are worth more, and the oldest is the nearest to leaving the history.
+ * A queue full of @p m's own frame (more than a frame can hold) drops @p m.
+ */
+void push(MatchQueue& q, const Match& m, FilterTaskStats& st) noexcept {
+  // Each pass empties at least one slot, so one pass suffices; the bound is for the reader.
+  for (std::uint32_t i = 0; i < kMatchQueueLen && q.count == kMatchQueueLen; ++i) {
+    if (q.m[q.head].frame == m.frame) {
+      ++st.matches_dropped;
+      return;
+    }
+    drop_oldest_frame(q, st);
+  }
+  q.m[(q.head + q.count) % kMatchQueueLen] = m;
+  ++q.count;
+  st.queue_high_water = q.count > st.queue_high_water ? q.count : st.queue_high_water;
+}
+
+/** Applies at most matches_per_job queued matches (two calls when the ring wraps). */
+void apply_matches(FilterCore& c) noexcept {
+  MatchQueue& q = *c.queue;
+  std::uint32_t budget = c.cfg->matches_per_job;
+  for (int pass = 0; pass < 2 && budget > 0U && q.count > 0U; ++pass) {
+    const std::uint32_t contiguous = kMatchQueueLen - q.head;
+    std::uint32_t n = budget < q.count ? budget : q.count;
+    n = n < contiguous ? n : contiguous;
+    filter::UpdateReport rep{};
+    if (c.ekf->update(&q.m[q.head], n, rep) != filter::FilterStatus::kOk) {
+      ++c.stats->filter_errors;
+    }
+    c.stats->matches_applied += rep.accepted;
+    c.stats->coarse_applied += rep.coarse_accepted;
+    c.stats->rejected_gate += rep.rejected_gate;
+    c.stats->rejected_stale += rep.rejected_stale;
+    c.stats->rejected_invalid += rep.rejected_invalid;
+    q.head = (q.head + n) % kMatchQueueLen;
+    q.count -= n;
+    budget -= n;
+  }
+}
+
+/**
+ * The queue and the last sample as words (the matches packed as on the
+ * network, from index 0 whatever the head: [0] 0 [1] count, matches, then
+ * have_imu and last_imu in the last two words).
+ */
+void queue_words(const FilterCore& c, std::array<std::uint32_t, kQueueWords>& w) noexcept {
+  const MatchQueue& q = *c.queue;
+  w.fill(0U);
+  w[1] = q.count;
+  for (std::uint32_t i = 0; i < q.count && i < kMatchQueueLen; ++i) {
+    // Queued in order from the head: the saved queue starts at index 0 whatever the head was.
+    pack_match(q.m[(q.head + i) % kMatchQueueLen],
+               std::span<std::uint32_t, kMatchWords>(w.data() + 2U + static_cast<std::size_t>(i) * kMatchWords,
+                                                     kMatchWords));
+  }
+  w[kQueueWords - 2U] = c.have_imu ? 1U : 0U;
+  w[kQueueWords - 1U] = c.last_imu;
+}
+
+}  // namespace
+
+void record_begin(JobRecord& r, std::uint32_t job) noexcept {
+  r.w.fill(0U);
+  r.w[0] = job;
+}
+
+bool record_add_imu(JobRecord& r, const bsp::ImuSample& s) noexcept {
+  const std::uint32_t n = r.w[1];
+  if (n >= kRecordImuMax) {
+    return false;
+  }
+  pack_imu(s, std::span<std::uint32_t, kImuWords>(r.w.data() + kImuAt + static_cast<std::size_t>(n) * kImuWords,
+                                                  kImuWords));
+  r.w[1] = n + 1U;
+  return true;
+}
+
+bool record_add_match(JobRecord& r, std::span<const std::uint32_t, kMatchWords> m) noexcept {
+  const std::uint32_t n = r.w[2];
+  if (n >= kRecordMatchMax) {
+    return false;
+  }
+  const std::size_t at = kMatchAt + static_cast<std::size_t>(n) * kMatchWords;
+  for (std::uint32_t i = 0; i < kMatchWords; ++i) {
+    r.w[at + i] = m[i];
+  }
+  r.w[2] = n + 1U;
+  return true;
+}
+
+void record_seal(JobRecord& r, bsp::Work& work) noexcept {
+  r.w[3] = udn::crc32c_words(record_body(r));
+  work.int_ops += 4ULL * kRecordWords;
+  work.mem_words += kRecordWords;
+}
+
+bool record_ok(const JobRecord& r, std::uint32_t job, bsp::Work& work) noexcept {
+  work.int_ops += 4ULL * kRecordWords;
+  work.mem_words += kRecordWords;
+  return r.w[0] == job && r.w[1] <= kRecordImuMax && r.w[2] <= kRecordMatchMax &&
+         r.w[3] == udn::crc32c_words(record_body(r));
+}
+
+bool core_set_up(FilterCore& c, const FilterTaskConfig& cfg, FilterTaskStats& stats) noexcept {
+  c = FilterCore{};
+  c.cfg = &cfg;
+  c.stats = &stats;
+  bsp::MemError err = bsp::MemError::kOk;
+  const bsp::Region ram{bsp::current_tile()};
+  auto* ekf = bsp::carve_array<filter::Ekf>(ram, 1, "ekf", &err);
+  if (err != bsp::MemError::kOk) {
+    return false;
+  }
+  ::new (ekf) filter::Ekf{};
+  c.ekf = ekf;
+  auto* queue = bsp::carve_array<MatchQueue>(ram, 1, "match queue", &err);
+  if (err != bsp::MemError::kOk) {
+    return false;
+  }
+  ::new (queue) MatchQueue{};
+  c.queue = queue;
+  auto* scratch = bsp::carve_array<filter::StateBlock>(ram, 1, "state block", &err);
+  if (err != bsp::MemError::kOk) {
+    return false;
+  }
+  ::new (scratch) filter::StateBlock{};
+  c.scratch = scratch;
+  return c.ekf->configure(cfg.filter, cfg.camera) == filter::FilterStatus::kOk;
+}
+
+void core_run(FilterCore& c, const JobRecord& r) noexcept {
+  const std::uint32_t n_imu = record_imu_count(r) < kRecordImuMax ? record_imu_count(r) : kRecordImuMax;
+  for (std::uint32_t i = 0; i < n_imu; ++i) {
+    integrate(c, unpack_imu(std::span<const std::uint32_t, kImuWords>(
+                     r.w.data() + kImuAt + static_cast<std::size_t>(i) * kImuWords, kImuWords)));
+  }
+  bsp::consume(c.ekf->take_work());
+  const std::uint32_t n_m = record_match_count(r) < kRecordMatchMax ? record_match_count(r) : kRecordMatchMax;
+  for (std::uint32_t i = 0; i < n_m; ++i) {
+    push(*c.queue,
+         unpack_match(std::span<const std::uint32_t, kMatchWords>(
+             r.w.data() + kMatchAt + static_cast<std::size_t>(i) * kMatchWords, kMatchWords)),
+         *c.stats);
+  }
+  bsp::consume(bsp::Work{2ULL * n_m * kMatchWords, 4ULL * n_m, 0U, 0U, 0U});
+  apply_matches(c);
+  bsp::consume(c.ekf->take_work());
+}
+
+filter::NavOutput core_output(const FilterCore& c) noexcept {
+  return filter::make_nav_output(c.ekf->state(), c.ekf->config());
+}
+
+std::uint32_t core_digest(FilterCore& c, bsp::Work& work) noexcept {
+  (void)filter::write_state_block(c.ekf->state(), *c.scratch);
+  std::uint32_t crc = udn::crc32c_bytes(std::span<const std::uint8_t>(c.scratch->data(), c.scratch->size()));
+  // The queue match by match, as queue_words() lays it out (no copy of it on the task's stack).
+  const MatchQueue& q = *c.queue;
+  const std::array<std::uint32_t, 2> head{0U, q.count};
+  crc = udn::crc32c_words_continue(crc, head);
+  std::array<std::uint32_t, kMatchWords> m{};
+  for (std::uint32_t i = 0; i < q.count && i < kMatchQueueLen; ++i) {
+    pack_match(q.m[(q.head + i) % kMatchQueueLen], m);
+    crc = udn::crc32c_words_continue(crc, m);
+  }
+  const std::array<std::uint32_t, 2> tail{c.have_imu ? 1U : 0U, c.last_imu};
+  work.int_ops += 8ULL * (filter::kStateBlockBytes / 4U + 4U + q.count * kMatchWords);
+  work.mem_words += 2ULL * (filter::kStateBlockBytes / 4U + 4U + q.count * kMatchWords);
+  return udn::crc32c_words_continue(crc, tail);
+}
+
+void core_save(FilterCore& c, CoreImage& out, bsp::Work& work) noexcept {
+  (void)filter::write_state_block(c.ekf->state(), out.block);
+  queue_words(c, out.queue);
+  work.int_ops += 4ULL * (filter::kStateBlockBytes / 4U + kQueueWords);
+  work.mem_words += 2ULL * (filter::kStateBlockBytes / 4U + kQueueWords);
+}
+
+bool core_load(FilterCore& c, const CoreImage& in, bsp::Work& work) noexcept {
+  work.int_ops += 4ULL * (filter::kStateBlockBytes / 4U + kQueueWords);
+  work.mem_words += 2ULL * (filter::kStateBlockBytes / 4U + kQueueWords);
+  const std::uint32_t count = in.queue[1];
+  if (count > kMatchQueueLen || in.queue[kQueueWords - 2U] > 1U) {
+    return false;
+  }
+  filter::FilterState st{};
+  if (filter::read_state_block(in.block.data(), filter::kStateBlockBytes, st) != filter::BlockError::kOk ||
+      c.ekf->restore(st) != filter::FilterStatus::kOk) {
+    return false;
+  }
+  MatchQueue& q = *c.queue;
+  q.head = 0U;
+  q.count = count;
+  for (std::uint32_t i = 0; i < count; ++i) {
+    q.m[i] = unpack_match(std::span<const std::uint32_t, kMatchWords>(
+        in.queue.data() + 2U + static_cast<std::size_t>(i) * kMatchWords, kMatchWords));
+  }
+  c.have_imu = in.queue[kQueueWords - 2U] == 1U;
+  c.last_imu = in.queue[kQueueWords - 1U];
+  return true;
+}
+
+}  // namespace trn::tasks

@@ -1,0 +1,200 @@
+/**
+ * @file filter_tmr.cpp
+ * @brief The TMR group's DDR areas and the replica task (see filter_tmr.hpp).
+ */
+#include "trn/tasks/filter_tmr.hpp"
+
+#include "fdir/event_log.hpp"
+#include "kernel/kernel.hpp"
+#include "trn/tasks/filter_checkpoint.hpp"
+#include "trn/tasks/vision_shared.hpp"
+#include "udn/crc32c.hpp"
+#include "udn/endpoint.hpp"
+
+#include <new>
+
+namespace trn::tasks {
+namespace {
+
+struct Replica {
+  FilterCore core;
+  FilterTaskStats stats;
+  std::uint32_t index;
+  bool seeded;
+  std::uint32_t epoch;       ///< of the seed loaded
+  std::uint32_t gen;         ///< own generation when it loaded
+  std::uint32_t seed_serial; ///< last seed loaded
+  std::uint32_t next_job;    ///< the record to run next
+  std::uint32_t since_hello;
+  std::uint32_t ckpt_slot;
+};
+
+std::array<Replica, bsp::kMaxTiles> g_replicas{};
+
+std::uint32_t seed_header_crc(const TmrSeed& s) noexcept {
+  const std::array<std::uint32_t, 8> h{s.serial, s.job, s.for_mask, s.epoch, s.digest, s.gen[0], s.gen[1], s.gen[2]};
+  return udn::crc32c_words(h);
+}
+
+void send_hello(const Replica& r, const TmrControl& ctl, const FilterTaskConfig& cfg) noexcept {
+  const std::array<std::uint32_t, kReplicaHelloWords> w{kMsgReplicaHello, r.index, ctl.epoch};
+  (void)udn::endpoint_send(udn::endpoint_role_tile(kSlotFilter, bsp::kNoTile), kChanNav, w, 0U);
+  (void)cfg;
+}
+
+/** Loads the newest seed meant for this replica, if there is one. */
+void try_seed(Replica& r, const TmrArea& a) noexcept {
+  const TmrSeed& s = a.seed;
+  const std::uint32_t bit = 1U << r.index;
+  if (s.serial == 0U || s.serial == r.seed_serial || (s.for_mask & bit) == 0U || s.epoch != a.control.epoch ||
+      s.gen[r.index] != a.control.gen[r.index] || !tmr_seed_ok(s)) {
+    return;
+  }
+  bsp::Work work{};
+  const bool ok = core_load(r.core, s.image, work);
+  bsp::consume(work);
+  r.seed_serial = s.serial;
+  if (!ok) {
+    return;
+  }
+  r.seeded = true;
+  r.epoch = s.epoch;
+  r.gen = s.gen[r.index];
+  r.next_job = s.job + 1U;
+}
+
+/** Sends the front this job's output and state digest. */
+void send_output(Replica& r, std::uint32_t job, std::uint32_t digest) noexcept {
+  filter::NavOutput out = core_output(r.core);
+  // What the replica publishes is what a fault may corrupt on its way out.
+  (void)bsp::publish_filter(kNavChannel, &out, sizeof out);
+  std::array<std::uint32_t, kReplicaOutWords> w{};
+  w[0] = kMsgReplicaOut;
+  w[1] = r.index;
+  w[2] = job;
+  w[3] = digest;
+  pack_nav(out, std::span<std::uint32_t, kNavWords>(w.data() + 4U, kNavWords));
+  if (udn::endpoint_send(udn::endpoint_role_tile(kSlotFilter, bsp::kNoTile), kChanNav, w, 0U) ==
+      udn::FtError::kOk) {
+    ++r.stats.nav_sent;
+  } else {
+    ++r.stats.nav_send_failed;
+  }
+}
+
+/** What the control block asks of this replica after it ran @p job: a seed, a checkpoint. */
+void after_job(Replica& r, TmrArea& a, std::uint32_t job) noexcept {
+  const TmrControl& ctl = a.control;
+  bsp::Work work{};
+  if (ctl.seed_by == r.index && ctl.seed_job == job) {
+    tmr_write_seed(a, r.core, job, ctl.seed_for, work);
+  }
+  if (ctl.ckpt_by == r.index && r.core.cfg->checkpoint_every != 0U && job % r.core.cfg->checkpoint_every == 0U) {
+    CheckpointArea* ck = checkpoint_area();
+    if (ck != nullptr) {
+      r.ckpt_slot = 1U - r.ckpt_slot;
+      // Numbered by job, so a later checkpoint of any writer is the newer one.
+      checkpoint_write(*ck, r.core.ekf->state(), r.core.last_imu, job / r.core.cfg->checkpoint_every + 1U,
+                       r.ckpt_slot, work);
+      ++r.stats.checkpoints;
+    }
+  }
+  bsp::consume(work);
+}
+
+/** Runs the records that are there, at most kReplicaJobsPerRelease; unseeds itself if one is gone or bad. */
+void run_records(Replica& r, TmrArea& a) noexcept {
+  for (std::uint32_t n = 0; n < kReplicaJobsPerRelease; ++n) {
+    const JobRecord& rec = a.ring[r.next_job % kJobRingLen];
+    const std::uint32_t job = record_job(rec);
+    if (job < r.next_job) {
+      return;  // not written yet
+    }
+    bsp::Work work{};
+    const bool ok = record_ok(rec, r.next_job, work);
+    bsp::consume(work);
+    if (!ok) {
+      r.seeded = false;  // overwritten before it ran (too far behind), or damaged: needs a seed
+      return;
+    }
+    core_run(r.core, rec);
+    bsp::Work dw{};
+    const std::uint32_t digest = core_digest(r.core, dw);
+    bsp::consume(dw);
+    send_output(r, r.next_job, digest);
+    after_job(r, a, r.next_job);
+    ++r.stats.jobs;
+    ++r.next_job;
+  }
+}
+
+}  // namespace
+
+TmrArea* tmr_area() noexcept {
+  void* p = ddr_carve_named("filter_tmr", sizeof(TmrArea), alignof(TmrArea));
+  return static_cast<TmrArea*>(p);
+}
+
+bool tmr_seed_ok(const TmrSeed& s) noexcept { return s.crc == seed_header_crc(s); }
+
+void tmr_write_seed(TmrArea& a, FilterCore& c, std::uint32_t job, std::uint32_t for_mask, bsp::Work& work) noexcept {
+  TmrSeed& s = a.seed;
+  s.crc = 0U;  // torn while written: refused
+  core_save(c, s.image, work);
+  s.digest = core_digest(c, work);
+  s.job = job;
+  s.for_mask = for_mask;
+  s.epoch = a.control.epoch;
+  s.gen = a.control.gen;
+  ++s.serial;
+  s.crc = seed_header_crc(s);
+}
+
+std::uint32_t replica_index(const FilterTaskConfig& cfg, bsp::TileId tile) noexcept {
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    if (cfg.replica_tiles[i] != bsp::kNoTile && udn::endpoint_role_tile(kSlotReplica0 + i, cfg.replica_tiles[i]) == tile) {
+      return i;
+    }
+  }
+  return kNoReplica;
+}
+
+void filter_replica_main(void* arg) noexcept {
+  const bsp::TileId tile = bsp::current_tile();
+  Replica& r = g_replicas[tile];
+  r = Replica{};
+  const auto* cfg = static_cast<const FilterTaskConfig*>(arg);
+  TmrArea* const a = tmr_area();
+  if (cfg == nullptr || a == nullptr || !core_set_up(r.core, *cfg, r.stats)) {
+    return;
+  }
+  for (;;) {  // one pass per release
+    k::checkin();
+    r.index = replica_index(*cfg, tile);
+    const TmrControl& ctl = a->control;
+    if (r.index == kNoReplica || ctl.mode == 0U) {
+      r.seeded = false;  // the group does not run: idle
+    } else {
+      if (r.seeded && (r.epoch != ctl.epoch || r.gen != ctl.gen[r.index])) {
+        r.seeded = false;  // excluded by the front, or a new group: drop the state
+      }
+      if (!r.seeded) {
+        try_seed(r, *a);
+      }
+      if (r.seeded) {
+        run_records(r, *a);
+      }
+      if (!r.seeded && ++r.since_hello >= kHelloEvery) {
+        r.since_hello = 0U;
+        send_hello(r, ctl, *cfg);
+      }
+    }
+    (void)k::wait_period();
+  }
+}
+
+FilterTaskStats replica_stats(bsp::TileId tile) noexcept {
+  return tile < bsp::kMaxTiles ? g_replicas[tile].stats : FilterTaskStats{};
+}
+
+}  // namespace trn::tasks
