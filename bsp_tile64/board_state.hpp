@@ -61,8 +61,8 @@ struct Board {
   TileId tiles;
   Cycles now;    ///< last barrier
   Cycles q_end;  ///< end of the running quantum
-  TileId running;     ///< tile whose context runs (kNoTile: the driver)
-  TileId processing;  ///< tile the driver is advancing in this quantum (kNoTile: none)
+  TileId running = kNoTile;     ///< tile whose context runs (kNoTile: the driver, and before board_init)
+  TileId processing = kNoTile;  ///< tile the driver is advancing in this quantum (kNoTile: none)
   bool in_barrier;
   bool stop_requested;
   std::uint64_t seq;

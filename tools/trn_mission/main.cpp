@@ -18,6 +18,7 @@
 #include "bsp_tile64/fault_injector.hpp"
 #include "bsp_tile64/host/heap_guard.hpp"
 #include "bsp_tile64/trace.hpp"
+#include "bsp_tile64/udn_net.hpp"
 #include "kernel/kernel.hpp"
 #include "tools/common/fault_plan.hpp"
 #include "tools/common/fdir_join.hpp"
@@ -170,6 +171,14 @@ std::vector<tools::TileInfo> tile_infos(const tools::Mission& m, const tools::Fl
     const bool on = ((m.powered_mask() >> t) & 1ULL) != 0ULL;
     v[t].health = health_name(on, flight.tile_health()[t]);
     v[t].faults_injected = faults[t];
+    if (on) {
+      for (const k::TaskSpec& spec : trn::tasks::role_table(r)) {
+        k::TaskStats ks{};
+        if (k::task_stats(t, k::find_task(t, spec.name), &ks) == k::Status::kOk) {
+          v[t].deadline_misses += static_cast<std::uint32_t>(ks.deadline_misses);
+        }
+      }
+    }
   }
   return v;
 }
@@ -351,6 +360,17 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("tmr_no_majority", f.tmr_no_majority);
   s.extra.emplace_back("tmr_exclusions", f.tmr_exclusions);
   s.extra.emplace_back("tmr_resyncs", f.tmr_resyncs);
+  // Emulated busy time of the filter role's tile and of the replica tiles (what TMR costs).
+  const auto busy_ms = [](bsp::TileId t) {
+    return static_cast<double>(bsp::tile_stats(t).active_cycles) * 1000.0 / static_cast<double>(bsp::kTile64.clock_hz);
+  };
+  s.extra.emplace_back("busy_ms_filter_tile", busy_ms(trn::tasks::slot_tile_now(trn::tasks::kSlotFilter)));
+  double replicas_ms = 0.0;
+  for (std::uint32_t i = 0; i < trn::tasks::kReplicas; ++i) {
+    replicas_ms += busy_ms(trn::tasks::slot_tile_now(trn::tasks::kSlotReplica0 + i));
+  }
+  s.extra.emplace_back("busy_ms_replica_tiles", replicas_ms);
+  s.extra.emplace_back("udn_packets_sent", static_cast<double>(bsp::udn_net_stats().sent));
   s.extra.emplace_back("worst_frame_ms", static_cast<double>(c.max_frame_cycles) * 1000.0 /
                                              static_cast<double>(bsp::kTile64.clock_hz));
   s.extra.emplace_back("final_position_3sigma_m", rec.last.sigma3_p.norm());

@@ -87,19 +87,20 @@ void apply_matches(FilterCore& c) noexcept {
 }
 
 /**
- * The queue and the last sample as words (the matches packed as on the
- * network, from index 0 whatever the head: [0] 0 [1] count, matches, then
- * have_imu and last_imu in the last two words).
+ * The queue and the last sample as words: [0] head, [1] count, the queued
+ * matches packed as on the network at their ring positions (the head matters:
+ * apply_matches() splits a job's matches where the ring wraps, and the split
+ * changes the result's bits), then have_imu and last_imu in the last two words.
  */
 void queue_words(const FilterCore& c, std::array<std::uint32_t, kQueueWords>& w) noexcept {
   const MatchQueue& q = *c.queue;
   w.fill(0U);
+  w[0] = q.head;
   w[1] = q.count;
   for (std::uint32_t i = 0; i < q.count && i < kMatchQueueLen; ++i) {
-    // Queued in order from the head: the saved queue starts at index 0 whatever the head was.
-    pack_match(q.m[(q.head + i) % kMatchQueueLen],
-               std::span<std::uint32_t, kMatchWords>(w.data() + 2U + static_cast<std::size_t>(i) * kMatchWords,
-                                                     kMatchWords));
+    const std::uint32_t at = (q.head + i) % kMatchQueueLen;
+    pack_match(q.m[at], std::span<std::uint32_t, kMatchWords>(w.data() + 2U + static_cast<std::size_t>(at) * kMatchWords,
+                                                             kMatchWords));
   }
   w[kQueueWords - 2U] = c.have_imu ? 1U : 0U;
   w[kQueueWords - 1U] = c.last_imu;
@@ -149,12 +150,11 @@ bool record_ok(const JobRecord& r, std::uint32_t job, bsp::Work& work) noexcept 
          r.w[3] == udn::crc32c_words(record_body(r));
 }
 
-bool core_set_up(FilterCore& c, const FilterTaskConfig& cfg, FilterTaskStats& stats) noexcept {
+bool core_set_up(FilterCore& c, const FilterTaskConfig& cfg, FilterTaskStats& stats, bsp::Region ram) noexcept {
   c = FilterCore{};
   c.cfg = &cfg;
   c.stats = &stats;
   bsp::MemError err = bsp::MemError::kOk;
-  const bsp::Region ram{bsp::current_tile()};
   auto* ekf = bsp::carve_array<filter::Ekf>(ram, 1, "ekf", &err);
   if (err != bsp::MemError::kOk) {
     return false;
@@ -202,9 +202,9 @@ filter::NavOutput core_output(const FilterCore& c) noexcept {
 std::uint32_t core_digest(FilterCore& c, bsp::Work& work) noexcept {
   (void)filter::write_state_block(c.ekf->state(), *c.scratch);
   std::uint32_t crc = udn::crc32c_bytes(std::span<const std::uint8_t>(c.scratch->data(), c.scratch->size()));
-  // The queue match by match, as queue_words() lays it out (no copy of it on the task's stack).
+  // The queue match by match from its head (no copy of it on the task's stack), head included.
   const MatchQueue& q = *c.queue;
-  const std::array<std::uint32_t, 2> head{0U, q.count};
+  const std::array<std::uint32_t, 2> head{q.head, q.count};
   crc = udn::crc32c_words_continue(crc, head);
   std::array<std::uint32_t, kMatchWords> m{};
   for (std::uint32_t i = 0; i < q.count && i < kMatchQueueLen; ++i) {
@@ -227,8 +227,9 @@ void core_save(FilterCore& c, CoreImage& out, bsp::Work& work) noexcept {
 bool core_load(FilterCore& c, const CoreImage& in, bsp::Work& work) noexcept {
   work.int_ops += 4ULL * (filter::kStateBlockBytes / 4U + kQueueWords);
   work.mem_words += 2ULL * (filter::kStateBlockBytes / 4U + kQueueWords);
+  const std::uint32_t head = in.queue[0];
   const std::uint32_t count = in.queue[1];
-  if (count > kMatchQueueLen || in.queue[kQueueWords - 2U] > 1U) {
+  if (head >= kMatchQueueLen || count > kMatchQueueLen || in.queue[kQueueWords - 2U] > 1U) {
     return false;
   }
   filter::FilterState st{};
@@ -237,11 +238,12 @@ bool core_load(FilterCore& c, const CoreImage& in, bsp::Work& work) noexcept {
     return false;
   }
   MatchQueue& q = *c.queue;
-  q.head = 0U;
+  q.head = head;
   q.count = count;
   for (std::uint32_t i = 0; i < count; ++i) {
-    q.m[i] = unpack_match(std::span<const std::uint32_t, kMatchWords>(
-        in.queue.data() + 2U + static_cast<std::size_t>(i) * kMatchWords, kMatchWords));
+    const std::uint32_t at = (head + i) % kMatchQueueLen;
+    q.m[at] = unpack_match(std::span<const std::uint32_t, kMatchWords>(
+        in.queue.data() + 2U + static_cast<std::size_t>(at) * kMatchWords, kMatchWords));
   }
   c.have_imu = in.queue[kQueueWords - 2U] == 1U;
   c.last_imu = in.queue[kQueueWords - 1U];

@@ -18,6 +18,7 @@
  */
 #pragma once
 
+#include "bsp_tile64/memory.hpp"
 #include "bsp_tile64/work.hpp"
 #include "trn/filter/ekf.hpp"
 #include "trn/filter/state_block.hpp"
@@ -77,8 +78,8 @@ struct FilterCore {
   std::uint32_t last_imu = 0U;            ///< seq of the last sample integrated
 };
 
-/** Carves the core in the tile's RAM and configures the EKF (not initialised). */
-bool core_set_up(FilterCore& c, const FilterTaskConfig& cfg, FilterTaskStats& stats) noexcept;
+/** Carves the core in @p ram (the running tile's RAM) and configures the EKF (not initialised). */
+bool core_set_up(FilterCore& c, const FilterTaskConfig& cfg, FilterTaskStats& stats, bsp::Region ram) noexcept;
 
 /** Runs one job: integrates the record's samples, queues its matches, applies at most matches_per_job. */
 void core_run(FilterCore& c, const JobRecord& r) noexcept;

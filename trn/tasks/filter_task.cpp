@@ -284,7 +284,7 @@ bool set_up(Slot& slot, const FilterTaskConfig& cfg) noexcept {
     return false;
   }
   slot.cfg = &cfg;
-  if (!core_set_up(slot.core, cfg, slot.stats)) {
+  if (!core_set_up(slot.core, cfg, slot.stats, bsp::Region{bsp::current_tile()})) {
     return false;
   }
   slot.tmr = cfg.replica_tiles[0] != bsp::kNoTile ? tmr_area() : nullptr;

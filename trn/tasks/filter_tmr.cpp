@@ -4,6 +4,7 @@
  */
 #include "trn/tasks/filter_tmr.hpp"
 
+#include "bsp_tile64/memory.hpp"
 #include "fdir/event_log.hpp"
 #include "kernel/kernel.hpp"
 #include "trn/tasks/filter_checkpoint.hpp"
@@ -165,7 +166,7 @@ void filter_replica_main(void* arg) noexcept {
   r = Replica{};
   const auto* cfg = static_cast<const FilterTaskConfig*>(arg);
   TmrArea* const a = tmr_area();
-  if (cfg == nullptr || a == nullptr || !core_set_up(r.core, *cfg, r.stats)) {
+  if (cfg == nullptr || a == nullptr || !core_set_up(r.core, *cfg, r.stats, bsp::Region{tile})) {
     return;
   }
   for (;;) {  // one pass per release

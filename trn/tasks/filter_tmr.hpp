@@ -35,10 +35,13 @@ inline constexpr std::uint32_t kVoteLag = 2U;
 /** The replica count, and the front's bit in a seed's for_mask. */
 inline constexpr std::uint32_t kReplicas = 3U;
 inline constexpr std::uint32_t kFrontBit = 1U << kReplicas;
-/** Releases between two hellos of a replica waiting for a seed. */
-inline constexpr std::uint32_t kHelloEvery = 10U;
-/** Records a replica runs per release at most (catching up after a seed). */
-inline constexpr std::uint32_t kReplicaJobsPerRelease = 4U;
+/** Releases (10 ms) between two hellos of a replica waiting for a seed. */
+inline constexpr std::uint32_t kHelloEvery = 2U;
+/**
+ * Records a replica runs per release (10 ms) at most: one normally, two when
+ * it catches up after a seed (a job with matches costs about 4 ms).
+ */
+inline constexpr std::uint32_t kReplicaJobsPerRelease = 2U;
 /** Output sent per job: [0] kMsgReplicaOut [1] replica [2] job [3] state digest [4..] packed solution. */
 inline constexpr std::uint32_t kReplicaOutWords = 4U + kNavWords;
 /** [0] kMsgReplicaHello [1] replica [2] epoch it saw. */

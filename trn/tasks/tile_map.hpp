@@ -7,8 +7,8 @@
  * configures every role in one step before boot (configure_image). Default 8x8 layout (tile = row * 8 + col):
  *
  *   row 0:  T  V  F  .  .  .  .  .     T TRN supervisor, V vision coordinator,
- *   row 1:  .  I  .  R  .  .  .  .     F filter supervisor, I I/O tile,
- *   row 2:  .  .  N  R  R  .  .  .     N navigation filter (and TMR voter),
+ *   row 1:  .  I  .  .  .  .  .  .     F filter supervisor, I I/O tile,
+ *   row 2:  .  .  N  R  R  R  .  .     N navigation filter (and TMR voter),
  *   rows 3-7: v v v v v v v v          R filter replica (idle until TMR),
  *                                      v vision tile, . spare (powered off)
  *
@@ -65,7 +65,7 @@ constexpr std::array<Role, kMapTiles> make_roles() noexcept {
   r[1] = Role::kVisionCoordinator;
   r[9] = Role::kIo;
   r[18] = Role::kFilter;
-  r[11] = Role::kFilterReplica;
+  r[21] = Role::kFilterReplica;
   r[19] = Role::kFilterReplica;
   r[20] = Role::kFilterReplica;
   for (std::uint32_t t = 24; t < kMapTiles; ++t) {
@@ -83,7 +83,7 @@ constexpr bsp::TileId kCoordinatorTile = 1;
 constexpr bsp::TileId kIoTile = 9;
 constexpr bsp::TileId kFilterTile = 18;
 /** The filter's TMR replicas, by replica index (role slots kSlotReplica0 + i). */
-constexpr std::array<bsp::TileId, 3> kReplicaTiles{19, 20, 11};
+constexpr std::array<bsp::TileId, 3> kReplicaTiles{19, 20, 21};
 
 constexpr std::uint32_t count_role(Role r) noexcept {
   std::uint32_t n = 0;
@@ -178,13 +178,15 @@ inline constexpr k::TaskSpec kFilterRole[] = {
 };
 /**
  * A TMR replica of the filter: idle while the filter is simplex; in TMR it
- * runs the filter's job records as they come (releases every 2 ticks, up to
- * kReplicaJobsPerRelease records each) and sends the voter its outputs.
+ * runs the filter's job records (100 Hz like the filter, up to
+ * kReplicaJobsPerRelease records a release) and sends the voter its outputs:
+ * a record the front wrote after the replica's release runs at the next one,
+ * still before the front votes it kVoteLag jobs later.
  */
 inline constexpr k::TaskSpec kReplicaRole[] = {
     kCommTask,
     kAgentTask,
-    {"replica", &filter_replica_main, &detail::g_image.filter, 2, 2, 2, 32U * 1024U, k::Policy::kPreemptive,
+    {"replica", &filter_replica_main, &detail::g_image.filter, 2, 10, 10, 32U * 1024U, k::Policy::kPreemptive,
      kWatchFilter},
 };
 /** Vision coordinator. */

@@ -23,8 +23,6 @@ namespace {
 
 /** Solutions the coordinator keeps (10 ms apart: 0.64 s). */
 constexpr std::uint32_t kNavRing = 64;
-/** Age a solution must have, at least, to be the prior of a frame (s): five filter jobs. */
-constexpr double kPriorLagS = 0.05;
 /** Messages drained per channel per pass (the receive queues hold kFtRxDepth each). */
 constexpr std::uint32_t kDrainPerPass = 64;
 
@@ -244,7 +242,7 @@ void drain_results(CoordState& st, VisionCoordStats& stats) noexcept {
 }
 
 /**
- * The prior at @p t_s from the newest solution at least kPriorLagS older,
+ * The prior at @p t_s from the newest solution at least cfg.prior_lag_s older,
  * moved along its velocity. The lag makes the choice independent of when
  * solutions arrive (a simplex filter's come a job sooner than a voted one),
  * so the same solutions give the same prior.
@@ -254,7 +252,7 @@ bool prior_at(const CoordState& st, double t_s, vision::PosePrior& out) noexcept
   const filter::NavOutput* best = nullptr;
   for (std::uint32_t i = 0; i < have; ++i) {
     const filter::NavOutput& o = st.nav[i];
-    if (o.t_s <= t_s - kPriorLagS + 1e-9 && (best == nullptr || o.t_s > best->t_s)) {
+    if (o.t_s <= t_s - st.cfg->prior_lag_s + 1e-9 && (best == nullptr || o.t_s > best->t_s)) {
       best = &o;
     }
   }

@@ -51,7 +51,11 @@ struct VisionCoordConfig {
   vision::CoarseFrameParams coarse{};
   double coarse_above_sigma_m = 150.0; ///< coarse stage when the horizontal sigma exceeds this
   double deadline_s = 0.8;             ///< from the frame notice to the batch leaving for the filter (frames come every 1 s)
-  double max_prior_age_s = 0.05;       ///< newest solution at or before the capture must be this fresh
+  /// The prior comes from the newest solution at least this much older than the capture: two
+  /// filter jobs, so a voted solution (delivered two jobs after a simplex one, still before the
+  /// frame's 20 ms readout ends) gives the same prior as a simplex one.
+  double prior_lag_s = 0.02;
+  double max_prior_age_s = 0.07;       ///< ... and that solution must be at most this old
 };
 
 struct VisionCoordStats {

@@ -354,8 +354,8 @@ TEST_F(TrnMissionBinary, TmrOfTheFilterOutvotesExcludesAndReseedsFaultyReplicas)
   EXPECT_NE(log.find("tmr_established: TMR established"), std::string::npos) << log;
   EXPECT_NE(log.find("sdc channel 1 value bit 70 (planned) -> detected by tile 18 (tmr_outvoted)"), std::string::npos);
   EXPECT_NE(log.find("tmr_agrees: replica 1 on tile 20"), std::string::npos);
-  EXPECT_NE(log.find("tmr_excluded: replica 2 on tile 11"), std::string::npos);
-  EXPECT_NE(log.find("tmr_resynced: replica 2 on tile 11"), std::string::npos);
+  EXPECT_NE(log.find("tmr_excluded: replica 2 on tile 21"), std::string::npos);
+  EXPECT_NE(log.find("tmr_resynced: replica 2 on tile 21"), std::string::npos);
   EXPECT_NE(log.find("tmr_resynced: replica 0 on tile 19"), std::string::npos);
   EXPECT_EQ(count_of(log, "not detected"), 0U);
 }
