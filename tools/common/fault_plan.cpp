@@ -354,7 +354,7 @@ void parse_commands(const std::string& source, const toml::node& node, const Lim
     errors.push_back(source + ": command: must be an array of tables ([[command]] entries)");
     return;
   }
-  if (arr->size() > bsp::kCommandFifoDepth * 4U) {
+  if (arr->size() > std::size_t{bsp::kCommandFifoDepth} * 4U) {
     errors.push_back(cat({source, ": [[command]]: ", std::to_string(arr->size()), " entries (allowed 0 .. ",
                           std::to_string(bsp::kCommandFifoDepth * 4U), ")"}));
     return;
