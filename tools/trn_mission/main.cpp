@@ -355,6 +355,8 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("filter_outputs_skipped", f.outputs_skipped);
   s.extra.emplace_back("filter_output_crc", f.output_crc);
   s.extra.emplace_back("filter_last_job", f.last_delivered_job);
+  s.extra.emplace_back("filter_output_mark_job", f.mark_job);
+  s.extra.emplace_back("filter_output_mark_crc", f.mark_crc);
   s.extra.emplace_back("tmr_voted_outputs", f.tmr_jobs);
   s.extra.emplace_back("tmr_outvoted", f.tmr_outvoted);
   s.extra.emplace_back("tmr_no_majority", f.tmr_no_majority);

@@ -34,6 +34,17 @@ enum class Mode : std::uint8_t {
 constexpr std::uint32_t kOutRing = 8U;
 /** Jobs a switch to TMR may take before it is given up. */
 constexpr std::uint32_t kStartJobs = 100U;
+/**
+ * Job j takes the IMU samples up to seq j - kImuLagJobs: sample s is read at
+ * (s + 1) x 10 ms, so the newest one a job takes was read a whole period before
+ * the job's release. What arrived sooner waits (held) for its job: which samples
+ * a job takes does not depend on the network's timing.
+ */
+constexpr std::uint32_t kImuLagJobs = 2U;
+/** Early samples held for their job at most (one or two in flight). */
+constexpr std::uint32_t kImuHeld = 8U;
+/** Matches held for the job their batch is stamped with (one frame's). */
+constexpr std::uint32_t kHeldMatches = kMaxMatchesPerFrame;
 /** Voted words: the packed solution and the state digest. */
 constexpr std::uint32_t kVotedWords = kNavWords + 1U;
 
@@ -53,6 +64,13 @@ struct Slot {
   std::uint32_t ckpt_slot;   ///< slot it is in (the next write goes to the other)
   std::uint32_t since_ckpt;  ///< jobs since it
   std::uint32_t job;         ///< this job's number
+  std::array<bsp::ImuSample, kImuHeld> held;  ///< samples that came before their job, in order
+  std::uint32_t held_count;
+  bool cmd_held;             ///< a telecommand waits for the sample it came after
+  std::array<std::uint32_t, std::size_t{kHeldMatches} * kMatchWords> mheld;  ///< packed matches waiting for their job, in order
+  std::array<std::uint32_t, kHeldMatches> mheld_job;            ///< the job each waits for
+  std::uint32_t mheld_count;
+  std::array<std::uint32_t, kCommandWords> cmd;
   // ---- TMR
   Mode mode;
   TmrArea* tmr;
@@ -118,29 +136,81 @@ void catch_up(Slot& slot) noexcept {
     return;
   }
   std::uint32_t budget = kMaxReplayPerJob;
-  const std::uint32_t newest = slot.ring != nullptr ? slot.ring->written : 0U;
+  // Up to what is due at this job, not whatever the I/O tile has recorded by now.
+  const std::uint32_t recorded = slot.ring != nullptr ? slot.ring->written : 0U;
+  const std::uint32_t due_end = slot.job >= kImuLagJobs ? slot.job - kImuLagJobs + 1U : 0U;
+  const std::uint32_t newest = recorded < due_end ? recorded : due_end;
   if (replay(slot, newest > slot.last_imu + 1U ? newest : slot.last_imu + 1U, budget) && budget > 0U) {
     slot.catching_up = false;
   }
 }
 
-/** A telecommand in the IMU stream: taken at this job, in order with the samples. */
-void take_command(Slot& slot, const udn::FtMessage& msg) noexcept {
-  ++slot.stats.commands;
-  slot.command = msg.data[2];
-  fdir::report(fdir::EventId::kCommandTaken, msg.data[2], msg.data[1], slot.job);
+/** True if sample @p seq belongs to this job (or an earlier one). */
+bool imu_due(const Slot& slot, std::uint32_t seq) noexcept { return seq + kImuLagJobs <= slot.job; }
+
+/** A telecommand in the IMU stream: held until the job that takes the sample sent before it. */
+void hold_command(Slot& slot, const udn::FtMessage& msg) noexcept {
+  for (std::uint32_t i = 0; i < kCommandWords; ++i) {
+    slot.cmd[i] = msg.data[i];
+  }
+  slot.cmd_held = true;  // a second one before the first is taken replaces it (one a second in flight)
 }
 
-/** Puts up to kMaxImuPerJob samples waiting on kChanImu into the record (filling gaps from the DDR record). */
+void take_command(Slot& slot) noexcept {
+  const std::uint32_t after = slot.cmd[4];
+  if (!slot.cmd_held || (after != kNoImuYet && !imu_due(slot, after))) {
+    return;
+  }
+  slot.cmd_held = false;
+  ++slot.stats.commands;
+  slot.command = slot.cmd[2];
+  fdir::report(fdir::EventId::kCommandTaken, slot.cmd[2], slot.cmd[1], slot.job);
+}
+
+/** Puts a due sample into the record: duplicates skipped, a gap first replayed from the DDR record. */
+void take_sample(Slot& slot, const bsp::ImuSample& s, std::uint32_t& budget) noexcept {
+  if (slot.have_imu && s.seq <= slot.last_imu) {
+    ++slot.stats.imu_duplicates;  // replayed before it arrived
+    return;
+  }
+  if (slot.have_imu && s.seq > slot.last_imu + 1U && slot.cfg->checkpoint_every != 0U && !replay(slot, s.seq, budget)) {
+    slot.catching_up = true;  // the rest of the gap (and this sample) come from the record next jobs
+    return;
+  }
+  if (slot.have_imu && s.seq <= slot.last_imu) {
+    ++slot.stats.imu_duplicates;
+    return;
+  }
+  add_sample(slot, s);
+}
+
+/** The held samples that are due now, in order. */
+void take_held(Slot& slot, std::uint32_t& budget) noexcept {
+  std::uint32_t n = 0;
+  for (; n < slot.held_count && imu_due(slot, slot.held[n].seq); ++n) {
+    take_sample(slot, slot.held[n], budget);
+  }
+  for (std::uint32_t i = n; i < slot.held_count; ++i) {
+    slot.held[i - n] = slot.held[i];
+  }
+  slot.held_count -= n;
+}
+
+/**
+ * Puts the due samples (held ones, then up to kMaxImuPerJob waiting on
+ * kChanImu) into the record, filling gaps from the DDR record; holds early
+ * ones; takes a telecommand once the sample before it is in.
+ */
 void consume_imu(Slot& slot) noexcept {
   udn::FtMessage msg{};
   std::uint32_t budget = kMaxReplayPerJob;
+  take_held(slot, budget);
   for (std::uint32_t n = 0; n < kMaxImuPerJob; ++n) {
     if (udn::endpoint_receive(kChanImu, msg) != udn::FtError::kOk) {
-      return;
+      break;
     }
     if (msg.data_words == kCommandWords && msg.data[0] == kMsgCommand) {
-      take_command(slot, msg);
+      hold_command(slot, msg);
       continue;
     }
     if (msg.data_words != kImuWords) {
@@ -148,21 +218,16 @@ void consume_imu(Slot& slot) noexcept {
       continue;
     }
     const bsp::ImuSample s = unpack_imu(std::span<const std::uint32_t, kImuWords>{msg.data.data(), kImuWords});
-    if (slot.have_imu && s.seq <= slot.last_imu) {
-      ++slot.stats.imu_duplicates;  // replayed before it arrived
-      continue;
+    if (slot.held_count == 0U && imu_due(slot, s.seq)) {
+      take_sample(slot, s, budget);
+    } else if (slot.held_count < kImuHeld) {
+      slot.held[slot.held_count] = s;
+      ++slot.held_count;
+    } else {
+      ++slot.stats.imu_rejected;  // more early samples than a healthy stream sends: dropped, replayed from DDR
     }
-    if (slot.have_imu && s.seq > slot.last_imu + 1U && slot.cfg->checkpoint_every != 0U &&
-        !replay(slot, s.seq, budget)) {
-      slot.catching_up = true;  // the rest of the gap (and this sample) come from the record next jobs
-      continue;
-    }
-    if (slot.have_imu && s.seq <= slot.last_imu) {
-      ++slot.stats.imu_duplicates;
-      continue;
-    }
-    add_sample(slot, s);
   }
+  take_command(slot);
 }
 
 /** True if @p msg is a well-formed match-batch part whose matches all belong to its frame. */
@@ -183,10 +248,50 @@ bool part_ok(const udn::FtMessage& msg) noexcept {
   return true;
 }
 
-/** Puts the matches of the parts waiting on kChanMatches into the record. */
+/** Moves the held matches whose job has come into the record, in order, as many as it takes. */
+void take_held_matches(Slot& slot, bsp::Work& work) noexcept {
+  std::uint32_t n = 0;
+  for (; n < slot.mheld_count && slot.mheld_job[n] <= slot.job; ++n) {
+    const std::span<const std::uint32_t, kMatchWords> m(slot.mheld.data() + static_cast<std::size_t>(n) * kMatchWords,
+                                                        kMatchWords);
+    if (!record_add_match(slot.record, m)) {
+      break;  // the record is full: the rest next job
+    }
+  }
+  for (std::uint32_t i = n; i < slot.mheld_count; ++i) {
+    for (std::uint32_t k = 0; k < kMatchWords; ++k) {
+      slot.mheld[static_cast<std::size_t>(i - n) * kMatchWords + k] = slot.mheld[static_cast<std::size_t>(i) * kMatchWords + k];
+    }
+    slot.mheld_job[i - n] = slot.mheld_job[i];
+  }
+  work.mem_words += 2ULL * kMatchWords * slot.mheld_count;
+  slot.mheld_count -= n;
+}
+
+/** A match for job @p job: into the record if its job has come and none waits before it, else held. */
+void take_match(Slot& slot, std::span<const std::uint32_t, kMatchWords> m, std::uint32_t job) noexcept {
+  if (job <= slot.job && slot.mheld_count == 0U && record_add_match(slot.record, m)) {
+    return;
+  }
+  if (slot.mheld_count == kHeldMatches) {
+    ++slot.stats.matches_dropped;  // more than a frame waiting: only a broken sender does that
+    return;
+  }
+  for (std::uint32_t k = 0; k < kMatchWords; ++k) {
+    slot.mheld[static_cast<std::size_t>(slot.mheld_count) * kMatchWords + k] = m[k];
+  }
+  slot.mheld_job[slot.mheld_count] = job;
+  ++slot.mheld_count;
+}
+
+/**
+ * Puts into the record the held matches due now, then those of the parts
+ * waiting on kChanMatches (a part says which job takes it; earlier ones wait).
+ */
 void consume_parts(Slot& slot) noexcept {
   udn::FtMessage msg{};
   bsp::Work work{};
+  take_held_matches(slot, work);
   for (std::uint32_t p = 0; p < kMaxPartsPerJob; ++p) {
     if (udn::endpoint_receive(kChanMatches, msg) != udn::FtError::kOk) {
       break;  // empty, or the node is not open yet
@@ -200,8 +305,7 @@ void consume_parts(Slot& slot) noexcept {
     const std::uint32_t n = msg.data[3];
     for (std::uint32_t i = 0; i < n; ++i) {
       const std::size_t at = kMatchHeaderWords + static_cast<std::size_t>(i) * kMatchWords;
-      // kMaxPartsPerJob full parts fit a record: never refused.
-      (void)record_add_match(slot.record, std::span<const std::uint32_t, kMatchWords>(msg.data.data() + at, kMatchWords));
+      take_match(slot, std::span<const std::uint32_t, kMatchWords>(msg.data.data() + at, kMatchWords), msg.data[4]);
       ++slot.stats.matches_received;
     }
     work.mem_words += 2ULL * msg.data_words;  // read from the node, written into the record
@@ -230,6 +334,10 @@ void deliver(Slot& slot, std::uint32_t job, std::span<const std::uint32_t, kNavW
   slot.stats.output_crc = udn::crc32c_words_continue(udn::crc32c_words_continue(slot.stats.output_crc, j), w);
   ++slot.stats.outputs_delivered;
   slot.stats.last_delivered_job = job;
+  if ((job + 1U) % kOutputMarkJobs == 0U) {
+    slot.stats.mark_job = job;
+    slot.stats.mark_crc = slot.stats.output_crc;
+  }
   slot.delivered_any = true;
   slot.next_deliver = job + 1U;
   bsp::consume(bsp::Work{2ULL * kNavWords, 0U, 0U, 0U, kNavWords});
@@ -509,7 +617,7 @@ void filter_task_main(void* arg) noexcept {
   if (cfg == nullptr || !set_up(slot, *cfg)) {
     return;
   }
-  slot.job = static_cast<std::uint32_t>(bsp::now() / (10U * bsp::tick_cycles()));
+  slot.job = static_cast<std::uint32_t>(bsp::now() / (std::uint64_t{kFilterPeriodTicks} * bsp::tick_cycles()));
   for (;;) {  // one pass per 10 ms release
     const bsp::Cycles start = bsp::now();
     slot.command = 0U;

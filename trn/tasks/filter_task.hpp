@@ -55,6 +55,8 @@ inline constexpr std::uint32_t kMaxPartsPerJob = 16;
 inline constexpr std::uint32_t kDefaultMatchesPerJob = 15;
 /** IMU samples one job replays at most from the I/O tile's DDR record when it is behind. */
 inline constexpr std::uint32_t kMaxReplayPerJob = 20;
+/** Jobs between two marks of the delivered stream's CRC (FilterTaskStats::mark_crc). */
+inline constexpr std::uint32_t kOutputMarkJobs = 100;
 /** Jobs between two checkpoints by default (100 ms). */
 inline constexpr std::uint32_t kDefaultCheckpointEvery = 10;
 
@@ -97,6 +99,8 @@ struct FilterTaskStats {
   std::uint32_t outputs_skipped;   ///< jobs whose solution was never delivered (no majority, a gap)
   std::uint32_t output_crc;        ///< CRC-32C over the delivered solutions' job numbers and words
   std::uint32_t last_delivered_job;
+  std::uint32_t mark_job;          ///< the last delivered job j with (j + 1) % kOutputMarkJobs == 0
+  std::uint32_t mark_crc;          ///< output_crc through it: two flights compare their streams up to a job
   std::uint32_t tmr_jobs;          ///< jobs whose delivered solution was voted
   std::uint32_t tmr_outvoted;      ///< replica outputs outvoted (different or missing)
   std::uint32_t tmr_no_majority;   ///< votes without a majority

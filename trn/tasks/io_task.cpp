@@ -52,11 +52,14 @@ void forward_frames(const IoTaskConfig& cfg) noexcept {
   }
 }
 
-/** Telecommands for the filter go in its IMU stream, so it takes them at a defined job. */
-void forward_commands(const IoTaskConfig& cfg) noexcept {
+/**
+ * Telecommands for the filter go in its IMU stream after the last sample read
+ * (@p last_imu), so it takes them at a defined job.
+ */
+void forward_commands(const IoTaskConfig& cfg, std::uint32_t last_imu) noexcept {
   bsp::Telecommand c{};
   for (std::uint32_t n = 0; n < bsp::kCommandFifoDepth && bsp::command_read(&c); ++n) {
-    const std::array<std::uint32_t, kCommandWords> w{kMsgCommand, c.seq, c.code, c.arg};
+    const std::array<std::uint32_t, kCommandWords> w{kMsgCommand, c.seq, c.code, c.arg, last_imu};
     const bsp::TileId filter = udn::endpoint_role_tile(kSlotFilter, cfg.filter_tile);
     if (udn::endpoint_send(filter, kChanImu, w, kSendTicks) != udn::FtError::kOk) {
       ++g_stats.send_failures;
@@ -76,6 +79,7 @@ void io_task_main(void* arg) noexcept {
   std::array<std::uint32_t, kImuWords> words{};
   // Every sample is also recorded in DDR, for a filter that restarts to replay what it missed.
   ImuRing* const ring = imu_ring();
+  std::uint32_t last_imu = kNoImuYet;
   for (;;) {  // the driver loop: one pass per device interrupt
     // The IMU interrupts every 10 ms in flight; the timeout keeps the check-ins going before and after.
     (void)g_device_ready.take(k::Timeout{kIdleCheckinTicks});
@@ -85,6 +89,7 @@ void io_task_main(void* arg) noexcept {
       if (ring != nullptr) {
         imu_ring_put(*ring, s);
       }
+      last_imu = s.seq;
       pack_imu(s, words);
       const bsp::TileId filter = udn::endpoint_role_tile(kSlotFilter, cfg->filter_tile);
       if (udn::endpoint_send(filter, kChanImu, words, kSendTicks) == udn::FtError::kOk) {
@@ -94,7 +99,7 @@ void io_task_main(void* arg) noexcept {
       }
     }
     forward_frames(*cfg);
-    forward_commands(*cfg);
+    forward_commands(*cfg, last_imu);
   }
 }
 

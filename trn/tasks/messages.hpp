@@ -49,11 +49,14 @@ inline constexpr std::uint32_t kRelightWords = 3;
 inline constexpr std::uint32_t kMsgReplicaOut = 0x52504F31U;    ///< "RPO1" a TMR replica's job output (filter_tmr.hpp)
 inline constexpr std::uint32_t kMsgReplicaHello = 0x52504831U;  ///< "RPH1" a TMR replica waits for a seed
 /**
- * Telecommand (I/O -> filter, kChanImu, in order with the samples), 4 words:
- * [0] kMsgCommand [1] sequence number [2] code [3] argument.
+ * Telecommand (I/O -> filter, kChanImu, in order with the samples), 5 words:
+ * [0] kMsgCommand [1] sequence number [2] code [3] argument [4] seq of the
+ * last IMU sample the I/O tile sent before it (kNoImuYet: none). The filter
+ * takes it at the job that takes that sample, whenever it arrived.
  */
 inline constexpr std::uint32_t kMsgCommand = 0x434D4431U;  ///< "CMD1"
-inline constexpr std::uint32_t kCommandWords = 4U;
+inline constexpr std::uint32_t kCommandWords = 5U;
+inline constexpr std::uint32_t kNoImuYet = 0xFFFFFFFFU;
 /** Telecommand codes of the filter. */
 inline constexpr std::uint32_t kCmdFilterTmr = 1U;      ///< run the filter as TMR from the next job
 inline constexpr std::uint32_t kCmdFilterSimplex = 2U;  ///< back to one filter
@@ -134,9 +137,22 @@ inline Match unpack_match(std::span<const std::uint32_t, kMatchWords> w) noexcep
 /**
  * Match batch message (coordinator -> filter, kChanMatches):
  *   [0] kMsgMatches [1] frame seq [2] part index | (part count << 16) [3] matches in this part (n)
+ *   [4] the filter job whose record takes the batch (0: the next one)
  *   then n x kMatchWords. A frame's batch is split into parts of at most kMatchesPerPart.
  */
-inline constexpr std::uint32_t kMatchHeaderWords = 4;
+inline constexpr std::uint32_t kMatchHeaderWords = 5;
+/** The filter's period in kernel ticks: its job j is released at tick j x kFilterPeriodTicks. */
+inline constexpr std::uint32_t kFilterPeriodTicks = 10U;
+/**
+ * The filter job whose record takes a frame's batch, counted from the job of
+ * its capture: after the 20 ms readout, the frame's processing (fine frames
+ * 40-85 ms, the coarse stage up to its 800 ms deadline) and the parts' crossing
+ * (8 a job). A function of the frame, not of when the batch arrives, so which
+ * job takes a match does not depend on the network's timing; a part later
+ * than that is taken when it comes.
+ */
+inline constexpr std::uint32_t kFineApplyJobs = 15U;
+inline constexpr std::uint32_t kCoarseApplyJobs = 90U;
 inline constexpr std::uint32_t kMatchesPerPart = 5;
 static_assert(kMatchHeaderWords + kMatchesPerPart * kMatchWords <= 124U, "a part fits one FT packet");
 

@@ -173,7 +173,7 @@ inline constexpr k::TaskSpec kIoRole[] = {
 inline constexpr k::TaskSpec kFilterRole[] = {
     kCommTask,
     kAgentTask,
-    {"filter", &filter_task_main, &detail::g_image.filter, 2, 10, 10, 32U * 1024U, k::Policy::kPreemptive,
+    {"filter", &filter_task_main, &detail::g_image.filter, 2, kFilterPeriodTicks, kFilterPeriodTicks, 32U * 1024U, k::Policy::kPreemptive,
      kWatchFilter},
 };
 /**
@@ -186,7 +186,7 @@ inline constexpr k::TaskSpec kFilterRole[] = {
 inline constexpr k::TaskSpec kReplicaRole[] = {
     kCommTask,
     kAgentTask,
-    {"replica", &filter_replica_main, &detail::g_image.filter, 2, 10, 10, 32U * 1024U, k::Policy::kPreemptive,
+    {"replica", &filter_replica_main, &detail::g_image.filter, 2, kFilterPeriodTicks, kFilterPeriodTicks, 32U * 1024U, k::Policy::kPreemptive,
      kWatchFilter},
 };
 /** Vision coordinator. */

@@ -14,6 +14,7 @@
 #include "trn/tasks/vision_shared.hpp"
 #include "udn/endpoint.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <new>
@@ -44,6 +45,7 @@ struct CoordState {
   bool have_pending;
   FrameNotice pending;
   bool busy;
+  std::uint32_t apply_job;  ///< the filter job that takes this frame's batch
   FrameNotice frame;
   bsp::Cycles frame_start;
   k::Ticks deadline;
@@ -391,11 +393,15 @@ void start_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   const vision::ConstImageU8 image{pixels, static_cast<std::int32_t>(st.frame.width_px),
                                    static_cast<std::int32_t>(st.frame.height_px),
                                    static_cast<std::int32_t>(st.frame.width_px)};
+  const std::uint32_t coarse_before = stats.coarse_runs;
   if (!coarse_if_needed(st, stats, image, prior)) {
     st.busy = false;
     ++stats.frames_skipped;
     return;
   }
+  // The job that takes the batch, from the capture (1 ms ticks, like the frame logic).
+  const auto capture_job = static_cast<std::uint32_t>(std::floor(st.frame.t_s * 1000.0 / kFilterPeriodTicks + 1e-9));
+  st.apply_job = capture_job + (stats.coarse_runs != coarse_before ? kCoarseApplyJobs : kFineApplyJobs);
   bsp::Work work{};
   std::uint32_t planned = 0;
   if (vision::plan_frame(*st.table, st.fine, st.cfg->camera, prior, st.cfg->plan, st.planned.data(),
@@ -408,10 +414,36 @@ void start_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   ++st.frames_planned;
 }
 
+/**
+ * Orders the fine matches by landmark (then tile and pixel): results come in
+ * whatever order the network brings them, and the filter's result depends on
+ * the order it applies them. The coarse match, when there is one, stays first.
+ */
+void order_matches(CoordState& st) noexcept {
+  const std::uint32_t first = (st.match_count > 0U && st.matches[0].landmark == kCoarseLandmark) ? 1U : 0U;
+  if (st.match_count <= first + 1U) {
+    return;
+  }
+  const auto before = [](const Match& a, const Match& b) noexcept {
+    if (a.landmark != b.landmark) {
+      return a.landmark < b.landmark;
+    }
+    if (a.tile != b.tile) {
+      return a.tile < b.tile;
+    }
+    return a.u_px != b.u_px ? a.u_px < b.u_px : a.v_px < b.v_px;
+  };
+  std::sort(st.matches.begin() + first, st.matches.begin() + st.match_count, before);
+  // About n log2 n (n <= 201: log2 n <= 8) compares, and as many moves of 25-word matches.
+  const std::uint64_t n_log_n = 8ULL * st.match_count;
+  bsp::consume(bsp::Work{4ULL * n_log_n, 0U, 0U, 0U, 25ULL * n_log_n});
+}
+
 void send_batch(CoordState& st, VisionCoordStats& stats) noexcept {
   if (st.match_count == 0U || st.cfg->filter_tile == bsp::kNoTile) {
     return;
   }
+  order_matches(st);
   const std::uint32_t parts = (st.match_count + kMatchesPerPart - 1U) / kMatchesPerPart;
   std::array<std::uint32_t, kMatchHeaderWords + kMatchesPerPart * kMatchWords> w{};
   for (std::uint32_t part = 0; part < parts; ++part) {
@@ -422,6 +454,7 @@ void send_batch(CoordState& st, VisionCoordStats& stats) noexcept {
     w[1] = st.frame.seq;
     w[2] = part | (parts << 16U);
     w[3] = n;
+    w[4] = st.apply_job;
     for (std::uint32_t i = 0; i < n; ++i) {
       pack_match(st.matches[first + i],
                  std::span<std::uint32_t, kMatchWords>(w.data() + kMatchHeaderWords + static_cast<std::size_t>(i) * kMatchWords, kMatchWords));

@@ -335,7 +335,8 @@ TEST_F(TrnMissionBinary, AHungCoordinatorIsResetThenMovedToASpare) {
 // FDIR-TMR-02: a telecommand switches the filter to TMR during the descent: three replicas seeded
 // with its state agree within a few jobs, the voter delivers from then on, and each replica fault
 // is handled by flight code: a corrupted output outvoted (never delivered), a hung replica and a
-// crashed one excluded, reset by core health and re-seeded with the voted state.
+// crashed one excluded, reset by core health and re-seeded with the voted state. What is delivered
+// is what the simplex filter delivers in the same flight without the switch, bit for bit.
 TEST_F(TrnMissionBinary, TmrOfTheFilterOutvotesExcludesAndReseedsFaultyReplicas) {
   ASSERT_EQ(run(binary() + " --quiet --duration 20 --faults " + fixture("filter_tmr_faults.toml") + " --out " +
                 (dir_ / "tmr").string()),
@@ -358,6 +359,13 @@ TEST_F(TrnMissionBinary, TmrOfTheFilterOutvotesExcludesAndReseedsFaultyReplicas)
   EXPECT_NE(log.find("tmr_resynced: replica 2 on tile 21"), std::string::npos);
   EXPECT_NE(log.find("tmr_resynced: replica 0 on tile 19"), std::string::npos);
   EXPECT_EQ(count_of(log, "not detected"), 0U);
+  // The delivered stream is the simplex filter's, bit for bit, job for job, through the faults:
+  // the same flight without the switch, up to the last 100-job mark both delivered (job 1899).
+  ASSERT_EQ(run(binary() + " --quiet --duration 19.9 --out " + (dir_ / "simplex").string()), 0);
+  const nlohmann::json p = read_json(dir_ / "simplex" / "summary.json");
+  EXPECT_EQ(p["filter_output_mark_job"], 1899.0);
+  EXPECT_EQ(s["filter_output_mark_job"], 1899.0);
+  EXPECT_EQ(s["filter_output_mark_crc"], p["filter_output_mark_crc"]) << "the voted stream differs from the simplex one";
 }
 
 }  // namespace

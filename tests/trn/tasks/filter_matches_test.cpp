@@ -119,6 +119,7 @@ void send_batch(std::uint32_t frame, std::uint32_t n) {
     w[1] = frame;
     w[2] = part | (parts << 16U);
     w[3] = k;
+    w[4] = 0U;  // taken by the next job
     for (std::uint32_t i = 0; i < k; ++i) {
       trn::tasks::pack_match(g_batch[first + i], std::span<std::uint32_t, kMatchWords>(
                                                      w.data() + kMatchHeaderWords + i * kMatchWords, kMatchWords));
