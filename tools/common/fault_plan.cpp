@@ -520,6 +520,23 @@ FaultPlan demo_fault_plan() {
   sw.kind = bsp::FaultKind::kSwitchFail;
   sw.tile = kFailedSwitch;
   p.items.push_back(sw);
+  // The filter becomes a TMR; one replica's output is corrupted (outvoted), another hangs
+  // (excluded, reset by its watchdog, re-seeded with the voted state).
+  p.commands.push_back(PlanCommand{10.0, "filter_tmr", trn::tasks::kCmdFilterTmr});
+  FaultPlanItem sdc{};
+  sdc.t_s = 15.0;
+  sdc.kind = bsp::FaultKind::kSdc;
+  sdc.role = "filter_replica";
+  sdc.instance = 1U;
+  sdc.channel = trn::tasks::kNavChannel;
+  sdc.bit = 70U;
+  p.items.push_back(sdc);
+  FaultPlanItem hang{};
+  hang.t_s = 26.0;
+  hang.kind = bsp::FaultKind::kCoreHang;
+  hang.role = "filter_replica";
+  hang.instance = 2U;
+  p.items.push_back(hang);
   return p;
 }
 

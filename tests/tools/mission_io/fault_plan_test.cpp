@@ -42,14 +42,21 @@ std::string error_of(const std::string& name) {
 }
 
 bool same_items(const tools::FaultPlan& a, const tools::FaultPlan& b) {
-  if (a.items.size() != b.items.size() || a.name != b.name || a.rates != b.rates) {
+  if (a.items.size() != b.items.size() || a.name != b.name || a.rates != b.rates ||
+      a.commands.size() != b.commands.size()) {
     return false;
+  }
+  for (std::size_t i = 0; i < a.commands.size(); ++i) {
+    if (a.commands[i].t_s != b.commands[i].t_s || a.commands[i].name != b.commands[i].name ||
+        a.commands[i].code != b.commands[i].code) {
+      return false;
+    }
   }
   for (std::size_t i = 0; i < a.items.size(); ++i) {
     const tools::FaultPlanItem& x = a.items[i];
     const tools::FaultPlanItem& y = b.items[i];
     if (x.t_s != y.t_s || x.kind != y.kind || x.tile != y.tile || x.channel != y.channel || x.offset != y.offset ||
-        x.bit != y.bit || x.param != y.param) {
+        x.bit != y.bit || x.param != y.param || x.role != y.role || x.instance != y.instance) {
       return false;
     }
   }
@@ -136,7 +143,16 @@ TEST(FaultPlan, DemoPlanAimsAtFaultTolerantSendersWithHandledKinds) {
   const tools::FaultPlan p = tools::demo_fault_plan();
   std::size_t flips = 0U;
   std::size_t switches = 0U;
+  std::size_t replica_faults = 0U;
   for (const tools::FaultPlanItem& it : p.items) {
+    if (!it.role.empty()) {
+      // The TMR part: faults on replicas, after the switch at 10 s.
+      ++replica_faults;
+      EXPECT_EQ(it.role, "filter_replica");
+      EXPECT_TRUE(it.kind == bsp::FaultKind::kSdc || it.kind == bsp::FaultKind::kCoreHang) << tools::fault_kind_name(it.kind);
+      EXPECT_GT(it.t_s, 10.0);
+      continue;
+    }
     ASSERT_TRUE(it.kind == bsp::FaultKind::kPacketBitFlip || it.kind == bsp::FaultKind::kSwitchFail)
         << tools::fault_kind_name(it.kind);
     if (it.kind == bsp::FaultKind::kPacketBitFlip) {
@@ -153,6 +169,9 @@ TEST(FaultPlan, DemoPlanAimsAtFaultTolerantSendersWithHandledKinds) {
       EXPECT_DOUBLE_EQ(it.t_s, 20.0);
     }
   }
+  EXPECT_EQ(replica_faults, 2U);
+  ASSERT_EQ(p.commands.size(), 1U);
+  EXPECT_EQ(p.commands[0].name, "filter_tmr");
   EXPECT_EQ(flips, 8U);
   EXPECT_EQ(switches, 1U);
   EXPECT_DOUBLE_EQ(tools::demo_fault_plan_end_s(), 35.0);
@@ -497,13 +516,19 @@ direction = "east"
   EXPECT_NE(std::string(ev[1].text.data()).find("link_fail east link"), std::string::npos) << ev[1].text.data();
 }
 
+// The demo's faults on tiles, on a bare board (its telecommand needs the uplink and its replica
+// faults the mission's role directory: the mission test DemoPlanCountsComeFromFlightEvents flies those).
 TEST(FaultPlanArm, DemoPlanIsInjectedOnTheChip) {
   init_board(bsp::kTile64.cycles_per_ms());
+  tools::FaultPlan demo = tools::demo_fault_plan();
+  demo.commands.clear();
+  std::erase_if(demo.items, [](const tools::FaultPlanItem& it) { return !it.role.empty(); });
+  ASSERT_EQ(demo.items.size(), 9U);
   std::string error;
-  ASSERT_TRUE(tools::arm_fault_plan(tools::demo_fault_plan(), clock_hz(), error)) << error;
+  ASSERT_TRUE(tools::arm_fault_plan(demo, clock_hz(), error)) << error;
   (void)bsp::run_for(cycles(tools::demo_fault_plan_end_s() + 0.01));
   const std::span<const bsp::FaultRecord> log = bsp::fault_log();
-  ASSERT_EQ(log.size(), tools::demo_fault_plan().items.size());
+  ASSERT_EQ(log.size(), demo.items.size());
   for (const bsp::FaultRecord& r : log) {
     EXPECT_NE(r.status, bsp::FaultStatus::kUnsupported) << tools::describe_fault(r);
     EXPECT_NE(r.status, bsp::FaultStatus::kSkipped) << tools::describe_fault(r);

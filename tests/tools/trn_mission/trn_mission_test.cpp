@@ -125,14 +125,18 @@ std::size_t count_of(const std::string& text, const std::string& what) {
 }
 
 // FDIR-JN-01: the demonstration plan's counts come from flight events joined to the ground truth;
-// the switch failed mid-run is voted, published by message, routed around, with its latency logged.
+// the switch failed mid-run is voted, published by message, routed around, with its latency logged;
+// the filter becomes a TMR that outvotes a corrupted replica and re-seeds a hung one.
 TEST_F(TrnMissionBinary, DemoPlanCountsComeFromFlightEvents) {
   ASSERT_EQ(run(binary() + " --quiet --demo-faults --out " + (dir_ / "demo").string()), 0);
   const nlohmann::json s = read_json(dir_ / "demo" / "summary.json");
-  EXPECT_EQ(s["faults_injected"], 9);
-  EXPECT_EQ(s["faults_detected"], 9);
-  EXPECT_EQ(s["faults_recovered"], 9);
+  EXPECT_EQ(s["faults_injected"], 11);
+  EXPECT_EQ(s["faults_detected"], 11);
+  EXPECT_EQ(s["faults_recovered"], 11);
   EXPECT_EQ(s["mission_lost"], 0.0);
+  EXPECT_GT(s["tmr_voted_outputs"].get<double>(), 3000.0) << "voted from 10 s on";
+  EXPECT_EQ(s["tmr_no_majority"], 0.0);
+  EXPECT_EQ(s["filter_outputs_skipped"], 0.0);
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
   const std::string log = read_text(dir_ / "demo" / "events.log");
   EXPECT_NE(log.find("switch_fail (planned) -> detected by tile 0 (switch_failed)"), std::string::npos) << log;
@@ -140,6 +144,9 @@ TEST_F(TrnMissionBinary, DemoPlanCountsComeFromFlightEvents) {
   EXPECT_NE(log.find("map_published: fault map version 1"), std::string::npos);
   EXPECT_GE(count_of(log, "map_applied: fault map version 1"), 40U) << "the map reached the tiles by message";
   EXPECT_EQ(count_of(log, "packet_corrected:"), 8U) << "each planned flip corrected by its receiver";
+  EXPECT_NE(log.find("tmr_established"), std::string::npos);
+  EXPECT_NE(log.find("(planned) -> detected by tile 18 (tmr_outvoted)"), std::string::npos);
+  EXPECT_NE(log.find("tmr_resynced: replica 2 on tile 21"), std::string::npos);
   EXPECT_EQ(count_of(log, "not detected"), 0U);
 }
 
