@@ -79,7 +79,7 @@ enum class EventId : std::uint16_t {
   // ---- TMR of the filter (trn/tasks/filter_task, fdir/tmr)
   kTmrStarting = 0x0701,       ///< replicas seeded with the filter's state; subject: job, cause: epoch
   kTmrEstablished = 0x0702,    ///< three replicas agree with the filter: the voter delivers; subject: job, cause: epoch, a: jobs it took
-  kTmrSimplex = 0x0703,        ///< one filter again; subject: job, cause: 0 command, 2 TMR not established in time
+  kTmrSimplex = 0x0703,        ///< one filter again; subject: job, cause: 0 command, 2 TMR not established in time, 3 the filter restarted (TMR starts again once it caught up)
   kTmrOutvoted = 0x0704,       ///< a replica's output was outvoted; subject: its tile, cause: job, a: replica, b: 1 different, 2 missing
   kTmrAgrees = 0x0705,         ///< an outvoted replica agrees again; subject: its tile, cause: job, a: replica, b: disagreements before
   kTmrExcluded = 0x0706,       ///< a replica no longer votes and must re-synchronise; subject: its tile, cause: job, a: replica, b: replicas left

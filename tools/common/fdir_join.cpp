@@ -160,7 +160,9 @@ bool describe_tmr_event(const fdir::Event& e, const char* s, std::span<char> b) 
       return true;
     case EventId::kTmrSimplex:
       (void)std::snprintf(b.data(), b.size(), "filter simplex again at job %s (%s)", s,
-                          e.cause == 0U ? "command" : "TMR not established in time");
+                          e.cause == 0U   ? "command"
+                          : e.cause == 3U ? "the filter restarted: TMR again once it has caught up"
+                                          : "TMR not established in time");
       return true;
     case EventId::kTmrOutvoted:
       (void)std::snprintf(b.data(), b.size(), "replica %u on tile %s outvoted at job %u (%s)", e.a, s, e.cause,

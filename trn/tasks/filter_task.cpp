@@ -45,6 +45,10 @@ constexpr std::uint32_t kImuLagJobs = 2U;
 constexpr std::uint32_t kImuHeld = 8U;
 /** Matches held for the job their batch is stamped with (one frame's). */
 constexpr std::uint32_t kHeldMatches = kMaxMatchesPerFrame;
+/** Causes of tmr_simplex (fdir/event_ids.hpp). */
+constexpr std::uint32_t kTmrStopCommand = 0U;
+constexpr std::uint32_t kTmrStopNotEstablished = 2U;
+constexpr std::uint32_t kTmrStopRestart = 3U;
 /** Voted words: the packed solution and the state digest. */
 constexpr std::uint32_t kVotedWords = kNavWords + 1U;
 
@@ -83,6 +87,7 @@ struct Slot {
   std::array<fdir::TmrRecord, kOutRing> own;  ///< the front's own outputs while starting
   std::uint32_t hello_mask;  ///< replicas that asked for a seed since the last one
   std::uint32_t seed_asked;  ///< jobs since a seed was asked (0: none pending)
+  bool resume_tmr;           ///< restarted while in TMR: start it again once caught up
 };
 
 std::array<Slot, bsp::kMaxTiles> g_slots{};
@@ -396,8 +401,13 @@ bool set_up(Slot& slot, const FilterTaskConfig& cfg) noexcept {
     return false;
   }
   slot.tmr = cfg.replica_tiles[0] != bsp::kNoTile ? tmr_area() : nullptr;
-  if (slot.tmr != nullptr) {
-    slot.tmr->control.mode = 0U;  // a (re)started front is simplex; the replicas go idle
+  if (slot.tmr != nullptr && slot.tmr->control.mode != 0U) {
+    // A front restarted while the group ran: simplex (the replicas go idle) until it has caught
+    // up from its checkpoint, then the TMR starts again from its state.
+    slot.tmr->control.mode = 0U;
+    slot.resume_tmr = true;
+    const auto job = static_cast<std::uint32_t>(bsp::now() / (std::uint64_t{kFilterPeriodTicks} * bsp::tick_cycles()));
+    fdir::report(fdir::EventId::kTmrSimplex, job, kTmrStopRestart);
   }
   slot.ckpt = cfg.checkpoint_every != 0U ? checkpoint_area() : nullptr;
   slot.ring = cfg.checkpoint_every != 0U ? imu_ring() : nullptr;
@@ -509,7 +519,7 @@ void compare_starting(Slot& slot, std::uint32_t v) noexcept {
     slot.tmr->control.ckpt_by = 0U;
     fdir::report(fdir::EventId::kTmrEstablished, v, slot.tmr->control.epoch, slot.job - slot.start_job);
   } else if (slot.job - slot.start_job > kStartJobs) {
-    stop_tmr(slot, 2U);
+    stop_tmr(slot, kTmrStopNotEstablished);
   }
 }
 
@@ -628,13 +638,14 @@ void filter_task_main(void* arg) noexcept {
     if (slot.mode == Mode::kSimplex) {
       run_own(slot);
       checkpoint(slot);
-      if (slot.command == kCmdFilterTmr) {
+      if (slot.command == kCmdFilterTmr || (slot.resume_tmr && !slot.catching_up)) {
+        slot.resume_tmr = false;
         start_tmr(slot);
       }
     } else {
       tmr_job(slot);
       if (slot.command == kCmdFilterSimplex && slot.mode == Mode::kStarting) {
-        stop_tmr(slot, 0U);
+        stop_tmr(slot, kTmrStopCommand);
       }
     }
     ++slot.stats.jobs;

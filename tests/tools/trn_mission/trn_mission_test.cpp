@@ -375,4 +375,23 @@ TEST_F(TrnMissionBinary, TmrOfTheFilterOutvotesExcludesAndReseedsFaultyReplicas)
   EXPECT_EQ(s["filter_output_mark_crc"], p["filter_output_mark_crc"]) << "the voted stream differs from the simplex one";
 }
 
+// The voter's own tile crashes while the group runs: the restarted filter says the TMR stopped,
+// resumes from the checkpoint a replica wrote, and starts the TMR again from its state.
+TEST_F(TrnMissionBinary, ARestartedVoterResumesAndStartsTheTmrAgain) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 10 --faults " + fixture("filter_tmr_front_reset.toml") + " --out " +
+                (dir_ / "fr").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "fr" / "summary.json");
+  const std::string log = read_text(dir_ / "fr" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 1);
+  EXPECT_EQ(s["mission_lost"], 0.0);
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+  EXPECT_NE(log.find("tmr_simplex: filter simplex again at job 800 (the filter restarted"), std::string::npos) << log;
+  EXPECT_NE(log.find("filter_resumed: filter resumed from checkpoint"), std::string::npos);
+  EXPECT_EQ(count_of(log, "tmr_established"), 2U) << "once on the command, once after the restart";
+  EXPECT_NE(log.find("(epoch 2)"), std::string::npos);
+  EXPECT_GT(s["tmr_voted_outputs"].get<double>(), 150.0) << "voted again from about 8.03 s (counts since the restart)";
+  EXPECT_EQ(s["tmr_no_majority"], 0.0);
+}
+
 }  // namespace
