@@ -28,6 +28,7 @@ enum class Mode : std::uint8_t {
   kSimplex,   ///< runs them itself
   kStarting,  ///< runs them itself and compares the replicas, seeded from its state, until they agree
   kTmr,       ///< the replicas run them; the front votes and delivers
+  kStopping,  ///< as kTmr, until a replica's state after the stop job is there to go on from alone
 };
 
 /** Outputs kept per replica (and the front's own while starting), by job. */
@@ -88,6 +89,11 @@ struct Slot {
   std::uint32_t hello_mask;  ///< replicas that asked for a seed since the last one
   std::uint32_t seed_asked;  ///< jobs since a seed was asked (0: none pending)
   bool resume_tmr;           ///< restarted while in TMR: start it again once caught up
+  std::uint32_t last_winner; ///< a replica that agreed with the last vote
+  std::uint32_t stop_job;    ///< stopping: the job after whose record a replica saves its state for the front
+  bool stop_voted;           ///< stopping: that job was voted, stop_digest is its state digest
+  std::uint32_t stop_digest;
+  bool stop_again;           ///< stopping: no good state came; ask again before the next record
 };
 
 std::array<Slot, bsp::kMaxTiles> g_slots{};
@@ -357,14 +363,14 @@ void deliver(Slot& slot, std::uint32_t job, std::span<const std::uint32_t, kNavW
   }
 }
 
-/** The front's own solution of this job, as words (and kept while starting, to compare). */
-void run_own(Slot& slot) noexcept {
-  core_run(slot.core, slot.record);
+/** The front's own solution of record @p rec, as words (and kept while starting, to compare). */
+void run_own(Slot& slot, const JobRecord& rec) noexcept {
+  core_run(slot.core, rec);
   std::array<std::uint32_t, kNavWords> w{};
   pack_nav(core_output(slot.core), w);
   if (slot.mode == Mode::kStarting) {
     fdir::TmrRecord& r = slot.own[slot.job % kOutRing];
-    r.job = slot.job;
+    r.job = record_job(rec);
     r.words = kVotedWords;
     for (std::uint32_t i = 0; i < kNavWords; ++i) {
       r.w[i] = w[i];
@@ -373,7 +379,7 @@ void run_own(Slot& slot) noexcept {
     r.w[kNavWords] = core_digest(slot.core, work);
     bsp::consume(work);
   }
-  deliver(slot, slot.job, w);
+  deliver(slot, record_job(rec), w);
 }
 
 /** Every checkpoint_every jobs (not while catching up): the whole state to DDR. */
@@ -581,6 +587,14 @@ void vote(Slot& slot, std::uint32_t v) noexcept {
   readmit(slot, voted, v);
   ++slot.stats.tmr_jobs;
   deliver(slot, v, std::span<const std::uint32_t, kNavWords>(voted.w.data(), kNavWords));
+  slot.last_winner = res.winner;
+  if (slot.mode == Mode::kStopping && v == slot.stop_job) {
+    slot.stop_voted = true;
+    slot.stop_digest = voted.w[kNavWords];
+  }
+  if (slot.mode == Mode::kStopping) {
+    return;  // the seed area is the front's until it is simplex again
+  }
   // A replica that asked for a seed (rebooted, or excluded) gets one from the voted state.
   const std::uint32_t waiting = slot.hello_mask & ~slot.group.active_mask();
   TmrControl& c = slot.tmr->control;
@@ -598,11 +612,63 @@ void vote(Slot& slot, std::uint32_t v) noexcept {
   }
 }
 
+/**
+ * Back to simplex, on command: the replica that agreed with the last vote
+ * saves its state after this job's record for the front (asked before the
+ * record is written, so the replica that runs it sees the request).
+ */
+void begin_stop(Slot& slot) noexcept {
+  TmrControl& c = slot.tmr->control;
+  c.seed_for = kFrontBit;
+  c.seed_job = slot.job;
+  c.seed_by = slot.last_winner;
+  slot.stop_job = slot.job;
+  slot.stop_voted = false;
+  slot.stop_again = false;
+  slot.mode = Mode::kStopping;
+}
+
+/**
+ * Once the stop job is voted: loads the replica's state after it if its
+ * digest is the voted one, runs the records written since (in the DDR ring)
+ * and delivers their solutions, and is simplex from this job on: no job
+ * missed, none twice. Without a good state in time it asks again.
+ */
+void finish_stop(Slot& slot, std::uint32_t voted_job) noexcept {
+  if (voted_job < slot.stop_job) {
+    return;
+  }
+  const TmrSeed& seed = slot.tmr->seed;
+  const bool good = slot.stop_voted && seed.job == slot.stop_job && (seed.for_mask & kFrontBit) != 0U &&
+                    seed.epoch == slot.tmr->control.epoch && tmr_seed_ok(seed) && seed.digest == slot.stop_digest;
+  bsp::Work work{};
+  if (!good || !core_load(slot.core, seed.image, work)) {
+    bsp::consume(work);
+    slot.stop_again = slot.job - slot.stop_job >= kOutRing;
+    return;
+  }
+  bsp::consume(work);
+  // The records after the stop job, this one last: the front's own state catches up with the stream.
+  for (std::uint32_t j = slot.stop_job + 1U; j < slot.job && j - slot.stop_job < kJobRingLen; ++j) {
+    const JobRecord& rec = slot.tmr->ring[j % kJobRingLen];
+    bsp::Work rw{};
+    const bool ok = record_ok(rec, j, rw);
+    bsp::consume(rw);
+    if (!ok) {
+      slot.stop_again = true;  // overwritten or damaged: the state cannot be brought up to date
+      return;
+    }
+    run_own(slot, rec);
+  }
+  run_own(slot, slot.record);
+  stop_tmr(slot, kTmrStopCommand);
+}
+
 /** One job of the front in TMR or starting TMR: the record to the ring, then the vote kVoteLag jobs back. */
 void tmr_job(Slot& slot) noexcept {
   drain_replicas(slot);
   const std::uint32_t v = slot.job >= kVoteLag ? slot.job - kVoteLag : 0U;
-  if (slot.mode == Mode::kTmr) {
+  if (slot.mode == Mode::kTmr || slot.mode == Mode::kStopping) {
     vote(slot, v);
   }
   // The control block is written before the record it names, so a replica that sees the record sees it.
@@ -612,8 +678,10 @@ void tmr_job(Slot& slot) noexcept {
   work.mem_words += kRecordWords;
   bsp::consume(work);
   if (slot.mode == Mode::kStarting) {
-    run_own(slot);
+    run_own(slot, slot.record);
     compare_starting(slot, v);
+  } else if (slot.mode == Mode::kStopping) {
+    finish_stop(slot, v);
   }
 }
 
@@ -636,13 +704,17 @@ void filter_task_main(void* arg) noexcept {
     consume_imu(slot);
     consume_parts(slot);
     if (slot.mode == Mode::kSimplex) {
-      run_own(slot);
+      run_own(slot, slot.record);
       checkpoint(slot);
       if (slot.command == kCmdFilterTmr || (slot.resume_tmr && !slot.catching_up)) {
         slot.resume_tmr = false;
         start_tmr(slot);
       }
     } else {
+      if ((slot.command == kCmdFilterSimplex && slot.mode == Mode::kTmr) ||
+          (slot.mode == Mode::kStopping && slot.stop_again)) {
+        begin_stop(slot);
+      }
       tmr_job(slot);
       if (slot.command == kCmdFilterSimplex && slot.mode == Mode::kStarting) {
         stop_tmr(slot, kTmrStopCommand);

@@ -375,6 +375,27 @@ TEST_F(TrnMissionBinary, TmrOfTheFilterOutvotesExcludesAndReseedsFaultyReplicas)
   EXPECT_EQ(s["filter_output_mark_crc"], p["filter_output_mark_crc"]) << "the voted stream differs from the simplex one";
 }
 
+// FDIR-TMR-03: simplex -> TMR -> simplex during the descent delivers the uninterrupted simplex
+// stream: every job once, in order, bit for bit (the front takes a replica's state after the stop
+// job, checked against the voted digest, and runs the records since), with no deadline missed.
+TEST_F(TrnMissionBinary, ASwitchToTmrAndBackDeliversTheSimplexStream) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 19.9 --faults " + fixture("filter_tmr_and_back.toml") + " --out " +
+                (dir_ / "back").string()),
+            0);
+  ASSERT_EQ(run(binary() + " --quiet --duration 19.9 --out " + (dir_ / "simplex").string()), 0);
+  const nlohmann::json s = read_json(dir_ / "back" / "summary.json");
+  const nlohmann::json p = read_json(dir_ / "simplex" / "summary.json");
+  const std::string log = read_text(dir_ / "back" / "events.log");
+  EXPECT_NE(log.find("tmr_established"), std::string::npos) << log;
+  EXPECT_NE(log.find("tmr_simplex: filter simplex again at job 1003 (command)"), std::string::npos) << log;
+  EXPECT_GT(s["tmr_voted_outputs"].get<double>(), 450.0);
+  EXPECT_EQ(s["filter_outputs_skipped"], 0.0);
+  EXPECT_EQ(s["filter_outputs_delivered"], p["filter_outputs_delivered"]) << "every job once";
+  EXPECT_EQ(s["filter_last_job"], p["filter_last_job"]);
+  EXPECT_EQ(s["filter_output_crc"], p["filter_output_crc"]) << "the same stream, job numbers and bytes";
+  EXPECT_EQ(s["deadline_misses"], 0);
+}
+
 // The voter's own tile crashes while the group runs: the restarted filter says the TMR stopped,
 // resumes from the checkpoint a replica wrote, and starts the TMR again from its state.
 TEST_F(TrnMissionBinary, ARestartedVoterResumesAndStartsTheTmrAgain) {
