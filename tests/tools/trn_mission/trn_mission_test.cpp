@@ -396,6 +396,26 @@ TEST_F(TrnMissionBinary, ASwitchToTmrAndBackDeliversTheSimplexStream) {
   EXPECT_EQ(s["deadline_misses"], 0);
 }
 
+// Two replicas corrupted in the same job: no majority, reported, and nothing delivered for that
+// job (one gap, never a wrong solution); the next job agrees again. The flight cannot tell which
+// replicas were wrong, so the join does not credit either upset (no event names their tiles).
+TEST_F(TrnMissionBinary, TwoCorruptedReplicasInOneJobAreNoMajorityAndNothingIsDelivered) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 9 --faults " + fixture("filter_tmr_two_sdc.toml") + " --out " +
+                (dir_ / "nm").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "nm" / "summary.json");
+  const std::string log = read_text(dir_ / "nm" / "events.log");
+  EXPECT_NE(log.find("tmr_no_majority: no majority at job 700 (different 0x7, missing 0x0): nothing delivered"),
+            std::string::npos)
+      << log;
+  EXPECT_EQ(s["tmr_no_majority"], 1.0);
+  EXPECT_EQ(s["filter_outputs_skipped"], 1.0) << "the one job without a majority";
+  EXPECT_EQ(count_of(log, "tmr_excluded"), 0U) << "one disagreement each: nobody excluded";
+  EXPECT_EQ(s["faults_injected"], 2);
+  EXPECT_EQ(s["faults_detected"], 0) << "detected as a group, not attributed to a tile";
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+}
+
 // The voter's own tile crashes while the group runs: the restarted filter says the TMR stopped,
 // resumes from the checkpoint a replica wrote, and starts the TMR again from its state.
 TEST_F(TrnMissionBinary, ARestartedVoterResumesAndStartsTheTmrAgain) {
