@@ -71,6 +71,7 @@ enum class EventId : std::uint16_t {
   kNoSpare = 0x0509,           ///< a role could not move (no spare left, or it would not switch on); subject: slot, cause: old tile
   kSelfTestMismatch = 0x050A,  ///< a tile was outvoted by two others in a self-test; subject: tile, cause: round, a: disagreements in a row, b: to retire
   kSelfTestAgree = 0x050B,     ///< an outvoted tile agrees again; subject: tile, cause: round, a: disagreements before
+  kSelfTestLate = 0x050C,      ///< a tile had not answered a self-test round at its wait (an answer before the next round still counts); subject: tile, cause: round, a: wait ticks
   // ---- navigation filter restarts (trn/tasks/filter_task)
   kFilterResumed = 0x0601,     ///< the filter started from a DDR checkpoint; subject: checkpoint number, a: IMU samples to replay, b: last sample it holds
   kCheckpointBad = 0x0602,     ///< a checkpoint slot failed its checks and is not used; subject: slot, a: bad slots
@@ -95,7 +96,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 48> kEventTable{{
+inline constexpr std::array<EventInfo, 49> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -132,6 +133,7 @@ inline constexpr std::array<EventInfo, 48> kEventTable{{
     {EventId::kNoSpare, "no_spare", Severity::kFatal, kStepNone},
     {EventId::kSelfTestMismatch, "self_test_mismatch", Severity::kWarningHi, kStepDetect},
     {EventId::kSelfTestAgree, "self_test_agree", Severity::kInfo, kStepRecover},
+    {EventId::kSelfTestLate, "self_test_late", Severity::kWarningLo, kStepNone},
     {EventId::kFilterResumed, "filter_resumed", Severity::kInfo, kStepRecover},
     {EventId::kCheckpointBad, "checkpoint_bad", Severity::kWarningHi, kStepDetect},
     {EventId::kImuGap, "imu_gap", Severity::kWarningHi, kStepDetect},

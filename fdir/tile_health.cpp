@@ -80,6 +80,7 @@ struct State {
   std::array<bsp::TileId, 3> tested{};
   std::array<std::uint32_t, 3> digest{};
   std::array<bool, 3> answered{};
+  bool late_ok = false;  ///< the last round closed without an answer: a late one still completes it
   std::array<std::uint32_t, bsp::kMaxTiles> disagreements{};  ///< rounds in a row a tile was outvoted
   std::array<std::uint64_t, udn::kRoleSlots> to_tell{};  ///< per slot: tiles still to be sent its latest move
   std::uint64_t map_to_tell = 0U;  ///< tiles that booted and are still to be sent the fault map
@@ -280,6 +281,7 @@ void open_round(State& s, bsp::TileId self) noexcept {
     s.answered = {false, false, false};
     ++s.round;
     s.round_open = true;
+    s.late_ok = false;
     s.round_at = k::now_ticks();
     const std::array<std::uint32_t, kSelfTestWords> w{kMsgSelfTest, s.round, 0x9E3779B9U * s.round};
     for (const bsp::TileId x : s.tested) {
@@ -289,12 +291,8 @@ void open_round(State& s, bsp::TileId self) noexcept {
   }
 }
 
-/** Votes a round: a tile outvoted by the two others disagrees; two that differ with a third missing decide nothing. */
-void close_round(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexcept {
-  s.round_open = false;
-  if (!(s.answered[0] && s.answered[1] && s.answered[2])) {
-    return;  // a silent tile is the watchdog's; no vote without three answers
-  }
+/** Votes a round with its three answers: a tile outvoted by the two others disagrees. */
+void vote_round(State& s, const TileHealthConfig& cfg) noexcept {
   ++s.view.self_tests;
   for (std::uint32_t i = 0; i < 3U; ++i) {
     const std::uint32_t j = (i + 1U) % 3U;
@@ -315,18 +313,42 @@ void close_round(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexce
       s.disagreements[t] = 0U;
     }
   }
-  (void)self;
 }
 
-void take_result(State& s, const udn::FtMessage& m) noexcept {
-  if (!s.round_open || m.data[2] != s.round) {
-    return;  // late: its round was voted without it
+/**
+ * Closes a round at its wait: voted with three answers; otherwise each tile
+ * that has not answered is reported (a busy tile answers late; a silent one is
+ * the watchdog's), and a late answer before the next round still completes
+ * the vote.
+ */
+void close_round(State& s, const TileHealthConfig& cfg) noexcept {
+  s.round_open = false;
+  if (s.answered[0] && s.answered[1] && s.answered[2]) {
+    vote_round(s, cfg);
+    return;
+  }
+  ++s.view.self_tests_late;
+  s.late_ok = true;
+  for (std::uint32_t i = 0; i < 3U; ++i) {
+    if (!s.answered[i]) {
+      report(EventId::kSelfTestLate, s.tested[i], s.round, cfg.self_test_wait_ticks);
+    }
+  }
+}
+
+void take_result(State& s, const TileHealthConfig& cfg, const udn::FtMessage& m) noexcept {
+  if (m.data[2] != s.round || (!s.round_open && !s.late_ok)) {
+    return;  // an older round's, or one voted already
   }
   for (std::uint32_t i = 0; i < 3U; ++i) {
     if (s.tested[i] == m.source && !s.answered[i]) {
       s.answered[i] = true;
       s.digest[i] = m.data[3];
     }
+  }
+  if (!s.round_open && s.answered[0] && s.answered[1] && s.answered[2]) {
+    s.late_ok = false;
+    vote_round(s, cfg);  // completed by a late answer
   }
 }
 
@@ -392,7 +414,7 @@ void take_expiries(State& s, const TileHealthConfig& cfg, bsp::TileId self) noex
 }
 
 /** Boot reports and self-test results waiting on the health channel. */
-void take_reports(State& s) noexcept {
+void take_reports(State& s, const TileHealthConfig& cfg) noexcept {
   udn::FtMessage m{};
   for (std::uint32_t i = 0; i < udn::kFtRxDepth && udn::endpoint_receive(udn::kFtChanHealth, m) == udn::FtError::kOk;
        ++i) {
@@ -402,7 +424,7 @@ void take_reports(State& s) noexcept {
     if (m.data_words == kBootedWords && m.data[0] == kMsgBooted) {
       on_booted(s, m.source, m.data[2]);
     } else if (m.data_words == kSelfTestResultWords && m.data[0] == kMsgSelfTestResult) {
-      take_result(s, m);
+      take_result(s, cfg, m);
     }
   }
 }
@@ -415,7 +437,7 @@ void run_self_tests(State& s, const TileHealthConfig& cfg, bsp::TileId self) noe
   const k::Ticks now = k::now_ticks();
   const bool all_in = s.round_open && s.answered[0] && s.answered[1] && s.answered[2];
   if (s.round_open && (all_in || now - s.round_at >= cfg.self_test_wait_ticks)) {
-    close_round(s, cfg, self);
+    close_round(s, cfg);
   }
   if (!s.round_open && now - s.round_at >= cfg.self_test_ticks) {
     open_round(s, self);
@@ -490,7 +512,7 @@ void tile_health_task_main(void* arg) noexcept {
   for (;;) {
     (void)s->expired.take(k::Timeout{cfg->poll_ticks});
     take_expiries(*s, *cfg, self);
-    take_reports(*s);
+    take_reports(*s, *cfg);
     check_timeouts(*s, *cfg);
     tell_moves(*s);
     run_self_tests(*s, *cfg, self);

@@ -28,8 +28,10 @@
  * sends it back. The digests are voted: a tile outvoted by the other two is
  * written (kSelfTestMismatch, detection) and, after disagreements_to_fail
  * rounds in a row, retired like a silent tile; a suspect that agrees again is
- * kSelfTestAgree (recovery). A tile that does not answer in time counts as
- * neither (the watchdog covers silence). A ping echo would pass a tile that
+ * kSelfTestAgree (recovery). A tile that has not answered at the round's
+ * wait is reported (kSelfTestLate: a busy tile, or a silent one, which the
+ * watchdog covers) and the round is voted if its answer still comes before
+ * the next round. A ping echo would pass a tile that
  * computes wrong; the vote does not.
  *
  * Retirement and spares: a tile past its reset cap (kActionCapped), or lost,
@@ -135,6 +137,7 @@ struct TileHealthView {
   std::uint64_t pending = 0U;    ///< tiles reset and not yet back
   std::uint64_t retired = 0U;    ///< tiles switched off and given up
   std::uint32_t self_tests = 0U; ///< rounds voted
+  std::uint32_t self_tests_late = 0U; ///< rounds closed at their wait without all three answers
   std::uint32_t mismatches = 0U; ///< tiles outvoted
   std::uint64_t spares = 0U;     ///< spares still free
 };

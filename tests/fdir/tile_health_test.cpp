@@ -6,6 +6,7 @@
 #include "fdir/tile_health.hpp"
 
 #include "bsp_tile64/board.hpp"
+#include "bsp_tile64/fault_injector.hpp"
 #include "bsp_tile64/udn_net.hpp"
 #include "fdir/event_log.hpp"
 #include "fdir/ft_sink.hpp"
@@ -190,6 +191,66 @@ TEST_F(TileHealth, TheSupervisorsOwnWatchdogResetsItsTile) {
   ASSERT_EQ(bsp::hang_tile(kB), bsp::BoardError::kOk);
   (void)bsp::run_for(400U * kTick);
   EXPECT_EQ(events_with(kSup, EventId::kTileReset, kB).size(), 1U);
+}
+
+/**
+ * Self-tests whose answers always miss the round's wait (1 tick: an answer takes an agent pass
+ * and a network crossing): every round is reported late for its three tiles, and the answers
+ * that still come before the next round are voted.
+ */
+class SelfTestLate : public ::testing::Test {
+ protected:
+  static constexpr bsp::TileId kC = 3;
+
+  void SetUp() override {
+    trn::tasks::ImageConfig image{};
+    ASSERT_EQ(udn::fault_map_init(image.endpoint.boot_map, bsp::kTile64.cols, bsp::kTile64.rows),
+              udn::RouteError::kOk);
+    image.endpoint.sink = fdir::ft_event_sink();
+    image.agent.supervisor = kSup;
+    image.tile_health.watched = (1ULL << kA) | (1ULL << kB) | (1ULL << kC);
+    image.tile_health.self_test_wait_ticks = 1U;
+    ASSERT_EQ(trn::tasks::configure_image(image), trn::tasks::ImageError::kOk);
+    bsp::BoardConfig cfg = bsp::default_config(bsp::kTile64);
+    cfg.powered_at_start = (1ULL << kSup) | (1ULL << kA) | (1ULL << kB) | (1ULL << kC);
+    cfg.monitor_tile = kSup;
+    cfg.boot_delay_cycles = kBootDelayTicks * kTick;
+    for (const bsp::TileId t : {kSup, kA, kB, kC}) {
+      cfg.boot[t] = &k::boot_entry;
+    }
+    k::set_task_table(kSup, trn::tasks::kSupervisorRole, kTick);
+    for (const bsp::TileId t : {kA, kB, kC}) {
+      k::set_task_table(t, kWorkerTable, kTick);
+    }
+    ASSERT_EQ(bsp::region_reset(bsp::Region{bsp::Region::kDdr}), bsp::MemError::kOk);
+    ASSERT_EQ(bsp::board_init(cfg), bsp::BoardError::kOk);
+    ASSERT_EQ(bsp::udn_net_init(bsp::NetConfig{}), bsp::NetError::kOk);
+    ASSERT_EQ(fdir::event_log_init(), fdir::LogError::kOk);
+  }
+};
+
+TEST_F(SelfTestLate, LateAnswersAreReportedAndStillVoted) {
+  (void)bsp::run_for(600U * kTick);
+  const fdir::TileHealthView v = fdir::tile_health_view(kSup);
+  EXPECT_GE(v.self_tests_late, 5U) << "every round misses a 1-tick wait";
+  EXPECT_GE(v.self_tests, 5U) << "the late answers complete their rounds";
+  EXPECT_EQ(v.mismatches, 0U);
+  EXPECT_FALSE(events_with(kSup, EventId::kSelfTestLate, kB).empty());
+}
+
+TEST_F(SelfTestLate, AWrongDigestThatComesLateIsStillOutvoted) {
+  (void)bsp::run_for(200U * kTick);
+  bsp::FaultSpec sdc{};
+  sdc.cycle = bsp::board_time() + kTick;
+  sdc.kind = bsp::FaultKind::kSdc;
+  sdc.tile = kB;
+  sdc.channel = fdir::kSelfTestChannel;
+  ASSERT_EQ(bsp::fault_plan_add(sdc), bsp::FaultError::kOk);
+  (void)bsp::run_for(300U * kTick);
+  const auto outvoted = events_with(kSup, EventId::kSelfTestMismatch, kB);
+  ASSERT_EQ(outvoted.size(), 1U) << "a late answer used to be dropped with its round";
+  EXPECT_TRUE(events_with(kSup, EventId::kSelfTestMismatch, kA).empty());
+  EXPECT_TRUE(events_with(kSup, EventId::kSelfTestMismatch, kC).empty());
 }
 
 TEST(SelfTestKernel, EveryTileComputesTheSameDigestForASeed) {

@@ -3,24 +3,75 @@
 # @brief Runs every GoogleTest binary, then prints one line: "tests: N passed, N failed".
 #
 # Usage: run_tests.sh RESULTS_DIR TEST_BINARY...
-# Counts come from each binary's XML report. A binary that dies without a
-# report counts as one failure. Exit status is non-zero on any failure.
+# Binaries run TEST_JOBS at a time (default: the machine's CPUs); the mission
+# suite, which flies whole descents, is split into GoogleTest shards so both
+# cores fly. Every test is deterministic (emulated time only), so running them
+# side by side changes nothing but the wall time. Each binary's output is
+# printed in the order given once all have run. Counts come from each job's
+# XML report. A binary that dies without a report counts as one failure.
+# Exit status is non-zero on any failure.
 set -uo pipefail
 results=$1; shift
 mkdir -p "$results"
-passed=0; failed=0; skipped=0; broken=()
+jobs=${TEST_JOBS:-$(nproc 2>/dev/null || echo 1)}
+[ "$jobs" -ge 1 ] 2>/dev/null || jobs=1
+
+shards_of() {  # shards_of BINARY: how many shards its tests are split into
+  case "$(basename "$1")" in
+    tools_trn_mission_tests) echo 4 ;;
+    *) echo 1 ;;
+  esac
+}
 
 attr() {  # attr NAME FILE: value of NAME on the root <testsuites> element
   sed -n 's/.*<testsuites[^>]*[[:space:]]'"$1"'="\([0-9]*\)".*/\1/p' "$2" | head -n1
 }
 
+# The jobs: one per binary, or one per shard.
+bins=(); shard=(); total=()
 for bin in "$@"; do
-  name=$(basename "$bin")
-  xml="$results/$name.xml"
-  rm -f "$xml"
-  echo "=== $name"
-  "$bin" --gtest_output="xml:$xml" --gtest_brief=1 2>&1 | tail -n 200
-  rc=${PIPESTATUS[0]}
+  n=$(shards_of "$bin")
+  for ((s = 0; s < n; s++)); do
+    bins+=("$bin"); shard+=("$s"); total+=("$n")
+  done
+done
+
+run_job() {  # run_job INDEX: runs one job, its output, report and status under $results/INDEX-NAME.*
+  local k=$1 bin=${bins[$1]} tag
+  tag="$k-$(basename "$bin")"
+  rm -f "$results/$tag.xml" "$results/$tag.rc"
+  if [ "${total[$k]}" -gt 1 ]; then
+    GTEST_TOTAL_SHARDS=${total[$k]} GTEST_SHARD_INDEX=${shard[$k]} \
+      "$bin" --gtest_output="xml:$results/$tag.xml" --gtest_brief=1 > "$results/$tag.log" 2>&1
+  else
+    "$bin" --gtest_output="xml:$results/$tag.xml" --gtest_brief=1 > "$results/$tag.log" 2>&1
+  fi
+  echo $? > "$results/$tag.rc"
+}
+
+running=0
+for ((k = 0; k < ${#bins[@]}; k++)); do
+  run_job "$k" &
+  running=$((running + 1))
+  if [ "$running" -ge "$jobs" ]; then
+    wait -n
+    running=$((running - 1))
+  fi
+done
+wait
+
+passed=0; failed=0; skipped=0; broken=()
+for ((k = 0; k < ${#bins[@]}; k++)); do
+  name=$(basename "${bins[$k]}")
+  tag="$k-$name"
+  xml="$results/$tag.xml"
+  if [ "${total[$k]}" -gt 1 ]; then
+    echo "=== $name (shard $((shard[k] + 1)) of ${total[$k]})"
+  else
+    echo "=== $name"
+  fi
+  tail -n 200 "$results/$tag.log"
+  rc=$(cat "$results/$tag.rc" 2>/dev/null || echo 255)
   if [ ! -s "$xml" ]; then
     echo "!!! $name exited with status $rc and wrote no report"
     failed=$((failed + 1)); broken+=("$name"); continue

@@ -227,6 +227,10 @@ void describe_health_event(const fdir::Event& e, const char* s, std::span<char> 
     case EventId::kSelfTestAgree:
       (void)std::snprintf(b.data(), b.size(), "tile %s agrees again in self-test round %u", s, e.cause);
       break;
+    case EventId::kSelfTestLate:
+      (void)std::snprintf(b.data(), b.size(), "tile %s had not answered self-test round %u after %u ticks (voted "
+                          "if it answers before the next round)", s, e.cause, e.a);
+      break;
     case EventId::kFilterResumed:
       (void)std::snprintf(b.data(), b.size(), "filter resumed from checkpoint %s (IMU sample %u), %u samples to "
                           "replay from the I/O record", s, e.b, e.a);
