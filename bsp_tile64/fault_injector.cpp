@@ -88,10 +88,30 @@ bool draw_seu_offset(TileId tile, Rng& rng, std::uint64_t& offset) noexcept {
   return false;
 }
 
+/** The carve of @p tile named @p name: its start and size; false if the tile has none by that name. */
+bool find_carve(TileId tile, const std::array<char, kCarveNameMax>& name, std::size_t& start, std::size_t& bytes) noexcept {
+  for (const CarveRecord& c : region_carves(Region{tile})) {
+    if (c.what != nullptr && std::strncmp(c.what, name.data(), kCarveNameMax) == 0) {
+      start = c.offset;
+      bytes = c.bytes;
+      return true;
+    }
+  }
+  return false;
+}
+
 FaultStatus apply_seu(FaultRecord& r, Rng& rng) noexcept {
   const std::span<std::byte> ram = region_span(Region{r.spec.tile});
   std::uint64_t offset = r.spec.offset;
-  if (offset == kRandomOffset) {
+  if (r.spec.carve[0] != '\0') {
+    std::size_t start = 0U;
+    std::size_t bytes = 0U;
+    if (!find_carve(r.spec.tile, r.spec.carve, start, bytes) || bytes == 0U ||
+        (offset != kRandomOffset && offset >= bytes)) {
+      return FaultStatus::kSkipped;
+    }
+    offset = start + (offset == kRandomOffset ? rng.below(bytes) : offset);
+  } else if (offset == kRandomOffset) {
     if (!draw_seu_offset(r.spec.tile, rng, offset)) {
       return FaultStatus::kSkipped;
     }

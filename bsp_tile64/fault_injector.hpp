@@ -23,6 +23,7 @@
 #include "bsp_tile64/port.hpp"
 #include "bsp_tile64/rng.hpp"
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -50,6 +51,8 @@ inline constexpr std::uint32_t kAnyChannel = 0xFFFF'FFFFU;
 inline constexpr std::size_t kFaultPlanCapacity = 256U;
 inline constexpr std::size_t kFaultLogCapacity = 1024U;
 inline constexpr std::size_t kMaxArmedSdc = 16U;
+/** Longest carve name an SEU can aim at, terminator included. */
+inline constexpr std::size_t kCarveNameMax = 24U;
 
 /** One fault to inject. */
 struct FaultSpec {
@@ -60,6 +63,12 @@ struct FaultSpec {
   std::uint64_t offset = kRandomOffset; ///< SEU: byte offset in the tile's region; network: word index
   std::uint32_t bit = kRandomBit;   ///< SEU: bit 0..7 of the byte; SDC: bit of the value; network: bit of the word
   std::uint64_t param = 0U;         ///< kind-specific (network kinds)
+  /**
+   * SEU: the named carve of the tile's RAM it hits (bsp::region_carves, e.g.
+   * "ekf"); offset then counts from the carve's start (random: anywhere in it).
+   * Empty: the whole RAM. A carve the tile does not have: skipped.
+   */
+  std::array<char, kCarveNameMax> carve{};
 };
 
 enum class FaultStatus : std::uint8_t {

@@ -15,6 +15,7 @@
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <span>
 #include <vector>
@@ -112,6 +113,61 @@ TEST(FaultInjector, PlannedSeuFlipsTheChosenBitForEveryBitPosition) {
     EXPECT_EQ(static_cast<unsigned>(g_data[0][std::size_t{10U} * bit]), 0x3CU ^ (1U << bit)) << "bit " << bit;
     EXPECT_EQ(bsp::fault_log()[bit].bit, bit);
   }
+}
+
+TEST(FaultInjector, AnSeuAimedAtACarveLandsInIt) {
+  g_data.fill(nullptr);
+  ASSERT_EQ(bsp::board_init(data_config(1U)), bsp::BoardError::kOk);
+  bsp::run_for(1000U);
+  ASSERT_NE(g_data[0], nullptr);
+  const std::size_t base = static_cast<std::size_t>(g_data[0] - bsp::region_span(bsp::Region{0}).data());
+  constexpr std::uint32_t kDraws = 40U;
+  for (std::uint32_t i = 0; i < kDraws; ++i) {
+    FaultSpec s{};
+    s.cycle = 2000U + 50U * i;
+    s.kind = FaultKind::kSeu;
+    std::snprintf(s.carve.data(), s.carve.size(), "data");  // random offset inside it
+    ASSERT_EQ(bsp::fault_plan_add(s), bsp::FaultError::kOk);
+  }
+  FaultSpec fixed{};
+  fixed.cycle = 5000U;
+  fixed.kind = FaultKind::kSeu;
+  fixed.offset = 100U;  // counted from the carve's start
+  fixed.bit = 3U;
+  std::snprintf(fixed.carve.data(), fixed.carve.size(), "data");
+  ASSERT_EQ(bsp::fault_plan_add(fixed), bsp::FaultError::kOk);
+  bsp::run_for(6000U);
+  ASSERT_EQ(bsp::fault_log().size(), kDraws + 1U);
+  for (const bsp::FaultRecord& r : bsp::fault_log()) {
+    ASSERT_EQ(r.status, FaultStatus::kApplied);
+    EXPECT_GE(r.offset, base);
+    EXPECT_LT(r.offset, base + kDataBytes) << "inside the carve";
+  }
+  EXPECT_EQ(bsp::fault_log()[kDraws].offset, base + 100U);
+  EXPECT_EQ(bsp::fault_log()[kDraws].bit, 3U);
+}
+
+TEST(FaultInjector, AnSeuAimedAtACarveTheTileLacksOrPastItsEndIsSkipped) {
+  g_data.fill(nullptr);
+  ASSERT_EQ(bsp::board_init(data_config(1U)), bsp::BoardError::kOk);
+  bsp::run_for(1000U);
+  std::array<std::byte, kDataBytes> before{};
+  std::memcpy(before.data(), g_data[0], kDataBytes);
+  FaultSpec none{};
+  none.cycle = 2000U;
+  none.kind = FaultKind::kSeu;
+  std::snprintf(none.carve.data(), none.carve.size(), "no such carve");
+  ASSERT_EQ(bsp::fault_plan_add(none), bsp::FaultError::kOk);
+  FaultSpec past = none;
+  past.cycle = 2100U;
+  past.offset = kDataBytes;
+  std::snprintf(past.carve.data(), past.carve.size(), "data");
+  ASSERT_EQ(bsp::fault_plan_add(past), bsp::FaultError::kOk);
+  bsp::run_for(3000U);
+  ASSERT_EQ(bsp::fault_log().size(), 2U);
+  EXPECT_EQ(bsp::fault_log()[0].status, FaultStatus::kSkipped);
+  EXPECT_EQ(bsp::fault_log()[1].status, FaultStatus::kSkipped);
+  EXPECT_TRUE(diff_bits(before, {g_data[0], kDataBytes}).empty()) << "nothing flipped";
 }
 
 TEST(FaultInjector, PlanIsAppliedInTimeOrderWhateverTheInsertionOrder) {

@@ -41,23 +41,23 @@ constexpr std::array<const char*, bsp::kUdnDirs> kDirNames = {"east", "west", "n
 
 /** The keys of one kind beyond t_s, kind and tile. */
 struct KindKeys {
-  std::array<const char*, 2> keys;
+  std::array<const char*, 3> keys;
 };
 
 // Indexed by bsp::FaultKind; nullptr ends a list.
 constexpr std::array<KindKeys, kFaultKinds> kKindKeys = {{
-    {{nullptr, nullptr}},        // core_hang
-    {{nullptr, nullptr}},        // core_reset
-    {{"channel", "bit"}},        // sdc
-    {{"offset", "bit"}},         // seu
-    {{nullptr, nullptr}},        // watchdog_fail
-    {{"word", "bit"}},           // packet_bit_flip
-    {{nullptr, nullptr}},        // switch_fail
-    {{"direction", nullptr}},    // link_fail
+    {{nullptr, nullptr, nullptr}},      // core_hang
+    {{nullptr, nullptr, nullptr}},      // core_reset
+    {{"channel", "bit", nullptr}},      // sdc
+    {{"offset", "bit", "carve"}},       // seu
+    {{nullptr, nullptr, nullptr}},      // watchdog_fail
+    {{"word", "bit", nullptr}},         // packet_bit_flip
+    {{nullptr, nullptr, nullptr}},      // switch_fail
+    {{"direction", nullptr, nullptr}},  // link_fail
 }};
 
-constexpr std::array<const char*, 9> kAllFaultKeys = {"t_s",    "kind", "tile", "channel", "offset",
-                                                      "word",   "bit",  "role", "instance"};
+constexpr std::array<const char*, 10> kAllFaultKeys = {"t_s",  "kind", "tile",     "channel", "offset",
+                                                       "word", "bit",  "role",     "instance", "carve"};
 
 /** Roles a plan can name (every role of the tile map but spare). */
 std::vector<trn::tasks::Role> plan_roles() {
@@ -206,6 +206,15 @@ std::string read_fault_key(const std::string& key, const toml::node& node, const
       return "unknown role \"" + r + "\" (allowed: " + role_list() + ")";
     }
     item.role = r;
+  } else if (key == "carve") {
+    if (!node.is_string()) {
+      return "wrong type: expected a string (a carve of the tile's RAM, as `make size` lists them)";
+    }
+    const std::string c = node.as_string()->get();
+    if (c.empty() || c.size() >= bsp::kCarveNameMax) {
+      return "carve name \"" + c + "\": 1 to " + std::to_string(bsp::kCarveNameMax - 1U) + " characters";
+    }
+    item.carve = c;
   } else if (key == "instance") {
     const trn::tasks::Role of = item.role == "filter_replica" ? trn::tasks::Role::kFilterReplica : trn::tasks::Role::kVision;
     e = read_int(node, 0, static_cast<std::int64_t>(trn::tasks::count_role(of)) - 1, v);
@@ -622,6 +631,7 @@ bool arm_fault_plan(const FaultPlan& plan, double clock_hz, std::string& error) 
     s.offset = it.offset;
     s.bit = it.bit;
     s.param = it.param;
+    (void)std::snprintf(s.carve.data(), s.carve.size(), "%s", it.carve.c_str());
     if (!it.role.empty()) {
       const std::optional<trn::tasks::Role> r = role_from_name(it.role);
       if (!r) {
@@ -685,6 +695,7 @@ std::string format_fault_plan(const FaultPlan& plan) {
         out += it.channel != bsp::kAnyChannel ? "channel = " + std::to_string(it.channel) + "\n" : "";
         break;
       case bsp::FaultKind::kSeu:
+        out += it.carve.empty() ? "" : "carve = " + toml_string(it.carve) + "\n";
         out += it.offset != bsp::kRandomOffset ? "offset = " + std::to_string(it.offset) + "\n" : "";
         break;
       case bsp::FaultKind::kPacketBitFlip:
@@ -725,6 +736,9 @@ std::string describe_fault(const bsp::FaultRecord& r) {
         (void)std::snprintf(buf.data(), buf.size(), " RAM offset 0x%llx bit %u",
                             static_cast<unsigned long long>(r.offset), r.bit);
         s += buf.data();
+      }
+      if (r.spec.carve[0] != '\0') {
+        s += " (in carve \"" + std::string(r.spec.carve.data()) + "\")";
       }
       break;
     case bsp::FaultKind::kSdc:

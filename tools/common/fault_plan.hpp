@@ -38,7 +38,8 @@ struct FaultPlanItem {
   bsp::FaultKind kind = bsp::FaultKind::kCoreHang;
   bsp::TileId tile = 0U;                      ///< target tile (packet_bit_flip: the sending tile)
   std::uint32_t channel = bsp::kAnyChannel;   ///< sdc: publication channel
-  std::uint64_t offset = bsp::kRandomOffset;  ///< seu: byte offset in the tile's RAM; packet_bit_flip: word index
+  std::uint64_t offset = bsp::kRandomOffset;  ///< seu: byte offset in the tile's RAM (or in its carve); packet_bit_flip: word index
+  std::string carve;                          ///< seu: the named carve it hits (empty: anywhere in the RAM)
   std::uint32_t bit = bsp::kRandomBit;        ///< seu: 0..7; sdc: bit of the value; packet_bit_flip: 0..31
   std::uint64_t param = 0U;                   ///< link_fail: direction (bsp::UdnDir)
   /**

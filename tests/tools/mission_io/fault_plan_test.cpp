@@ -56,7 +56,7 @@ bool same_items(const tools::FaultPlan& a, const tools::FaultPlan& b) {
     const tools::FaultPlanItem& x = a.items[i];
     const tools::FaultPlanItem& y = b.items[i];
     if (x.t_s != y.t_s || x.kind != y.kind || x.tile != y.tile || x.channel != y.channel || x.offset != y.offset ||
-        x.bit != y.bit || x.param != y.param || x.role != y.role || x.instance != y.instance) {
+        x.bit != y.bit || x.param != y.param || x.role != y.role || x.instance != y.instance || x.carve != y.carve) {
       return false;
     }
   }
@@ -129,6 +129,29 @@ TEST(FaultPlan, FormattedPlanParsesBackToTheSamePlan) {
   const tools::FaultPlanResult back = tools::parse_fault_plan(text, "<formatted>", kTiles, kDuration);
   ASSERT_TRUE(back.ok()) << back.error << "\n" << text;
   EXPECT_TRUE(same_items(p, *back.plan)) << text;
+}
+
+// An upset aimed at a carve of the tile's RAM (the filter's EKF here), offset counted from its start.
+TEST(FaultPlan, AnSeuCanNameACarve) {
+  const std::string text = "[[fault]]\nt_s = 1.0\nkind = \"seu\"\nrole = \"filter_replica\"\ninstance = 0\n"
+                           "carve = \"ekf\"\noffset = 512\nbit = 4\n";
+  const tools::FaultPlanResult r = tools::parse_fault_plan(text, "<carve>", kTiles, kDuration);
+  ASSERT_TRUE(r.ok()) << r.error;
+  ASSERT_EQ(r.plan->items.size(), 1U);
+  EXPECT_EQ(r.plan->items[0].carve, "ekf");
+  EXPECT_EQ(r.plan->items[0].offset, 512U);
+  const tools::FaultPlanResult back =
+      tools::parse_fault_plan(tools::format_fault_plan(*r.plan), "<formatted>", kTiles, kDuration);
+  ASSERT_TRUE(back.ok()) << back.error;
+  EXPECT_TRUE(same_items(*r.plan, *back.plan));
+  const tools::FaultPlanResult wrong = tools::parse_fault_plan(
+      "[[fault]]\nt_s = 1.0\nkind = \"sdc\"\ntile = 3\ncarve = \"ekf\"\n", "<sdc>", kTiles, kDuration);
+  EXPECT_FALSE(wrong.ok()) << "carve is an seu key only";
+  const tools::FaultPlanResult long_name = tools::parse_fault_plan(
+      "[[fault]]\nt_s = 1.0\nkind = \"seu\"\ntile = 3\ncarve = \"a name far too long for a carve\"\n", "<long>",
+      kTiles, kDuration);
+  ASSERT_FALSE(long_name.ok());
+  EXPECT_NE(long_name.error.find("1 to 23 characters"), std::string::npos) << long_name.error;
 }
 
 TEST(FaultPlan, DemoFileIsTheBuiltInDemoPlan) {
@@ -229,7 +252,7 @@ TEST(FaultPlanErrors, KeysOfOtherKindsAreRejected) {
             std::string::npos)
       << e;
   e = error_of("unknown_fault_key.toml");
-  EXPECT_NE(e.find("address: unknown key (allowed keys for seu: t_s, kind, tile or role (and instance), offset, bit)"),
+  EXPECT_NE(e.find("address: unknown key (allowed keys for seu: t_s, kind, tile or role (and instance), offset, bit, carve)"),
             std::string::npos)
       << e;
 }
