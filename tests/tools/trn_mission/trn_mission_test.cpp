@@ -416,6 +416,28 @@ TEST_F(TrnMissionBinary, TwoCorruptedReplicasInOneJobAreNoMajorityAndNothingIsDe
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
 }
 
+// FDIR-TMR-04: an upset in a replica's live state (aimed at its EKF carve) is caught by the state
+// digest at the next job; the replica is excluded and re-seeded; the delivered stream stays the
+// simplex one, bit for bit.
+TEST_F(TrnMissionBinary, AnUpsetInAReplicasStateIsCaughtByItsDigestAndReseeded) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 15 --faults " + fixture("filter_tmr_seu_ekf.toml") + " --out " +
+                (dir_ / "seu").string()),
+            0);
+  ASSERT_EQ(run(binary() + " --quiet --duration 14.9 --out " + (dir_ / "simplex").string()), 0);
+  const nlohmann::json s = read_json(dir_ / "seu" / "summary.json");
+  const nlohmann::json p = read_json(dir_ / "simplex" / "summary.json");
+  const std::string log = read_text(dir_ / "seu" / "events.log");
+  EXPECT_EQ(s["faults_injected"], 4);
+  EXPECT_EQ(s["faults_detected"], 4) << log;
+  EXPECT_EQ(s["faults_recovered"], 4);
+  EXPECT_EQ(count_of(log, "(in carve \"ekf\") (planned) -> detected by tile 18 (tmr_outvoted)"), 4U) << log;
+  EXPECT_EQ(s["tmr_exclusions"], 4.0);
+  EXPECT_EQ(s["tmr_resyncs"], 4.0);
+  EXPECT_EQ(s["tmr_no_majority"], 0.0);
+  EXPECT_EQ(s["filter_output_mark_job"], 1399.0);
+  EXPECT_EQ(s["filter_output_mark_crc"], p["filter_output_mark_crc"]) << "nothing of the upsets was delivered";
+}
+
 // The voter's own tile crashes while the group runs: the restarted filter says the TMR stopped,
 // resumes from the checkpoint a replica wrote, and starts the TMR again from its state.
 TEST_F(TrnMissionBinary, ARestartedVoterResumesAndStartsTheTmrAgain) {
