@@ -438,6 +438,27 @@ TEST_F(TrnMissionBinary, AnUpsetInAReplicasStateIsCaughtByItsDigestAndReseeded) 
   EXPECT_EQ(s["filter_output_mark_crc"], p["filter_output_mark_crc"]) << "nothing of the upsets was delivered";
 }
 
+// The voter is no more a single point of failure than any role: hung four times, it is reset three
+// times and then moved to a spare like any role, and each time the TMR starts again from the
+// resumed state (the solutions it held when it hung are lost: the output gap stays at 0.1 s).
+TEST_F(TrnMissionBinary, AHungVoterIsResetThenMovedAndTheTmrFollowsIt) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 26 --faults " + fixture("filter_tmr_voter_hang_four.toml") +
+                " --out " + (dir_ / "vh").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "vh" / "summary.json");
+  const std::string log = read_text(dir_ / "vh" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 4);
+  EXPECT_EQ(s["faults_recovered"], 4);
+  EXPECT_NE(log.find("role_moved: role slot 2 moves from retired tile 18 to spare 10"), std::string::npos) << log;
+  EXPECT_EQ(count_of(log, "(the filter restarted: TMR again once it has caught up)"), 4U);
+  EXPECT_EQ(count_of(log, "tmr_established"), 5U) << "on the command, then after each restart";
+  EXPECT_NE(log.find("tile 10  tmr_established"), std::string::npos) << "the voter on the spare";
+  EXPECT_EQ(s["filter_tile"], 10);
+  EXPECT_EQ(s["mission_lost"], 0.0);
+  EXPECT_LT(s["nav_longest_gap_s"].get<double>(), 0.2);
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+}
+
 // The voter's own tile crashes while the group runs: the restarted filter says the TMR stopped,
 // resumes from the checkpoint a replica wrote, and starts the TMR again from its state.
 TEST_F(TrnMissionBinary, ARestartedVoterResumesAndStartsTheTmrAgain) {
