@@ -459,6 +459,23 @@ TEST_F(TrnMissionBinary, AHungVoterIsResetThenMovedAndTheTmrFollowsIt) {
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
 }
 
+// A replica hung past the reset cap: its tile is retired, the replica role moves to a spare and
+// the TMR is re-established there from the voted state.
+TEST_F(TrnMissionBinary, AReplicaHungFourTimesIsReseededOnASpare) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 22 --faults " + fixture("filter_tmr_replica_hang_four.toml") +
+                " --out " + (dir_ / "rh").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "rh" / "summary.json");
+  const std::string log = read_text(dir_ / "rh" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 4);
+  EXPECT_EQ(s["faults_recovered"], 4);
+  EXPECT_NE(log.find("role_moved: role slot 5 moves from retired tile 21 to spare 13"), std::string::npos) << log;
+  EXPECT_NE(log.find("tmr_resynced: replica 2 on tile 13 seeded with the voted state"), std::string::npos);
+  EXPECT_EQ(s["tmr_no_majority"], 0.0);
+  EXPECT_EQ(s["filter_outputs_skipped"], 0.0);
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+}
+
 // The voter's own tile crashes while the group runs: the restarted filter says the TMR stopped,
 // resumes from the checkpoint a replica wrote, and starts the TMR again from its state.
 TEST_F(TrnMissionBinary, ARestartedVoterResumesAndStartsTheTmrAgain) {
