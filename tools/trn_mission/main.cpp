@@ -349,8 +349,10 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("coordinator_tile", trn::tasks::slot_tile_now(trn::tasks::kSlotCoordinator));
   s.extra.emplace_back("filter_tile", trn::tasks::slot_tile_now(trn::tasks::kSlotFilter));
   s.extra.emplace_back("coordinator_frames_processed", c.frames_processed);
-  // The filter role's delivered solutions, in job order (a simplex or a voted one alike), and its TMR counts.
+  // The filter role's delivered solutions, in job order (a simplex or a voted one alike), and its TMR counts:
+  // the flight's counters since the filter task last started (filter_counts_since_job; a restart clears them).
   const trn::tasks::FilterTaskStats f = trn::tasks::filter_task_stats(trn::tasks::slot_tile_now(trn::tasks::kSlotFilter));
+  s.extra.emplace_back("filter_counts_since_job", f.started_job);
   s.extra.emplace_back("filter_outputs_delivered", f.outputs_delivered);
   s.extra.emplace_back("filter_outputs_skipped", f.outputs_skipped);
   s.extra.emplace_back("filter_output_crc", f.output_crc);

@@ -696,6 +696,7 @@ void filter_task_main(void* arg) noexcept {
     return;
   }
   slot.job = static_cast<std::uint32_t>(bsp::now() / (std::uint64_t{kFilterPeriodTicks} * bsp::tick_cycles()));
+  slot.stats.started_job = slot.job;
   for (;;) {  // one pass per 10 ms release
     const bsp::Cycles start = bsp::now();
     slot.command = 0U;

@@ -99,6 +99,7 @@ struct FilterTaskStats {
   std::uint32_t outputs_skipped;   ///< jobs whose solution was never delivered (no majority, a gap)
   std::uint32_t output_crc;        ///< CRC-32C over the delivered solutions' job numbers and words
   std::uint32_t last_delivered_job;
+  std::uint32_t started_job;       ///< the job this task started at: every count here is since then (a restart clears them)
   std::uint32_t mark_job;          ///< the last delivered job j with (j + 1) % kOutputMarkJobs == 0
   std::uint32_t mark_crc;          ///< output_crc through it: two flights compare their streams up to a job
   std::uint32_t tmr_jobs;          ///< jobs whose delivered solution was voted

@@ -492,6 +492,7 @@ TEST_F(TrnMissionBinary, ARestartedVoterResumesAndStartsTheTmrAgain) {
   EXPECT_EQ(count_of(log, "tmr_established"), 2U) << "once on the command, once after the restart";
   EXPECT_NE(log.find("(epoch 2)"), std::string::npos);
   EXPECT_GT(s["tmr_voted_outputs"].get<double>(), 150.0) << "voted again from about 8.03 s (counts since the restart)";
+  EXPECT_EQ(s["filter_counts_since_job"], 800.0) << "the summary says the counts start at the restart";
   EXPECT_EQ(s["tmr_no_majority"], 0.0);
 }
 
