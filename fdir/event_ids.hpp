@@ -62,7 +62,7 @@ enum class EventId : std::uint16_t {
   // ---- core health (fdir/tile_health)
   kTaskOverdue = 0x0501,       ///< a task missed its check-in; subject: task id, cause: tile, a: ticks late, b: budget; the watchdog is no longer kicked
   kWatchdogExpired = 0x0502,   ///< the supervisor took a tile's watchdog interrupt; subject: tile, a: expiries so far
-  kTileReset = 0x0503,         ///< the supervisor reset a silent tile; subject: tile, a: resets of it, b: cap
+  kTileReset = 0x0503,         ///< a silent tile was reset; subject: tile, cause: 0 by the supervisor, 1 by the supervisor's watcher, a: resets of it, b: cap
   kTileRecovered = 0x0504,     ///< a reset tile booted its role again and reported; subject: tile, cause: boot cause, a: ticks since the reset
   kTileRebooted = 0x0505,      ///< a tile booted again without a command (crash); subject: tile, cause: boot cause
   kTileLost = 0x0506,          ///< a reset tile never reported back; subject: tile, a: ticks waited
@@ -72,6 +72,7 @@ enum class EventId : std::uint16_t {
   kSelfTestMismatch = 0x050A,  ///< a tile was outvoted by two others in a self-test; subject: tile, cause: round, a: disagreements in a row, b: to retire
   kSelfTestAgree = 0x050B,     ///< an outvoted tile agrees again; subject: tile, cause: round, a: disagreements before
   kSelfTestLate = 0x050C,      ///< a tile had not answered a self-test round at its wait (an answer before the next round still counts); subject: tile, cause: round, a: wait ticks
+  kSupervisorSilent = 0x050D,  ///< the watcher missed the supervisor's heartbeat; subject: supervisor tile, cause: watcher, a: ticks since the last, b: resets so far
   // ---- navigation filter restarts (trn/tasks/filter_task)
   kFilterResumed = 0x0601,     ///< the filter started from a DDR checkpoint; subject: checkpoint number, a: IMU samples to replay, b: last sample it holds
   kCheckpointBad = 0x0602,     ///< a checkpoint slot failed its checks and is not used; subject: slot, a: bad slots
@@ -96,7 +97,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 49> kEventTable{{
+inline constexpr std::array<EventInfo, 50> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -134,6 +135,7 @@ inline constexpr std::array<EventInfo, 49> kEventTable{{
     {EventId::kSelfTestMismatch, "self_test_mismatch", Severity::kWarningHi, kStepDetect},
     {EventId::kSelfTestAgree, "self_test_agree", Severity::kInfo, kStepRecover},
     {EventId::kSelfTestLate, "self_test_late", Severity::kWarningLo, kStepNone},
+    {EventId::kSupervisorSilent, "supervisor_silent", Severity::kWarningHi, kStepDetect},
     {EventId::kFilterResumed, "filter_resumed", Severity::kInfo, kStepRecover},
     {EventId::kCheckpointBad, "checkpoint_bad", Severity::kWarningHi, kStepDetect},
     {EventId::kImuGap, "imu_gap", Severity::kWarningHi, kStepDetect},

@@ -32,11 +32,43 @@ struct Overdue {
   std::uint32_t budget = 0U;
 };
 
-/** Answers the self-test requests waiting on the health channel (a few per pass). */
-void answer_self_tests(bsp::TileId self, bsp::TileId supervisor) noexcept {
+/** The watcher's view of the supervisor's heartbeat (its agent's, on the watcher's tile). */
+struct Watch {
+  k::Ticks last_alive = 0U;  ///< tick of the last heartbeat (the watcher's start before the first)
+  k::Ticks reset_at = 0U;
+  std::uint32_t resets = 0U;
+  bool pending = false;  ///< reset by the watcher, not heard since
+  bool silent = false;   ///< named silent, not heard since
+};
+
+/** A heartbeat of the supervisor's tile: a reset the watcher commanded is closed by it. */
+void take_alive(Watch& w, const udn::FtMessage& m, bsp::TileId supervisor) noexcept {
+  const k::Ticks now = k::now_ticks();
+  if (w.pending) {
+    report(EventId::kTileRecovered, supervisor, m.data[2],
+           static_cast<std::uint32_t>(now >= w.reset_at ? now - w.reset_at : 0U));
+  }
+  w.pending = false;
+  w.silent = false;
+  w.last_alive = now;
+}
+
+/**
+ * Takes the messages waiting on the health channel (a few per pass): the
+ * supervisor's self-test requests, answered, and, on the watcher's tile, the
+ * supervisor tile's heartbeats.
+ */
+void take_agent_messages(bsp::TileId self, const HealthAgentConfig& cfg, Watch& watch) noexcept {
   udn::FtMessage m{};
   for (std::uint32_t i = 0; i < 2U && udn::endpoint_receive(udn::kFtChanHealth, m) == udn::FtError::kOk; ++i) {
-    if (m.data_words != kSelfTestWords || m.data[0] != kMsgSelfTest || m.source != supervisor) {
+    if (m.source != cfg.supervisor) {
+      continue;
+    }
+    if (m.data_words == kAliveWords && m.data[0] == kMsgAlive && cfg.watcher == self) {
+      take_alive(watch, m, cfg.supervisor);
+      continue;
+    }
+    if (m.data_words != kSelfTestWords || m.data[0] != kMsgSelfTest) {
       continue;
     }
     bsp::Work work{};
@@ -44,8 +76,36 @@ void answer_self_tests(bsp::TileId self, bsp::TileId supervisor) noexcept {
     bsp::consume(work);
     (void)bsp::publish_filter(kSelfTestChannel, &digest, sizeof digest);
     const std::array<std::uint32_t, kSelfTestResultWords> w{kMsgSelfTestResult, self, m.data[1], digest};
-    (void)udn::endpoint_send(supervisor, udn::kFtChanHealth, w, 0U);  // a lost answer is a missing vote
+    (void)udn::endpoint_send(cfg.supervisor, udn::kFtChanHealth, w, 0U);  // a lost answer is a missing vote
   }
+}
+
+/**
+ * The watcher's check: a heartbeat missing past its timeout names the
+ * supervisor's tile once and resets it, under the cap; the next heartbeat
+ * closes the recovery (take_alive).
+ */
+void watch_supervisor(Watch& w, const HealthAgentConfig& cfg, bsp::TileId self) noexcept {
+  const k::Ticks now = k::now_ticks();
+  const k::Ticks since = now >= w.last_alive ? now - w.last_alive : 0U;
+  if (since <= cfg.watcher_timeout_ticks || w.silent) {
+    return;
+  }
+  w.silent = true;
+  report(EventId::kSupervisorSilent, cfg.supervisor, self, static_cast<std::uint32_t>(since), w.resets);
+  if (w.resets >= cfg.max_watcher_resets) {
+    report(EventId::kActionCapped, cfg.supervisor, self, w.resets);
+    return;
+  }
+  if (bsp::reset_tile(cfg.supervisor) != bsp::BoardError::kOk) {
+    report(EventId::kTileLost, cfg.supervisor, self);
+    return;
+  }
+  ++w.resets;
+  w.pending = true;
+  w.reset_at = now;
+  w.last_alive = now;  // its boot and first heartbeat get a whole timeout again
+  report(EventId::kTileReset, cfg.supervisor, 1U, w.resets, cfg.max_watcher_resets);
 }
 
 Overdue find_overdue(bsp::TileId self, k::Ticks now) noexcept {
@@ -460,11 +520,20 @@ void health_agent_main(void* arg) noexcept {
   bool reported = cfg->supervisor == bsp::kNoTile || own_supervisor;
   bool overdue_written = false;
   const std::array<std::uint32_t, kBootedWords> boot{kMsgBooted, self, static_cast<std::uint32_t>(cause)};
+  const std::array<std::uint32_t, kAliveWords> alive{kMsgAlive, self, static_cast<std::uint32_t>(cause)};
+  const bool sends_alive = own_supervisor && cfg->watcher < bsp::kMaxTiles && cfg->watcher != self;
+  const bool watches = cfg->watcher == self && cfg->supervisor < bsp::kMaxTiles && !own_supervisor;
+  Watch watch{};
+  watch.last_alive = k::now_ticks();
   for (;;) {
     const Overdue o = find_overdue(self, k::now_ticks());
     if (o.task == k::kNoTask) {
       bsp::watchdog_kick();
       overdue_written = false;
+      // The remote kick: the watcher hears it only while the supervisor's tasks are within budget.
+      if (sends_alive && udn::endpoint_ready()) {
+        (void)udn::endpoint_send(cfg->watcher, udn::kFtChanHealth, alive, 0U);  // a lost one is a late one
+      }
     } else if (!overdue_written) {
       report(EventId::kTaskOverdue, o.task, self, o.late, o.budget);
       overdue_written = true;
@@ -474,7 +543,10 @@ void health_agent_main(void* arg) noexcept {
       reported = udn::endpoint_send(cfg->supervisor, udn::kFtChanHealth, boot, 0U) == udn::FtError::kOk;
     }
     if (!own_supervisor && cfg->supervisor != bsp::kNoTile && udn::endpoint_ready()) {
-      answer_self_tests(self, cfg->supervisor);
+      take_agent_messages(self, *cfg, watch);
+    }
+    if (watches) {
+      watch_supervisor(watch, *cfg, self);
     }
     (void)k::wait_period();
   }

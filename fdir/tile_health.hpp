@@ -48,7 +48,16 @@
  *
  * The supervisor's own tile has no monitor above it on the board: its agent
  * arms the hardware watchdog with reset on expiry, and the supervisor writes
- * kTileRebooted about itself when it starts after such a reset.
+ * kTileRebooted about itself when it starts after such a reset. A second
+ * tile watches it too, so the watcher is never alone (a hung supervisor whose
+ * own watchdog failed would otherwise go unnoticed): the agent of the
+ * supervisor's tile sends that tile a heartbeat (kMsgAlive) each time it kicks
+ * its own watchdog, that is while every watched task of the supervisor's tile
+ * is within budget. The watcher's agent names a heartbeat missing for
+ * watcher_timeout_ticks (kSupervisorSilent), resets the supervisor's tile
+ * (kTileReset, at most max_watcher_resets over the mission) and writes
+ * kTileRecovered at the first heartbeat after. The supervisor watches the
+ * watcher like every other tile.
  */
 #pragma once
 
@@ -70,6 +79,9 @@ inline constexpr std::uint32_t kMsgSelfTest = 0x53545251U;  // "STRQ"
 inline constexpr std::uint32_t kMsgSelfTestResult = 0x53545253U;  // "STRS"
 inline constexpr std::uint32_t kSelfTestWords = 3U;
 inline constexpr std::uint32_t kSelfTestResultWords = 4U;
+/** Heartbeat of the supervisor's tile (its agent -> the watcher, kFtChanHealth): [0] kMsgAlive [1] tile [2] bsp::BootCause. */
+inline constexpr std::uint32_t kMsgAlive = 0x414C5645U;  // "ALVE"
+inline constexpr std::uint32_t kAliveWords = 3U;
 /** Publication channel of a self-test digest (bsp::publish_filter: where corrupted outputs are injected). */
 inline constexpr std::uint32_t kSelfTestChannel = 7U;
 
@@ -85,6 +97,10 @@ std::uint32_t self_test_kernel(std::uint32_t seed, bsp::Work& work) noexcept;
 struct HealthAgentConfig {
   bsp::TileId supervisor = bsp::kNoTile;  ///< tile of the tile-health supervisor (boot reports, watchdog monitor)
   std::uint32_t watchdog_ticks = 20U;     ///< hardware watchdog timeout (>= 2 agent periods)
+  bsp::TileId watcher = bsp::kNoTile;     ///< tile whose agent watches the supervisor's tile (kNoTile: none)
+  /** A supervisor heartbeat missing this long is named and its tile reset (> watchdog_ticks + a boot). */
+  std::uint32_t watcher_timeout_ticks = 40U;
+  std::uint32_t max_watcher_resets = 3U;  ///< resets of the supervisor's tile by the watcher over the mission
 };
 
 /** Agent period: it looks at the check-ins and kicks every this many ticks. */

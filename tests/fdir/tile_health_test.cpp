@@ -78,6 +78,7 @@ class TileHealth : public ::testing::Test {
               udn::RouteError::kOk);
     image.endpoint.sink = fdir::ft_event_sink();
     image.agent.supervisor = kSup;
+    image.agent.watcher = kB;  // the supervisor's tile is watched by tile B's agent
     image.tile_health.watched = (1ULL << kA) | (1ULL << kB);
     ASSERT_EQ(trn::tasks::configure_image(image), trn::tasks::ImageError::kOk);
     bsp::BoardConfig cfg = bsp::default_config(bsp::kTile64);
@@ -107,6 +108,7 @@ TEST_F(TileHealth, AQuietBoardRaisesNothing) {
   for (const bsp::TileId t : {kSup, kA, kB}) {
     EXPECT_EQ(bsp::tile_stats(t).watchdog_expiries, 0U) << "tile " << t;
   }
+  EXPECT_TRUE(events_with(kB, EventId::kSupervisorSilent, kSup).empty()) << "the heartbeat is heard";
 }
 
 TEST_F(TileHealth, AHungTileIsNamedResetAndReportsBack) {
@@ -187,10 +189,51 @@ TEST_F(TileHealth, TheSupervisorsOwnWatchdogResetsItsTile) {
   const auto rebooted = events_with(kSup, EventId::kTileRebooted, kSup);
   ASSERT_EQ(rebooted.size(), 1U);
   EXPECT_EQ(rebooted[0].cause, static_cast<std::uint32_t>(bsp::BootCause::kWatchdog));
+  // Its own watchdog and boot come well within the watcher's timeout: one reset, not two.
+  EXPECT_TRUE(events_with(kB, EventId::kSupervisorSilent, kSup).empty());
   // Back in service: a hang of a worker is handled by the restarted supervisor.
   ASSERT_EQ(bsp::hang_tile(kB), bsp::BoardError::kOk);
   (void)bsp::run_for(400U * kTick);
   EXPECT_EQ(events_with(kSup, EventId::kTileReset, kB).size(), 1U);
+}
+
+// The watcher is never alone: with its own watchdog failed, a hung supervisor is found by the tile
+// that hears its heartbeat, reset by it, and seen back; then it supervises again.
+TEST_F(TileHealth, AHungSupervisorWhoseWatchdogFailedIsResetByItsWatcher) {
+  ASSERT_EQ(bsp::set_watchdog_failed(kSup, true), bsp::BoardError::kOk);
+  const bsp::Cycles hung_at = bsp::board_time();
+  ASSERT_EQ(bsp::hang_tile(kSup), bsp::BoardError::kOk);
+  (void)bsp::run_for(300U * kTick);
+  const auto silent = events_with(kB, EventId::kSupervisorSilent, kSup);
+  ASSERT_EQ(silent.size(), 1U);
+  EXPECT_EQ(silent[0].cause, kB);
+  // Heartbeats every 5 ticks, a 40-tick timeout checked every 5: named within 50 ms.
+  EXPECT_LE(ms(silent[0].cycle - hung_at), 50.0);
+  const auto reset = events_with(kB, EventId::kTileReset, kSup);
+  ASSERT_EQ(reset.size(), 1U);
+  EXPECT_EQ(reset[0].cause, 1U) << "reset by the watcher";
+  const auto back = events_with(kB, EventId::kTileRecovered, kSup);
+  ASSERT_EQ(back.size(), 1U);
+  EXPECT_EQ(back[0].cause, static_cast<std::uint32_t>(bsp::BootCause::kCommand));
+  EXPECT_EQ(bsp::tile_stats(kSup).resets, 1U);
+  EXPECT_FALSE(bsp::tile_stopped(kSup));
+  ASSERT_EQ(bsp::hang_tile(kA), bsp::BoardError::kOk);
+  (void)bsp::run_for(400U * kTick);
+  EXPECT_EQ(events_with(kSup, EventId::kTileRecovered, kA).size(), 1U) << "the supervisor works again";
+}
+
+// The watcher's resets have a cap too: the fourth hang is named, then left (action_capped).
+TEST_F(TileHealth, TheWatchersResetsStopAtTheCap) {
+  ASSERT_EQ(bsp::set_watchdog_failed(kSup, true), bsp::BoardError::kOk);
+  for (int i = 0; i < 4; ++i) {
+    ASSERT_EQ(bsp::hang_tile(kSup), bsp::BoardError::kOk);
+    (void)bsp::run_for(300U * kTick);
+  }
+  EXPECT_EQ(events_with(kB, EventId::kSupervisorSilent, kSup).size(), 4U);
+  EXPECT_EQ(events_with(kB, EventId::kTileReset, kSup).size(), 3U);
+  EXPECT_EQ(events_with(kB, EventId::kTileRecovered, kSup).size(), 3U);
+  EXPECT_EQ(events_with(kB, EventId::kActionCapped, kSup).size(), 1U);
+  EXPECT_TRUE(bsp::tile_stopped(kSup));
 }
 
 /**

@@ -80,8 +80,12 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e) {
       // Wrong data leaves the tile answering: only a check of what it computed or stored names it
       // (a neighbour that stops hearing it nearby is about something else, e.g. a failed link).
       return (e.id == EventId::kSelfTestMismatch || (e.id == EventId::kTmrOutvoted && e.b == 1U)) && e.subject == t;
+    case bsp::FaultKind::kWatchdogFail:
+      // Latent: nothing on the chip checks a watchdog itself; its failure shows only through the hang
+      // it then misses, and that detection is the hang's.
+      return false;
     default:
-      // A fault of the core (hang, reset, watchdog): the tile named by a detection of its silence
+      // A fault of the core (hang, reset): the tile named by a detection of its silence
       // or its switch.
       if (e.id == EventId::kTaskOverdue) {
         return e.tile == t;  // the tile's own agent names one of its tasks
@@ -89,6 +93,7 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e) {
       return (e.id == EventId::kWorkerSilent || e.id == EventId::kSwitchFailed ||
               e.id == EventId::kNeighbourSuspect || e.id == EventId::kCoreSuspect ||
               e.id == EventId::kWatchdogExpired || e.id == EventId::kTileRebooted ||
+              e.id == EventId::kSupervisorSilent ||
               e.id == EventId::kSelfTestMismatch || e.id == EventId::kTmrOutvoted) &&
              e.subject == t;
   }
@@ -110,6 +115,7 @@ bool recovers(const fdir::Event& d, const fdir::Event& e) {
     case EventId::kWorkerSilent:
       return (e.id == EventId::kFrameDone && e.cause == 0U) || (e.id == EventId::kWorkerBack && e.subject == d.subject);
     case EventId::kWatchdogExpired:
+    case EventId::kSupervisorSilent:
     case EventId::kCoreSuspect:
     case EventId::kNeighbourSuspect:
       return (e.id == EventId::kTileRecovered && e.subject == d.subject) ||
@@ -199,7 +205,8 @@ void describe_health_event(const fdir::Event& e, const char* s, std::span<char> 
       (void)std::snprintf(b.data(), b.size(), "watchdog of tile %s expired (%u expiries so far)", s, e.a);
       break;
     case EventId::kTileReset:
-      (void)std::snprintf(b.data(), b.size(), "tile %s reset by the supervisor (reset %u of at most %u)", s, e.a, e.b);
+      (void)std::snprintf(b.data(), b.size(), "tile %s reset by %s (reset %u of at most %u)", s,
+                          e.cause == 1U ? "its watcher" : "the supervisor", e.a, e.b);
       break;
     case EventId::kTileRecovered:
       (void)std::snprintf(b.data(), b.size(), "tile %s booted its role again and reported, %u ticks (ms) after its reset", s,
@@ -226,6 +233,10 @@ void describe_health_event(const fdir::Event& e, const char* s, std::span<char> 
       break;
     case EventId::kSelfTestAgree:
       (void)std::snprintf(b.data(), b.size(), "tile %s agrees again in self-test round %u", s, e.cause);
+      break;
+    case EventId::kSupervisorSilent:
+      (void)std::snprintf(b.data(), b.size(), "no heartbeat from the supervisor's tile %s for %u ticks (ms): its watcher "
+                          "(tile %u) takes it as hung (%u resets so far)", s, e.a, e.cause, e.b);
       break;
     case EventId::kSelfTestLate:
       (void)std::snprintf(b.data(), b.size(), "tile %s had not answered self-test round %u after %u ticks (voted "

@@ -162,6 +162,9 @@ bool Mission::boot(std::string& error) {
   ep.boot_map.no_forward = spares;
   ep.report_to = trn::tasks::kSupervisorTile;
   image.agent.supervisor = trn::tasks::kSupervisorTile;
+  // The I/O tile watches the supervisor's tile: it never moves (its devices are wired to it) and is
+  // watched by the supervisor in turn.
+  image.agent.watcher = trn::tasks::kIoTile;
   image.tile_health.watched = powered_;
   image.tile_health.spares = spares;
   // The coordinator and the filter move to a spare when their tile is given

@@ -23,7 +23,7 @@ bool tile_ok(bsp::TileId t) noexcept { return t < kMapTiles || t == bsp::kNoTile
 ImageError check(const ImageConfig& c) noexcept {
   if (!tile_ok(c.endpoint.report_to) || !tile_ok(c.io.filter_tile) || !tile_ok(c.io.coordinator_tile) ||
       !tile_ok(c.filter.nav_sink) || !tile_ok(c.coord.filter_tile) || !tile_ok(c.vision.coordinator) ||
-      !tile_ok(c.agent.supervisor)) {
+      !tile_ok(c.agent.supervisor) || !tile_ok(c.agent.watcher)) {
     return ImageError::kBadTile;
   }
   for (const bsp::TileId t : c.endpoint.roles.tile) {
@@ -38,6 +38,12 @@ ImageError check(const ImageConfig& c) noexcept {
     if (c.coord.vision_tiles[i] >= kMapTiles) {
       return ImageError::kBadVisionList;
     }
+  }
+  // The watcher must outwait the supervisor tile's own watchdog and a boot, or both would reset it.
+  if (c.agent.watcher != bsp::kNoTile &&
+      (c.agent.watcher == c.agent.supervisor ||
+       c.agent.watcher_timeout_ticks <= c.agent.watchdog_ticks + 2U * fdir::kAgentPeriodTicks)) {
+    return ImageError::kBadConfig;
   }
   if (c.agent.watchdog_ticks < 2U * fdir::kAgentPeriodTicks || c.tile_health.max_resets == 0U ||
       c.tile_health.poll_ticks == 0U || c.tile_health.disagreements_to_fail == 0U ||

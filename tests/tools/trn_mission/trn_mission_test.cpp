@@ -150,9 +150,9 @@ TEST_F(TrnMissionBinary, DemoPlanCountsComeFromFlightEvents) {
   EXPECT_EQ(count_of(log, "not detected"), 0U);
 }
 
-// A hung filter tile with nobody left to reset it (the supervisor's watchdog failed and the
-// supervisor hung first) stops the navigation output: the summary says the mission is lost and
-// scores the error at the end of the descent, not at the last output's time.
+// A hung filter tile with nobody left to reset it (the supervisor's watchdog failed, and the
+// supervisor and its watcher hung first) stops the navigation output: the summary says the mission
+// is lost and scores the error at the end of the descent, not at the last output's time.
 TEST_F(TrnMissionBinary, AHungFilterNobodyResetsIsALostMissionScoredAtTheEnd) {
   ASSERT_EQ(run(binary() + " --quiet --faults " + fixture("filter_hang_unsupervised.toml") + " --out " +
                 (dir_ / "h").string()),
@@ -162,10 +162,33 @@ TEST_F(TrnMissionBinary, AHungFilterNobodyResetsIsALostMissionScoredAtTheEnd) {
   EXPECT_GT(s["nav_output_age_at_end_s"].get<double>(), 20.0);
   EXPECT_GT(s["nav_longest_gap_s"].get<double>(), 20.0);
   EXPECT_GT(s["final_position_error_m"].get<double>(), 10.0) << "the stale solution is far off at the end";
-  EXPECT_EQ(s["faults_injected"], 3);
+  EXPECT_EQ(s["faults_injected"], 4);
   const std::string log = read_text(dir_ / "h" / "events.log");
   EXPECT_EQ(count_of(log, "tile_reset:"), 0U) << "the supervisor is gone: nothing resets the filter";
-  EXPECT_NE(log.find("core_hang (planned) -> not detected by the flight software"), std::string::npos) << log;
+  // Neighbours still notice the silent tiles, but nothing is left to recover them.
+  EXPECT_EQ(count_of(log, "not recovered"), 3U) << log;
+  EXPECT_EQ(s["faults_recovered"], 0);
+}
+
+// The supervisor is watched by a second tile (the I/O tile, which never moves): with its own
+// watchdog failed, the supervisor's hang stops its heartbeat; the watcher names it within 50 ms,
+// resets it and hears it back, and the supervisor handles the next fault as before. The failed
+// watchdog itself is latent: nothing on the chip checks a watchdog, and the log says so.
+TEST_F(TrnMissionBinary, AHungSupervisorWhoseWatchdogFailedIsResetByItsWatcher) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 20 --faults " + fixture("supervisor_hang_unwatched_watchdog.toml") +
+                " --out " + (dir_ / "sv").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "sv" / "summary.json");
+  const std::string log = read_text(dir_ / "sv" / "events.log");
+  EXPECT_EQ(s["faults_injected"], 3);
+  EXPECT_EQ(s["faults_detected"], 2);
+  EXPECT_EQ(s["faults_recovered"], 2);
+  EXPECT_NE(log.find("watchdog_fail (planned) -> not detected by the flight software"), std::string::npos) << log;
+  EXPECT_EQ(count_of(log, "supervisor_silent: no heartbeat from the supervisor's tile 0"), 1U) << log;
+  EXPECT_NE(log.find("tile_reset: tile 0 reset by its watcher (reset 1 of at most 3)"), std::string::npos);
+  EXPECT_NE(log.find("tile  9  tile_recovered: tile 0 booted its role again"), std::string::npos);
+  EXPECT_NE(log.find("tile  9  core_hang (planned) -> detected by tile 0 (watchdog_expired)"), std::string::npos);
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
 }
 
 // Core health: a hung filter is named by its watchdog within 50 ms, reset by the supervisor, and

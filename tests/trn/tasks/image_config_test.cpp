@@ -83,6 +83,17 @@ TEST(ImageConfig, RefusedConfigurationChangesNothing) {
   c.agent.watchdog_ticks = fdir::kAgentPeriodTicks;  // shorter than two kicks: it would expire between them
   EXPECT_EQ(configure_image(c), ImageError::kBadConfig);
   c = mission_like();
+  c.agent.watcher = 64;
+  EXPECT_EQ(configure_image(c), ImageError::kBadTile);
+  c = mission_like();
+  c.agent.supervisor = trn::tasks::kSupervisorTile;
+  c.agent.watcher = trn::tasks::kSupervisorTile;  // a tile cannot watch itself
+  EXPECT_EQ(configure_image(c), ImageError::kBadConfig);
+  c = mission_like();
+  c.agent.watcher = trn::tasks::kIoTile;
+  c.agent.watcher_timeout_ticks = c.agent.watchdog_ticks;  // it would reset a tile its own watchdog is resetting
+  EXPECT_EQ(configure_image(c), ImageError::kBadConfig);
+  c = mission_like();
   c.tile_health.max_resets = 0;
   EXPECT_EQ(configure_image(c), ImageError::kBadConfig);
   c = mission_like();
