@@ -15,6 +15,7 @@
 
 #include <array>
 #include <bit>
+#include <cstring>
 #include <new>
 
 namespace fdir {
@@ -31,6 +32,50 @@ struct Overdue {
   std::uint32_t late = 0U;
   std::uint32_t budget = 0U;
 };
+
+/** Carves and writes this tile's resident self-test pattern (at the agent's start, after each boot). */
+void pattern_init(bsp::TileId self) noexcept {
+  bsp::MemError err = bsp::MemError::kOk;
+  auto* p = bsp::carve_array<std::uint8_t>(bsp::Region{self}, kSelfTestPatternBytes, kSelfTestCarve, &err);
+  if (err == bsp::MemError::kOk && p != nullptr) {
+    self_test_pattern_fill(std::span<std::uint8_t>{p, kSelfTestPatternBytes});
+  }  // else no pattern, no answers: the tile shows as late, never as wrong
+}
+
+/**
+ * This tile's resident pattern, looked up in its RAM's carves (a reset
+ * empties the RAM, and the agent carves it again); empty when none.
+ */
+std::span<std::uint8_t> own_pattern(bsp::TileId self) noexcept {
+  const std::span<std::byte> ram = bsp::region_span(bsp::Region{self});
+  for (const bsp::CarveRecord& c : bsp::region_carves(bsp::Region{self})) {
+    if (c.what != nullptr && std::strncmp(c.what, kSelfTestCarve, 16U) == 0 && c.bytes == kSelfTestPatternBytes &&
+        c.offset + c.bytes <= ram.size()) {
+      return std::span<std::uint8_t>{reinterpret_cast<std::uint8_t*>(ram.data() + c.offset), c.bytes};
+    }
+  }
+  return {};
+}
+
+/**
+ * This tile's digest for @p seed, through its resident pattern, passed
+ * through its publication channel (where a corrupted output is injected);
+ * then the pattern is written anew (the scrub: a transient upset is gone by
+ * the next round). @return false when the tile has no pattern.
+ */
+bool own_digest(bsp::TileId self, std::uint32_t seed, std::uint32_t& digest) noexcept {
+  const std::span<std::uint8_t> pattern = own_pattern(self);
+  if (pattern.empty()) {
+    return false;
+  }
+  bsp::Work work{};
+  digest = self_test_kernel(seed, pattern, work);
+  self_test_pattern_fill(pattern);
+  work.mem_words += kSelfTestPatternBytes / 4U;
+  bsp::consume(work);
+  (void)bsp::publish_filter(kSelfTestChannel, &digest, sizeof digest);
+  return true;
+}
 
 /** The watcher's view of the supervisor's heartbeat (its agent's, on the watcher's tile). */
 struct Watch {
@@ -71,10 +116,10 @@ void take_agent_messages(bsp::TileId self, const HealthAgentConfig& cfg, Watch& 
     if (m.data_words != kSelfTestWords || m.data[0] != kMsgSelfTest) {
       continue;
     }
-    bsp::Work work{};
-    std::uint32_t digest = self_test_kernel(m.data[2], work);
-    bsp::consume(work);
-    (void)bsp::publish_filter(kSelfTestChannel, &digest, sizeof digest);
+    std::uint32_t digest = 0U;
+    if (!own_digest(self, m.data[2], digest)) {
+      continue;
+    }
     const std::array<std::uint32_t, kSelfTestResultWords> w{kMsgSelfTestResult, self, m.data[1], digest};
     (void)udn::endpoint_send(cfg.supervisor, udn::kFtChanHealth, w, 0U);  // a lost answer is a missing vote
   }
@@ -329,7 +374,8 @@ std::uint32_t nearest_watched(const State& s, bsp::TileId target, bsp::TileId se
 void open_round(State& s, bsp::TileId self) noexcept {
   for (std::uint32_t k = 0; k < bsp::kMaxTiles; ++k) {
     const bsp::TileId t = static_cast<bsp::TileId>((s.next_target + k) % bsp::kMaxTiles);
-    if (t == self || (s.watched & bit(t)) == 0ULL || ((s.view.retired | s.view.pending) & bit(t)) != 0ULL) {
+    const bool own = t == self && !own_pattern(self).empty();  // its turn too, computed here
+    if (!own && (t == self || (s.watched & bit(t)) == 0ULL || ((s.view.retired | s.view.pending) & bit(t)) != 0ULL)) {
       continue;
     }
     std::array<bsp::TileId, 2> near{};
@@ -343,16 +389,22 @@ void open_round(State& s, bsp::TileId self) noexcept {
     s.round_open = true;
     s.late_ok = false;
     s.round_at = k::now_ticks();
-    const std::array<std::uint32_t, kSelfTestWords> w{kMsgSelfTest, s.round, 0x9E3779B9U * s.round};
+    const std::uint32_t seed = 0x9E3779B9U * s.round;
+    const std::array<std::uint32_t, kSelfTestWords> w{kMsgSelfTest, s.round, seed};
+    if (own) {
+      s.answered[0] = own_digest(self, seed, s.digest[0]);
+    }
     for (const bsp::TileId x : s.tested) {
-      (void)udn::endpoint_send(x, udn::kFtChanHealth, w, 0U);  // a request the network refuses is a missing vote
+      if (x != self) {
+        (void)udn::endpoint_send(x, udn::kFtChanHealth, w, 0U);  // a request the network refuses is a missing vote
+      }
     }
     return;
   }
 }
 
 /** Votes a round with its three answers: a tile outvoted by the two others disagrees. */
-void vote_round(State& s, const TileHealthConfig& cfg) noexcept {
+void vote_round(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexcept {
   ++s.view.self_tests;
   for (std::uint32_t i = 0; i < 3U; ++i) {
     const std::uint32_t j = (i + 1U) % 3U;
@@ -363,7 +415,11 @@ void vote_round(State& s, const TileHealthConfig& cfg) noexcept {
       ++s.view.mismatches;
       ++s.disagreements[t];
       report(EventId::kSelfTestMismatch, t, s.round, s.disagreements[t], cfg.disagreements_to_fail);
-      if (s.disagreements[t] >= cfg.disagreements_to_fail) {
+      if (s.disagreements[t] >= cfg.disagreements_to_fail && t == self) {
+        // Its own tile has no spare to move to: a reset starts it from its image and a clean RAM.
+        report(EventId::kTileReset, t, 0U, s.disagreements[t], cfg.disagreements_to_fail);
+        (void)bsp::reset_tile(t);
+      } else if (s.disagreements[t] >= cfg.disagreements_to_fail) {
         retire(s, cfg, t);
       }
     } else if (s.digest[j] == s.digest[i] || s.digest[k] == s.digest[i]) {
@@ -381,10 +437,10 @@ void vote_round(State& s, const TileHealthConfig& cfg) noexcept {
  * the watchdog's), and a late answer before the next round still completes
  * the vote.
  */
-void close_round(State& s, const TileHealthConfig& cfg) noexcept {
+void close_round(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexcept {
   s.round_open = false;
   if (s.answered[0] && s.answered[1] && s.answered[2]) {
-    vote_round(s, cfg);
+    vote_round(s, cfg, self);
     return;
   }
   ++s.view.self_tests_late;
@@ -396,7 +452,7 @@ void close_round(State& s, const TileHealthConfig& cfg) noexcept {
   }
 }
 
-void take_result(State& s, const TileHealthConfig& cfg, const udn::FtMessage& m) noexcept {
+void take_result(State& s, const TileHealthConfig& cfg, const udn::FtMessage& m, bsp::TileId self) noexcept {
   if (m.data[2] != s.round || (!s.round_open && !s.late_ok)) {
     return;  // an older round's, or one voted already
   }
@@ -408,7 +464,7 @@ void take_result(State& s, const TileHealthConfig& cfg, const udn::FtMessage& m)
   }
   if (!s.round_open && s.answered[0] && s.answered[1] && s.answered[2]) {
     s.late_ok = false;
-    vote_round(s, cfg);  // completed by a late answer
+    vote_round(s, cfg, self);  // completed by a late answer
   }
 }
 
@@ -474,7 +530,7 @@ void take_expiries(State& s, const TileHealthConfig& cfg, bsp::TileId self) noex
 }
 
 /** Boot reports and self-test results waiting on the health channel. */
-void take_reports(State& s, const TileHealthConfig& cfg) noexcept {
+void take_reports(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexcept {
   udn::FtMessage m{};
   for (std::uint32_t i = 0; i < udn::kFtRxDepth && udn::endpoint_receive(udn::kFtChanHealth, m) == udn::FtError::kOk;
        ++i) {
@@ -484,7 +540,7 @@ void take_reports(State& s, const TileHealthConfig& cfg) noexcept {
     if (m.data_words == kBootedWords && m.data[0] == kMsgBooted) {
       on_booted(s, m.source, m.data[2]);
     } else if (m.data_words == kSelfTestResultWords && m.data[0] == kMsgSelfTestResult) {
-      take_result(s, cfg, m);
+      take_result(s, cfg, m, self);
     }
   }
 }
@@ -497,7 +553,7 @@ void run_self_tests(State& s, const TileHealthConfig& cfg, bsp::TileId self) noe
   const k::Ticks now = k::now_ticks();
   const bool all_in = s.round_open && s.answered[0] && s.answered[1] && s.answered[2];
   if (s.round_open && (all_in || now - s.round_at >= cfg.self_test_wait_ticks)) {
-    close_round(s, cfg);
+    close_round(s, cfg, self);
   }
   if (!s.round_open && now - s.round_at >= cfg.self_test_ticks) {
     open_round(s, self);
@@ -525,6 +581,7 @@ void health_agent_main(void* arg) noexcept {
   const bool watches = cfg->watcher == self && cfg->supervisor < bsp::kMaxTiles && !own_supervisor;
   Watch watch{};
   watch.last_alive = k::now_ticks();
+  pattern_init(self);
   for (;;) {
     const Overdue o = find_overdue(self, k::now_ticks());
     if (o.task == k::kNoTask) {
@@ -584,7 +641,7 @@ void tile_health_task_main(void* arg) noexcept {
   for (;;) {
     (void)s->expired.take(k::Timeout{cfg->poll_ticks});
     take_expiries(*s, *cfg, self);
-    take_reports(*s, *cfg);
+    take_reports(*s, *cfg, self);
     check_timeouts(*s, *cfg);
     tell_moves(*s);
     run_self_tests(*s, *cfg, self);
@@ -603,10 +660,18 @@ namespace {
 constexpr std::size_t kN = 6U;             ///< self-test matrices are kN x kN
 constexpr std::size_t kCells = kN * kN;
 constexpr std::size_t kBytes = 256U;       ///< self-test byte image
-constexpr std::size_t kDigestWords = 2U * kCells + 1U;
+constexpr std::size_t kDigestWords = 2U * kCells + 2U;
 }  // namespace
 
-std::uint32_t self_test_kernel(std::uint32_t seed, bsp::Work& work) noexcept {
+void self_test_pattern_fill(std::span<std::uint8_t> pattern) noexcept {
+  std::uint32_t x = 0x5E1F7E57U;  // fixed: every tile holds the same pattern
+  for (std::uint8_t& b : pattern) {
+    x = x * 1664525U + 1013904223U;
+    b = static_cast<std::uint8_t>(x >> 24U);
+  }
+}
+
+std::uint32_t self_test_kernel(std::uint32_t seed, std::span<const std::uint8_t> pattern, bsp::Work& work) noexcept {
   std::array<double, kCells> a{};
   std::array<double, kCells> b{};
   std::array<double, kCells> c{};
@@ -635,17 +700,23 @@ std::uint32_t self_test_kernel(std::uint32_t seed, bsp::Work& work) noexcept {
   for (std::size_t i = 0; i + 16U < kBytes; ++i) {
     macs += static_cast<std::uint32_t>(img[i]) * static_cast<std::uint32_t>(img[i + 16U]);
   }
+  // Odd weights: a flipped bit of any pattern byte changes the sum (2^b times an odd number).
+  std::uint32_t resident = 0U;
+  for (std::size_t i = 0; i < pattern.size(); ++i) {
+    resident += static_cast<std::uint32_t>(pattern[i]) * (static_cast<std::uint32_t>(img[i % kBytes]) | 1U);
+  }
   std::array<std::uint32_t, kDigestWords> words{};
   for (std::size_t i = 0; i < kCells; ++i) {
     const auto bits = std::bit_cast<std::uint64_t>(c[i]);
     words[2U * i] = static_cast<std::uint32_t>(bits);
     words[2U * i + 1U] = static_cast<std::uint32_t>(bits >> 32U);
   }
-  words[kDigestWords - 1U] = macs;
+  words[kDigestWords - 2U] = macs;
+  words[kDigestWords - 1U] = resident;
   work.flops += 2ULL * kN * kN * kN;
-  work.int_macs += kBytes;
-  work.int_ops += 4ULL * (2U * kN * kN + kBytes);
-  work.mem_words += 3ULL * kN * kN * 2U + kBytes / 4U + words.size();
+  work.int_macs += kBytes + pattern.size();
+  work.int_ops += 4ULL * (2U * kN * kN + kBytes) + pattern.size();
+  work.mem_words += 3ULL * kN * kN * 2U + kBytes / 4U + pattern.size() / 4U + words.size();
   return udn::crc32c_words(words);
 }
 

@@ -32,7 +32,14 @@
  * wait is reported (kSelfTestLate: a busy tile, or a silent one, which the
  * watchdog covers) and the round is voted if its answer still comes before
  * the next round. A ping echo would pass a tile that
- * computes wrong; the vote does not.
+ * computes wrong; the vote does not. The kernel also reads a memory pattern
+ * each agent keeps resident in its tile's RAM (kSelfTestCarve): an upset of
+ * it is outvoted like a wrong computation. The agent writes the pattern anew
+ * after each answer (a scrub), so a transient upset agrees again in the
+ * tile's next round while a fault that stays is outvoted again and retired.
+ * The supervisor's own tile takes its turn as a target: it computes its
+ * digest itself, and outvoted disagreements_to_fail rounds in a row it
+ * resets its own tile (it has no spare to move to).
  *
  * Retirement and spares: a tile past its reset cap (kActionCapped), or lost,
  * is retired: switched off (its switch still routes) and every movable role
@@ -65,7 +72,9 @@
 #include "bsp_tile64/work.hpp"
 #include "kernel/task_table.hpp"
 
+#include <cstddef>
 #include <cstdint>
+#include <span>
 
 namespace fdir {
 
@@ -85,14 +94,24 @@ inline constexpr std::uint32_t kAliveWords = 3U;
 /** Publication channel of a self-test digest (bsp::publish_filter: where corrupted outputs are injected). */
 inline constexpr std::uint32_t kSelfTestChannel = 7U;
 
+/** Bytes of the self-test's memory pattern each agent keeps in its tile's RAM (carve kSelfTestCarve). */
+inline constexpr std::size_t kSelfTestPatternBytes = 4096U;
+/** Name of the pattern's carve (a fault plan's `carve` aims an upset at it). */
+inline constexpr const char* kSelfTestCarve = "self_test";
+
+/** Writes the fixed self-test pattern (the same on every tile) into @p pattern. */
+void self_test_pattern_fill(std::span<std::uint8_t> pattern) noexcept;
+
 /**
  * The self-test kernel: from @p seed, a 6x6 double-precision matrix product
  * with accumulation (the filter's arithmetic), integer multiply-accumulates
- * over a pseudo-random byte image (the correlator's), through the tile's RAM;
- * the digest is a CRC-32C of the results. Every healthy tile computes the
- * same digest for the same seed. Charges @p work.
+ * over a pseudo-random byte image (the correlator's), and a weighted sum of
+ * the tile's resident memory pattern @p pattern (kSelfTestPatternBytes, kept
+ * in the tile's RAM between rounds: an upset there reaches the digest); the
+ * digest is a CRC-32C of the results. Every healthy tile computes the same
+ * digest for the same seed. Charges @p work.
  */
-std::uint32_t self_test_kernel(std::uint32_t seed, bsp::Work& work) noexcept;
+std::uint32_t self_test_kernel(std::uint32_t seed, std::span<const std::uint8_t> pattern, bsp::Work& work) noexcept;
 
 struct HealthAgentConfig {
   bsp::TileId supervisor = bsp::kNoTile;  ///< tile of the tile-health supervisor (boot reports, watchdog monitor)

@@ -16,8 +16,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace {
@@ -236,14 +238,13 @@ TEST_F(TileHealth, TheWatchersResetsStopAtTheCap) {
   EXPECT_TRUE(bsp::tile_stopped(kSup));
 }
 
-/**
- * Self-tests whose answers always miss the round's wait (1 tick: an answer takes an agent pass
- * and a network crossing): every round is reported late for its three tiles, and the answers
- * that still come before the next round are voted.
- */
-class SelfTestLate : public ::testing::Test {
+/** Self-tests on a board of four: the supervisor and three watched tiles, every round voted 2 of 3. */
+class SelfTests : public ::testing::Test {
  protected:
   static constexpr bsp::TileId kC = 3;
+
+  /** Ticks a round waits for its answers. */
+  virtual std::uint32_t wait_ticks() const { return 40U; }
 
   void SetUp() override {
     trn::tasks::ImageConfig image{};
@@ -252,7 +253,7 @@ class SelfTestLate : public ::testing::Test {
     image.endpoint.sink = fdir::ft_event_sink();
     image.agent.supervisor = kSup;
     image.tile_health.watched = (1ULL << kA) | (1ULL << kB) | (1ULL << kC);
-    image.tile_health.self_test_wait_ticks = 1U;
+    image.tile_health.self_test_wait_ticks = wait_ticks();
     ASSERT_EQ(trn::tasks::configure_image(image), trn::tasks::ImageError::kOk);
     bsp::BoardConfig cfg = bsp::default_config(bsp::kTile64);
     cfg.powered_at_start = (1ULL << kSup) | (1ULL << kA) | (1ULL << kB) | (1ULL << kC);
@@ -271,6 +272,73 @@ class SelfTestLate : public ::testing::Test {
     ASSERT_EQ(fdir::event_log_init(), fdir::LogError::kOk);
   }
 };
+
+/**
+ * Self-tests whose answers always miss the round's wait (1 tick: an answer takes an agent pass
+ * and a network crossing): every round is reported late for its three tiles, and the answers
+ * that still come before the next round are voted.
+ */
+class SelfTestLate : public SelfTests {
+ protected:
+  std::uint32_t wait_ticks() const override { return 1U; }
+};
+
+/** An upset of @p tile's resident self-test pattern, @p byte and @p bit into it, one tick from now. */
+bsp::FaultSpec pattern_upset(bsp::TileId tile, std::uint64_t byte, std::uint32_t bit) {
+  bsp::FaultSpec seu{};
+  seu.cycle = bsp::board_time() + kTick;
+  seu.kind = bsp::FaultKind::kSeu;
+  seu.tile = tile;
+  seu.offset = byte;
+  seu.bit = bit;
+  std::copy_n(fdir::kSelfTestCarve, std::char_traits<char>::length(fdir::kSelfTestCarve), seu.carve.begin());
+  return seu;
+}
+
+/** A corrupted self-test digest of @p tile, one tick from now. */
+bsp::FaultSpec digest_sdc(bsp::TileId tile) {
+  bsp::FaultSpec sdc{};
+  sdc.cycle = bsp::board_time() + kTick;
+  sdc.kind = bsp::FaultKind::kSdc;
+  sdc.tile = tile;
+  sdc.channel = fdir::kSelfTestChannel;
+  return sdc;
+}
+
+// A ping would pass a tile whose memory took an upset; the self-test reads the tile's resident
+// pattern, so the tile is outvoted, and the agent's rewrite of the pattern after each answer (the
+// scrub) makes it agree in its next round: a transient upset is not a retirement.
+TEST_F(SelfTests, AnUpsetOfAResidentPatternIsOutvotedThenScrubbed) {
+  (void)bsp::run_for(200U * kTick);
+  ASSERT_EQ(bsp::fault_plan_add(pattern_upset(kB, 1234U, 5U)), bsp::FaultError::kOk);
+  (void)bsp::run_for(600U * kTick);
+  ASSERT_EQ(bsp::fault_log().size(), 1U);
+  EXPECT_EQ(bsp::fault_log()[0].status, bsp::FaultStatus::kApplied);
+  ASSERT_EQ(events_with(kSup, EventId::kSelfTestMismatch, kB).size(), 1U);
+  EXPECT_EQ(events_with(kSup, EventId::kSelfTestAgree, kB).size(), 1U);
+  EXPECT_EQ(fdir::tile_health_view(kSup).retired, 0ULL);
+  EXPECT_EQ(fdir::tile_health_view(kSup).mismatches, 1U) << "no healthy tile is outvoted";
+}
+
+// The supervisor's own tile takes its turn as a target and computes its digest itself: outvoted
+// twice in a row, it resets its own tile (no spare takes the supervisor's role), then agrees.
+TEST_F(SelfTests, TheSupervisorTakesItsTurnAndResetsItselfWhenOutvotedTwice) {
+  (void)bsp::run_for(100U * kTick);
+  for (std::uint32_t n = 1U; n <= 2U; ++n) {
+    ASSERT_EQ(bsp::fault_plan_add(digest_sdc(kSup)), bsp::FaultError::kOk);
+    for (int i = 0; i < 400 && events_with(kSup, EventId::kSelfTestMismatch, kSup).size() < n; ++i) {
+      (void)bsp::run_for(kTick);
+    }
+    ASSERT_EQ(events_with(kSup, EventId::kSelfTestMismatch, kSup).size(), n);
+  }
+  ASSERT_EQ(events_with(kSup, EventId::kTileReset, kSup).size(), 1U);
+  (void)bsp::run_for(400U * kTick);
+  EXPECT_EQ(bsp::tile_stats(kSup).resets, 1U);
+  const auto rebooted = events_with(kSup, EventId::kTileRebooted, kSup);
+  ASSERT_EQ(rebooted.size(), 1U) << "the supervisor writes its own restart";
+  EXPECT_EQ(fdir::tile_health_view(kSup).mismatches, 0U) << "a clean start: no tile outvoted since";
+  EXPECT_GE(fdir::tile_health_view(kSup).self_tests, 4U) << "the restarted supervisor votes again";
+}
 
 TEST_F(SelfTestLate, LateAnswersAreReportedAndStillVoted) {
   (void)bsp::run_for(600U * kTick);
@@ -297,13 +365,32 @@ TEST_F(SelfTestLate, AWrongDigestThatComesLateIsStillOutvoted) {
 }
 
 TEST(SelfTestKernel, EveryTileComputesTheSameDigestForASeed) {
+  std::vector<std::uint8_t> pattern(fdir::kSelfTestPatternBytes);
+  fdir::self_test_pattern_fill(pattern);
   bsp::Work w1{};
   bsp::Work w2{};
-  const std::uint32_t a = fdir::self_test_kernel(41U, w1);
-  EXPECT_EQ(fdir::self_test_kernel(41U, w2), a);
-  EXPECT_NE(fdir::self_test_kernel(42U, w2), a) << "another seed, another digest";
+  const std::uint32_t a = fdir::self_test_kernel(41U, pattern, w1);
+  EXPECT_EQ(fdir::self_test_kernel(41U, pattern, w2), a);
+  EXPECT_NE(fdir::self_test_kernel(42U, pattern, w2), a) << "another seed, another digest";
   EXPECT_GT(w1.flops, 0U);
-  EXPECT_GT(w1.int_macs, 0U);
+  EXPECT_GE(w1.int_macs, fdir::kSelfTestPatternBytes);
+}
+
+// Every single flipped bit of the resident pattern changes the digest (the weights are odd).
+TEST(SelfTestKernel, EveryUpsetOfThePatternChangesTheDigest) {
+  std::vector<std::uint8_t> pattern(fdir::kSelfTestPatternBytes);
+  fdir::self_test_pattern_fill(pattern);
+  bsp::Work w{};
+  for (const std::uint32_t seed : {7U, 0x9E3779B9U}) {
+    const std::uint32_t clean = fdir::self_test_kernel(seed, pattern, w);
+    for (std::size_t i = 0; i < pattern.size(); ++i) {
+      for (std::uint32_t b = 0; b < 8U; ++b) {
+        pattern[i] = static_cast<std::uint8_t>(pattern[i] ^ (1U << b));
+        ASSERT_NE(fdir::self_test_kernel(seed, pattern, w), clean) << "byte " << i << " bit " << b;
+        pattern[i] = static_cast<std::uint8_t>(pattern[i] ^ (1U << b));
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -121,8 +121,11 @@ bool recovers(const fdir::Event& d, const fdir::Event& e) {
       return (e.id == EventId::kTileRecovered && e.subject == d.subject) ||
              (e.id == EventId::kRoleRestored && e.cause == d.subject);
     case EventId::kSelfTestMismatch:
+      // Agreeing again, its role on a spare, or the tile started again from its image (the
+      // supervisor's own tile resets itself: no spare takes its role).
       return (e.id == EventId::kSelfTestAgree && e.subject == d.subject) ||
-             (e.id == EventId::kRoleRestored && e.cause == d.subject);
+             (e.id == EventId::kRoleRestored && e.cause == d.subject) ||
+             (e.id == EventId::kTileRebooted && e.subject == d.subject);
     case EventId::kTmrOutvoted:
       // A replica outvoted is recovered once it agrees again or was seeded with the voted state.
       return (e.id == EventId::kTmrAgrees || e.id == EventId::kTmrResynced) && e.subject == d.subject;
@@ -213,8 +216,12 @@ void describe_health_event(const fdir::Event& e, const char* s, std::span<char> 
                           e.a);
       break;
     case EventId::kTileRebooted:
-      (void)std::snprintf(b.data(), b.size(), "tile %s booted again without a command (cause %s): its role restarts",
-                          s, boot_cause_name(e.cause));
+      if (e.cause == static_cast<std::uint32_t>(bsp::BootCause::kCommand)) {
+        (void)std::snprintf(b.data(), b.size(), "tile %s booted again after a reset command: its role restarts", s);
+      } else {
+        (void)std::snprintf(b.data(), b.size(), "tile %s booted again without a command (cause %s): its role restarts",
+                            s, boot_cause_name(e.cause));
+      }
       break;
     case EventId::kTileLost:
       (void)std::snprintf(b.data(), b.size(), "tile %s did not report back %u ticks (ms) after its reset", s, e.a);

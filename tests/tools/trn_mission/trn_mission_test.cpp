@@ -300,6 +300,31 @@ TEST_F(TrnMissionBinary, EveryRoleIsRestartedAfterAHangOrACrash) {
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
 }
 
+// Upsets and corrupted outputs on every role: an upset of each role tile's resident self-test
+// pattern (I/O, coordinator, filter, a vision tile, the supervisor) is outvoted in the tile's next
+// round and agrees again after the agent's scrub; the supervisor's own tile takes its turn too, and
+// a corrupted digest right after makes two in a row: it resets itself and starts clean.
+TEST_F(TrnMissionBinary, AnUpsetOrAWrongDigestOnEveryRoleIsOutvotedAndRecovered) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 24 --faults " + fixture("roles_seu_sdc_self_test.toml") + " --out " +
+                (dir_ / "seu").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "seu" / "summary.json");
+  const std::string log = read_text(dir_ / "seu" / "events.log");
+  EXPECT_EQ(s["faults_injected"], 6);
+  EXPECT_EQ(s["faults_detected"], 6);
+  EXPECT_EQ(s["faults_recovered"], 6);
+  for (const char* tile : {"9", "1", "18", "41"}) {
+    EXPECT_EQ(count_of(log, std::string("self_test_mismatch: tile ") + tile + " outvoted"), 1U) << tile << log;
+    EXPECT_EQ(count_of(log, std::string("self_test_agree: tile ") + tile + " agrees again"), 1U) << tile;
+  }
+  EXPECT_EQ(count_of(log, "self_test_mismatch: tile 0 outvoted"), 2U);
+  EXPECT_NE(log.find("tile_reset: tile 0 reset by the supervisor"), std::string::npos);
+  EXPECT_NE(log.find("tile_rebooted: tile 0 booted again after a reset command"), std::string::npos);
+  EXPECT_EQ(count_of(log, "self_test_mismatch:"), 6U) << "no healthy tile is outvoted";
+  EXPECT_EQ(count_of(log, "role_moved:"), 0U) << "a transient upset retires nothing";
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+}
+
 // Point 9: the switch of a spare tile (it routes traffic but runs nothing that could answer a
 // probe) fails mid-run: transit probes across it are lost, the health tile names it, the map goes
 // out by message and traffic routes around. Upsets on the I/O tile's packets are corrected by the
