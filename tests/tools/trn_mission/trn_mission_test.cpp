@@ -3,6 +3,7 @@
  * @brief The mission image as a user runs it: same inputs, same trace hash and outputs;
  *        bad inputs give exit status 2 and leave no run folder behind.
  */
+#include "build_dirs.hpp"
 #include "build_info.hpp"
 
 #include <gtest/gtest.h>
@@ -20,7 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string binary() { return std::string(build_info::kRepoRoot) + "/build/trn_mission"; }
+std::string binary() { return std::string(build_info::kBinDir) + "/trn_mission"; }
 
 /** Runs a command; returns its exit status (-1 if it did not exit). */
 int run(const std::string& cmd) {

@@ -6,6 +6,7 @@
  */
 #include "tools/common/udn_stress.hpp"
 
+#include "build_dirs.hpp"
 #include "build_info.hpp"
 
 #include <gtest/gtest.h>
@@ -305,7 +306,7 @@ std::pair<int, std::string> run_command(const std::string& cmd) {
 }
 
 TEST(UdnStressBinary, PrintsJsonAndExits2OnBadArguments) {
-  const std::string bin = std::string(build_info::kRepoRoot) + "/build/udn_stress";
+  const std::string bin = std::string(build_info::kBinDir) + "/udn_stress";
   if (!std::filesystem::exists(bin)) {
     GTEST_SKIP() << bin << " is not built (make build/udn_stress); the library tests above cover it";
   }
