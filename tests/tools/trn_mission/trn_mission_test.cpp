@@ -326,6 +326,30 @@ TEST_F(TrnMissionBinary, AnUpsetOrAWrongDigestOnEveryRoleIsOutvotedAndRecovered)
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
 }
 
+// The rest of the fault-kind x role matrix: a hung vision tile, a crashed I/O tile and supervisor,
+// and one wrong self-test digest each from the I/O tile, the filter and a vision tile: all named by
+// flight code, all back, the descent accurate.
+TEST_F(TrnMissionBinary, TheRestOfTheRoleMatrixIsDetectedAndRecovered) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 24 --faults " + fixture("roles_rest_of_matrix.toml") + " --out " +
+                (dir_ / "rest").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "rest" / "summary.json");
+  const std::string log = read_text(dir_ / "rest" / "events.log");
+  EXPECT_EQ(s["faults_injected"], 6);
+  EXPECT_EQ(s["faults_detected"], 6);
+  EXPECT_EQ(s["faults_recovered"], 6);
+  EXPECT_NE(log.find("tile 29  core_hang (planned) -> detected by tile 0 (watchdog_expired)"), std::string::npos) << log;
+  EXPECT_NE(log.find("tile  9  core_reset (planned) -> detected by tile 0 (tile_rebooted)"), std::string::npos);
+  EXPECT_NE(log.find("tile  0  core_reset (planned) -> detected by tile 0 (tile_rebooted)"), std::string::npos);
+  for (const char* tile : {"9", "18", "54"}) {
+    EXPECT_EQ(count_of(log, std::string("self_test_mismatch: tile ") + tile + " outvoted"), 1U) << tile;
+  }
+  EXPECT_EQ(count_of(log, "self_test_mismatch:"), 3U) << "no healthy tile is outvoted";
+  EXPECT_EQ(count_of(log, "supervisor_silent:"), 0U) << "a crash of the supervisor is over before its watcher waits out";
+  EXPECT_LT(s["detection_latency_max_ms"].get<double>(), 50.0);
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+}
+
 // Point 9: the switch of a spare tile (it routes traffic but runs nothing that could answer a
 // probe) fails mid-run: transit probes across it are lost, the health tile names it, the map goes
 // out by message and traffic routes around. Upsets on the I/O tile's packets are corrected by the
