@@ -8,6 +8,7 @@
 #include "bsp_tile64/devices/device_bus.hpp"
 #include "bsp_tile64/memory.hpp"
 #include "bsp_tile64/udn_hw.hpp"
+#include "trn/tasks/sdc_points.hpp"
 #include "trn/tasks/tile_map.hpp"
 #include "tools/common/run_folder.hpp"
 
@@ -48,7 +49,7 @@ struct KindKeys {
 constexpr std::array<KindKeys, kFaultKinds> kKindKeys = {{
     {{nullptr, nullptr, nullptr}},      // core_hang
     {{nullptr, nullptr, nullptr}},      // core_reset
-    {{"channel", "bit", nullptr}},      // sdc
+    {{"point", "channel", "bit"}},      // sdc
     {{"offset", "bit", "carve"}},       // seu
     {{nullptr, nullptr, nullptr}},      // watchdog_fail
     {{"word", "bit", nullptr}},         // packet_bit_flip
@@ -56,8 +57,8 @@ constexpr std::array<KindKeys, kFaultKinds> kKindKeys = {{
     {{"direction", nullptr, nullptr}},  // link_fail
 }};
 
-constexpr std::array<const char*, 10> kAllFaultKeys = {"t_s",  "kind", "tile",     "channel", "offset",
-                                                       "word", "bit",  "role",     "instance", "carve"};
+constexpr std::array<const char*, 11> kAllFaultKeys = {"t_s",  "kind", "tile",     "channel", "offset", "word",
+                                                       "bit",  "role", "instance", "carve",   "point"};
 
 /** Roles a plan can name (every role of the tile map but spare). */
 std::vector<trn::tasks::Role> plan_roles() {
@@ -83,6 +84,33 @@ std::optional<trn::tasks::Role> role_from_name(const std::string& name) {
   return std::nullopt;
 }
 
+std::string point_list() {
+  std::string out;
+  for (const trn::tasks::SdcPoint& p : trn::tasks::kSdcPoints) {
+    out += (out.empty() ? "" : ", ") + std::string(p.name);
+  }
+  return out;
+}
+
+const trn::tasks::SdcPoint* point_from_name(const std::string& name) {
+  for (const trn::tasks::SdcPoint& p : trn::tasks::kSdcPoints) {
+    if (name == p.name) {
+      return &p;
+    }
+  }
+  return nullptr;
+}
+
+/** The roles whose tiles publish at @p p, as names. */
+std::string publishers_of(const trn::tasks::SdcPoint& p) {
+  std::string out;
+  for (const trn::tasks::Role r : plan_roles()) {
+    if ((p.roles & trn::tasks::role_bit(r)) != 0U) {
+      out += (out.empty() ? "" : ", ") + std::string(trn::tasks::role_name(r));
+    }
+  }
+  return out;
+}
 
 std::string fmt(double v) { return format_number(v); }
 
@@ -206,6 +234,16 @@ std::string read_fault_key(const std::string& key, const toml::node& node, const
       return "unknown role \"" + r + "\" (allowed: " + role_list() + ")";
     }
     item.role = r;
+  } else if (key == "point") {
+    if (!node.is_string()) {
+      return "wrong type: expected a string (" + point_list() + ")";
+    }
+    const std::string name = node.as_string()->get();
+    const trn::tasks::SdcPoint* p = point_from_name(name);
+    if (p == nullptr) {
+      return "unknown point \"" + name + "\" (allowed: " + point_list() + ")";
+    }
+    item.channel = p->channel;
   } else if (key == "carve") {
     if (!node.is_string()) {
       return "wrong type: expected a string (a carve of the tile's RAM, as `make size` lists them)";
@@ -231,6 +269,45 @@ std::string read_fault_key(const std::string& key, const toml::node& node, const
     item.param = static_cast<std::uint64_t>(it - kDirNames.begin());
   }
   return e;
+}
+
+/**
+ * An sdc is delivered only where flight code publishes: the point (or raw
+ * channel) must be one, and the tile or role named must publish there (a
+ * tile is judged by its role in the tile map).
+ */
+void check_sdc_target(const std::string& where, const toml::table& t, const FaultPlanItem& item,
+                      std::vector<std::string>& errors) {
+  if (t.get("point") != nullptr && t.get("channel") != nullptr) {
+    errors.push_back(where + " point: an sdc names a point or a channel, not both");
+    return;
+  }
+  const std::optional<trn::tasks::Role> named = role_from_name(item.role);
+  const trn::tasks::Role role = named                                 ? *named
+                                : item.tile < trn::tasks::kMapTiles ? trn::tasks::kTileRoles[item.tile]
+                                                                    : trn::tasks::Role::kSpare;
+  const std::string target = named ? "role " + item.role
+                                   : cat({"tile ", std::to_string(item.tile), " (", trn::tasks::role_name(role), ")"});
+  if (item.channel == bsp::kAnyChannel) {
+    const bool publishes = std::any_of(trn::tasks::kSdcPoints.begin(), trn::tasks::kSdcPoints.end(),
+                                       [role](const trn::tasks::SdcPoint& p) {
+                                         return (p.roles & trn::tasks::role_bit(role)) != 0U;
+                                       });
+    if (!publishes) {
+      errors.push_back(cat({where, " tile: ", target, " publishes nothing an sdc could corrupt"}));
+    }
+    return;
+  }
+  const trn::tasks::SdcPoint* p = trn::tasks::sdc_point_of_channel(item.channel);
+  if (p == nullptr) {
+    errors.push_back(cat({where, " channel: no flight code publishes on channel ", std::to_string(item.channel),
+                          " (name a point instead: ", point_list(), ")"}));
+    return;
+  }
+  if ((p->roles & trn::tasks::role_bit(role)) == 0U) {
+    errors.push_back(cat({where, t.get("point") != nullptr ? " point: " : " channel: ", target,
+                          " never publishes at ", p->name, " (published by: ", publishers_of(*p), ")"}));
+  }
 }
 
 void parse_fault(const std::string& source, std::size_t index, const toml::table& t, const Limits& lim,
@@ -275,6 +352,9 @@ void parse_fault(const std::string& source, std::size_t index, const toml::table
     errors.push_back(cat({where, " instance: ", std::to_string(item.instance), " is out of range: allowed 0 .. ",
                           std::to_string(trn::tasks::count_role(trn::tasks::Role::kFilterReplica) - 1U),
                           " (the filter's replicas)"}));
+  }
+  if (item.kind == bsp::FaultKind::kSdc && errors.size() == before) {
+    check_sdc_target(where, t, item, errors);
   }
   if (item.kind == bsp::FaultKind::kLinkFail && t.get("direction") == nullptr) {
     errors.push_back(where + ": missing key direction (allowed: east, west, north, south)");
@@ -692,7 +772,11 @@ std::string format_fault_plan(const FaultPlan& plan) {
                                       : "");
     switch (it.kind) {
       case bsp::FaultKind::kSdc:
-        out += it.channel != bsp::kAnyChannel ? "channel = " + std::to_string(it.channel) + "\n" : "";
+        if (const trn::tasks::SdcPoint* p = trn::tasks::sdc_point_of_channel(it.channel); p != nullptr) {
+          out += "point = " + toml_string(p->name) + "\n";
+        } else if (it.channel != bsp::kAnyChannel) {
+          out += "channel = " + std::to_string(it.channel) + "\n";
+        }
         break;
       case bsp::FaultKind::kSeu:
         out += it.carve.empty() ? "" : "carve = " + toml_string(it.carve) + "\n";
@@ -742,7 +826,11 @@ std::string describe_fault(const bsp::FaultRecord& r) {
       }
       break;
     case bsp::FaultKind::kSdc:
-      s += r.spec.channel == bsp::kAnyChannel ? " any channel" : " channel " + std::to_string(r.spec.channel);
+      if (const trn::tasks::SdcPoint* p = trn::tasks::sdc_point_of_channel(r.spec.channel); p != nullptr) {
+        s += " at " + std::string(p->name) + " (channel " + std::to_string(r.spec.channel) + ")";
+      } else {
+        s += r.spec.channel == bsp::kAnyChannel ? " any channel" : " channel " + std::to_string(r.spec.channel);
+      }
       s += applied ? " value bit " + std::to_string(r.bit) : "";
       break;
     case bsp::FaultKind::kPacketBitFlip:

@@ -98,6 +98,13 @@ class Ekf {
   /** Replaces the whole state, history included (TMR transfer). Errors: kBadInput if not finite or malformed. */
   FilterStatus restore(const FilterState& s) noexcept;
 
+  /**
+   * Replaces the nominal state only, unchecked: how a corrupted result (an
+   * injected sdc on the filter's state) comes back into the filter, which
+   * then meets it as it would meet any wrong value.
+   */
+  void set_nominal(const NominalState& x) noexcept { s_.x = x; }
+
   [[nodiscard]] const FilterState& state() const noexcept { return s_; }
   [[nodiscard]] const FilterConfig& config() const noexcept { return cfg_; }
   /** Work counted since the last take_work(); the task charges it. */

@@ -5,6 +5,7 @@
 #include "trn/tasks/filter_core.hpp"
 
 #include "bsp_tile64/memory.hpp"
+#include "trn/tasks/sdc_points.hpp"
 #include "udn/crc32c.hpp"
 
 #include <new>
@@ -193,6 +194,11 @@ void core_run(FilterCore& c, const JobRecord& r) noexcept {
   bsp::consume(bsp::Work{2ULL * n_m * kMatchWords, 4ULL * n_m, 0U, 0U, 0U});
   apply_matches(c);
   bsp::consume(c.ekf->take_work());
+  // The state after the job's updates is a published result: where a corrupted update is injected.
+  filter::NominalState x = c.ekf->state().x;
+  if (bsp::publish_filter(kFilterStateChannel, &x, sizeof x)) {
+    c.ekf->set_nominal(x);
+  }
 }
 
 filter::NavOutput core_output(const FilterCore& c) noexcept {

@@ -16,6 +16,7 @@
 #include "udn/crc32c.hpp"
 #include "udn/endpoint.hpp"
 
+#include <algorithm>
 #include <array>
 #include <new>
 #include <span>
@@ -334,13 +335,12 @@ void deliver(Slot& slot, std::uint32_t job, std::span<const std::uint32_t, kNavW
   if (slot.delivered_any && job > slot.next_deliver) {
     slot.stats.outputs_skipped += job - slot.next_deliver;
   }
-  filter::NavOutput out = unpack_nav(words);
-  // The published value is what a fault may corrupt on its way out.
-  (void)bsp::publish_filter(kNavChannel, &out, sizeof out);
-  slot.latest = out;
-  slot.published = true;
   std::array<std::uint32_t, kNavWords> w{};
-  pack_nav(out, w);
+  std::copy(words.begin(), words.end(), w.begin());
+  // The solution as sent is what a fault may corrupt on its way out (every bit of it is delivered).
+  (void)bsp::publish_filter(kNavChannel, w.data(), sizeof w);
+  slot.latest = unpack_nav(w);
+  slot.published = true;
   const std::array<std::uint32_t, 1> j{job};
   slot.stats.output_crc = udn::crc32c_words_continue(udn::crc32c_words_continue(slot.stats.output_crc, j), w);
   ++slot.stats.outputs_delivered;

@@ -66,15 +66,14 @@ void try_seed(Replica& r, const TmrArea& a) noexcept {
 
 /** Sends the front this job's output and state digest. */
 void send_output(Replica& r, std::uint32_t job, std::uint32_t digest) noexcept {
-  filter::NavOutput out = core_output(r.core);
-  // What the replica publishes is what a fault may corrupt on its way out.
-  (void)bsp::publish_filter(kNavChannel, &out, sizeof out);
   std::array<std::uint32_t, kReplicaOutWords> w{};
   w[0] = kMsgReplicaOut;
   w[1] = r.index;
   w[2] = job;
   w[3] = digest;
-  pack_nav(out, std::span<std::uint32_t, kNavWords>(w.data() + 4U, kNavWords));
+  pack_nav(core_output(r.core), std::span<std::uint32_t, kNavWords>(w.data() + 4U, kNavWords));
+  // The solution as sent is what a fault may corrupt on its way out (every bit of it is delivered).
+  (void)bsp::publish_filter(kNavChannel, w.data() + 4U, std::size_t{kNavWords} * sizeof(std::uint32_t));
   if (udn::endpoint_send(udn::endpoint_role_tile(kSlotFilter, bsp::kNoTile), kChanNav, w, 0U) ==
       udn::FtError::kOk) {
     ++r.stats.nav_sent;

@@ -11,6 +11,7 @@
 #include "kernel/kernel.hpp"
 #include "trn/match.hpp"
 #include "trn/tasks/messages.hpp"
+#include "trn/tasks/sdc_points.hpp"
 #include "trn/tasks/vision_shared.hpp"
 #include "udn/endpoint.hpp"
 
@@ -459,6 +460,9 @@ void send_batch(CoordState& st, VisionCoordStats& stats) noexcept {
       pack_match(st.matches[first + i],
                  std::span<std::uint32_t, kMatchWords>(w.data() + kMatchHeaderWords + static_cast<std::size_t>(i) * kMatchWords, kMatchWords));
     }
+    // Each part as sent is a published result: where a corrupted batch is injected.
+    (void)bsp::publish_filter(kCoordinatorBatchChannel, w.data(),
+                              (std::size_t{kMatchHeaderWords} + std::size_t{n} * kMatchWords) * sizeof(std::uint32_t));
     if (udn::endpoint_send(udn::endpoint_role_tile(kSlotFilter, st.cfg->filter_tile), kChanMatches,
                   std::span<const std::uint32_t>(w.data(), kMatchHeaderWords + n * kMatchWords),
                   kVisionSendTicks) != udn::FtError::kOk) {

@@ -9,6 +9,7 @@
 #include "kernel/kernel.hpp"
 #include "trn/match.hpp"
 #include "trn/tasks/messages.hpp"
+#include "trn/tasks/sdc_points.hpp"
 #include "trn/tasks/vision_shared.hpp"
 #include "udn/endpoint.hpp"
 
@@ -159,6 +160,8 @@ void vision_worker_main(void* arg) noexcept {
       continue;
     }
     ++stats.units;
+    // The result as sent is a published result: where a corrupted match is injected.
+    (void)bsp::publish_filter(kVisionMatchesChannel, st->out.data(), std::size_t{words} * sizeof(std::uint32_t));
     if (udn::endpoint_send(m.source, kChanResult, std::span<const std::uint32_t>(st->out.data(), words), kVisionSendTicks) !=
         udn::FtError::kOk) {
       ++stats.send_failed;

@@ -11,6 +11,7 @@
 #include "bsp_tile64/udn_net.hpp"
 #include "tools/common/run_folder.hpp"
 #include "trn/tasks/messages.hpp"
+#include "trn/tasks/sdc_points.hpp"
 
 #include "build_info.hpp"
 
@@ -310,6 +311,53 @@ TEST(FaultPlan, ARoleIsNamedInsteadOfATile) {
   ASSERT_TRUE(again.ok()) << again.error;
   EXPECT_EQ(again.plan->items[0].role, "filter");
   EXPECT_EQ(again.plan->items[1].instance, 39U);
+}
+
+// An sdc names the point of the flight code it corrupts; it formats back as that point.
+TEST(FaultPlan, AnSdcNamesAPoint) {
+  const tools::FaultPlanResult r = tools::parse_fault_plan(
+      "[[fault]]\nt_s = 3.0\nkind = \"sdc\"\nrole = \"filter\"\npoint = \"filter_state\"\nbit = 52\n"
+      "[[fault]]\nt_s = 4.0\nkind = \"sdc\"\ntile = 30\npoint = \"vision_matches\"\n"
+      "[[fault]]\nt_s = 5.0\nkind = \"sdc\"\ntile = 1\nchannel = 4\n",
+      "<text>", kTiles, kDuration);
+  ASSERT_TRUE(r.ok()) << r.error;
+  ASSERT_EQ(r.plan->items.size(), 3U);
+  EXPECT_EQ(r.plan->items[0].channel, trn::tasks::kFilterStateChannel);
+  EXPECT_EQ(r.plan->items[1].channel, trn::tasks::kVisionMatchesChannel);
+  EXPECT_EQ(r.plan->items[2].channel, trn::tasks::kCoordinatorBatchChannel);
+  const std::string text = tools::format_fault_plan(*r.plan);
+  EXPECT_NE(text.find("point = \"coordinator_batch\""), std::string::npos) << text;
+  const tools::FaultPlanResult again = tools::parse_fault_plan(text, "<formatted>", kTiles, kDuration);
+  ASSERT_TRUE(again.ok()) << again.error;
+  EXPECT_EQ(again.plan->items[2].channel, trn::tasks::kCoordinatorBatchChannel);
+}
+
+// An sdc that could never be delivered is refused with the key named, never armed to do nothing.
+TEST(FaultPlanErrors, AnSdcNobodyWouldDeliverIsRefused) {
+  const auto error_for = [](const std::string& entry) {
+    const tools::FaultPlanResult r =
+        tools::parse_fault_plan("[[fault]]\nt_s = 1.0\nkind = \"sdc\"\n" + entry, "<text>", kTiles, kDuration);
+    return r.ok() ? std::string("accepted") : r.error;
+  };
+  std::string e = error_for("tile = 24\npoint = \"filter_state\"\n");
+  EXPECT_NE(e.find("point: tile 24 (vision) never publishes at filter_state (published by: filter, filter_replica)"),
+            std::string::npos)
+      << e;
+  e = error_for("role = \"io\"\npoint = \"nav_output\"\n");
+  EXPECT_NE(e.find("point: role io never publishes at nav_output"), std::string::npos) << e;
+  e = error_for("tile = 18\nchannel = 99\n");
+  EXPECT_NE(e.find("channel: no flight code publishes on channel 99 (name a point instead: nav_output, filter_state, "
+                   "vision_matches, coordinator_batch, self_test)"),
+            std::string::npos)
+      << e;
+  e = error_for("tile = 2\n");
+  EXPECT_NE(e.find("tile: tile 2 (spare) publishes nothing an sdc could corrupt"), std::string::npos) << e;
+  e = error_for("tile = 18\npoint = \"velocity\"\n");
+  EXPECT_NE(e.find("point: unknown point \"velocity\" (allowed: nav_output"), std::string::npos) << e;
+  e = error_for("tile = 18\npoint = \"nav_output\"\nchannel = 1\n");
+  EXPECT_NE(e.find("point: an sdc names a point or a channel, not both"), std::string::npos) << e;
+  e = error_for("tile = 1\npoint = \"self_test\"\n");
+  EXPECT_EQ(e, "accepted");
 }
 
 TEST(FaultPlanErrors, RoleMistakesAreNamed) {

@@ -350,6 +350,28 @@ TEST_F(TrnMissionBinary, TheRestOfTheRoleMatrixIsDetectedAndRecovered) {
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
 }
 
+// Silent corruption where the flight code computes: one sdc at each named point (a vision tile's
+// matches, the coordinator's batch, the filter's state, its delivered solution) is delivered there,
+// and the delivered stream differs from the clean run's. Nothing checks these results in simplex
+// (ABFT is open): the doubled position coordinate stays in the filter, the final error grows.
+TEST_F(TrnMissionBinary, AnSdcAtEachNamedPointReachesTheValueThere) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 10 --out " + (dir_ / "clean").string()), 0);
+  ASSERT_EQ(run(binary() + " --quiet --duration 10 --faults " + fixture("sdc_points.toml") + " --out " +
+                (dir_ / "pts").string()),
+            0);
+  const nlohmann::json clean = read_json(dir_ / "clean" / "summary.json");
+  const nlohmann::json s = read_json(dir_ / "pts" / "summary.json");
+  const std::string log = read_text(dir_ / "pts" / "events.log");
+  EXPECT_EQ(s["faults_injected"], 4);
+  EXPECT_EQ(s["faults_not_delivered"], 0.0);
+  for (const char* point : {"vision_matches (channel 3)", "coordinator_batch (channel 4)", "filter_state (channel 2)",
+                            "nav_output (channel 1)"}) {
+    EXPECT_EQ(count_of(log, std::string("sdc at ") + point + " value bit"), 1U) << point << log;
+  }
+  EXPECT_NE(s["filter_output_crc"], clean["filter_output_crc"]);
+  EXPECT_GT(s["final_position_error_m"].get<double>(), 10.0 * clean["final_position_error_m"].get<double>());
+}
+
 // Point 9: the switch of a spare tile (it routes traffic but runs nothing that could answer a
 // probe) fails mid-run: transit probes across it are lost, the health tile names it, the map goes
 // out by message and traffic routes around. Upsets on the I/O tile's packets are corrected by the
@@ -433,7 +455,7 @@ TEST_F(TrnMissionBinary, TmrOfTheFilterOutvotesExcludesAndReseedsFaultyReplicas)
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
   const std::string log = read_text(dir_ / "tmr" / "events.log");
   EXPECT_NE(log.find("tmr_established: TMR established"), std::string::npos) << log;
-  EXPECT_NE(log.find("sdc channel 1 value bit 70 (planned) -> detected by tile 18 (tmr_outvoted)"), std::string::npos);
+  EXPECT_NE(log.find("sdc at nav_output (channel 1) value bit 70 (planned) -> detected by tile 18 (tmr_outvoted)"), std::string::npos);
   EXPECT_NE(log.find("tmr_agrees: replica 1 on tile 20"), std::string::npos);
   EXPECT_NE(log.find("tmr_excluded: replica 2 on tile 21"), std::string::npos);
   EXPECT_NE(log.find("tmr_resynced: replica 2 on tile 21"), std::string::npos);
