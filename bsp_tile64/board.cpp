@@ -88,7 +88,7 @@ void start_boot(Tile& t) noexcept {
     return;
   }
   const std::size_t bytes = g_board.config.boot_stack_bytes;
-  const Carve c = carve(Region{t.id}, bytes, 16U, "board boot stack");
+  const Carve c = carve_stack(Region{t.id}, bytes, 16U, "board boot stack");
   if (c.error != MemError::kOk) {
     board_trace(t.time, t.id, BoardEvent::kBootFailed, static_cast<std::uint64_t>(c.error), 0U);
     t.power = PowerState::kActive;

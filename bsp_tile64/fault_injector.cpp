@@ -12,7 +12,6 @@
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <string_view>
 
 namespace bsp {
 namespace {
@@ -59,10 +58,13 @@ FaultStatus apply_watchdog_fail(FaultRecord& r, Rng& /*rng*/) noexcept {
   return set_watchdog_failed(r.spec.tile, true) == BoardError::kOk ? FaultStatus::kApplied : FaultStatus::kSkipped;
 }
 
-/** Random SEUs avoid stacks: a flipped host return address would crash the emulator, not the tile. */
-bool seu_target(const CarveRecord& c) noexcept {
-  return c.what == nullptr || std::string_view(c.what).find("stack") == std::string_view::npos;
-}
+/**
+ * Random SEUs avoid the contexts' stacks (every task's, and the board's boot
+ * stack): the host runs on them, and a flipped host return address would crash
+ * the emulator, not the tile. Before, only carves named "stack" were avoided,
+ * and every task stack (carved under its task's name) was drawn.
+ */
+bool seu_target(const CarveRecord& c) noexcept { return !c.stack; }
 
 /** A uniformly drawn byte offset among the carves that are SEU targets; false if there are none. */
 bool draw_seu_offset(TileId tile, Rng& rng, std::uint64_t& offset) noexcept {

@@ -61,7 +61,9 @@ std::size_t region_used(Region r) noexcept {
   return (s == nullptr) ? 0U : s->used;
 }
 
-Carve carve(Region r, std::size_t bytes, std::size_t align, const char* what) noexcept {
+namespace {
+
+Carve carve_as(Region r, std::size_t bytes, std::size_t align, const char* what, bool stack) noexcept {
   RegionState* s = state_of(r);
   if (s == nullptr) {
     return {nullptr, MemError::kBadRegion};
@@ -80,10 +82,20 @@ Carve carve(Region r, std::size_t bytes, std::size_t align, const char* what) no
   }
   std::byte* p = whole.data() + offset;
   std::memset(p, 0, bytes);
-  s->records[s->carves] = CarveRecord{what, offset, bytes};
+  s->records[s->carves] = CarveRecord{what, offset, bytes, stack};
   ++s->carves;
   s->used = offset + bytes;
   return {p, MemError::kOk};
+}
+
+}  // namespace
+
+Carve carve(Region r, std::size_t bytes, std::size_t align, const char* what) noexcept {
+  return carve_as(r, bytes, align, what, false);
+}
+
+Carve carve_stack(Region r, std::size_t bytes, std::size_t align, const char* what) noexcept {
+  return carve_as(r, bytes, align, what, true);
 }
 
 MemError region_reset(Region r) noexcept {

@@ -47,6 +47,7 @@ struct CarveRecord {
   const char* what;  ///< static string naming the user
   std::size_t offset;
   std::size_t bytes;
+  bool stack = false;  ///< a context's stack (the host runs on it): random upsets leave it alone
 };
 
 /** Identifies a region: a tile's RAM, or the shared DDR. */
@@ -68,6 +69,9 @@ std::size_t region_used(Region r) noexcept;
  * Memory is zeroed: a carve always starts from a known state.
  */
 Carve carve(Region r, std::size_t bytes, std::size_t align, const char* what) noexcept;
+
+/** carve() of a context's stack: recorded as one (CarveRecord::stack). */
+Carve carve_stack(Region r, std::size_t bytes, std::size_t align, const char* what) noexcept;
 
 /** Resets a region to empty (tile restart). The memory is zeroed. */
 MemError region_reset(Region r) noexcept;

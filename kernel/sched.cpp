@@ -101,9 +101,9 @@ constexpr TaskSpec kIdleSpec{"idle", &idle_main, nullptr, config::kNumPriorities
                              config::kIdleStackBytes, Policy::kPreemptive};
 
 Status make_task(KernelState& ks, const TaskSpec& spec, TaskId id) noexcept {
-  bsp::MemError err = bsp::MemError::kOk;
-  auto* stack = bsp::carve_array<std::byte>(bsp::Region{ks.tile}, spec.stack_bytes, spec.name, &err);
-  if (err != bsp::MemError::kOk) {
+  const bsp::Carve c = bsp::carve_stack(bsp::Region{ks.tile}, spec.stack_bytes, 16U, spec.name);
+  std::byte* const stack = c.ptr;
+  if (c.error != bsp::MemError::kOk) {
     return Status::kNoMemory;
   }
   Tcb& t = ks.tcbs[id];
