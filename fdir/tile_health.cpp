@@ -15,7 +15,7 @@
 
 #include <array>
 #include <bit>
-#include <cstring>
+#include <string_view>
 #include <new>
 
 namespace fdir {
@@ -49,9 +49,9 @@ void pattern_init(bsp::TileId self) noexcept {
 std::span<std::uint8_t> own_pattern(bsp::TileId self) noexcept {
   const std::span<std::byte> ram = bsp::region_span(bsp::Region{self});
   for (const bsp::CarveRecord& c : bsp::region_carves(bsp::Region{self})) {
-    if (c.what != nullptr && std::strncmp(c.what, kSelfTestCarve, 16U) == 0 && c.bytes == kSelfTestPatternBytes &&
+    if (c.what != nullptr && std::string_view(c.what) == kSelfTestCarve && c.bytes == kSelfTestPatternBytes &&
         c.offset + c.bytes <= ram.size()) {
-      return std::span<std::uint8_t>{reinterpret_cast<std::uint8_t*>(ram.data() + c.offset), c.bytes};
+      return std::span<std::uint8_t>{reinterpret_cast<std::uint8_t*>(ram.data() + c.offset), c.bytes};  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): raw region storage
     }
   }
   return {};
