@@ -188,6 +188,8 @@ stack: all ## Stack budget: worst frame per flight function, checked against the
 	@tools/build/stack_report.sh $(OBJ) $(FLIGHT_SRC)
 
 cov: deps ## Coverage of the tests over the flight code (gcovr report under build/cov/)
+	@# Counts add up across runs: a run starts from none, or it would count an earlier run's lines.
+	@find build/obj/cov -name '*.gcda' -delete 2>/dev/null || true
 	@$(MAKE) --no-print-directory BUILD=cov test
 	@mkdir -p build/cov
 	gcovr --root . --object-directory build/obj/cov $(addprefix --filter ,$(addsuffix /,$(LAYERS))) \
