@@ -64,7 +64,17 @@ FaultStatus apply_watchdog_fail(FaultRecord& r, Rng& /*rng*/) noexcept {
  * the emulator, not the tile. Before, only carves named "stack" were avoided,
  * and every task stack (carved under its task's name) was drawn.
  */
-bool seu_target(const CarveRecord& c) noexcept { return !c.stack; }
+bool seu_target(const CarveRecord& c) noexcept { return c.use != CarveUse::kStack; }
+
+/** The carve of @p tile that holds byte @p offset; nullptr for uncarved RAM. */
+const CarveRecord* carve_at(TileId tile, std::uint64_t offset) noexcept {
+  for (const CarveRecord& c : region_carves(Region{tile})) {
+    if (offset >= c.offset && offset - c.offset < c.bytes) {
+      return &c;
+    }
+  }
+  return nullptr;
+}
 
 /** A uniformly drawn byte offset among the carves that are SEU targets; false if there are none. */
 bool draw_seu_offset(TileId tile, Rng& rng, std::uint64_t& offset) noexcept {
@@ -121,6 +131,16 @@ FaultStatus apply_seu(FaultRecord& r, Rng& rng) noexcept {
     return FaultStatus::kSkipped;
   }
   const std::uint32_t bit = r.spec.bit == kRandomBit ? static_cast<std::uint32_t>(rng.below(8U)) : r.spec.bit % 8U;
+  const CarveRecord* hit = carve_at(r.spec.tile, offset);
+  r.carve = hit != nullptr ? hit->what : nullptr;
+  if (hit != nullptr && hit->use != CarveUse::kData) {
+    // Host addresses live there: flipping one would crash the emulator. The tile crashes instead.
+    r.offset = offset;
+    r.bit = bit;
+    r.crashed = true;
+    return reset_tile_for(r.spec.tile, ResetReason::kFault) == BoardError::kOk ? FaultStatus::kApplied
+                                                                                : FaultStatus::kSkipped;
+  }
   std::byte& target = ram[static_cast<std::size_t>(offset)];
   target ^= static_cast<std::byte>(1U << bit);
   r.offset = offset;

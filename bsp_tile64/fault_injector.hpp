@@ -88,6 +88,14 @@ struct FaultRecord {
   std::uint64_t offset;    ///< SEU: byte offset in the region; SDC: byte offset in the value
   std::uint32_t bit;       ///< SEU: bit in that byte; SDC: bit index in the value
   std::uintptr_t address;  ///< SEU/SDC: address of the flipped byte
+  const char* carve = nullptr;  ///< SEU: name of the carve it landed in (nullptr: none)
+  /**
+   * SEU: it landed in control data or a stack (CarveUse), where the emulator
+   * keeps host addresses: nothing is flipped and the tile crashes instead
+   * (reset as by a core_reset), the likely fate of a tile whose control
+   * blocks took an upset.
+   */
+  bool crashed = false;
 };
 
 enum class FaultError : std::uint8_t { kOk, kFull, kBadTile, kBadKind, kBadRate };

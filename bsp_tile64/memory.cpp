@@ -63,7 +63,7 @@ std::size_t region_used(Region r) noexcept {
 
 namespace {
 
-Carve carve_as(Region r, std::size_t bytes, std::size_t align, const char* what, bool stack) noexcept {
+Carve carve_as(Region r, std::size_t bytes, std::size_t align, const char* what, CarveUse use) noexcept {
   RegionState* s = state_of(r);
   if (s == nullptr) {
     return {nullptr, MemError::kBadRegion};
@@ -82,7 +82,7 @@ Carve carve_as(Region r, std::size_t bytes, std::size_t align, const char* what,
   }
   std::byte* p = whole.data() + offset;
   std::memset(p, 0, bytes);
-  s->records[s->carves] = CarveRecord{what, offset, bytes, stack};
+  s->records[s->carves] = CarveRecord{what, offset, bytes, use};
   ++s->carves;
   s->used = offset + bytes;
   return {p, MemError::kOk};
@@ -91,11 +91,15 @@ Carve carve_as(Region r, std::size_t bytes, std::size_t align, const char* what,
 }  // namespace
 
 Carve carve(Region r, std::size_t bytes, std::size_t align, const char* what) noexcept {
-  return carve_as(r, bytes, align, what, false);
+  return carve_as(r, bytes, align, what, CarveUse::kData);
 }
 
 Carve carve_stack(Region r, std::size_t bytes, std::size_t align, const char* what) noexcept {
-  return carve_as(r, bytes, align, what, true);
+  return carve_as(r, bytes, align, what, CarveUse::kStack);
+}
+
+Carve carve_control(Region r, std::size_t bytes, std::size_t align, const char* what) noexcept {
+  return carve_as(r, bytes, align, what, CarveUse::kControl);
 }
 
 MemError region_reset(Region r) noexcept {

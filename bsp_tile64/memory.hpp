@@ -42,12 +42,24 @@ struct Carve {
   MemError error;
 };
 
-/** One named carve, for the size report. */
+/**
+ * What a carve holds, as far as an upset of it can be modelled. The emulator
+ * runs on the contexts' stacks and follows the host addresses kept in control
+ * data (task control blocks, the messaging endpoint, a role's state with
+ * pointers): a flipped bit there would crash the emulator, not model the tile.
+ */
+enum class CarveUse : std::uint8_t {
+  kData,     ///< values only: an upset flips the bit
+  kStack,    ///< a context's stack: random upsets leave it alone
+  kControl,  ///< holds host addresses: an upset there is modelled as a crash of the tile
+};
+
+/** One named carve, for the size report and the fault injector. */
 struct CarveRecord {
   const char* what;  ///< static string naming the user
   std::size_t offset;
   std::size_t bytes;
-  bool stack = false;  ///< a context's stack (the host runs on it): random upsets leave it alone
+  CarveUse use = CarveUse::kData;
 };
 
 /** Identifies a region: a tile's RAM, or the shared DDR. */
@@ -70,8 +82,11 @@ std::size_t region_used(Region r) noexcept;
  */
 Carve carve(Region r, std::size_t bytes, std::size_t align, const char* what) noexcept;
 
-/** carve() of a context's stack: recorded as one (CarveRecord::stack). */
+/** carve() of a context's stack: recorded as one (CarveUse::kStack). */
 Carve carve_stack(Region r, std::size_t bytes, std::size_t align, const char* what) noexcept;
+
+/** carve() of control data that holds host addresses (CarveUse::kControl). */
+Carve carve_control(Region r, std::size_t bytes, std::size_t align, const char* what) noexcept;
 
 /** Resets a region to empty (tile restart). The memory is zeroed. */
 MemError region_reset(Region r) noexcept;
@@ -83,6 +98,16 @@ std::span<const CarveRecord> region_carves(Region r) noexcept;
 template <class T>
 T* carve_array(Region r, std::size_t count, const char* what, MemError* err) noexcept {
   const Carve c = carve(r, sizeof(T) * count, alignof(T), what);
+  if (err != nullptr) {
+    *err = c.error;
+  }
+  return reinterpret_cast<T*>(c.ptr);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): raw region storage
+}
+
+/** carve_array() of control data that holds host addresses (CarveUse::kControl). */
+template <class T>
+T* carve_control_array(Region r, std::size_t count, const char* what, MemError* err) noexcept {
+  const Carve c = carve_control(r, sizeof(T) * count, alignof(T), what);
   if (err != nullptr) {
     *err = c.error;
   }

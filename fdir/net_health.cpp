@@ -212,7 +212,7 @@ void net_health_task_main(void* arg) noexcept {
   }
   g_state[self] = nullptr;
   bsp::MemError err = bsp::MemError::kOk;
-  auto* s = bsp::carve_array<State>(bsp::Region{self}, 1, "net_health", &err);
+  auto* s = bsp::carve_control_array<State>(bsp::Region{self}, 1, "net_health", &err);
   if (err != bsp::MemError::kOk || s == nullptr) {
     return;
   }

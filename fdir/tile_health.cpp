@@ -618,7 +618,7 @@ void tile_health_task_main(void* arg) noexcept {
   }
   g_state[self] = nullptr;
   bsp::MemError err = bsp::MemError::kOk;
-  auto* s = bsp::carve_array<State>(bsp::Region{self}, 1, "tile_health", &err);
+  auto* s = bsp::carve_control_array<State>(bsp::Region{self}, 1, "tile_health", &err);
   if (err != bsp::MemError::kOk || s == nullptr) {
     return;
   }

@@ -131,7 +131,7 @@ Status make_task(KernelState& ks, const TaskSpec& spec, TaskId id) noexcept {
 Status build_kernel(TaskTable table, bsp::Cycles tick_cycles, KernelState*& out) noexcept {
   const bsp::TileId tile = bsp::current_tile();
   bsp::MemError err = bsp::MemError::kOk;
-  auto* ks = bsp::carve_array<KernelState>(bsp::Region{tile}, 1, "kernel state", &err);
+  auto* ks = bsp::carve_control_array<KernelState>(bsp::Region{tile}, 1, "kernel state", &err);
   if (err != bsp::MemError::kOk) {
     return Status::kNoMemory;
   }

@@ -136,7 +136,7 @@ bool install(Endpoint& ep, const FaultMap& map, bsp::TileId from) noexcept {
 
 bool open(Endpoint*& out, bsp::TileId self, const EndpointConfig& cfg) noexcept {
   bsp::MemError err = bsp::MemError::kOk;
-  auto* ep = bsp::carve_array<Endpoint>(bsp::Region{self}, 1, "endpoint", &err);
+  auto* ep = bsp::carve_control_array<Endpoint>(bsp::Region{self}, 1, "endpoint", &err);
   if (err != bsp::MemError::kOk || ep == nullptr) {
     return false;
   }

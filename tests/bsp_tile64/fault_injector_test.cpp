@@ -117,11 +117,11 @@ TEST(FaultInjector, RandomSeusNeverLandInAStack) {
   std::size_t stack_bytes = 0U;
   for (const bsp::CarveRecord& r : carves) {
     if (std::strcmp(r.what, "work") == 0) {
-      EXPECT_TRUE(r.stack);
+      EXPECT_EQ(r.use, bsp::CarveUse::kStack);
       stack_start = r.offset;
       stack_bytes = r.bytes;
     } else if (std::strcmp(r.what, "data") == 0) {
-      EXPECT_FALSE(r.stack);
+      EXPECT_EQ(r.use, bsp::CarveUse::kData);
     }
   }
   ASSERT_EQ(stack_bytes, kDataBytes);
@@ -138,6 +138,43 @@ TEST(FaultInjector, RandomSeusNeverLandInAStack) {
     EXPECT_EQ(r.status, FaultStatus::kApplied);
     EXPECT_FALSE(r.offset >= stack_start && r.offset < stack_start + stack_bytes) << "offset " << r.offset;
   }
+}
+
+void boot_data_and_control(TileId tile) {
+  const bsp::Carve ctl = bsp::carve_control(bsp::Region{tile}, 256U, 16U, "control");
+  if (ctl.ptr != nullptr) {
+    std::memset(ctl.ptr, 0x77, 256U);
+  }
+  boot_data(tile);
+}
+
+// The emulator follows the host addresses kept in control data (task control blocks, the
+// endpoint): an upset aimed there flips nothing and crashes the tile instead, as a core_reset;
+// the ground truth says so. A drawn SEU that lands there does the same (a random flip of a task
+// control block's stack pointer crashed the whole emulator before).
+TEST(FaultInjector, AnUpsetOfControlDataIsACrashOfTheTile) {
+  g_data.fill(nullptr);
+  bsp::BoardConfig c = data_config(1U);
+  c.boot[0] = boot_data_and_control;
+  ASSERT_EQ(bsp::board_init(c), bsp::BoardError::kOk);
+  bsp::run_for(1000U);
+  const std::uint64_t boots = bsp::tile_stats(0).boots;
+  FaultSpec s{};
+  s.cycle = 2000U;
+  s.kind = FaultKind::kSeu;
+  s.tile = 0U;
+  s.offset = 17U;
+  std::snprintf(s.carve.data(), s.carve.size(), "%s", "control");
+  ASSERT_EQ(bsp::fault_plan_add(s), bsp::FaultError::kOk);
+  bsp::run_for(100000U);
+  ASSERT_EQ(bsp::fault_log().size(), 1U);
+  const bsp::FaultRecord& r = bsp::fault_log()[0];
+  EXPECT_EQ(r.status, FaultStatus::kApplied);
+  EXPECT_TRUE(r.crashed);
+  ASSERT_NE(r.carve, nullptr);
+  EXPECT_STREQ(r.carve, "control");
+  EXPECT_EQ(r.address, 0U) << "nothing was flipped";
+  EXPECT_EQ(bsp::tile_stats(0).boots, boots + 1U) << "the tile crashed and booted again";
 }
 
 TEST(FaultInjector, PlannedSeuFlipsTheChosenBitForEveryBitPosition) {

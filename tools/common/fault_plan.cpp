@@ -823,7 +823,10 @@ std::string describe_fault(const bsp::FaultRecord& r) {
       }
       if (r.spec.carve[0] != '\0') {
         s += " (in carve \"" + std::string(r.spec.carve.data()) + "\")";
+      } else if (applied && r.carve != nullptr) {
+        s += " (in \"" + std::string(r.carve) + "\")";
       }
+      s += r.crashed ? ": control data, modelled as a crash of the tile" : "";
       break;
     case bsp::FaultKind::kSdc:
       if (const trn::tasks::SdcPoint* p = trn::tasks::sdc_point_of_channel(r.spec.channel); p != nullptr) {

@@ -58,6 +58,18 @@ const char* boot_cause_name(std::uint32_t cause) noexcept {
   }
 }
 
+/** A fault of the core of @p t (hang, reset): the tile named by a detection of its silence or its switch. */
+bool detects_core(bsp::TileId t, const fdir::Event& e) {
+  if (e.id == EventId::kTaskOverdue) {
+    return e.tile == t;  // the tile's own agent names one of its tasks
+  }
+  return (e.id == EventId::kWorkerSilent || e.id == EventId::kSwitchFailed || e.id == EventId::kNeighbourSuspect ||
+          e.id == EventId::kCoreSuspect || e.id == EventId::kWatchdogExpired || e.id == EventId::kTileRebooted ||
+          e.id == EventId::kSupervisorSilent || e.id == EventId::kSelfTestMismatch ||
+          e.id == EventId::kTmrOutvoted) &&
+         e.subject == t;
+}
+
 /** Whether flight event @p e detects the injection @p r (see docs/FDIR.md, "The join"). */
 bool detects(const bsp::FaultRecord& r, const fdir::Event& e) {
   const bsp::TileId t = r.spec.tile;
@@ -76,6 +88,10 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e) {
       return e.id == EventId::kLinkFailed && ((e.subject == t && e.cause == n) || (e.subject == n && e.cause == t));
     }
     case bsp::FaultKind::kSeu:
+      if (r.crashed) {
+        return detects_core(t, e);  // it landed in control data: the tile crashed
+      }
+      [[fallthrough]];
     case bsp::FaultKind::kSdc:
       // Wrong data leaves the tile answering: only a check of what it computed or stored names it
       // (a neighbour that stops hearing it nearby is about something else, e.g. a failed link).
@@ -85,17 +101,7 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e) {
       // it then misses, and that detection is the hang's.
       return false;
     default:
-      // A fault of the core (hang, reset): the tile named by a detection of its silence
-      // or its switch.
-      if (e.id == EventId::kTaskOverdue) {
-        return e.tile == t;  // the tile's own agent names one of its tasks
-      }
-      return (e.id == EventId::kWorkerSilent || e.id == EventId::kSwitchFailed ||
-              e.id == EventId::kNeighbourSuspect || e.id == EventId::kCoreSuspect ||
-              e.id == EventId::kWatchdogExpired || e.id == EventId::kTileRebooted ||
-              e.id == EventId::kSupervisorSilent ||
-              e.id == EventId::kSelfTestMismatch || e.id == EventId::kTmrOutvoted) &&
-             e.subject == t;
+      return detects_core(t, e);
   }
 }
 

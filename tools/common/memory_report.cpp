@@ -17,7 +17,8 @@ void write_region(std::ostream& out, const char* label, bsp::Region r) {
   out << std::left << std::setw(10) << label << std::right << std::setw(12) << used << std::setw(12)
       << (size - used) << std::setw(12) << size << "\n";
   for (const bsp::CarveRecord& c : bsp::region_carves(r)) {
-    out << "            " << std::setw(10) << c.bytes << "  " << c.what << (c.stack ? " (stack)" : "") << "\n";
+    out << "            " << std::setw(10) << c.bytes << "  " << c.what
+        << (c.use == bsp::CarveUse::kStack ? " (stack)" : c.use == bsp::CarveUse::kControl ? " (control)" : "") << "\n";
   }
 }
 

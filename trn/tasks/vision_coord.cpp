@@ -519,7 +519,7 @@ void vision_coord_main(void* arg) noexcept {
   stats = VisionCoordStats{};
   const auto* cfg = static_cast<const VisionCoordConfig*>(arg);
   bsp::MemError err = bsp::MemError::kOk;
-  auto* st = bsp::carve_array<CoordState>(bsp::Region{self}, 1, "vision_coord", &err);
+  auto* st = bsp::carve_control_array<CoordState>(bsp::Region{self}, 1, "vision_coord", &err);
   if (cfg == nullptr || cfg->vision_count > kMaxVisionTiles || err != bsp::MemError::kOk || !udn::endpoint_wait_ready(100)) {
     return;
   }

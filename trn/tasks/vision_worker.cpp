@@ -134,7 +134,7 @@ void vision_worker_main(void* arg) noexcept {
   stats = VisionWorkerStats{};
   const auto* cfg = static_cast<const VisionWorkerConfig*>(arg);
   bsp::MemError err = bsp::MemError::kOk;
-  auto* st = bsp::carve_array<WorkerState>(bsp::Region{self}, 1, "vision_task", &err);
+  auto* st = bsp::carve_control_array<WorkerState>(bsp::Region{self}, 1, "vision_task", &err);
   if (cfg == nullptr || err != bsp::MemError::kOk || !udn::endpoint_wait_ready(100)) {
     return;
   }
