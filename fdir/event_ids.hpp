@@ -87,6 +87,7 @@ enum class EventId : std::uint16_t {
   kTmrExcluded = 0x0706,       ///< a replica no longer votes and must re-synchronise; subject: its tile, cause: job, a: replica, b: replicas left
   kTmrResynced = 0x0707,       ///< a replica seeded from the voted state votes again; subject: its tile, cause: job, a: replica, b: replicas voting
   kTmrNoMajority = 0x0708,     ///< no two replicas agree: nothing delivered; subject: job, cause: voting mask, a: different, b: missing
+  kTmrVoterResumed = 0x0709,   ///< a restarted voter goes on from its place in DDR; subject: job, cause: epoch, a: next job to deliver, b: records of the outage it writes
 };
 
 struct EventInfo {
@@ -97,7 +98,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 50> kEventTable{{
+inline constexpr std::array<EventInfo, 51> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -148,6 +149,7 @@ inline constexpr std::array<EventInfo, 50> kEventTable{{
     {EventId::kTmrExcluded, "tmr_excluded", Severity::kWarningHi, kStepIsolate},
     {EventId::kTmrResynced, "tmr_resynced", Severity::kInfo, kStepRecover},
     {EventId::kTmrNoMajority, "tmr_no_majority", Severity::kFatal, kStepDetect},
+    {EventId::kTmrVoterResumed, "tmr_voter_resumed", Severity::kInfo, kStepRecover},
 }};
 
 namespace detail {

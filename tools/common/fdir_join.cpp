@@ -198,6 +198,10 @@ bool describe_tmr_event(const fdir::Event& e, const char* s, std::span<char> b) 
       (void)std::snprintf(b.data(), b.size(), "no majority at job %s (different 0x%x, missing 0x%x): nothing delivered",
                           s, e.a, e.b);
       return true;
+    case EventId::kTmrVoterResumed:
+      (void)std::snprintf(b.data(), b.size(), "the voter restarted at job %s goes on voting (epoch %u): delivers from "
+                          "job %u; records of its outage written: %u", s, e.cause, e.a, e.b);
+      return true;
     default:
       return false;
   }

@@ -45,12 +45,12 @@ constexpr std::uint32_t kStartJobs = 100U;
 constexpr std::uint32_t kImuLagJobs = 2U;
 /** Early samples held for their job at most (one or two in flight). */
 constexpr std::uint32_t kImuHeld = 8U;
-/** Matches held for the job their batch is stamped with (one frame's). */
-constexpr std::uint32_t kHeldMatches = kMaxMatchesPerFrame;
 /** Causes of tmr_simplex (fdir/event_ids.hpp). */
 constexpr std::uint32_t kTmrStopCommand = 0U;
 constexpr std::uint32_t kTmrStopNotEstablished = 2U;
 constexpr std::uint32_t kTmrStopRestart = 3U;
+/** Jobs a voter catching up after a restart votes at most in one of its own. */
+constexpr std::uint32_t kVotesPerJob = 4U;
 /** Voted words: the packed solution and the state digest. */
 constexpr std::uint32_t kVotedWords = kNavWords + 1U;
 
@@ -76,6 +76,7 @@ struct Slot {
   std::array<std::uint32_t, std::size_t{kHeldMatches} * kMatchWords> mheld;  ///< packed matches waiting for their job, in order
   std::array<std::uint32_t, kHeldMatches> mheld_job;            ///< the job each waits for
   std::uint32_t mheld_count;
+  std::uint32_t mheld_changes;  ///< +1 whenever the held matches change (written to DDR when they did)
   std::array<std::uint32_t, kCommandWords> cmd;
   // ---- TMR
   Mode mode;
@@ -95,6 +96,12 @@ struct Slot {
   bool stop_voted;           ///< stopping: that job was voted, stop_digest is its state digest
   std::uint32_t stop_digest;
   bool stop_again;           ///< stopping: no good state came; ask again before the next record
+  std::uint32_t next_vote;   ///< the job voted next
+  std::uint32_t held_saved;  ///< mheld_changes when the held matches were last written to DDR
+  bool held_written;         ///< the held matches were written to DDR since the task started
+  bool rejoin;               ///< restarted while voting: writes the records of its outage first
+  std::uint32_t rebuild_from;  ///< the first of them
+  std::uint32_t lenient_until; ///< until this job a vote waits for every voting replica's output
 };
 
 std::array<Slot, bsp::kMaxTiles> g_slots{};
@@ -239,6 +246,11 @@ void consume_imu(Slot& slot) noexcept {
       ++slot.stats.imu_rejected;  // more early samples than a healthy stream sends: dropped, replayed from DDR
     }
   }
+  // A due sample the network has not brought (lost, or sent to the tile a role left) comes from the
+  // I/O tile's record: which samples a job takes does not depend on the network's timing.
+  if (slot.have_imu && slot.cfg->checkpoint_every != 0U && slot.job >= kImuLagJobs) {
+    (void)replay(slot, slot.job - kImuLagJobs + 1U, budget);
+  }
   take_command(slot);
 }
 
@@ -278,6 +290,9 @@ void take_held_matches(Slot& slot, bsp::Work& work) noexcept {
   }
   work.mem_words += 2ULL * kMatchWords * slot.mheld_count;
   slot.mheld_count -= n;
+  if (n != 0U) {
+    ++slot.mheld_changes;
+  }
 }
 
 /** A match for job @p job: into the record if its job has come and none waits before it, else held. */
@@ -294,6 +309,7 @@ void take_match(Slot& slot, std::span<const std::uint32_t, kMatchWords> m, std::
   }
   slot.mheld_job[slot.mheld_count] = job;
   ++slot.mheld_count;
+  ++slot.mheld_changes;
 }
 
 /**
@@ -398,6 +414,8 @@ void checkpoint(Slot& slot) noexcept {
   ++slot.stats.checkpoints;
 }
 
+bool rejoin(Slot& slot, std::uint32_t job) noexcept;
+
 bool set_up(Slot& slot, const FilterTaskConfig& cfg) noexcept {
   if (cfg.matches_per_job == 0U || cfg.matches_per_job > kMaxMatchesPerFrame) {
     return false;
@@ -408,11 +426,14 @@ bool set_up(Slot& slot, const FilterTaskConfig& cfg) noexcept {
   }
   slot.tmr = cfg.replica_tiles[0] != bsp::kNoTile ? tmr_area() : nullptr;
   if (slot.tmr != nullptr && slot.tmr->control.mode != 0U) {
-    // A front restarted while the group ran: simplex (the replicas go idle) until it has caught
-    // up from its checkpoint, then the TMR starts again from its state.
+    const auto job = static_cast<std::uint32_t>(bsp::now() / (std::uint64_t{kFilterPeriodTicks} * bsp::tick_cycles()));
+    if (rejoin(slot, job)) {
+      return slot.core.ekf->init(cfg.initial) == filter::FilterStatus::kOk;  // it votes: its own filter waits
+    }
+    // Not voting when it stopped, or out too long: simplex (the replicas go idle) until it has
+    // caught up from its checkpoint, then the TMR starts again from its state.
     slot.tmr->control.mode = 0U;
     slot.resume_tmr = true;
-    const auto job = static_cast<std::uint32_t>(bsp::now() / (std::uint64_t{kFilterPeriodTicks} * bsp::tick_cycles()));
     fdir::report(fdir::EventId::kTmrSimplex, job, kTmrStopRestart);
   }
   slot.ckpt = cfg.checkpoint_every != 0U ? checkpoint_area() : nullptr;
@@ -480,6 +501,16 @@ const fdir::TmrRecord* output_of(const Slot& slot, std::uint32_t i, std::uint32_
   return (r.words == kVotedWords && r.job == job) ? &r : nullptr;
 }
 
+/** True if every voting replica's output for job @p job is here. */
+bool all_present(const Slot& slot, std::uint32_t job) noexcept {
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    if ((slot.group.active_mask() & (1U << i)) != 0U && output_of(slot, i, job) == nullptr) {
+      return false;
+    }
+  }
+  return true;
+}
+
 /** Switch to TMR after this job: the front's state is the replicas' seed. */
 void start_tmr(Slot& slot) noexcept {
   if (slot.tmr == nullptr || slot.mode != Mode::kSimplex) {
@@ -522,6 +553,7 @@ void compare_starting(Slot& slot, std::uint32_t v) noexcept {
   }
   if (slot.group.active_count() == kReplicas) {
     slot.mode = Mode::kTmr;
+    slot.next_vote = v + 1U;  // delivered already, by the front's own filter
     slot.tmr->control.ckpt_by = 0U;
     fdir::report(fdir::EventId::kTmrEstablished, v, slot.tmr->control.epoch, slot.job - slot.start_job);
   } else if (slot.job - slot.start_job > kStartJobs) {
@@ -664,12 +696,189 @@ void finish_stop(Slot& slot, std::uint32_t voted_job) noexcept {
   stop_tmr(slot, kTmrStopCommand);
 }
 
+/**
+ * A voter restarted (reset, or its role moved) while it voted: takes its
+ * place in the stream from DDR, the outputs the replicas kept for the jobs it
+ * had not voted, and the matches it held; the records of the jobs it missed
+ * are written at its first job (rebuild). False if it was not voting, the
+ * place is damaged or of another group, or it was out too long.
+ */
+bool rejoin(Slot& slot, std::uint32_t job) noexcept {
+  TmrArea& a = *slot.tmr;
+  const TmrFront& f = a.front;
+  bsp::Work work{};
+  const bool ok = tmr_front_ok(f) && f.voting == 1U && f.epoch == a.control.epoch && a.held.serial == f.held_serial &&
+                  tmr_held_ok(a.held, work) && job > f.record_job && job - f.record_job <= kMaxRejoinGap;
+  bsp::consume(work);
+  if (!ok) {
+    return false;
+  }
+  slot.mode = Mode::kTmr;
+  slot.next_vote = f.next_vote;
+  slot.next_deliver = f.next_deliver;
+  slot.delivered_any = f.delivered_any != 0U;
+  slot.stats.outputs_delivered = f.outputs_delivered;
+  slot.stats.outputs_skipped = f.outputs_skipped;
+  slot.stats.output_crc = f.output_crc;
+  slot.stats.last_delivered_job = f.last_delivered_job;
+  slot.stats.mark_job = f.mark_job;
+  slot.stats.mark_crc = f.mark_crc;
+  slot.have_imu = f.have_imu != 0U;
+  slot.last_imu = f.last_imu;
+  slot.cmd_held = f.cmd_held != 0U;
+  slot.cmd = f.cmd;
+  slot.last_winner = f.last_winner;
+  (void)slot.group.configure(fdir::TmrGroupConfig{});
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    if ((f.active_mask & (1U << i)) != 0U) {
+      slot.group.admit(i);
+    }
+  }
+  slot.mheld_count = a.held.count;
+  for (std::uint32_t m = 0; m < a.held.count; ++m) {
+    slot.mheld_job[m] = a.held.job[m];
+  }
+  std::copy_n(a.held.words.begin(), std::size_t{a.held.count} * kMatchWords, slot.mheld.begin());
+  // The outputs the replicas sent the voter that stopped, for the jobs it had not voted yet.
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    for (std::uint32_t j = f.next_vote; j <= f.record_job && j - f.next_vote < kHeldOutputs; ++j) {
+      const fdir::TmrRecord& kept = a.outputs[i][j % kHeldOutputs];
+      if (kept.job == j && kept.words == kVotedWords) {
+        slot.out[i][j % kOutRing] = kept;
+      }
+    }
+  }
+  // Read: the place, the held matches, the kept outputs.
+  const std::uint64_t read = sizeof(TmrFront) / sizeof(std::uint32_t) +
+                             std::uint64_t{a.held.count} * (kMatchWords + 1U) +
+                             std::uint64_t{kReplicas} * kHeldOutputs * (kVotedWords + 2U);
+  bsp::consume(bsp::Work{0U, 0U, 0U, 0U, read});
+  slot.ring = imu_ring();
+  slot.catching_up = true;
+  slot.rejoin = true;
+  slot.rebuild_from = f.record_job + 1U;
+  // The replicas run two records a release: they gain one a release on the records of the outage.
+  slot.lenient_until = job + (job - f.record_job) + kVoteLag + 4U;
+  fdir::report(fdir::EventId::kTmrVoterResumed, job, a.control.epoch, f.next_deliver, job - f.record_job - 1U);
+  return true;
+}
+
+/** After a rejoin, at the first job: the records of the jobs missed, from the I/O tile's DDR record and the held matches. */
+void rebuild(Slot& slot) noexcept {
+  if (!slot.rejoin) {
+    return;
+  }
+  slot.rejoin = false;
+  const std::uint32_t now_job = slot.job;
+  for (std::uint32_t j = slot.rebuild_from; j < now_job && now_job - j <= kMaxRejoinGap; ++j) {
+    slot.job = j;
+    record_begin(slot.record, j);
+    std::uint32_t budget = kMaxReplayPerJob;
+    if (slot.have_imu && j >= kImuLagJobs) {
+      (void)replay(slot, j - kImuLagJobs + 1U, budget);
+    }
+    take_command(slot);
+    bsp::Work work{};
+    take_held_matches(slot, work);
+    record_seal(slot.record, work);
+    slot.tmr->ring[j % kJobRingLen] = slot.record;
+    work.mem_words += kRecordWords;
+    bsp::consume(work);
+  }
+  slot.job = now_job;
+}
+
+/** After each job in TMR: the voter's place in the stream to DDR (and the held matches, if they changed). */
+void persist_front(Slot& slot) noexcept {
+  TmrArea& a = *slot.tmr;
+  bsp::Work work{};
+  if (!slot.held_written || slot.held_saved != slot.mheld_changes) {
+    TmrHeldMatches& h = a.held;
+    h.crc = ~h.crc;  // torn while written: refused
+    h.serial = h.serial + 1U == 0U ? 1U : h.serial + 1U;
+    h.count = slot.mheld_count;
+    for (std::uint32_t m = 0; m < slot.mheld_count; ++m) {
+      h.job[m] = slot.mheld_job[m];
+    }
+    std::copy_n(slot.mheld.begin(), std::size_t{slot.mheld_count} * kMatchWords, h.words.begin());
+    work.mem_words += std::uint64_t{slot.mheld_count} * (kMatchWords + 1U);
+    tmr_held_seal(h, work);
+    slot.held_saved = slot.mheld_changes;
+    slot.held_written = true;
+  }
+  TmrFront& f = a.front;
+  f.crc = ~f.crc;
+  f.serial = f.serial + 1U == 0U ? 1U : f.serial + 1U;
+  f.epoch = a.control.epoch;
+  f.voting = slot.mode == Mode::kTmr ? 1U : 0U;
+  f.record_job = slot.job;
+  f.next_vote = slot.next_vote;
+  f.next_deliver = slot.next_deliver;
+  f.delivered_any = slot.delivered_any ? 1U : 0U;
+  f.outputs_delivered = slot.stats.outputs_delivered;
+  f.outputs_skipped = slot.stats.outputs_skipped;
+  f.output_crc = slot.stats.output_crc;
+  f.last_delivered_job = slot.stats.last_delivered_job;
+  f.mark_job = slot.stats.mark_job;
+  f.mark_crc = slot.stats.mark_crc;
+  f.have_imu = slot.have_imu ? 1U : 0U;
+  f.last_imu = slot.last_imu;
+  f.cmd_held = slot.cmd_held ? 1U : 0U;
+  f.cmd = slot.cmd;
+  f.active_mask = slot.group.active_mask();
+  f.last_winner = slot.last_winner;
+  f.held_serial = a.held.serial;
+  tmr_front_seal(f);
+  work.mem_words += sizeof(TmrFront) / sizeof(std::uint32_t);
+  work.int_ops += 4ULL * sizeof(TmrFront) / sizeof(std::uint32_t);
+  bsp::consume(work);
+}
+
+/**
+ * The outputs of job @p job that did not come over the network (sent to a
+ * voter that stopped, or before the role's move was known) but that their
+ * replica kept in DDR.
+ */
+void fill_from_ddr(Slot& slot, std::uint32_t job) noexcept {
+  std::uint64_t words = 0U;
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    const fdir::TmrRecord& kept = slot.tmr->outputs[i][job % kHeldOutputs];
+    if ((slot.group.active_mask() & (1U << i)) != 0U && output_of(slot, i, job) == nullptr && kept.job == job &&
+        kept.words == kVotedWords) {
+      slot.out[i][job % kOutRing] = kept;
+      words += kVotedWords + 2U;
+    }
+  }
+  bsp::consume(bsp::Work{0U, 0U, 0U, 0U, 2U + words});
+}
+
+/**
+ * The votes of this job: normally job - kVoteLag alone; a voter that is
+ * behind (after a restart) votes up to kVotesPerJob older jobs first, and
+ * until lenient_until waits for every voting replica's output rather than
+ * count one as missing (the replicas are running the records of its outage).
+ */
+void vote_due(Slot& slot, std::uint32_t v) noexcept {
+  if (slot.next_vote + kOutRing / 2U < v) {
+    slot.next_vote = v - kOutRing / 2U;  // older outputs are gone: those jobs are never delivered
+  }
+  for (std::uint32_t n = 0; n < kVotesPerJob && slot.next_vote <= v; ++n) {
+    const std::uint32_t d = slot.next_vote;
+    fill_from_ddr(slot, d);
+    if (slot.job < slot.lenient_until && !all_present(slot, d)) {
+      return;
+    }
+    vote(slot, d);
+    slot.next_vote = d + 1U;
+  }
+}
+
 /** One job of the front in TMR or starting TMR: the record to the ring, then the vote kVoteLag jobs back. */
 void tmr_job(Slot& slot) noexcept {
   drain_replicas(slot);
   const std::uint32_t v = slot.job >= kVoteLag ? slot.job - kVoteLag : 0U;
   if (slot.mode == Mode::kTmr || slot.mode == Mode::kStopping) {
-    vote(slot, v);
+    vote_due(slot, v);
   }
   // The control block is written before the record it names, so a replica that sees the record sees it.
   bsp::Work work{};
@@ -682,6 +891,9 @@ void tmr_job(Slot& slot) noexcept {
     compare_starting(slot, v);
   } else if (slot.mode == Mode::kStopping) {
     finish_stop(slot, v);
+  }
+  if (slot.mode != Mode::kSimplex) {
+    persist_front(slot);
   }
 }
 
@@ -700,6 +912,7 @@ void filter_task_main(void* arg) noexcept {
   for (;;) {  // one pass per 10 ms release
     const bsp::Cycles start = bsp::now();
     slot.command = 0U;
+    rebuild(slot);
     record_begin(slot.record, slot.job);
     catch_up(slot);
     consume_imu(slot);

@@ -64,8 +64,8 @@ void try_seed(Replica& r, const TmrArea& a) noexcept {
   r.next_job = s.job + 1U;
 }
 
-/** Sends the front this job's output and state digest. */
-void send_output(Replica& r, std::uint32_t job, std::uint32_t digest) noexcept {
+/** Sends the front this job's output and state digest, and keeps them in DDR for a voter that restarts. */
+void send_output(Replica& r, TmrArea& a, std::uint32_t job, std::uint32_t digest) noexcept {
   std::array<std::uint32_t, kReplicaOutWords> w{};
   w[0] = kMsgReplicaOut;
   w[1] = r.index;
@@ -74,6 +74,15 @@ void send_output(Replica& r, std::uint32_t job, std::uint32_t digest) noexcept {
   pack_nav(core_output(r.core), std::span<std::uint32_t, kNavWords>(w.data() + 4U, kNavWords));
   // The solution as sent is what a fault may corrupt on its way out (every bit of it is delivered).
   (void)bsp::publish_filter(kNavChannel, w.data() + 4U, std::size_t{kNavWords} * sizeof(std::uint32_t));
+  fdir::TmrRecord& kept = a.outputs[r.index][job % kHeldOutputs];
+  kept.words = 0U;  // torn while written: not an output
+  kept.job = job;
+  for (std::uint32_t i = 0; i < kNavWords; ++i) {
+    kept.w[i] = w[4U + i];
+  }
+  kept.w[kNavWords] = digest;
+  kept.words = kNavWords + 1U;
+  bsp::consume(bsp::Work{0U, 0U, 0U, 0U, std::uint64_t{kNavWords} + 3U});
   if (udn::endpoint_send(udn::endpoint_role_tile(kSlotFilter, bsp::kNoTile), kChanNav, w, 0U) ==
       udn::FtError::kOk) {
     ++r.stats.nav_sent;
@@ -121,7 +130,7 @@ void run_records(Replica& r, TmrArea& a) noexcept {
     bsp::Work dw{};
     const std::uint32_t digest = core_digest(r.core, dw);
     bsp::consume(dw);
-    send_output(r, r.next_job, digest);
+    send_output(r, a, r.next_job, digest);
     after_job(r, a, r.next_job);
     ++r.stats.jobs;
     ++r.next_job;
@@ -136,6 +145,42 @@ TmrArea* tmr_area() noexcept {
 }
 
 bool tmr_seed_ok(const TmrSeed& s) noexcept { return s.crc == seed_header_crc(s); }
+
+namespace {
+std::uint32_t front_crc(const TmrFront& f) noexcept {
+  std::array<std::uint32_t, 20U + kCommandWords> w{f.serial,           f.epoch,         f.voting,      f.record_job,
+                                                   f.next_vote,        f.next_deliver,  f.delivered_any,
+                                                   f.outputs_delivered, f.outputs_skipped, f.output_crc,
+                                                   f.last_delivered_job, f.mark_job,    f.mark_crc,    f.have_imu,
+                                                   f.last_imu,         f.cmd_held,      f.active_mask, f.last_winner,
+                                                   f.held_serial,      0U};
+  for (std::uint32_t i = 0; i < kCommandWords; ++i) {
+    w[20U + i] = f.cmd[i];
+  }
+  return udn::crc32c_words(w);
+}
+
+std::uint32_t held_crc(const TmrHeldMatches& h, bsp::Work& work) noexcept {
+  const std::array<std::uint32_t, 2> head{h.serial, h.count};
+  const std::uint32_t n = h.count <= kHeldMatches ? h.count : kHeldMatches;
+  std::uint32_t c = udn::crc32c_words(head);
+  c = udn::crc32c_words_continue(c, std::span<const std::uint32_t>(h.job.data(), n));
+  c = udn::crc32c_words_continue(c, std::span<const std::uint32_t>(h.words.data(), std::size_t{n} * kMatchWords));
+  work.int_ops += 4ULL * (2U + n * (kMatchWords + 1U));
+  work.mem_words += 2U + n * (kMatchWords + 1U);
+  return c;
+}
+}  // namespace
+
+void tmr_front_seal(TmrFront& f) noexcept { f.crc = front_crc(f); }
+
+bool tmr_front_ok(const TmrFront& f) noexcept { return f.serial != 0U && f.crc == front_crc(f); }
+
+void tmr_held_seal(TmrHeldMatches& h, bsp::Work& work) noexcept { h.crc = held_crc(h, work); }
+
+bool tmr_held_ok(const TmrHeldMatches& h, bsp::Work& work) noexcept {
+  return h.count <= kHeldMatches && h.crc == held_crc(h, work);
+}
 
 void tmr_write_seed(TmrArea& a, FilterCore& c, std::uint32_t job, std::uint32_t for_mask, bsp::Work& work) noexcept {
   TmrSeed& s = a.seed;

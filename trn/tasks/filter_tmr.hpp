@@ -18,9 +18,21 @@
  * a replica loads the newest seed meant for it and runs on from the record
  * after it. A replica that is not seeded, or lost its place in the ring,
  * says so to the front (kMsgReplicaHello) every kHelloEvery releases.
+ *
+ * The voter's place in the stream is in DDR too, so that a voter restarted
+ * (reset, or its role moved to a spare) goes on where it stopped: after each
+ * job it votes, the front writes its place (TmrFront: the last record written,
+ * the next job to deliver, the delivered stream's CRC, its input cursor and
+ * the telecommand it holds) and, when they changed, the matches it holds for
+ * later jobs (TmrHeldMatches). Each replica also keeps its last outputs in DDR
+ * (TmrArea::outputs), as sent: the outputs the voter held when it failed are
+ * voted by the next one. The replicas wait (state kept) for records while the
+ * voter is down; the new voter writes the records of the outage from the I/O
+ * tile's IMU record and the held matches, and votes every job, late but once.
  */
 #pragma once
 
+#include "fdir/tmr.hpp"
 #include "trn/tasks/filter_core.hpp"
 
 #include <array>
@@ -69,10 +81,58 @@ struct TmrSeed {
   CoreImage image{};
 };
 
+/** Replica outputs kept in DDR per replica, by job. */
+inline constexpr std::uint32_t kHeldOutputs = 8U;
+/** Matches the front holds for later jobs at most (one frame's). */
+inline constexpr std::uint32_t kHeldMatches = kMaxMatchesPerFrame;
+/**
+ * Jobs a restarted voter may have missed and still go on voting (the records
+ * of the outage must fit the ring with the ones the replicas have not run).
+ */
+inline constexpr std::uint32_t kMaxRejoinGap = kJobRingLen - 8U;
+
+/** The voter's place in the stream after a job it voted (written by the front only). */
+struct TmrFront {
+  std::uint32_t serial = 0U;        ///< +1 per write (0: never written)
+  std::uint32_t epoch = 0U;         ///< of the group it voted in
+  std::uint32_t voting = 0U;        ///< 1 if it voted (TMR established, not stopping)
+  std::uint32_t record_job = 0U;    ///< the last record written to the ring
+  std::uint32_t next_vote = 0U;     ///< the job it votes next
+  std::uint32_t next_deliver = 0U;  ///< the job whose solution is delivered next
+  std::uint32_t delivered_any = 0U;
+  std::uint32_t outputs_delivered = 0U;
+  std::uint32_t outputs_skipped = 0U;
+  std::uint32_t output_crc = 0U;
+  std::uint32_t last_delivered_job = 0U;
+  std::uint32_t mark_job = 0U;
+  std::uint32_t mark_crc = 0U;
+  std::uint32_t have_imu = 0U;      ///< the input cursor: last_imu is the last sample put into a record
+  std::uint32_t last_imu = 0U;
+  std::uint32_t cmd_held = 0U;      ///< a telecommand waiting for its sample
+  std::array<std::uint32_t, kCommandWords> cmd{};
+  std::uint32_t active_mask = 0U;   ///< replicas voting
+  std::uint32_t last_winner = 0U;
+  std::uint32_t held_serial = 0U;   ///< the TmrHeldMatches serial that goes with this place
+  std::uint32_t crc = 0U;           ///< CRC-32C of the words above
+};
+
+/** The matches the front holds for later jobs, in order (written when they change). */
+struct TmrHeldMatches {
+  std::uint32_t serial = 0U;
+  std::uint32_t count = 0U;
+  std::array<std::uint32_t, kHeldMatches> job{};
+  std::array<std::uint32_t, std::size_t{kHeldMatches} * kMatchWords> words{};
+  std::uint32_t crc = 0U;           ///< CRC-32C of serial, count and the held jobs and words
+};
+
 struct TmrArea {
   TmrControl control{};
   TmrSeed seed{};
   std::array<JobRecord, kJobRingLen> ring{};
+  TmrFront front{};
+  TmrHeldMatches held{};
+  /** Each replica's outputs by job (job % kHeldOutputs), as sent; words 0 if none. */
+  std::array<std::array<fdir::TmrRecord, kHeldOutputs>, kReplicas> outputs{};
 };
 
 /** The group's area in DDR (carved on first use, found again after); nullptr if DDR is full. [task] */
@@ -80,6 +140,13 @@ TmrArea* tmr_area() noexcept;
 
 /** Writes a seed: the state of @p c after job @p job, for @p for_mask; charges @p work. */
 void tmr_write_seed(TmrArea& a, FilterCore& c, std::uint32_t job, std::uint32_t for_mask, bsp::Work& work) noexcept;
+
+/** Seals @p f (its CRC) / true if its CRC checks. */
+void tmr_front_seal(TmrFront& f) noexcept;
+bool tmr_front_ok(const TmrFront& f) noexcept;
+/** Seals @p h / true if its CRC checks; both charge @p work. */
+void tmr_held_seal(TmrHeldMatches& h, bsp::Work& work) noexcept;
+bool tmr_held_ok(const TmrHeldMatches& h, bsp::Work& work) noexcept;
 
 /** True if the seed's header CRC checks. */
 bool tmr_seed_ok(const TmrSeed& s) noexcept;

@@ -127,15 +127,17 @@ std::size_t count_of(const std::string& text, const std::string& what) {
 
 // FDIR-JN-01: the demonstration plan's counts come from flight events joined to the ground truth;
 // the switch failed mid-run is voted, published by message, routed around, with its latency logged;
-// the filter becomes a TMR that outvotes a corrupted replica and re-seeds a hung one.
+// the filter becomes a TMR that outvotes a corrupted replica and re-seeds a hung one, and whose
+// voter, hung, goes on voting after its reset without losing a job.
 TEST_F(TrnMissionBinary, DemoPlanCountsComeFromFlightEvents) {
   ASSERT_EQ(run(binary() + " --quiet --demo-faults --out " + (dir_ / "demo").string()), 0);
   const nlohmann::json s = read_json(dir_ / "demo" / "summary.json");
-  EXPECT_EQ(s["faults_injected"], 11);
-  EXPECT_EQ(s["faults_detected"], 11);
-  EXPECT_EQ(s["faults_recovered"], 11);
+  EXPECT_EQ(s["faults_injected"], 12);
+  EXPECT_EQ(s["faults_detected"], 12);
+  EXPECT_EQ(s["faults_recovered"], 12);
   EXPECT_EQ(s["mission_lost"], 0.0);
-  EXPECT_GT(s["tmr_voted_outputs"].get<double>(), 3000.0) << "voted from 10 s on";
+  EXPECT_EQ(s["filter_counts_since_job"], 3051.0) << "the voter's counts start at its restart";
+  EXPECT_GT(s["tmr_voted_outputs"].get<double>(), 1500.0) << "voted from the restart at 30.5 s on";
   EXPECT_EQ(s["tmr_no_majority"], 0.0);
   EXPECT_EQ(s["filter_outputs_skipped"], 0.0);
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
@@ -148,6 +150,8 @@ TEST_F(TrnMissionBinary, DemoPlanCountsComeFromFlightEvents) {
   EXPECT_NE(log.find("tmr_established"), std::string::npos);
   EXPECT_NE(log.find("(planned) -> detected by tile 18 (tmr_outvoted)"), std::string::npos);
   EXPECT_NE(log.find("tmr_resynced: replica 2 on tile 21"), std::string::npos);
+  EXPECT_NE(log.find("tmr_voter_resumed: the voter restarted"), std::string::npos);
+  EXPECT_EQ(count_of(log, "tmr_established"), 1U) << "the group runs on through the voter's hang";
   EXPECT_EQ(count_of(log, "not detected"), 0U);
 }
 
@@ -533,25 +537,34 @@ TEST_F(TrnMissionBinary, AnUpsetInAReplicasStateIsCaughtByItsDigestAndReseeded) 
   EXPECT_EQ(s["filter_output_mark_crc"], p["filter_output_mark_crc"]) << "nothing of the upsets was delivered";
 }
 
-// The voter is no more a single point of failure than any role: hung four times, it is reset three
-// times and then moved to a spare like any role, and each time the TMR starts again from the
-// resumed state (the solutions it held when it hung are lost: the output gap stays at 0.1 s).
-TEST_F(TrnMissionBinary, AHungVoterIsResetThenMovedAndTheTmrFollowsIt) {
+// FDIR-TMR-05: the voter is no more a single point of failure than any role: hung four times, it
+// is reset three times and then moved to a spare, and each time the restarted voter goes on from
+// its place in DDR: it votes the outputs the replicas kept for it, writes the records of its outage
+// and delivers every job once. The stream is the uninterrupted simplex flight's, bit for bit.
+TEST_F(TrnMissionBinary, AHungVoterIsResetThenMovedAndNoOutputIsLost) {
   ASSERT_EQ(run(binary() + " --quiet --duration 26 --faults " + fixture("filter_tmr_voter_hang_four.toml") +
                 " --out " + (dir_ / "vh").string()),
             0);
+  ASSERT_EQ(run(binary() + " --quiet --duration 25.9 --out " + (dir_ / "simplex").string()), 0);
   const nlohmann::json s = read_json(dir_ / "vh" / "summary.json");
+  const nlohmann::json p = read_json(dir_ / "simplex" / "summary.json");
   const std::string log = read_text(dir_ / "vh" / "events.log");
   EXPECT_EQ(s["faults_detected"], 4);
   EXPECT_EQ(s["faults_recovered"], 4);
   EXPECT_NE(log.find("role_moved: role slot 2 moves from retired tile 18 to spare 10"), std::string::npos) << log;
-  EXPECT_EQ(count_of(log, "(the filter restarted: TMR again once it has caught up)"), 4U);
-  EXPECT_EQ(count_of(log, "tmr_established"), 5U) << "on the command, then after each restart";
-  EXPECT_NE(log.find("tile 10  tmr_established"), std::string::npos) << "the voter on the spare";
+  EXPECT_EQ(count_of(log, "tmr_voter_resumed: the voter restarted"), 4U) << log;
+  EXPECT_NE(log.find("tile 10  tmr_voter_resumed"), std::string::npos) << "the voter on the spare";
+  EXPECT_EQ(count_of(log, "tmr_established"), 1U) << "established once: the group never stopped";
+  EXPECT_EQ(count_of(log, "tmr_simplex"), 0U);
+  EXPECT_EQ(count_of(log, "tmr_outvoted"), 0U) << "no replica blamed for the voter's outage";
   EXPECT_EQ(s["filter_tile"], 10);
+  EXPECT_EQ(s["filter_outputs_skipped"], 0.0);
+  EXPECT_EQ(s["tmr_no_majority"], 0.0);
+  EXPECT_EQ(s["filter_output_mark_job"], 2499.0);
+  EXPECT_EQ(s["filter_output_mark_job"], p["filter_output_mark_job"]);
+  EXPECT_EQ(s["filter_output_mark_crc"], p["filter_output_mark_crc"]) << "a job lost, twice or different";
   EXPECT_EQ(s["mission_lost"], 0.0);
   EXPECT_LT(s["nav_longest_gap_s"].get<double>(), 0.2);
-  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
 }
 
 // A replica hung past the reset cap: its tile is retired, the replica role moves to a spare and
@@ -571,24 +584,48 @@ TEST_F(TrnMissionBinary, AReplicaHungFourTimesIsReseededOnASpare) {
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
 }
 
-// The voter's own tile crashes while the group runs: the restarted filter says the TMR stopped,
-// resumes from the checkpoint a replica wrote, and starts the TMR again from its state.
-TEST_F(TrnMissionBinary, ARestartedVoterResumesAndStartsTheTmrAgain) {
+// The voter's own tile crashes while the group runs: the restarted voter goes on voting where it
+// stopped (no new group, no job lost), and the stream is the simplex flight's.
+TEST_F(TrnMissionBinary, ARestartedVoterGoesOnVotingWithNoOutputLost) {
   ASSERT_EQ(run(binary() + " --quiet --duration 10 --faults " + fixture("filter_tmr_front_reset.toml") + " --out " +
                 (dir_ / "fr").string()),
             0);
+  ASSERT_EQ(run(binary() + " --quiet --duration 9.9 --out " + (dir_ / "simplex").string()), 0);
   const nlohmann::json s = read_json(dir_ / "fr" / "summary.json");
+  const nlohmann::json p = read_json(dir_ / "simplex" / "summary.json");
   const std::string log = read_text(dir_ / "fr" / "events.log");
   EXPECT_EQ(s["faults_detected"], 1);
   EXPECT_EQ(s["mission_lost"], 0.0);
-  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
-  EXPECT_NE(log.find("tmr_simplex: filter simplex again at job 800 (the filter restarted"), std::string::npos) << log;
-  EXPECT_NE(log.find("filter_resumed: filter resumed from checkpoint"), std::string::npos);
-  EXPECT_EQ(count_of(log, "tmr_established"), 2U) << "once on the command, once after the restart";
-  EXPECT_NE(log.find("(epoch 2)"), std::string::npos);
-  EXPECT_GT(s["tmr_voted_outputs"].get<double>(), 150.0) << "voted again from about 8.03 s (counts since the restart)";
-  EXPECT_EQ(s["filter_counts_since_job"], 800.0) << "the summary says the counts start at the restart";
+  EXPECT_NE(log.find("tmr_voter_resumed: the voter restarted at job 800 goes on voting (epoch 1): delivers from job 798"),
+            std::string::npos)
+      << log;
+  EXPECT_EQ(count_of(log, "tmr_established"), 1U);
+  EXPECT_EQ(count_of(log, "tmr_simplex"), 0U);
+  EXPECT_EQ(s["filter_counts_since_job"], 800.0) << "the summary says the task's own counts start at the restart";
+  EXPECT_GT(s["tmr_voted_outputs"].get<double>(), 190.0) << "voted from 8 s to 10 s, since the restart";
+  EXPECT_EQ(s["filter_outputs_skipped"], 0.0);
+  EXPECT_EQ(s["filter_output_mark_job"], 899.0);
+  EXPECT_EQ(s["filter_output_mark_crc"], p["filter_output_mark_crc"]);
   EXPECT_EQ(s["tmr_no_majority"], 0.0);
+}
+
+// A restart while the switch to TMR is still under way (nobody votes yet): the filter resumes
+// simplex from its checkpoint, says so, and starts the TMR again once it has caught up.
+TEST_F(TrnMissionBinary, ARestartDuringTheSwitchResumesSimplexAndStartsTheTmrAgain) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 7 --faults " + fixture("filter_tmr_front_reset_starting.toml") +
+                " --out " + (dir_ / "frs").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "frs" / "summary.json");
+  const std::string log = read_text(dir_ / "frs" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 1);
+  EXPECT_NE(log.find("tmr_simplex: filter simplex again at job 502 (the filter restarted"), std::string::npos) << log;
+  EXPECT_NE(log.find("filter_resumed: filter resumed from checkpoint"), std::string::npos);
+  EXPECT_EQ(count_of(log, "tmr_voter_resumed"), 0U);
+  EXPECT_NE(log.find("(epoch 2)"), std::string::npos);
+  EXPECT_EQ(count_of(log, "tmr_established"), 1U) << "only the second group was established";
+  EXPECT_EQ(s["filter_counts_since_job"], 502.0);
+  EXPECT_EQ(s["filter_outputs_skipped"], 0.0);
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
 }
 
 }  // namespace
