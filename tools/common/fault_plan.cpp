@@ -610,7 +610,7 @@ FaultPlan demo_fault_plan() {
   sw.tile = kFailedSwitch;
   p.items.push_back(sw);
   // The filter becomes a TMR; one replica's output is corrupted (outvoted), another hangs
-  // (excluded, reset by its watchdog, re-seeded with the voted state).
+  // (excluded, reset by its watchdog, re-seeded with the voted state), then the voter hangs.
   p.commands.push_back(PlanCommand{10.0, "filter_tmr", trn::tasks::kCmdFilterTmr});
   FaultPlanItem sdc{};
   sdc.t_s = 15.0;
@@ -626,6 +626,13 @@ FaultPlan demo_fault_plan() {
   hang.role = "filter_replica";
   hang.instance = 2U;
   p.items.push_back(hang);
+  // The voter's own tile hangs: reset by its watchdog, it goes on voting from its place in DDR,
+  // and no job's solution is lost.
+  FaultPlanItem voter{};
+  voter.t_s = 30.5;
+  voter.kind = bsp::FaultKind::kCoreHang;
+  voter.role = "filter";
+  p.items.push_back(voter);
   return p;
 }
 
