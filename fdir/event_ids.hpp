@@ -87,7 +87,10 @@ enum class EventId : std::uint16_t {
   kTmrExcluded = 0x0706,       ///< a replica no longer votes and must re-synchronise; subject: its tile, cause: job, a: replica, b: replicas left
   kTmrResynced = 0x0707,       ///< a replica seeded from the voted state votes again; subject: its tile, cause: job, a: replica, b: replicas voting
   kTmrNoMajority = 0x0708,     ///< no two replicas agree: nothing delivered; subject: job, cause: voting mask, a: different, b: missing
-  kTmrVoterResumed = 0x0709,   ///< a restarted voter goes on from its place in DDR; subject: job, cause: epoch, a: next job to deliver, b: records of the outage it writes
+  kTmrVoterResumed = 0x0709,
+  // ---- checked matrix products (fdir/abft)
+  kAbftCorrected = 0x0801,     ///< a product failed its checksums and passed when computed again; subject: site, cause: row << 16 | column of the element located (0xFFFF: not one), a: bad rows << 16 | bad columns, b: recomputations
+  kAbftFailed = 0x0802,        ///< a product still failed its checksums after every recomputation; same fields   ///< a restarted voter goes on from its place in DDR; subject: job, cause: epoch, a: next job to deliver, b: records of the outage it writes
 };
 
 struct EventInfo {
@@ -98,7 +101,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 51> kEventTable{{
+inline constexpr std::array<EventInfo, 53> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -150,6 +153,8 @@ inline constexpr std::array<EventInfo, 51> kEventTable{{
     {EventId::kTmrResynced, "tmr_resynced", Severity::kInfo, kStepRecover},
     {EventId::kTmrNoMajority, "tmr_no_majority", Severity::kFatal, kStepDetect},
     {EventId::kTmrVoterResumed, "tmr_voter_resumed", Severity::kInfo, kStepRecover},
+    {EventId::kAbftCorrected, "abft_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
+    {EventId::kAbftFailed, "abft_failed", Severity::kWarningHi, kStepDetect},
 }};
 
 namespace detail {

@@ -1,0 +1,312 @@
+/**
+ * @file abft.hpp
+ * @brief Algorithm-based fault tolerance of matrix products (Huang and Abraham 1984): full
+ *        checksums of C = A B, a tolerance that separates a fault from round-off, the wrong
+ *        element located, the product recomputed a bounded number of times, events.
+ *
+ * For C = A B (A m x k, B k x n) and e the vector of ones, exact arithmetic
+ * gives C e = A (B e) and e^T C = (e^T A) B. The references on the right and
+ * their tolerances cost four matrix-vector products and four sums of A and B
+ * (about 2 (m k + k n) multiply-adds), the check two sums of C, against
+ * m k n multiply-adds for the product: O(n^2) against O(n^3).
+ *
+ * Tolerance. In floating point (unit roundoff u = 2^-53) each side carries
+ * round-off. With gamma_j = j u / (1 - j u) and |.| taken elementwise:
+ *   computed C        = A B + E1,            |E1| <= gamma_k |A| |B|
+ *   computed C e      = C e + E2,            |E2| <= gamma_n |C| e
+ *   computed B e      = B e + E3,            |E3| <= gamma_n |B| e
+ *   computed A (B e)  = A fl(B e) + E4,      |E4| <= gamma_k |A| |fl(B e)|
+ * so the row residual r = fl(C e) - fl(A fl(B e)) obeys, to first order in u,
+ *   |r_i| <= (2 k + 2 n) u (|A| (|B| e))_i,
+ * and the column residual likewise with m in place of n. The check allows
+ *   tol_i = kAbftSafety (k + n + 2) u (|A| (|B| e))_i + kAbftFloor
+ * (the safety factor 8 covers the second-order terms and leaves a factor 4 over
+ * the first-order bound; kAbftFloor covers products of subnormal numbers).
+ * Because the bound is elementwise (|A| |B|, not norms), a row of small
+ * numbers is checked against its own scale, not against the matrix's largest
+ * entry: an error of a few ulps of a covariance's bias block is seen even when
+ * its position block is 12 orders of magnitude larger. An error below the
+ * tolerance is not seen; it is of the size of the round-off the product makes
+ * anyway (stated in docs/FDIR.md).
+ *
+ * Locating and correcting. One wrong element C(i, j) makes exactly row i and
+ * column j fail, by the same amount: it is located. The product is then
+ * computed again by the same kernel (not patched from the checksum, which is
+ * exact only to round-off: a recomputed product is bit for bit the clean one,
+ * which replicas and replays compare) and checked again, at most
+ * kAbftMaxRecompute times. Anything else (several rows or columns, a
+ * non-finite value) is recomputed the same way. Still wrong after that, the
+ * product is reported failed and the caller decides.
+ *
+ * Flight code: no allocation, fixed-size Eigen matrices, bounded loops.
+ */
+#pragma once
+
+#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/work.hpp"
+
+#include <Eigen/Core>
+
+#include <cmath>
+#include <cstdint>
+
+namespace fdir {
+
+/** Unit roundoff of IEEE double. */
+inline constexpr double kAbftUnitRoundoff = 0x1p-53;
+/** Factor over the first-order round-off bound of a residual (see the file comment). */
+inline constexpr double kAbftSafety = 8.0;
+/** Absolute floor of every tolerance (subnormal products). */
+inline constexpr double kAbftFloor = 1e-300;
+/** Recomputations of a product found wrong before it is reported failed. */
+inline constexpr std::uint32_t kAbftMaxRecompute = 2U;
+
+enum class AbftVerdict : std::uint8_t {
+  kClean,      ///< the first computation passed
+  kCorrected,  ///< found wrong, recomputed, then passed
+  kFailed,     ///< still wrong after kAbftMaxRecompute recomputations
+};
+
+/**
+ * Flops counted for checking a product of an m x k and a k x n matrix that
+ * passes (references, the two sums of C, no tolerance computed): what a
+ * caller's budget adds per checked product.
+ */
+constexpr std::uint64_t abft_clean_flops(std::uint64_t m, std::uint64_t k, std::uint64_t n) noexcept {
+  return (k * n + m * k) + 2U * (m * k + k * n) + 2U * m * n + 4U * (m + n);
+}
+
+/** Where a checked product is (for its events), and where an `sdc` may corrupt its result. */
+struct AbftSite {
+  std::uint32_t id = 0U;           ///< caller's number of the product (events' subject)
+  std::uint32_t sdc_channel = 0U;  ///< bsp::publish_filter channel of the result before the check (0: none)
+};
+
+struct AbftResult {
+  AbftVerdict verdict = AbftVerdict::kClean;
+  int row = -1;                    ///< the wrong element's row, if one element was located (first check)
+  int col = -1;
+  std::uint32_t bad_rows = 0U;     ///< rows and columns past their tolerance at the first check
+  std::uint32_t bad_cols = 0U;
+  std::uint32_t recomputes = 0U;
+  double residual = 0.0;           ///< the located row's residual (the element's error), or the worst row's
+};
+
+/**
+ * Reference checksums of one product C = A B (M x K times K x N), the
+ * tolerances of the rows and columns that needed them, and the scratch their
+ * computation needs: the caller's storage (a static or a member), so nothing
+ * of it is on the stack. Fixed sizes in flight code; Eigen::Dynamic (sized
+ * once by abft_resize) in host tools.
+ */
+template <int M, int K, int N>
+struct AbftSums {
+  Eigen::Matrix<double, M, 1> row_ref;  ///< A (B e)
+  Eigen::Matrix<double, 1, N> col_ref;  ///< (e^T A) B
+  Eigen::Matrix<double, M, 1> row_tol;  ///< tolerances (abft_tolerances; the check fills the ones it needs)
+  Eigen::Matrix<double, 1, N> col_tol;
+  Eigen::Matrix<double, K, 1> be;       ///< B e
+  Eigen::Matrix<double, 1, K> ea;       ///< e^T A
+  Eigen::Matrix<double, K, 1> abe;      ///< |B| e (when a tolerance was needed)
+  Eigen::Matrix<double, 1, K> eaa;      ///< e^T |A|
+  Eigen::Matrix<double, M, 1> rs;       ///< C e, as computed
+  Eigen::Matrix<double, 1, N> cs;       ///< e^T C
+};
+
+/** Sizes dynamic sums for an m x k times k x n product (host tools; fixed sizes need nothing). */
+template <int M, int K, int N>
+void abft_resize(AbftSums<M, K, N>& s, Eigen::Index m, Eigen::Index k, Eigen::Index n) {
+  s.row_ref.resize(m);
+  s.col_ref.resize(n);
+  s.row_tol.resize(m);
+  s.col_tol.resize(n);
+  s.be.resize(k);
+  s.ea.resize(k);
+  s.abe.resize(k);
+  s.eaa.resize(k);
+  s.rs.resize(m);
+  s.cs.resize(n);
+}
+
+/** The reference checksums of C = A B, from the operands (one pass over A and B each, twice); charges @p work. */
+template <typename DA, typename DB, int M, int K, int N>
+void abft_sums(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<DB>& b, AbftSums<M, K, N>& s,
+               bsp::Work& work) noexcept {
+  const auto m = static_cast<std::uint64_t>(a.rows());
+  const auto k = static_cast<std::uint64_t>(a.cols());
+  const auto n = static_cast<std::uint64_t>(b.cols());
+  s.be.noalias() = b.rowwise().sum();
+  s.ea.noalias() = a.colwise().sum();
+  s.row_ref.noalias() = a.lazyProduct(s.be);
+  s.col_ref.noalias() = s.ea.lazyProduct(b);
+  work.flops += (k * n + m * k) + 2U * (m * k + k * n);
+  work.mem_words += 4U * (m * k + k * n);
+}
+
+/** Row and column factors of the tolerance (see the file comment). */
+template <int M, int K, int N>
+double abft_row_factor(const AbftSums<M, K, N>& s) noexcept {
+  return kAbftSafety * static_cast<double>(s.be.size() + s.col_ref.size() + 2) * kAbftUnitRoundoff;
+}
+template <int M, int K, int N>
+double abft_col_factor(const AbftSums<M, K, N>& s) noexcept {
+  return kAbftSafety * static_cast<double>(s.be.size() + s.row_ref.size() + 2) * kAbftUnitRoundoff;
+}
+
+/** Every row's and column's tolerance into s.row_tol and s.col_tol (tests, tools); charges @p work. */
+template <typename DA, typename DB, int M, int K, int N>
+void abft_tolerances(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<DB>& b, AbftSums<M, K, N>& s,
+                     bsp::Work& work) noexcept {
+  s.abe.noalias() = b.cwiseAbs().rowwise().sum();
+  s.eaa.noalias() = a.cwiseAbs().colwise().sum();
+  s.row_tol.noalias() = a.cwiseAbs().lazyProduct(s.abe);
+  s.col_tol.noalias() = s.eaa.lazyProduct(b.cwiseAbs());
+  s.row_tol = (s.row_tol.array() * abft_row_factor(s) + kAbftFloor).matrix();
+  s.col_tol = (s.col_tol.array() * abft_col_factor(s) + kAbftFloor).matrix();
+  const auto mk = static_cast<std::uint64_t>(a.rows() * a.cols());
+  const auto kn = static_cast<std::uint64_t>(b.rows() * b.cols());
+  work.flops += 3U * (mk + kn);
+  work.int_ops += 2U * (mk + kn);  // absolute values (the sign bit)
+  work.mem_words += 4U * (mk + kn);
+}
+
+namespace detail {
+
+/** The rows of C = A B past their tolerance (s.rs holds C e); into @p r. */
+template <typename DA, typename DB, int M, int K, int N>
+void abft_check_rows(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<DB>& b, AbftSums<M, K, N>& s,
+                     AbftResult& r, bsp::Work& work) noexcept {
+  const double f = abft_row_factor(s);
+  const auto k = static_cast<std::uint64_t>(a.cols());
+  bool abe_ready = false;
+  double worst = -1.0;
+  for (Eigen::Index i = 0; i < s.rs.size(); ++i) {
+    const double d = s.rs(i) - s.row_ref(i);
+    if (std::abs(d) <= f * std::abs(s.row_ref(i)) + kAbftFloor) {
+      continue;  // within a lower bound of its tolerance
+    }
+    if (!abe_ready) {
+      s.abe.noalias() = b.cwiseAbs().rowwise().sum();
+      abe_ready = true;
+      const auto kn = static_cast<std::uint64_t>(b.rows() * b.cols());
+      work += bsp::Work{kn, 0U, kn, 0U, kn};
+    }
+    s.row_tol(i) = f * a.row(i).cwiseAbs().dot(s.abe.transpose()) + kAbftFloor;
+    work += bsp::Work{0U, 0U, 2U * k + 2U, 0U, 2U * k};
+    if (!(std::abs(d) <= s.row_tol(i))) {
+      ++r.bad_rows;
+      const double excess = std::isfinite(d) ? std::abs(d) / s.row_tol(i) : HUGE_VAL;
+      if (excess > worst) {
+        worst = excess;
+        r.row = static_cast<int>(i);
+        r.residual = d;
+      }
+    }
+  }
+}
+
+/** The columns of C = A B past their tolerance (s.cs holds e^T C); into @p r. */
+template <typename DA, typename DB, int M, int K, int N>
+void abft_check_cols(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<DB>& b, AbftSums<M, K, N>& s,
+                     AbftResult& r, bsp::Work& work) noexcept {
+  const double f = abft_col_factor(s);
+  const auto k = static_cast<std::uint64_t>(a.cols());
+  bool eaa_ready = false;
+  double worst = -1.0;
+  for (Eigen::Index j = 0; j < s.cs.size(); ++j) {
+    const double d = s.cs(j) - s.col_ref(j);
+    if (std::abs(d) <= f * std::abs(s.col_ref(j)) + kAbftFloor) {
+      continue;
+    }
+    if (!eaa_ready) {
+      s.eaa.noalias() = a.cwiseAbs().colwise().sum();
+      eaa_ready = true;
+      const auto mk = static_cast<std::uint64_t>(a.rows() * a.cols());
+      work += bsp::Work{mk, 0U, mk, 0U, mk};
+    }
+    s.col_tol(j) = f * s.eaa.dot(b.col(j).cwiseAbs().transpose()) + kAbftFloor;
+    work += bsp::Work{0U, 0U, 2U * k + 2U, 0U, 2U * k};
+    if (!(std::abs(d) <= s.col_tol(j))) {
+      ++r.bad_cols;
+      const double excess = std::isfinite(d) ? std::abs(d) / s.col_tol(j) : HUGE_VAL;
+      if (excess > worst) {
+        worst = excess;
+        r.col = static_cast<int>(j);
+      }
+    }
+  }
+}
+
+}  // namespace detail
+
+/**
+ * Checks @p c = A B against @p s: the rows and columns whose residual passes
+ * their tolerance (a NaN fails). Each residual is first held against a lower
+ * bound of its tolerance that costs nothing (|A (B e)|_i <= (|A| |B| e)_i):
+ * below it, the row is right; only a row above it gets its tolerance computed
+ * (|B| e once, then one row of |A| against it), so a clean product costs the
+ * two sums of C. Charges @p work.
+ */
+template <typename DA, typename DB, typename DC, int M, int K, int N>
+AbftResult abft_check(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<DB>& b, const Eigen::MatrixBase<DC>& c,
+                      AbftSums<M, K, N>& s, bsp::Work& work) noexcept {
+  AbftResult r{};
+  s.rs.noalias() = c.rowwise().sum();
+  s.cs.noalias() = c.colwise().sum();
+  const auto elems = static_cast<std::uint64_t>(c.rows() * c.cols());
+  work.flops += 2U * elems + 4U * static_cast<std::uint64_t>(c.rows() + c.cols());
+  work.mem_words += 2U * elems;
+  detail::abft_check_rows(a, b, s, r, work);
+  detail::abft_check_cols(a, b, s, r, work);
+  return r;
+}
+
+/** Reports a product found wrong (corrected or failed) as an event. */
+void abft_report(const AbftSite& site, const AbftResult& r) noexcept;
+
+/**
+ * C = A B by @p kernel (called as kernel(a, b, c), the caller's product code,
+ * dense or exploiting a known structure of A or B), published on the site's
+ * sdc channel (where a fault corrupts it), checked against the full
+ * checksums, and recomputed by the same kernel while wrong, at most
+ * kAbftMaxRecompute times. A corrected or failed product is reported
+ * (abft_corrected, abft_failed). @p s is the caller's scratch. The result
+ * says where the first check found the product wrong: one row and one column
+ * locate the element (row, col); otherwise they are the worst row and column.
+ */
+template <typename DA, typename DB, typename DC, int M, int K, int N, typename Kernel>
+AbftResult abft_product(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<DB>& b, Eigen::MatrixBase<DC>& c,
+                        const AbftSite& site, Kernel&& kernel, AbftSums<M, K, N>& s, bsp::Work& work) noexcept {
+  kernel(a.derived(), b.derived(), c.derived());
+  if (site.sdc_channel != 0U) {
+    (void)bsp::publish_filter(site.sdc_channel, c.derived().data(),
+                              sizeof(double) * static_cast<std::size_t>(c.rows() * c.cols()));
+  }
+  abft_sums(a, b, s, work);
+  AbftResult first = abft_check(a, b, c, s, work);
+  if (first.bad_rows == 0U && first.bad_cols == 0U) {
+    return first;
+  }
+  first.verdict = AbftVerdict::kFailed;
+  for (std::uint32_t n = 0; n < kAbftMaxRecompute; ++n) {
+    kernel(a.derived(), b.derived(), c.derived());
+    ++first.recomputes;
+    const AbftResult again = abft_check(a, b, c, s, work);
+    if (again.bad_rows == 0U && again.bad_cols == 0U) {
+      first.verdict = AbftVerdict::kCorrected;
+      break;
+    }
+  }
+  abft_report(site, first);
+  return first;
+}
+
+/** The plain dense kernel: c = a b (Eigen's lazy product; no allocation). Charges nothing. */
+struct AbftDense {
+  template <typename A, typename B, typename C>
+  void operator()(const A& a, const B& b, C& c) const noexcept {
+    c.noalias() = a.lazyProduct(b);
+  }
+};
+
+}  // namespace fdir
