@@ -70,6 +70,14 @@ bool detects_core(bsp::TileId t, const fdir::Event& e) {
          e.subject == t;
 }
 
+/**
+ * Wrong data leaves the tile answering: only a check of what it computed or stored names it
+ * (a neighbour that stops hearing it nearby is about something else, e.g. a failed link).
+ */
+bool detects_wrong_data(bsp::TileId t, const fdir::Event& e) {
+  return (e.id == EventId::kSelfTestMismatch || (e.id == EventId::kTmrOutvoted && e.b == 1U)) && e.subject == t;
+}
+
 /** Whether flight event @p e detects the injection @p r (see docs/FDIR.md, "The join"). */
 bool detects(const bsp::FaultRecord& r, const fdir::Event& e) {
   const bsp::TileId t = r.spec.tile;
@@ -91,11 +99,11 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e) {
       if (r.crashed) {
         return detects_core(t, e);  // it landed in control data: the tile crashed
       }
-      [[fallthrough]];
+      return detects_wrong_data(t, e);
     case bsp::FaultKind::kSdc:
-      // Wrong data leaves the tile answering: only a check of what it computed or stored names it
-      // (a neighbour that stops hearing it nearby is about something else, e.g. a failed link).
-      return (e.id == EventId::kSelfTestMismatch || (e.id == EventId::kTmrOutvoted && e.b == 1U)) && e.subject == t;
+      // A corrupted product is also found by the tile itself, by its checksums.
+      return detects_wrong_data(t, e) ||
+             ((e.id == EventId::kAbftCorrected || e.id == EventId::kAbftFailed) && e.tile == t);
     case bsp::FaultKind::kWatchdogFail:
       // Latent: nothing on the chip checks a watchdog itself; its failure shows only through the hang
       // it then misses, and that detection is the hang's.
@@ -198,6 +206,20 @@ bool describe_tmr_event(const fdir::Event& e, const char* s, std::span<char> b) 
       (void)std::snprintf(b.data(), b.size(), "no majority at job %s (different 0x%x, missing 0x%x): nothing delivered",
                           s, e.a, e.b);
       return true;
+    case EventId::kAbftCorrected:
+    case EventId::kAbftFailed: {
+      const std::uint32_t row = e.cause >> 16U;
+      const std::uint32_t col = e.cause & 0xFFFFU;
+      if (row != 0xFFFFU && col != 0xFFFFU) {
+        (void)std::snprintf(b.data(), b.size(), "product %s: element (%u, %u) wrong, %s after %u recomputation(s)", s,
+                            row, col, e.id == EventId::kAbftFailed ? "still wrong" : "right", e.b);
+      } else {
+        (void)std::snprintf(b.data(), b.size(), "product %s: %u row(s) and %u column(s) off their checksums, %s after "
+                            "%u recomputation(s)", s, e.a >> 16U, e.a & 0xFFFFU,
+                            e.id == EventId::kAbftFailed ? "still wrong" : "right", e.b);
+      }
+      return true;
+    }
     case EventId::kTmrVoterResumed:
       (void)std::snprintf(b.data(), b.size(), "the voter restarted at job %s goes on voting (epoch %u): delivers from "
                           "job %u; records of its outage written: %u", s, e.cause, e.a, e.b);

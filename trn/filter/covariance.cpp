@@ -67,9 +67,15 @@ void right_multiply_transpose(const Mat15& f, const Mat15& fp, Mat15& p) noexcep
 
 void propagate_covariance(Mat15& p, const Mat15& f, const Vec15& q, CovWork& w, bsp::Work& work) noexcept {
   // Block-sparse products (about a quarter of the dense flops); the dense
-  // F P F^T of the reference test checks that the pattern is complete.
-  left_multiply(f, p, w.fp);
-  right_multiply_transpose(f, w.fp, p);
+  // F P F^T of the reference test checks that the pattern is complete. Each
+  // is checked against the full checksums of the dense product it computes.
+  w.last_fp = fdir::abft_product(
+      f, p, w.fp, fdir::AbftSite{kAbftSiteFp, kFilterProductChannel},
+      [](const Mat15& ff, const Mat15& pp, Mat15& out) noexcept { left_multiply(ff, pp, out); }, w.abft, work);
+  w.last_fpft = fdir::abft_product(
+      w.fp, f.transpose(), p, fdir::AbftSite{kAbftSiteFpft, kFilterProductChannel},
+      [&f](const Mat15& fp, const auto& /*ft*/, Mat15& out) noexcept { right_multiply_transpose(f, fp, out); }, w.abft,
+      work);
   p.diagonal() += q;
   symmetrize(p);
   work.flops += kFlopsCovPropagate;

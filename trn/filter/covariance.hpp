@@ -9,17 +9,31 @@
 #pragma once
 
 #include "bsp_tile64/work.hpp"
+#include "fdir/abft.hpp"
 #include "trn/filter/filter_config.hpp"
 #include "trn/filter/linalg.hpp"
 
 namespace trn::filter {
 
-/** Work matrices of the covariance operations (about 5.4 KB; keep out of task stacks). */
+/**
+ * Publication channel (bsp::publish_filter) of the covariance propagation's
+ * two products, F P and (F P) F^T, each before its checksums are checked:
+ * where an `sdc` corrupts a product inside the filter (trn/tasks/sdc_points.hpp).
+ */
+inline constexpr std::uint32_t kFilterProductChannel = 5;
+/** Sites of the checked products (fdir::AbftSite::id, the abft events' subject). */
+inline constexpr std::uint32_t kAbftSiteFp = 1;    ///< F P
+inline constexpr std::uint32_t kAbftSiteFpft = 2;  ///< (F P) F^T
+
+/** Work matrices of the covariance operations (about 7.5 KB; keep out of task stacks). */
 struct CovWork {
   Mat15 fp = Mat15::Zero();      ///< F P during propagation; (I - K H) P during an update
   Mat15x2 pht = Mat15x2::Zero(); ///< P H^T
   Mat15x2 k = Mat15x2::Zero();   ///< Kalman gain
   Mat15x2 mht = Mat15x2::Zero(); ///< (I - K H) P H^T
+  fdir::AbftSums<kErrDim, kErrDim, kErrDim> abft{};  ///< checksums of the propagation's products
+  fdir::AbftResult last_fp{};    ///< the last propagation's checks (kClean unless a product was wrong)
+  fdir::AbftResult last_fpft{};
 };
 
 /**
@@ -68,7 +82,9 @@ Vec15 process_noise_diag(const ImuSpec& imu, double dt_s) noexcept;
 /**
  * P <- F P F^T + diag(q), then symmetrized. Pre: P symmetric; F has the
  * sparsity strapdown_step() writes (identity outside its documented blocks):
- * only those blocks are read.
+ * only those blocks are read. Each of the two products is checked against
+ * full checksums (fdir/abft.hpp) and computed again while wrong (the results
+ * in w.last_fp, w.last_fpft; a product still wrong is reported and kept).
  */
 void propagate_covariance(Mat15& p, const Mat15& f, const Vec15& q, CovWork& w, bsp::Work& work) noexcept;
 

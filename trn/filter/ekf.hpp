@@ -128,7 +128,10 @@ class Ekf {
 };
 
 /** Flops of one propagate() (strapdown, covariance, history); a task budgets its period with these. */
-inline constexpr std::uint64_t kFlopsPerPropagation = kFlopsStrapdown + kFlopsCovPropagate + kFlopsHistoryRecord;
+/** The checks of the propagation's two products, when they pass (fdir/abft.hpp). */
+inline constexpr std::uint64_t kFlopsCovChecks = 2U * fdir::abft_clean_flops(kErrDim, kErrDim, kErrDim);
+inline constexpr std::uint64_t kFlopsPerPropagation =
+    kFlopsStrapdown + kFlopsCovPropagate + kFlopsCovChecks + kFlopsHistoryRecord;
 /** Flops of one accepted match at the state's time: measurement, gate, Joseph update, injection, reset. */
 inline constexpr std::uint64_t kFlopsPerMatch = kFlopsBearing + kFlopsJoseph + 60 + kFlopsReset;
 /** Flops of mapping a past image time's attitude columns onto the current error state: H_th R(q_rel). */

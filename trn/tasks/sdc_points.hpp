@@ -12,6 +12,7 @@
 #pragma once
 
 #include "fdir/tile_health.hpp"
+#include "trn/filter/covariance.hpp"
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/tile_map.hpp"
 
@@ -37,7 +38,7 @@ struct SdcPoint {
   const char* what;     ///< what is corrupted (for the plan's documentation and errors)
 };
 
-inline constexpr std::array<SdcPoint, 5> kSdcPoints{{
+inline constexpr std::array<SdcPoint, 6> kSdcPoints{{
     {"nav_output", kNavChannel, role_bit(Role::kFilter) | role_bit(Role::kFilterReplica),
      "the filter's solution as delivered (in TMR: the voted one on the filter's tile, each replica's own on a "
      "replica)"},
@@ -47,6 +48,9 @@ inline constexpr std::array<SdcPoint, 5> kSdcPoints{{
      "a vision tile's result message (its landmark matches) before it is sent"},
     {"coordinator_batch", kCoordinatorBatchChannel, role_bit(Role::kVisionCoordinator),
      "one part of the coordinator's match batch (header and matches) before it is sent"},
+    {"filter_product", filter::kFilterProductChannel, role_bit(Role::kFilter) | role_bit(Role::kFilterReplica),
+     "one of the covariance propagation's products (F P, then (F P) F^T; 225 doubles) before its checksums are "
+     "checked"},
     {"self_test", fdir::kSelfTestChannel,
      role_bit(Role::kTrnSupervisor) | role_bit(Role::kVisionCoordinator) | role_bit(Role::kIo) |
          role_bit(Role::kFilter) | role_bit(Role::kVision) | role_bit(Role::kFilterReplica),

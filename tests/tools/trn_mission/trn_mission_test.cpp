@@ -357,7 +357,8 @@ TEST_F(TrnMissionBinary, TheRestOfTheRoleMatrixIsDetectedAndRecovered) {
 // Silent corruption where the flight code computes: one sdc at each named point (a vision tile's
 // matches, the coordinator's batch, the filter's state, its delivered solution) is delivered there,
 // and the delivered stream differs from the clean run's. Nothing checks these results in simplex
-// (ABFT is open): the doubled position coordinate stays in the filter, the final error grows.
+// (checksums cover the filter's products, not its state): the doubled position coordinate stays in
+// the filter, the final error grows.
 TEST_F(TrnMissionBinary, AnSdcAtEachNamedPointReachesTheValueThere) {
   ASSERT_EQ(run(binary() + " --quiet --duration 10 --out " + (dir_ / "clean").string()), 0);
   ASSERT_EQ(run(binary() + " --quiet --duration 10 --faults " + fixture("sdc_points.toml") + " --out " +
@@ -374,6 +375,29 @@ TEST_F(TrnMissionBinary, AnSdcAtEachNamedPointReachesTheValueThere) {
   }
   EXPECT_NE(s["filter_output_crc"], clean["filter_output_crc"]);
   EXPECT_GT(s["final_position_error_m"].get<double>(), 10.0 * clean["final_position_error_m"].get<double>());
+}
+
+// FDIR-AB-04: a corrupted product inside the flown filter (an exponent bit of one element of F P,
+// twice) is found by the product's checksums on the filter's tile, located, computed again, and the
+// navigation output stays the clean flight's, bit for bit.
+TEST_F(TrnMissionBinary, ACorruptedProductInTheFilterIsCorrectedAndTheOutputUnchanged) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 8 --out " + (dir_ / "clean").string()), 0);
+  ASSERT_EQ(run(binary() + " --quiet --duration 8 --faults " + fixture("filter_product_sdc.toml") + " --out " +
+                (dir_ / "ab").string()),
+            0);
+  const nlohmann::json clean = read_json(dir_ / "clean" / "summary.json");
+  const nlohmann::json s = read_json(dir_ / "ab" / "summary.json");
+  const std::string log = read_text(dir_ / "ab" / "events.log");
+  EXPECT_EQ(s["faults_injected"], 2);
+  EXPECT_EQ(s["faults_detected"], 2);
+  EXPECT_EQ(s["faults_recovered"], 2);
+  EXPECT_NE(log.find("abft_corrected: product 1: element (5, 3) wrong, right after 1 recomputation(s)"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("abft_corrected: product 1: element (5, 13) wrong"), std::string::npos);
+  EXPECT_EQ(count_of(log, "abft_failed"), 0U);
+  EXPECT_EQ(s["filter_output_crc"], clean["filter_output_crc"]) << "the corrected products change nothing";
+  EXPECT_EQ(s["final_position_error_m"], clean["final_position_error_m"]);
 }
 
 // Point 9: the switch of a spare tile (it routes traffic but runs nothing that could answer a
