@@ -78,8 +78,11 @@ bool detects_wrong_data(bsp::TileId t, const fdir::Event& e) {
   return (e.id == EventId::kSelfTestMismatch || (e.id == EventId::kTmrOutvoted && e.b == 1U)) && e.subject == t;
 }
 
+/** How long after a corrupted product its check reports it at most: one filter period. */
+constexpr double kAbftSameJobS = 0.010;
+
 /** Whether flight event @p e detects the injection @p r (see docs/FDIR.md, "The join"). */
-bool detects(const bsp::FaultRecord& r, const fdir::Event& e) {
+bool detects(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
   const bsp::TileId t = r.spec.tile;
   switch (r.spec.kind) {
     case bsp::FaultKind::kPacketBitFlip:
@@ -101,9 +104,11 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e) {
       }
       return detects_wrong_data(t, e);
     case bsp::FaultKind::kSdc:
-      // A corrupted product is also found by the tile itself, by its checksums.
+      // A corrupted product is also found by the tile itself, by its checksums, in the same job: a
+      // check of a later product is about that product (a flip below the round-off is never seen).
       return detects_wrong_data(t, e) ||
-             ((e.id == EventId::kAbftCorrected || e.id == EventId::kAbftFailed) && e.tile == t);
+             ((e.id == EventId::kAbftCorrected || e.id == EventId::kAbftFailed) && e.tile == t &&
+              seconds(e.cycle - r.applied_cycle, clock_hz) <= kAbftSameJobS);
     case bsp::FaultKind::kWatchdogFail:
       // Latent: nothing on the chip checks a watchdog itself; its failure shows only through the hang
       // it then misses, and that detection is the hang's.
@@ -524,7 +529,7 @@ FaultAccount join_faults(std::span<const bsp::FaultRecord> records, std::span<co
       if (t - o.injected_s > kDetectWindowS) {
         break;
       }
-      if (detects(r, events[k])) {
+      if (detects(r, events[k], clock_hz)) {
         det = k;
         break;
       }

@@ -37,6 +37,24 @@ fdir::Event event(fdir::EventId id, bsp::TileId writer, std::uint32_t subject, b
   return e;
 }
 
+// FDIR-AB-05: a product's check reports in the job the product was corrupted in; an sdc below the
+// round-off is never seen, and the check of a later corrupted product is not credited to it.
+TEST(FdirJoin, AProductCheckIsCreditedOnlyToTheSdcOfItsOwnJob) {
+  const std::array<bsp::FaultRecord, 2> faults{record(bsp::FaultKind::kSdc, 18U, 3'001'000U),
+                                               record(bsp::FaultKind::kSdc, 18U, 4'001'000U)};
+  const std::vector<fdir::Event> events{event(fdir::EventId::kAbftCorrected, 18U, 1U, 4'001'000U)};
+  const tools::FaultAccount a = tools::join_faults(faults, events, kHz);
+  EXPECT_EQ(a.injected, 2U);
+  EXPECT_EQ(a.detected, 1U);
+  EXPECT_EQ(a.recovered, 1U);
+  ASSERT_EQ(a.outcomes.size(), 2U);
+  EXPECT_FALSE(a.outcomes[0].detected) << "the first flip was below the round-off: nothing saw it";
+  EXPECT_TRUE(a.outcomes[1].detected);
+  // Another tile's check is not this tile's.
+  const std::vector<fdir::Event> other{event(fdir::EventId::kAbftCorrected, 20U, 1U, 4'001'000U)};
+  EXPECT_EQ(tools::join_faults(faults, other, kHz).detected, 0U);
+}
+
 // FDIR-JN-02: an upset on one tile is not credited to a neighbour's report about another tile, nor to
 // a watchdog of the same tile (a tile with wrong data still answers); only a self-test naming it.
 TEST(FdirJoin, AnUpsetIsCreditedOnlyToASelfTestThatNamesItsTile) {
