@@ -19,10 +19,35 @@
 
 #include <Eigen/Geometry>
 
+#include <array>
+
 #include <cmath>
 #include <numbers>
 
 namespace tools {
+
+std::uint64_t vision_exclude_mask(std::uint32_t n) {
+  std::array<std::uint32_t, trn::tasks::kMapTiles> vision{};
+  std::uint32_t count = 0;
+  for (std::uint32_t t = 0; t < trn::tasks::kMapTiles; ++t) {
+    if (trn::tasks::kTileRoles[t] == trn::tasks::Role::kVision) {
+      vision[count++] = t;
+    }
+  }
+  if (n == 0U || n >= count) {
+    return 0U;
+  }
+  // Tile i * count / n for i < n: spread over the map, not a corner of it.
+  std::uint64_t keep = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    keep |= 1ULL << vision[(static_cast<std::uint64_t>(i) * count) / n];
+  }
+  std::uint64_t all = 0;
+  for (std::uint32_t i = 0; i < count; ++i) {
+    all |= 1ULL << vision[i];
+  }
+  return all & ~keep;
+}
 namespace {
 
 /** Stream index of the initial-estimate draws within StreamId::kSensor (IMU 1, camera 2). */
@@ -204,7 +229,8 @@ bool Mission::boot(std::string& error) {
   trn::tasks::VisionCoordConfig& c = image.coord;
   c.camera = camera_.model();
   c.filter_tile = trn::tasks::kFilterTile;
-  trn::tasks::tile_map_vision_tiles(c, 0);  // the coordinator learns of lost tiles by their silence
+  // The coordinator learns of lost tiles by their silence; tiles left out on purpose are not in its list.
+  trn::tasks::tile_map_vision_tiles(c, vision_exclude_mask(setup_.vision_tiles));
   trn::vision::sun_direction(s.camera.sun.azimuth_deg, s.camera.sun.elevation_deg, c.descent_sun_m);
   image.vision.camera = camera_.model();
   trn::vision::sun_direction(s.camera.sun.azimuth_deg, s.camera.sun.elevation_deg, image.vision.descent_sun_m);

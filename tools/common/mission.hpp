@@ -28,7 +28,15 @@ struct MissionSetup {
   Scenario scenario = default_scenario();
   double duration_s = 46.0;       ///< emulated seconds the devices deliver for
   std::uint64_t unpowered = 0;    ///< role tiles left switched off (bit t: tile t), e.g. removed vision tiles
+  /**
+   * Vision tiles the coordinator is given (1..40; 0: all 40), spread evenly
+   * over the map's vision tiles; the others stay on, routing, with no work.
+   */
+  std::uint32_t vision_tiles = 0;
 };
+
+/** The tiles excluded from the coordinator's list when it is given @p n of the map's vision tiles (0: none). */
+std::uint64_t vision_exclude_mask(std::uint32_t n);
 
 /** The navigation solution against the truth at its time. */
 struct NavSample {

@@ -64,6 +64,7 @@ struct Options {
   std::optional<std::uint64_t> seed;
   std::string out;
   double duration_s = 0.0;  ///< 0: the whole descent
+  std::uint32_t vision_tiles = 0;  ///< 0: all 40
   bool quiet = false;
   bool view = false;
   bool memory_map = false;
@@ -349,6 +350,8 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("coordinator_tile", trn::tasks::slot_tile_now(trn::tasks::kSlotCoordinator));
   s.extra.emplace_back("filter_tile", trn::tasks::slot_tile_now(trn::tasks::kSlotFilter));
   s.extra.emplace_back("coordinator_frames_processed", c.frames_processed);
+  s.extra.emplace_back("vision_tiles_used",
+                       m.setup().vision_tiles == 0U ? trn::tasks::kMaxVisionTiles : m.setup().vision_tiles);
   // The filter role's delivered solutions, in job order (a simplex or a voted one alike), and its TMR counts:
   // the flight's counters since the filter task last started (filter_counts_since_job; a restart clears them).
   const trn::tasks::FilterTaskStats f = trn::tasks::filter_task_stats(trn::tasks::slot_tile_now(trn::tasks::kSlotFilter));
@@ -429,6 +432,9 @@ int run(int argc, char** argv) {
   app.add_option("--out", o.out, "Run folder (default out/<scenario>-seed<N>)");
   app.add_option("--duration", o.duration_s, "Emulated seconds to fly (default: the whole descent)")
       ->check(CLI::Range(1.0, 1000.0));
+  app.add_option("--vision-tiles", o.vision_tiles,
+                 "Vision tiles the coordinator uses, spread over the map (default: all 40; the others stay on, idle)")
+      ->check(CLI::Range(1U, 40U));
   app.add_flag("--quiet", o.quiet, "No progress display");
   app.add_flag("--view", o.view, "Show the tile grid live (role and health of each tile)");
   app.add_flag("--memory-map", o.memory_map, "Print the memory map after the run");
@@ -452,6 +458,7 @@ int run(int argc, char** argv) {
   tools::MissionSetup setup;
   setup.scenario = in.scenario;
   setup.duration_s = in.duration_s;
+  setup.vision_tiles = o.vision_tiles;
   std::string error;
   if (!mission.build(setup, error) || !mission.boot(error)) {
     std::fprintf(stderr, "trn_mission: %s\n", error.c_str());

@@ -377,6 +377,16 @@ TEST_F(TrnMissionBinary, AnSdcAtEachNamedPointReachesTheValueThere) {
   EXPECT_GT(s["final_position_error_m"].get<double>(), 10.0 * clean["final_position_error_m"].get<double>());
 }
 
+// --vision-tiles gives the coordinator N of the 40 vision tiles; the summary says how many; a
+// count outside 1..40 is refused before anything is built.
+TEST_F(TrnMissionBinary, VisionTilesChoosesHowManyTheCoordinatorUses) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 3 --vision-tiles 10 --out " + (dir_ / "v10").string()), 0);
+  const nlohmann::json s = read_json(dir_ / "v10" / "summary.json");
+  EXPECT_EQ(s["vision_tiles_used"], 10);
+  EXPECT_EQ(run(binary() + " --quiet --vision-tiles 0 --out " + (dir_ / "v0").string()), 2);
+  EXPECT_EQ(run(binary() + " --quiet --vision-tiles 41 --out " + (dir_ / "v41").string()), 2);
+}
+
 // FDIR-AB-04: a corrupted product inside the flown filter (an exponent bit of one element of F P,
 // twice) is found by the product's checksums on the filter's tile, located, computed again, and the
 // navigation output stays the clean flight's, bit for bit.
