@@ -2,7 +2,7 @@
 # @file deps.sh
 # @brief Installs the Debian packages the build needs; a fast no-op when all are present.
 #
-# Usage: tools/build/deps.sh [base|bench|fuzz ...]   (default: base)
+# Usage: tools/build/deps.sh [base|bench|fuzz|study ...]   (default: base)
 # Works as root or through sudo. Exits non-zero if a package cannot be installed.
 set -euo pipefail
 
@@ -14,6 +14,7 @@ base_pkgs=(
 )
 bench_pkgs=(libopencv-dev)
 fuzz_pkgs=(clang libclang-rt-dev)
+study_pkgs=(jq)
 
 groups=("$@")
 [ ${#groups[@]} -gt 0 ] || groups=(base)
@@ -24,7 +25,8 @@ for g in "${groups[@]}"; do
     base)  wanted+=("${base_pkgs[@]}") ;;
     bench) wanted+=("${bench_pkgs[@]}") ;;
     fuzz)  wanted+=("${fuzz_pkgs[@]}") ;;
-    *) echo "deps: unknown package group '$g' (allowed: base bench fuzz)" >&2; exit 2 ;;
+    study) wanted+=("${study_pkgs[@]}") ;;
+    *) echo "deps: unknown package group '$g' (allowed: base bench fuzz study)" >&2; exit 2 ;;
   esac
 done
 
