@@ -66,6 +66,8 @@ constexpr k::Ticks kCoordIdleTicks = 2;
 
 /** Ticks the coordinator waits for the vision tiles' relit bands before doing the rest itself. */
 constexpr k::Ticks kRelightWaitTicks = 400;
+/** The vision tiles kRelightWaitTicks is sized for (each relights 1/40 of the coarse layer). */
+constexpr std::uint32_t kRelightSharers = 40U;
 
 std::array<VisionCoordStats, bsp::kMaxTiles> g_coord_stats{};
 
@@ -153,7 +155,8 @@ bool relight_coarse(CoordState& st) noexcept {
     }
     done += st.band_done[i] ? 1U : 0U;
   }
-  const k::Ticks until = k::now_ticks() + kRelightWaitTicks;
+  // A band takes a tile about 90 ms when 40 share the layer, 40 / n times that when n do.
+  const k::Ticks until = k::now_ticks() + kRelightWaitTicks * (n != 0U && n < kRelightSharers ? kRelightSharers / n : 1U);
   udn::FtMessage m{};
   while (done < n && k::now_ticks() < until) {
     while (udn::endpoint_receive(kChanResult, m) == udn::FtError::kOk) {

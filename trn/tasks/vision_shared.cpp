@@ -6,6 +6,7 @@
 
 #include "bsp_tile64/memory.hpp"
 #include "bsp_tile64/work.hpp"
+#include "kernel/kernel.hpp"
 
 #include <cstring>
 #include <span>
@@ -23,11 +24,19 @@ bool relight_band(const vision::MapView& map, const double sun_m[3], vision::Ima
   if (rows <= 0) {
     return true;
   }
-  bsp::Work work{};
-  const vision::ImageU8 band = relit.sub(0, row0, relit.width, rows);
-  const bool ok = band.valid() && vision::relight_region(map, 0, row0, sun_m, band, work) == vision::Status::kOk;
-  bsp::consume(work);
-  return ok;
+  const std::int32_t end = row0 + rows;
+  for (std::int32_t r = row0; r < end; r += kRelightStepRows) {  // at most rows / kRelightStepRows + 1 steps
+    const std::int32_t n = end - r < kRelightStepRows ? end - r : kRelightStepRows;
+    bsp::Work work{};
+    const vision::ImageU8 step = relit.sub(0, r, relit.width, n);
+    const bool ok = step.valid() && vision::relight_region(map, 0, r, sun_m, step, work) == vision::Status::kOk;
+    bsp::consume(work);
+    k::checkin();
+    if (!ok) {
+      return false;
+    }
+  }
+  return true;
 }
 
 const std::uint8_t* ddr_at(std::uint64_t offset, std::uint64_t bytes) noexcept {
