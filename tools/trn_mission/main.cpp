@@ -351,7 +351,8 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("filter_tile", trn::tasks::slot_tile_now(trn::tasks::kSlotFilter));
   s.extra.emplace_back("coordinator_frames_processed", c.frames_processed);
   s.extra.emplace_back("vision_tiles_used",
-                       m.setup().vision_tiles == 0U ? trn::tasks::kMaxVisionTiles : m.setup().vision_tiles);
+                       m.setup().vision_tiles == 0U ? trn::tasks::count_role(trn::tasks::Role::kVision)
+                                                    : m.setup().vision_tiles);
   // The filter role's delivered solutions, in job order (a simplex or a voted one alike), and its TMR counts:
   // the flight's counters since the filter task last started (filter_counts_since_job; a restart clears them).
   const trn::tasks::FilterTaskStats f = trn::tasks::filter_task_stats(trn::tasks::slot_tile_now(trn::tasks::kSlotFilter));
