@@ -110,7 +110,9 @@ void expect_every_element_located(const Eigen::Matrix<double, M, K>& a, const Ei
 
 // FDIR-AB-01: every single wrong element is found and located, at each of the filter's product shapes.
 TEST(Abft, EveryWrongElementIsLocatedAtTheFiltersSizes) {
-  std::mt19937_64 rng(17);
+  constexpr std::uint64_t kSeed = 17;
+  SCOPED_TRACE(testing::Message() << "operands drawn with seed " << kSeed);
+  std::mt19937_64 rng(kSeed);
   const Eigen::Matrix<double, 15, 15> p = covariance<15>(rng);
   const Eigen::Matrix<double, 15, 15> f = transition<15>(rng);
   expect_every_element_located(f, p);                                // F P
@@ -126,7 +128,9 @@ TEST(Abft, EveryWrongElementIsLocatedAtTheFiltersSizes) {
 
 // A non-finite element fails its row and column.
 TEST(Abft, ANonFiniteElementIsFound) {
-  std::mt19937_64 rng(3);
+  constexpr std::uint64_t kSeed = 3;
+  SCOPED_TRACE(testing::Message() << "operands drawn with seed " << kSeed);
+  std::mt19937_64 rng(kSeed);
   const Eigen::Matrix<double, 15, 15> p = covariance<15>(rng);
   const Eigen::Matrix<double, 15, 15> f = transition<15>(rng);
   fdir::AbftSums<15, 15, 15> s{};
@@ -175,7 +179,9 @@ ProductRun g_run{};
 // one) and reported with the element it located; a persistent one is reported failed after the
 // bounded recomputations.
 TEST(Abft, ATransientFaultIsRecomputedAndAPersistentOneReportedFailed) {
-  std::mt19937_64 rng(5);
+  constexpr std::uint64_t kSeed = 5;
+  SCOPED_TRACE(testing::Message() << "operands drawn with seed " << kSeed);
+  std::mt19937_64 rng(kSeed);
   g_run.p = covariance<15>(rng);
   g_run.f = transition<15>(rng);
   const Eigen::Matrix<double, 15, 15> clean = g_run.f.lazyProduct(g_run.p);
@@ -217,7 +223,9 @@ TEST(Abft, NoFalseAlarmOverRandomProductsWithTheFiltersConditioning) {
   constexpr int kProducts = 20'000;
 #endif
   constexpr int kFresh = 1000;  // new operands every kFresh products, scaled in between
-  std::mt19937_64 rng(2026);
+  constexpr std::uint64_t kSeed = 2026;
+  SCOPED_TRACE(testing::Message() << "operands drawn with seed " << kSeed);
+  std::mt19937_64 rng(kSeed);
   std::uniform_real_distribution<double> scale(0.5, 2.0);
   static fdir::AbftSums<15, 15, 15> s{};
   static fdir::AbftSums<15, 15, 2> s2{};
