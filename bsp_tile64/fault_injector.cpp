@@ -149,6 +149,26 @@ FaultStatus apply_seu(FaultRecord& r, Rng& rng) noexcept {
   return FaultStatus::kApplied;
 }
 
+/** A lasting SDC: @p shift added to the first double of the value (none when it is shorter). */
+void shift_value(FaultRecord& r, std::size_t index, void* data, std::size_t bytes) noexcept {
+  if (bytes < sizeof(double)) {
+    return;
+  }
+  double v = 0.0;
+  std::memcpy(&v, data, sizeof v);
+  v += r.spec.shift;
+  std::memcpy(data, &v, sizeof v);
+  if (r.hits == 0U) {
+    r.status = FaultStatus::kApplied;
+    r.applied_cycle = now();
+    r.offset = 0U;
+    r.bit = 0U;
+    r.address = reinterpret_cast<std::uintptr_t>(data);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): ground truth is an address
+  }
+  ++r.hits;
+  trace_record(now(), r.spec.tile, static_cast<std::uint16_t>(BoardEvent::kSdcApplied), index, 0U);
+}
+
 FaultStatus apply_sdc(FaultRecord& r, Rng& /*rng*/) noexcept {
   if (g_inj.armed_count >= kMaxArmedSdc) {
     return FaultStatus::kSkipped;
@@ -316,6 +336,10 @@ bool publish_filter(std::uint32_t channel, void* data, std::size_t bytes) noexce
     FaultRecord& r = g_inj.log[g_inj.armed[i]];
     if (r.spec.tile != tile || (r.spec.channel != kAnyChannel && r.spec.channel != channel)) {
       continue;
+    }
+    if (r.spec.shift != 0.0) {
+      shift_value(r, g_inj.armed[i], data, bytes);
+      return true;  // lasting: it stays armed
     }
     const std::uint64_t bits = static_cast<std::uint64_t>(bytes) * 8U;
     const std::uint64_t bit = r.spec.bit == kRandomBit ? g_inj.rng.below(bits) : r.spec.bit % bits;

@@ -64,6 +64,13 @@ struct FaultSpec {
   std::uint32_t bit = kRandomBit;   ///< SEU: bit 0..7 of the byte; SDC: bit of the value; network: bit of the word
   std::uint64_t param = 0U;         ///< kind-specific (network kinds)
   /**
+   * SDC: non-zero for a lasting corruption (a part that computes wrong from
+   * then on, e.g. a damaged unit): instead of one bit flip, this is added to
+   * the first double of every value published on the channel, and the fault
+   * stays armed for the rest of the run (FaultRecord::hits counts the values).
+   */
+  double shift = 0.0;
+  /**
    * SEU: the named carve of the tile's RAM it hits (bsp::region_carves, e.g.
    * "ekf"); offset then counts from the carve's start (random: anywhere in it).
    * Empty: the whole RAM. A carve the tile does not have: skipped.
@@ -96,6 +103,7 @@ struct FaultRecord {
    * blocks took an upset.
    */
   bool crashed = false;
+  std::uint32_t hits = 0U;  ///< SDC with a shift: values it changed so far (applied_cycle: the first)
 };
 
 enum class FaultError : std::uint8_t { kOk, kFull, kBadTile, kBadKind, kBadRate };

@@ -54,6 +54,8 @@ enum class EventId : std::uint16_t {
   kWorkerSilent = 0x0301,      ///< subject: worker tile, a: frames missed in a row; its work goes to the others
   kWorkerBack = 0x0302,        ///< subject: worker tile; it answered again and gets work
   kFrameDone = 0x0303,         ///< a: frame, b: matches, cause: units lost
+  kResultsSuspect = 0x0304,    ///< a worker's results fail the consistency check (result_trust.hpp); subject: tile, cause: 0 first time / 1 again after its reset (its replacement is asked), a: failed in the window, b: checked in it
+  kResultsConsistent = 0x0305, ///< a suspect worker's results pass again; subject: tile, cause: 0 while suspect / 1 after its reset, a: clean rounds in a row
   // ---- health table, asserts
   kMonitorWarn = 0x0401,       ///< subject: monitor index, a: value, b: threshold
   kMonitorFatal = 0x0402,      ///< subject: monitor index, a: value, b: threshold; the action is taken
@@ -62,11 +64,11 @@ enum class EventId : std::uint16_t {
   // ---- core health (fdir/tile_health)
   kTaskOverdue = 0x0501,       ///< a task missed its check-in; subject: task id, cause: tile, a: ticks late, b: budget; the watchdog is no longer kicked
   kWatchdogExpired = 0x0502,   ///< the supervisor took a tile's watchdog interrupt; subject: tile, a: expiries so far
-  kTileReset = 0x0503,         ///< a silent tile was reset; subject: tile, cause: 0 by the supervisor, 1 by the supervisor's watcher, a: resets of it, b: cap
+  kTileReset = 0x0503,         ///< a silent tile was reset; subject: tile, cause: 0 by the supervisor, 1 by the supervisor's watcher, 2 by the supervisor for wrong results (a coordinator's report), a: resets of it, b: cap
   kTileRecovered = 0x0504,     ///< a reset tile booted its role again and reported; subject: tile, cause: boot cause, a: ticks since the reset
   kTileRebooted = 0x0505,      ///< a tile booted again without a command (crash); subject: tile, cause: boot cause
   kTileLost = 0x0506,          ///< a reset tile never reported back; subject: tile, a: ticks waited
-  kRoleMoved = 0x0507,         ///< a retired tile's role goes to a spare; subject: role slot, cause: old tile, a: spare, b: directory version
+  kRoleMoved = 0x0507,         ///< a retired tile's role goes to a spare; subject: role slot (or a worker's boot slot), cause: old tile, a: spare, b: directory version (0: a worker replaced for wrong results, not a directory role)
   kRoleRestored = 0x0508,      ///< the spare booted the role and reported; subject: role slot, cause: retired tile, a: spare, b: ticks since the move
   kNoSpare = 0x0509,           ///< a role could not move (no spare left, or it would not switch on); subject: slot, cause: old tile
   kSelfTestMismatch = 0x050A,  ///< a tile was outvoted by two others in a self-test; subject: tile, cause: round, a: disagreements in a row, b: to retire
@@ -101,7 +103,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 53> kEventTable{{
+inline constexpr std::array<EventInfo, 55> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -123,6 +125,8 @@ inline constexpr std::array<EventInfo, 53> kEventTable{{
     {EventId::kWorkerSilent, "worker_silent", Severity::kWarningHi, kStepDetect | kStepIsolate},
     {EventId::kWorkerBack, "worker_back", Severity::kInfo, kStepRecover},
     {EventId::kFrameDone, "frame_done", Severity::kInfo, kStepNone},
+    {EventId::kResultsSuspect, "results_suspect", Severity::kWarningHi, kStepDetect | kStepIsolate},
+    {EventId::kResultsConsistent, "results_consistent", Severity::kInfo, kStepRecover},
     {EventId::kMonitorWarn, "monitor_warn", Severity::kWarningLo, kStepDetect},
     {EventId::kMonitorFatal, "monitor_fatal", Severity::kWarningHi, kStepDetect | kStepIsolate},
     {EventId::kActionCapped, "action_capped", Severity::kFatal, kStepNone},

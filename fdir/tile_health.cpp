@@ -247,6 +247,31 @@ bsp::TileId pick_spare(const State& s, bsp::TileId failed) noexcept {
   return best;
 }
 
+/**
+ * Switches the free spare nearest @p t on to run boot slot @p slot in its
+ * place (kNoSpare when there is none). @return the spare, or kNoTile.
+ */
+bsp::TileId boot_spare(State& s, bsp::TileId t, std::uint32_t slot) noexcept {
+  const bsp::TileId p = pick_spare(s, t);
+  if (p == bsp::kNoTile || g_boot_slots == nullptr) {
+    report(EventId::kNoSpare, slot, t);
+    return bsp::kNoTile;
+  }
+  s.view.spares &= ~bit(p);
+  g_boot_slots[p] = slot;
+  if (bsp::power_on(p) != bsp::BoardError::kOk) {
+    report(EventId::kNoSpare, slot, t);
+    return bsp::kNoTile;
+  }
+  s.watched |= bit(p);
+  s.adopted |= bit(p);
+  s.arriving[p] = slot;
+  s.arriving_from[p] = t;
+  s.moved_at[p] = k::now_ticks();
+  ++s.view.moves;
+  return p;
+}
+
 /** Switches @p t off for good and moves every movable role slot it ran to a spare. */
 void retire(State& s, const TileHealthConfig& cfg, bsp::TileId t) noexcept {
   if ((s.view.retired & bit(t)) != 0ULL) {
@@ -270,28 +295,46 @@ void retire(State& s, const TileHealthConfig& cfg, bsp::TileId t) noexcept {
     if ((cfg.movable_slots & (1U << slot)) == 0U || dir.tile[slot] != t) {
       continue;
     }
-    const bsp::TileId p = pick_spare(s, t);
-    if (p == bsp::kNoTile || g_boot_slots == nullptr) {
-      report(EventId::kNoSpare, slot, t);
-      continue;
-    }
-    s.view.spares &= ~bit(p);
-    g_boot_slots[p] = slot;
-    if (bsp::power_on(p) != bsp::BoardError::kOk) {
-      report(EventId::kNoSpare, slot, t);
+    const bsp::TileId p = boot_spare(s, t, slot);
+    if (p == bsp::kNoTile) {
       continue;
     }
     const std::uint32_t version = dir.version[slot] + 1U;
     (void)udn::endpoint_move_role(slot, p, version);
-    s.watched |= bit(p);
-    s.adopted |= bit(p);
-    s.arriving[p] = slot;
-    s.arriving_from[p] = t;
-    s.moved_at[p] = k::now_ticks();
     s.to_tell[slot] = s.watched;
-    ++s.view.moves;
     report(EventId::kRoleMoved, slot, t, p, version);
   }
+}
+
+/** A worker whose results stay wrong (a coordinator's report): reset it, or switch it off for a spare. */
+void on_results_bad(State& s, const udn::FtMessage& m) noexcept {
+  const bsp::TileId t = m.data[2];
+  if (t >= bsp::kMaxTiles || (s.watched & bit(t)) == 0ULL || (s.view.pending & bit(t)) != 0ULL) {
+    return;  // not ours, or being reset already
+  }
+  if (m.data[3] == kResultsReset) {
+    if (bsp::reset_tile(t) != bsp::BoardError::kOk) {
+      report(EventId::kTileLost, t, 1U);
+      return;
+    }
+    ++s.view.resets;
+    s.view.pending |= bit(t);
+    s.reset_at[t] = k::now_ticks();
+    report(EventId::kTileReset, t, 2U, s.wd[t].actions, s.spec.max_actions);
+    return;
+  }
+  if (m.data[3] != kResultsReplace) {
+    return;
+  }
+  s.view.retired |= bit(t);
+  s.watched &= ~bit(t);
+  (void)bsp::power_off(t);
+  const bsp::TileId p = boot_spare(s, t, m.data[4]);
+  if (p != bsp::kNoTile) {
+    report(EventId::kRoleMoved, m.data[4], t, p, 0U);
+  }
+  const std::array<std::uint32_t, kReplacedWords> w{kMsgReplaced, t, p};
+  (void)udn::endpoint_send(m.source, m.data[5], w, 0U);  // lost, the coordinator goes on without the tile
 }
 
 /** Sends the latest move of each slot, and the fault map, to the tiles still to be told (one try each per pass). */
@@ -541,6 +584,8 @@ void take_reports(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexc
       on_booted(s, m.source, m.data[2]);
     } else if (m.data_words == kSelfTestResultWords && m.data[0] == kMsgSelfTestResult) {
       take_result(s, cfg, m, self);
+    } else if (m.data_words == kResultsBadWords && m.data[0] == kMsgResultsBad) {
+      on_results_bad(s, m);
     }
   }
 }

@@ -91,6 +91,20 @@ inline constexpr std::uint32_t kSelfTestResultWords = 4U;
 /** Heartbeat of the supervisor's tile (its agent -> the watcher, kFtChanHealth): [0] kMsgAlive [1] tile [2] bsp::BootCause. */
 inline constexpr std::uint32_t kMsgAlive = 0x414C5645U;  // "ALVE"
 inline constexpr std::uint32_t kAliveWords = 3U;
+/**
+ * A coordinator's report of a worker whose results stay wrong (fdir/result_trust.hpp; coordinator ->
+ * supervisor, kFtChanHealth): [0] kMsgResultsBad [1] coordinator tile [2] worker tile [3] kResultsReset
+ * or kResultsReplace [4] the boot slot a replacing spare is to run (boot_slot) [5] the coordinator's
+ * channel for the answer. A reset is written kTileReset with cause 2; a replacement switches the
+ * worker off for good and a spare on with that boot slot (kRoleMoved, then kRoleRestored at its boot).
+ */
+inline constexpr std::uint32_t kMsgResultsBad = 0x52424144U;  // "RBAD"
+inline constexpr std::uint32_t kResultsBadWords = 6U;
+inline constexpr std::uint32_t kResultsReset = 1U;
+inline constexpr std::uint32_t kResultsReplace = 2U;
+/** The supervisor's answer to a replacement (-> the coordinator's channel): [0] kMsgReplaced [1] old tile [2] spare (kNoTile: none). */
+inline constexpr std::uint32_t kMsgReplaced = 0x52504C44U;  // "RPLD"
+inline constexpr std::uint32_t kReplacedWords = 3U;
 /** Publication channel of a self-test digest (bsp::publish_filter: where corrupted outputs are injected). */
 inline constexpr std::uint32_t kSelfTestChannel = 7U;
 

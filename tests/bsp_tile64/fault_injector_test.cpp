@@ -400,6 +400,45 @@ TEST(FaultInjector, SdcCorruptsTheNextPublicationOnItsChannelAndLogsTheBit) {
   EXPECT_EQ(r.offset, 0U);
 }
 
+std::vector<std::pair<double, double>> g_positions;
+
+void boot_position_publisher(TileId /*tile*/) {
+  for (std::uint32_t i = 0; i < 6U; ++i) {
+    bsp::consume(1000U);
+    std::array<double, 2> uv{100.0 + i, 50.0};
+    static_cast<void>(bsp::publish_filter(6U, uv.data(), sizeof uv));
+    g_positions.emplace_back(uv[0], uv[1]);
+  }
+  idle_forever();
+}
+
+// A lasting sdc (a shift): every value published on the channel from its time on has the shift added to
+// its first double; it stays armed, counts its hits, and the first one is its applied time.
+TEST(FaultInjector, AShiftChangesEveryLaterPublicationAndStaysArmed) {
+  g_positions.clear();
+  bsp::BoardConfig c = small_config();
+  c.powered_at_start = 1U;
+  c.boot[0] = boot_position_publisher;
+  ASSERT_EQ(bsp::board_init(c), bsp::BoardError::kOk);
+  FaultSpec s{};
+  s.cycle = 2500U;
+  s.kind = FaultKind::kSdc;
+  s.channel = 6U;
+  s.shift = 2.0;
+  ASSERT_EQ(bsp::fault_plan_add(s), bsp::FaultError::kOk);
+  bsp::run_for(12'000U);
+  ASSERT_EQ(g_positions.size(), 6U);
+  for (std::uint32_t i = 0; i < 6U; ++i) {
+    EXPECT_EQ(g_positions[i].first, 100.0 + i + (i >= 2U ? 2.0 : 0.0)) << "publication " << i;
+    EXPECT_EQ(g_positions[i].second, 50.0) << "only the first double moves";
+  }
+  ASSERT_EQ(bsp::fault_log().size(), 1U);
+  const bsp::FaultRecord& r = bsp::fault_log()[0];
+  EXPECT_EQ(r.status, FaultStatus::kApplied);
+  EXPECT_EQ(r.applied_cycle, 3100U);
+  EXPECT_EQ(r.hits, 4U);
+}
+
 bsp::FaultStatus fake_link_fail(bsp::FaultRecord& r, bsp::Rng& /*rng*/) {
   r.offset = r.spec.param;
   return FaultStatus::kApplied;

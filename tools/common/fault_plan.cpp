@@ -42,23 +42,23 @@ constexpr std::array<const char*, bsp::kUdnDirs> kDirNames = {"east", "west", "n
 
 /** The keys of one kind beyond t_s, kind and tile. */
 struct KindKeys {
-  std::array<const char*, 3> keys;
+  std::array<const char*, 4> keys;
 };
 
 // Indexed by bsp::FaultKind; nullptr ends a list.
 constexpr std::array<KindKeys, kFaultKinds> kKindKeys = {{
-    {{nullptr, nullptr, nullptr}},      // core_hang
-    {{nullptr, nullptr, nullptr}},      // core_reset
-    {{"point", "channel", "bit"}},      // sdc
-    {{"offset", "bit", "carve"}},       // seu
-    {{nullptr, nullptr, nullptr}},      // watchdog_fail
-    {{"word", "bit", nullptr}},         // packet_bit_flip
-    {{nullptr, nullptr, nullptr}},      // switch_fail
-    {{"direction", nullptr, nullptr}},  // link_fail
+    {{nullptr, nullptr, nullptr, nullptr}},      // core_hang
+    {{nullptr, nullptr, nullptr, nullptr}},      // core_reset
+    {{"point", "channel", "bit", "shift"}},      // sdc
+    {{"offset", "bit", "carve", nullptr}},       // seu
+    {{nullptr, nullptr, nullptr, nullptr}},      // watchdog_fail
+    {{"word", "bit", nullptr, nullptr}},         // packet_bit_flip
+    {{nullptr, nullptr, nullptr, nullptr}},      // switch_fail
+    {{"direction", nullptr, nullptr, nullptr}},  // link_fail
 }};
 
-constexpr std::array<const char*, 11> kAllFaultKeys = {"t_s",  "kind", "tile",     "channel", "offset", "word",
-                                                       "bit",  "role", "instance", "carve",   "point"};
+constexpr std::array<const char*, 12> kAllFaultKeys = {"t_s",  "kind", "tile",     "channel", "offset", "word",
+                                                       "bit",  "role", "instance", "carve",   "point", "shift"};
 
 /** Roles a plan can name (every role of the tile map but spare). */
 std::vector<trn::tasks::Role> plan_roles() {
@@ -91,6 +91,17 @@ std::string point_list() {
   }
   return out;
 }
+
+std::string shift_points() {
+  std::string out;
+  for (const trn::tasks::SdcPoint& p : trn::tasks::kSdcPoints) {
+    out += p.shifts ? (out.empty() ? "" : ", ") + std::string(p.name) : "";
+  }
+  return out;
+}
+
+/** Largest |shift| a plan takes (pixels at match_position: far beyond any matcher's error). */
+constexpr double kMaxShift = 1000.0;
 
 const trn::tasks::SdcPoint* point_from_name(const std::string& name) {
   for (const trn::tasks::SdcPoint& p : trn::tasks::kSdcPoints) {
@@ -225,6 +236,11 @@ std::string read_fault_key(const std::string& key, const toml::node& node, const
                                                                           : std::int64_t{kMaxSdcBit};
     e = read_int(node, 0, hi, v);
     item.bit = static_cast<std::uint32_t>(v);
+  } else if (key == "shift") {
+    e = read_float(node, -kMaxShift, kMaxShift, " (the value's unit: pixels at match_position)", item.shift);
+    if (e.empty() && item.shift == 0.0) {
+      e = "0 changes nothing: a lasting error needs a non-zero shift";
+    }
   } else if (key == "role") {
     if (!node.is_string()) {
       return "wrong type: expected a string (" + role_list() + ")";
@@ -288,6 +304,10 @@ void check_sdc_target(const std::string& where, const toml::table& t, const Faul
                                                                     : trn::tasks::Role::kSpare;
   const std::string target = named ? "role " + item.role
                                    : cat({"tile ", std::to_string(item.tile), " (", trn::tasks::role_name(role), ")"});
+  if (item.channel == bsp::kAnyChannel && t.get("shift") != nullptr) {
+    errors.push_back(cat({where, " shift: a lasting error names its point (allowed at: ", shift_points(), ")"}));
+    return;
+  }
   if (item.channel == bsp::kAnyChannel) {
     const bool publishes = std::any_of(trn::tasks::kSdcPoints.begin(), trn::tasks::kSdcPoints.end(),
                                        [role](const trn::tasks::SdcPoint& p) {
@@ -307,6 +327,13 @@ void check_sdc_target(const std::string& where, const toml::table& t, const Faul
   if ((p->roles & trn::tasks::role_bit(role)) == 0U) {
     errors.push_back(cat({where, t.get("point") != nullptr ? " point: " : " channel: ", target,
                           " never publishes at ", p->name, " (published by: ", publishers_of(*p), ")"}));
+  }
+  if (t.get("shift") != nullptr && !p->shifts) {
+    errors.push_back(cat({where, " shift: ", p->name, " does not start with a number a shift could move (allowed at: ",
+                          shift_points(), ")"}));
+  }
+  if (t.get("shift") != nullptr && t.get("bit") != nullptr) {
+    errors.push_back(where + " bit: a shift is a lasting error, not a bit flip: name one of bit and shift");
   }
 }
 
@@ -718,6 +745,7 @@ bool arm_fault_plan(const FaultPlan& plan, double clock_hz, std::string& error) 
     s.offset = it.offset;
     s.bit = it.bit;
     s.param = it.param;
+    s.shift = it.shift;
     (void)std::snprintf(s.carve.data(), s.carve.size(), "%s", it.carve.c_str());
     if (!it.role.empty()) {
       const std::optional<trn::tasks::Role> r = role_from_name(it.role);
@@ -784,6 +812,7 @@ std::string format_fault_plan(const FaultPlan& plan) {
         } else if (it.channel != bsp::kAnyChannel) {
           out += "channel = " + std::to_string(it.channel) + "\n";
         }
+        out += it.shift != 0.0 ? "shift = " + toml_float(it.shift) + "\n" : "";
         break;
       case bsp::FaultKind::kSeu:
         out += it.carve.empty() ? "" : "carve = " + toml_string(it.carve) + "\n";
@@ -841,7 +870,11 @@ std::string describe_fault(const bsp::FaultRecord& r) {
       } else {
         s += r.spec.channel == bsp::kAnyChannel ? " any channel" : " channel " + std::to_string(r.spec.channel);
       }
-      s += applied ? " value bit " + std::to_string(r.bit) : "";
+      if (r.spec.shift != 0.0) {
+        s += cat({" shift ", fmt(r.spec.shift), ", lasting (", std::to_string(r.hits), " values changed)"});
+      } else {
+        s += applied ? " value bit " + std::to_string(r.bit) : "";
+      }
       break;
     case bsp::FaultKind::kPacketBitFlip:
       s += applied ? " word " + std::to_string(r.offset) + " bit " + std::to_string(r.bit) + " of a packet sent"

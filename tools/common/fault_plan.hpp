@@ -42,6 +42,7 @@ struct FaultPlanItem {
   std::string carve;                          ///< seu: the named carve it hits (empty: anywhere in the RAM)
   std::uint32_t bit = bsp::kRandomBit;        ///< seu: 0..7; sdc: bit of the value; packet_bit_flip: 0..31
   std::uint64_t param = 0U;                   ///< link_fail: direction (bsp::UdnDir)
+  double shift = 0.0;                         ///< sdc: a lasting error added to every value at the point (bsp::FaultSpec::shift)
   /**
    * Instead of a tile: a role of the tile map (trn::tasks::role_name, e.g.
    * "filter"), resolved to the tile that runs it when the fault is due (the

@@ -106,7 +106,8 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
     case bsp::FaultKind::kSdc:
       // A corrupted product is also found by the tile itself, by its checksums, in the same job: a
       // check of a later product is about that product (a flip below the round-off is never seen).
-      return detects_wrong_data(t, e) ||
+      // Wrong results (a lasting shift of a vision tile's matches) are found by the coordinator.
+      return detects_wrong_data(t, e) || (e.id == EventId::kResultsSuspect && e.subject == t) ||
              ((e.id == EventId::kAbftCorrected || e.id == EventId::kAbftFailed) && e.tile == t &&
               seconds(e.cycle - r.applied_cycle, clock_hz) <= kAbftSameJobS);
     case bsp::FaultKind::kWatchdogFail:
@@ -145,6 +146,10 @@ bool recovers(const fdir::Event& d, const fdir::Event& e) {
       return (e.id == EventId::kSelfTestAgree && e.subject == d.subject) ||
              (e.id == EventId::kRoleRestored && e.cause == d.subject) ||
              (e.id == EventId::kTileRebooted && e.subject == d.subject);
+    case EventId::kResultsSuspect:
+      // Consistent again (a transient), or a spare in its place.
+      return (e.id == EventId::kResultsConsistent && e.subject == d.subject) ||
+             (e.id == EventId::kRoleRestored && e.cause == d.subject);
     case EventId::kTmrOutvoted:
       // A replica outvoted is recovered once it agrees again or was seeded with the voted state.
       return (e.id == EventId::kTmrAgrees || e.id == EventId::kTmrResynced) && e.subject == d.subject;
@@ -245,8 +250,12 @@ void describe_health_event(const fdir::Event& e, const char* s, std::span<char> 
       (void)std::snprintf(b.data(), b.size(), "watchdog of tile %s expired (%u expiries so far)", s, e.a);
       break;
     case EventId::kTileReset:
-      (void)std::snprintf(b.data(), b.size(), "tile %s reset by %s (reset %u of at most %u)", s,
-                          e.cause == 1U ? "its watcher" : "the supervisor", e.a, e.b);
+      if (e.cause == 2U) {
+        (void)std::snprintf(b.data(), b.size(), "tile %s reset by the supervisor: its results stayed wrong", s);
+      } else {
+        (void)std::snprintf(b.data(), b.size(), "tile %s reset by %s (reset %u of at most %u)", s,
+                            e.cause == 1U ? "its watcher" : "the supervisor", e.a, e.b);
+      }
       break;
     case EventId::kTileRecovered:
       (void)std::snprintf(b.data(), b.size(), "tile %s booted its role again and reported, %u ticks (ms) after its reset", s,
@@ -264,8 +273,13 @@ void describe_health_event(const fdir::Event& e, const char* s, std::span<char> 
       (void)std::snprintf(b.data(), b.size(), "tile %s did not report back %u ticks (ms) after its reset", s, e.a);
       break;
     case EventId::kRoleMoved:
-      (void)std::snprintf(b.data(), b.size(), "role slot %s moves from retired tile %u to spare %u (directory "
-                          "version %u)", s, e.cause, e.a, e.b);
+      if (e.b == 0U) {
+        (void)std::snprintf(b.data(), b.size(), "worker slot %s: tile %u switched off for wrong results, spare %u "
+                            "takes its place", s, e.cause, e.a);
+      } else {
+        (void)std::snprintf(b.data(), b.size(), "role slot %s moves from retired tile %u to spare %u (directory "
+                            "version %u)", s, e.cause, e.a, e.b);
+      }
       break;
     case EventId::kRoleRestored:
       (void)std::snprintf(b.data(), b.size(), "role slot %s runs again on tile %u (was tile %u), %u ticks (ms) after the move",
@@ -401,6 +415,15 @@ std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noe
     case EventId::kFrameDone:
       (void)std::snprintf(b.data(), b.size(), "frame %u done: %u matches, %u units lost", e.a, e.b, e.cause);
       break;
+    case EventId::kResultsSuspect:
+      (void)std::snprintf(b.data(), b.size(), "worker tile %s: %u of its %u results in the window off the frame's fit: "
+                          "%s", s, e.a, e.b, e.cause == 1U ? "wrong again after its reset, replacement asked"
+                                                            : "suspect, its results not used");
+      break;
+    case EventId::kResultsConsistent:
+      (void)std::snprintf(b.data(), b.size(), "worker tile %s: results consistent again for %u frames%s: used again", s,
+                          e.a, e.cause == 1U ? " after its reset" : "");
+      break;
     case EventId::kMonitorWarn:
     case EventId::kMonitorFatal:
       (void)std::snprintf(b.data(), b.size(), "monitor %s %s: value %u against %u", s,
@@ -435,6 +458,7 @@ void FlightEventCollector::take(const fdir::Event& e) noexcept {
     case EventId::kCoreSuspect:
     case EventId::kNeighbourSuspect:
     case EventId::kWatchdogExpired:
+    case EventId::kResultsSuspect:
     case EventId::kTileReset:
       if (e.subject < bsp::kMaxTiles && health_[e.subject] != TileHealth::kFailed) {
         health_[e.subject] = TileHealth::kSuspect;
@@ -450,6 +474,7 @@ void FlightEventCollector::take(const fdir::Event& e) noexcept {
       health_[e.a % bsp::kMaxTiles] = TileHealth::kRecovered;
       break;
     case EventId::kWorkerBack:
+    case EventId::kResultsConsistent:
     case EventId::kTileRecovered:
     case EventId::kTileRebooted:
       if (e.subject < bsp::kMaxTiles) {

@@ -346,6 +346,15 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("landmarks_selected", c.landmarks_selected);
   s.extra.emplace_back("coarse_accepted", c.coarse_accepted);
   s.extra.emplace_back("vision_units_lost", c.units_lost);
+  // The coordinator's consistency check of each frame's matches and what it did about wrong tiles.
+  s.extra.emplace_back("vision_frames_checked", c.frames_checked);
+  s.extra.emplace_back("vision_matches_checked", c.matches_checked);
+  s.extra.emplace_back("vision_matches_failed", c.matches_failed);
+  s.extra.emplace_back("vision_matches_unused", c.matches_unused);
+  s.extra.emplace_back("vision_residual_scale_max_px", c.residual_scale_max_px);
+  s.extra.emplace_back("vision_tiles_untrusted", c.tiles_untrusted);
+  s.extra.emplace_back("vision_resets_asked", c.resets_asked);
+  s.extra.emplace_back("vision_tiles_replaced", c.tiles_replaced);
   // Where the roles ran at the end (the supervisor's directory) and what that coordinator did.
   s.extra.emplace_back("coordinator_tile", trn::tasks::slot_tile_now(trn::tasks::kSlotCoordinator));
   s.extra.emplace_back("filter_tile", trn::tasks::slot_tile_now(trn::tasks::kSlotFilter));

@@ -35,6 +35,12 @@ inline constexpr std::uint32_t kSlotIo = 1U;
 inline constexpr std::uint32_t kSlotFilter = 2U;
 /** The filter's TMR replicas: slots kSlotReplica0 .. kSlotReplica0 + 2. */
 inline constexpr std::uint32_t kSlotReplica0 = 3U;
+/**
+ * Not a directory slot: the boot slot (fdir::boot_slot) of a spare switched on
+ * to take the place of a vision tile whose matches stayed wrong. Nobody sends
+ * to it by slot; the coordinator learns the spare's tile from the supervisor.
+ */
+inline constexpr std::uint32_t kSlotVisionPool = 8U;
 inline constexpr std::uint32_t kChanImu = 4U;      ///< I/O -> filter IMU samples, one per message
 
 /** First word of every FT message: what it is. */

@@ -15,6 +15,7 @@
 #include "trn/filter/covariance.hpp"
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/tile_map.hpp"
+#include "trn/vision/frame.hpp"
 
 #include <array>
 #include <cstdint>
@@ -36,9 +37,10 @@ struct SdcPoint {
   std::uint32_t channel;
   std::uint32_t roles;  ///< role_bit of each role whose tile publishes there
   const char* what;     ///< what is corrupted (for the plan's documentation and errors)
+  bool shifts = false;  ///< the value starts with a double: a plan's `shift` (a lasting error) applies
 };
 
-inline constexpr std::array<SdcPoint, 6> kSdcPoints{{
+inline constexpr std::array<SdcPoint, 7> kSdcPoints{{
     {"nav_output", kNavChannel, role_bit(Role::kFilter) | role_bit(Role::kFilterReplica),
      "the filter's solution as delivered (in TMR: the voted one on the filter's tile, each replica's own on a "
      "replica)"},
@@ -51,6 +53,10 @@ inline constexpr std::array<SdcPoint, 6> kSdcPoints{{
     {"filter_product", filter::kFilterProductChannel, role_bit(Role::kFilter) | role_bit(Role::kFilterReplica),
      "one of the covariance propagation's products (F P, then (F P) F^T; 225 doubles) before its checksums are "
      "checked"},
+    {"match_position", vision::kMatchPositionChannel, role_bit(Role::kVision),
+     "a vision tile's matched image position (u, v in pixels, two doubles) before its bearing is formed; a shift "
+     "moves u of every match the tile makes",
+     true},
     {"self_test", fdir::kSelfTestChannel,
      role_bit(Role::kTrnSupervisor) | role_bit(Role::kVisionCoordinator) | role_bit(Role::kIo) |
          role_bit(Role::kFilter) | role_bit(Role::kVision) | role_bit(Role::kFilterReplica),

@@ -23,7 +23,7 @@ bool tile_ok(bsp::TileId t) noexcept { return t < kMapTiles || t == bsp::kNoTile
 ImageError check(const ImageConfig& c) noexcept {
   if (!tile_ok(c.endpoint.report_to) || !tile_ok(c.io.filter_tile) || !tile_ok(c.io.coordinator_tile) ||
       !tile_ok(c.filter.nav_sink) || !tile_ok(c.coord.filter_tile) || !tile_ok(c.vision.coordinator) ||
-      !tile_ok(c.agent.supervisor) || !tile_ok(c.agent.watcher)) {
+      !tile_ok(c.agent.supervisor) || !tile_ok(c.agent.watcher) || !tile_ok(c.coord.health_tile)) {
     return ImageError::kBadTile;
   }
   for (const bsp::TileId t : c.endpoint.roles.tile) {
@@ -129,6 +129,7 @@ Role slot_role(std::uint32_t slot) noexcept {
     case kSlotReplica0:
     case kSlotReplica0 + 1U:
     case kSlotReplica0 + 2U: return Role::kFilterReplica;
+    case kSlotVisionPool: return Role::kVision;
     default: return Role::kSpare;
   }
 }

@@ -8,6 +8,7 @@
 #include "bsp_tile64/memory.hpp"
 #include "fdir/event_log.hpp"
 #include "fdir/liveness.hpp"
+#include "fdir/tile_health.hpp"
 #include "kernel/kernel.hpp"
 #include "trn/match.hpp"
 #include "trn/tasks/messages.hpp"
@@ -59,6 +60,11 @@ struct CoordState {
   std::uint32_t frames_planned;
   vision::ImageU8 relit;  ///< the coarse layer relit to the descent sun (DDR)
   std::array<bool, kMaxVisionTiles> band_done;
+  std::array<bsp::TileId, kMaxVisionTiles> tiles;  ///< the vision tiles now (a replacing spare in its tile's place)
+  vision::PosePrior prior;      ///< the frame's prior after the coarse stage (where the consistency fit starts)
+  fdir::ResultTrust trust;      ///< per vision tile: are its matches used
+  vision::ConsistencyWork cws;
+  std::array<bool, kMaxMatchesPerFrame> failed;  ///< per fine match of the frame: off the fitted pose
 };
 
 /** Idle poll period of the coordinator (results, notices and solutions are drained each time). */
@@ -145,7 +151,7 @@ bool relight_coarse(CoordState& st) noexcept {
     bool sent = st.band_done[i];
     k::checkin();
     for (std::uint32_t k = 0; k < n && !sent; ++k) {
-      sent = udn::endpoint_send(st.cfg->vision_tiles[(i + k) % n], kChanControl, w, kVisionSendTicks) == udn::FtError::kOk;
+      sent = udn::endpoint_send(st.tiles[(i + k) % n], kChanControl, w, kVisionSendTicks) == udn::FtError::kOk;
     }
     if (!sent) {
       if (!relight_band(st.coarse_map, st.cfg->descent_sun_m, st.relit, row0, rows)) {
@@ -201,9 +207,36 @@ void drain_nav(CoordState& st) noexcept {
   }
 }
 
+/** Index of @p tile in the coordinator's tile list; cfg->vision_count when it is not there. */
+std::uint32_t tile_index(const CoordState& st, bsp::TileId tile) noexcept {
+  std::uint32_t i = 0;
+  while (i < st.cfg->vision_count && st.tiles[i] != tile) {
+    ++i;
+  }
+  return i;
+}
+
+/** The supervisor put a spare in the place of a tile whose matches stayed wrong: it gets the tile's share. */
+void take_replacement(CoordState& st, VisionCoordStats& stats, const udn::FtMessage& m) noexcept {
+  const std::uint32_t i = tile_index(st, m.data[1]);
+  const bsp::TileId spare = m.data[2];
+  if (m.source != st.cfg->health_tile || i >= st.cfg->vision_count || spare >= bsp::kMaxTiles) {
+    return;  // not from the supervisor, not ours, or no spare (the tile stays unused)
+  }
+  st.tiles[i] = spare;
+  st.live.tile[i] = spare;
+  st.live.misses[i] = 0U;
+  fdir::result_trust_replace(st.trust, i, spare);
+  ++stats.tiles_replaced;
+}
+
 void drain_notices(CoordState& st, VisionCoordStats& stats) noexcept {
   udn::FtMessage m{};
   for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
+    if (m.data_words == fdir::kReplacedWords && m.data[0] == fdir::kMsgReplaced) {
+      take_replacement(st, stats, m);
+      continue;
+    }
     if (m.data_words != kFrameNoticeWords || m.data[0] != kMsgFrame) {
       continue;
     }
@@ -236,6 +269,7 @@ void take_result(CoordState& st, VisionCoordStats& stats, const udn::FtMessage& 
     const std::span<const std::uint32_t, kMatchWords> w(m.data.data() + kResultHeaderWords + static_cast<std::size_t>(i) * kMatchWords,
                                                         kMatchWords);
     st.matches[st.match_count] = unpack_match(w);
+    st.matches[st.match_count].tile = static_cast<std::uint16_t>(m.source);  // what the check holds it to
     ++st.match_count;
   }
 }
@@ -350,7 +384,7 @@ void distribute(CoordState& st, VisionCoordStats& stats, const vision::PosePrior
   std::array<std::uint32_t, kUnitHeaderWords + kMaxLandmarksPerUnit> w{};
   for (std::uint32_t u = 0; u < n_working; ++u) {
     Unit& unit = st.units[u];
-    unit = Unit{st.cfg->vision_tiles[working[u]], 0U, false, false};
+    unit = Unit{st.tiles[working[u]], 0U, false, false};
     std::uint32_t n = 0;
     for (std::uint32_t j = u; j < used && n < kMaxLandmarksPerUnit; j += n_working) {
       const vision::PlannedLandmark& p = st.planned[j];
@@ -404,6 +438,7 @@ void start_frame(CoordState& st, VisionCoordStats& stats) noexcept {
     return;
   }
   // The job that takes the batch, from the capture (1 ms ticks, like the frame logic).
+  st.prior = prior;
   const auto capture_job = static_cast<std::uint32_t>(std::floor(st.frame.t_s * 1000.0 / kFilterPeriodTicks + 1e-9));
   st.apply_job = capture_job + (stats.coarse_runs != coarse_before ? kCoarseApplyJobs : kFineApplyJobs);
   bsp::Work work{};
@@ -447,7 +482,6 @@ void send_batch(CoordState& st, VisionCoordStats& stats) noexcept {
   if (st.match_count == 0U || st.cfg->filter_tile == bsp::kNoTile) {
     return;
   }
-  order_matches(st);
   const std::uint32_t parts = (st.match_count + kMatchesPerPart - 1U) / kMatchesPerPart;
   std::array<std::uint32_t, kMatchHeaderWords + kMatchesPerPart * kMatchWords> w{};
   for (std::uint32_t part = 0; part < parts; ++part) {
@@ -474,11 +508,77 @@ void send_batch(CoordState& st, VisionCoordStats& stats) noexcept {
   }
 }
 
+/** Reports vision tile @p i to the tile-health supervisor: reset it, or replace it by a spare. */
+void ask_supervisor(const CoordState& st, VisionCoordStats& stats, std::uint32_t i, fdir::TrustAction a) noexcept {
+  if (st.cfg->health_tile == bsp::kNoTile || a == fdir::TrustAction::kNone) {
+    return;
+  }
+  const bool replace = a == fdir::TrustAction::kReplace;
+  const std::array<std::uint32_t, fdir::kResultsBadWords> w{
+      fdir::kMsgResultsBad, bsp::current_tile(), st.tiles[i], replace ? fdir::kResultsReplace : fdir::kResultsReset,
+      kSlotVisionPool,      kChanControl};
+  if (udn::endpoint_send(st.cfg->health_tile, udn::kFtChanHealth, w, kVisionSendTicks) == udn::FtError::kOk) {
+    ++(replace ? stats.replacements_asked : stats.resets_asked);
+  }
+}
+
+/** Each tile's checked and failed matches of the frame to its result trust; asks for resets and replacements. */
+void judge_tiles(CoordState& st, VisionCoordStats& stats, std::uint32_t first, bool checked) noexcept {
+  std::array<std::uint16_t, kMaxVisionTiles> n_checked{};
+  std::array<std::uint16_t, kMaxVisionTiles> n_failed{};
+  for (std::uint32_t k = first; checked && k < st.match_count; ++k) {
+    const std::uint32_t i = tile_index(st, st.matches[k].tile);
+    if (i < st.cfg->vision_count) {
+      ++n_checked[i];
+      n_failed[i] = static_cast<std::uint16_t>(n_failed[i] + (st.failed[k - first] ? 1U : 0U));
+    }
+  }
+  for (std::uint32_t i = 0; i < st.cfg->vision_count; ++i) {
+    ask_supervisor(st, stats, i, fdir::result_trust_round(st.trust, i, n_checked[i], n_failed[i]));
+  }
+  fdir::result_trust_close_round(st.trust);
+  bsp::consume(bsp::Work{4ULL * kMaxVisionTiles * (st.match_count + 1U), 0U, 0U, 0U, 0U});
+}
+
+/**
+ * Checks the frame's fine matches against the pose they fit together, judges
+ * each tile by its share of failed matches, and leaves the matches of the
+ * tiles not trusted now out of the batch.
+ */
+void check_frame(CoordState& st, VisionCoordStats& stats) noexcept {
+  const std::uint32_t first = (st.match_count > 0U && st.matches[0].landmark == kCoarseLandmark) ? 1U : 0U;
+  bsp::Work work{};
+  vision::ConsistencyResult r{};
+  if (vision::check_match_consistency(st.cfg->camera, st.prior, st.matches.data() + first, st.match_count - first,
+                                      st.cfg->consistency, st.failed.data(), st.cws, r, work) != vision::Status::kOk) {
+    r.checked = false;
+  }
+  bsp::consume(work);
+  if (r.checked) {
+    ++stats.frames_checked;
+    stats.matches_checked += st.match_count - first;
+    stats.matches_failed += r.failed;
+    stats.residual_scale_max_px = std::max(stats.residual_scale_max_px, r.scale_px);
+  }
+  judge_tiles(st, stats, first, r.checked);
+  std::uint32_t kept = first;
+  for (std::uint32_t k = first; k < st.match_count; ++k) {
+    if (fdir::result_trust_used(st.trust, tile_index(st, st.matches[k].tile))) {
+      st.matches[kept] = st.matches[k];
+      ++kept;
+    } else {
+      ++stats.matches_unused;
+    }
+  }
+  st.match_count = kept;
+  stats.tiles_untrusted = fdir::result_trust_untrusted(st.trust);
+}
+
 /** Closes the frame: misses counted per tile, the batch sent to the filter. */
 void finish_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   std::uint32_t lost = 0;
   for (std::uint32_t i = 0; i < st.cfg->vision_count; ++i) {
-    const bsp::TileId t = st.cfg->vision_tiles[i];
+    const bsp::TileId t = st.tiles[i];
     for (std::uint32_t u = 0; u < st.unit_count; ++u) {
       if (st.units[u].tile != t || st.units[u].planned == 0U) {
         continue;
@@ -496,6 +596,8 @@ void finish_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   const std::uint32_t fine = st.match_count - ((st.match_count > 0U && st.matches[0].landmark == kCoarseLandmark) ? 1U : 0U);
   stats.matches_total += fine;
   stats.last_frame_matches = fine;
+  order_matches(st);
+  check_frame(st, stats);
   send_batch(st, stats);
   fdir::report(fdir::EventId::kFrameDone, fdir::kUnknown, lost, st.frame.seq, fine);
   st.busy = false;
@@ -528,8 +630,11 @@ void vision_coord_main(void* arg) noexcept {
   }
   ::new (st) CoordState{};
   st->cfg = cfg;
+  st->tiles = cfg->vision_tiles;
   if (fdir::liveness_init(st->live, fdir::LivenessConfig{kSuspectAfterMisses, kProbeEveryFrames},
                           cfg->vision_tiles.data(), cfg->vision_count) != fdir::LivenessError::kOk ||
+      fdir::result_trust_init(st->trust, cfg->trust, cfg->vision_tiles.data(), cfg->vision_count) !=
+          fdir::TrustError::kOk ||
       !coord_set_up(*st, stats) || !relight_coarse(*st)) {
     return;
   }

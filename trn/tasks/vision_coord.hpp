@@ -25,6 +25,8 @@
 
 #include "bsp_tile64/devices/camera_model.hpp"
 #include "bsp_tile64/port.hpp"
+#include "fdir/result_trust.hpp"
+#include "trn/vision/match_consistency.hpp"
 #include "trn/vision/frame.hpp"
 #include "trn/vision/landmarks.hpp"
 
@@ -56,6 +58,11 @@ struct VisionCoordConfig {
   /// frame's 20 ms readout ends) gives the same prior as a simplex one.
   double prior_lag_s = 0.02;
   double max_prior_age_s = 0.07;       ///< ... and that solution must be at most this old
+  /// The tile-health supervisor: asked to reset a tile whose matches stay wrong, and to replace
+  /// it by a spare when they are wrong again after the reset (kNoTile: nobody is asked).
+  bsp::TileId health_tile = bsp::kNoTile;
+  vision::ConsistencyParams consistency{};  ///< each frame's matches against the pose they fit
+  fdir::ResultTrustConfig trust{};          ///< when a tile's failed matches make it suspect
 };
 
 struct VisionCoordStats {
@@ -75,14 +82,34 @@ struct VisionCoordStats {
   std::uint32_t last_frame_matches;
   std::uint32_t batch_send_failed;    ///< batch parts the filter tile did not take
   std::uint32_t suspect_tiles;        ///< tiles currently given no work
+  std::uint32_t frames_checked;       ///< frames whose matches were checked for consistency
+  std::uint32_t matches_checked;
+  std::uint32_t matches_failed;       ///< matches off the pose the frame's matches fit
+  std::uint32_t matches_unused;       ///< matches of untrusted tiles, not sent to the filter
+  std::uint32_t tiles_untrusted;      ///< tiles whose matches are not used now
+  std::uint32_t resets_asked;         ///< tiles the supervisor was asked to reset for wrong matches
+  std::uint32_t replacements_asked;
+  std::uint32_t tiles_replaced;       ///< replacements the supervisor confirmed
+  double residual_scale_max_px;       ///< the largest robust residual scale of a checked frame
   bsp::Cycles max_frame_cycles;       ///< notice to batch sent, longest
   bsp::Cycles last_frame_cycles;
 };
 
 /**
  * The coordinator reports through the flight event log: a tile isolated or
- * back (fdir/liveness.hpp: kWorkerSilent, kWorkerBack) and every frame's batch
- * (kFrameDone: frame, matches, units lost).
+ * back (fdir/liveness.hpp: kWorkerSilent, kWorkerBack), a tile whose matches
+ * are wrong or right again (fdir/result_trust.hpp: kResultsSuspect,
+ * kResultsConsistent) and every frame's batch (kFrameDone: frame, matches,
+ * units lost).
+ *
+ * Each frame's fine matches are checked against the pose they fit together
+ * (vision/match_consistency.hpp) before the batch leaves; the failed and
+ * checked matches of each tile go to its result trust. An untrusted tile's
+ * matches are left out of the batch. A tile still wrong reset_after frames
+ * after it became suspect is reported to the tile-health supervisor
+ * (fdir::kMsgResultsBad, reset); wrong again after the reset, it is reported
+ * for replacement, and the supervisor's answer (fdir::kMsgReplaced, on
+ * kChanControl) puts the spare in its place in the coordinator's tile list.
  */
 
 /** Coordinator entry (arg: const VisionCoordConfig*). */

@@ -79,6 +79,13 @@ Status map_view(const bsp::MapProductHeader* product, std::uint32_t layer, MapVi
 double map_elevation_m(const MapView& map, double col, double row) noexcept;
 
 /** Extra map pixels added to every planned search radius (peak-edge margin and rounding). */
+/**
+ * Publication channel (bsp::publish_filter) of each match's image position
+ * (u, v, two doubles) on the vision tile, before its bearing is formed from
+ * it: where an `sdc` makes a tile's matches wrong (trn/tasks/sdc_points.hpp).
+ */
+inline constexpr std::uint32_t kMatchPositionChannel = 6;
+
 inline constexpr std::int32_t kPlanRadiusMarginPx = 2;
 /** Largest side of the image grid plan_frame() spreads landmarks over. */
 inline constexpr std::int32_t kPlanMaxGrid = 16;

@@ -19,10 +19,12 @@
  */
 #include "trn/vision/frame.hpp"
 
+#include "bsp_tile64/port.hpp"
 #include "trn/vision/frame_window.hpp"
 #include "trn/vision/ortho.hpp"
 #include "trn/vision/pose_geometry.hpp"
 
+#include <array>
 #include <cmath>
 
 namespace trn::vision {
@@ -110,6 +112,11 @@ bool make_match(const bsp::CameraModel& cam, const MapView& map, const Landmark&
   if (!detail::window_to_image(map, win, xw, yw, u, v)) {
     return false;
   }
+  // The position as found is a published result: where a tile that matches wrong is injected.
+  std::array<double, 2> uv{u, v};
+  (void)bsp::publish_filter(kMatchPositionChannel, uv.data(), sizeof uv);
+  u = uv[0];
+  v = uv[1];
   pixel_ray(cam, u, v, out.w_c, work);
   for (std::int32_t k = 0; k < 3; ++k) {
     out.p_m[k] = lm.p_m[k];

@@ -332,6 +332,42 @@ TEST(FaultPlan, AnSdcNamesAPoint) {
   EXPECT_EQ(again.plan->items[2].channel, trn::tasks::kCoordinatorBatchChannel);
 }
 
+// A lasting error: `shift` at a point whose value starts with a number, formatted back, armed with its shift;
+// the mistakes are named.
+TEST(FaultPlan, AShiftIsALastingSdcAtAPointThatTakesIt) {
+  const tools::FaultPlanResult r = tools::parse_fault_plan(
+      "[[fault]]\nt_s = 8.0\nkind = \"sdc\"\nrole = \"vision\"\ninstance = 5\npoint = \"match_position\"\n"
+      "shift = 2.0\n",
+      "<text>", kTiles, kDuration);
+  ASSERT_TRUE(r.ok()) << r.error;
+  ASSERT_EQ(r.plan->items.size(), 1U);
+  EXPECT_EQ(r.plan->items[0].channel, trn::vision::kMatchPositionChannel);
+  EXPECT_EQ(r.plan->items[0].shift, 2.0);
+  const std::string text = tools::format_fault_plan(*r.plan);
+  EXPECT_NE(text.find("shift = 2.0"), std::string::npos) << text;
+  const tools::FaultPlanResult again = tools::parse_fault_plan(text, "<formatted>", kTiles, kDuration);
+  ASSERT_TRUE(again.ok()) << again.error;
+  EXPECT_EQ(again.plan->items[0].shift, 2.0);
+  const auto error_for = [](const std::string& entry) {
+    const tools::FaultPlanResult e =
+        tools::parse_fault_plan("[[fault]]\nt_s = 1.0\nkind = \"sdc\"\n" + entry, "<text>", kTiles, kDuration);
+    return e.ok() ? std::string("accepted") : e.error;
+  };
+  std::string e = error_for("tile = 18\npoint = \"filter_product\"\nshift = 1.0\n");
+  EXPECT_NE(e.find("shift: filter_product does not start with a number a shift could move (allowed at: "
+                   "match_position)"),
+            std::string::npos)
+      << e;
+  e = error_for("tile = 24\npoint = \"match_position\"\nshift = 1.0\nbit = 3\n");
+  EXPECT_NE(e.find("bit: a shift is a lasting error, not a bit flip"), std::string::npos) << e;
+  e = error_for("tile = 24\nshift = 1.0\n");
+  EXPECT_NE(e.find("shift: a lasting error names its point"), std::string::npos) << e;
+  e = error_for("tile = 24\npoint = \"match_position\"\nshift = 0\n");
+  EXPECT_NE(e.find("shift: 0 changes nothing"), std::string::npos) << e;
+  e = error_for("tile = 24\npoint = \"match_position\"\nshift = 5000.0\n");
+  EXPECT_NE(e.find("shift: 5000 is out of range"), std::string::npos) << e;
+}
+
 // An sdc that could never be delivered is refused with the key named, never armed to do nothing.
 TEST(FaultPlanErrors, AnSdcNobodyWouldDeliverIsRefused) {
   const auto error_for = [](const std::string& entry) {
@@ -347,7 +383,7 @@ TEST(FaultPlanErrors, AnSdcNobodyWouldDeliverIsRefused) {
   EXPECT_NE(e.find("point: role io never publishes at nav_output"), std::string::npos) << e;
   e = error_for("tile = 18\nchannel = 99\n");
   EXPECT_NE(e.find("channel: no flight code publishes on channel 99 (name a point instead: nav_output, filter_state, "
-                   "vision_matches, coordinator_batch, filter_product, self_test)"),
+                   "vision_matches, coordinator_batch, filter_product, match_position, self_test)"),
             std::string::npos)
       << e;
   e = error_for("tile = 2\n");

@@ -422,6 +422,36 @@ TEST_F(TrnMissionBinary, ACorruptedProductInTheFilterIsCorrectedAndTheOutputUnch
   EXPECT_EQ(s["final_position_error_m"], clean["final_position_error_m"]);
 }
 
+// FDIR-RT-05: a vision tile that answers but matches wrong (every match 2 px off from 8 s on, a lasting
+// sdc) is found by the coordinator's consistency check within 3 frames, its matches are left out, it
+// is reset, and, still wrong after the reset, replaced by a spare; the final error stays within 2x
+// the clean flight's.
+TEST_F(TrnMissionBinary, AVisionTileWithWrongMatchesIsSuspectResetAndReplaced) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 24 --out " + (dir_ / "clean").string()), 0);
+  ASSERT_EQ(run(binary() + " --quiet --duration 24 --faults " + fixture("vision_shift.toml") + " --out " +
+                (dir_ / "sh").string()),
+            0);
+  const nlohmann::json clean = read_json(dir_ / "clean" / "summary.json");
+  const nlohmann::json s = read_json(dir_ / "sh" / "summary.json");
+  const std::string log = read_text(dir_ / "sh" / "events.log");
+  EXPECT_EQ(clean["vision_tiles_untrusted"], 0);
+  EXPECT_EQ(clean["vision_matches_unused"], 0);
+  EXPECT_GT(clean["vision_frames_checked"].get<int>(), 10);
+  EXPECT_EQ(s["faults_injected"], 1);
+  EXPECT_EQ(s["faults_detected"], 1) << log;
+  EXPECT_EQ(s["faults_recovered"], 1);
+  EXPECT_LE(s["detection_latency_max_ms"].get<double>(), 3000.0) << "within 3 frames (1 s apart)";
+  EXPECT_NE(log.find("results_suspect: worker tile 29"), std::string::npos) << log;
+  EXPECT_NE(log.find("reset by the supervisor: its results stayed wrong"), std::string::npos);
+  EXPECT_NE(log.find("wrong again after its reset, replacement asked"), std::string::npos);
+  EXPECT_NE(log.find("switched off for wrong results, spare"), std::string::npos);
+  EXPECT_EQ(s["vision_resets_asked"], 1);
+  EXPECT_EQ(s["vision_tiles_replaced"], 1);
+  EXPECT_EQ(s["vision_tiles_untrusted"], 0) << "the spare is trusted";
+  EXPECT_GT(s["vision_matches_unused"].get<int>(), 0);
+  EXPECT_LE(s["final_position_error_m"].get<double>(), 2.0 * clean["final_position_error_m"].get<double>());
+}
+
 // Point 9: the switch of a spare tile (it routes traffic but runs nothing that could answer a
 // probe) fails mid-run: transit probes across it are lost, the health tile names it, the map goes
 // out by message and traffic routes around. Upsets on the I/O tile's packets are corrected by the
