@@ -15,6 +15,7 @@
 #include "trn/filter/covariance.hpp"
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/tile_map.hpp"
+#include "trn/vision/correlator.hpp"
 
 #include <array>
 #include <cstdint>
@@ -38,7 +39,7 @@ struct SdcPoint {
   const char* what;     ///< what is corrupted (for the plan's documentation and errors)
 };
 
-inline constexpr std::array<SdcPoint, 6> kSdcPoints{{
+inline constexpr std::array<SdcPoint, 8> kSdcPoints{{
     {"nav_output", kNavChannel, role_bit(Role::kFilter) | role_bit(Role::kFilterReplica),
      "the filter's solution as delivered (in TMR: the voted one on the filter's tile, each replica's own on a "
      "replica)"},
@@ -55,6 +56,11 @@ inline constexpr std::array<SdcPoint, 6> kSdcPoints{{
      role_bit(Role::kTrnSupervisor) | role_bit(Role::kVisionCoordinator) | role_bit(Role::kIo) |
          role_bit(Role::kFilter) | role_bit(Role::kVision) | role_bit(Role::kFilterReplica),
      "the tile's self-test digest"},
+    {"correlation_surface", vision::kCorrelationSurfaceChannel, role_bit(Role::kVision),
+     "a landmark's correlation surface (floats, row-major) after it is computed, before its peak is searched"},
+    {"correlation_dot", vision::kCorrelationDotChannel, role_bit(Role::kVision),
+     "one dot product of a landmark's correlation surface (a uint32 of template times window) before it is "
+     "used"},
 }};
 
 /** The point publishing on @p channel; nullptr when no flight code publishes there. */
