@@ -171,7 +171,8 @@ CorrelationCase make_correlation_case(std::int32_t t, std::int32_t w) {
   for (auto& v : c.win) v = static_cast<std::uint8_t>(d(rng) + d(rng) + d(rng) + d(rng));
   for (std::int32_t y = 0; y < t; ++y)
     for (std::int32_t x = 0; x < t; ++x)
-      c.tmpl[static_cast<std::size_t>(y * t + x)] = c.win[static_cast<std::size_t>((7 + y) * w + 5 + x)];
+      c.tmpl[static_cast<std::size_t>(y) * static_cast<std::size_t>(t) + static_cast<std::size_t>(x)] =
+          c.win[static_cast<std::size_t>(7 + y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(5 + x)];
   return c;
 }
 
