@@ -9,7 +9,8 @@
  * joins the events to the injector's ground truth by the rule of docs/FDIR.md;
  * it never decides a step itself. Ids are grouped by layer: 0x01xx messaging,
  * 0x02xx network health, 0x03xx vision, 0x04xx health table and asserts, 0x05xx core
- * health (watchdogs, resets, spares), 0x06xx filter restarts.
+ * health (watchdogs, resets, spares), 0x06xx filter restarts, 0x07xx the filter's TMR, 0x08xx checked
+ * computations (matrix products, correlation).
  */
 #pragma once
 
@@ -89,10 +90,12 @@ enum class EventId : std::uint16_t {
   kTmrExcluded = 0x0706,       ///< a replica no longer votes and must re-synchronise; subject: its tile, cause: job, a: replica, b: replicas left
   kTmrResynced = 0x0707,       ///< a replica seeded from the voted state votes again; subject: its tile, cause: job, a: replica, b: replicas voting
   kTmrNoMajority = 0x0708,     ///< no two replicas agree: nothing delivered; subject: job, cause: voting mask, a: different, b: missing
-  kTmrVoterResumed = 0x0709,
-  // ---- checked matrix products (fdir/abft)
+  kTmrVoterResumed = 0x0709,   ///< a restarted voter goes on from its place in DDR; subject: job, cause: epoch, a: next job to deliver, b: records of the outage it writes
+  // ---- checked matrix products (fdir/abft) and checked correlation (trn/vision/correlator, logged by the vision tile)
   kAbftCorrected = 0x0801,     ///< a product failed its checksums and passed when computed again; subject: site, cause: row << 16 | column of the element located (0xFFFF: not one), a: bad rows << 16 | bad columns, b: recomputations
-  kAbftFailed = 0x0802,        ///< a product still failed its checksums after every recomputation; same fields   ///< a restarted voter goes on from its place in DDR; subject: job, cause: epoch, a: next job to deliver, b: records of the outage it writes
+  kAbftFailed = 0x0802,        ///< a product still failed its checksums after every recomputation; same fields
+  kCorrelationCorrected = 0x0803,  ///< a landmark's correlation failed a check and passed when computed again; subject: landmark, cause: the check that failed first (1 dot-product checksum, 2 surface digest, 3 peak score), a: frame, b: recomputations
+  kCorrelationFailed = 0x0804,     ///< still failing after every recomputation: the match is rejected, nothing sent; same fields
 };
 
 struct EventInfo {
@@ -103,7 +106,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 55> kEventTable{{
+inline constexpr std::array<EventInfo, 57> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -159,6 +162,8 @@ inline constexpr std::array<EventInfo, 55> kEventTable{{
     {EventId::kTmrVoterResumed, "tmr_voter_resumed", Severity::kInfo, kStepRecover},
     {EventId::kAbftCorrected, "abft_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kAbftFailed, "abft_failed", Severity::kWarningHi, kStepDetect},
+    {EventId::kCorrelationCorrected, "correlation_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
+    {EventId::kCorrelationFailed, "correlation_failed", Severity::kWarningHi, kStepDetect},
 }};
 
 namespace detail {

@@ -13,15 +13,25 @@
  * Counters: tile64_cycles per product (bsp::cost_of(bsp::kTile64, work)) and
  * overhead_pct, the checked product's emulated cycles over the plain one's.
  * The host overhead is the ratio of the two benchmarks' times.
+ *
+ * Checked correlation (trn/vision/correlator.hpp), the same way:
+ * BM_CorrelatePlain/T/W runs a T x T template over a W x W window as the
+ * correlator did before its checks (statistics, integral image, surface,
+ * peak); BM_CorrelateChecked/T/W runs correlate() (the same, the dot-product
+ * checksum, the surface digest, the peak's nine scores computed again, and an
+ * unarmed publication per dot product and per surface). 21/49: a fine search
+ * of radius 14; 21/27: the refinement (radius 3); 64/256: the coarse stage.
  */
 #include "bsp_tile64/cost_model.hpp"
 #include "bsp_tile64/profile.hpp"
 #include "fdir/abft.hpp"
+#include "trn/vision/correlator.hpp"
 
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
 #include <random>
+#include <vector>
 
 namespace {
 
@@ -141,6 +151,98 @@ void BM_Plain64(benchmark::State& st) { plain_dynamic(st, 64); }
 void BM_Checked64(benchmark::State& st) { checked_dynamic(st, 64); }
 void BM_Plain256(benchmark::State& st) { plain_dynamic(st, 256); }
 void BM_Checked256(benchmark::State& st) { checked_dynamic(st, 256); }
+namespace tv = trn::vision;
+
+/** A template cut at (5, 7) from a smooth random window: a clear peak, as in flight. */
+struct CorrelationCase {
+  std::int32_t t = 0;
+  std::int32_t w = 0;
+  std::vector<std::uint8_t> tmpl;
+  std::vector<std::uint8_t> win;
+  tv::ConstImageU8 tv_tmpl() const { return {tmpl.data(), t, t, t}; }
+  tv::ConstImageU8 tv_win() const { return {win.data(), w, w, w}; }
+};
+
+CorrelationCase make_correlation_case(std::int32_t t, std::int32_t w) {
+  CorrelationCase c{t, w, std::vector<std::uint8_t>(static_cast<std::size_t>(t) * static_cast<std::size_t>(t)),
+                    std::vector<std::uint8_t>(static_cast<std::size_t>(w) * static_cast<std::size_t>(w))};
+  std::mt19937_64 rng(7U);  // fixed seed: the same inputs every run
+  std::uniform_int_distribution<int> d(0, 63);
+  for (auto& v : c.win) v = static_cast<std::uint8_t>(d(rng) + d(rng) + d(rng) + d(rng));
+  for (std::int32_t y = 0; y < t; ++y)
+    for (std::int32_t x = 0; x < t; ++x)
+      c.tmpl[static_cast<std::size_t>(y) * static_cast<std::size_t>(t) + static_cast<std::size_t>(x)] =
+          c.win[static_cast<std::size_t>(7 + y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(5 + x)];
+  return c;
+}
+
+tv::CorrelatorWorkspace<256>& correlator_ws() {
+  static tv::CorrelatorWorkspace<256> ws;
+  return ws;
+}
+
+/** The correlation as before its checks; its work into @p work. */
+bool correlate_plain(const CorrelationCase& c, bsp::Work& work) {
+  const std::int32_t s = c.w - c.t + 1;
+  tv::CorrelatorWorkspace<256>& ws = correlator_ws();
+  tv::TemplateStats st;
+  tv::IntegralRef integral;
+  std::int32_t flat = 0;
+  const tv::ImageF32 surf{ws.surface, s, s, s};
+  if (tv::template_stats(c.tv_tmpl(), st, work) != tv::Status::kOk ||
+      tv::build_integral(c.tv_win(), ws.sum, ws.sum_sq, ws.kEntries, integral, work) != tv::Status::kOk ||
+      tv::ncc_surface(c.tv_tmpl(), st, c.tv_win(), integral, surf, tv::ImageU8{ws.flags, s, s, s}, flat, work) !=
+          tv::Status::kOk) {
+    return false;
+  }
+  const tv::Peak p = tv::find_peak(surf.as_const(), tv::QualityParams{}, work);
+  benchmark::DoNotOptimize(p);
+  return true;
+}
+
+void BM_CorrelatePlain(benchmark::State& state) {
+  const CorrelationCase c = make_correlation_case(static_cast<std::int32_t>(state.range(0)),
+                                                  static_cast<std::int32_t>(state.range(1)));
+  bsp::Work work;
+  for (auto _ : state) {
+    work = bsp::Work{};
+    if (!correlate_plain(c, work)) {
+      state.SkipWithError("correlation failed");
+      break;
+    }
+  }
+  state.counters["tile64_cycles"] = static_cast<double>(bsp::cost_of(bsp::kTile64, work));
+}
+
+void BM_CorrelateChecked(benchmark::State& state) {
+  const CorrelationCase c = make_correlation_case(static_cast<std::int32_t>(state.range(0)),
+                                                  static_cast<std::int32_t>(state.range(1)));
+  bsp::Work plain;
+  if (!correlate_plain(c, plain)) {
+    state.SkipWithError("correlation failed");
+    return;
+  }
+  bsp::Work work;
+  for (auto _ : state) {
+    work = bsp::Work{};
+    tv::MatchResult r;
+    if (tv::correlate(c.tv_tmpl(), c.tv_win(), tv::QualityParams{}, correlator_ws().buffers(), r, work) !=
+            tv::Status::kOk ||
+        r.recomputes != 0U) {
+      state.SkipWithError("checked correlation failed or recomputed");
+      break;
+    }
+    benchmark::DoNotOptimize(r);
+  }
+  const double p = static_cast<double>(bsp::cost_of(bsp::kTile64, plain));
+  const double k = static_cast<double>(bsp::cost_of(bsp::kTile64, work));
+  state.counters["tile64_cycles"] = k;
+  state.counters["overhead_pct"] = 100.0 * (k / p - 1.0);
+}
+
+BENCHMARK(BM_CorrelatePlain)->Args({21, 49})->Args({21, 27})->Args({64, 256})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_CorrelateChecked)->Args({21, 49})->Args({21, 27})->Args({64, 256})->Unit(benchmark::kMicrosecond);
+
 BENCHMARK(BM_Plain15);
 BENCHMARK(BM_Checked15);
 BENCHMARK(BM_Plain21);

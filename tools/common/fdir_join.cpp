@@ -6,6 +6,7 @@
 
 #include "bsp_tile64/profile.hpp"
 #include "tools/common/fault_plan.hpp"
+#include "trn/vision/correlator.hpp"
 
 #include <algorithm>
 #include <array>
@@ -81,6 +82,22 @@ bool detects_wrong_data(bsp::TileId t, const fdir::Event& e) {
 /** How long after a corrupted product its check reports it at most: one filter period. */
 constexpr double kAbftSameJobS = 0.010;
 
+/**
+ * How long after a corrupted dot product or surface the vision tile reports it at most: the
+ * landmark's two correlation passes and their recomputations (a few ms each; one unit of landmarks
+ * takes under 20 ms), reported once the landmark is done.
+ */
+constexpr double kCorrelationSameLandmarkS = 0.020;
+
+/** Whether @p e is a checked correlation's event about the sdc @p r (same tile, a correlation point, soon after). */
+bool correlation_check_of(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
+  const bool point = r.spec.channel == trn::vision::kCorrelationDotChannel ||
+                     r.spec.channel == trn::vision::kCorrelationSurfaceChannel;
+  return point && (e.id == EventId::kCorrelationCorrected || e.id == EventId::kCorrelationFailed) &&
+         e.tile == r.spec.tile && e.cycle >= r.applied_cycle &&
+         seconds(e.cycle - r.applied_cycle, clock_hz) <= kCorrelationSameLandmarkS;
+}
+
 /** Whether flight event @p e detects the injection @p r (see docs/FDIR.md, "The join"). */
 bool detects(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
   const bsp::TileId t = r.spec.tile;
@@ -106,8 +123,10 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
     case bsp::FaultKind::kSdc:
       // A corrupted product is also found by the tile itself, by its checksums, in the same job: a
       // check of a later product is about that product (a flip below the round-off is never seen).
-      // Wrong results (a lasting shift of a vision tile's matches) are found by the coordinator.
+      // Wrong results (a lasting shift of a vision tile's matches) are found by the coordinator; a
+      // corrupted correlation by its tile's checks while the landmark is matched.
       return detects_wrong_data(t, e) || (e.id == EventId::kResultsSuspect && e.subject == t) ||
+             correlation_check_of(r, e, clock_hz) ||
              ((e.id == EventId::kAbftCorrected || e.id == EventId::kAbftFailed) && e.tile == t &&
               seconds(e.cycle - r.applied_cycle, clock_hz) <= kAbftSameJobS);
     case bsp::FaultKind::kWatchdogFail:
@@ -228,6 +247,16 @@ bool describe_tmr_event(const fdir::Event& e, const char* s, std::span<char> b) 
                             "%u recomputation(s)", s, e.a >> 16U, e.a & 0xFFFFU,
                             e.id == EventId::kAbftFailed ? "still wrong" : "right", e.b);
       }
+      return true;
+    }
+    case EventId::kCorrelationCorrected:
+    case EventId::kCorrelationFailed: {
+      const char* what = e.cause == 1U   ? "its dot products off the integral image's checksum"
+                         : e.cause == 2U ? "its surface changed before the peak search ended"
+                                         : "a score around its peak different when computed again";
+      (void)std::snprintf(b.data(), b.size(), "landmark %s at frame %u: correlation wrong (%s), %s after %u "
+                          "recomputation(s)", s, e.a, what,
+                          e.id == EventId::kCorrelationFailed ? "still wrong, not matched" : "right", e.b);
       return true;
     }
     case EventId::kTmrVoterResumed:

@@ -15,6 +15,7 @@
 #include "trn/filter/covariance.hpp"
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/tile_map.hpp"
+#include "trn/vision/correlator.hpp"
 #include "trn/vision/frame.hpp"
 
 #include <array>
@@ -40,7 +41,7 @@ struct SdcPoint {
   bool shifts = false;  ///< the value starts with a double: a plan's `shift` (a lasting error) applies
 };
 
-inline constexpr std::array<SdcPoint, 7> kSdcPoints{{
+inline constexpr std::array<SdcPoint, 9> kSdcPoints{{
     {"nav_output", kNavChannel, role_bit(Role::kFilter) | role_bit(Role::kFilterReplica),
      "the filter's solution as delivered (in TMR: the voted one on the filter's tile, each replica's own on a "
      "replica)"},
@@ -61,6 +62,11 @@ inline constexpr std::array<SdcPoint, 7> kSdcPoints{{
      role_bit(Role::kTrnSupervisor) | role_bit(Role::kVisionCoordinator) | role_bit(Role::kIo) |
          role_bit(Role::kFilter) | role_bit(Role::kVision) | role_bit(Role::kFilterReplica),
      "the tile's self-test digest"},
+    {"correlation_surface", vision::kCorrelationSurfaceChannel, role_bit(Role::kVision),
+     "a landmark's correlation surface (floats, row-major) after it is computed, before its peak is searched"},
+    {"correlation_dot", vision::kCorrelationDotChannel, role_bit(Role::kVision),
+     "one dot product of a landmark's correlation surface (a uint32 of template times window) before it is "
+     "used"},
 }};
 
 /** The point publishing on @p channel; nullptr when no flight code publishes there. */

@@ -6,6 +6,7 @@
 
 #include "bsp_tile64/devices/map_product.hpp"
 #include "bsp_tile64/memory.hpp"
+#include "fdir/event_log.hpp"
 #include "kernel/kernel.hpp"
 #include "trn/match.hpp"
 #include "trn/tasks/messages.hpp"
@@ -53,6 +54,15 @@ bool worker_set_up(WorkerState& st) noexcept {
   return true;
 }
 
+/** A landmark's checked correlations that found a wrong surface, as events (this tile computed them). */
+void report_checks(const vision::LandmarkDiag& d, std::uint16_t landmark, std::uint32_t frame) noexcept {
+  if (!d.check_failed && d.recomputes == 0U) {
+    return;
+  }
+  fdir::report(d.check_failed ? fdir::EventId::kCorrelationFailed : fdir::EventId::kCorrelationCorrected, landmark,
+               static_cast<std::uint32_t>(d.first_check), frame, d.recomputes);
+}
+
 /** Matches the landmarks of unit @p m; returns the result's length in words (0: bad unit). */
 std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const udn::FtMessage& m) noexcept {
   const std::uint32_t n = m.data[3];
@@ -89,6 +99,7 @@ std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const udn::FtM
     const vision::Status s = vision::match_landmark(image, st.cfg->camera, prior, st.fine, *table, index, radius,
                                                     *st.ws, match, accepted, diag, work);
     bsp::consume(work);
+    report_checks(diag, index, m.data[1]);
     ++stats.landmarks;
     if (s == vision::Status::kOk && accepted) {
       match.tile = static_cast<std::uint16_t>(bsp::current_tile());

@@ -5,9 +5,23 @@
  * The fine and coarse stages both reduce to this; they differ only in sizes
  * and in what they do before (downsampling) and after (scaling the offset).
  * Buffers come from a CorrelatorWorkspace whose capacity is a template parameter.
+ *
+ * Checked correlation (docs/FDIR.md, "Checked correlation"). A surface is
+ * computed with the sum of its dot products, which must equal the checksum
+ * the window's integral image gives (ncc.hpp): exact integers, tolerance zero,
+ * so one wrong dot product anywhere fails it. After the peak search the
+ * surface's digest (the sum of its values' bits as written) is taken again,
+ * and the peak's score and its 3 x 3 neighbours (every value the sub-pixel
+ * refinement reads) are computed again one by one (ncc_score_at: the same
+ * operations in the same order, so equal bit for bit; tolerance zero again).
+ * Any mismatch computes the integral and the surface again, at most
+ * kCorrelationMaxRecompute times; still wrong, the match is rejected with
+ * Reject::kCheckFailed, so nothing wrong is sent. A recomputed match is bit
+ * for bit the clean one.
  */
 #pragma once
 
+#include "bsp_tile64/port.hpp"
 #include "bsp_tile64/work.hpp"
 #include "trn/vision/image.hpp"
 #include "trn/vision/integral.hpp"
@@ -18,6 +32,28 @@
 #include <cstdint>
 
 namespace trn::vision {
+
+/** bsp::publish_filter channel of a correlation surface after it is computed, before the peak search. */
+inline constexpr std::uint32_t kCorrelationSurfaceChannel = 9;
+/** bsp::publish_filter channel of each dot product of a surface, before it is used. */
+inline constexpr std::uint32_t kCorrelationDotChannel = 10;
+/** Recomputations of a surface found wrong before the match is rejected (as fdir::kAbftMaxRecompute). */
+inline constexpr std::uint32_t kCorrelationMaxRecompute = 2U;
+
+/** The check that found a correlation wrong (the events' cause). */
+enum class CorrelationCheck : std::uint8_t {
+  kNone = 0,
+  kDotSum = 1,     ///< the sum of the dot products differs from the integral image's checksum
+  kSurface = 2,    ///< the surface's digest changed between its computation and the peak search's end
+  kPeakScore = 3,  ///< a score of the peak's 3 x 3 neighbourhood computed again differs from the surface's
+};
+
+/** Where a correlation publishes (silent corruptions are injected there); the flight code takes the defaults. */
+struct CorrelationTaps {
+  PublishFn publish = &bsp::publish_filter;  ///< nullptr: nothing published
+  std::uint32_t dot_channel = kCorrelationDotChannel;
+  std::uint32_t surface_channel = kCorrelationSurfaceChannel;
+};
 
 /** Raw buffers the correlator writes into (from a CorrelatorWorkspace). */
 struct CorrelatorBuffers {
@@ -51,18 +87,24 @@ struct MatchResult {
   double y_px = 0.0;
   std::int32_t flat_windows = 0;  ///< window positions skipped as flat
   ConstImageF32 surface{};      ///< the correlation surface (inside the workspace)
+  std::uint32_t recomputes = 0U;  ///< surfaces computed again after a failed check
+  bool check_failed = false;    ///< still wrong after kCorrelationMaxRecompute: rejected (kCheckFailed)
+  CorrelationCheck first_check = CorrelationCheck::kNone;  ///< what found the first computation wrong
 
   constexpr bool accepted() const noexcept { return peak.accepted(); }
   constexpr Reject reason() const noexcept { return peak.reason; }
 };
 
 /**
- * Correlates @p tmpl over every position of @p window and applies the checks.
+ * Correlates @p tmpl over every position of @p window, checks the surface and
+ * its peak (see the file comment) and applies the quality checks.
+ * @param taps where the dot products and the surface are published
  * @return kBadInput for invalid views or a template larger than the window,
  *         kTooLarge when the window exceeds the buffers. A flat template or
- *         all-flat window is not an error: the result says kFlatTemplate / kFlatWindow.
+ *         all-flat window is not an error: the result says kFlatTemplate / kFlatWindow;
+ *         a surface still wrong after its recomputations says kCheckFailed.
  */
 Status correlate(ConstImageU8 tmpl, ConstImageU8 window, const QualityParams& q, const CorrelatorBuffers& buf,
-                 MatchResult& out, bsp::Work& work) noexcept;
+                 MatchResult& out, bsp::Work& work, const CorrelationTaps& taps = CorrelationTaps{}) noexcept;
 
 }  // namespace trn::vision

@@ -142,6 +142,9 @@ struct LandmarkDiag {
   std::int32_t outside_px = 0; ///< window pixels the frame did not cover (any: not correlated)
   MatchResult search{};        ///< the search pass (its surface view is overwritten by the refinement)
   double shift_px[2] = {0.0, 0.0};  ///< offset of the search peak from the prediction, map px (the refinement's shift)
+  std::uint32_t recomputes = 0U;  ///< correlation surfaces computed again after a failed check, both passes
+  bool check_failed = false;      ///< a pass was still wrong after its recomputations: not matched
+  CorrelationCheck first_check = CorrelationCheck::kNone;  ///< what found the first wrong surface
 };
 
 /**

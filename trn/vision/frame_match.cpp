@@ -100,6 +100,15 @@ Status search(ConstImageU8 frame, const MapView& map, const Window& win, ConstIm
   return fine_match(tmpl, ws.window.cview(), mp.quality, ws.corr, out, work);
 }
 
+/** Adds the checks of correlation pass @p r to @p d. */
+void note_checks(const MatchResult& r, LandmarkDiag& d) noexcept {
+  d.recomputes += r.recomputes;
+  d.check_failed = d.check_failed || r.check_failed;
+  if (d.first_check == CorrelationCheck::kNone) {
+    d.first_check = r.first_check;
+  }
+}
+
 /** Fills @p out from the accepted peak of @p r in window @p win. False when it maps behind the camera. */
 bool make_match(const bsp::CameraModel& cam, const MapView& map, const Landmark& lm, std::uint16_t index,
                 const Window& win, const MatchResult& r, const LandmarkMatchParams& mp, double t_s, Match& out,
@@ -163,6 +172,7 @@ Status match_landmark(ConstImageU8 frame, const bsp::CameraModel& cam, const Pos
   }
   const std::int32_t sub = subsamples(win, mp, work);
   Status st = search(frame, map, win, tmpl, sub, mp, ws, diag.search, diag.outside_px, work);
+  note_checks(diag.search, diag);
   diag.fine = diag.search;
   if (st != Status::kOk || !diag.search.accepted()) {
     return st;
@@ -175,6 +185,7 @@ Status match_landmark(ConstImageU8 frame, const bsp::CameraModel& cam, const Pos
     return Status::kBadInput;
   }
   st = search(frame, map, win, tmpl, sub, mp, ws, diag.fine, diag.outside_px, work);
+  note_checks(diag.fine, diag);
   if (st != Status::kOk || !diag.fine.accepted()) {
     return st;
   }

@@ -4,6 +4,7 @@
  */
 #include "trn/vision/ncc.hpp"
 
+#include <bit>
 #include <cmath>
 
 namespace trn::vision {
@@ -47,6 +48,41 @@ float score_of(std::int64_t num, std::int64_t var_t, std::int64_t var_w) noexcep
   // Rounding can push a perfect match a hair beyond 1.
   r = r > 1.0 ? 1.0 : (r < -1.0 ? -1.0 : r);
   return static_cast<float>(r);
+}
+
+/** A window's exact terms at one offset: its sum and n^2 times its variance (<= 0: flat). */
+struct WindowTerms {
+  std::int64_t sw = 0;
+  std::int64_t var_w = 0;
+};
+
+WindowTerms window_terms(const IntegralRef& integral, std::int32_t x, std::int32_t y, std::int32_t tw,
+                         std::int32_t th, std::int64_t n) noexcept {
+  WindowTerms t;
+  t.sw = integral.rect_sum(x, y, tw, th);
+  const auto sww = static_cast<std::int64_t>(integral.rect_sum_sq(x, y, tw, th));
+  t.var_w = n * sww - t.sw * t.sw;
+  return t;
+}
+
+/** The score of a non-flat window from its dot product (the one formula of the surface and of ncc_score_at). */
+float score_from(const TemplateStats& stats, const WindowTerms& t, std::uint32_t dot) noexcept {
+  const std::int64_t num = stats.n * static_cast<std::int64_t>(dot) - stats.sum * t.sw;
+  return score_of(num, stats.var_n2, t.var_w);
+}
+
+/** The bits of a score, for the surface's digest. */
+std::uint64_t bits_of(float v) noexcept { return std::bit_cast<std::uint32_t>(v); }
+
+/** Whether the views and sizes suit ncc_surface(). */
+bool surface_args_ok(ConstImageU8 tmpl, const TemplateStats& stats, ConstImageU8 window,
+                     const IntegralRef& integral, ImageF32 surface, ImageU8 flags) noexcept {
+  const bool sizes_ok = tmpl.valid() && window.valid() && surface.valid() && stats.width == tmpl.width &&
+                        stats.height == tmpl.height && integral.width == window.width &&
+                        integral.height == window.height && surface.width == window.width - tmpl.width + 1 &&
+                        surface.height == window.height - tmpl.height + 1;
+  const bool flags_ok = !flags.valid() || (flags.width == surface.width && flags.height == surface.height);
+  return sizes_ok && flags_ok && !stats.flat && integral.sum != nullptr;
 }
 
 }  // namespace
@@ -96,38 +132,86 @@ bsp::Work ncc_surface_work(std::int32_t tmpl_w, std::int32_t tmpl_h, std::int32_
 }
 
 Status ncc_surface(ConstImageU8 tmpl, const TemplateStats& stats, ConstImageU8 window, const IntegralRef& integral,
-                   ImageF32 surface, ImageU8 flags, std::int32_t& flat_count, bsp::Work& work) noexcept {
+                   ImageF32 surface, ImageU8 flags, std::int32_t& flat_count, bsp::Work& work,
+                   NccCheck* check) noexcept {
   flat_count = 0;
-  const bool sizes_ok = tmpl.valid() && window.valid() && surface.valid() && stats.width == tmpl.width &&
-                        stats.height == tmpl.height && integral.width == window.width &&
-                        integral.height == window.height && surface.width == window.width - tmpl.width + 1 &&
-                        surface.height == window.height - tmpl.height + 1;
-  const bool flags_ok = !flags.valid() || (flags.width == surface.width && flags.height == surface.height);
-  if (!sizes_ok || !flags_ok || stats.flat || integral.sum == nullptr) {
+  if (!detail::surface_args_ok(tmpl, stats, window, integral, surface, flags)) {
     return Status::kBadInput;
   }
-  const std::int64_t n = stats.n;
+  NccCheck none;
+  NccCheck& c = check != nullptr ? *check : none;
+  c.dot_sum = 0;
+  c.surface_sum = 0U;
   for (std::int32_t y = 0; y < surface.height; ++y) {
     float* out = surface.row(y);
     for (std::int32_t x = 0; x < surface.width; ++x) {
-      const std::int64_t sw = integral.rect_sum(x, y, tmpl.width, tmpl.height);
-      const auto sww = static_cast<std::int64_t>(integral.rect_sum_sq(x, y, tmpl.width, tmpl.height));
-      const std::int64_t var_w = n * sww - sw * sw;
-      const bool flat = var_w <= 0;
+      const detail::WindowTerms t = detail::window_terms(integral, x, y, tmpl.width, tmpl.height, stats.n);
+      const bool flat = t.var_w <= 0;
       if (flat) {
         out[x] = 0.0F;
         ++flat_count;
+        c.dot_sum += stats.sum * (t.sw / stats.n);  // every pixel is sw / n, exactly
       } else {
-        const std::int64_t num = n * static_cast<std::int64_t>(detail::dot_at(tmpl, window, x, y)) - stats.sum * sw;
-        out[x] = detail::score_of(num, stats.var_n2, var_w);
+        std::uint32_t dot = detail::dot_at(tmpl, window, x, y);
+        // Published in place before its use: a corruption injected there is what the score and the sum see.
+        if (c.publish != nullptr) {
+          (void)c.publish(c.dot_channel, &dot, sizeof dot);
+        }
+        c.dot_sum += dot;
+        out[x] = detail::score_from(stats, t, dot);
       }
+      c.surface_sum += detail::bits_of(out[x]);
       if (flags.valid()) {
         flags.at(x, y) = flat ? 1U : 0U;
       }
     }
   }
   work += ncc_surface_work(tmpl.width, tmpl.height, surface.width, surface.height);
+  if (check != nullptr) {
+    const auto positions = static_cast<std::uint64_t>(surface.width) * static_cast<std::uint64_t>(surface.height);
+    work.int_ops += 2U * positions;  // the two sums
+  }
   return Status::kOk;
+}
+
+float ncc_score_at(ConstImageU8 tmpl, const TemplateStats& stats, ConstImageU8 window, const IntegralRef& integral,
+                   std::int32_t x, std::int32_t y, bsp::Work& work) noexcept {
+  work += ncc_surface_work(tmpl.width, tmpl.height, 1, 1);
+  const detail::WindowTerms t = detail::window_terms(integral, x, y, tmpl.width, tmpl.height, stats.n);
+  if (t.var_w <= 0) {
+    return 0.0F;
+  }
+  return detail::score_from(stats, t, detail::dot_at(tmpl, window, x, y));
+}
+
+std::int64_t ncc_dot_checksum(ConstImageU8 tmpl, const IntegralRef& integral, std::int32_t surf_w,
+                              std::int32_t surf_h, bsp::Work& work) noexcept {
+  std::int64_t sum = 0;
+  for (std::int32_t j = 0; j < tmpl.height; ++j) {
+    const std::uint8_t* t = tmpl.row(j);
+    for (std::int32_t i = 0; i < tmpl.width; ++i) {
+      sum += static_cast<std::int64_t>(t[i]) * static_cast<std::int64_t>(integral.rect_sum(i, j, surf_w, surf_h));
+    }
+  }
+  const auto n = static_cast<std::uint64_t>(tmpl.width) * static_cast<std::uint64_t>(tmpl.height);
+  work.int_macs += n;
+  work.int_ops += 3U * n;   // the box's corners
+  work.mem_words += 4U * n + n / 4U;
+  return sum;
+}
+
+std::uint64_t surface_digest(ConstImageF32 surface, bsp::Work& work) noexcept {
+  std::uint64_t sum = 0U;
+  for (std::int32_t y = 0; y < surface.height; ++y) {
+    const float* row = surface.row(y);
+    for (std::int32_t x = 0; x < surface.width; ++x) {
+      sum += detail::bits_of(row[x]);
+    }
+  }
+  const auto positions = static_cast<std::uint64_t>(surface.width) * static_cast<std::uint64_t>(surface.height);
+  work.int_ops += positions;
+  work.mem_words += positions;
+  return sum;
 }
 
 }  // namespace trn::vision

@@ -12,6 +12,15 @@
  * integral image, the template's sums are computed once. Only the final
  * product, square root and division are floating point.
  * A window with var_w == 0 (flat) scores 0 and is flagged; there is no division by zero.
+ *
+ * Checksum of the dot products (a checked correlation, correlator.hpp). Summed
+ * over every offset o of the surface, sum_o sum_p T(p) W(p + o) =
+ * sum_p T(p) B(p), where B(p) is the sum of the window over the surf_w x surf_h
+ * box at p: one integral-image lookup per template pixel (ncc_dot_checksum),
+ * against n lookups per offset for the surface. Both sides are integers, so
+ * the identity is exact: any one wrong dot product makes it fail, whatever its
+ * size. A flat window's dot product is not computed; it is exactly
+ * sum(T) * sum(W) / n (all its pixels are sum(W) / n), and that enters the sum.
  */
 #pragma once
 
@@ -20,6 +29,7 @@
 #include "trn/vision/integral.hpp"
 #include "trn/vision/status.hpp"
 
+#include <cstddef>
 #include <cstdint>
 
 namespace trn::vision {
@@ -31,6 +41,22 @@ inline constexpr std::int64_t kNccMaxTemplatePixels = std::int64_t{128} * 128;
 static_assert(65025ULL * static_cast<std::uint64_t>(kNccMaxTemplatePixels) < (1ULL << 31U),
               "dot products must fit 31 bits");
 // n * dot <= 255^2 * n^2 ~ 1.7e13 and sum(T) * sum(W) likewise: far inside int64.
+// The sum of every dot product of a surface is at most 255^2 * n * positions, positions
+// below kIntegralMaxPixels: 2^16 * 2^14 * 2^24 = 2^54, inside int64 (ncc_dot_checksum likewise).
+static_assert(65025.0 * static_cast<double>(kNccMaxTemplatePixels) * static_cast<double>(kIntegralMaxPixels) <
+                  0x1p62,
+              "dot-product sums must fit int64");
+
+/** A publication hook (bsp::publish_filter's form): where a silent corruption of a result is injected. */
+using PublishFn = bool (*)(std::uint32_t channel, void* data, std::size_t bytes) noexcept;
+
+/** What ncc_surface() publishes and sums for a checked correlation (all optional). */
+struct NccCheck {
+  PublishFn publish = nullptr;   ///< called on each dot product before it is used (nullptr: none)
+  std::uint32_t dot_channel = 0U;
+  std::int64_t dot_sum = 0;      ///< out: the sum of every position's dot product (see the file comment)
+  std::uint64_t surface_sum = 0; ///< out: the sum of the surface's bit patterns as written (surface_digest)
+};
 
 /** Template statistics, computed once per template. */
 struct TemplateStats {
@@ -57,10 +83,32 @@ Status template_stats(ConstImageU8 tmpl, TemplateStats& out, bsp::Work& work) no
  * @param flags optional (an invalid view means none), same size as @p surface:
  *        1 where the window was flat (score forced to 0), else 0
  * @param flat_count number of flat windows
+ * @param check optional: each dot product is published there before it is used, and the
+ *        sums of the dot products and of the surface's bits are returned (charged to @p work)
  * @return kBadInput when sizes disagree or the template is flat (surface untouched).
  */
 Status ncc_surface(ConstImageU8 tmpl, const TemplateStats& stats, ConstImageU8 window, const IntegralRef& integral,
-                   ImageF32 surface, ImageU8 flags, std::int32_t& flat_count, bsp::Work& work) noexcept;
+                   ImageF32 surface, ImageU8 flags, std::int32_t& flat_count, bsp::Work& work,
+                   NccCheck* check = nullptr) noexcept;
+
+/**
+ * The score ncc_surface() gives offset (@p x, @p y), computed alone by the same
+ * operations in the same order: bit for bit the surface's value (0 for a flat
+ * window). Pre: the arguments passed ncc_surface()'s checks and (x, y) is on its surface.
+ */
+float ncc_score_at(ConstImageU8 tmpl, const TemplateStats& stats, ConstImageU8 window, const IntegralRef& integral,
+                   std::int32_t x, std::int32_t y, bsp::Work& work) noexcept;
+
+/**
+ * The reference of NccCheck::dot_sum: sum_p T(p) B(p), B(p) the sum of the
+ * window over the @p surf_w x @p surf_h box at template pixel p, from @p integral
+ * (built over the window). Pre: the surface fits the window (as ncc_surface()).
+ */
+std::int64_t ncc_dot_checksum(ConstImageU8 tmpl, const IntegralRef& integral, std::int32_t surf_w,
+                              std::int32_t surf_h, bsp::Work& work) noexcept;
+
+/** The sum of the bit patterns of @p surface's values (NccCheck::surface_sum of an intact surface). */
+std::uint64_t surface_digest(ConstImageF32 surface, bsp::Work& work) noexcept;
 
 /** Work one surface costs, as ncc_surface() counts it (for budgets and tests). */
 bsp::Work ncc_surface_work(std::int32_t tmpl_w, std::int32_t tmpl_h, std::int32_t surf_w,

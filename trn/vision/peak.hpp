@@ -35,6 +35,7 @@ enum class Reject : std::uint8_t {
   kLowPeak,       ///< best score below min_peak
   kOnEdge,        ///< best score on the edge of the search surface
   kAmbiguous,     ///< a second peak too close in height (repetitive texture)
+  kCheckFailed,   ///< the surface failed its checks after every recomputation (correlator.hpp)
 };
 
 enum class Subpixel : std::uint8_t { kParabola, kParaboloid };

@@ -55,6 +55,27 @@ TEST(FdirJoin, AProductCheckIsCreditedOnlyToTheSdcOfItsOwnJob) {
   EXPECT_EQ(tools::join_faults(faults, other, kHz).detected, 0U);
 }
 
+// FDIR-CC-06: a correlation check is credited to an sdc on a correlation point of its own tile, in
+// the landmark it was injected in: not to another point's sdc, nor to an older one.
+TEST(FdirJoin, ACorrelationCheckIsCreditedOnlyToACorrelationSdcOfItsTile) {
+  std::array<bsp::FaultRecord, 3> faults{record(bsp::FaultKind::kSdc, 24U, 3'001'000U),
+                                         record(bsp::FaultKind::kSdc, 24U, 4'001'000U),
+                                         record(bsp::FaultKind::kSdc, 25U, 4'002'000U)};
+  faults[0].spec.channel = 10U;  // correlation_dot, 1 s before the check: another landmark's
+  faults[1].spec.channel = 10U;
+  faults[2].spec.channel = 3U;   // vision_matches on another tile: no correlation of it
+  const std::vector<fdir::Event> events{event(fdir::EventId::kCorrelationCorrected, 24U, 12U, 4'006'000U, 1U),
+                                        event(fdir::EventId::kCorrelationCorrected, 25U, 7U, 4'006'000U, 1U)};
+  const tools::FaultAccount a = tools::join_faults(faults, events, kHz);
+  ASSERT_EQ(a.outcomes.size(), 3U);
+  EXPECT_FALSE(a.outcomes[0].detected);
+  EXPECT_TRUE(a.outcomes[1].detected);
+  EXPECT_TRUE(a.outcomes[1].recovered) << "correlation_corrected detects and recovers";
+  EXPECT_FALSE(a.outcomes[2].detected) << "a correlation check says nothing of the tile's sent matches";
+  faults[1].spec.channel = 9U;  // correlation_surface
+  EXPECT_EQ(tools::join_faults(faults, events, kHz).detected, 1U);
+}
+
 // FDIR-JN-02: an upset on one tile is not credited to a neighbour's report about another tile, nor to
 // a watchdog of the same tile (a tile with wrong data still answers); only a self-test naming it.
 TEST(FdirJoin, AnUpsetIsCreditedOnlyToASelfTestThatNamesItsTile) {

@@ -452,6 +452,34 @@ TEST_F(TrnMissionBinary, AVisionTileWithWrongMatchesIsSuspectResetAndReplaced) {
   EXPECT_LE(s["final_position_error_m"].get<double>(), 2.0 * clean["final_position_error_m"].get<double>());
 }
 
+// FDIR-CC-05: corrupted correlations on vision tiles (two dot products, one surface value) are
+// found by the tiles' checks while the landmark is matched, computed again, credited to the
+// injections by the join, and the navigation output stays the clean flight's, bit for bit.
+TEST_F(TrnMissionBinary, CorruptedCorrelationsOnVisionTilesAreCorrectedAndTheOutputUnchanged) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 8 --out " + (dir_ / "clean").string()), 0);
+  ASSERT_EQ(run(binary() + " --quiet --duration 8 --faults " + fixture("correlation_sdc.toml") + " --out " +
+                (dir_ / "cc").string()),
+            0);
+  const nlohmann::json clean = read_json(dir_ / "clean" / "summary.json");
+  const nlohmann::json s = read_json(dir_ / "cc" / "summary.json");
+  const std::string log = read_text(dir_ / "cc" / "events.log");
+  EXPECT_EQ(s["faults_injected"], 3);
+  EXPECT_EQ(s["faults_detected"], 3) << log;
+  EXPECT_EQ(s["faults_recovered"], 3);
+  EXPECT_EQ(count_of(log, "correlation wrong (its dot products off the integral image's checksum), right after 1 "
+                          "recomputation(s)"),
+            2U)
+      << log;
+  EXPECT_EQ(count_of(log, "correlation wrong (its surface changed before the peak search ended), right after 1 "
+                          "recomputation(s)"),
+            1U);
+  EXPECT_EQ(count_of(log, "(correlation_corrected)"), 3U) << "each injection credited to its tile's check";
+  EXPECT_EQ(count_of(log, "correlation_failed"), 0U);
+  EXPECT_EQ(count_of(read_text(dir_ / "clean" / "events.log"), "correlation_"), 0U) << "no false alarm";
+  EXPECT_EQ(s["filter_output_crc"], clean["filter_output_crc"]) << "the corrected surfaces change nothing";
+  EXPECT_EQ(s["final_position_error_m"], clean["final_position_error_m"]);
+}
+
 // Point 9: the switch of a spare tile (it routes traffic but runs nothing that could answer a
 // probe) fails mid-run: transit probes across it are lost, the health tile names it, the map goes
 // out by message and traffic routes around. Upsets on the I/O tile's packets are corrected by the
