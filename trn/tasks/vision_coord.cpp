@@ -36,6 +36,20 @@ struct Unit {
   bool answered;
 };
 
+/**
+ * The coordinator's vision tile list, kept in DDR (carve kTileListCarveName):
+ * a coordinator restarted or moved to a spare goes on with the replacements
+ * made before (its other state, the trust of each tile, starts afresh: a
+ * tile still wrong is found again in its next frame).
+ */
+struct TileListRecord {
+  std::uint32_t magic;  ///< kTileListMagic once written
+  std::uint32_t count;  ///< cfg->vision_count it was written for
+  std::array<bsp::TileId, kMaxVisionTiles> tiles;
+};
+constexpr std::uint32_t kTileListMagic = 0x564C5354U;  // "VLST"
+constexpr const char* kTileListCarveName = "vision_tile_list";
+
 struct CoordState {
   const VisionCoordConfig* cfg;
   vision::MapView fine;
@@ -61,6 +75,7 @@ struct CoordState {
   vision::ImageU8 relit;  ///< the coarse layer relit to the descent sun (DDR)
   std::array<bool, kMaxVisionTiles> band_done;
   std::array<bsp::TileId, kMaxVisionTiles> tiles;  ///< the vision tiles now (a replacing spare in its tile's place)
+  TileListRecord* list;         ///< the same in DDR
   vision::PosePrior prior;      ///< the frame's prior after the coarse stage (where the consistency fit starts)
   fdir::ResultTrust trust;      ///< per vision tile: are its matches used
   vision::ConsistencyWork cws;
@@ -195,6 +210,22 @@ bool relight_coarse(CoordState& st) noexcept {
   return true;
 }
 
+/** The tile list from DDR when a predecessor wrote it, else the configured one (written there). */
+bool take_tile_list(CoordState& st) noexcept {
+  st.list = reinterpret_cast<TileListRecord*>(  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
+      ddr_carve_named(kTileListCarveName, sizeof(TileListRecord), alignof(TileListRecord)));
+  if (st.list == nullptr) {
+    return false;
+  }
+  if (st.list->magic != kTileListMagic || st.list->count != st.cfg->vision_count) {
+    st.list->tiles = st.cfg->vision_tiles;
+    st.list->count = st.cfg->vision_count;
+    st.list->magic = kTileListMagic;
+  }
+  st.tiles = st.list->tiles;
+  return true;
+}
+
 // ------------------------------------------------------------------ coordinator: inputs
 
 void drain_nav(CoordState& st) noexcept {
@@ -224,6 +255,7 @@ void take_replacement(CoordState& st, VisionCoordStats& stats, const udn::FtMess
     return;  // not from the supervisor, not ours, or no spare (the tile stays unused)
   }
   st.tiles[i] = spare;
+  st.list->tiles[i] = spare;
   st.live.tile[i] = spare;
   st.live.misses[i] = 0U;
   fdir::result_trust_replace(st.trust, i, spare);
@@ -630,11 +662,10 @@ void vision_coord_main(void* arg) noexcept {
   }
   ::new (st) CoordState{};
   st->cfg = cfg;
-  st->tiles = cfg->vision_tiles;
-  if (fdir::liveness_init(st->live, fdir::LivenessConfig{kSuspectAfterMisses, kProbeEveryFrames},
-                          cfg->vision_tiles.data(), cfg->vision_count) != fdir::LivenessError::kOk ||
-      fdir::result_trust_init(st->trust, cfg->trust, cfg->vision_tiles.data(), cfg->vision_count) !=
-          fdir::TrustError::kOk ||
+  if (!take_tile_list(*st) ||
+      fdir::liveness_init(st->live, fdir::LivenessConfig{kSuspectAfterMisses, kProbeEveryFrames}, st->tiles.data(),
+                          cfg->vision_count) != fdir::LivenessError::kOk ||
+      fdir::result_trust_init(st->trust, cfg->trust, st->tiles.data(), cfg->vision_count) != fdir::TrustError::kOk ||
       !coord_set_up(*st, stats) || !relight_coarse(*st)) {
     return;
   }

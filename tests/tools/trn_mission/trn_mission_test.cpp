@@ -452,6 +452,23 @@ TEST_F(TrnMissionBinary, AVisionTileWithWrongMatchesIsSuspectResetAndReplaced) {
   EXPECT_LE(s["final_position_error_m"].get<double>(), 2.0 * clean["final_position_error_m"].get<double>());
 }
 
+// FDIR-RT-06: a coordinator that restarts after a tile was replaced goes on with the spare (its tile
+// list is in DDR): the retired tile gets no units, so nothing is lost to it.
+TEST_F(TrnMissionBinary, ARestartedCoordinatorKeepsTheReplacement) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 24 --faults " + fixture("vision_shift_coord_reset.toml") + " --out " +
+                (dir_ / "rc").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "rc" / "summary.json");
+  const std::string log = read_text(dir_ / "rc" / "events.log");
+  EXPECT_EQ(s["faults_injected"], 2);
+  EXPECT_EQ(s["faults_detected"], 2) << log;
+  EXPECT_NE(log.find("role slot 8 runs again on tile 13 (was tile 29)"), std::string::npos) << log;
+  EXPECT_NE(log.find("tile_rebooted: tile 1 booted again"), std::string::npos);
+  EXPECT_EQ(count_of(log, "no route to tile 29"), 0U) << "the retired tile is not sent units";
+  EXPECT_EQ(count_of(log, "worker_silent: worker tile 29"), 0U);
+  EXPECT_EQ(s["vision_units_lost"], 0) << "after the restart";
+}
+
 // FDIR-CC-05: corrupted correlations on vision tiles (two dot products, one surface value) are
 // found by the tiles' checks while the landmark is matched, computed again, credited to the
 // injections by the join, and the navigation output stays the clean flight's, bit for bit.
