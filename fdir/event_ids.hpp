@@ -89,9 +89,12 @@ enum class EventId : std::uint16_t {
   kTmrNoMajority = 0x0708,     ///< no two replicas agree: nothing delivered; subject: job, cause: voting mask, a: different, b: missing
   kTmrVoterResumed = 0x0709,
   // ---- checked matrix products (fdir/abft)
-  kAbftCorrected = 0x0801,     ///< a product failed its checksums and passed when computed again; subject: site, cause: row << 16 | column of the element located (0xFFFF: not one), a: bad rows << 16 | bad columns, b: recomputations
+  kAbftCorrected = 0x0801,     ///< a product failed its checksums and passed when computed again; subject: site, cause: row << 16 | column of the element located (0xFFFF: not one; kAbftColNotChecked: rows only), a: bad rows << 16 | bad columns, b: recomputations
   kAbftFailed = 0x0802,        ///< a product still failed its checksums after every recomputation; same fields   ///< a restarted voter goes on from its place in DDR; subject: job, cause: epoch, a: next job to deliver, b: records of the outage it writes
 };
+
+/** Column field of an abft event whose product was checked on its rows only (no column checked). */
+inline constexpr std::uint32_t kAbftColNotChecked = 0xFFFEU;
 
 struct EventInfo {
   EventId id;
