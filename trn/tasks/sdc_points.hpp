@@ -38,7 +38,7 @@ struct SdcPoint {
   const char* what;     ///< what is corrupted (for the plan's documentation and errors)
 };
 
-inline constexpr std::array<SdcPoint, 6> kSdcPoints{{
+inline constexpr std::array<SdcPoint, 7> kSdcPoints{{
     {"nav_output", kNavChannel, role_bit(Role::kFilter) | role_bit(Role::kFilterReplica),
      "the filter's solution as delivered (in TMR: the voted one on the filter's tile, each replica's own on a "
      "replica)"},
@@ -51,6 +51,10 @@ inline constexpr std::array<SdcPoint, 6> kSdcPoints{{
     {"filter_product", filter::kFilterProductChannel, role_bit(Role::kFilter) | role_bit(Role::kFilterReplica),
      "one of the covariance propagation's products (F P, then (F P) F^T; 225 doubles) before its checksums are "
      "checked"},
+    {"filter_update_product", filter::kFilterUpdateProductChannel,
+     role_bit(Role::kFilter) | role_bit(Role::kFilterReplica),
+     "one of the Joseph update's products (P H^T, the gain K = (P H^T) S^-1, K (P H^T)^T, M H^T, the Joseph term "
+     "(M H^T - K R) K^T; the next one computed: P H^T of the next measurement) before its row checksums are checked"},
     {"self_test", fdir::kSelfTestChannel,
      role_bit(Role::kTrnSupervisor) | role_bit(Role::kVisionCoordinator) | role_bit(Role::kIo) |
          role_bit(Role::kFilter) | role_bit(Role::kVision) | role_bit(Role::kFilterReplica),
