@@ -48,7 +48,7 @@ inline constexpr std::uint32_t kAllUpdateSites = (1U << kUpdateSites) - 1U;
 /** Columns of the error state H reads (position, velocity, attitude): the dense operand of X H^T's checks. */
 inline constexpr int kHtRows = kIdxBg;
 
-/** Work matrices of the covariance operations (about 11 KB; keep out of task stacks). */
+/** Work matrices of the covariance operations (about 7.9 KB; keep out of task stacks). */
 struct CovWork {
   Mat15 fp = Mat15::Zero();      ///< F P during propagation; (I - K H) P during an update
   Mat15 kx = Mat15::Zero();      ///< K (P H^T)^T, then the Joseph term (M H^T - K R) K^T
