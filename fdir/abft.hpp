@@ -38,12 +38,22 @@
  * non-finite value) is recomputed the same way. Still wrong after that, the
  * product is reported failed and the caller decides.
  *
+ * Rows only. A thin product (the filter update's 15 x 2 and 15 x 2 x 15 ones)
+ * can be checked on its row sums alone (AbftSite::rows_only): C e against
+ * A (B e), one sum of B, one matrix-vector product and one sum of C, about
+ * half the full check. A wrong element still fails its row, so the product
+ * is still found wrong and recomputed, and the row is located; the column is
+ * not (AbftResult::col stays -1). What a row check cannot see that a full one
+ * can: an error below its row's tolerance but above its column's, i.e. an
+ * element many orders of magnitude smaller than the rest of its row.
+ *
  * Flight code: no allocation, fixed-size Eigen matrices, bounded loops.
  */
 #pragma once
 
 #include "bsp_tile64/port.hpp"
 #include "bsp_tile64/work.hpp"
+#include "fdir/event_ids.hpp"
 
 #include <Eigen/Core>
 
@@ -76,16 +86,35 @@ constexpr std::uint64_t abft_clean_flops(std::uint64_t m, std::uint64_t k, std::
   return (k * n + m * k) + 2U * (m * k + k * n) + 2U * m * n + 4U * (m + n);
 }
 
+/**
+ * Flops counted for a rows-only check (AbftSite::rows_only) of an m x k times
+ * k x n product that passes: B e, A (B e), C e and the comparisons.
+ */
+constexpr std::uint64_t abft_rows_flops(std::uint64_t m, std::uint64_t k, std::uint64_t n) noexcept {
+  return k * n + 2U * m * k + m * n + 4U * m;
+}
+
+/**
+ * The most a rows-only check of a right product can add to abft_rows_flops:
+ * every row's residual above the free lower bound of its tolerance (a row sum
+ * that cancels), so |B| e and every row's exact tolerance computed.
+ */
+constexpr std::uint64_t abft_rows_tolerance_flops(std::uint64_t m, std::uint64_t k, std::uint64_t n) noexcept {
+  return k * n + m * (2U * k + 2U);
+}
+
 /** Where a checked product is (for its events), and where an `sdc` may corrupt its result. */
 struct AbftSite {
   std::uint32_t id = 0U;           ///< caller's number of the product (events' subject)
   std::uint32_t sdc_channel = 0U;  ///< bsp::publish_filter channel of the result before the check (0: none)
+  bool rows_only = false;          ///< check the row sums only (thin products; the column is not located)
 };
+
 
 struct AbftResult {
   AbftVerdict verdict = AbftVerdict::kClean;
   int row = -1;                    ///< the wrong element's row, if one element was located (first check)
-  int col = -1;
+  int col = -1;                    ///< -1 also when only the rows were checked
   std::uint32_t bad_rows = 0U;     ///< rows and columns past their tolerance at the first check
   std::uint32_t bad_cols = 0U;
   std::uint32_t recomputes = 0U;
@@ -128,14 +157,24 @@ void abft_resize(AbftSums<M, K, N>& s, Eigen::Index m, Eigen::Index k, Eigen::In
   s.cs.resize(n);
 }
 
-/** The reference checksums of C = A B, from the operands (one pass over A and B each, twice); charges @p work. */
+/**
+ * The reference checksums of C = A B, from the operands (one pass over A and B
+ * each, twice; once with @p rows_only, which leaves the column references
+ * alone); charges @p work.
+ */
 template <typename DA, typename DB, int M, int K, int N>
 void abft_sums(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<DB>& b, AbftSums<M, K, N>& s,
-               bsp::Work& work) noexcept {
+               bsp::Work& work, bool rows_only = false) noexcept {
   const auto m = static_cast<std::uint64_t>(a.rows());
   const auto k = static_cast<std::uint64_t>(a.cols());
   const auto n = static_cast<std::uint64_t>(b.cols());
   s.be.noalias() = b.rowwise().sum();
+  if (rows_only) {
+    s.row_ref.noalias() = a.lazyProduct(s.be);
+    work.flops += k * n + 2U * m * k;
+    work.mem_words += 2U * (m * k + k * n);
+    return;
+  }
   s.ea.noalias() = a.colwise().sum();
   s.row_ref.noalias() = a.lazyProduct(s.be);
   s.col_ref.noalias() = s.ea.lazyProduct(b);
@@ -245,13 +284,21 @@ void abft_check_cols(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<DB>
  * bound of its tolerance that costs nothing (|A (B e)|_i <= (|A| |B| e)_i):
  * below it, the row is right; only a row above it gets its tolerance computed
  * (|B| e once, then one row of |A| against it), so a clean product costs the
- * two sums of C. Charges @p work.
+ * two sums of C. With @p rows_only (sums from abft_sums with the same flag)
+ * only the rows are checked: one sum of C. Charges @p work.
  */
 template <typename DA, typename DB, typename DC, int M, int K, int N>
 AbftResult abft_check(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<DB>& b, const Eigen::MatrixBase<DC>& c,
-                      AbftSums<M, K, N>& s, bsp::Work& work) noexcept {
+                      AbftSums<M, K, N>& s, bsp::Work& work, bool rows_only = false) noexcept {
   AbftResult r{};
   s.rs.noalias() = c.rowwise().sum();
+  if (rows_only) {
+    const auto elems = static_cast<std::uint64_t>(c.rows() * c.cols());
+    work.flops += elems + 4U * static_cast<std::uint64_t>(c.rows());
+    work.mem_words += elems;
+    detail::abft_check_rows(a, b, s, r, work);
+    return r;
+  }
   s.cs.noalias() = c.colwise().sum();
   const auto elems = static_cast<std::uint64_t>(c.rows() * c.cols());
   work.flops += 2U * elems + 4U * static_cast<std::uint64_t>(c.rows() + c.cols());
@@ -273,6 +320,7 @@ void abft_report(const AbftSite& site, const AbftResult& r) noexcept;
  * (abft_corrected, abft_failed). @p s is the caller's scratch. The result
  * says where the first check found the product wrong: one row and one column
  * locate the element (row, col); otherwise they are the worst row and column.
+ * A rows-only site (AbftSite::rows_only) checks and locates rows only.
  */
 template <typename DA, typename DB, typename DC, int M, int K, int N, typename Kernel>
 AbftResult abft_product(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<DB>& b, Eigen::MatrixBase<DC>& c,
@@ -282,8 +330,8 @@ AbftResult abft_product(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<
     (void)bsp::publish_filter(site.sdc_channel, c.derived().data(),
                               sizeof(double) * static_cast<std::size_t>(c.rows() * c.cols()));
   }
-  abft_sums(a, b, s, work);
-  AbftResult first = abft_check(a, b, c, s, work);
+  abft_sums(a, b, s, work, site.rows_only);
+  AbftResult first = abft_check(a, b, c, s, work, site.rows_only);
   if (first.bad_rows == 0U && first.bad_cols == 0U) {
     return first;
   }
@@ -291,7 +339,7 @@ AbftResult abft_product(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<
   for (std::uint32_t n = 0; n < kAbftMaxRecompute; ++n) {
     kernel(a.derived(), b.derived(), c.derived());
     ++first.recomputes;
-    const AbftResult again = abft_check(a, b, c, s, work);
+    const AbftResult again = abft_check(a, b, c, s, work, site.rows_only);
     if (again.bad_rows == 0U && again.bad_cols == 0U) {
       first.verdict = AbftVerdict::kCorrected;
       break;

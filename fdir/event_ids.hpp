@@ -92,11 +92,14 @@ enum class EventId : std::uint16_t {
   kTmrNoMajority = 0x0708,     ///< no two replicas agree: nothing delivered; subject: job, cause: voting mask, a: different, b: missing
   kTmrVoterResumed = 0x0709,   ///< a restarted voter goes on from its place in DDR; subject: job, cause: epoch, a: next job to deliver, b: records of the outage it writes
   // ---- checked matrix products (fdir/abft) and checked correlation (trn/vision/correlator, logged by the vision tile)
-  kAbftCorrected = 0x0801,     ///< a product failed its checksums and passed when computed again; subject: site, cause: row << 16 | column of the element located (0xFFFF: not one), a: bad rows << 16 | bad columns, b: recomputations
+  kAbftCorrected = 0x0801,     ///< a product failed its checksums and passed when computed again; subject: site, cause: row << 16 | column of the element located (0xFFFF: not one; kAbftColNotChecked: rows only), a: bad rows << 16 | bad columns, b: recomputations
   kAbftFailed = 0x0802,        ///< a product still failed its checksums after every recomputation; same fields
   kCorrelationCorrected = 0x0803,  ///< a landmark's correlation failed a check and passed when computed again; subject: landmark, cause: the check that failed first (1 dot-product checksum, 2 surface digest, 3 peak score), a: frame, b: recomputations
   kCorrelationFailed = 0x0804,     ///< still failing after every recomputation: the match is rejected, nothing sent; same fields
 };
+
+/** Column field of an abft event whose product was checked on its rows only (no column checked). */
+inline constexpr std::uint32_t kAbftColNotChecked = 0xFFFEU;
 
 struct EventInfo {
   EventId id;

@@ -239,7 +239,14 @@ bool describe_tmr_event(const fdir::Event& e, const char* s, std::span<char> b) 
     case EventId::kAbftFailed: {
       const std::uint32_t row = e.cause >> 16U;
       const std::uint32_t col = e.cause & 0xFFFFU;
-      if (row != 0xFFFFU && col != 0xFFFFU) {
+      const char* verdict = e.id == EventId::kAbftFailed ? "still wrong" : "right";
+      if (col == fdir::kAbftColNotChecked && (e.a >> 16U) == 1U) {
+        (void)std::snprintf(b.data(), b.size(), "product %s: row %u off its checksum (rows checked), %s after %u "
+                            "recomputation(s)", s, row, verdict, e.b);
+      } else if (col == fdir::kAbftColNotChecked) {
+        (void)std::snprintf(b.data(), b.size(), "product %s: %u rows off their checksums, the worst %u (rows checked), "
+                            "%s after %u recomputation(s)", s, e.a >> 16U, row, verdict, e.b);
+      } else if (row != 0xFFFFU && col != 0xFFFFU) {
         (void)std::snprintf(b.data(), b.size(), "product %s: element (%u, %u) wrong, %s after %u recomputation(s)", s,
                             row, col, e.id == EventId::kAbftFailed ? "still wrong" : "right", e.b);
       } else {

@@ -5,6 +5,7 @@
 #include "trn/filter/covariance.hpp"
 
 #include <cmath>
+#include <cstdint>
 
 namespace trn::filter {
 
@@ -154,21 +155,100 @@ void add_lag_noise(Mat15& p, const LagNoise& d, double sign) noexcept {
   }
 }
 
+/** H^T's position, velocity and attitude rows (the rest of H^T is zero): the dense B of X H^T's checks. */
+void dense_ht(const Meas2& m, Eigen::Matrix<double, kHtRows, 2>& ht) noexcept {
+  ht.middleRows<3>(kIdxP) = m.hp.transpose();
+  if (m.lag_s != 0.0) {
+    ht.middleRows<3>(kIdxV) = -m.lag_s * m.hp.transpose();
+  } else {
+    ht.middleRows<3>(kIdxV).setZero();
+  }
+  ht.middleRows<3>(kIdxTh) = m.hth.transpose();
+}
+
+/** The site @p id of the update: rows only, published unless the test mask closes it. */
+fdir::AbftSite update_site(const CovWork& w, std::uint32_t id) noexcept {
+  const bool open = ((w.update_sdc_sites >> (id - kAbftSitePht)) & 1U) != 0U;
+  return fdir::AbftSite{id, open ? kFilterUpdateProductChannel : 0U, true};
+}
+
+/** Keeps @p r as site @p id's last result; false if the product is still wrong (not to be applied). */
+bool passed(CovWork& w, std::uint32_t id, const fdir::AbftResult& r) noexcept {
+  w.last_update[id - kAbftSitePht] = r;
+  return r.verdict != fdir::AbftVerdict::kFailed;
+}
+
+/**
+ * The checked products of an accepted update after P H^T: K, K (P H^T)^T,
+ * M = (P - D) - K (P H^T)^T (into w.fp), M H^T, the Joseph term, and P
+ * written from them (upper triangle, mirrored). P is read only until every
+ * product has passed; false (P untouched) when one is still wrong.
+ */
+bool checked_joseph(Mat15& p, const Meas2& m, const Mat2& s_inv, bool noise, CovWork& w, bsp::Work& work) noexcept {
+  if (!passed(w, kAbftSiteGain,
+              fdir::abft_product(w.pht, s_inv, w.k, update_site(w, kAbftSiteGain), fdir::AbftDense{}, w.abft_gain,
+                                 work))) {
+    return false;
+  }
+  if (!passed(w, kAbftSiteKpht,
+              fdir::abft_product(w.k, w.pht.transpose(), w.kx, update_site(w, kAbftSiteKpht), fdir::AbftDense{},
+                                 w.abft_kt, work))) {
+    return false;
+  }
+  // (I - K H) P = P - K (P H^T)^T, exact Joseph congruence applied in two sparse steps.
+  w.fp = p;
+  if (noise) {
+    add_lag_noise(w.fp, m.d, -1.0);
+  }
+  w.fp -= w.kx;
+  const auto mht = [&m, &w](const auto& /*mh*/, const auto& /*ht*/, Mat15x2& out) noexcept { times_ht(w.fp, m, out); };
+  if (!passed(w, kAbftSiteMht,
+              fdir::abft_product(w.fp.leftCols<kHtRows>(), w.ht, w.mht, update_site(w, kAbftSiteMht), mht, w.abft_ht,
+                                 work))) {
+    return false;
+  }
+  // (I-KH)P(I-KH)^T + K R K^T = M - (M H^T - K R) K^T with M = (I-KH)P: one
+  // 15x2x15 product instead of two, whole (its row checksums need every
+  // row), then its upper triangle off M, mirrored: P exactly symmetric.
+  w.mht -= w.k * m.r_var.asDiagonal();
+  if (!passed(w, kAbftSiteJoseph,
+              fdir::abft_product(w.mht, w.k.transpose(), w.kx, update_site(w, kAbftSiteJoseph), fdir::AbftDense{},
+                                 w.abft_kt, work))) {
+    return false;
+  }
+  for (int j = 0; j < kErrDim; ++j) {
+    for (int i = 0; i <= j; ++i) {
+      const double v = w.fp(i, j) - w.kx(i, j);
+      p(i, j) = v;
+      p(j, i) = v;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 GateResult joseph_update(Mat15& p, const Meas2& m, double gate_chi2, Vec15& dx, CovWork& w,
                          bsp::Work& work) noexcept {
   GateResult g;
+  w.last_update.fill(fdir::AbftResult{});
   const bool lagged = m.lag_s != 0.0;
   const bool noise = lagged && lag_noise_fits(p, m.d);
-  times_ht(p, m, w.pht);
+  dense_ht(m, w.ht);
+  const auto pht = [&m, &p](const auto& /*ph*/, const auto& /*ht*/, Mat15x2& out) noexcept { times_ht(p, m, out); };
+  work.flops += kFlopsGate + (lagged ? kFlopsLagGate : 0U);
+  work.fdivs += 1;
+  if (!passed(w, kAbftSitePht,
+              fdir::abft_product(p.leftCols<kHtRows>(), w.ht, w.pht, update_site(w, kAbftSitePht), pht, w.abft_ht,
+                                 work))) {
+    g.check_failed = true;
+    return g;  // S and the gate would weigh a wrong P H^T
+  }
   if (noise) {
     remove_lag_noise(w.pht, m);
   }
   const Mat2 s = innovation_cov(m, w.pht);
   const double det = s(0, 0) * s(1, 1) - s(0, 1) * s(1, 0);
-  work.flops += kFlopsGate + (lagged ? kFlopsLagGate : 0U);
-  work.fdivs += 1;
   if (!(det > 0.0) || !std::isfinite(det)) {
     return g;  // S not positive definite: the measurement cannot be weighed
   }
@@ -178,32 +258,19 @@ GateResult joseph_update(Mat15& p, const Meas2& m, double gate_chi2, Vec15& dx, 
   if (!(g.d2 <= gate_chi2)) {
     return g;  // NaN residuals fail here too
   }
+  // Charged before the products: a failed check did (at least) this work.
+  work.flops += kFlopsJoseph - kFlopsGate + (lagged ? kFlopsLagJoseph - kFlopsLagGate : 0U);
+  work.fdivs += 4;
+  work.mem_words += 6ULL * kErrDim * kErrDim * 2;
+  if (!checked_joseph(p, m, s_inv, noise, w, work)) {
+    g.check_failed = true;
+    return g;  // a product still wrong: the measurement is dropped, P and dx untouched
+  }
   g.accepted = true;
-  if (noise) {
-    add_lag_noise(p, m.d, -1.0);
-  }
-  w.k.noalias() = w.pht.lazyProduct(s_inv);
-  // (I - K H) P = P - K (P H^T)^T, exact Joseph congruence applied in two sparse steps.
-  w.fp.noalias() = p - w.k.lazyProduct(w.pht.transpose());
-  times_ht(w.fp, m, w.mht);
-  // (I-KH)P(I-KH)^T + K R K^T = M - (M H^T - K R) K^T with M = (I-KH)P: one
-  // 15x2x15 product instead of two, and only its upper triangle (the result
-  // is symmetric), mirrored.
-  w.mht -= w.k * m.r_var.asDiagonal();
-  for (int j = 0; j < kErrDim; ++j) {
-    for (int i = 0; i <= j; ++i) {
-      const double v = w.fp(i, j) - w.mht(i, 0) * w.k(j, 0) - w.mht(i, 1) * w.k(j, 1);
-      p(i, j) = v;
-      p(j, i) = v;
-    }
-  }
   if (noise) {
     add_lag_noise(p, m.d, 1.0);
   }
   dx.noalias() = w.k * m.r;
-  work.flops += kFlopsJoseph - kFlopsGate + (lagged ? kFlopsLagJoseph - kFlopsLagGate : 0U);
-  work.fdivs += 4;
-  work.mem_words += 6ULL * kErrDim * kErrDim * 2;
   return g;
 }
 

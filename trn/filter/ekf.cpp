@@ -162,7 +162,12 @@ FilterStatus Ekf::update(const Match* matches, std::uint32_t n, UpdateReport& re
       ++rep.rejected_invalid;
       continue;
     }
-    if (!joseph_update(s_.p, meas_, cfg_.gate_chi2, dx_, w_, work_).accepted) {
+    const GateResult g = joseph_update(s_.p, meas_, cfg_.gate_chi2, dx_, w_, work_);
+    if (g.check_failed) {
+      ++rep.rejected_check;  // reported abft_failed by the check; the match is dropped, the state untouched
+      continue;
+    }
+    if (!g.accepted) {
       ++rep.rejected_gate;
       continue;
     }
@@ -182,7 +187,7 @@ FilterStatus Ekf::update(const Match* matches, std::uint32_t n, UpdateReport& re
     s_.c.coarse_accepted += rep.coarse_accepted;
   }
   s_.c.last_accepted = rep.accepted;
-  s_.c.last_rejected = rep.rejected_gate + rep.rejected_invalid + rep.rejected_stale;
+  s_.c.last_rejected = rep.rejected_gate + rep.rejected_invalid + rep.rejected_stale + rep.rejected_check;
   if (!state_finite()) {
     ++s_.c.numeric_faults;
     return FilterStatus::kNumericalFault;

@@ -47,6 +47,7 @@ struct UpdateReport {
   std::uint32_t rejected_invalid = 0;
   std::uint32_t rejected_stale = 0;   ///< image time before the history or after the state
   std::uint32_t coarse_accepted = 0;  ///< of accepted: coarse-stage matches (landmark kCoarseLandmark)
+  std::uint32_t rejected_check = 0;   ///< an update product still wrong after its recomputations (abft_failed)
 };
 
 /** Whether a match can be formed against the state, and why not. */
@@ -132,8 +133,22 @@ class Ekf {
 inline constexpr std::uint64_t kFlopsCovChecks = 2U * fdir::abft_clean_flops(kErrDim, kErrDim, kErrDim);
 inline constexpr std::uint64_t kFlopsPerPropagation =
     kFlopsStrapdown + kFlopsCovPropagate + kFlopsCovChecks + kFlopsHistoryRecord;
-/** Flops of one accepted match at the state's time: measurement, gate, Joseph update, injection, reset. */
-inline constexpr std::uint64_t kFlopsPerMatch = kFlopsBearing + kFlopsJoseph + 60 + kFlopsReset;
+/** The row check of P H^T when it passes (every measurement that reaches the gate pays it). */
+inline constexpr std::uint64_t kFlopsCheckPht = fdir::abft_rows_flops(kErrDim, kHtRows, 2);
+/** The row checks of an accepted update's five products when they pass (P H^T, K, K (P H^T)^T, M H^T, Joseph). */
+inline constexpr std::uint64_t kFlopsUpdateChecks = 2U * kFlopsCheckPht + fdir::abft_rows_flops(kErrDim, 2, 2) +
+                                                    2U * fdir::abft_rows_flops(kErrDim, 2, kErrDim);
+/**
+ * Flops of one accepted match at the state's time: measurement, gate, Joseph
+ * update and its checks, injection, reset. A check whose residual passes the
+ * free lower bound of its tolerance costs this; one above it (cancellation in
+ * a row sum) adds its row's exact tolerance, at most kFlopsUpdateTolerances.
+ */
+inline constexpr std::uint64_t kFlopsPerMatch = kFlopsBearing + kFlopsJoseph + kFlopsUpdateChecks + 60 + kFlopsReset;
+/** The most a clean update's checks add to kFlopsPerMatch: every row's exact tolerance, at each site. */
+inline constexpr std::uint64_t kFlopsUpdateTolerances = 2U * fdir::abft_rows_tolerance_flops(kErrDim, kHtRows, 2) +
+                                                        fdir::abft_rows_tolerance_flops(kErrDim, 2, 2) +
+                                                        2U * fdir::abft_rows_tolerance_flops(kErrDim, 2, kErrDim);
 /** Flops of mapping a past image time's attitude columns onto the current error state: H_th R(q_rel). */
 inline constexpr std::uint64_t kFlopsLagMap = 24 + 30;
 /** Flops of one accepted match measured in the past (the usual case in flight). */

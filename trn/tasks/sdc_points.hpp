@@ -41,7 +41,7 @@ struct SdcPoint {
   bool shifts = false;  ///< the value starts with a double: a plan's `shift` (a lasting error) applies
 };
 
-inline constexpr std::array<SdcPoint, 9> kSdcPoints{{
+inline constexpr std::array<SdcPoint, 10> kSdcPoints{{
     {"nav_output", kNavChannel, role_bit(Role::kFilter) | role_bit(Role::kFilterReplica),
      "the filter's solution as delivered (in TMR: the voted one on the filter's tile, each replica's own on a "
      "replica)"},
@@ -54,6 +54,10 @@ inline constexpr std::array<SdcPoint, 9> kSdcPoints{{
     {"filter_product", filter::kFilterProductChannel, role_bit(Role::kFilter) | role_bit(Role::kFilterReplica),
      "one of the covariance propagation's products (F P, then (F P) F^T; 225 doubles) before its checksums are "
      "checked"},
+    {"filter_update_product", filter::kFilterUpdateProductChannel,
+     role_bit(Role::kFilter) | role_bit(Role::kFilterReplica),
+     "one of the Joseph update's products (P H^T, the gain K = (P H^T) S^-1, K (P H^T)^T, M H^T, the Joseph term "
+     "(M H^T - K R) K^T; the next one computed: P H^T of the next measurement) before its row checksums are checked"},
     {"match_position", vision::kMatchPositionChannel, role_bit(Role::kVision),
      "a vision tile's matched image position (u, v in pixels, two doubles) before its bearing is formed; a shift "
      "moves u of every match the tile makes",

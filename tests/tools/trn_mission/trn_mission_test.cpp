@@ -494,6 +494,32 @@ TEST_F(TrnMissionBinary, CorruptedCorrelationsOnVisionTilesAreCorrectedAndTheOut
   EXPECT_EQ(count_of(log, "correlation_failed"), 0U);
   EXPECT_EQ(count_of(read_text(dir_ / "clean" / "events.log"), "correlation_"), 0U) << "no false alarm";
   EXPECT_EQ(s["filter_output_crc"], clean["filter_output_crc"]) << "the corrected surfaces change nothing";
+}
+
+// FDIR-AB-08: corrupted products inside the flown filter's Joseph update (one element of P H^T,
+// three times: the top and lowest exponent bits, a mantissa bit) are found by the product's row
+// checksums on the filter's tile, their rows located, computed again, and the navigation output
+// stays the clean flight's, bit for bit.
+TEST_F(TrnMissionBinary, ACorruptedUpdateProductInTheFilterIsCorrectedAndTheOutputUnchanged) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 8 --out " + (dir_ / "clean").string()), 0);
+  ASSERT_EQ(run(binary() + " --quiet --duration 8 --faults " + fixture("filter_update_product_sdc.toml") + " --out " +
+                (dir_ / "ab").string()),
+            0);
+  const nlohmann::json clean = read_json(dir_ / "clean" / "summary.json");
+  const nlohmann::json s = read_json(dir_ / "ab" / "summary.json");
+  const std::string log = read_text(dir_ / "ab" / "events.log");
+  EXPECT_EQ(s["faults_injected"], 3);
+  EXPECT_EQ(s["faults_detected"], 3);
+  EXPECT_EQ(s["faults_recovered"], 3);
+  EXPECT_NE(log.find("abft_corrected: product 3: row 5 off its checksum (rows checked), right after 1 "
+                     "recomputation(s)"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("abft_corrected: product 3: row 7 off its checksum (rows checked)"), std::string::npos);
+  EXPECT_NE(log.find("abft_corrected: product 3: row 1 off its checksum (rows checked)"), std::string::npos);
+  EXPECT_EQ(count_of(log, "abft_corrected: "), 3U) << "one detection each (the INJECT lines name it too)";
+  EXPECT_EQ(count_of(log, "abft_failed"), 0U);
+  EXPECT_EQ(s["filter_output_crc"], clean["filter_output_crc"]) << "the corrected products change nothing";
   EXPECT_EQ(s["final_position_error_m"], clean["final_position_error_m"]);
 }
 

@@ -119,7 +119,10 @@ TEST(FilterPropagation, CountedWorkEqualsThePublishedBudgetConstants) {
   trn::filter::UpdateReport rep;
   ASSERT_EQ(g_ekf.update(&m, 1, rep), FilterStatus::kOk);
   ASSERT_EQ(rep.accepted, 1U);
-  EXPECT_EQ(g_ekf.take_work().flops, trn::filter::kFlopsPerMatch);
+  // The update's row checks compute a row's exact tolerance only when its sum cancels: a bounded extra.
+  const std::uint64_t match_flops = g_ekf.take_work().flops;
+  EXPECT_GE(match_flops, trn::filter::kFlopsPerMatch);
+  EXPECT_LE(match_flops, trn::filter::kFlopsPerMatch + trn::filter::kFlopsUpdateTolerances);
   EXPECT_EQ(g_ekf.take_work().flops, 0U);  // taking the work clears it
   // A match measured 0.3 s before the state: history, mapping, lag noise on top.
   truth.make_matches(rng, cam, 1, 0.5, &m);
@@ -129,7 +132,9 @@ TEST(FilterPropagation, CountedWorkEqualsThePublishedBudgetConstants) {
   (void)g_ekf.take_work();
   ASSERT_EQ(g_ekf.update(&m, 1, rep), FilterStatus::kOk);
   ASSERT_EQ(rep.accepted, 1U);
-  EXPECT_EQ(g_ekf.take_work().flops, trn::filter::kFlopsPerLaggedMatch);
+  const std::uint64_t lagged_flops = g_ekf.take_work().flops;
+  EXPECT_GE(lagged_flops, trn::filter::kFlopsPerLaggedMatch);
+  EXPECT_LE(lagged_flops, trn::filter::kFlopsPerLaggedMatch + trn::filter::kFlopsUpdateTolerances);
 }
 
 }  // namespace

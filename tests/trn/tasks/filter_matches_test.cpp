@@ -14,6 +14,7 @@
 #include "bsp_tile64/world/trajectory.hpp"
 #include "kernel/kernel.hpp"
 #include "tests/support/heap_probe.hpp"
+#include "trn/filter/nav_output.hpp"
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/messages.hpp"
 #include "trn/tasks/tile_map.hpp"
@@ -24,7 +25,6 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 
 namespace {
 
@@ -122,7 +122,7 @@ void send_batch(std::uint32_t frame, std::uint32_t n) {
     w[4] = 0U;  // taken by the next job
     for (std::uint32_t i = 0; i < k; ++i) {
       trn::tasks::pack_match(g_batch[first + i], std::span<std::uint32_t, kMatchWords>(
-                                                     w.data() + kMatchHeaderWords + i * kMatchWords, kMatchWords));
+                                                     w.data() + kMatchHeaderWords + static_cast<std::size_t>(i) * kMatchWords, kMatchWords));
     }
     const std::span<const std::uint32_t> words(w.data(), kMatchHeaderWords + k * kMatchWords);
     udn::FtError e = udn::FtError::kWindowFull;
@@ -275,8 +275,9 @@ TEST_F(FilterMatches, LateBatchesAreAppliedAtTheirImageTimeWithinTheJobBudget) {
   EXPECT_LT(err, 3.0);
   EXPECT_LT(err, 3.0 * std::sqrt(o.var_diag[0] + o.var_diag[1] + o.var_diag[2]) + 0.5);
   EXPECT_NE(o.flags & trn::filter::kNavValid, 0U);
-  // 15 matches and a propagation per job stay under half the period.
-  EXPECT_LT(st.max_job_cycles, 5U * bsp::kTile64.cycles_per_ms());
+  // 15 matches and a propagation per job stay under 70 % of the period (half of it before the
+  // update's products were checked: 4.0 ms then, 6.6 ms with the row checks; docs/FILTER.md).
+  EXPECT_LT(st.max_job_cycles, 7U * bsp::kTile64.cycles_per_ms());
   k::TaskStats ks{};
   ASSERT_EQ(k::task_stats(kFilterTile, k::find_task(kFilterTile, "filter"), &ks), k::Status::kOk);
   EXPECT_EQ(ks.deadline_misses, 0U);
@@ -350,7 +351,11 @@ TEST_F(FilterMatches, RunAllocatesNothingAndRepeatsBitForBit) {
   trn::filter::NavOutput second{};
   ASSERT_TRUE(trn::tasks::filter_task_output(kFilterTile, &second));
   EXPECT_EQ(bsp::trace_hash(), hash);
-  EXPECT_EQ(std::memcmp(&first, &second, sizeof first), 0);
+  trn::filter::NavOutputBytes first_bytes{};
+  trn::filter::NavOutputBytes second_bytes{};
+  trn::filter::write_nav_output(first, first_bytes);
+  trn::filter::write_nav_output(second, second_bytes);
+  EXPECT_EQ(first_bytes, second_bytes) << "the same record, byte for byte";
   EXPECT_EQ(trn::tasks::filter_task_stats(kFilterTile).matches_applied, applied);
 }
 
