@@ -83,7 +83,7 @@ void plain_fixed(benchmark::State& st) {
   st.counters["tile64_cycles"] = static_cast<double>(bsp::cost_of(bsp::kTile64, plain_work(N)));
 }
 
-template <int N>
+template <int N, bool RowsOnly = false>
 void checked_fixed(benchmark::State& st) {
   static const Operands o = make_operands(N);  // the same values as the dynamic sizes get
   static const Eigen::Matrix<double, N, N> a = o.a;
@@ -94,7 +94,7 @@ void checked_fixed(benchmark::State& st) {
   std::uint64_t iters = 0U;
   std::uint64_t bad = 0U;
   for (auto _ : st) {
-    const fdir::AbftResult r = fdir::abft_product(a, b, c, fdir::AbftSite{}, fdir::AbftDense{}, s, w);
+    const fdir::AbftResult r = fdir::abft_product(a, b, c, fdir::AbftSite{0U, 0U, RowsOnly}, fdir::AbftDense{}, s, w);
     bad += r.bad_rows + r.bad_cols;
     benchmark::DoNotOptimize(c.data());
     benchmark::ClobberMemory();
@@ -120,7 +120,7 @@ void plain_dynamic(benchmark::State& st, int n) {
   st.counters["tile64_cycles"] = static_cast<double>(bsp::cost_of(bsp::kTile64, plain_work(n)));
 }
 
-void checked_dynamic(benchmark::State& st, int n) {
+void checked_dynamic(benchmark::State& st, int n, bool rows_only = false) {
   static Operands o;
   o = make_operands(n);
   bsp::Work w{};
@@ -128,7 +128,8 @@ void checked_dynamic(benchmark::State& st, int n) {
   std::uint64_t bad = 0U;
   for (auto _ : st) {
     const fdir::AbftResult r = fdir::abft_product(
-        o.a, o.b, o.c, fdir::AbftSite{}, [](const auto& a, const auto& b, auto& c) { c.noalias() = a * b; }, o.s, w);
+        o.a, o.b, o.c, fdir::AbftSite{0U, 0U, rows_only}, [](const auto& a, const auto& b, auto& c) { c.noalias() = a * b; },
+        o.s, w);
     bad += r.bad_rows + r.bad_cols;
     benchmark::DoNotOptimize(o.c.data());
     benchmark::ClobberMemory();
@@ -151,6 +152,11 @@ void BM_Plain64(benchmark::State& st) { plain_dynamic(st, 64); }
 void BM_Checked64(benchmark::State& st) { checked_dynamic(st, 64); }
 void BM_Plain256(benchmark::State& st) { plain_dynamic(st, 256); }
 void BM_Checked256(benchmark::State& st) { checked_dynamic(st, 256); }
+// Row checksums only (what the Kalman update uses): about half the check, the column not located.
+void BM_RowsChecked15(benchmark::State& st) { checked_fixed<15, true>(st); }
+void BM_RowsChecked21(benchmark::State& st) { checked_fixed<21, true>(st); }
+void BM_RowsChecked64(benchmark::State& st) { checked_dynamic(st, 64, true); }
+void BM_RowsChecked256(benchmark::State& st) { checked_dynamic(st, 256, true); }
 namespace tv = trn::vision;
 
 /** A template cut at (5, 7) from a smooth random window: a clear peak, as in flight. */
@@ -251,6 +257,10 @@ BENCHMARK(BM_Plain64);
 BENCHMARK(BM_Checked64);
 BENCHMARK(BM_Plain256);
 BENCHMARK(BM_Checked256);
+BENCHMARK(BM_RowsChecked15);
+BENCHMARK(BM_RowsChecked21);
+BENCHMARK(BM_RowsChecked64);
+BENCHMARK(BM_RowsChecked256);
 
 }  // namespace
 

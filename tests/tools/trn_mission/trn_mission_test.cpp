@@ -427,8 +427,8 @@ TEST_F(TrnMissionBinary, ACorruptedProductInTheFilterIsCorrectedAndTheOutputUnch
 // is reset, and, still wrong after the reset, replaced by a spare; the final error stays within 2x
 // the clean flight's.
 TEST_F(TrnMissionBinary, AVisionTileWithWrongMatchesIsSuspectResetAndReplaced) {
-  ASSERT_EQ(run(binary() + " --quiet --duration 24 --out " + (dir_ / "clean").string()), 0);
-  ASSERT_EQ(run(binary() + " --quiet --duration 24 --faults " + fixture("vision_shift.toml") + " --out " +
+  ASSERT_EQ(run(binary() + " --quiet --duration 18 --out " + (dir_ / "clean").string()), 0);
+  ASSERT_EQ(run(binary() + " --quiet --duration 18 --faults " + fixture("vision_shift.toml") + " --out " +
                 (dir_ / "sh").string()),
             0);
   const nlohmann::json clean = read_json(dir_ / "clean" / "summary.json");
@@ -455,7 +455,7 @@ TEST_F(TrnMissionBinary, AVisionTileWithWrongMatchesIsSuspectResetAndReplaced) {
 // FDIR-RT-06: a coordinator that restarts after a tile was replaced goes on with the spare (its tile
 // list is in DDR): the retired tile gets no units, so nothing is lost to it.
 TEST_F(TrnMissionBinary, ARestartedCoordinatorKeepsTheReplacement) {
-  ASSERT_EQ(run(binary() + " --quiet --duration 24 --faults " + fixture("vision_shift_coord_reset.toml") + " --out " +
+  ASSERT_EQ(run(binary() + " --quiet --duration 18 --faults " + fixture("vision_shift_coord_reset.toml") + " --out " +
                 (dir_ / "rc").string()),
             0);
   const nlohmann::json s = read_json(dir_ / "rc" / "summary.json");
