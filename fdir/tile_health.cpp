@@ -247,6 +247,18 @@ bsp::TileId pick_spare(const State& s, bsp::TileId failed) noexcept {
   return best;
 }
 
+/** Resets watched tile @p t and waits for its boot report (kTileReset with @p cause; kTileLost if refused). */
+void reset_watched(State& s, bsp::TileId t, std::uint32_t cause) noexcept {
+  if (bsp::reset_tile(t) != bsp::BoardError::kOk) {
+    report(EventId::kTileLost, t, 1U);
+    return;
+  }
+  ++s.view.resets;
+  s.view.pending |= bit(t);
+  s.reset_at[t] = k::now_ticks();
+  report(EventId::kTileReset, t, cause, s.wd[t].actions, s.spec.max_actions);
+}
+
 /**
  * Switches the free spare nearest @p t on to run boot slot @p slot in its
  * place (kNoSpare when there is none). @return the spare, or kNoTile.
@@ -313,14 +325,7 @@ void on_results_bad(State& s, const udn::FtMessage& m) noexcept {
     return;  // not ours, or being reset already
   }
   if (m.data[3] == kResultsReset) {
-    if (bsp::reset_tile(t) != bsp::BoardError::kOk) {
-      report(EventId::kTileLost, t, 1U);
-      return;
-    }
-    ++s.view.resets;
-    s.view.pending |= bit(t);
-    s.reset_at[t] = k::now_ticks();
-    report(EventId::kTileReset, t, 2U, s.wd[t].actions, s.spec.max_actions);
+    reset_watched(s, t, 2U);
     return;
   }
   if (m.data[3] != kResultsReplace) {
@@ -388,14 +393,7 @@ void on_expired(State& s, const TileHealthConfig& cfg, bsp::TileId self, bsp::Ti
     }
     return;
   }
-  if (bsp::reset_tile(t) != bsp::BoardError::kOk) {
-    report(EventId::kTileLost, t, 1U);
-    return;
-  }
-  ++s.view.resets;
-  s.view.pending |= bit(t);
-  s.reset_at[t] = k::now_ticks();
-  report(EventId::kTileReset, t, 0U, s.wd[t].actions, s.spec.max_actions);
+  reset_watched(s, t, 0U);
 }
 
 /** The @p n watched tiles nearest @p target (not it, not @p self), into @p out; @return how many. */
