@@ -10,7 +10,7 @@
  * it never decides a step itself. Ids are grouped by layer: 0x01xx messaging,
  * 0x02xx network health, 0x03xx vision, 0x04xx health table and asserts, 0x05xx core
  * health (watchdogs, resets, spares), 0x06xx filter restarts, 0x07xx the filter's TMR, 0x08xx checked
- * computations (matrix products, correlation).
+ * computations (matrix products, correlation), 0x09xx supervisors, mission phases and power.
  */
 #pragma once
 
@@ -96,6 +96,16 @@ enum class EventId : std::uint16_t {
   kAbftFailed = 0x0802,        ///< a product still failed its checksums after every recomputation; same fields
   kCorrelationCorrected = 0x0803,  ///< a landmark's correlation failed a check and passed when computed again; subject: landmark, cause: the check that failed first (1 dot-product checksum, 2 surface digest, 3 peak score), a: frame, b: recomputations
   kCorrelationFailed = 0x0804,     ///< still failing after every recomputation: the match is rejected, nothing sent; same fields
+  // ---- supervisors (fdir/supervisor), mission phases, power
+  kSupPolicy = 0x0901,     ///< a node took a policy; subject: node, cause: constraint, a: level, b: from (node, kFromPhase, kFromGround)
+  kSupApply = 0x0902,      ///< a node applies an alternative; subject: node, cause: constraint | reason << 8, a: alternative, b: level | child << 8 (an escalation's)
+  kSupNotMet = 0x0903,     ///< the alternative in use does not meet its level (debounced); subject: node, cause: constraint, a: alternative, b: level
+  kSupEscalated = 0x0904,  ///< every alternative failed: the parent is told; subject: node, cause: constraint, a: level, b: parent
+  kSupMet = 0x0905,        ///< the level is met; subject: node, cause: constraint, a: alternative, b: level
+  kPhaseBegin = 0x0906,    ///< the mission phase begins; subject: phase, a: reliability, b: power
+  kTileParked = 0x0907,    ///< a tile not needed is switched off by the power policy; subject: tile, cause: node
+  kTileWoken = 0x0908,     ///< a parked tile is switched on before it is needed; subject: tile, cause: node
+  kSafeMode = 0x0909,      ///< the top node has no alternative left: safe mode reported to the vehicle; subject: constraint, a: level
 };
 
 /** Column field of an abft event whose product was checked on its rows only (no column checked). */
@@ -109,7 +119,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 57> kEventTable{{
+inline constexpr std::array<EventInfo, 66> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -167,6 +177,15 @@ inline constexpr std::array<EventInfo, 57> kEventTable{{
     {EventId::kAbftFailed, "abft_failed", Severity::kWarningHi, kStepDetect},
     {EventId::kCorrelationCorrected, "correlation_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kCorrelationFailed, "correlation_failed", Severity::kWarningHi, kStepDetect},
+    {EventId::kSupPolicy, "sup_policy", Severity::kInfo, kStepNone},
+    {EventId::kSupApply, "sup_apply", Severity::kInfo, kStepNone},
+    {EventId::kSupNotMet, "sup_not_met", Severity::kWarningHi, kStepDetect},
+    {EventId::kSupEscalated, "sup_escalated", Severity::kWarningLo, kStepNone},
+    {EventId::kSupMet, "sup_met", Severity::kInfo, kStepNone},
+    {EventId::kPhaseBegin, "phase_begin", Severity::kInfo, kStepNone},
+    {EventId::kTileParked, "tile_parked", Severity::kInfo, kStepNone},
+    {EventId::kTileWoken, "tile_woken", Severity::kInfo, kStepNone},
+    {EventId::kSafeMode, "safe_mode", Severity::kFatal, kStepNone},
 }};
 
 namespace detail {

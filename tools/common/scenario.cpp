@@ -216,6 +216,93 @@ void parse_section(const std::string& source, const std::string& section, const 
   }
 }
 
+const char* const kReliabilityNames[] = {"normal", "high"};
+const char* const kPowerNames[] = {"full", "save"};
+
+/** A phase policy by name; returns false (with @p error) for a name not in @p names. */
+bool policy_value(const toml::node& node, const char* const (&names)[2], std::uint8_t& out, std::string& error) {
+  const auto* v = node.as_string();
+  if (v != nullptr) {
+    for (std::uint8_t k = 0; k < 2U; ++k) {
+      if (v->get() == names[k]) {
+        out = k;
+        return true;
+      }
+    }
+  }
+  error = cat({"expected \"", names[0], "\" or \"", names[1], "\""});
+  return false;
+}
+
+/** One key of a [[phase]] table; returns an error text (empty when set). */
+std::string phase_key(const std::string& key, const toml::node& node, MissionPhase& ph) {
+  std::string e;
+  if (key == "name") {
+    if (!node.is_string() || node.as_string()->get().empty()) {
+      return "expected a non-empty string";
+    }
+    ph.name = node.as_string()->get();
+  } else if (key == "start_s") {
+    if (!node.is_number()) {
+      return "wrong type: expected a number";
+    }
+    ph.start_s = node.is_integer() ? static_cast<double>(node.as_integer()->get()) : node.as_floating_point()->get();
+    if (!(std::isfinite(ph.start_s) && ph.start_s >= 0.0 && ph.start_s <= 3600.0)) {
+      return fmt(ph.start_s) + " is out of range: allowed 0 .. 3600";
+    }
+  } else if (key == "reliability") {
+    (void)policy_value(node, kReliabilityNames, ph.reliability, e);
+  } else if (key == "power") {
+    (void)policy_value(node, kPowerNames, ph.power, e);
+  } else {
+    e = "unknown key (allowed in [[phase]]: name, start_s, reliability, power)";
+  }
+  return e;
+}
+
+/** [[phase]] tables: each key checked, names unique, the first at 0 s, starts increasing. */
+void parse_phases(const std::string& source, const toml::node& node, Scenario& s, std::vector<std::string>& errors) {
+  const toml::array* arr = node.as_array();
+  if (arr == nullptr || !arr->is_array_of_tables() || arr->empty()) {
+    errors.push_back(source + ": phase: must be one or more [[phase]] tables");
+    return;
+  }
+  if (arr->size() > kMaxScenarioPhases) {
+    errors.push_back(cat({source, ": [[phase]]: ", std::to_string(arr->size()), " phases, at most ",
+                          std::to_string(kMaxScenarioPhases)}));
+    return;
+  }
+  std::vector<MissionPhase> out;
+  for (std::size_t n = 0; n < arr->size(); ++n) {
+    const std::string where = cat({source, ": [[phase]] ", std::to_string(n + 1U), " "});
+    MissionPhase ph{};
+    bool named = false;
+    for (const auto& [k, v] : *arr->get(n)->as_table()) {
+      const std::string key(k.str());
+      named = named || key == "name";
+      const std::string e = phase_key(key, v, ph);
+      if (!e.empty()) {
+        errors.push_back(cat({where, key, ": ", e}));
+      }
+    }
+    if (!named) {
+      errors.push_back(where + ": missing key name");
+    }
+    for (const MissionPhase& o : out) {
+      if (named && o.name == ph.name) {
+        errors.push_back(cat({where, "name: \"", ph.name, "\" is used twice"}));
+      }
+    }
+    if (n == 0U && ph.start_s != 0.0) {
+      errors.push_back(where + "start_s: the first phase must start at 0");
+    } else if (n > 0U && ph.start_s <= out.back().start_s) {
+      errors.push_back(cat({where, "start_s: must be after the previous phase's (", fmt(out.back().start_s), ")"}));
+    }
+    out.push_back(ph);
+  }
+  s.phases = out;
+}
+
 /** Checks that involve more than one key. */
 void cross_checks(const std::string& source, const Scenario& s, std::vector<std::string>& errors) {
   auto add = [&](const char* key, const std::string& msg) { errors.push_back(source + ": " + key + ": " + msg); };
@@ -240,6 +327,10 @@ void cross_checks(const std::string& source, const Scenario& s, std::vector<std:
 
 }  // namespace
 
+std::vector<MissionPhase> default_phases() {
+  return {MissionPhase{"approach", 0.0, 0U, 1U}, MissionPhase{"trn", 3.0, 0U, 1U}, MissionPhase{"terminal", 30.0, 1U, 1U}};
+}
+
 Scenario default_scenario() { return Scenario{}; }
 
 ScenarioResult parse_scenario(std::string_view text, const std::string& source) {
@@ -256,9 +347,11 @@ ScenarioResult parse_scenario(std::string_view text, const std::string& source) 
     for (const std::string& c : sections()) {
       known = known || c == section;
     }
-    if (!known) {
+    if (section == "phase") {
+      parse_phases(source, node, s, errors);
+    } else if (!known) {
       errors.push_back(cat({source, ": [", section,
-                            "]: unknown section (allowed: scenario, terrain, map, trajectory, imu, camera, initial_error)"}));
+                            "]: unknown section (allowed: scenario, terrain, map, trajectory, imu, camera, initial_error, phase)"}));
     } else if (!node.is_table()) {
       errors.push_back(cat({source, ": ", section, ": must be a table ([", section, "])"}));
     } else {

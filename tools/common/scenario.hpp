@@ -16,6 +16,7 @@
 #include "bsp_tile64/world/terrain.hpp"
 #include "bsp_tile64/world/trajectory.hpp"
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -33,6 +34,25 @@ struct InitialErrors {
   double attitude_deg = 0.5;   ///< per axis
 };
 
+/**
+ * A mission phase: from its start time on, the TRN supervisor's policies.
+ * Reliability "high" runs the filter as TMR; power "save" switches off the
+ * tiles the phase does not need (the idle filter replicas), woken before a
+ * phase that needs them.
+ */
+struct MissionPhase {
+  std::string name;
+  double start_s = 0.0;          ///< mission time the phase begins, s (the first phase at 0)
+  std::uint8_t reliability = 0;  ///< 0 normal, 1 high (fdir::kReliabilityNormal / kReliabilityHigh)
+  std::uint8_t power = 0;        ///< 0 full, 1 save (fdir::kPowerFull / kPowerSave)
+};
+
+/** Phases a scenario may list (the flight's table is fixed). */
+inline constexpr std::size_t kMaxScenarioPhases = 8;
+
+/** The built-in phases: approach (the coarse fix), trn (fine frames), terminal (TMR from 30 s). */
+std::vector<MissionPhase> default_phases();
+
 struct Scenario {
   std::string name = "default";
   std::uint64_t seed = 1;  ///< run seed: sensor noise and initial-error draws
@@ -42,6 +62,7 @@ struct Scenario {
   bsp::ImuErrorConfig imu;
   bsp::CameraConfig camera;
   InitialErrors initial_error;
+  std::vector<MissionPhase> phases = default_phases();  ///< [[phase]] tables, in time order
 };
 
 /** A parsed scenario, or the message saying why there is none. */

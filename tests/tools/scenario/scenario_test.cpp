@@ -152,3 +152,51 @@ TEST(Scenario, TheViewerExitsWithStatusTwoOnEveryBadFile) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Scenario, TheBuiltInPhasesAreApproachTrnAndTerminal) {
+  const tools::ScenarioResult r = tools::parse_scenario("", "<empty>");
+  ASSERT_TRUE(r.ok()) << r.error;
+  ASSERT_EQ(r.scenario->phases.size(), 3U);
+  EXPECT_EQ(r.scenario->phases[0].name, "approach");
+  EXPECT_EQ(r.scenario->phases[0].start_s, 0.0);
+  EXPECT_EQ(r.scenario->phases[2].name, "terminal");
+  EXPECT_EQ(r.scenario->phases[2].reliability, 1U);
+}
+
+TEST(Scenario, PhasesAreParsedWithTheirPolicies) {
+  const tools::ScenarioResult r = tools::parse_scenario(
+      "[[phase]]\nname = \"a\"\nstart_s = 0\npower = \"full\"\n"
+      "[[phase]]\nname = \"b\"\nstart_s = 20.5\nreliability = \"high\"\npower = \"save\"\n",
+      "<phases>");
+  ASSERT_TRUE(r.ok()) << r.error;
+  ASSERT_EQ(r.scenario->phases.size(), 2U);
+  EXPECT_EQ(r.scenario->phases[0].reliability, 0U);
+  EXPECT_EQ(r.scenario->phases[0].power, 0U);
+  EXPECT_EQ(r.scenario->phases[1].start_s, 20.5);
+  EXPECT_EQ(r.scenario->phases[1].reliability, 1U);
+  EXPECT_EQ(r.scenario->phases[1].power, 1U);
+}
+
+TEST(Scenario, BadPhasesAreNamedWithTheirKey) {
+  auto error = [](const std::string& text) {
+    const tools::ScenarioResult r = tools::parse_scenario(text, "<p>");
+    EXPECT_FALSE(r.ok()) << text;
+    return r.error;
+  };
+  EXPECT_NE(error("[[phase]]\nname = \"a\"\nstart_s = 1\n").find("the first phase must start at 0"), std::string::npos);
+  EXPECT_NE(error("[[phase]]\nname = \"a\"\n[[phase]]\nname = \"b\"\nstart_s = 0\n").find("must be after"),
+            std::string::npos);
+  EXPECT_NE(error("[[phase]]\nname = \"a\"\n[[phase]]\nname = \"a\"\nstart_s = 2\n").find("used twice"),
+            std::string::npos);
+  EXPECT_NE(error("[[phase]]\nname = \"a\"\nreliability = \"max\"\n").find("reliability: expected \"normal\" or \"high\""),
+            std::string::npos);
+  EXPECT_NE(error("[[phase]]\nname = \"a\"\npower = 3\n").find("power: expected \"full\" or \"save\""),
+            std::string::npos);
+  EXPECT_NE(error("[[phase]]\nname = \"a\"\nrate = 3\n").find("rate: unknown key"), std::string::npos);
+  EXPECT_NE(error("[[phase]]\nstart_s = 0\n").find("missing key name"), std::string::npos);
+  EXPECT_NE(error("[phase]\nname = \"a\"\n").find("[[phase]] tables"), std::string::npos);
+}
+
+}  // namespace
