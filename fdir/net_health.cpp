@@ -85,6 +85,7 @@ struct State {
   detail::Votes votes;
   udn::FaultMap map;
   std::uint64_t lost;          ///< plan transits reported lost (bit per plan index)
+  std::array<k::Ticks, kMaxTransits> lost_at;  ///< when each transit was last reported lost (0: never)
   k::Ticks transit_change;     ///< when the last transit report arrived
   std::uint64_t core_told;     ///< tiles already reported kCoreSuspect
   std::array<k::Ticks, udn::kRouteMaxTiles> suspected_at;  ///< first neighbour report of each tile (0: none)
@@ -141,6 +142,9 @@ void take_transit(State& s, const NetHealthConfig& cfg, const udn::FtMessage& m)
   const std::uint64_t bit = std::uint64_t{1} << i;
   s.lost = m.data[3] != 0U ? (s.lost | bit) : (s.lost & ~bit);
   s.transit_change = k::now_ticks();
+  if (m.data[3] != 0U) {
+    s.lost_at[i] = s.transit_change == 0U ? 1U : s.transit_change;
+  }
 }
 
 /** Transits whose answer tells about their switches: nothing on the way known failed but @p except. */
@@ -148,6 +152,24 @@ std::uint64_t telling(const State& s, const NetHealthConfig& cfg, std::uint64_t 
   std::uint64_t m = 0U;
   for (std::uint32_t i = 0; i < cfg.transits.count && i < kMaxTransits; ++i) {
     m |= (cfg.transits.t[i].path & s.votes.failed & ~except) == 0U ? (std::uint64_t{1} << i) : 0U;
+  }
+  return m;
+}
+
+/**
+ * Transits reported lost within the settle time of @p when (a tile's first
+ * report): a failed switch loses the transits through it until the new map
+ * routes them around it, after which they answer again (and those that had
+ * not missed enough rounds yet never were lost). One such transit says the
+ * switch failed: no answer through it is evidence of a silent core (a hung
+ * core's switch never loses one).
+ */
+std::uint64_t lost_near(const State& s, const NetHealthConfig& cfg, k::Ticks when) noexcept {
+  std::uint64_t m = 0U;
+  for (std::uint32_t i = 0; i < cfg.transits.count && i < kMaxTransits; ++i) {
+    const k::Ticks at = s.lost_at[i];
+    const bool near = at != 0U && at + cfg.settle_ticks >= when && at <= when + cfg.settle_ticks;
+    m |= near ? (std::uint64_t{1} << i) : 0U;
   }
   return m;
 }
@@ -174,8 +196,11 @@ void judge_transits(State& s, const NetHealthConfig& cfg, bsp::TileId self) noex
     if (s.suspected_at[t] == 0U || (s.core_told & bit) != 0U || now - s.suspected_at[t] < cfg.settle_ticks) {
       continue;
     }
-    const std::uint64_t answering = transits_through(cfg.transits, t) & telling(s, cfg, bit) & ~s.lost;
-    if (answering != 0U) {
+    const std::uint64_t through = transits_through(cfg.transits, t);
+    const std::uint64_t answering = through & telling(s, cfg, bit) & ~s.lost;
+    // One transit through it lost when it was reported: its switch failed (the others were routed
+    // around it before they missed enough rounds), not its core.
+    if (answering != 0U && (through & lost_near(s, cfg, s.suspected_at[t])) == 0U) {
       s.core_told |= bit;
       report(EventId::kCoreSuspect, t, 0U, static_cast<std::uint32_t>(std::popcount(answering)));
       tile_health_core_suspect(t);  // a core its watchdog did not name: the tile-health supervisor acts
