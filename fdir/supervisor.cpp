@@ -135,6 +135,11 @@ SupDecision supervisor_escalation(const SupervisorSpec& spec, SupervisorState& s
     return SupDecision{};
   }
   ConstraintState& c = st.c[constraint];
+  if (l->count == 0U && !(c.phase == ConstraintPhase::kEscalated && c.level == level)) {
+    c.level = level;  // nothing to try at this level: straight up
+    c.index = 0U;
+    return move_on(spec, st, constraint, *l, ApplyReason::kEscalation, child);
+  }
   if (c.phase == ConstraintPhase::kIdle || c.level != level) {
     return start_level(spec, st, constraint, level, *l, ApplyReason::kEscalation, child);
   }

@@ -59,6 +59,7 @@ inline constexpr std::uint8_t kCapacityHalfRate = 1U;
 /** Who a policy came from (the b field of sup_policy): a node id, or one of these. */
 inline constexpr std::uint32_t kFromPhase = 0x100U;   ///< the mission phase table
 inline constexpr std::uint32_t kFromGround = 0x101U;  ///< a telecommand
+inline constexpr std::uint32_t kFromDefault = 0x102U; ///< the node's own default, before any policy came
 
 /** The ordered alternatives of one constraint at one level (ids the owner gives meaning to). */
 struct AlternativeList {

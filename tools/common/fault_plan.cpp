@@ -425,10 +425,15 @@ void parse_faults(const std::string& source, const toml::node& node, const Limit
   }
 }
 
-constexpr std::array<std::pair<const char*, std::uint32_t>, 2> kCommandNames{{
+constexpr std::array<std::pair<const char*, std::uint32_t>, 6> kCommandNames{{
     {"filter_tmr", trn::tasks::kCmdFilterTmr},
     {"filter_simplex", trn::tasks::kCmdFilterSimplex},
+    {"reliability_normal", trn::tasks::kCmdReliabilityNormal},
+    {"reliability_high", trn::tasks::kCmdReliabilityHigh},
+    {"power_full", trn::tasks::kCmdPowerFull},
+    {"power_save", trn::tasks::kCmdPowerSave},
 }};
+constexpr const char* kCommandList = "filter_tmr, filter_simplex, reliability_normal, reliability_high, power_full, power_save";
 
 void parse_command(const std::string& where, const toml::table& t, const Limits& lim, FaultPlan& plan,
                    std::vector<std::string>& errors) {
@@ -446,7 +451,7 @@ void parse_command(const std::string& where, const toml::table& t, const Limits&
       const auto* it = std::find_if(kCommandNames.begin(), kCommandNames.end(),
                                     [&n](const auto& p) { return n == p.first; });
       if (it == kCommandNames.end()) {
-        errors.push_back(cat({where, " name: unknown command \"", n, "\" (allowed: filter_tmr, filter_simplex)"}));
+        errors.push_back(cat({where, " name: unknown command \"", n, "\" (allowed: ", kCommandList, ")"}));
       } else {
         c.name = n;
         c.code = it->second;
@@ -456,7 +461,7 @@ void parse_command(const std::string& where, const toml::table& t, const Limits&
     }
   }
   if (t.get("name") == nullptr) {
-    errors.push_back(where + ": missing key name (allowed: filter_tmr, filter_simplex)");
+    errors.push_back(cat({where, ": missing key name (allowed: ", kCommandList, ")"}));
   }
   if (errors.size() == before) {
     plan.commands.push_back(c);

@@ -6,6 +6,9 @@
 
 #include "bsp_tile64/profile.hpp"
 #include "tools/common/fault_plan.hpp"
+#include "fdir/supervisor.hpp"
+#include "trn/tasks/messages.hpp"
+#include "trn/tasks/supervisors.hpp"
 #include "trn/vision/correlator.hpp"
 
 #include <algorithm>
@@ -200,7 +203,13 @@ namespace {
 bool describe_tmr_event(const fdir::Event& e, const char* s, std::span<char> b) noexcept {
   switch (e.id) {
     case EventId::kCommandTaken:
-      (void)std::snprintf(b.data(), b.size(), "telecommand %u (code %s) taken by the filter at job %u", e.cause, s, e.a);
+      if ((e.cause & trn::tasks::kSupCommandSeq) != 0U) {
+        (void)std::snprintf(b.data(), b.size(), "the filter supervisor's command %u (code %s: %s) taken by the filter at "
+                            "job %u", e.cause & ~trn::tasks::kSupCommandSeq, s,
+                            e.subject == trn::tasks::kCmdFilterTmr ? "TMR" : "simplex", e.a);
+      } else {
+        (void)std::snprintf(b.data(), b.size(), "telecommand %u (code %s) taken by the filter at job %u", e.cause, s, e.a);
+      }
       return true;
     case EventId::kTmrStarting:
       (void)std::snprintf(b.data(), b.size(), "filter to TMR: replicas seeded with the state after job %s (epoch %u)", s,
@@ -269,6 +278,100 @@ bool describe_tmr_event(const fdir::Event& e, const char* s, std::span<char> b) 
     case EventId::kTmrVoterResumed:
       (void)std::snprintf(b.data(), b.size(), "the voter restarted at job %s goes on voting (epoch %u): delivers from "
                           "job %u; records of its outage written: %u", s, e.cause, e.a, e.b);
+      return true;
+    default:
+      return false;
+  }
+}
+
+const char* node_name(std::uint32_t n) noexcept {
+  return n == trn::tasks::kNodeTrn      ? "trn_supervisor"
+         : n == trn::tasks::kNodeVision ? "vision_supervisor"
+         : n == trn::tasks::kNodeFilter ? "filter_supervisor"
+                                        : "?";
+}
+
+const char* constraint_name(std::uint32_t c) noexcept {
+  return c == 0U ? "reliability" : c == 1U ? "power" : c == 2U ? "capacity" : "?";
+}
+
+const char* level_name(std::uint32_t c, std::uint32_t level) noexcept {
+  if (level > 1U) {
+    return "?";
+  }
+  switch (c) {
+    case 0U: return level == 0U ? "normal" : "high";
+    case 1U: return level == 0U ? "full" : "save";
+    case 2U: return level == 0U ? "full rate" : "half rate";
+    default: return "?";
+  }
+}
+
+const char* alternative_name(std::uint32_t a) noexcept {
+  switch (a) {
+    case trn::tasks::kAltDelegate: return "hand the policy down";
+    case trn::tasks::kAltSimplex: return "filter simplex";
+    case trn::tasks::kAltTmr: return "filter in TMR";
+    case trn::tasks::kAltTmrReseed: return "TMR again from a fresh seed";
+    case trn::tasks::kAltFullRate: return "every frame on the healthy vision tiles";
+    case trn::tasks::kAltHalfRate: return "half the image rate";
+    case trn::tasks::kAltAcceptSimplex: return "accept the simplex filter (reliability lowered, reported)";
+    default: return "nothing to do";
+  }
+}
+
+const char* from_name(std::uint32_t f) noexcept {
+  return f == fdir::kFromPhase    ? "the mission phase"
+         : f == fdir::kFromGround  ? "a telecommand"
+         : f == fdir::kFromDefault ? "its default"
+                                   : node_name(f);
+}
+
+/** The text of the supervisor tree's events (after the name), into @p b; false for another event. */
+bool describe_supervisor_event(const fdir::Event& e, std::span<char> b) noexcept {
+  const std::uint32_t c = e.cause & 0xFFU;
+  switch (e.id) {
+    case EventId::kSupPolicy:
+      (void)std::snprintf(b.data(), b.size(), "%s takes %s %s from %s", node_name(e.subject), constraint_name(c),
+                          level_name(c, e.a), from_name(e.b));
+      return true;
+    case EventId::kSupApply: {
+      const std::uint32_t why = e.cause >> 8U;
+      std::array<char, 64> reason{};
+      (void)std::snprintf(reason.data(), reason.size(), "%s",
+                          why == 0U ? "the policy" : why == 1U ? "the one before did not meet it" : "");
+      if (why == 2U) {
+        (void)std::snprintf(reason.data(), reason.size(), "escalation from %s", node_name(e.b >> 8U));
+      }
+      (void)std::snprintf(b.data(), b.size(), "%s: %s for %s %s (%s)", node_name(e.subject), alternative_name(e.a),
+                          constraint_name(c), level_name(c, e.b & 0xFFU), reason.data());
+      return true;
+    }
+    case EventId::kSupNotMet:
+      (void)std::snprintf(b.data(), b.size(), "%s: %s does not meet %s %s", node_name(e.subject), alternative_name(e.a),
+                          constraint_name(c), level_name(c, e.b));
+      return true;
+    case EventId::kSupEscalated:
+      (void)std::snprintf(b.data(), b.size(), "%s has no way left to meet %s %s: escalated to %s", node_name(e.subject),
+                          constraint_name(c), level_name(c, e.a),
+                          e.b == fdir::kNoSupervisor ? "the vehicle" : node_name(e.b));
+      return true;
+    case EventId::kSupMet:
+      (void)std::snprintf(b.data(), b.size(), "%s meets %s %s (%s)", node_name(e.subject), constraint_name(c),
+                          level_name(c, e.b), alternative_name(e.a));
+      return true;
+    case EventId::kPhaseBegin:
+      (void)std::snprintf(b.data(), b.size(), "mission phase %u begins: reliability %s, power %s", e.subject,
+                          level_name(0U, e.a), level_name(1U, e.b));
+      return true;
+    case EventId::kSafeMode:
+      (void)std::snprintf(b.data(), b.size(), "trn_supervisor cannot meet %s %s: safe mode reported to the vehicle",
+                          constraint_name(e.subject), level_name(e.subject, e.a));
+      return true;
+    case EventId::kTileParked:
+    case EventId::kTileWoken:
+      (void)std::snprintf(b.data(), b.size(), "tile %u switched %s by the power policy (%s)", e.subject,
+                          e.id == EventId::kTileParked ? "off" : "on", node_name(e.cause));
       return true;
     default:
       return false;
@@ -350,7 +453,7 @@ void describe_health_event(const fdir::Event& e, const char* s, std::span<char> 
       (void)std::snprintf(b.data(), b.size(), "role slot %s of tile %u cannot move: no spare", s, e.cause);
       break;
     default:
-      if (!describe_tmr_event(e, s, b)) {
+      if (!describe_tmr_event(e, s, b) && !describe_supervisor_event(e, b)) {
         (void)std::snprintf(b.data(), b.size(), "subject %s, cause %u, %u, %u", s, e.cause, e.a, e.b);
       }
       break;

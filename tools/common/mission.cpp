@@ -118,6 +118,29 @@ bool Mission::build(const MissionSetup& setup, std::string& error) {
   return true;
 }
 
+namespace {
+
+/** The supervisor tree's tiles and the scenario's phases, in mission ticks (1 ms). */
+void configure_supervisors(const Scenario& s, trn::tasks::SupervisorsConfig& sup) {
+  sup.trn_tile = trn::tasks::kSupervisorTile;
+  sup.filter_sup_tile = trn::tasks::kFilterSupervisorTile;
+  sup.vision_sup_tile = trn::tasks::kVisionSupervisorTile;
+  sup.io_tile = trn::tasks::kIoTile;
+  sup.coordinator_tile = trn::tasks::kCoordinatorTile;
+  sup.phase_count = 0U;
+  for (const MissionPhase& p : s.phases) {
+    if (sup.phase_count >= trn::tasks::kMaxPhases) {
+      break;  // the parser allows no more
+    }
+    trn::tasks::PhaseSpec& f = sup.phases[sup.phase_count++];
+    f.start_tick = static_cast<std::uint32_t>(std::llround(p.start_s * 1000.0));
+    f.reliability = p.reliability;
+    f.power = p.power;
+  }
+}
+
+}  // namespace
+
 bool Mission::boot(std::string& error) {
   using trn::tasks::Role;
   const Scenario& s = setup_.scenario;
@@ -195,7 +218,8 @@ bool Mission::boot(std::string& error) {
   // The coordinator and the filter move to a spare when their tile is given
   // up; the I/O tile is wired to the devices and is only reset.
   image.tile_health.movable_slots = (1U << trn::tasks::kSlotCoordinator) | (1U << trn::tasks::kSlotFilter) |
-                                    (7U << trn::tasks::kSlotReplica0);
+                                    (7U << trn::tasks::kSlotReplica0) | (1U << trn::tasks::kSlotFilterSupervisor) |
+                                    (1U << trn::tasks::kSlotVisionSupervisor);
   for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
     ep.roles.tile[slot] = trn::tasks::slot_boot_tile(slot);
   }
@@ -220,16 +244,21 @@ bool Mission::boot(std::string& error) {
   }
   image.io.filter_tile = trn::tasks::kFilterTile;
   image.io.coordinator_tile = trn::tasks::kCoordinatorTile;
+  image.io.trn_supervisor = trn::tasks::kSupervisorTile;
+  image.io.filter_supervisor = trn::tasks::kFilterSupervisorTile;
+  configure_supervisors(s, image.sup);
   trn::tasks::FilterTaskConfig& f = image.filter;
   f.filter.imu = imu_spec(s.imu);
   f.camera = camera_.model();
   f.initial = initial_;
   f.nav_sink = trn::tasks::kCoordinatorTile;
   f.replica_tiles = trn::tasks::kReplicaTiles;
+  f.supervisor = trn::tasks::kFilterSupervisorTile;
   trn::tasks::VisionCoordConfig& c = image.coord;
   c.camera = camera_.model();
   c.filter_tile = trn::tasks::kFilterTile;
   c.health_tile = trn::tasks::kSupervisorTile;
+  c.supervisor = trn::tasks::kVisionSupervisorTile;
   // The coordinator learns of lost tiles by their silence; tiles left out on purpose are not in its list.
   trn::tasks::tile_map_vision_tiles(c, vision_exclude_mask(setup_.vision_tiles));
   trn::vision::sun_direction(s.camera.sun.azimuth_deg, s.camera.sun.elevation_deg, c.descent_sun_m);

@@ -282,6 +282,23 @@ FinalScore score_end(const tools::Mission& m, const FlightRecord& rec, double en
   f.lost = f.output_age_s > kLostOutputAgeS;
   return f;
 }
+/** What the supervisor tree did: the flight's own counters (trn/tasks/supervisors.hpp). */
+void add_supervisor_keys(tools::Summary& s, const trn::tasks::VisionCoordStats& c) {
+  using trn::tasks::supervisor_stats;
+  const trn::tasks::SupervisorStats top = supervisor_stats(trn::tasks::kNodeTrn);
+  const trn::tasks::SupervisorStats fs = supervisor_stats(trn::tasks::kNodeFilter);
+  const trn::tasks::SupervisorStats vs = supervisor_stats(trn::tasks::kNodeVision);
+  s.extra.emplace_back("sup_phase_at_end", top.phase);
+  s.extra.emplace_back("sup_policies", top.policies + fs.policies + vs.policies);
+  s.extra.emplace_back("sup_alternatives_applied", top.applied + fs.applied + vs.applied);
+  s.extra.emplace_back("sup_escalations", top.escalations + fs.escalations + vs.escalations);
+  s.extra.emplace_back("sup_safe_mode", top.safe_mode);
+  s.extra.emplace_back("sup_filter_commands", fs.commands);
+  s.extra.emplace_back("vision_rate_div", c.rate_div);
+  s.extra.emplace_back("vision_frames_rate_skipped", c.frames_rate_skipped);
+  s.extra.emplace_back("vision_healthy_tiles", c.healthy_tiles);
+}
+
 
 tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const tools::FlightEventCollector& flight,
                             const tools::FaultAccount& faults, const FlightRecord& rec, double host_s,
@@ -391,6 +408,7 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("worst_frame_ms", static_cast<double>(c.max_frame_cycles) * 1000.0 /
                                              static_cast<double>(bsp::kTile64.clock_hz));
   s.extra.emplace_back("final_position_3sigma_m", rec.last.sigma3_p.norm());
+  add_supervisor_keys(s, c);
   return s;
 }
 

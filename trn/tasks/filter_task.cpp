@@ -897,6 +897,22 @@ void tmr_job(Slot& slot) noexcept {
   }
 }
 
+/** The front's status for the filter supervisor: its mode, the voters and the faults counted. */
+void send_status(const Slot& slot) noexcept {
+  if (slot.cfg->supervisor == bsp::kNoTile || slot.job % kFilterStatusJobs != 0U) {
+    return;
+  }
+  const std::uint32_t mode = slot.mode == Mode::kSimplex    ? kFilterModeSimplex
+                             : slot.mode == Mode::kStarting ? kFilterModeStarting
+                             : slot.mode == Mode::kTmr      ? kFilterModeTmr
+                                                            : kFilterModeStopping;
+  const std::array<std::uint32_t, kFilterStatusWords> w{kMsgFilterStatus,          slot.job,
+                                                        mode,                      slot.group.active_mask(),
+                                                        slot.stats.tmr_no_majority, slot.stats.outputs_skipped};
+  // A lost status is a missing verdict: the supervisor judges the next one.
+  (void)udn::endpoint_send(udn::endpoint_role_tile(kSlotFilterSupervisor, slot.cfg->supervisor), kChanControl, w, 0U);
+}
+
 }  // namespace
 
 void filter_task_main(void* arg) noexcept {
@@ -934,6 +950,7 @@ void filter_task_main(void* arg) noexcept {
         stop_tmr(slot, kTmrStopCommand);
       }
     }
+    send_status(slot);
     ++slot.stats.jobs;
     ++slot.job;
     slot.stats.last_job_cycles = bsp::now() - start;

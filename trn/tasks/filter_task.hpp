@@ -69,6 +69,8 @@ struct FilterTaskConfig {
   std::uint32_t checkpoint_every = kDefaultCheckpointEvery;  ///< jobs between DDR checkpoints (0: none, no resume)
   /** Boot tiles of the TMR replicas (slots kSlotReplica0..): kNoTile for none (no TMR). */
   std::array<bsp::TileId, 3> replica_tiles{bsp::kNoTile, bsp::kNoTile, bsp::kNoTile};
+  /** Boot tile of the filter supervisor (slot kSlotFilterSupervisor), sent a status every kFilterStatusJobs jobs (kNoTile: none). */
+  bsp::TileId supervisor = bsp::kNoTile;
 };
 
 struct FilterTaskStats {

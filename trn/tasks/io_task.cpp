@@ -6,6 +6,7 @@
 
 #include "bsp_tile64/devices/device_io.hpp"
 #include "bsp_tile64/memory.hpp"
+#include "fdir/supervisor.hpp"
 #include "kernel/kernel.hpp"
 #include "trn/tasks/imu_ring.hpp"
 #include "trn/tasks/messages.hpp"
@@ -52,17 +53,60 @@ void forward_frames(const IoTaskConfig& cfg) noexcept {
   }
 }
 
-/**
- * Telecommands for the filter go in its IMU stream after the last sample read
- * (@p last_imu), so it takes them at a defined job.
- */
+/** A command for the filter, in its IMU stream after the last sample read (@p last_imu): it takes it at a defined job. */
+void command_filter(const IoTaskConfig& cfg, std::uint32_t seq, std::uint32_t code, std::uint32_t arg,
+                    std::uint32_t last_imu) noexcept {
+  const std::array<std::uint32_t, kCommandWords> w{kMsgCommand, seq, code, arg, last_imu};
+  const bsp::TileId filter = udn::endpoint_role_tile(kSlotFilter, cfg.filter_tile);
+  if (udn::endpoint_send(filter, kChanImu, w, kSendTicks) != udn::FtError::kOk) {
+    ++g_stats.send_failures;
+  }
+}
+
+/** A policy telecommand for the TRN supervisor (codes from kCmdFirstPolicy). */
+void policy_to_supervisor(const IoTaskConfig& cfg, std::uint32_t code) noexcept {
+  const fdir::Constraint constraint = code <= kCmdReliabilityHigh ? fdir::Constraint::kReliability : fdir::Constraint::kPower;
+  const std::uint32_t level = (code - kCmdFirstPolicy) % 2U;  // normal / full 0, high / save 1
+  const std::array<std::uint32_t, fdir::kSupMsgWords> w{fdir::kMsgPolicy, static_cast<std::uint32_t>(constraint), level,
+                                                        fdir::kFromGround};
+  if (cfg.trn_supervisor != bsp::kNoTile && udn::endpoint_send(cfg.trn_supervisor, kChanControl, w, kSendTicks) == udn::FtError::kOk) {
+    ++g_stats.policies;
+  } else {
+    ++g_stats.send_failures;
+  }
+}
+
+/** A ground command of the filter's mode, as the filter supervisor's policy (it sends no command of its own for it). */
+void tell_filter_supervisor(const IoTaskConfig& cfg, std::uint32_t code) noexcept {
+  if (cfg.filter_supervisor == bsp::kNoTile || (code != kCmdFilterTmr && code != kCmdFilterSimplex)) {
+    return;
+  }
+  const std::uint32_t level = code == kCmdFilterTmr ? fdir::kReliabilityHigh : fdir::kReliabilityNormal;
+  const std::array<std::uint32_t, fdir::kSupMsgWords> w{
+      fdir::kMsgPolicy, static_cast<std::uint32_t>(fdir::Constraint::kReliability), level, fdir::kFromGround};
+  if (udn::endpoint_send(udn::endpoint_role_tile(kSlotFilterSupervisor, cfg.filter_supervisor), kChanControl, w,
+                         kSendTicks) != udn::FtError::kOk) {
+    ++g_stats.send_failures;
+  }
+}
+
+/** Telecommands: the filter's into its stream, policies to the TRN supervisor; then the supervisors' commands. */
 void forward_commands(const IoTaskConfig& cfg, std::uint32_t last_imu) noexcept {
   bsp::Telecommand c{};
   for (std::uint32_t n = 0; n < bsp::kCommandFifoDepth && bsp::command_read(&c); ++n) {
-    const std::array<std::uint32_t, kCommandWords> w{kMsgCommand, c.seq, c.code, c.arg, last_imu};
-    const bsp::TileId filter = udn::endpoint_role_tile(kSlotFilter, cfg.filter_tile);
-    if (udn::endpoint_send(filter, kChanImu, w, kSendTicks) != udn::FtError::kOk) {
-      ++g_stats.send_failures;
+    if (c.code >= kCmdFirstPolicy && c.code <= kCmdPowerSave) {
+      policy_to_supervisor(cfg, c.code);
+    } else {
+      command_filter(cfg, c.seq, c.code, c.arg, last_imu);
+      tell_filter_supervisor(cfg, c.code);
+    }
+  }
+  udn::FtMessage m{};
+  for (std::uint32_t n = 0; n < 4U && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++n) {
+    if (m.data_words == kSupCommandWords && m.data[0] == kMsgSupCommand &&
+        (m.data[1] == kCmdFilterTmr || m.data[1] == kCmdFilterSimplex)) {
+      ++g_stats.sup_commands;
+      command_filter(cfg, kSupCommandSeq | g_stats.sup_commands, m.data[1], m.data[2], last_imu);
     }
   }
 }

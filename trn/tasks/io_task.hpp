@@ -13,6 +13,10 @@ namespace trn::tasks {
 struct IoTaskConfig {
   bsp::TileId filter_tile = bsp::kNoTile;
   bsp::TileId coordinator_tile = bsp::kNoTile;  ///< frame notices go here (kNoTile: frames are not forwarded)
+  /** The TRN supervisor: policy telecommands (codes from kCmdFirstPolicy) go here (kNoTile: they are dropped). */
+  bsp::TileId trn_supervisor = bsp::kNoTile;
+  /** The filter supervisor (slot kSlotFilterSupervisor): told of a ground filter_tmr / filter_simplex, which it takes as its policy (kNoTile: nobody). */
+  bsp::TileId filter_supervisor = bsp::kNoTile;
 };
 
 struct IoTaskStats {
@@ -20,6 +24,8 @@ struct IoTaskStats {
   std::uint32_t send_failures;  ///< the network refused past the timeout
   std::uint32_t frames_forwarded;
   std::uint32_t frame_send_failures;
+  std::uint32_t sup_commands;     ///< supervisor commands put into the filter's stream
+  std::uint32_t policies;         ///< policy telecommands handed to the TRN supervisor
 };
 
 /**

@@ -41,6 +41,9 @@ inline constexpr std::uint32_t kSlotReplica0 = 3U;
  * to it by slot; the coordinator learns the spare's tile from the supervisor.
  */
 inline constexpr std::uint32_t kSlotVisionPool = 8U;
+/** The filter and vision supervisors (trn/tasks/supervisors.hpp). */
+inline constexpr std::uint32_t kSlotFilterSupervisor = 6U;
+inline constexpr std::uint32_t kSlotVisionSupervisor = 7U;
 inline constexpr std::uint32_t kChanImu = 4U;      ///< I/O -> filter IMU samples, one per message
 
 /** First word of every FT message: what it is. */
@@ -66,6 +69,52 @@ inline constexpr std::uint32_t kNoImuYet = 0xFFFFFFFFU;
 /** Telecommand codes of the filter. */
 inline constexpr std::uint32_t kCmdFilterTmr = 1U;      ///< run the filter as TMR from the next job
 inline constexpr std::uint32_t kCmdFilterSimplex = 2U;  ///< back to one filter
+/**
+ * Policy telecommands: the I/O tile hands them to the TRN supervisor (not the
+ * filter), which hands the policy down its tree (trn/tasks/supervisors.hpp).
+ */
+inline constexpr std::uint32_t kCmdReliabilityNormal = 16U;
+inline constexpr std::uint32_t kCmdReliabilityHigh = 17U;
+inline constexpr std::uint32_t kCmdPowerFull = 18U;
+inline constexpr std::uint32_t kCmdPowerSave = 19U;
+/** First policy code: codes from here go to the TRN supervisor. */
+inline constexpr std::uint32_t kCmdFirstPolicy = kCmdReliabilityNormal;
+
+/**
+ * A supervisor's command for the filter (kChanControl, to the I/O tile, which
+ * puts it in the filter's IMU stream like a telecommand): [0] kMsgSupCommand
+ * [1] code (kCmdFilterTmr, kCmdFilterSimplex) [2] the node that sent it.
+ */
+inline constexpr std::uint32_t kMsgSupCommand = 0x53434D31U;  ///< "SCM1"
+inline constexpr std::uint32_t kSupCommandWords = 3U;
+/** Sequence numbers of supervisor commands in the filter's stream (telecommands count from 1). */
+inline constexpr std::uint32_t kSupCommandSeq = 0x8000'0000U;
+
+/**
+ * The filter front's status for its supervisor (kChanControl, every
+ * kFilterStatusJobs jobs): [0] kMsgFilterStatus [1] job [2] mode (0 simplex, 1
+ * starting TMR, 2 TMR, 3 stopping) [3] voting replicas (bit mask) [4] votes
+ * without a majority so far [5] outputs skipped so far.
+ */
+inline constexpr std::uint32_t kMsgFilterStatus = 0x46535431U;  ///< "FST1"
+inline constexpr std::uint32_t kFilterStatusWords = 6U;
+inline constexpr std::uint32_t kFilterStatusJobs = 10U;
+inline constexpr std::uint32_t kFilterModeSimplex = 0U;
+inline constexpr std::uint32_t kFilterModeStarting = 1U;
+inline constexpr std::uint32_t kFilterModeTmr = 2U;
+inline constexpr std::uint32_t kFilterModeStopping = 3U;
+
+/**
+ * The coordinator's status for the vision supervisor (kChanControl, after
+ * each frame): [0] kMsgVisionStatus [1] frame seq [2] healthy vision tiles
+ * (in its list, answering, trusted) [3] tiles in its list [4] units lost in
+ * the frame [5] its image-rate divisor.
+ */
+inline constexpr std::uint32_t kMsgVisionStatus = 0x56535431U;  ///< "VST1"
+inline constexpr std::uint32_t kVisionStatusWords = 6U;
+/** The vision supervisor's image rate for the coordinator (kChanControl): [0] kMsgVisionRate [1] divisor (1, 2). */
+inline constexpr std::uint32_t kMsgVisionRate = 0x56525431U;  ///< "VRT1"
+inline constexpr std::uint32_t kVisionRateWords = 2U;
 
 inline constexpr std::uint32_t kImuWords = 16;
 

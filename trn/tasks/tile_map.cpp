@@ -23,7 +23,10 @@ bool tile_ok(bsp::TileId t) noexcept { return t < kMapTiles || t == bsp::kNoTile
 ImageError check(const ImageConfig& c) noexcept {
   if (!tile_ok(c.endpoint.report_to) || !tile_ok(c.io.filter_tile) || !tile_ok(c.io.coordinator_tile) ||
       !tile_ok(c.filter.nav_sink) || !tile_ok(c.coord.filter_tile) || !tile_ok(c.vision.coordinator) ||
-      !tile_ok(c.agent.supervisor) || !tile_ok(c.agent.watcher) || !tile_ok(c.coord.health_tile)) {
+      !tile_ok(c.agent.supervisor) || !tile_ok(c.agent.watcher) || !tile_ok(c.coord.health_tile) ||
+      !tile_ok(c.sup.trn_tile) || !tile_ok(c.sup.filter_sup_tile) || !tile_ok(c.sup.vision_sup_tile) ||
+      !tile_ok(c.sup.io_tile) || !tile_ok(c.io.trn_supervisor) || !tile_ok(c.io.filter_supervisor) || !tile_ok(c.sup.coordinator_tile) || !tile_ok(c.filter.supervisor) ||
+      !tile_ok(c.coord.supervisor)) {
     return ImageError::kBadTile;
   }
   for (const bsp::TileId t : c.endpoint.roles.tile) {
@@ -49,6 +52,14 @@ ImageError check(const ImageConfig& c) noexcept {
       c.tile_health.poll_ticks == 0U || c.tile_health.disagreements_to_fail == 0U ||
       (c.tile_health.self_test_ticks != 0U && c.tile_health.self_test_wait_ticks >= c.tile_health.self_test_ticks)) {
     return ImageError::kBadConfig;
+  }
+  if (c.sup.phase_count > kMaxPhases || c.sup.vision_min_half > c.sup.vision_min_full) {
+    return ImageError::kBadConfig;
+  }
+  for (std::uint32_t i = 1U; i < c.sup.phase_count; ++i) {
+    if (c.sup.phases[i].start_tick <= c.sup.phases[i - 1U].start_tick) {
+      return ImageError::kBadConfig;  // phases in time order
+    }
   }
   if (c.net_health.votes_to_fail < 2U || c.filter.matches_per_job == 0U ||
       c.filter.matches_per_job > kMaxMatchesPerFrame || !(c.coord.deadline_s > 0.0)) {
@@ -78,6 +89,7 @@ const char* role_name(Role r) noexcept {
     case Role::kFilter: return "filter";
     case Role::kFilterReplica: return "filter_replica";
     case Role::kVision: return "vision";
+    case Role::kVisionSupervisor: return "vision_supervisor";
     case Role::kSpare: break;
   }
   return "spare";
@@ -92,6 +104,7 @@ char role_code(Role r) noexcept {
     case Role::kFilter: return 'N';
     case Role::kFilterReplica: return 'R';
     case Role::kVision: return 'v';
+    case Role::kVisionSupervisor: return 'S';
     case Role::kSpare: break;
   }
   return '.';
@@ -105,7 +118,8 @@ k::TaskTable role_table(Role r) noexcept {
     case Role::kVisionCoordinator: return kCoordinatorRole;
     case Role::kVision: return kVisionRole;
     case Role::kTrnSupervisor: return kSupervisorRole;
-    case Role::kFilterSupervisor:
+    case Role::kFilterSupervisor: return kFilterSupervisorRole;
+    case Role::kVisionSupervisor: return kVisionSupervisorRole;
     case Role::kSpare: break;
   }
   return {};
@@ -130,6 +144,8 @@ Role slot_role(std::uint32_t slot) noexcept {
     case kSlotReplica0 + 1U:
     case kSlotReplica0 + 2U: return Role::kFilterReplica;
     case kSlotVisionPool: return Role::kVision;
+    case kSlotFilterSupervisor: return Role::kFilterSupervisor;
+    case kSlotVisionSupervisor: return Role::kVisionSupervisor;
     default: return Role::kSpare;
   }
 }
@@ -142,6 +158,8 @@ bsp::TileId slot_boot_tile(std::uint32_t slot) noexcept {
     case kSlotReplica0: return kReplicaTiles[0];
     case kSlotReplica0 + 1U: return kReplicaTiles[1];
     case kSlotReplica0 + 2U: return kReplicaTiles[2];
+    case kSlotFilterSupervisor: return kFilterSupervisorTile;
+    case kSlotVisionSupervisor: return kVisionSupervisorTile;
     default: return bsp::kNoTile;
   }
 }

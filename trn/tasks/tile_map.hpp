@@ -6,18 +6,20 @@
  * tiles whose role is not a spare, registers each role's task table, and
  * configures every role in one step before boot (configure_image). Default 8x8 layout (tile = row * 8 + col):
  *
- *   row 0:  T  V  F  .  .  .  .  .     T TRN supervisor, V vision coordinator,
- *   row 1:  .  I  .  .  .  .  .  .     F filter supervisor, I I/O tile,
- *   row 2:  .  .  N  R  R  R  .  .     N navigation filter (and TMR voter),
+ *   row 0:  T  V  .  .  .  .  F  S     T TRN supervisor, V vision coordinator,
+ *   row 1:  .  I  .  .  .  .  .  .     F filter supervisor, S vision supervisor,
+ *   row 2:  .  .  N  R  R  R  .  .     I I/O tile, N navigation filter (and TMR voter),
  *   rows 3-7: v v v v v v v v          R filter replica (idle until TMR),
  *                                      v vision tile, . spare (powered off)
  *
- * The supervisors' tiles are reserved for the fault-management layer. Today
- * the TRN supervisor's tile runs the network-health task (switch and link
- * voting, fault-map publication: fdir/net_health.hpp) and the tile-health
- * supervisor (watchdog interrupts, resets: fdir/tile_health.hpp); the filter
- * supervisor's tile stays off. Every role tile runs a health agent that
- * kicks its hardware watchdog while its tasks check in.
+ * The TRN supervisor's tile runs the top of the supervisor tree
+ * (trn/tasks/supervisors.hpp: mission phases, policies, escalations) beside
+ * the network-health task (switch and link voting, fault-map publication:
+ * fdir/net_health.hpp) and the tile-health supervisor (watchdog interrupts,
+ * resets, spares: fdir/tile_health.hpp). The filter and vision supervisors sit
+ * at the far end of row 0, away from the spares the coordinator, the filter
+ * and the replicas move to. Every role tile runs a health agent that kicks
+ * its hardware watchdog while its tasks check in.
  */
 #pragma once
 
@@ -28,6 +30,7 @@
 #include "trn/tasks/filter_tmr.hpp"
 #include "trn/tasks/io_task.hpp"
 #include "trn/tasks/messages.hpp"
+#include "trn/tasks/supervisors.hpp"
 #include "trn/tasks/vision_coord.hpp"
 #include "trn/tasks/vision_worker.hpp"
 #include "udn/endpoint.hpp"
@@ -46,6 +49,7 @@ enum class Role : std::uint8_t {
   kFilter,
   kVision,
   kFilterReplica,
+  kVisionSupervisor,
 };
 
 inline constexpr std::uint32_t kMapTiles = 64;
@@ -63,6 +67,8 @@ constexpr std::array<Role, kMapTiles> make_roles() noexcept {
   }
   r[0] = Role::kTrnSupervisor;
   r[1] = Role::kVisionCoordinator;
+  r[6] = Role::kFilterSupervisor;
+  r[7] = Role::kVisionSupervisor;
   r[9] = Role::kIo;
   r[18] = Role::kFilter;
   r[21] = Role::kFilterReplica;
@@ -75,13 +81,15 @@ constexpr std::array<Role, kMapTiles> make_roles() noexcept {
 }
 }  // namespace detail
 
-/** The default tile map. The filter supervisor's tile (2) stays spare until that role has a task. */
+/** The default tile map. */
 inline constexpr std::array<Role, kMapTiles> kTileRoles = detail::make_roles();
 
 constexpr bsp::TileId kSupervisorTile = 0;
 constexpr bsp::TileId kCoordinatorTile = 1;
 constexpr bsp::TileId kIoTile = 9;
 constexpr bsp::TileId kFilterTile = 18;
+constexpr bsp::TileId kFilterSupervisorTile = 6;
+constexpr bsp::TileId kVisionSupervisorTile = 7;
 /** The filter's TMR replicas, by replica index (role slots kSlotReplica0 + i). */
 constexpr std::array<bsp::TileId, 3> kReplicaTiles{19, 20, 21};
 
@@ -97,7 +105,8 @@ static_assert(kTileRoles[kReplicaTiles[0]] == Role::kFilterReplica && kTileRoles
                   kTileRoles[kReplicaTiles[2]] == Role::kFilterReplica,
               "replica tiles match the map");
 static_assert(kTileRoles[kCoordinatorTile] == Role::kVisionCoordinator && kTileRoles[kIoTile] == Role::kIo &&
-                  kTileRoles[kFilterTile] == Role::kFilter,
+                  kTileRoles[kFilterTile] == Role::kFilter && kTileRoles[kFilterSupervisorTile] == Role::kFilterSupervisor &&
+                  kTileRoles[kVisionSupervisorTile] == Role::kVisionSupervisor,
               "named tiles match the map");
 
 /** Everything the image's tasks are configured with: one value, given before boot. */
@@ -110,6 +119,7 @@ struct ImageConfig {
   FilterTaskConfig filter{};             ///< the navigation filter
   VisionCoordConfig coord{};             ///< the vision coordinator
   VisionWorkerConfig vision{};           ///< every vision tile
+  SupervisorsConfig sup{};               ///< the TRN supervisor tree (phases, node tiles)
 };
 
 enum class ImageError : std::uint8_t {
@@ -159,6 +169,22 @@ inline constexpr k::TaskSpec kSupervisorRole[] = {
      k::Policy::kPreemptive, kWatchSupervisor},
     {"net_health", &fdir::net_health_task_main, &detail::g_image.net_health, 3, 0, 0, 16U * 1024U,
      k::Policy::kPreemptive, kWatchSupervisor},
+    {"trn_sup", &trn_supervisor_main, &detail::g_image.sup, 4, 0, 0, 16U * 1024U, k::Policy::kPreemptive,
+     kWatchSupervisor},
+};
+/** The filter supervisor's tile: simplex or TMR, judged from the filter's status. */
+inline constexpr k::TaskSpec kFilterSupervisorRole[] = {
+    kCommTask,
+    kAgentTask,
+    {"filter_sup", &filter_supervisor_main, &detail::g_image.sup, 2, 0, 0, 16U * 1024U, k::Policy::kPreemptive,
+     kWatchSupervisor},
+};
+/** The vision supervisor's tile: the image rate the healthy vision tiles can keep. */
+inline constexpr k::TaskSpec kVisionSupervisorRole[] = {
+    kCommTask,
+    kAgentTask,
+    {"vision_sup", &vision_supervisor_main, &detail::g_image.sup, 2, 0, 0, 16U * 1024U, k::Policy::kPreemptive,
+     kWatchSupervisor},
 };
 /** I/O tile: the device driver, most urgent after its messaging service and agent. */
 inline constexpr k::TaskSpec kIoRole[] = {
@@ -210,6 +236,8 @@ static_assert(k::check_table(kFilterRole) == k::TableError::kOk);
 static_assert(k::check_table(kCoordinatorRole) == k::TableError::kOk);
 static_assert(k::check_table(kReplicaRole) == k::TableError::kOk);
 static_assert(k::check_table(kVisionRole) == k::TableError::kOk);
+static_assert(k::check_table(kFilterSupervisorRole) == k::TableError::kOk);
+static_assert(k::check_table(kVisionSupervisorRole) == k::TableError::kOk);
 
 /** Task table of role @p r (empty for spares and roles without tasks yet). */
 k::TaskTable role_table(Role r) noexcept;

@@ -80,6 +80,7 @@ struct CoordState {
   fdir::ResultTrust trust;      ///< per vision tile: are its matches used
   vision::ConsistencyWork cws;
   std::array<bool, kMaxMatchesPerFrame> failed;  ///< per fine match of the frame: off the fitted pose
+  std::uint32_t rate_div;       ///< the vision supervisor's image rate: a frame whose seq it does not divide is left out
 };
 
 /** Idle poll period of the coordinator (results, notices and solutions are drained each time). */
@@ -269,10 +270,19 @@ void drain_notices(CoordState& st, VisionCoordStats& stats) noexcept {
       take_replacement(st, stats, m);
       continue;
     }
+    if (m.data_words == kVisionRateWords && m.data[0] == kMsgVisionRate && (m.data[1] == 1U || m.data[1] == 2U)) {
+      st.rate_div = m.data[1];
+      stats.rate_div = m.data[1];
+      continue;
+    }
     if (m.data_words != kFrameNoticeWords || m.data[0] != kMsgFrame) {
       continue;
     }
     ++stats.frames_seen;
+    if (m.data[1] % st.rate_div != 0U) {
+      ++stats.frames_rate_skipped;  // half rate: the tiles left get twice the time per frame
+      continue;
+    }
     if (st.have_pending) {
       ++stats.frames_skipped;  // a newer frame replaces one that never started
     }
@@ -606,6 +616,21 @@ void check_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   stats.tiles_untrusted = fdir::result_trust_untrusted(st.trust);
 }
 
+/** The frame's outcome for the vision supervisor: how many tiles can still take work. */
+void send_status(const CoordState& st, VisionCoordStats& stats, std::uint32_t lost) noexcept {
+  const std::uint32_t n = st.cfg->vision_count;
+  const std::uint32_t isolated = fdir::liveness_isolated(st.live);
+  const std::uint32_t untrusted = fdir::result_trust_untrusted(st.trust);
+  stats.healthy_tiles = n > isolated + untrusted ? n - isolated - untrusted : 0U;
+  if (st.cfg->supervisor == bsp::kNoTile) {
+    return;
+  }
+  const std::array<std::uint32_t, kVisionStatusWords> w{kMsgVisionStatus, st.frame.seq, stats.healthy_tiles, n, lost,
+                                                        st.rate_div};
+  // A lost status is a missing verdict: the supervisor judges the next frame's.
+  (void)udn::endpoint_send(udn::endpoint_role_tile(kSlotVisionSupervisor, st.cfg->supervisor), kChanControl, w, 0U);
+}
+
 /** Closes the frame: misses counted per tile, the batch sent to the filter. */
 void finish_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   std::uint32_t lost = 0;
@@ -632,6 +657,7 @@ void finish_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   check_frame(st, stats);
   send_batch(st, stats);
   fdir::report(fdir::EventId::kFrameDone, fdir::kUnknown, lost, st.frame.seq, fine);
+  send_status(st, stats, lost);
   st.busy = false;
   stats.last_frame_cycles = bsp::now() - st.frame_start;
   if (stats.last_frame_cycles > stats.max_frame_cycles) {
@@ -662,6 +688,8 @@ void vision_coord_main(void* arg) noexcept {
   }
   ::new (st) CoordState{};
   st->cfg = cfg;
+  st->rate_div = 1U;
+  stats.rate_div = 1U;
   if (!take_tile_list(*st) ||
       fdir::liveness_init(st->live, fdir::LivenessConfig{kSuspectAfterMisses, kProbeEveryFrames}, st->tiles.data(),
                           cfg->vision_count) != fdir::LivenessError::kOk ||

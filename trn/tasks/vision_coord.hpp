@@ -63,6 +63,8 @@ struct VisionCoordConfig {
   bsp::TileId health_tile = bsp::kNoTile;
   vision::ConsistencyParams consistency{};  ///< each frame's matches against the pose they fit
   fdir::ResultTrustConfig trust{};          ///< when a tile's failed matches make it suspect
+  /** Boot tile of the vision supervisor (slot kSlotVisionSupervisor): sent a status after each frame, it sets the image rate (kNoTile: none). */
+  bsp::TileId supervisor = bsp::kNoTile;
 };
 
 struct VisionCoordStats {
@@ -90,6 +92,9 @@ struct VisionCoordStats {
   std::uint32_t resets_asked;         ///< tiles the supervisor was asked to reset for wrong matches
   std::uint32_t replacements_asked;
   std::uint32_t tiles_replaced;       ///< replacements the supervisor confirmed
+  std::uint32_t frames_rate_skipped;  ///< frames left out by the vision supervisor's image rate
+  std::uint32_t rate_div;             ///< the image rate now: every frame (1), every other (2)
+  std::uint32_t healthy_tiles;        ///< vision tiles answering and trusted at the last frame
   double residual_scale_max_px;       ///< the largest robust residual scale of a checked frame
   bsp::Cycles max_frame_cycles;       ///< notice to batch sent, longest
   bsp::Cycles last_frame_cycles;

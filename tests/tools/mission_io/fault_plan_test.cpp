@@ -434,7 +434,7 @@ TEST(FaultPlan, CommandsAreParsedAndFormatted) {
 TEST(FaultPlanErrors, CommandMistakesAreNamed) {
   const std::string e = error_of("unknown_command.toml");
   EXPECT_NE(e.find("[[command]] #1 (line 2) name: unknown command \"filter_quintuple\" (allowed: filter_tmr, "
-                   "filter_simplex)"),
+                   "filter_simplex, reliability_normal, reliability_high, power_full, power_save)"),
             std::string::npos)
       << e;
   const tools::FaultPlanResult r = tools::parse_fault_plan(

@@ -112,6 +112,10 @@ std::string fixture(const std::string& name) {
   return std::string(build_info::kRepoRoot) + "/tests/fixtures/fault_plans/" + name;
 }
 
+std::string scenario_fixture(const std::string& name) {
+  return std::string(build_info::kRepoRoot) + "/tests/fixtures/scenarios/" + name;
+}
+
 std::string read_text(const fs::path& p) {
   std::ifstream in(p);
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
@@ -773,6 +777,123 @@ TEST_F(TrnMissionBinary, ARestartDuringTheSwitchResumesSimplexAndStartsTheTmrAga
   EXPECT_EQ(s["filter_counts_since_job"], 502.0);
   EXPECT_EQ(s["filter_outputs_skipped"], 0.0);
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+}
+
+}  // namespace
+
+namespace {
+
+/** The events of @p log written by tile @p tile whose text holds @p what. */
+std::size_t count_on_tile(const std::string& log, int tile, const std::string& what) {
+  const std::string tag = "tile " + std::string(tile < 10 ? " " : "") + std::to_string(tile) + "  ";
+  std::size_t n = 0;
+  std::size_t at = 0;
+  while ((at = log.find('\n', at)) != std::string::npos) {
+    const std::size_t next = log.find('\n', at + 1U);
+    const std::string line = log.substr(at + 1U, next == std::string::npos ? std::string::npos : next - at - 1U);
+    n += (line.find(tag) != std::string::npos && line.find(what) != std::string::npos) ? 1U : 0U;
+    at = at + 1U;
+  }
+  return n;
+}
+
+// FDIR-SUP-10: the terminal phase raises reliability; the TRN supervisor hands it down, the filter
+// supervisor switches the filter to TMR live, and the delivered stream is the simplex flight's,
+// every job once, bit for bit, with no deadline missed.
+TEST_F(TrnMissionBinary, APhaseChangeRaisesReliabilityAndTheFilterBecomesTmrLive) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 12 --scenario " + scenario_fixture("terminal_at_8s.toml") + " --out " +
+                (dir_ / "phases").string()),
+            0);
+  ASSERT_EQ(run(binary() + " --quiet --duration 11.9 --scenario " + scenario_fixture("simplex_only.toml") + " --out " +
+                (dir_ / "simplex").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "phases" / "summary.json");
+  const nlohmann::json p = read_json(dir_ / "simplex" / "summary.json");
+  const std::string log = read_text(dir_ / "phases" / "events.log");
+  EXPECT_NE(log.find("phase_begin: mission phase 2 begins: reliability high"), std::string::npos) << log;
+  EXPECT_NE(log.find("sup_policy: filter_supervisor takes reliability high from trn_supervisor"), std::string::npos);
+  EXPECT_NE(log.find("sup_apply: filter_supervisor: filter in TMR for reliability high (the policy)"), std::string::npos);
+  EXPECT_NE(log.find("command 2 (code 1: TMR) taken by the filter"), std::string::npos);
+  EXPECT_NE(log.find("tmr_established"), std::string::npos);
+  EXPECT_NE(log.find("sup_met: filter_supervisor meets reliability high (filter in TMR)"), std::string::npos);
+  EXPECT_EQ(count_of(log, "sup_escalated"), 0U);
+  EXPECT_GT(s["tmr_voted_outputs"].get<double>(), 350.0) << "voted from 8 s on";
+  EXPECT_EQ(s["filter_outputs_skipped"], 0.0);
+  // The voted stream is the simplex flight's, bit for bit, job for job, up to the last 100-job mark
+  // both delivered (the voter delivers two jobs later, so the simplex flight stops 0.1 s sooner).
+  EXPECT_EQ(s["filter_output_mark_job"], 1099.0);
+  EXPECT_EQ(p["filter_output_mark_job"], 1099.0);
+  EXPECT_EQ(s["filter_output_mark_crc"], p["filter_output_mark_crc"]) << "the voted stream differs from the simplex one";
+  EXPECT_EQ(s["deadline_misses"], 0);
+  EXPECT_EQ(p["tmr_voted_outputs"], 0.0);
+}
+
+// FDIR-SUP-11: reliability raised and lowered by telecommand: the policy goes down the tree.
+TEST_F(TrnMissionBinary, AReliabilityTelecommandGoesDownTheTree) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 12 --faults " + fixture("reliability_high_command.toml") + " --out " +
+                (dir_ / "tc").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "tc" / "summary.json");
+  const std::string log = read_text(dir_ / "tc" / "events.log");
+  EXPECT_NE(log.find("sup_policy: trn_supervisor takes reliability high from a telecommand"), std::string::npos) << log;
+  EXPECT_NE(log.find("sup_policy: filter_supervisor takes reliability high from trn_supervisor"), std::string::npos);
+  EXPECT_NE(log.find("tmr_established"), std::string::npos);
+  EXPECT_NE(log.find("sup_policy: trn_supervisor takes reliability normal from a telecommand"), std::string::npos);
+  EXPECT_NE(log.find("tmr_simplex: filter simplex again"), std::string::npos);
+  EXPECT_EQ(s["filter_outputs_skipped"], 0.0);
+  EXPECT_GT(s["tmr_voted_outputs"].get<double>(), 300.0);
+  EXPECT_EQ(s["sup_safe_mode"], 0.0);
+}
+
+// FDIR-SUP-12: no majority again and again: the filter supervisor tries its second way (TMR from a
+// fresh seed), then escalates; the TRN supervisor accepts the simplex filter and says so.
+TEST_F(TrnMissionBinary, NoMajorityAgainAndAgainEscalatesToTheTrnSupervisor) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 10 --faults " + fixture("tmr_no_majority_escalates.toml") + " --out " +
+                (dir_ / "nm").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "nm" / "summary.json");
+  const std::string log = read_text(dir_ / "nm" / "events.log");
+  EXPECT_NE(log.find("sup_not_met: filter_supervisor: filter in TMR does not meet reliability high"), std::string::npos)
+      << log;
+  EXPECT_NE(log.find("sup_apply: filter_supervisor: TMR again from a fresh seed for reliability high"), std::string::npos);
+  EXPECT_NE(log.find("sup_escalated: filter_supervisor has no way left to meet reliability high: escalated to "
+                     "trn_supervisor"),
+            std::string::npos);
+  EXPECT_NE(log.find("sup_apply: trn_supervisor: accept the simplex filter (reliability lowered, reported) for "
+                     "reliability high (escalation from filter_supervisor)"),
+            std::string::npos);
+  EXPECT_NE(log.find("sup_policy: filter_supervisor takes reliability normal from trn_supervisor"), std::string::npos);
+  EXPECT_GE(s["tmr_no_majority"].get<double>(), 2.0);
+  EXPECT_EQ(s["sup_safe_mode"], 0.0) << "the top had a way left";
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 5.0);
+}
+
+// FDIR-SUP-13: more vision tiles lost than the full image rate needs: the vision supervisor cannot
+// keep its constraint and escalates; the TRN supervisor halves the image rate. The filter
+// supervisor hears nothing of it (containment).
+TEST_F(TrnMissionBinary, LosingVisionTilesEscalatesAndTheTopHalvesTheImageRate) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 14 --faults " + fixture("vision_tiles_lost.toml") + " --out " +
+                (dir_ / "vl").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "vl" / "summary.json");
+  const std::string log = read_text(dir_ / "vl" / "events.log");
+  EXPECT_NE(log.find("sup_not_met: vision_supervisor: every frame on the healthy vision tiles does not meet capacity "
+                     "full rate"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("sup_escalated: vision_supervisor has no way left to meet capacity full rate: escalated to "
+                     "trn_supervisor"),
+            std::string::npos);
+  EXPECT_NE(log.find("sup_apply: trn_supervisor: half the image rate for capacity full rate (escalation from "
+                     "vision_supervisor)"),
+            std::string::npos);
+  EXPECT_NE(log.find("sup_met: vision_supervisor meets capacity half rate"), std::string::npos);
+  EXPECT_GT(s["vision_frames_rate_skipped"].get<double>(), 0.0);
+  EXPECT_EQ(s["vision_rate_div"], 2.0);
+  // Containment: after its policy at the start, the filter supervisor takes no decision.
+  EXPECT_EQ(count_on_tile(log, 6, "sup_"), 3U) << "policy, apply, met at the start only";
+  EXPECT_EQ(s["sup_safe_mode"], 0.0);
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 5.0);
 }
 
 }  // namespace

@@ -1,0 +1,371 @@
+/**
+ * @file supervisors.cpp
+ * @brief The TRN supervisor tree's three tasks (see supervisors.hpp).
+ */
+#include "trn/tasks/supervisors.hpp"
+
+#include "fdir/event_log.hpp"
+#include "kernel/kernel.hpp"
+#include "trn/tasks/messages.hpp"
+#include "udn/endpoint.hpp"
+
+#include <bit>
+
+namespace trn::tasks {
+namespace {
+
+constexpr auto kRel = static_cast<std::uint8_t>(fdir::Constraint::kReliability);
+constexpr auto kPow = static_cast<std::uint8_t>(fdir::Constraint::kPower);
+constexpr auto kCap = static_cast<std::uint8_t>(fdir::Constraint::kCapacity);
+
+/** Ticks between two passes of a supervisor's loop. */
+constexpr std::uint32_t kSupPeriodTicks = 10U;
+/** Messages taken per pass at most. */
+constexpr std::uint32_t kDrainPerPass = 16U;
+/** Ticks a message to another node may wait for the network. */
+constexpr std::uint32_t kSendTicks = 5U;
+
+fdir::AlternativeList alts(std::uint8_t a, std::uint8_t b = 0U) noexcept {
+  fdir::AlternativeList l{};
+  l.alt[0] = a;
+  l.count = 1U;
+  if (b != 0U) {
+    l.alt[1] = b;
+    l.count = 2U;
+  }
+  return l;
+}
+
+fdir::SupervisorSpec make_trn() noexcept {
+  fdir::SupervisorSpec s{};
+  s.id = kNodeTrn;
+  s.parent = fdir::kNoSupervisor;
+  s.debounce = 2U;
+  s.settle = 0U;
+  s.plan[kRel][0] = alts(kAltDelegate);
+  s.plan[kRel][1] = alts(kAltDelegate, kAltAcceptSimplex);
+  // The vision supervisor's escalation at full rate: half the rate; at half rate, nothing left.
+  s.plan[kCap][0] = alts(kAltHalfRate);
+  return s;
+}
+
+/** Status reports (100 ms apart) ignored after a command: TMR takes 3 jobs to establish, a stop 2. */
+constexpr std::uint32_t kFilterSettle = 3U;
+
+fdir::SupervisorSpec make_filter() noexcept {
+  fdir::SupervisorSpec s{};
+  s.id = kNodeFilter;
+  s.parent = kNodeTrn;
+  s.debounce = 2U;
+  s.settle = kFilterSettle;
+  s.plan[kRel][0] = alts(kAltSimplex);
+  s.plan[kRel][1] = alts(kAltTmr, kAltTmrReseed);
+  return s;
+}
+
+fdir::SupervisorSpec make_vision() noexcept {
+  fdir::SupervisorSpec s{};
+  s.id = kNodeVision;
+  s.parent = kNodeTrn;
+  s.debounce = 2U;  // two frames in a row
+  s.settle = 0U;    // the next frame's status already reflects a new rate
+  s.plan[kCap][0] = alts(kAltFullRate);
+  s.plan[kCap][1] = alts(kAltHalfRate);
+  return s;
+}
+
+const std::array<fdir::SupervisorSpec, 3> kSpecs = {make_trn(), make_vision(), make_filter()};
+
+struct NodeState {
+  fdir::SupervisorState sup;
+  SupervisorStats stats;
+};
+std::array<NodeState, 3> g_nodes{};
+
+void send_words(bsp::TileId to, std::span<const std::uint32_t> w) noexcept {
+  if (to != bsp::kNoTile) {
+    (void)udn::endpoint_send(to, kChanControl, w, kSendTicks);  // a lost policy is sent again at the next change
+  }
+}
+
+void send_policy(bsp::TileId to, std::uint8_t constraint, std::uint8_t level, std::uint8_t from) noexcept {
+  const std::array<std::uint32_t, fdir::kSupMsgWords> w{fdir::kMsgPolicy, constraint, level, from};
+  send_words(to, w);
+}
+
+void send_escalation(bsp::TileId to, const fdir::SupDecision& d, std::uint8_t node) noexcept {
+  const std::array<std::uint32_t, fdir::kSupMsgWords> w{fdir::kMsgEscalate, d.constraint, d.level, node};
+  send_words(to, w);
+}
+
+bsp::TileId filter_sup(const SupervisorsConfig& c) noexcept {
+  return udn::endpoint_role_tile(kSlotFilterSupervisor, c.filter_sup_tile);
+}
+bsp::TileId vision_sup(const SupervisorsConfig& c) noexcept {
+  return udn::endpoint_role_tile(kSlotVisionSupervisor, c.vision_sup_tile);
+}
+
+// ------------------------------------------------------------------ the TRN supervisor
+
+struct TrnState {
+  std::uint32_t phase = 0xFFFF'FFFFU;  ///< index of the phase whose policies went down
+  std::array<std::uint8_t, fdir::kMaxConstraints> level{};  ///< the level each policy asks now
+};
+TrnState g_trn{};
+
+void trn_act(const SupervisorsConfig& c, const fdir::SupDecision& d) noexcept {
+  NodeState& n = g_nodes[kNodeTrn];
+  if (d.action == fdir::SupAction::kEscalate) {
+    ++n.stats.safe_mode;  // nobody above: the vehicle is told
+    fdir::report(fdir::EventId::kSafeMode, d.constraint, 0U, d.level, 0U);
+    return;
+  }
+  if (d.action != fdir::SupAction::kApply) {
+    return;
+  }
+  ++n.stats.applied;
+  switch (d.alternative) {
+    case kAltDelegate:
+      if (d.constraint == kRel) {
+        send_policy(filter_sup(c), kRel, d.level, kNodeTrn);
+      }
+      break;
+    case kAltAcceptSimplex:
+      send_policy(filter_sup(c), kRel, fdir::kReliabilityNormal, kNodeTrn);
+      break;
+    case kAltHalfRate:
+      send_policy(vision_sup(c), kCap, fdir::kCapacityHalfRate, kNodeTrn);
+      break;
+    default:
+      break;
+  }
+}
+
+void trn_policy(const SupervisorsConfig& c, std::uint8_t constraint, std::uint8_t level, std::uint32_t from) noexcept {
+  if (constraint >= fdir::kMaxConstraints) {
+    return;
+  }
+  g_trn.level[constraint] = level;
+  if (from == fdir::kFromGround) {
+    g_nodes[kNodeTrn].sup.c[constraint] = fdir::ConstraintState{};  // a ground command is obeyed again, not debounced
+  }
+  ++g_nodes[kNodeTrn].stats.policies;
+  trn_act(c, fdir::supervisor_policy(kSpecs[kNodeTrn], g_nodes[kNodeTrn].sup, constraint, level, from));
+}
+
+/** The phase of mission tick @p now: its policies go down when it begins. */
+void trn_phase(const SupervisorsConfig& c, std::uint32_t now) noexcept {
+  std::uint32_t p = 0U;
+  for (std::uint32_t i = 1U; i < c.phase_count && i < kMaxPhases; ++i) {
+    p = now >= c.phases[i].start_tick ? i : p;
+  }
+  if (c.phase_count == 0U || p == g_trn.phase) {
+    return;
+  }
+  g_trn.phase = p;
+  g_nodes[kNodeTrn].stats.phase = p;
+  const PhaseSpec& ph = c.phases[p];
+  fdir::report(fdir::EventId::kPhaseBegin, p, 0U, ph.reliability, ph.power);
+  trn_policy(c, kRel, ph.reliability, fdir::kFromPhase);
+  trn_policy(c, kPow, ph.power, fdir::kFromPhase);
+}
+
+void trn_messages(const SupervisorsConfig& c) noexcept {
+  udn::FtMessage m{};
+  for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
+    if (m.data_words != fdir::kSupMsgWords || m.data[1] >= fdir::kMaxConstraints || m.data[2] >= fdir::kMaxLevels) {
+      continue;
+    }
+    const auto constraint = static_cast<std::uint8_t>(m.data[1]);
+    const auto level = static_cast<std::uint8_t>(m.data[2]);
+    if (m.data[0] == fdir::kMsgPolicy) {
+      trn_policy(c, constraint, level, m.data[3]);  // a ground policy through the I/O tile
+    } else if (m.data[0] == fdir::kMsgEscalate) {
+      trn_act(c, fdir::supervisor_escalation(kSpecs[kNodeTrn], g_nodes[kNodeTrn].sup, constraint, level, m.data[3]));
+    }
+  }
+}
+
+// ------------------------------------------------------------------ the filter supervisor
+
+struct FilterSupState {
+  bool have_status = false;
+  std::uint32_t no_majority = 0U;  ///< the filter's counts at the last status
+  std::uint32_t skipped = 0U;
+  bool reseed_tmr = false;         ///< the reseed alternative waits for simplex to command TMR
+};
+FilterSupState g_fsup{};
+
+void command_filter(const SupervisorsConfig& c, std::uint32_t code) noexcept {
+  const std::array<std::uint32_t, kSupCommandWords> w{kMsgSupCommand, code, kNodeFilter};
+  send_words(udn::endpoint_role_tile(kSlotIo, c.io_tile), w);
+  ++g_nodes[kNodeFilter].stats.commands;
+}
+
+/** @p commanded: the filter was already commanded (a ground command the I/O tile forwarded itself). */
+void filter_act(const SupervisorsConfig& c, const fdir::SupDecision& d, bool commanded = false) noexcept {
+  NodeState& n = g_nodes[kNodeFilter];
+  if (d.action == fdir::SupAction::kEscalate) {
+    ++n.stats.escalations;
+    send_escalation(c.trn_tile, d, kNodeFilter);
+    return;
+  }
+  if (d.action != fdir::SupAction::kApply) {
+    return;
+  }
+  ++n.stats.applied;
+  g_fsup.reseed_tmr = false;
+  if (commanded) {
+    return;
+  }
+  if (d.alternative == kAltSimplex) {
+    command_filter(c, kCmdFilterSimplex);
+  } else if (d.alternative == kAltTmr) {
+    command_filter(c, kCmdFilterTmr);
+  } else if (d.alternative == kAltTmrReseed) {
+    command_filter(c, kCmdFilterSimplex);  // a fresh seed: back to one filter, then TMR from its state
+    g_fsup.reseed_tmr = true;
+  }
+}
+
+/** Judges the reliability level from one status of the filter. */
+void filter_status(const SupervisorsConfig& c, const udn::FtMessage& m) noexcept {
+  NodeState& n = g_nodes[kNodeFilter];
+  ++n.stats.statuses;
+  const std::uint32_t mode = m.data[2];
+  const auto voting = static_cast<std::uint32_t>(std::popcount(m.data[3]));
+  const bool fresh_faults = g_fsup.have_status && (m.data[4] != g_fsup.no_majority || m.data[5] != g_fsup.skipped);
+  g_fsup.have_status = true;
+  g_fsup.no_majority = m.data[4];
+  g_fsup.skipped = m.data[5];
+  if (g_fsup.reseed_tmr && mode == kFilterModeSimplex) {
+    g_fsup.reseed_tmr = false;
+    command_filter(c, kCmdFilterTmr);
+  }
+  const fdir::ConstraintState& rel = n.sup.c[kRel];
+  const bool met = rel.level == fdir::kReliabilityHigh ? (mode == kFilterModeTmr && voting >= 2U && !fresh_faults)
+                                                       : mode == kFilterModeSimplex;
+  filter_act(c, fdir::supervisor_judge(kSpecs[kNodeFilter], n.sup, kRel, met));
+}
+
+void filter_messages(const SupervisorsConfig& c) noexcept {
+  udn::FtMessage m{};
+  for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
+    if (m.data_words == kFilterStatusWords && m.data[0] == kMsgFilterStatus) {
+      filter_status(c, m);
+    } else if (m.data_words == fdir::kSupMsgWords && m.data[0] == fdir::kMsgPolicy && m.data[1] < fdir::kMaxConstraints &&
+               m.data[2] < fdir::kMaxLevels) {
+      ++g_nodes[kNodeFilter].stats.policies;
+      // A ground filter_tmr / filter_simplex reached the filter straight from the I/O tile: the
+      // supervisor takes its mode as the policy (until the TRN supervisor sends another) and sends nothing.
+      const bool ground = m.data[3] == fdir::kFromGround;
+      if (ground) {
+        g_nodes[kNodeFilter].sup.c[m.data[1]] = fdir::ConstraintState{};
+      }
+      filter_act(c,
+                 fdir::supervisor_policy(kSpecs[kNodeFilter], g_nodes[kNodeFilter].sup,
+                                         static_cast<std::uint8_t>(m.data[1]), static_cast<std::uint8_t>(m.data[2]), m.data[3]),
+                 ground);
+    }
+  }
+}
+
+// ------------------------------------------------------------------ the vision supervisor
+
+void send_rate(const SupervisorsConfig& c, std::uint32_t div) noexcept {
+  const std::array<std::uint32_t, kVisionRateWords> w{kMsgVisionRate, div};
+  send_words(udn::endpoint_role_tile(kSlotCoordinator, c.coordinator_tile), w);
+  g_nodes[kNodeVision].stats.rate_div = div;
+}
+
+void vision_act(const SupervisorsConfig& c, const fdir::SupDecision& d) noexcept {
+  NodeState& n = g_nodes[kNodeVision];
+  if (d.action == fdir::SupAction::kEscalate) {
+    ++n.stats.escalations;
+    send_escalation(c.trn_tile, d, kNodeVision);
+    return;
+  }
+  if (d.action != fdir::SupAction::kApply) {
+    return;
+  }
+  ++n.stats.applied;
+  send_rate(c, d.alternative == kAltHalfRate ? 2U : 1U);
+}
+
+void vision_status(const SupervisorsConfig& c, const udn::FtMessage& m) noexcept {
+  NodeState& n = g_nodes[kNodeVision];
+  ++n.stats.statuses;
+  const fdir::ConstraintState& cap = n.sup.c[kCap];
+  if (cap.phase == fdir::ConstraintPhase::kIdle) {
+    // No policy from above yet: the full rate is the default demand.
+    vision_act(c, fdir::supervisor_policy(kSpecs[kNodeVision], n.sup, kCap, fdir::kCapacityFull, fdir::kFromDefault));
+  }
+  if (m.data[5] != n.stats.rate_div) {
+    send_rate(c, n.stats.rate_div);  // a restarted coordinator: the rate again
+  }
+  const std::uint32_t healthy = m.data[2];
+  const std::uint32_t need = cap.level == fdir::kCapacityHalfRate ? c.vision_min_half : c.vision_min_full;
+  vision_act(c, fdir::supervisor_judge(kSpecs[kNodeVision], n.sup, kCap, healthy >= need));
+}
+
+void vision_messages(const SupervisorsConfig& c) noexcept {
+  udn::FtMessage m{};
+  for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
+    if (m.data_words == kVisionStatusWords && m.data[0] == kMsgVisionStatus) {
+      vision_status(c, m);
+    } else if (m.data_words == fdir::kSupMsgWords && m.data[0] == fdir::kMsgPolicy && m.data[1] == kCap &&
+               m.data[2] < fdir::kMaxLevels) {
+      ++g_nodes[kNodeVision].stats.policies;
+      vision_act(c, fdir::supervisor_policy(kSpecs[kNodeVision], g_nodes[kNodeVision].sup, kCap,
+                                            static_cast<std::uint8_t>(m.data[2]), m.data[3]));
+    }
+  }
+}
+
+/** A node's task: its state afresh (a restart starts from the parent's next policy), then its loop. */
+template <void (*Pass)(const SupervisorsConfig&)>
+void node_main(void* arg, std::uint8_t node) noexcept {
+  const auto* cfg = static_cast<const SupervisorsConfig*>(arg);
+  g_nodes[node] = NodeState{};
+  if (cfg == nullptr || !udn::endpoint_wait_ready(100U)) {
+    return;
+  }
+  for (;;) {
+    Pass(*cfg);
+    k::checkin();
+    k::sleep(kSupPeriodTicks);
+  }
+}
+
+void trn_pass(const SupervisorsConfig& c) noexcept {
+  trn_messages(c);
+  trn_phase(c, static_cast<std::uint32_t>(bsp::now() / bsp::tick_cycles()));  // mission time, not the tile's since its boot
+  // A delegated policy holds until a child escalates.
+  for (std::uint8_t k = 0; k < fdir::kMaxConstraints; ++k) {
+    trn_act(c, fdir::supervisor_judge(kSpecs[kNodeTrn], g_nodes[kNodeTrn].sup, k, true));
+  }
+}
+
+}  // namespace
+
+void trn_supervisor_main(void* arg) noexcept {
+  g_trn = TrnState{};
+  node_main<&trn_pass>(arg, kNodeTrn);
+}
+
+void filter_supervisor_main(void* arg) noexcept {
+  g_fsup = FilterSupState{};
+  node_main<&filter_messages>(arg, kNodeFilter);
+}
+
+void vision_supervisor_main(void* arg) noexcept { node_main<&vision_messages>(arg, kNodeVision); }
+
+SupervisorStats supervisor_stats(std::uint8_t node) noexcept {
+  return node < g_nodes.size() ? g_nodes[node].stats : SupervisorStats{};
+}
+
+const fdir::SupervisorSpec& supervisor_spec(std::uint8_t node) noexcept {
+  return kSpecs[node < kSpecs.size() ? node : 0U];
+}
+
+}  // namespace trn::tasks
