@@ -52,6 +52,8 @@ void clear_tile(Tile& t, TileId id) noexcept {
   t.boot_stack = nullptr;
   t.local.clear();
   t.stats = TileStats{};
+  t.state_cycles.fill(0U);
+  t.charged = PowerState::kOff;
 }
 
 /** Contexts, timer, watchdog and interrupts go; the RAM region is emptied. */
@@ -258,7 +260,8 @@ void advance_passive(Tile& t, Cycles q_end) noexcept {
       return;
     }
     const Cycles wake = next_wake(t);
-    t.time = wake < q_end ? wake : q_end;
+    // Off, booting, stopped or without a program: the cycles go to the state the tile is in.
+    advance_to(t, t.power, wake < q_end ? wake : q_end);
   }
 }
 
@@ -267,7 +270,7 @@ void run_tile(Tile& t, Cycles q_end) noexcept {
   for (std::uint32_t n = 0; n < kMaxTileSteps; ++n) {
     if (runnable(t)) {
       if (can_skip(t, q_end)) {
-        t.time = q_end;
+        advance_to(t, PowerState::kIdle, q_end);
       } else {
         resume(t);
       }

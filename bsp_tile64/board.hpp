@@ -101,6 +101,9 @@ enum class PowerState : std::uint8_t {
   kActive,   ///< running a context
   kIdle,     ///< in wait_for_interrupt()
 };
+/** Number of PowerState values (the energy meter keeps a cycle count per state: energy.hpp). */
+inline constexpr std::size_t kPowerStateCount = 4U;
+static_assert(static_cast<std::size_t>(PowerState::kIdle) + 1U == kPowerStateCount, "one count per state");
 
 /** Power state of a tile (kOff for a bad id). [host] */
 PowerState power_state(TileId tile) noexcept;
@@ -108,13 +111,13 @@ PowerState power_state(TileId tile) noexcept;
 /** True if the tile is stopped by a hang fault or a returned context. [host] */
 bool tile_stopped(TileId tile) noexcept;
 
-/** Counters of one tile (for tests and the energy model). */
+/** Counters of one tile (for tests and reports; the energy meter is in energy.hpp). */
 struct TileStats {
   std::uint32_t boots;
   std::uint32_t resets;
   std::uint32_t watchdog_expiries;
   std::uint64_t irqs_taken;
-  Cycles active_cycles;  ///< cycles charged while kActive (not idle, not booting)
+  Cycles active_cycles;  ///< cycles charged by consume() (not idle, not booting; the meter's split: energy.hpp)
 };
 TileStats tile_stats(TileId tile) noexcept;
 

@@ -46,7 +46,24 @@ struct Tile {
   std::byte* boot_stack;
   LocalEvents<kLocalEventCapacity> local;
   TileStats stats;
+  /** Energy meter: cycles charged to each PowerState (index: the enum); they sum to time. */
+  std::array<Cycles, kPowerStateCount> state_cycles;
+  PowerState charged;  ///< energy meter: the state the tile's latest cycle was charged to
 };
+
+/**
+ * Moves the tile's clock to @p to and charges the cycles it advances to
+ * @p state for the energy meter. Every advance of a tile's time goes through
+ * here, so the per-state cycles always sum to the tile's time. The meter only
+ * observes: nothing on the board reads the counts back.
+ */
+inline void advance_to(Tile& t, PowerState state, Cycles to) noexcept {
+  if (to > t.time) {
+    t.state_cycles[static_cast<std::size_t>(state)] += to - t.time;
+    t.charged = state;
+  }
+  t.time = to;
+}
 
 enum class Command : std::uint8_t { kPowerOn, kPowerOff, kReset, kHang };
 

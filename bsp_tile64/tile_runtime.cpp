@@ -178,7 +178,8 @@ void consume(Cycles cycles) noexcept {
     const Cycles limit = wake < b.q_end ? wake : b.q_end;
     const Cycles room = limit > t->time ? limit - t->time : 0U;
     const Cycles step = remaining < room ? remaining : room;
-    t->time += step;
+    // Executing: active, even in a handler taken inside wait_for_interrupt() (the flag still says kIdle).
+    detail::advance_to(*t, PowerState::kActive, t->time + step);
     t->stats.active_cycles += step;
     remaining -= step;
   }
@@ -207,7 +208,7 @@ void wait_for_interrupt() noexcept {
       continue;
     }
     const Cycles wake = detail::next_wake(*t);
-    t->time = wake < b.q_end ? wake : b.q_end;
+    detail::advance_to(*t, PowerState::kIdle, wake < b.q_end ? wake : b.q_end);
   }
 }
 

@@ -191,23 +191,50 @@ bool read_tile_map(const std::string& path, TileMapShape& shape, std::string& er
   return true;
 }
 
+/** Power-state marks of the tile map: a point in each tile's top-left corner, with their legend entries. */
+std::string power_marks_script() {
+  struct Mark {
+    const char* state;
+    const char* style;
+    const char* title;
+  };
+  constexpr std::array<Mark, 4> kMarks = {{
+      {"active", "pt 7 ps 1.3 lc rgb '#d00000'", "power: active (executing)"},
+      {"idle", "pt 6 ps 1.3 lw 2 lc rgb '#202020'", "power: idle (waiting)"},
+      {"booting", "pt 9 ps 1.3 lc rgb '#e0a000'", "power: booting"},
+      {"off", "pt 2 ps 1.1 lw 2 lc rgb '#707070'", "power: off (switch only)"},
+  }};
+  std::string s;
+  for (const Mark& m : kMarks) {
+    s += std::string(", \\\n     '' using (column('x') - 0.34):(pmark('") + m.state + "')) with points " + m.style +
+         " notitle";
+  }
+  for (const Mark& m : kMarks) {
+    s += std::string(", \\\n     keyentry with points ") + m.style + " title '" + m.title + "'";
+  }
+  return s;
+}
+
 std::string tile_map_script(const TileMapShape& shape) {
   std::array<char, 160> buf{};
   (void)std::snprintf(buf.data(), buf.size(), "set xrange [-0.5:%u.5]\nset yrange [%u.5:-0.5]\n",
                       shape.cols > 0U ? shape.cols - 1U : 0U, shape.rows > 0U ? shape.rows - 1U : 0U);
-  std::string s = "# The tile grid: fill colour by role, mark by health, from tile_map.csv.\n"
+  std::string s = "# The tile grid: fill colour by role, mark by health, corner point by power state at the end,\n"
+                  "# label: tile, role code, health, energy over the run; from tile_map.csv.\n"
                   "# Run in this folder: gnuplot tile_map.gp\n" +
-                  terminal("980,800") +
+                  terminal("1100,860") +
                   "set output 'tile_map.png'\n"
                   "set datafile separator comma\n"
-                  "set title 'Tiles: role (fill) and health (mark)'\n"
+                  "set title 'Tiles: role (fill), health (mark), power state at the end (corner), energy (J)'\n"
                   "set size ratio -1\n" +
                   std::string(buf.data()) +
                   "unset xtics\nunset ytics\nunset border\n"
                   "set key outside right top spacing 1.4 samplen 1.5\n"
                   "mark(code) = column('health_code') == code ? column('y') : NaN\n"
+                  "pmark(state) = stringcolumn('power_state') eq state ? column('y') - 0.34 : NaN\n"
                   "health_line(d) = stringcolumn('health') eq 'ok' ? '' : \"\\n\" . stringcolumn('health')\n"
-                  "label(d) = sprintf(\"%d\\n%s\", column('tile'), stringcolumn('code')) . health_line(0)\n"
+                  "label(d) = sprintf(\"%d\\n%s\", column('tile'), stringcolumn('code')) . health_line(0) . "
+                  "sprintf(\"\\n%.2f J\", column('energy_j'))\n"
                   "plot 'tile_map.csv' using (column('x')):(column('y')):(0.47):(0.47):(column('role_rgb')) "
                   "with boxxy fs solid 0.9 border lc rgb '#404040' fc rgb variable notitle, \\\n"
                   "     '' using (column('x')):(mark(4)):(0.47):(0.47) with boxxy fs transparent solid 0.6 "
@@ -220,8 +247,10 @@ std::string tile_map_script(const TileMapShape& shape) {
                   "\\\n"
                   "     '' using (column('x')):(mark(3)) with points pt 6 ps 5 lw 3 lc rgb '#00a0c0' "
                   "title 'recovered', \\\n"
-                  "     '' using (column('x')):(column('y') - (stringcolumn('health') eq 'ok' ? 0 : 0.12)):(label(0)) "
-                  "with labels notitle";
+                  // A label's first line sits at its point: the 3- or 4-line block is raised to centre it.
+                  "     '' using (column('x')):(column('y') - (stringcolumn('health') eq 'ok' ? 0.16 : 0.24)):(label(0)) "
+                  "with labels font ',10' notitle" +
+                  power_marks_script();
   for (const std::string& role : shape.roles) {
     std::array<char, 200> k{};
     (void)std::snprintf(k.data(), k.size(),
@@ -478,6 +507,22 @@ bool summary_json(const Summary& s, std::string& json, std::string& error) {
     }
     j[key] = num(value);
   }
+  for (const auto& [name, figures] : s.objects) {
+    if (name.empty() || j.contains(name)) {
+      error = "summary.json: object '" + name + "' is empty or repeats a key";
+      return false;
+    }
+    nlohmann::ordered_json o = nlohmann::ordered_json::object();
+    for (const auto& [key, value] : figures) {
+      if (key.empty() || o.contains(key)) {
+        error = "summary.json: key '";
+        error.append(key).append("' of '").append(name).append("' is empty or repeated");
+        return false;
+      }
+      o[key] = num(value);
+    }
+    j[name] = o;
+  }
   // Invalid UTF-8 (a scenario name read from a file) is replaced, not thrown.
   json = j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
   return true;
@@ -665,17 +710,21 @@ bool write_tile_map_csv(const std::string& path, std::uint32_t cols, std::uint32
   }
   std::string text =
       "tile,x,y,role,code,health,role_rgb,health_code,faults_injected,faults_detected,faults_recovered,resets,"
-      "deadline_misses\n";
+      "deadline_misses,energy_j,power_state\n";
   for (std::size_t i = 0; i < tiles.size(); ++i) {
     const TileInfo& t = tiles[i];
     const std::array<char, 3> code = tile_role_code(t.role);
     std::string code_s = csv_safe(code.data());
     std::array<char, 160> nums{};
-    (void)std::snprintf(nums.data(), nums.size(), ",%u,%u,%u,%u,%u,%u,%u", tile_role_rgb(t.role),
+    (void)std::snprintf(nums.data(), nums.size(), ",%u,%u,%u,%u,%u,%u,%u,", tile_role_rgb(t.role),
                         tile_health_code(t.health), t.faults_injected, t.faults_detected, t.faults_recovered,
                         t.resets, t.deadline_misses);
+    std::array<char, 48> energy{};
+    char* p = energy.data();
+    put_number(p, energy.data() + energy.size(), t.energy_j, 6);
     text += std::to_string(i) + "," + std::to_string(i % cols) + "," + std::to_string(i / cols) + "," +
-            csv_safe(t.role) + "," + code_s + "," + csv_safe(t.health) + nums.data() + "\n";
+            csv_safe(t.role) + "," + code_s + "," + csv_safe(t.health) + nums.data() + energy.data() + "," +
+            csv_safe(t.power) + "\n";
   }
   return write_text_file(path, text, error);
 }

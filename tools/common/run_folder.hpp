@@ -98,6 +98,12 @@ struct Summary {
   std::string trace_hash;  ///< hex, see trace_hash_hex()
   /** Further figures, written after the fixed keys in this order; a name must not repeat a fixed key. */
   std::vector<std::pair<std::string, double>> extra;
+  /**
+   * Named groups of figures (energy_j_by_phase: phase -> J), each written after
+   * the extras as a JSON object of numbers, in this order; a group's name must
+   * not repeat a key, nor a name inside a group another of the same group.
+   */
+  std::vector<std::pair<std::string, std::vector<std::pair<std::string, double>>>> objects;
 };
 
 /** 16 lower-case hex digits. */
@@ -202,8 +208,8 @@ class EventLog {
 };
 
 /**
- * tile_map.csv: tile,x,y,role,health,role_rgb,health_code and the counters of
- * each TileInfo (the tile-map plot reads it).
+ * tile_map.csv: tile,x,y,role,code,health,role_rgb,health_code, the counters of
+ * each TileInfo, then energy_j and power_state (the tile-map plot reads it).
  */
 bool write_tile_map_csv(const std::string& path, std::uint32_t cols, std::uint32_t rows,
                         const std::vector<TileInfo>& tiles, std::string& error);

@@ -47,6 +47,18 @@ constexpr std::array<HealthDef, 5> kHealth = {{
 }};
 constexpr const char* kUnknownHealthAnsi = "35";
 
+struct PowerDef {
+  const char* name;
+  char mark;
+};
+
+constexpr std::array<PowerDef, 4> kPower = {{
+    {"active", '*'},
+    {"idle", '~'},
+    {"booting", '^'},
+    {"off", '_'},
+}};
+
 const RoleDef* find_role(std::string_view role) noexcept {
   const auto* it = std::find_if(kRoles.begin(), kRoles.end(), [role](const RoleDef& r) { return role == r.name; });
   return it == kRoles.end() ? nullptr : &*it;
@@ -163,6 +175,18 @@ void health_legend(bool ansi, Out& out) noexcept {
   lg.end();
 }
 
+void power_legend(std::span<const TileInfo> tiles, Out& out) noexcept {
+  if (std::all_of(tiles.begin(), tiles.end(), [](const TileInfo& t) { return t.power.empty(); })) {
+    return;  // no power state known: no marks, no legend
+  }
+  Legend lg(out, "power: ");
+  for (const PowerDef& p : kPower) {
+    const std::array<char, 2> mark = {p.mark, '\0'};
+    lg.entry(mark.data(), p.name);
+  }
+  lg.end();
+}
+
 void grid(std::uint32_t cols, std::uint32_t rows, std::span<const TileInfo> tiles, bool ansi, Out& out) noexcept {
   out.put("tile");
   for (std::uint32_t x = 0; x < cols; ++x) {
@@ -180,11 +204,12 @@ void grid(std::uint32_t cols, std::uint32_t rows, std::span<const TileInfo> tile
       const TileInfo& t = tiles[id];
       const std::array<char, 3> code = tile_role_code(t.role);
       const char mark = tile_health_mark(t.health);
+      const char power = tile_power_mark(t.power);
       if (ansi) {
         const HealthDef* h = find_health(t.health);
-        out.put("  \x1b[%sm%s%c\x1b[0m", h != nullptr ? h->ansi : kUnknownHealthAnsi, code.data(), mark);
+        out.put(" %c\x1b[%sm%s%c\x1b[0m", power, h != nullptr ? h->ansi : kUnknownHealthAnsi, code.data(), mark);
       } else {
-        out.put("  %s%c", code.data(), mark);
+        out.put(" %c%s%c", power, code.data(), mark);
       }
     }
     out.line_end();
@@ -206,6 +231,14 @@ std::array<char, 3> tile_role_code(std::string_view role) noexcept {
   return code;
 }
 
+char tile_power_mark(std::string_view power) noexcept {
+  if (power.empty()) {
+    return ' ';
+  }
+  const auto* it = std::find_if(kPower.begin(), kPower.end(), [power](const PowerDef& p) { return power == p.name; });
+  return it == kPower.end() ? '!' : it->mark;
+}
+
 std::uint32_t tile_role_rgb(std::string_view role) noexcept {
   const RoleDef* r = find_role(role);
   return r != nullptr ? r->rgb : kUnknownRoleRgb;
@@ -222,7 +255,7 @@ char tile_health_mark(std::string_view health) noexcept {
 }
 
 std::size_t tile_grid_bytes_bound(std::uint32_t cols, std::uint32_t rows) noexcept {
-  // A coloured cell is "  \x1b[1;31mVIX\x1b[0m" (19 bytes); the legends fit in 1 KiB
+  // A coloured cell is " *\x1b[1;31mVIX\x1b[0m" (19 bytes); the legends fit in 1 KiB
   // with the known roles, plus one entry per tile for unknown roles.
   const std::size_t tiles = static_cast<std::size_t>(cols) * rows;
   return 8U + 4U * cols + rows * (6U + 20U * cols) + 1024U + 48U * tiles;
@@ -235,6 +268,7 @@ std::size_t render_tile_grid_to(std::uint32_t cols, std::uint32_t rows, std::spa
   const std::size_t shown = std::min(tiles.size(), static_cast<std::size_t>(cols) * rows);
   role_legend(tiles.first(shown), o);
   health_legend(ansi_colors, o);
+  power_legend(tiles.first(shown), o);
   return o.finish();
 }
 

@@ -9,12 +9,15 @@
  * descent is flown in steps of kStepS emulated seconds, sampling the
  * navigation against the truth and collecting the flight event log (every
  * detection, isolation and recovery the flight code reports) into events.log;
+ * a step that crosses a phase boundary stops there first, so the board's
+ * energy meter is snapshotted at the boundary's cycle (tools/common/phase_energy.hpp);
  * then the heap is unsealed, the flight's events are joined to the injector's
  * ground truth (tools/common/fdir_join.hpp, docs/FDIR.md) and the outputs
  * written. The final error is scored against the truth at the end of the run. Host time
  * is measured here, in the front end, never in emulated behaviour.
  */
 #include "bsp_tile64/board.hpp"
+#include "bsp_tile64/energy.hpp"
 #include "bsp_tile64/fault_injector.hpp"
 #include "bsp_tile64/host/heap_guard.hpp"
 #include "bsp_tile64/trace.hpp"
@@ -24,6 +27,7 @@
 #include "tools/common/fdir_join.hpp"
 #include "tools/common/memory_report.hpp"
 #include "tools/common/mission.hpp"
+#include "tools/common/phase_energy.hpp"
 #include "tools/common/run_folder.hpp"
 #include "tools/common/scenario.hpp"
 #include "tools/common/tile_view.hpp"
@@ -172,6 +176,8 @@ std::vector<tools::TileInfo> tile_infos(const tools::Mission& m, const tools::Fl
     const bool on = ((m.powered_mask() >> t) & 1ULL) != 0ULL;
     v[t].health = health_name(on, flight.tile_health()[t]);
     v[t].faults_injected = faults[t];
+    v[t].power = bsp::power_state_name(bsp::metered_state(t));
+    v[t].energy_j = bsp::tile_energy(t).joules;
     if (on) {
       for (const k::TaskSpec& spec : trn::tasks::role_table(r)) {
         k::TaskStats ks{};
@@ -195,18 +201,56 @@ void progress(const Options& o, const FlightRecord& rec, const tools::FlightEven
   std::fflush(stdout);
 }
 
+/** The phases energy is reported by: the scenario's (the parser makes the first start at 0 s). */
+std::vector<tools::PhaseWindow> phase_windows(const tools::Scenario& scenario) {
+  std::vector<tools::PhaseWindow> w;
+  for (const tools::MissionPhase& p : scenario.phases) {
+    w.push_back({p.name, p.start_s});
+  }
+  return w;
+}
+
+/** What the view's chip line compares with: the meter at the previous view. */
+struct ViewMeter {
+  bsp::Cycles cycle = 0U;
+  double joules = 0.0;
+  bsp::StateCycles sum{0U, 0U, 0U, 0U};  ///< over all tiles
+};
+
+/** The view's chip line: tiles per metered state now; since the last view the chip's mean power, the active share. */
+void print_chip_line(ViewMeter& last) {
+  std::array<std::uint32_t, bsp::kPowerStateCount> n{};
+  bsp::StateCycles sum{0U, 0U, 0U, 0U};
+  for (bsp::TileId t = 0; t < bsp::tile_count(); ++t) {
+    ++n[static_cast<std::size_t>(bsp::metered_state(t))];
+    const bsp::StateCycles c = bsp::tile_energy(t).cycles;
+    sum = bsp::StateCycles{sum.off + c.off, sum.booting + c.booting, sum.idle + c.idle, sum.active + c.active};
+  }
+  const auto count = [&n](bsp::PowerState s) { return n[static_cast<std::size_t>(s)]; };
+  const double j = bsp::chip_energy_j();
+  const bsp::Cycles now = bsp::board_time();
+  const double dt_s = static_cast<double>(now - last.cycle) / static_cast<double>(bsp::kTile64.clock_hz);
+  const auto on = static_cast<double>((sum.total() - sum.off) - (last.sum.total() - last.sum.off));
+  const auto active = static_cast<double>(sum.active - last.sum.active);
+  std::printf("chip: %u active, %u idle, %u booting, %u off; last %.1f s: %.2f W, %.1f %% of on-tile cycles active; "
+              "%.1f J so far\n",
+              count(bsp::PowerState::kActive), count(bsp::PowerState::kIdle), count(bsp::PowerState::kBooting),
+              count(bsp::PowerState::kOff), dt_s, dt_s > 0.0 ? (j - last.joules) / dt_s : 0.0,
+              on > 0.0 ? 100.0 * active / on : 0.0, j);
+  last = ViewMeter{now, j, sum};
+}
+
 void fly(const Options& o, const tools::Mission& m, double duration_s, tools::NavCsv& csv, tools::EventLog& log,
-         tools::FlightEventCollector& flight, FlightRecord& rec, std::vector<tools::TileInfo>& infos) {
+         tools::FlightEventCollector& flight, FlightRecord& rec, std::vector<tools::TileInfo>& infos,
+         tools::PhaseEnergy& energy) {
   const double clock_hz = static_cast<double>(bsp::kTile64.clock_hz);
   const auto steps = static_cast<std::uint32_t>(std::llround(duration_s / kStepS));
   const bool tty = ::isatty(::fileno(stdout)) != 0;
   std::array<char, 8192> grid{};
   const std::uint32_t per_second = static_cast<std::uint32_t>(std::llround(1.0 / kStepS));
+  ViewMeter view_meter;
   for (std::uint32_t s = 1; s <= steps; ++s) {
-    const auto target = static_cast<bsp::Cycles>(std::llround(s * kStepS * clock_hz));
-    if (target > bsp::board_time()) {
-      (void)bsp::run_for(target - bsp::board_time());
-    }
+    (void)tools::run_with_phases(static_cast<bsp::Cycles>(std::llround(s * kStepS * clock_hz)), energy);
     flight.poll(clock_hz, log);
     const tools::NavSample n = m.nav();
     if (!n.valid || (rec.last.valid && n.t_s == rec.last.t_s)) {
@@ -243,10 +287,12 @@ void fly(const Options& o, const tools::Mission& m, double duration_s, tools::Na
         const bool on = ((m.powered_mask() >> t) & 1ULL) != 0ULL;
         infos[t].health.assign(health_name(on, flight.tile_health()[t]));
         infos[t].faults_injected = faults[t];
+        infos[t].power.assign(bsp::power_state_name(bsp::metered_state(t)));
       }
       const std::size_t len =
           tools::render_tile_grid_to(bsp::kTile64.cols, bsp::kTile64.rows, infos, tty, grid);
       std::printf("%s%.*s", tty ? "\x1b[H\x1b[2J" : "\n", static_cast<int>(len), grid.data());
+      print_chip_line(view_meter);
       progress(o, rec, flight, false);
     } else if (tty || s % (5U * per_second) == 0U || s == steps) {
       progress(o, rec, flight, tty);
@@ -302,7 +348,7 @@ void add_supervisor_keys(tools::Summary& s, const trn::tasks::VisionCoordStats& 
 
 tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const tools::FlightEventCollector& flight,
                             const tools::FaultAccount& faults, const FlightRecord& rec, double host_s,
-                            std::uint64_t allocs) {
+                            std::uint64_t allocs, const tools::PhaseEnergy& energy) {
   tools::Summary s;
   s.scenario = in.scenario.name;
   s.fault_plan = in.plan.has_value() ? in.plan->name : "";
@@ -409,6 +455,12 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
                                              static_cast<double>(bsp::kTile64.clock_hz));
   s.extra.emplace_back("final_position_3sigma_m", rec.last.sigma3_p.norm());
   add_supervisor_keys(s, c);
+  // Energy from the board's meter: the chip, per phase, per role of the tile map, per power state.
+  std::vector<std::string> roles;
+  for (bsp::TileId t = 0; t < bsp::kTile64.tiles(); ++t) {
+    roles.emplace_back(trn::tasks::role_name(trn::tasks::kTileRoles[t]));
+  }
+  tools::add_energy_summary(energy, roles, in.duration_s, s);
   return s;
 }
 
@@ -435,6 +487,14 @@ void print_summary(const tools::Summary& s, const std::string& dir) {
   std::printf("  faults                 %llu injected, %llu detected, %llu recovered\n",
               static_cast<unsigned long long>(s.faults_injected), static_cast<unsigned long long>(s.faults_detected),
               static_cast<unsigned long long>(s.faults_recovered));
+  double energy_j = NAN;
+  double mean_power_w = NAN;
+  for (const auto& [key, value] : s.extra) {
+    energy_j = key == "energy_j" ? value : energy_j;
+    mean_power_w = key == "mean_power_w" ? value : mean_power_w;
+  }
+  std::printf("  energy                 %.1f J over the flight, mean power %.2f W (model: docs/BOARD.md)\n", energy_j,
+              mean_power_w);
   std::printf("  trace hash             %s\n", s.trace_hash.c_str());
   std::printf("outputs in %s/ (summary.json, nav.csv, events.log, plots)\n", dir.c_str());
 }
@@ -509,16 +569,22 @@ int run(int argc, char** argv) {
               in.plan.has_value() ? (", fault plan " + in.plan->name).c_str() : "");
   std::fflush(stdout);
   std::vector<tools::TileInfo> infos = tile_infos(mission, flight);
+  tools::PhaseEnergy energy;
+  if (!energy.init(phase_windows(in.scenario), bsp::power_model(), bsp::board_config().quantum_cycles,
+                   bsp::kTile64.tiles(), error)) {
+    return bad_input(error);
+  }
   const auto t0 = std::chrono::steady_clock::now();
   bsp::heap::seal(bsp::heap::SealMode::kFatal);
-  fly(o, mission, in.duration_s, csv, log, flight, rec, infos);
+  fly(o, mission, in.duration_s, csv, log, flight, rec, infos, energy);
+  energy.finish(bsp::board_time());
   const std::uint64_t allocs = bsp::heap::allocs_after_seal();
   bsp::heap::unseal();
   const double host_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double clock_hz = static_cast<double>(bsp::kTile64.clock_hz);
   const tools::FaultAccount faults = tools::join_faults(bsp::fault_log(), flight.events(), clock_hz);
   tools::log_fault_outcomes(bsp::fault_log(), faults, clock_hz, log);
-  const tools::Summary s = make_summary(in, mission, flight, faults, rec, host_s, allocs);
+  const tools::Summary s = make_summary(in, mission, flight, faults, rec, host_s, allocs, energy);
   if (!csv.close(error) || !write_outputs(in, s, log, tile_infos(mission, flight), error)) {
     std::fprintf(stderr, "trn_mission: cannot write the run folder: %s\n", error.c_str());
     return 1;

@@ -292,6 +292,29 @@ TEST(Summary, ExtraKeysMayNotRepeatAKey) {
   EXPECT_FALSE(fs::exists(tmp / "summary.json")) << "nothing half-written";
 }
 
+TEST(Summary, ObjectsAreWrittenAsNestedObjectsOfNumbers) {
+  tools::Summary s = sample_summary();
+  s.objects.push_back({"energy_j_by_phase", {{"descent", 12.5}, {"landing", std::numeric_limits<double>::quiet_NaN()}}});
+  s.objects.push_back({"empty", {}});
+  std::string json;
+  std::string error;
+  ASSERT_TRUE(tools::summary_json(s, json, error)) << error;
+  const nlohmann::ordered_json j = nlohmann::ordered_json::parse(json);
+  ASSERT_TRUE(j["energy_j_by_phase"].is_object());
+  EXPECT_DOUBLE_EQ(j["energy_j_by_phase"]["descent"].get<double>(), 12.5);
+  EXPECT_TRUE(j["energy_j_by_phase"]["landing"].is_null());
+  EXPECT_EQ(j["energy_j_by_phase"].begin().key(), "descent") << "in the given order";
+  EXPECT_TRUE(j["empty"].is_object());
+  EXPECT_TRUE(j["empty"].empty());
+  EXPECT_EQ((--j.end()).key(), "empty") << "after the extras";
+  s.objects.push_back({"frames", {}});
+  EXPECT_FALSE(tools::summary_json(s, json, error));
+  EXPECT_NE(error.find("object 'frames' is empty or repeats a key"), std::string::npos) << error;
+  s.objects.back() = {"by_role", {{"vision", 1.0}, {"vision", 2.0}}};
+  EXPECT_FALSE(tools::summary_json(s, json, error));
+  EXPECT_NE(error.find("key 'vision' of 'by_role' is empty or repeated"), std::string::npos) << error;
+}
+
 TEST(Summary, UnwritablePathIsAnError) {
   std::string error;
   EXPECT_FALSE(tools::write_summary_json("/nonexistent-folder/summary.json", sample_summary(), error));
@@ -448,10 +471,15 @@ std::vector<tools::TileInfo> default_tiles() {
   t[24].faults_recovered = 2U;
   t[63].role = "spare";
   t[63].health = "off";
+  for (std::size_t i = 0; i < 64U; ++i) {
+    t[i].power = i == 63U ? "off" : "idle";
+    t[i].energy_j = 0.125 * static_cast<double>(i);
+  }
+  t[44].power = "active";
   return t;
 }
 
-TEST(TileMapCsv, OneLinePerTileWithRoleColourAndHealth) {
+TEST(TileMapCsv, OneLinePerTileWithRoleColourHealthEnergyAndPowerState) {
   TempDir tmp;
   std::string error;
   ASSERT_TRUE(tools::write_tile_map_csv(tmp / "tile_map.csv", 8U, 8U, default_tiles(), error)) << error;
@@ -459,9 +487,16 @@ TEST(TileMapCsv, OneLinePerTileWithRoleColourAndHealth) {
   ASSERT_EQ(lines.size(), 65U);
   EXPECT_EQ(lines[0],
             "tile,x,y,role,code,health,role_rgb,health_code,faults_injected,faults_detected,faults_recovered,resets,"
-            "deadline_misses");
-  EXPECT_EQ(lines[45], "44,4,5,vision,VI,failed," + std::to_string(tools::tile_role_rgb("vision")) + ",2,1,0,0,0,0");
-  EXPECT_EQ(lines[25], "24,0,3,vision,VI,recovered," + std::to_string(tools::tile_role_rgb("vision")) + ",3,2,2,2,0,0");
+            "deadline_misses,energy_j,power_state");
+  EXPECT_EQ(lines[45], "44,4,5,vision,VI,failed," + std::to_string(tools::tile_role_rgb("vision")) +
+                           ",2,1,0,0,0,0,5.500000,active");
+  EXPECT_EQ(lines[25], "24,0,3,vision,VI,recovered," + std::to_string(tools::tile_role_rgb("vision")) +
+                           ",3,2,2,2,0,0,3.000000,idle");
+  EXPECT_TRUE(lines[64].ends_with(",0,0,0,0,0,7.875000,off")) << lines[64];
+  const std::vector<tools::TileInfo> unknown(1U);
+  ASSERT_TRUE(tools::write_tile_map_csv(tmp / "u.csv", 8U, 8U, unknown, error)) << error;
+  const std::string row = lines_of(read_file(tmp / "u.csv")).at(1);
+  EXPECT_TRUE(row.ends_with(",0,0,0,0,0,0.000000,-")) << "a power state not known is '-': " << row;
   EXPECT_FALSE(tools::write_tile_map_csv(tmp / "x.csv", 4U, 4U, default_tiles(), error));
   EXPECT_NE(error.find("64 tiles do not fit a 4x4 grid"), std::string::npos) << error;
 }
@@ -501,6 +536,10 @@ TEST(Plots, GnuplotMakesBothPngs) {
   EXPECT_TRUE(is_png(tmp / "position_error.png"));
   EXPECT_TRUE(is_png(tmp / "tile_map.png"));
   EXPECT_NE(read_file(tmp / "tile_map.gp").find("title 'vision'"), std::string::npos) << "legend of the roles present";
+  for (const char* power : {"power: active", "power: idle", "power: booting", "power: off"}) {
+    EXPECT_NE(read_file(tmp / "tile_map.gp").find(power), std::string::npos) << "legend of the power marks: " << power;
+  }
+  EXPECT_NE(read_file(tmp / "tile_map.gp").find("column('energy_j')"), std::string::npos) << "energy in the labels";
 }
 
 /** Sets PATH for one scope. */

@@ -1,6 +1,6 @@
 /**
  * @file tile_view_test.cpp
- * @brief The terminal tile grid: layout, role codes, health marks, legend, colours, and no allocation when redrawn.
+ * @brief The terminal tile grid: layout, role codes, health and power marks, legend, colours, and no allocation when redrawn.
  */
 #include "tools/common/tile_view.hpp"
 
@@ -82,6 +82,33 @@ TEST(TileView, EightByEightGridWithLegend) {
   for (const std::string& l : lines) {
     EXPECT_LE(l.size(), 80U) << l;
   }
+}
+
+TEST(TileView, PowerMarksPrecedeTheRoleCodeWithTheirLegend) {
+  EXPECT_EQ(tools::tile_power_mark("active"), '*');
+  EXPECT_EQ(tools::tile_power_mark("idle"), '~');
+  EXPECT_EQ(tools::tile_power_mark("booting"), '^');
+  EXPECT_EQ(tools::tile_power_mark("off"), '_');
+  EXPECT_EQ(tools::tile_power_mark(""), ' ');
+  EXPECT_EQ(tools::tile_power_mark("hibernating"), '!');
+  std::vector<tools::TileInfo> t = default_tiles();
+  for (tools::TileInfo& i : t) {
+    i.power = "idle";
+  }
+  t[0].power = "active";
+  t[2].power = "off";
+  t[9].power = "booting";
+  const std::string s = tools::render_tile_grid(8U, 8U, t, false);
+  const std::vector<std::string> lines = lines_of(s);
+  ASSERT_GE(lines.size(), 12U) << s;
+  EXPECT_EQ(lines[1], "   0 *TS. ~VC. _FS. ~--. ~--. ~--. ~--. ~--.");
+  EXPECT_EQ(lines[2], "   8 ~--. ^IO. ~--. ~--. ~--. ~--. ~--. ~--.");
+  EXPECT_NE(s.find("power:   * active  ~ idle  ^ booting  _ off"), std::string::npos) << s;
+  EXPECT_EQ(tools::render_tile_grid(8U, 8U, default_tiles(), false).find("power:"), std::string::npos)
+      << "no power state known: no power legend";
+  const std::string c = tools::render_tile_grid(8U, 8U, t, true);
+  EXPECT_NE(c.find(" *\x1b[32mTS.\x1b[0m"), std::string::npos) << "the mark stays outside the health colour";
+  EXPECT_EQ(lines_of(c).size(), lines.size());
 }
 
 TEST(TileView, ColoursFollowHealth) {

@@ -12,7 +12,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -62,6 +64,7 @@ TEST_F(TrnMissionBinary, SameInputsGiveTheSameTraceHashAndAFullRunFolder) {
   const nlohmann::json a = read_json(dir_ / "a" / "summary.json");
   const nlohmann::json b = read_json(dir_ / "b" / "summary.json");
   EXPECT_EQ(a["trace_hash"], b["trace_hash"]);
+  EXPECT_EQ(a["energy_j"], b["energy_j"]) << "the energy meter is as deterministic as the run";
   EXPECT_EQ(a["final_position_error_m"], b["final_position_error_m"]);
   EXPECT_EQ(a["heap_allocs_after_init"], 0);
   EXPECT_EQ(a["deadline_misses"], 0);
@@ -74,6 +77,62 @@ TEST_F(TrnMissionBinary, SameInputsGiveTheSameTraceHashAndAFullRunFolder) {
   // Another seed flies another run.
   ASSERT_EQ(run(binary() + " --duration 3 --quiet --seed 5 --out " + (dir_ / "c").string()), 0);
   EXPECT_NE(read_json(dir_ / "c" / "summary.json")["trace_hash"], a["trace_hash"]);
+}
+
+/** The CSV's lines split at commas (our own format: no quoting). */
+std::vector<std::vector<std::string>> csv_rows(const fs::path& p) {
+  std::ifstream in(p);
+  std::vector<std::vector<std::string>> rows;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) {
+      cells.push_back(cell);
+    }
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+// TOOLS-EN-07: summary.json carries the chip's energy, its mean power and the energy by phase, role and state,
+// which add up to it; tile_map.csv carries each tile's energy and power state.
+TEST_F(TrnMissionBinary, SummaryAndTileMapCarryTheEnergy) {
+  ASSERT_EQ(run(binary() + " --duration 2 --quiet --seed 3 --out " + (dir_ / "e").string()), 0);
+  const nlohmann::json s = read_json(dir_ / "e" / "summary.json");
+  const double total = s["energy_j"].get<double>();
+  // Between every tile off (its switch only, 10 mW) and every tile active (202.5 mW), for 2 s.
+  EXPECT_GT(total, 64 * 0.010 * 2.0);
+  EXPECT_LT(total, 64 * 0.2025 * 2.0);
+  EXPECT_DOUBLE_EQ(s["mean_power_w"].get<double>(), total / s["emulated_s"].get<double>());
+  for (const char* group : {"energy_j_by_phase", "energy_j_by_role", "energy_j_by_state"}) {
+    ASSERT_TRUE(s[group].is_object()) << group;
+    double sum = 0.0;
+    for (const auto& [name, j] : s[group].items()) {
+      sum += j.get<double>();
+    }
+    EXPECT_NEAR(sum, total, total * 1e-12) << group << " adds up to energy_j";
+  }
+  EXPECT_EQ(s["energy_j_by_phase"].size(), 1U);
+  EXPECT_TRUE(s["energy_j_by_phase"].contains("descent")) << "one phase until the scenario has phases";
+  for (const char* role : {"trn_supervisor", "vision_coordinator", "io", "filter", "filter_replica", "vision", "spare"}) {
+    EXPECT_GT(s["energy_j_by_role"].value(role, 0.0), 0.0) << role;
+  }
+  const std::vector<std::vector<std::string>> rows = csv_rows(dir_ / "e" / "tile_map.csv");
+  ASSERT_EQ(rows.size(), 65U);
+  ASSERT_GE(rows[0].size(), 2U);
+  EXPECT_EQ(rows[0][rows[0].size() - 2U], "energy_j");
+  EXPECT_EQ(rows[0].back(), "power_state");
+  double csv_sum = 0.0;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    ASSERT_EQ(rows[i].size(), rows[0].size()) << i;
+    csv_sum += std::stod(rows[i][rows[0].size() - 2U]);
+    const std::string& power = rows[i].back();
+    EXPECT_TRUE(power == "off" || power == "booting" || power == "idle" || power == "active") << power;
+    if (rows[i][3] == "spare") {
+      EXPECT_EQ(power, "off") << "tile " << rows[i][0] << ": spares stay off";
+    }
+  }
+  EXPECT_NEAR(csv_sum, total, 64 * 1e-6) << "the column rounds each tile to 1 uJ";
 }
 
 TEST_F(TrnMissionBinary, BadInputsExit2AndWriteNothing) {
