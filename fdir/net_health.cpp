@@ -86,6 +86,8 @@ struct State {
   udn::FaultMap map;
   std::uint64_t lost;          ///< plan transits reported lost (bit per plan index)
   std::array<k::Ticks, kMaxTransits> lost_at;  ///< when each transit was last reported lost (0: never)
+  std::uint64_t cfg_not_voted;  ///< the configuration's tiles off by design
+  std::uint64_t parked;         ///< tiles the power policy switched off
   k::Ticks transit_change;     ///< when the last transit report arrived
   std::uint64_t core_told;     ///< tiles already reported kCoreSuspect
   std::array<k::Ticks, udn::kRouteMaxTiles> suspected_at;  ///< first neighbour report of each tile (0: none)
@@ -180,6 +182,15 @@ void judge_transits(State& s, const NetHealthConfig& cfg, bsp::TileId self) noex
   if (cfg.transits.count == 0U || now - s.transit_change < cfg.settle_ticks) {
     return;
   }
+  // Transits to or from a parked tile were lost because it is off, not because of a switch.
+  std::uint64_t off_ends = 0U;
+  for (std::uint32_t i = 0; i < cfg.transits.count && i < kMaxTransits; ++i) {
+    const Transit& x = cfg.transits.t[i];
+    const bool off = (x.prober < 64U && ((s.parked >> x.prober) & 1ULL) != 0ULL) ||
+                     (x.target < 64U && ((s.parked >> x.target) & 1ULL) != 0ULL);
+    off_ends |= off ? (std::uint64_t{1} << i) : 0U;
+  }
+  s.lost &= ~off_ends;
   if (s.lost != 0U) {
     const bsp::TileId x = transit_verdict(cfg.transits, s.lost, cfg.transit_subjects, s.votes.failed);
     if (x != bsp::kNoTile && udn::fault_map_fail_tile(s.map, x) == udn::RouteError::kOk) {
@@ -229,6 +240,18 @@ void publish(State& s) noexcept {
 
 }  // namespace
 
+void net_health_set_parked(std::uint64_t parked) noexcept {
+  const bsp::TileId self = bsp::current_tile();
+  State* s = self < bsp::kMaxTiles ? g_state[self] : nullptr;
+  if (s == nullptr) {
+    return;
+  }
+  s->parked = parked;
+  s->votes.not_voted = s->cfg_not_voted | parked;
+  s->targets &= ~parked;
+  s->to_send &= ~parked;
+}
+
 void net_health_task_main(void* arg) noexcept {
   const auto* cfg = static_cast<const NetHealthConfig*>(arg);
   const bsp::TileId self = bsp::current_tile();
@@ -243,6 +266,7 @@ void net_health_task_main(void* arg) noexcept {
   }
   ::new (s) State{};
   s->votes.not_voted = cfg->not_voted;
+  s->cfg_not_voted = cfg->not_voted;
   s->votes.votes_to_fail = cfg->votes_to_fail;
   s->map = udn::endpoint_fault_map();
   s->votes.failed = s->map.failed_tiles;

@@ -50,6 +50,14 @@ struct NetHealthConfig {
 /** Health task entry (arg: const NetHealthConfig*). */
 void net_health_task_main(void* arg) noexcept;
 
+/**
+ * The tiles the power policy switched off (the tile-health supervisor, on the
+ * same tile, says so): off by design like spares, their neighbours' reports
+ * are not votes and transits to or from them tell nothing; no map is sent to
+ * them (a woken tile is sent the current one at its boot report). [task, the health tile]
+ */
+void net_health_set_parked(std::uint64_t parked) noexcept;
+
 /** What the health tile has decided so far. [host: displays and tests] */
 struct NetHealthView {
   std::uint64_t failed_switches = 0U;

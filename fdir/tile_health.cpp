@@ -9,6 +9,7 @@
 #include "bsp_tile64/udn_driver.hpp"
 #include "fdir/event_log.hpp"
 #include "fdir/health_table.hpp"
+#include "fdir/net_health.hpp"
 #include "kernel/kernel.hpp"
 #include "udn/crc32c.hpp"
 #include "udn/endpoint.hpp"
@@ -199,6 +200,14 @@ struct State {
   std::array<k::Ticks, bsp::kMaxTiles> reset_at{};
   std::uint64_t booted = 0U;  ///< tiles that reported a boot at least once
   TileHealthView view{};
+  // Power policy: tiles parked (off by design) and woken.
+  std::uint64_t off_due = 0U;      ///< parked, still to be switched off
+  std::uint64_t waking = 0U;       ///< switched on again, boot report awaited
+  std::uint64_t park_to_tell = 0U; ///< tiles still to be sent the parked set
+  std::uint32_t park_serial = 0U;
+  std::array<k::Ticks, bsp::kMaxTiles> off_at{};
+  std::array<bsp::TileId, bsp::kMaxTiles> park_by{};      ///< who asked (the answer goes there)
+  std::array<std::uint32_t, bsp::kMaxTiles> park_chan{};  ///< on this channel
 };
 
 std::array<State*, bsp::kMaxTiles> g_state{};
@@ -362,6 +371,16 @@ void tell_moves(State& s) noexcept {
       }
     }
   }
+  if (s.park_to_tell != 0ULL) {
+    const std::array<std::uint32_t, udn::kParkedWords> w{udn::kMsgParked, static_cast<std::uint32_t>(s.view.parked),
+                                                        static_cast<std::uint32_t>(s.view.parked >> 32U), s.park_serial};
+    for (bsp::TileId t = 0; t < bsp::kMaxTiles; ++t) {
+      if ((s.park_to_tell & bit(t)) != 0ULL &&
+          ((s.watched & bit(t)) == 0ULL || udn::endpoint_send(t, udn::kFtChanMap, w, 0U) == udn::FtError::kOk)) {
+        s.park_to_tell &= ~bit(t);
+      }
+    }
+  }
   const udn::RoleDirectory dir = udn::endpoint_roles();
   for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
     if (s.to_tell[slot] == 0ULL) {
@@ -377,6 +396,74 @@ void tell_moves(State& s) noexcept {
       if ((s.watched & bit(t)) == 0ULL || udn::endpoint_send(t, udn::kFtChanMap, w, 0U) == udn::FtError::kOk) {
         s.to_tell[slot] &= ~bit(t);
       }
+    }
+  }
+}
+
+/** The parked set changed: this tile's endpoint and network-health task now, every watched tile by message. */
+void parked_changed(State& s) noexcept {
+  ++s.park_serial;
+  (void)udn::endpoint_set_parked(s.view.parked, s.park_serial);
+  net_health_set_parked(s.view.parked);
+  s.park_to_tell = s.watched;
+}
+
+void answer_park(const State& s, bsp::TileId t, std::uint32_t off) noexcept {
+  const std::array<std::uint32_t, kParkDoneWords> w{kMsgParkDone, t, off};
+  (void)udn::endpoint_send(s.park_by[t], s.park_chan[t], w, 0U);  // lost, the asker asks again
+}
+
+/** A park or wake request of the power policy. */
+void on_park(State& s, const udn::FtMessage& m, bsp::TileId self) noexcept {
+  const auto t = static_cast<bsp::TileId>(m.data[2]);
+  if (t >= bsp::kMaxTiles || t == self || m.data[4] >= udn::kFtAllChannels) {
+    return;
+  }
+  s.park_by[t] = m.source;
+  s.park_chan[t] = m.data[4];
+  const bool parked = (s.view.parked & bit(t)) != 0ULL;
+  if (m.data[3] != 0U) {
+    const bool busy = ((s.view.pending | s.view.retired | s.waking) & bit(t)) != 0ULL;
+    if (parked && (s.off_due & bit(t)) == 0ULL) {
+      answer_park(s, t, 1U);  // asked again: the answer was lost
+    }
+    if (parked || busy || (s.watched & bit(t)) == 0ULL) {
+      return;  // already parked, being reset or woken, or not ours
+    }
+    s.watched &= ~bit(t);
+    s.view.parked |= bit(t);
+    s.off_due |= bit(t);
+    s.off_at[t] = k::now_ticks() + kParkOffTicks;
+    ++s.view.parks;
+    report(EventId::kTileParked, t, m.source);
+    parked_changed(s);
+  } else if (!parked && (s.watched & bit(t)) != 0ULL && (s.waking & bit(t)) == 0ULL) {
+    answer_park(s, t, 0U);  // asked again: the answer was lost
+  } else if (parked) {
+    s.view.parked &= ~bit(t);
+    ++s.view.wakes;
+    report(EventId::kTileWoken, t, m.source);
+    if ((s.off_due & bit(t)) != 0ULL) {
+      s.off_due &= ~bit(t);  // still on: watched again at once
+      s.watched |= bit(t);
+      parked_changed(s);
+      answer_park(s, t, 0U);
+    } else if (bsp::power_on(t) == bsp::BoardError::kOk) {
+      s.waking |= bit(t);  // answered at its boot report
+      s.view.pending |= bit(t);  // a boot report is awaited: lost past the boot timeout like a reset tile
+      s.reset_at[t] = k::now_ticks();
+    }
+  }
+}
+
+/** Parked tiles whose notice had time to arrive are switched off. */
+void switch_off_parked(State& s) noexcept {
+  const k::Ticks now = k::now_ticks();
+  for (bsp::TileId t = 0; t < bsp::kMaxTiles && s.off_due != 0ULL; ++t) {
+    if ((s.off_due & bit(t)) != 0ULL && now >= s.off_at[t]) {
+      s.off_due &= ~bit(t);
+      (void)bsp::power_off(t);
+      answer_park(s, t, 1U);
     }
   }
 }
@@ -522,6 +609,15 @@ void on_booted(State& s, bsp::TileId t, std::uint32_t cause) noexcept {
       s.to_tell[slot] |= bit(t);
     }
   }
+  if ((s.waking & bit(t)) != 0ULL) {
+    s.waking &= ~bit(t);  // a parked tile woken by the power policy: watched again, no crash
+    s.view.pending &= ~bit(t);
+    s.watched |= bit(t);
+    s.booted |= bit(t);
+    parked_changed(s);
+    answer_park(s, t, 0U);
+    return;
+  }
   if (s.arriving[t] != kNoSlot) {
     ++s.view.restored;
     report(EventId::kRoleRestored, s.arriving[t], s.arriving_from[t], t, ticks_since(s.moved_at[t]));
@@ -547,6 +643,8 @@ void check_timeouts(State& s, const TileHealthConfig& cfg) noexcept {
   for (bsp::TileId t = 0; t < bsp::kMaxTiles; ++t) {
     if ((s.view.pending & bit(t)) != 0ULL && now - s.reset_at[t] > cfg.boot_timeout_ticks) {
       s.view.pending &= ~bit(t);
+      s.watched |= s.waking & bit(t);  // a woken tile that never booted is given up like a reset one
+      s.waking &= ~bit(t);
       ++s.view.lost;
       report(EventId::kTileLost, t, 0U, ticks_since(s.reset_at[t]));
       retire(s, cfg, t);
@@ -584,6 +682,8 @@ void take_reports(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexc
       take_result(s, cfg, m, self);
     } else if (m.data_words == kResultsBadWords && m.data[0] == kMsgResultsBad) {
       on_results_bad(s, m);
+    } else if (m.data_words == kParkWords && m.data[0] == kMsgPark) {
+      on_park(s, m, self);
     }
   }
 }
@@ -686,6 +786,7 @@ void tile_health_task_main(void* arg) noexcept {
     take_expiries(*s, *cfg, self);
     take_reports(*s, *cfg, self);
     check_timeouts(*s, *cfg);
+    switch_off_parked(*s);
     tell_moves(*s);
     run_self_tests(*s, *cfg, self);
     k::checkin();

@@ -102,6 +102,22 @@ inline constexpr std::uint32_t kMsgResultsBad = 0x52424144U;  // "RBAD"
 inline constexpr std::uint32_t kResultsBadWords = 6U;
 inline constexpr std::uint32_t kResultsReset = 1U;
 inline constexpr std::uint32_t kResultsReplace = 2U;
+/**
+ * Power policy (-> the tile-health supervisor, kFtChanHealth): [0] kMsgPark
+ * [1] the asking tile [2] the tile [3] 1 switch it off (park), 0 switch it on
+ * (wake) [4] the channel of the answer. A parked tile is not watched and is
+ * off by design for every endpoint and the network-health task (its switch
+ * still routes); it is switched off kParkOffTicks after the others are told.
+ * A woken tile is watched again from its boot report.
+ */
+inline constexpr std::uint32_t kMsgPark = 0x50524B52U;  // "PRKR"
+inline constexpr std::uint32_t kParkWords = 5U;
+/** The answer: [0] kMsgParkDone [1] tile [2] 1 off, 0 booted and watched again. */
+inline constexpr std::uint32_t kMsgParkDone = 0x50524B44U;  // "PRKD"
+inline constexpr std::uint32_t kParkDoneWords = 3U;
+/** Ticks between telling the tiles of a park and switching the tile off (the notices arrive first). */
+inline constexpr std::uint32_t kParkOffTicks = 20U;
+
 /** The supervisor's answer to a replacement (-> the coordinator's channel): [0] kMsgReplaced [1] old tile [2] spare (kNoTile: none). */
 inline constexpr std::uint32_t kMsgReplaced = 0x52504C44U;  // "RPLD"
 inline constexpr std::uint32_t kReplacedWords = 3U;
@@ -189,6 +205,9 @@ struct TileHealthView {
   std::uint32_t self_tests_late = 0U; ///< rounds closed at their wait without all three answers
   std::uint32_t mismatches = 0U; ///< tiles outvoted
   std::uint64_t spares = 0U;     ///< spares still free
+  std::uint64_t parked = 0U;     ///< tiles the power policy switched off (or is about to)
+  std::uint32_t parks = 0U;      ///< tiles parked
+  std::uint32_t wakes = 0U;      ///< parked tiles woken
 };
 
 /** Carves the boot assignments of the spares in DDR, all empty (after bsp::board_init). [host] @return false when full. */

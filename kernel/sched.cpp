@@ -462,6 +462,26 @@ Status wait_period() noexcept {
   return Status::kOk;
 }
 
+Status align_period(std::uint32_t phase) noexcept {
+  if (!detail::can_block()) {
+    return Status::kBadState;
+  }
+  const bool m = bsp::mask_irqs(true);
+  KernelState& ks = *detail::current_kernel();
+  Tcb& t = ks.tcbs[ks.current];
+  const std::uint32_t period = t.spec->period_ticks;
+  const bsp::Cycles tick = bsp::tick_cycles();
+  if (period == 0U || phase >= period || tick == 0U) {
+    (void)bsp::mask_irqs(m);
+    return Status::kBadState;
+  }
+  const auto now = static_cast<std::uint32_t>((bsp::now() / tick) % period);
+  const std::uint32_t ahead = (phase + period - now) % period;
+  t.next_release = ks.ticks + (ahead == 0U ? period : ahead);
+  (void)bsp::mask_irqs(m);
+  return Status::kOk;
+}
+
 void checkin() noexcept {
   KernelState* ks = detail::current_kernel();
   if (ks == nullptr || !detail::can_block()) {

@@ -74,6 +74,16 @@ void sleep_until(Ticks tick) noexcept;
 /** Ends the current job of a periodic task and blocks until its next release. [task] */
 Status wait_period() noexcept;
 
+/**
+ * Moves the running periodic task's next release to the first tick at which
+ * the board's time in ticks (bsp::now(), not the tile's ticks since its boot)
+ * is @p phase modulo its period: a task started late (its tile switched on or
+ * reset in flight) is then released together with a peer whose releases fall
+ * at that phase. Call before wait_period(). [task]
+ * @return kBadState for a task that is not periodic or a phase not below its period.
+ */
+Status align_period(std::uint32_t phase) noexcept;
+
 /** Identifier of the running task. [task] */
 TaskId self() noexcept;
 

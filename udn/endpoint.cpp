@@ -43,6 +43,8 @@ struct Endpoint {
   std::array<TransitProbe, kMaxTransitTargets> transit;
   std::uint32_t transit_count;
   RoleDirectory roles;  ///< the tile's copy of the role directory
+  std::uint64_t parked;         ///< tiles the power policy switched off (not probed, no transit to them)
+  std::uint32_t parked_serial;  ///< serial of that set
 };
 
 /** Per-tile pointer to the carve (a tile's base register); reset with the tile by its service start. */
@@ -109,7 +111,7 @@ bool link_failed(const FaultMap& map, bsp::TileId t, std::size_t dir) noexcept {
 
 /** Stops probing neighbours that are off by design, failed, or behind a failed link (nothing answers). */
 void prune_probe(Endpoint& ep) noexcept {
-  const std::uint64_t skip = ep.cfg->not_probed | ep.map.failed_tiles;
+  const std::uint64_t skip = ep.cfg->not_probed | ep.map.failed_tiles | ep.parked;
   for (std::size_t d = 0; d < ep.probe.neighbour.size(); ++d) {
     bsp::TileId& n = ep.probe.neighbour[d];
     if (n != bsp::kNoTile && (((skip >> n) & 1ULL) != 0ULL || link_failed(ep.map, ep.node.self, d))) {
@@ -187,6 +189,9 @@ bool open(Endpoint*& out, bsp::TileId self, const EndpointConfig& cfg) noexcept 
 void transit_probe(Endpoint& ep, std::uint32_t i) noexcept {
   TransitProbe& p = ep.transit[i];
   const bsp::TileId self = ep.node.self;
+  if (((ep.parked >> p.target) & 1ULL) != 0ULL) {
+    return;  // switched off by the power policy: nothing answers there
+  }
   const std::uint64_t round_trip = path_tiles(ep.map, self, p.target) | path_tiles(ep.map, p.target, self);
   if ((round_trip & ep.map.failed_tiles) != 0ULL) {
     return;  // crosses a switch the map says failed: it can tell nothing more
@@ -277,6 +282,44 @@ bool move_role(Endpoint& ep, std::uint32_t slot, bsp::TileId tile, std::uint32_t
   return true;
 }
 
+/**
+ * A new parked set. Tiles that left it are neighbours to probe again: the
+ * probe starts afresh over the grid (misses cleared) and is pruned anew; a
+ * link this tile avoided towards a tile that was parked is used again.
+ * Caller holds the guard.
+ */
+bool set_parked(Endpoint& ep, std::uint64_t parked, std::uint32_t serial) noexcept {
+  if (serial <= ep.parked_serial) {
+    return false;
+  }
+  const std::uint64_t woken = ep.parked & ~parked;
+  ep.parked = parked;
+  ep.parked_serial = serial;
+  if (!ep.probing) {
+    return true;
+  }
+  if (woken != 0ULL) {
+    const FtProbe before = ep.probe;
+    (void)ft_probe_init(ep.probe, ep.node, ProbeConfig{ep.cfg->probe_miss_threshold}, before.hook, before.hook_ctx);
+    for (std::size_t d = 0; d < ep.probe.neighbour.size(); ++d) {
+      const bsp::TileId n = ep.probe.neighbour[d];
+      if (n < kRouteMaxTiles && ((woken >> n) & 1ULL) != 0ULL) {
+        ep.local_links = static_cast<std::uint8_t>(ep.local_links & ~(1U << d));
+      }
+    }
+    (void)build_routes(ep, ep.map);
+  }
+  prune_probe(ep);
+  for (std::uint32_t i = 0; i < ep.transit_count; ++i) {
+    TransitProbe& t = ep.transit[i];
+    if (((parked >> t.target) & 1ULL) != 0ULL) {
+      t.nonce = 0U;  // not pinged while parked: no miss, no report
+      t.misses = 0U;
+    }
+  }
+  return true;
+}
+
 /** Takes the fault maps and role moves waiting on kFtChanMap (a bounded number per tick). Caller holds the guard. */
 void take_maps(Endpoint& ep) noexcept {
   FtMessage m{};
@@ -284,6 +327,8 @@ void take_maps(Endpoint& ep) noexcept {
     FaultMap map{};
     if (m.data_words == kRoleMoveWords && m.data[0] == kMsgRoleMove) {
       (void)move_role(ep, m.data[1], m.data[2], m.data[3]);
+    } else if (m.data_words == kParkedWords && m.data[0] == kMsgParked) {
+      (void)set_parked(ep, static_cast<std::uint64_t>(m.data[1]) | (static_cast<std::uint64_t>(m.data[2]) << 32U), m.data[3]);
     } else if (unpack_fault_map(std::span<const std::uint32_t>(m.data.data(), m.data_words), map)) {
       (void)install(ep, map, m.source);
     }
@@ -435,6 +480,15 @@ bool endpoint_move_role(std::uint32_t slot, bsp::TileId tile, std::uint32_t vers
   }
   const IrqGuard guard;
   return move_role(*ep, slot, tile, version);
+}
+
+bool endpoint_set_parked(std::uint64_t parked, std::uint32_t serial) noexcept {
+  Endpoint* ep = current();
+  if (ep == nullptr) {
+    return false;
+  }
+  const IrqGuard guard;
+  return set_parked(*ep, parked, serial);
 }
 
 RoleDirectory endpoint_roles() noexcept {

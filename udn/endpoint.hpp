@@ -102,6 +102,18 @@ void pack_fault_map(const FaultMap& map, std::span<std::uint32_t, kFaultMapWords
 inline constexpr std::uint32_t kMsgRoleMove = 0x524F4C45U;  // "ROLE"
 inline constexpr std::uint32_t kRoleMoveWords = 4U;
 
+/**
+ * Parked tiles (kFtChanMap): [0] kMsgParked [1..2] the tiles switched off by
+ * the power policy, low word first [3] serial (newer wins). A parked tile is
+ * off by design like a spare: not pinged, not a transit target; its switch
+ * still routes. A tile that leaves the set is probed again from scratch.
+ */
+inline constexpr std::uint32_t kMsgParked = 0x50524B31U;  // "PRK1"
+inline constexpr std::uint32_t kParkedWords = 4U;
+
+/** Applies a parked set on this tile's endpoint (what a kMsgParked message does). [task] @return false if older or closed. */
+bool endpoint_set_parked(std::uint64_t parked, std::uint32_t serial) noexcept;
+
 /** Service task entry (arg: const EndpointConfig*): opens the node, then serves it every tick. */
 void endpoint_task_main(void* arg) noexcept;
 

@@ -641,9 +641,9 @@ FaultPlan demo_fault_plan() {
   sw.kind = bsp::FaultKind::kSwitchFail;
   sw.tile = kFailedSwitch;
   p.items.push_back(sw);
-  // The filter becomes a TMR; one replica's output is corrupted (outvoted), another hangs
+  // Reliability raised by telecommand: the supervisors make the filter a TMR; one replica's output is corrupted (outvoted), another hangs
   // (excluded, reset by its watchdog, re-seeded with the voted state), then the voter hangs.
-  p.commands.push_back(PlanCommand{10.0, "filter_tmr", trn::tasks::kCmdFilterTmr});
+  p.commands.push_back(PlanCommand{10.0, "reliability_high", trn::tasks::kCmdReliabilityHigh});
   FaultPlanItem sdc{};
   sdc.t_s = 15.0;
   sdc.kind = bsp::FaultKind::kSdc;

@@ -100,8 +100,9 @@ inline constexpr bsp::TileId kFailedSwitch = 44U;  ///< a vision tile whose swit
 /**
  * The built-in demonstration plan (`make run`): eight packet bit flips on tiles
  * that send fault-tolerant traffic, between 5 and 35 s, one switch failure of a
- * vision tile at 20 s, and the filter switched to TMR at 10 s by telecommand,
- * with a corrupted output of replica 1 at 15 s and a hang of replica 2 at 26 s.
+ * vision tile at 20 s, reliability raised at 10 s by telecommand (the filter
+ * becomes TMR), with a corrupted output of replica 1 at 15 s, a hang of
+ * replica 2 at 26 s and of the voter at 30.5 s.
  */
 FaultPlan demo_fault_plan();
 

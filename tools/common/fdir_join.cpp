@@ -316,6 +316,8 @@ const char* alternative_name(std::uint32_t a) noexcept {
     case trn::tasks::kAltFullRate: return "every frame on the healthy vision tiles";
     case trn::tasks::kAltHalfRate: return "half the image rate";
     case trn::tasks::kAltAcceptSimplex: return "accept the simplex filter (reliability lowered, reported)";
+    case trn::tasks::kAltReplicasOn: return "the filter's replicas powered";
+    case trn::tasks::kAltReplicasParked: return "the replicas off while the filter is simplex";
     default: return "nothing to do";
   }
 }
@@ -370,8 +372,8 @@ bool describe_supervisor_event(const fdir::Event& e, std::span<char> b) noexcept
       return true;
     case EventId::kTileParked:
     case EventId::kTileWoken:
-      (void)std::snprintf(b.data(), b.size(), "tile %u switched %s by the power policy (%s)", e.subject,
-                          e.id == EventId::kTileParked ? "off" : "on", node_name(e.cause));
+      (void)std::snprintf(b.data(), b.size(), "tile %u switched %s by the power policy (asked by tile %u)", e.subject,
+                          e.id == EventId::kTileParked ? "off" : "on", e.cause);
       return true;
     default:
       return false;

@@ -127,6 +127,8 @@ void configure_supervisors(const Scenario& s, trn::tasks::SupervisorsConfig& sup
   sup.vision_sup_tile = trn::tasks::kVisionSupervisorTile;
   sup.io_tile = trn::tasks::kIoTile;
   sup.coordinator_tile = trn::tasks::kCoordinatorTile;
+  sup.replica_tiles = trn::tasks::kReplicaTiles;
+  sup.health_tile = trn::tasks::kSupervisorTile;
   sup.phase_count = 0U;
   for (const MissionPhase& p : s.phases) {
     if (sup.phase_count >= trn::tasks::kMaxPhases) {

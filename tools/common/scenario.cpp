@@ -328,7 +328,7 @@ void cross_checks(const std::string& source, const Scenario& s, std::vector<std:
 }  // namespace
 
 std::vector<MissionPhase> default_phases() {
-  return {MissionPhase{"approach", 0.0, 0U, 1U}, MissionPhase{"trn", 3.0, 0U, 1U}, MissionPhase{"terminal", 30.0, 1U, 1U}};
+  return {MissionPhase{"approach", 0.0, 0U, 0U}, MissionPhase{"trn", 3.0, 0U, 0U}, MissionPhase{"terminal", 30.0, 1U, 0U}};
 }
 
 Scenario default_scenario() { return Scenario{}; }

@@ -50,7 +50,11 @@ struct MissionPhase {
 /** Phases a scenario may list (the flight's table is fixed). */
 inline constexpr std::size_t kMaxScenarioPhases = 8;
 
-/** The built-in phases: approach (the coarse fix), trn (fine frames), terminal (TMR from 30 s). */
+/**
+ * The built-in phases: approach (the coarse fix), trn (fine frames), terminal
+ * (TMR from 30 s), all at power full: power save is a scenario's choice
+ * (docs/SCENARIO.md says why).
+ */
 std::vector<MissionPhase> default_phases();
 
 struct Scenario {

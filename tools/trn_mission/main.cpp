@@ -340,6 +340,8 @@ void add_supervisor_keys(tools::Summary& s, const trn::tasks::VisionCoordStats& 
   s.extra.emplace_back("sup_escalations", top.escalations + fs.escalations + vs.escalations);
   s.extra.emplace_back("sup_safe_mode", top.safe_mode);
   s.extra.emplace_back("sup_filter_commands", fs.commands);
+  s.extra.emplace_back("sup_replicas_parked", fs.parks);
+  s.extra.emplace_back("sup_replicas_woken", fs.wakes);
   s.extra.emplace_back("vision_rate_div", c.rate_div);
   s.extra.emplace_back("vision_frames_rate_skipped", c.frames_rate_skipped);
   s.extra.emplace_back("vision_healthy_tiles", c.healthy_tiles);

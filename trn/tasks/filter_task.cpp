@@ -927,6 +927,9 @@ void filter_task_main(void* arg) noexcept {
   slot.stats.started_job = slot.job;
   for (;;) {  // one pass per 10 ms release
     const bsp::Cycles start = bsp::now();
+    if (slot.tmr != nullptr) {
+      slot.tmr->front_phase = static_cast<std::uint32_t>((start / bsp::tick_cycles()) % kFilterPeriodTicks) + 1U;
+    }
     slot.command = 0U;
     rebuild(slot);
     record_begin(slot.record, slot.job);

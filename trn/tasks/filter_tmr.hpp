@@ -127,6 +127,12 @@ struct TmrHeldMatches {
 
 struct TmrArea {
   TmrControl control{};
+  /**
+   * The front's release phase: its job's start in board ticks modulo the
+   * period, plus 1 (0: not written yet). A replica that starts late (woken,
+   * reset) aligns its releases to it.
+   */
+  std::uint32_t front_phase = 0U;
   TmrSeed seed{};
   std::array<JobRecord, kJobRingLen> ring{};
   TmrFront front{};

@@ -5,6 +5,7 @@
 #include "trn/tasks/supervisors.hpp"
 
 #include "fdir/event_log.hpp"
+#include "fdir/tile_health.hpp"
 #include "kernel/kernel.hpp"
 #include "trn/tasks/messages.hpp"
 #include "udn/endpoint.hpp"
@@ -44,6 +45,8 @@ fdir::SupervisorSpec make_trn() noexcept {
   s.settle = 0U;
   s.plan[kRel][0] = alts(kAltDelegate);
   s.plan[kRel][1] = alts(kAltDelegate, kAltAcceptSimplex);
+  s.plan[kPow][0] = alts(kAltDelegate);
+  s.plan[kPow][1] = alts(kAltDelegate);
   // The vision supervisor's escalation at full rate: half the rate; at half rate, nothing left.
   s.plan[kCap][0] = alts(kAltHalfRate);
   return s;
@@ -60,6 +63,8 @@ fdir::SupervisorSpec make_filter() noexcept {
   s.settle = kFilterSettle;
   s.plan[kRel][0] = alts(kAltSimplex);
   s.plan[kRel][1] = alts(kAltTmr, kAltTmrReseed);
+  s.plan[kPow][0] = alts(kAltReplicasOn);
+  s.plan[kPow][1] = alts(kAltReplicasParked);
   return s;
 }
 
@@ -109,6 +114,7 @@ bsp::TileId vision_sup(const SupervisorsConfig& c) noexcept {
 
 struct TrnState {
   std::uint32_t phase = 0xFFFF'FFFFU;  ///< index of the phase whose policies went down
+  std::uint32_t woken_for = 0xFFFF'FFFFU;  ///< the phase whose replicas were asked for ahead of it
   std::array<std::uint8_t, fdir::kMaxConstraints> level{};  ///< the level each policy asks now
 };
 TrnState g_trn{};
@@ -126,8 +132,8 @@ void trn_act(const SupervisorsConfig& c, const fdir::SupDecision& d) noexcept {
   ++n.stats.applied;
   switch (d.alternative) {
     case kAltDelegate:
-      if (d.constraint == kRel) {
-        send_policy(filter_sup(c), kRel, d.level, kNodeTrn);
+      if (d.constraint == kRel || d.constraint == kPow) {
+        send_policy(filter_sup(c), d.constraint, d.level, kNodeTrn);
       }
       break;
     case kAltAcceptSimplex:
@@ -164,10 +170,31 @@ void trn_phase(const SupervisorsConfig& c, std::uint32_t now) noexcept {
   }
   g_trn.phase = p;
   g_nodes[kNodeTrn].stats.phase = p;
+  g_trn.woken_for = 0xFFFF'FFFFU;
   const PhaseSpec& ph = c.phases[p];
   fdir::report(fdir::EventId::kPhaseBegin, p, 0U, ph.reliability, ph.power);
   trn_policy(c, kRel, ph.reliability, fdir::kFromPhase);
   trn_policy(c, kPow, ph.power, fdir::kFromPhase);
+}
+
+/**
+ * Ahead of a phase that needs the replicas (reliability high) the power
+ * policy goes to full, so that they are booted and idle when its reliability
+ * comes: tiles are woken before they are needed, not when.
+ */
+void trn_wake_ahead(const SupervisorsConfig& c, std::uint32_t now) noexcept {
+  const std::uint32_t next = g_trn.phase + 1U;
+  if (g_trn.phase >= c.phase_count || next >= c.phase_count || next >= kMaxPhases || g_trn.woken_for == next) {
+    return;
+  }
+  const PhaseSpec& n = c.phases[next];
+  const PhaseSpec& cur = c.phases[g_trn.phase];
+  const bool needs = n.reliability == fdir::kReliabilityHigh && cur.reliability != fdir::kReliabilityHigh &&
+                     cur.power == fdir::kPowerSave;
+  if (needs && now + c.wake_lead_ticks >= n.start_tick) {
+    g_trn.woken_for = next;
+    trn_policy(c, kPow, fdir::kPowerFull, fdir::kFromPhase);
+  }
 }
 
 void trn_messages(const SupervisorsConfig& c) noexcept {
@@ -190,6 +217,12 @@ void trn_messages(const SupervisorsConfig& c) noexcept {
 
 struct FilterSupState {
   bool have_status = false;
+  std::uint32_t mode = kFilterModeSimplex;  ///< the filter's mode at the last status
+  bool power_save = false;         ///< the power policy is save: the replicas off while not needed
+  bool tmr_after_wake = false;     ///< TMR is commanded once the replicas have booted
+  std::uint32_t off = 0U;          ///< replicas switched off (bit per replica), as the tile-health supervisor answered
+  std::array<std::uint32_t, 3> asked{};   ///< per replica: 0 nothing pending, 1 park asked, 2 wake asked
+  std::array<k::Ticks, 3> asked_at{};
   std::uint32_t no_majority = 0U;  ///< the filter's counts at the last status
   std::uint32_t skipped = 0U;
   bool reseed_tmr = false;         ///< the reseed alternative waits for simplex to command TMR
@@ -214,12 +247,19 @@ void filter_act(const SupervisorsConfig& c, const fdir::SupDecision& d, bool com
     return;
   }
   ++n.stats.applied;
+  if (d.alternative == kAltReplicasOn || d.alternative == kAltReplicasParked) {
+    g_fsup.power_save = d.alternative == kAltReplicasParked;
+    return;  // replica_power() asks for the switching
+  }
   g_fsup.reseed_tmr = false;
+  g_fsup.tmr_after_wake = false;
   if (commanded) {
     return;
   }
   if (d.alternative == kAltSimplex) {
     command_filter(c, kCmdFilterSimplex);
+  } else if (d.alternative == kAltTmr && g_fsup.off != 0U) {
+    g_fsup.tmr_after_wake = true;  // parked replicas: woken first (replica_power), TMR once they booted
   } else if (d.alternative == kAltTmr) {
     command_filter(c, kCmdFilterTmr);
   } else if (d.alternative == kAltTmrReseed) {
@@ -236,6 +276,7 @@ void filter_status(const SupervisorsConfig& c, const udn::FtMessage& m) noexcept
   const auto voting = static_cast<std::uint32_t>(std::popcount(m.data[3]));
   const bool fresh_faults = g_fsup.have_status && (m.data[4] != g_fsup.no_majority || m.data[5] != g_fsup.skipped);
   g_fsup.have_status = true;
+  g_fsup.mode = mode;
   g_fsup.no_majority = m.data[4];
   g_fsup.skipped = m.data[5];
   if (g_fsup.reseed_tmr && mode == kFilterModeSimplex) {
@@ -248,11 +289,73 @@ void filter_status(const SupervisorsConfig& c, const udn::FtMessage& m) noexcept
   filter_act(c, fdir::supervisor_judge(kSpecs[kNodeFilter], n.sup, kRel, met));
 }
 
+/** Ticks an unanswered park or wake request waits before it is sent again. */
+constexpr k::Ticks kParkRetryTicks = 200U;
+
+/**
+ * The replicas are needed unless the power policy is save, reliability
+ * normal and the filter simplex: then they are switched off, and on again as
+ * soon as any of that changes. TMR waits for them to boot.
+ */
+void replica_power(const SupervisorsConfig& c) noexcept {
+  const fdir::ConstraintState& rel = g_nodes[kNodeFilter].sup.c[kRel];
+  const bool park = g_fsup.power_save && rel.level == fdir::kReliabilityNormal && rel.phase == fdir::ConstraintPhase::kMet &&
+                    g_fsup.mode == kFilterModeSimplex && !g_fsup.tmr_after_wake;
+  const k::Ticks now = k::now_ticks();
+  for (std::uint32_t i = 0; i < 3U; ++i) {
+    const bool off = ((g_fsup.off >> i) & 1U) != 0U;
+    const std::uint32_t want = park && !off ? 1U : (!park && off ? 2U : 0U);
+    if (want == 0U || (g_fsup.asked[i] == want && now - g_fsup.asked_at[i] < kParkRetryTicks)) {
+      continue;
+    }
+    const bsp::TileId t = udn::endpoint_role_tile(kSlotReplica0 + i, c.replica_tiles[i]);
+    const std::array<std::uint32_t, fdir::kParkWords> w{fdir::kMsgPark, bsp::current_tile(), t, want == 1U ? 1U : 0U,
+                                                        kChanControl};
+    if (t != bsp::kNoTile && udn::endpoint_send(c.health_tile, udn::kFtChanHealth, w, kSendTicks) == udn::FtError::kOk) {
+      g_fsup.asked[i] = want;
+      g_fsup.asked_at[i] = now;
+    }
+  }
+  if (g_fsup.tmr_after_wake && g_fsup.off == 0U) {
+    g_fsup.tmr_after_wake = false;
+    command_filter(c, kCmdFilterTmr);
+  }
+  // Judged once the tile-health supervisor answered every request (a boot takes a few ticks): the
+  // replicas are off when they are not needed, on when they are. Unanswered past the retry, not met.
+  bool answered = true;
+  for (std::uint32_t i = 0; i < 3U; ++i) {
+    answered = answered && (g_fsup.asked[i] == 0U || now - g_fsup.asked_at[i] >= kParkRetryTicks);
+  }
+  if (answered) {
+    const bool met = park ? g_fsup.off == 7U : g_fsup.off == 0U;
+    filter_act(c, fdir::supervisor_judge(kSpecs[kNodeFilter], g_nodes[kNodeFilter].sup, kPow, met));
+  }
+}
+
+/** The tile-health supervisor's answer: a replica is off, or booted again. */
+void filter_park_done(const SupervisorsConfig& c, const udn::FtMessage& m) noexcept {
+  for (std::uint32_t i = 0; i < 3U; ++i) {
+    if (udn::endpoint_role_tile(kSlotReplica0 + i, c.replica_tiles[i]) != m.data[1]) {
+      continue;
+    }
+    g_fsup.asked[i] = 0U;
+    if (m.data[2] != 0U) {
+      g_fsup.off |= 1U << i;
+      ++g_nodes[kNodeFilter].stats.parks;
+    } else if ((g_fsup.off & (1U << i)) != 0U) {
+      g_fsup.off &= ~(1U << i);
+      ++g_nodes[kNodeFilter].stats.wakes;
+    }
+  }
+}
+
 void filter_messages(const SupervisorsConfig& c) noexcept {
   udn::FtMessage m{};
   for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
     if (m.data_words == kFilterStatusWords && m.data[0] == kMsgFilterStatus) {
       filter_status(c, m);
+    } else if (m.data_words == fdir::kParkDoneWords && m.data[0] == fdir::kMsgParkDone && m.source == c.health_tile) {
+      filter_park_done(c, m);
     } else if (m.data_words == fdir::kSupMsgWords && m.data[0] == fdir::kMsgPolicy && m.data[1] < fdir::kMaxConstraints &&
                m.data[2] < fdir::kMaxLevels) {
       ++g_nodes[kNodeFilter].stats.policies;
@@ -268,6 +371,7 @@ void filter_messages(const SupervisorsConfig& c) noexcept {
                  ground);
     }
   }
+  replica_power(c);
 }
 
 // ------------------------------------------------------------------ the vision supervisor
@@ -339,7 +443,9 @@ void node_main(void* arg, std::uint8_t node) noexcept {
 
 void trn_pass(const SupervisorsConfig& c) noexcept {
   trn_messages(c);
-  trn_phase(c, static_cast<std::uint32_t>(bsp::now() / bsp::tick_cycles()));  // mission time, not the tile's since its boot
+  const auto now = static_cast<std::uint32_t>(bsp::now() / bsp::tick_cycles());  // mission time, not the tile's since its boot
+  trn_phase(c, now);
+  trn_wake_ahead(c, now);
   // A delegated policy holds until a child escalates.
   for (std::uint8_t k = 0; k < fdir::kMaxConstraints; ++k) {
     trn_act(c, fdir::supervisor_judge(kSpecs[kNodeTrn], g_nodes[kNodeTrn].sup, k, true));

@@ -45,6 +45,8 @@ enum Alternative : std::uint8_t {
   kAltFullRate = 5,       ///< every frame, on the healthy vision tiles
   kAltHalfRate = 6,       ///< every other frame: twice the time per frame for fewer tiles
   kAltAcceptSimplex = 7,  ///< the top lowers reliability to normal and reports it
+  kAltReplicasOn = 8,     ///< the filter's replicas powered (idle while simplex)
+  kAltReplicasParked = 9, ///< the replicas switched off while the filter is simplex, woken before TMR
 };
 
 inline constexpr std::uint32_t kMaxPhases = 8U;
@@ -66,6 +68,10 @@ struct SupervisorsConfig {
   bsp::TileId coordinator_tile = bsp::kNoTile;
   std::uint32_t vision_min_full = 30U;    ///< healthy vision tiles the full image rate needs
   std::uint32_t vision_min_half = 15U;    ///< ... and half the rate
+  std::array<bsp::TileId, 3> replica_tiles{bsp::kNoTile, bsp::kNoTile, bsp::kNoTile};  ///< boot tiles of the replicas
+  bsp::TileId health_tile = bsp::kNoTile; ///< the tile-health supervisor: switches tiles off and on
+  /** Ticks before a phase that needs the replicas (reliability high) that the top asks for them powered. */
+  std::uint32_t wake_lead_ticks = 1000U;
 };
 
 /** What each node did (host: summary.json). */
@@ -78,6 +84,8 @@ struct SupervisorStats {
   std::uint32_t commands = 0U;     ///< filter: commands sent to the filter
   std::uint32_t statuses = 0U;     ///< filter / vision: status reports judged
   std::uint32_t rate_div = 1U;     ///< vision: 1 every frame, 2 every other
+  std::uint32_t parks = 0U;        ///< filter: replicas switched off at its request
+  std::uint32_t wakes = 0U;        ///< filter: replicas switched on again
 };
 
 /** Task entries (arg: const SupervisorsConfig*). */

@@ -25,7 +25,8 @@ ImageError check(const ImageConfig& c) noexcept {
       !tile_ok(c.filter.nav_sink) || !tile_ok(c.coord.filter_tile) || !tile_ok(c.vision.coordinator) ||
       !tile_ok(c.agent.supervisor) || !tile_ok(c.agent.watcher) || !tile_ok(c.coord.health_tile) ||
       !tile_ok(c.sup.trn_tile) || !tile_ok(c.sup.filter_sup_tile) || !tile_ok(c.sup.vision_sup_tile) ||
-      !tile_ok(c.sup.io_tile) || !tile_ok(c.io.trn_supervisor) || !tile_ok(c.io.filter_supervisor) || !tile_ok(c.sup.coordinator_tile) || !tile_ok(c.filter.supervisor) ||
+      !tile_ok(c.sup.io_tile) || !tile_ok(c.sup.health_tile) || !tile_ok(c.sup.replica_tiles[0]) ||
+      !tile_ok(c.sup.replica_tiles[1]) || !tile_ok(c.sup.replica_tiles[2]) || !tile_ok(c.io.trn_supervisor) || !tile_ok(c.io.filter_supervisor) || !tile_ok(c.sup.coordinator_tile) || !tile_ok(c.filter.supervisor) ||
       !tile_ok(c.coord.supervisor)) {
     return ImageError::kBadTile;
   }

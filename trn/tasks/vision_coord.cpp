@@ -618,10 +618,14 @@ void check_frame(CoordState& st, VisionCoordStats& stats) noexcept {
 
 /** The frame's outcome for the vision supervisor: how many tiles can still take work. */
 void send_status(const CoordState& st, VisionCoordStats& stats, std::uint32_t lost) noexcept {
+  // Healthy: answered every unit of its last frame with work (no miss in a row: not isolated
+  // either) and trusted.
   const std::uint32_t n = st.cfg->vision_count;
-  const std::uint32_t isolated = fdir::liveness_isolated(st.live);
-  const std::uint32_t untrusted = fdir::result_trust_untrusted(st.trust);
-  stats.healthy_tiles = n > isolated + untrusted ? n - isolated - untrusted : 0U;
+  std::uint32_t healthy = 0U;
+  for (std::uint32_t i = 0; i < n && i < kMaxVisionTiles; ++i) {
+    healthy += (st.live.misses[i] == 0U && fdir::result_trust_used(st.trust, i)) ? 1U : 0U;
+  }
+  stats.healthy_tiles = healthy;
   if (st.cfg->supervisor == bsp::kNoTile) {
     return;
   }

@@ -195,7 +195,8 @@ TEST(FaultPlan, DemoPlanAimsAtFaultTolerantSendersWithHandledKinds) {
   }
   EXPECT_EQ(replica_faults, 3U);
   ASSERT_EQ(p.commands.size(), 1U);
-  EXPECT_EQ(p.commands[0].name, "filter_tmr");
+  EXPECT_EQ(p.commands[0].name, "reliability_high");
+  EXPECT_EQ(p.commands[0].code, trn::tasks::kCmdReliabilityHigh) << "a policy for the supervisor tree, not a filter command";
   EXPECT_EQ(flips, 8U);
   EXPECT_EQ(switches, 1U);
   EXPECT_DOUBLE_EQ(tools::demo_fault_plan_end_s(), 35.0);

@@ -112,8 +112,11 @@ TEST_F(TrnMissionBinary, SummaryAndTileMapCarryTheEnergy) {
     }
     EXPECT_NEAR(sum, total, total * 1e-12) << group << " adds up to energy_j";
   }
-  EXPECT_EQ(s["energy_j_by_phase"].size(), 1U);
-  EXPECT_TRUE(s["energy_j_by_phase"].contains("descent")) << "one phase until the scenario has phases";
+  // The built-in phases; a 2 s flight is all approach.
+  EXPECT_EQ(s["energy_j_by_phase"].size(), 3U);
+  EXPECT_DOUBLE_EQ(s["energy_j_by_phase"].value("approach", 0.0), total);
+  EXPECT_EQ(s["energy_j_by_phase"].value("trn", -1.0), 0.0);
+  EXPECT_EQ(s["energy_j_by_phase"].value("terminal", -1.0), 0.0);
   for (const char* role : {"trn_supervisor", "vision_coordinator", "io", "filter", "filter_replica", "vision", "spare"}) {
     EXPECT_GT(s["energy_j_by_role"].value(role, 0.0), 0.0) << role;
   }
@@ -949,10 +952,52 @@ TEST_F(TrnMissionBinary, LosingVisionTilesEscalatesAndTheTopHalvesTheImageRate) 
   EXPECT_NE(log.find("sup_met: vision_supervisor meets capacity half rate"), std::string::npos);
   EXPECT_GT(s["vision_frames_rate_skipped"].get<double>(), 0.0);
   EXPECT_EQ(s["vision_rate_div"], 2.0);
-  // Containment: after its policy at the start, the filter supervisor takes no decision.
-  EXPECT_EQ(count_on_tile(log, 6, "sup_"), 3U) << "policy, apply, met at the start only";
+  // Containment: after its policies at the start, the filter supervisor takes no decision.
+  EXPECT_EQ(count_on_tile(log, 6, "sup_"), 6U) << "policy, apply, met of reliability and power at the start only";
+  EXPECT_EQ(count_on_tile(log, 6, "sup_not_met"), 0U);
   EXPECT_EQ(s["sup_safe_mode"], 0.0);
   EXPECT_LT(s["final_position_error_m"].get<double>(), 5.0);
+}
+
+}  // namespace
+
+namespace {
+
+// FDIR-SUP-14: the energy manager. Under power save the replicas are switched off while the filter
+// is simplex (their neighbours told first: no switch voted failed, no core named), woken a second
+// before the phase that needs them, and the filter is TMR at its start with no deadline missed;
+// the replicas' energy is less than with them powered throughout, the voted stream the same.
+TEST_F(TrnMissionBinary, IdleReplicasAreSwitchedOffAndWokenBeforeTheTerminalPhase) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 7 --scenario " + scenario_fixture("save_then_terminal_at_6s.toml") +
+                " --out " + (dir_ / "save").string()),
+            0);
+  ASSERT_EQ(run(binary() + " --quiet --duration 7 --scenario " + scenario_fixture("full_then_terminal_at_6s.toml") +
+                " --out " + (dir_ / "full").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "save" / "summary.json");
+  const nlohmann::json f = read_json(dir_ / "full" / "summary.json");
+  const std::string log = read_text(dir_ / "save" / "events.log");
+  for (const char* t : {"19", "20", "21"}) {
+    EXPECT_NE(log.find(std::string("tile_parked: tile ") + t + " switched off by the power policy"), std::string::npos)
+        << log;
+    EXPECT_NE(log.find(std::string("tile_woken: tile ") + t + " switched on by the power policy"), std::string::npos);
+  }
+  EXPECT_NE(log.find("sup_policy: filter_supervisor takes power full from trn_supervisor"), std::string::npos)
+      << "the top asks for the replicas ahead of the terminal phase";
+  EXPECT_NE(log.find("tmr_established"), std::string::npos);
+  EXPECT_EQ(count_of(log, "switch_failed"), 0U);
+  EXPECT_EQ(count_of(log, "transit_failed"), 0U);
+  EXPECT_EQ(count_of(log, "core_suspect"), 0U);
+  EXPECT_EQ(count_of(log, "tile_rebooted"), 0U) << "a woken tile is no crash";
+  EXPECT_EQ(count_of(log, "sup_escalated"), 0U);
+  EXPECT_EQ(s["sup_replicas_parked"], 3.0);
+  EXPECT_EQ(s["sup_replicas_woken"], 3.0);
+  EXPECT_EQ(s["deadline_misses"], 0);
+  EXPECT_EQ(s["filter_outputs_skipped"], 0.0);
+  EXPECT_EQ(s["filter_output_mark_crc"], f["filter_output_mark_crc"]) << "the same delivered stream";
+  const double saved = f["energy_j_by_role"]["filter_replica"].get<double>() - s["energy_j_by_role"]["filter_replica"].get<double>();
+  EXPECT_GT(saved, 0.5) << "three idle tiles off for about 4.6 s of 7";
+  EXPECT_LT(s["energy_j"].get<double>(), f["energy_j"].get<double>());
 }
 
 }  // namespace
