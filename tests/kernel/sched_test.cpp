@@ -195,3 +195,35 @@ TEST(TaskTable, CompileTimeChecksRejectBadTables) {
 }
 
 }  // namespace
+
+namespace {
+
+std::array<bsp::Cycles, 4> g_aligned_at{};
+k::Status g_bad_phase = k::Status::kOk;
+
+void aligned_recorder(void*) {
+  g_bad_phase = k::align_period(10U);  // not below the period
+  ASSERT_EQ(k::align_period(4U), k::Status::kOk);
+  ASSERT_EQ(k::wait_period(), k::Status::kOk);
+  for (bsp::Cycles& at : g_aligned_at) {
+    at = bsp::now();
+    bsp::consume(kTick / 10);
+    ASSERT_EQ(k::wait_period(), k::Status::kOk);
+  }
+}
+
+// A periodic task that aligns its releases to a phase of the board's time: the tile booted at
+// board tick 1, its releases fall at board ticks 4, 14, 24, 34 (not 1 + 10 i), with no miss.
+TEST(Sched, AlignPeriodMovesReleasesToAPhaseOfTheBoardsTime) {
+  static constexpr k::TaskSpec kTable[] = {
+      {"aligned", &aligned_recorder, nullptr, 2, 10, 10, kStack, k::Policy::kPreemptive},
+  };
+  ktest::run_table(kTable, 36 * kTick);
+  EXPECT_EQ(g_bad_phase, k::Status::kBadState);
+  for (std::size_t i = 0; i < g_aligned_at.size(); ++i) {
+    EXPECT_EQ(g_aligned_at[i], (4U + 10U * i) * kTick) << "release " << i;
+  }
+  EXPECT_EQ(ktest::stats_of("aligned").deadline_misses, 0U);
+}
+
+}  // namespace
