@@ -19,10 +19,12 @@ struct RoleDef {
   std::uint32_t rgb;  ///< plot fill colour
 };
 
-constexpr std::array<RoleDef, 9> kRoles = {{
+constexpr std::array<RoleDef, 11> kRoles = {{
     {"trn_supervisor", "TS", "TRN supervisor", 0x8C564BU},
     {"vision_coordinator", "VC", "vision coordinator", 0x9467BDU},
     {"filter_supervisor", "FS", "filter supervisor", 0xE377C2U},
+    {"vision_supervisor", "VS", "vision supervisor", 0xBCBD22U},
+    {"filter_replica", "FR", "filter replica (TMR)", 0x6BAED6U},
     {"io", "IO", "I/O (IMU, camera)", 0xFF7F0EU},
     {"filter", "FI", "filter", 0x1F77B4U},
     {"voter", "VO", "filter voter", 0x17BECFU},
