@@ -89,7 +89,7 @@ enum class EventId : std::uint16_t {
   kTmrAgrees = 0x0705,         ///< an outvoted replica agrees again; subject: its tile, cause: job, a: replica, b: disagreements before
   kTmrExcluded = 0x0706,       ///< a replica no longer votes and must re-synchronise; subject: its tile, cause: job, a: replica, b: replicas left
   kTmrResynced = 0x0707,       ///< a replica seeded from the voted state votes again; subject: its tile, cause: job, a: replica, b: replicas voting
-  kTmrNoMajority = 0x0708,     ///< no two replicas agree: nothing delivered; subject: job, cause: voting mask, a: different, b: missing
+  kTmrNoMajority = 0x0708,     ///< no two replicas agree: nothing delivered; subject: job, cause: voting mask, a: different, b: missing | tile of replica i << 8 (i + 1)
   kTmrVoterResumed = 0x0709,   ///< a restarted voter goes on from its place in DDR; subject: job, cause: epoch, a: next job to deliver, b: records of the outage it writes
   // ---- checked matrix products (fdir/abft) and checked correlation (trn/vision/correlator, logged by the vision tile)
   kAbftCorrected = 0x0801,     ///< a product failed its checksums and passed when computed again; subject: site, cause: row << 16 | column of the element located (0xFFFF: not one; kAbftColNotChecked: rows only), a: bad rows << 16 | bad columns, b: recomputations

@@ -605,6 +605,11 @@ FaultPlanResult load_fault_plan(const std::string& path, std::uint32_t tile_coun
   return parse_fault_plan(text.str(), path, tile_count, max_time_s);
 }
 
+namespace {
+/** Jobs of the demonstration whose outputs two replicas corrupt (one every 100 ms from 33 s). */
+constexpr std::uint32_t kDemoNoMajorityJobs = 8U;
+}  // namespace
+
 FaultPlan demo_fault_plan() {
   using namespace demo_tiles;
   FaultPlan p;
@@ -665,6 +670,21 @@ FaultPlan demo_fault_plan() {
   voter.kind = bsp::FaultKind::kCoreHang;
   voter.role = "filter";
   p.items.push_back(voter);
+  // Then two replicas' outputs corrupted in the same job, every 100 ms: no majority. The filter
+  // supervisor starts the TMR again from a fresh seed, then has no way left and escalates; the TRN
+  // supervisor accepts the simplex filter for the rest of the descent (reported).
+  for (std::uint32_t k = 0; k < kDemoNoMajorityJobs; ++k) {
+    for (std::uint32_t replica = 0; replica < 2U; ++replica) {
+      FaultPlanItem two{};
+      two.t_s = 33.0 + 0.1 * static_cast<double>(k);
+      two.kind = bsp::FaultKind::kSdc;
+      two.role = "filter_replica";
+      two.instance = replica;
+      two.channel = trn::tasks::kNavChannel;
+      two.bit = 70U + replica;
+      p.items.push_back(two);
+    }
+  }
   return p;
 }
 

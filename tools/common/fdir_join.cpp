@@ -101,6 +101,40 @@ bool correlation_check_of(const bsp::FaultRecord& r, const fdir::Event& e, doubl
          seconds(e.cycle - r.applied_cycle, clock_hz) <= kCorrelationSameLandmarkS;
 }
 
+/** How long after a replica's output was corrupted its vote reports it at most: the job's vote waits for its last output. */
+constexpr double kTmrSameVoteS = 0.030;
+
+/** Replica @p i's tile named in a tmr_no_majority event (b: missing | tile of replica i << 8 (i + 1)). */
+bsp::TileId no_majority_tile(const fdir::Event& e, std::uint32_t i) {
+  return static_cast<bsp::TileId>((e.b >> (8U * (i + 1U))) & 0xFFU);
+}
+
+/** How many replicas a tmr_no_majority event names as different (each a suspect); 1 for any other event. */
+std::uint32_t suspects_named(const fdir::Event& e) {
+  if (e.id != EventId::kTmrNoMajority) {
+    return 1U;
+  }
+  std::uint32_t n = 0U;
+  for (std::uint32_t i = 0; i < 3U; ++i) {
+    n += (e.a >> i) & 1U;
+  }
+  return n;
+}
+
+/** Whether @p e is a vote without a majority that names the corrupted output of @p r's tile, in its job. */
+bool no_majority_of(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
+  if (e.id != EventId::kTmrNoMajority || e.cycle < r.applied_cycle ||
+      seconds(e.cycle - r.applied_cycle, clock_hz) > kTmrSameVoteS) {
+    return false;
+  }
+  for (std::uint32_t i = 0; i < 3U; ++i) {
+    if (((e.a >> i) & 1U) != 0U && no_majority_tile(e, i) == r.spec.tile) {
+      return true;
+    }
+  }
+  return false;
+}
+
 /** Whether flight event @p e detects the injection @p r (see docs/FDIR.md, "The join"). */
 bool detects(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
   const bsp::TileId t = r.spec.tile;
@@ -128,8 +162,9 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
       // check of a later product is about that product (a flip below the round-off is never seen).
       // Wrong results (a lasting shift of a vision tile's matches) are found by the coordinator; a
       // corrupted correlation by its tile's checks while the landmark is matched.
+      // Two replicas' outputs corrupted in one job leave no majority: the vote names the different ones.
       return detects_wrong_data(t, e) || (e.id == EventId::kResultsSuspect && e.subject == t) ||
-             correlation_check_of(r, e, clock_hz) ||
+             correlation_check_of(r, e, clock_hz) || no_majority_of(r, e, clock_hz) ||
              ((e.id == EventId::kAbftCorrected || e.id == EventId::kAbftFailed) && e.tile == t &&
               seconds(e.cycle - r.applied_cycle, clock_hz) <= kAbftSameJobS);
     case bsp::FaultKind::kWatchdogFail:
@@ -175,6 +210,19 @@ bool recovers(const fdir::Event& d, const fdir::Event& e) {
     case EventId::kTmrOutvoted:
       // A replica outvoted is recovered once it agrees again or was seeded with the voted state.
       return (e.id == EventId::kTmrAgrees || e.id == EventId::kTmrResynced) && e.subject == d.subject;
+    case EventId::kTmrNoMajority:
+      // A replica it named agreeing with the vote again (a transient), every replica seeded afresh, or
+      // the filter simplex again (no replica's output used): what the filter supervisor does about
+      // votes without a majority that do not pass.
+      if (e.id == EventId::kTmrAgrees || e.id == EventId::kTmrResynced) {
+        for (std::uint32_t i = 0; i < 3U; ++i) {
+          if (((d.a >> i) & 1U) != 0U && no_majority_tile(d, i) == e.subject) {
+            return true;
+          }
+        }
+        return false;
+      }
+      return e.id == EventId::kTmrStarting || e.id == EventId::kTmrSimplex;
     case EventId::kTaskOverdue:
       return (e.id == EventId::kTileRecovered && e.subject == d.tile) ||
              (e.id == EventId::kRoleRestored && e.cause == d.tile);
@@ -241,8 +289,9 @@ bool describe_tmr_event(const fdir::Event& e, const char* s, std::span<char> b) 
                           "%u (%u voting)", e.a, s, e.cause, e.b);
       return true;
     case EventId::kTmrNoMajority:
-      (void)std::snprintf(b.data(), b.size(), "no majority at job %s (different 0x%x, missing 0x%x): nothing delivered",
-                          s, e.a, e.b);
+      (void)std::snprintf(b.data(), b.size(), "no majority at job %s (different 0x%x, missing 0x%x; replicas on "
+                          "tiles %u, %u, %u): nothing delivered", s, e.a, e.b & 0xFFU, no_majority_tile(e, 0U),
+                          no_majority_tile(e, 1U), no_majority_tile(e, 2U));
       return true;
     case EventId::kAbftCorrected:
     case EventId::kAbftFailed: {
@@ -667,7 +716,11 @@ FaultAccount join_faults(std::span<const bsp::FaultRecord> records, std::span<co
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     return events[a].cycle < events[b].cycle || (events[a].cycle == events[b].cycle && events[a].tile < events[b].tile);
   });
-  std::vector<bool> claimed(events.size(), false);
+  // An event detects one injection; a vote without a majority one per replica it names as different.
+  std::vector<std::uint32_t> claims_left(events.size());
+  for (std::size_t k = 0; k < events.size(); ++k) {
+    claims_left[k] = suspects_named(events[k]);
+  }
   // Injections in the order they took effect.
   std::vector<std::size_t> inj;
   for (std::size_t i = 0; i < records.size(); ++i) {
@@ -689,7 +742,7 @@ FaultAccount join_faults(std::span<const bsp::FaultRecord> records, std::span<co
     std::size_t det = events.size();
     for (const std::size_t k : order) {
       const double t = seconds(events[k].cycle, clock_hz);
-      if (events[k].cycle < r.applied_cycle || claimed[k]) {
+      if (events[k].cycle < r.applied_cycle || claims_left[k] == 0U) {
         continue;
       }
       if (t - o.injected_s > kDetectWindowS) {
@@ -703,7 +756,7 @@ FaultAccount join_faults(std::span<const bsp::FaultRecord> records, std::span<co
     if (det == events.size()) {
       continue;
     }
-    claimed[det] = true;
+    --claims_left[det];
     const fdir::Event& d = events[det];
     o.detected = true;
     o.detected_s = seconds(d.cycle, clock_hz);
@@ -719,7 +772,7 @@ FaultAccount join_faults(std::span<const bsp::FaultRecord> records, std::span<co
       continue;
     }
     for (const std::size_t k : order) {
-      if (events[k].cycle < d.cycle || claimed[k] || k == det) {
+      if (events[k].cycle < d.cycle || claims_left[k] == 0U || k == det) {
         continue;
       }
       if (seconds(events[k].cycle, clock_hz) - o.detected_s > kRecoverWindowS) {
@@ -728,7 +781,7 @@ FaultAccount join_faults(std::span<const bsp::FaultRecord> records, std::span<co
       if (recovers(d, events[k])) {
         // A map publication or a complete frame closes every fault it covers: not claimed.
         if (events[k].id == EventId::kPacketResent) {
-          claimed[k] = true;
+          claims_left[k] = 0U;
         }
         o.recovered = true;
         o.recovered_s = seconds(events[k].cycle, clock_hz);

@@ -92,6 +92,7 @@ struct Slot {
   std::uint32_t seed_asked;  ///< jobs since a seed was asked (0: none pending)
   bool resume_tmr;           ///< restarted while in TMR: start it again once caught up
   std::uint32_t last_winner; ///< a replica that agreed with the last vote
+  std::uint32_t no_majority_mask;  ///< replicas that differed in a vote without a majority and have not voted since
   std::uint32_t stop_job;    ///< stopping: the job after whose record a replica saves its state for the front
   bool stop_voted;           ///< stopping: that job was voted, stop_digest is its state digest
   std::uint32_t stop_digest;
@@ -529,6 +530,7 @@ void start_tmr(Slot& slot) noexcept {
   slot.start_job = slot.job;
   slot.hello_mask = 0U;
   slot.seed_asked = 0U;
+  slot.no_majority_mask = 0U;
   fdir::report(fdir::EventId::kTmrStarting, slot.job, c.epoch);
 }
 
@@ -577,9 +579,10 @@ void account_vote(Slot& slot, const fdir::TmrVote& v, std::uint32_t job) noexcep
     if (((v.differ_mask | v.missing_mask) & bit) != 0U) {
       ++slot.stats.tmr_outvoted;
       fdir::report(fdir::EventId::kTmrOutvoted, replica_tile(slot, i), job, i, (v.differ_mask & bit) != 0U ? 1U : 2U);
-    } else if (before[i] != 0U) {
+    } else if (before[i] != 0U || (slot.no_majority_mask & bit) != 0U) {
       fdir::report(fdir::EventId::kTmrAgrees, replica_tile(slot, i), job, i, before[i]);
     }
+    slot.no_majority_mask &= ~bit;
     if ((out & bit) != 0U) {
       ++slot.stats.tmr_exclusions;
       ++slot.tmr->control.gen[i];  // it drops its state and waits for a seed
@@ -611,7 +614,14 @@ void vote(Slot& slot, std::uint32_t v) noexcept {
   bsp::consume(bsp::Work{4ULL * kVotedWords * kReplicas, 0U, 0U, 0U, std::uint64_t{kVotedWords} * kReplicas});
   if (res.verdict == fdir::TmrVerdict::kNoMajority) {
     ++slot.stats.tmr_no_majority;
-    fdir::report(fdir::EventId::kTmrNoMajority, v, slot.group.active_mask(), res.differ_mask, res.missing_mask);
+    slot.no_majority_mask |= res.differ_mask;
+    // The replicas' tiles go with the masks: the suspects of a vote that could not name one.
+    std::uint32_t tiles = 0U;
+    for (std::uint32_t i = 0; i < kReplicas; ++i) {
+      tiles |= (replica_tile(slot, i) & 0xFFU) << (8U * (i + 1U));
+    }
+    fdir::report(fdir::EventId::kTmrNoMajority, v, slot.group.active_mask(), res.differ_mask,
+                 (res.missing_mask & 0xFFU) | tiles);
     return;
   }
   account_vote(slot, res, v);
@@ -728,6 +738,7 @@ bool rejoin(Slot& slot, std::uint32_t job) noexcept {
   slot.cmd_held = f.cmd_held != 0U;
   slot.cmd = f.cmd;
   slot.last_winner = f.last_winner;
+  slot.no_majority_mask = 0U;
   (void)slot.group.configure(fdir::TmrGroupConfig{});
   for (std::uint32_t i = 0; i < kReplicas; ++i) {
     if ((f.active_mask & (1U << i)) != 0U) {

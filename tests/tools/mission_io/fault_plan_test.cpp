@@ -193,7 +193,7 @@ TEST(FaultPlan, DemoPlanAimsAtFaultTolerantSendersWithHandledKinds) {
       EXPECT_DOUBLE_EQ(it.t_s, 20.0);
     }
   }
-  EXPECT_EQ(replica_faults, 3U);
+  EXPECT_EQ(replica_faults, 19U) << "3, then two replicas in each of 8 jobs";
   ASSERT_EQ(p.commands.size(), 1U);
   EXPECT_EQ(p.commands[0].name, "reliability_high");
   EXPECT_EQ(p.commands[0].code, trn::tasks::kCmdReliabilityHigh) << "a policy for the supervisor tree, not a filter command";

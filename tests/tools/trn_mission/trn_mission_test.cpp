@@ -198,14 +198,17 @@ std::size_t count_of(const std::string& text, const std::string& what) {
 TEST_F(TrnMissionBinary, DemoPlanCountsComeFromFlightEvents) {
   ASSERT_EQ(run(binary() + " --quiet --demo-faults --out " + (dir_ / "demo").string()), 0);
   const nlohmann::json s = read_json(dir_ / "demo" / "summary.json");
-  EXPECT_EQ(s["faults_injected"], 12);
-  EXPECT_EQ(s["faults_detected"], 12);
-  EXPECT_EQ(s["faults_recovered"], 12);
+  // 12 faults, then 16 corrupted outputs (two replicas in each of 8 jobs): 14 found by votes without a
+  // majority and recovered as the filter is made TMR again and then simplex; 2 land while the TMR is
+  // being established again (the filter delivers its own solution then): masked, not seen.
+  EXPECT_EQ(s["faults_injected"], 28);
+  EXPECT_EQ(s["faults_detected"], 26);
+  EXPECT_EQ(s["faults_recovered"], 26);
   EXPECT_EQ(s["mission_lost"], 0.0);
   EXPECT_EQ(s["filter_counts_since_job"], 3051.0) << "the voter's counts start at its restart";
-  EXPECT_GT(s["tmr_voted_outputs"].get<double>(), 1500.0) << "voted from the restart at 30.5 s on";
-  EXPECT_EQ(s["tmr_no_majority"], 0.0);
-  EXPECT_EQ(s["filter_outputs_skipped"], 0.0);
+  EXPECT_GT(s["tmr_voted_outputs"].get<double>(), 250.0) << "voted from the restart at 30.5 s to 33 s";
+  EXPECT_EQ(s["tmr_no_majority"], 7.0);
+  EXPECT_EQ(s["filter_outputs_skipped"], 7.0) << "nothing delivered for the jobs without a majority, nothing else lost";
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
   const std::string log = read_text(dir_ / "demo" / "events.log");
   EXPECT_NE(log.find("switch_fail (planned) -> detected by tile 0 (switch_failed)"), std::string::npos) << log;
@@ -217,8 +220,17 @@ TEST_F(TrnMissionBinary, DemoPlanCountsComeFromFlightEvents) {
   EXPECT_NE(log.find("(planned) -> detected by tile 18 (tmr_outvoted)"), std::string::npos);
   EXPECT_NE(log.find("tmr_resynced: replica 2 on tile 21"), std::string::npos);
   EXPECT_NE(log.find("tmr_voter_resumed: the voter restarted"), std::string::npos);
-  EXPECT_EQ(count_of(log, "tmr_established"), 1U) << "the group runs on through the voter's hang";
-  EXPECT_EQ(count_of(log, "not detected"), 0U);
+  EXPECT_EQ(count_of(log, "tmr_established"), 2U) << "through the voter's hang, then from a fresh seed";
+  EXPECT_EQ(count_of(log, "(planned) -> detected by tile 18 (tmr_no_majority)"), 14U) << log;
+  EXPECT_EQ(count_of(log, "not detected"), 2U);
+  // The hierarchy at work: a policy down from the telecommand, the filter supervisor's alternatives,
+  // its escalation up, and the TRN supervisor's decision.
+  EXPECT_NE(log.find("sup_policy: trn_supervisor takes reliability high from a telecommand"), std::string::npos) << log;
+  EXPECT_NE(log.find("sup_apply: filter_supervisor: TMR again from a fresh seed"), std::string::npos);
+  EXPECT_NE(log.find("sup_escalated: filter_supervisor has no way left to meet reliability high: escalated to "
+                     "trn_supervisor"), std::string::npos);
+  EXPECT_NE(log.find("sup_apply: trn_supervisor: accept the simplex filter (reliability lowered, reported) for "
+                     "reliability high (escalation from filter_supervisor)"), std::string::npos);
 }
 
 // A hung filter tile with nobody left to reset it (the supervisor's watchdog failed, and the
@@ -709,22 +721,26 @@ TEST_F(TrnMissionBinary, ASwitchToTmrAndBackDeliversTheSimplexStream) {
 }
 
 // Two replicas corrupted in the same job: no majority, reported, and nothing delivered for that
-// job (one gap, never a wrong solution); the next job agrees again. The flight cannot tell which
-// replicas were wrong, so the join does not credit either upset (no event names their tiles).
+// job (one gap, never a wrong solution); the next job agrees again. The vote cannot tell which
+// replicas were wrong but names the ones that differed: each upset is detected by it, and
+// recovered when its replica agrees with the next vote.
 TEST_F(TrnMissionBinary, TwoCorruptedReplicasInOneJobAreNoMajorityAndNothingIsDelivered) {
   ASSERT_EQ(run(binary() + " --quiet --duration 9 --faults " + fixture("filter_tmr_two_sdc.toml") + " --out " +
                 (dir_ / "nm").string()),
             0);
   const nlohmann::json s = read_json(dir_ / "nm" / "summary.json");
   const std::string log = read_text(dir_ / "nm" / "events.log");
-  EXPECT_NE(log.find("tmr_no_majority: no majority at job 700 (different 0x7, missing 0x0): nothing delivered"),
+  EXPECT_NE(log.find("tmr_no_majority: no majority at job 700 (different 0x7, missing 0x0; replicas on tiles "),
             std::string::npos)
       << log;
   EXPECT_EQ(s["tmr_no_majority"], 1.0);
   EXPECT_EQ(s["filter_outputs_skipped"], 1.0) << "the one job without a majority";
   EXPECT_EQ(count_of(log, "tmr_excluded"), 0U) << "one disagreement each: nobody excluded";
   EXPECT_EQ(s["faults_injected"], 2);
-  EXPECT_EQ(s["faults_detected"], 0) << "detected as a group, not attributed to a tile";
+  EXPECT_EQ(s["faults_detected"], 2) << "each by the vote that names its replica as different";
+  EXPECT_EQ(s["faults_recovered"], 2) << "each replica agrees again at the next vote";
+  EXPECT_NE(log.find("tmr_agrees: replica 0 on tile 19 agrees again at job 701"), std::string::npos) << log;
+  EXPECT_NE(log.find("tmr_agrees: replica 1 on tile 20 agrees again at job 701"), std::string::npos);
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
 }
 
