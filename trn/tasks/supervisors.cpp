@@ -89,7 +89,7 @@ std::array<NodeState, 3> g_nodes{};
 
 void send_words(bsp::TileId to, std::span<const std::uint32_t> w) noexcept {
   if (to != bsp::kNoTile) {
-    (void)udn::endpoint_send(to, kChanControl, w, kSendTicks);  // a lost policy is sent again at the next change
+    (void)udn::endpoint_send(to, kChanControl, w, kSendTicks);  // a lost policy is sent again at the next refresh
   }
 }
 
@@ -112,12 +112,50 @@ bsp::TileId vision_sup(const SupervisorsConfig& c) noexcept {
 
 // ------------------------------------------------------------------ the TRN supervisor
 
+/** The TRN supervisor's children, as indexes of the policies it holds for them. */
+enum Child : std::uint8_t { kChildFilter = 0U, kChildVision = 1U, kChildren = 2U };
+
+/** No policy handed down yet for a constraint. */
+constexpr std::uint8_t kNoLevel = 0xFFU;
+
+/**
+ * Every so often the TRN supervisor hands each child again the policies it
+ * holds for it: a child restarted from its image (which starts with no policy)
+ * or a policy message lost is set right within this period; a child that
+ * holds the policy already changes nothing.
+ */
+constexpr std::uint32_t kPolicyRefreshTicks = 1000U;
+
 struct TrnState {
   std::uint32_t phase = 0xFFFF'FFFFU;  ///< index of the phase whose policies went down
   std::uint32_t woken_for = 0xFFFF'FFFFU;  ///< the phase whose replicas were asked for ahead of it
   std::array<std::uint8_t, fdir::kMaxConstraints> level{};  ///< the level each policy asks now
+  /** Per child and constraint: the level last handed down (kNoLevel: none). */
+  std::array<std::array<std::uint8_t, fdir::kMaxConstraints>, kChildren> down{};
+  std::uint32_t refreshed = 0U;  ///< mission tick of the last refresh
 };
 TrnState g_trn{};
+
+/** Hands @p child the policy (@p constraint, @p level) and keeps it, to hand again at each refresh. */
+void hand_down(const SupervisorsConfig& c, Child child, std::uint8_t constraint, std::uint8_t level) noexcept {
+  g_trn.down[child][constraint] = level;
+  send_policy(child == kChildFilter ? filter_sup(c) : vision_sup(c), constraint, level, kNodeTrn);
+}
+
+/** Every kPolicyRefreshTicks of mission tick @p now: the policies held for the children, again. */
+void trn_refresh(const SupervisorsConfig& c, std::uint32_t now) noexcept {
+  if (now - g_trn.refreshed < kPolicyRefreshTicks) {
+    return;
+  }
+  g_trn.refreshed = now;
+  for (std::uint8_t child = 0U; child < kChildren; ++child) {
+    for (std::uint8_t k = 0U; k < fdir::kMaxConstraints; ++k) {
+      if (g_trn.down[child][k] != kNoLevel) {
+        send_policy(child == kChildFilter ? filter_sup(c) : vision_sup(c), k, g_trn.down[child][k], kNodeTrn);
+      }
+    }
+  }
+}
 
 void trn_act(const SupervisorsConfig& c, const fdir::SupDecision& d) noexcept {
   NodeState& n = g_nodes[kNodeTrn];
@@ -133,14 +171,14 @@ void trn_act(const SupervisorsConfig& c, const fdir::SupDecision& d) noexcept {
   switch (d.alternative) {
     case kAltDelegate:
       if (d.constraint == kRel || d.constraint == kPow) {
-        send_policy(filter_sup(c), d.constraint, d.level, kNodeTrn);
+        hand_down(c, kChildFilter, d.constraint, d.level);
       }
       break;
     case kAltAcceptSimplex:
-      send_policy(filter_sup(c), kRel, fdir::kReliabilityNormal, kNodeTrn);
+      hand_down(c, kChildFilter, kRel, fdir::kReliabilityNormal);
       break;
     case kAltHalfRate:
-      send_policy(vision_sup(c), kCap, fdir::kCapacityHalfRate, kNodeTrn);
+      hand_down(c, kChildVision, kCap, fdir::kCapacityHalfRate);
       break;
     default:
       break;
@@ -446,6 +484,7 @@ void trn_pass(const SupervisorsConfig& c) noexcept {
   const auto now = static_cast<std::uint32_t>(bsp::now() / bsp::tick_cycles());  // mission time, not the tile's since its boot
   trn_phase(c, now);
   trn_wake_ahead(c, now);
+  trn_refresh(c, now);
   // A delegated policy holds until a child escalates.
   for (std::uint8_t k = 0; k < fdir::kMaxConstraints; ++k) {
     trn_act(c, fdir::supervisor_judge(kSpecs[kNodeTrn], g_nodes[kNodeTrn].sup, k, true));
@@ -456,6 +495,9 @@ void trn_pass(const SupervisorsConfig& c) noexcept {
 
 void trn_supervisor_main(void* arg) noexcept {
   g_trn = TrnState{};
+  for (auto& child : g_trn.down) {
+    child.fill(kNoLevel);
+  }
   node_main<&trn_pass>(arg, kNodeTrn);
 }
 

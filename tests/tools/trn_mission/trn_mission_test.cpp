@@ -923,6 +923,29 @@ TEST_F(TrnMissionBinary, AReliabilityTelecommandGoesDownTheTree) {
   EXPECT_EQ(s["sup_safe_mode"], 0.0);
 }
 
+// FDIR-SUP-15: a supervisor restarted from its image starts with no policy: the TRN supervisor
+// hands its children their policies again every second, so the filter supervisor, reset after a
+// hang, holds reliability high again within that second and obeys the next policy.
+TEST_F(TrnMissionBinary, ARestartedFilterSupervisorIsHandedItsPolicyAgain) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 13 --faults " + fixture("filter_supervisor_hang.toml") + " --out " +
+                (dir_ / "fh").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "fh" / "summary.json");
+  const std::string log = read_text(dir_ / "fh" / "events.log");
+  EXPECT_NE(log.find("core_hang (planned) -> detected by tile"), std::string::npos) << log;
+  const std::size_t back = log.find("tile_recovered: tile 6 booted its role again");
+  ASSERT_NE(back, std::string::npos) << log;
+  const std::string after = log.substr(back);
+  EXPECT_NE(after.find("sup_policy: filter_supervisor takes reliability high from trn_supervisor"), std::string::npos)
+      << "handed again after its restart";
+  EXPECT_NE(after.find("sup_policy: filter_supervisor takes reliability normal from trn_supervisor"),
+            std::string::npos);
+  EXPECT_NE(after.find("tmr_simplex: filter simplex again"), std::string::npos) << "the lowered policy obeyed";
+  EXPECT_EQ(count_of(log, "tmr_established"), 1U) << "the restart does not start the TMR again";
+  EXPECT_EQ(s["filter_outputs_skipped"], 0.0);
+  EXPECT_EQ(s["faults_recovered"], 1);
+}
+
 // FDIR-SUP-12: no majority again and again: the filter supervisor tries its second way (TMR from a
 // fresh seed), then escalates; the TRN supervisor accepts the simplex filter and says so.
 TEST_F(TrnMissionBinary, NoMajorityAgainAndAgainEscalatesToTheTrnSupervisor) {
