@@ -204,5 +204,23 @@ bench: deps ## Benchmarks (Google Benchmark and whole-run figures) into build/be
 	@$(MAKE) --no-print-directory $(BENCH_BINS) $(BIN)/trn_mission
 	@tools/build/run_bench.sh $(BIN) $(BENCH_BINS)
 
+# ---------------------------------------------------------------- slurm
+# A single-node Slurm cluster on this machine for campaign job arrays, all of it
+# under build/slurm (docs/CAMPAIGNS.md). Not part of all or test.
+SLURM_DIR := build/slurm
+.PHONY: slurm-up slurm-down slurm-smoke
+slurm-up: ## Start Slurm on this machine (munge, slurmctld, slurmd) under build/slurm
+	@tools/build/deps.sh slurm
+	@tools/slurm/slurm_up.sh $(SLURM_DIR)
+
+slurm-down: ## Stop the Slurm daemons that slurm-up started
+	@tools/slurm/slurm_down.sh $(SLURM_DIR)
+
+slurm-smoke: ## Start Slurm if needed, run a 4-task job array and check its outputs
+	@tools/build/deps.sh slurm
+	@tools/slurm/smoke.sh $(SLURM_DIR)
+
 clean: ## Remove build outputs
+	@# Daemons running from build/slurm are stopped first: their pid files go with it.
+	@if [ -d $(SLURM_DIR)/run ]; then tools/slurm/slurm_down.sh $(SLURM_DIR); fi
 	rm -rf build compile_commands.json

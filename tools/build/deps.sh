@@ -2,7 +2,7 @@
 # @file deps.sh
 # @brief Installs the Debian packages the build needs; a fast no-op when all are present.
 #
-# Usage: tools/build/deps.sh [base|bench|fuzz|study ...]   (default: base)
+# Usage: tools/build/deps.sh [base|bench|fuzz|study|slurm ...]   (default: base)
 # Works as root or through sudo. Exits non-zero if a package cannot be installed.
 set -euo pipefail
 
@@ -15,6 +15,9 @@ base_pkgs=(
 bench_pkgs=(libopencv-dev)
 fuzz_pkgs=(clang libclang-rt-dev)
 study_pkgs=(jq)
+# A single-node Slurm cluster for campaigns (tools/slurm/): the controller, the
+# node daemon, the commands, munge for their credentials, and procps for `free`.
+slurm_pkgs=(slurmctld slurmd slurm-client munge procps)
 
 groups=("$@")
 [ ${#groups[@]} -gt 0 ] || groups=(base)
@@ -26,7 +29,8 @@ for g in "${groups[@]}"; do
     bench) wanted+=("${bench_pkgs[@]}") ;;
     fuzz)  wanted+=("${fuzz_pkgs[@]}") ;;
     study) wanted+=("${study_pkgs[@]}") ;;
-    *) echo "deps: unknown package group '$g' (allowed: base bench fuzz study)" >&2; exit 2 ;;
+    slurm) wanted+=("${slurm_pkgs[@]}") ;;
+    *) echo "deps: unknown package group '$g' (allowed: base bench fuzz study slurm)" >&2; exit 2 ;;
   esac
 done
 
