@@ -10,6 +10,7 @@ base_pkgs=(
   make g++ binutils pkg-config
   libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
+  libboost-dev
   cppcheck clang-tidy gcovr gnuplot-nox
 )
 bench_pkgs=(libopencv-dev)

@@ -4,12 +4,13 @@
  */
 #include "tools/common/run_folder.hpp"
 
+#include "tools/common/gnuplot.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
-#include <chrono>
 #include <cmath>
 #include <cstdarg>
 #include <cstdlib>
@@ -18,12 +19,9 @@
 #include <fstream>
 #include <set>
 #include <sstream>
-#include <thread>
 
 #include <fcntl.h>
-#include <signal.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 namespace tools {
@@ -129,20 +127,10 @@ std::string csv_safe(const std::string& s) {
 
 // ------------------------------------------------------------------ plots
 
-constexpr const char* kTerminalLine =
-    "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) { set terminal pngcairo size %s noenhanced } "
-    "else { set terminal png size %s noenhanced }\n";
-
-std::string terminal(const char* size) {
-  std::array<char, 256> buf{};
-  (void)std::snprintf(buf.data(), buf.size(), kTerminalLine, size, size);
-  return buf.data();
-}
-
 std::string position_error_script() {
   return "# Position error of the navigation filter and its 3-sigma bound over time, from nav.csv.\n"
          "# Run in this folder: gnuplot position_error.gp\n" +
-         terminal("1100,650") +
+         gnuplot_png_terminal("1100,650") +
          "set output 'position_error.png'\n"
          "set datafile separator comma\n"
          "set title 'Position error of the navigation filter'\n"
@@ -222,7 +210,7 @@ std::string tile_map_script(const TileMapShape& shape) {
   std::string s = "# The tile grid: fill colour by role, mark by health, corner point by power state at the end,\n"
                   "# label: tile, role code, health, energy over the run; from tile_map.csv.\n"
                   "# Run in this folder: gnuplot tile_map.gp\n" +
-                  terminal("1100,860") +
+                  gnuplot_png_terminal("1100,860") +
                   "set output 'tile_map.png'\n"
                   "set datafile separator comma\n"
                   "set title 'Tiles: role (fill), health (mark), power state at the end (corner), energy (J)'\n"
@@ -259,82 +247,6 @@ std::string tile_map_script(const TileMapShape& shape) {
     s += k.data();
   }
   return s + "\n";
-}
-
-/** The executable @p name on the PATH, or "" if there is none. */
-std::string find_on_path(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  if (path == nullptr) {
-    return {};
-  }
-  std::stringstream ss(path);
-  for (std::string dir; std::getline(ss, dir, ':');) {
-    std::string candidate = (dir.empty() ? std::string(".") : dir) + "/" + name;
-    if (::access(candidate.c_str(), X_OK) == 0) {
-      return candidate;
-    }
-  }
-  return {};
-}
-
-constexpr auto kGnuplotTimeout = std::chrono::seconds(60);
-
-/**
- * Runs `gnuplot SCRIPT` in @p folder: stdin from /dev/null, output appended to
- * plots.log, its own session (no terminal); killed after kGnuplotTimeout.
- * @return "" on success, else what went wrong.
- */
-std::string run_gnuplot(const std::string& gnuplot, const std::string& folder, const std::string& script) {
-  const std::string log = folder + "/plots.log";
-  const int log_fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
-  const int null_fd = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
-  if (log_fd < 0 || null_fd < 0) {
-    std::string e = "cannot open " + (log_fd < 0 ? log : std::string("/dev/null")) + ": " + errno_text(errno);
-    (void)(log_fd >= 0 && ::close(log_fd) == 0);
-    (void)(null_fd >= 0 && ::close(null_fd) == 0);
-    return e;
-  }
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    // Child: only async-signal-safe calls until exec.
-    if (::chdir(folder.c_str()) != 0 || ::dup2(null_fd, STDIN_FILENO) < 0 || ::dup2(log_fd, STDOUT_FILENO) < 0 ||
-        ::dup2(log_fd, STDERR_FILENO) < 0) {
-      ::_exit(126);
-    }
-    (void)::setsid();
-    ::execl(gnuplot.c_str(), "gnuplot", script.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  const int fork_errno = errno;
-  (void)::close(log_fd);
-  (void)::close(null_fd);
-  if (pid < 0) {
-    return "cannot start gnuplot: " + errno_text(fork_errno);
-  }
-  const auto deadline = std::chrono::steady_clock::now() + kGnuplotTimeout;
-  int status = 0;
-  for (;;) {
-    const pid_t w = ::waitpid(pid, &status, WNOHANG);
-    if (w == pid) {
-      break;
-    }
-    if (w < 0 && errno != EINTR) {
-      return "lost track of gnuplot: " + errno_text(errno);
-    }
-    if (std::chrono::steady_clock::now() > deadline) {
-      (void)::kill(pid, SIGKILL);
-      (void)::waitpid(pid, &status, 0);
-      return "gnuplot " + script + " did not finish in 60 s and was stopped";
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
-    return {};
-  }
-  return "gnuplot " + script + " failed (" +
-         (WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status))
-                            : "signal " + std::to_string(WTERMSIG(status))) +
-         "; see plots.log)";
 }
 
 }  // namespace
