@@ -92,7 +92,16 @@ SupDecision supervisor_policy(const SupervisorSpec& spec, SupervisorState& st, s
     return SupDecision{SupAction::kNone, constraint, level, kNoAlternative};  // the same policy again
   }
   report(EventId::kSupPolicy, spec.id, constraint, level, from);
+  c.from = from;
   return start_level(spec, st, constraint, level, *l, ApplyReason::kPolicy, 0U);
+}
+
+bool supervisor_takes_held(const SupervisorState& st, std::uint8_t constraint) noexcept {
+  if (constraint >= kMaxConstraints) {
+    return false;
+  }
+  const ConstraintState& c = st.c[constraint];
+  return c.phase == ConstraintPhase::kIdle || c.from == kFromDefault;
 }
 
 SupDecision supervisor_judge(const SupervisorSpec& spec, SupervisorState& st, std::uint8_t constraint,

@@ -92,6 +92,7 @@ struct ConstraintState {
   std::uint32_t settle_left = 0U;
   std::uint32_t bad = 0U;         ///< not-met verdicts in a row
   std::uint32_t good = 0U;        ///< met verdicts in a row
+  std::uint32_t from = 0U;        ///< where the level's policy came from (a node, kFromPhase, kFromGround, kFromDefault)
 };
 
 struct SupervisorState {
@@ -145,8 +146,17 @@ SupDecision supervisor_escalation(const SupervisorSpec& spec, SupervisorState& s
 /** The alternative in use for @p constraint (kNoAlternative when idle or none). */
 std::uint8_t supervisor_current(const SupervisorSpec& spec, const SupervisorState& st, std::uint8_t constraint) noexcept;
 
+/**
+ * Whether a policy the parent holds for this node (sent again, kMsgPolicyHeld)
+ * is taken for @p constraint: when the node holds none (it restarted from its
+ * image) or only its own default. A policy it took from elsewhere (the
+ * ground) stands until a new policy comes.
+ */
+bool supervisor_takes_held(const SupervisorState& st, std::uint8_t constraint) noexcept;
+
 /** Policy and escalation messages between nodes (words; the owner picks the channel). */
 inline constexpr std::uint32_t kMsgPolicy = 0x504F4C31U;    ///< "POL1" [1] constraint [2] level [3] from
+inline constexpr std::uint32_t kMsgPolicyHeld = 0x504F4C32U;  ///< "POL2" the parent's policy again; same words
 inline constexpr std::uint32_t kMsgEscalate = 0x45534331U;  ///< "ESC1" [1] constraint [2] level [3] child node
 inline constexpr std::uint32_t kSupMsgWords = 4U;
 

@@ -93,14 +93,27 @@ void send_words(bsp::TileId to, std::span<const std::uint32_t> w) noexcept {
   }
 }
 
-void send_policy(bsp::TileId to, std::uint8_t constraint, std::uint8_t level, std::uint8_t from) noexcept {
-  const std::array<std::uint32_t, fdir::kSupMsgWords> w{fdir::kMsgPolicy, constraint, level, from};
+void send_policy(bsp::TileId to, std::uint8_t constraint, std::uint8_t level, std::uint8_t from,
+                 std::uint32_t kind = fdir::kMsgPolicy) noexcept {
+  const std::array<std::uint32_t, fdir::kSupMsgWords> w{kind, constraint, level, from};
   send_words(to, w);
 }
 
 void send_escalation(bsp::TileId to, const fdir::SupDecision& d, std::uint8_t node) noexcept {
   const std::array<std::uint32_t, fdir::kSupMsgWords> w{fdir::kMsgEscalate, d.constraint, d.level, node};
   send_words(to, w);
+}
+
+/**
+ * Whether @p m is a policy for node @p n to take: a new one, or the one its
+ * parent holds for it, sent again, while @p n holds none or only its default.
+ */
+bool is_policy(const udn::FtMessage& m, const NodeState& n) noexcept {
+  if (m.data_words != fdir::kSupMsgWords || m.data[1] >= fdir::kMaxConstraints || m.data[2] >= fdir::kMaxLevels) {
+    return false;
+  }
+  return m.data[0] == fdir::kMsgPolicy ||
+         (m.data[0] == fdir::kMsgPolicyHeld && fdir::supervisor_takes_held(n.sup, static_cast<std::uint8_t>(m.data[1])));
 }
 
 bsp::TileId filter_sup(const SupervisorsConfig& c) noexcept {
@@ -120,9 +133,9 @@ constexpr std::uint8_t kNoLevel = 0xFFU;
 
 /**
  * Every so often the TRN supervisor hands each child again the policies it
- * holds for it: a child restarted from its image (which starts with no policy)
- * or a policy message lost is set right within this period; a child that
- * holds the policy already changes nothing.
+ * holds for it (kMsgPolicyHeld): a child restarted from its image (which
+ * starts with no policy, or its default) takes them within this period; a
+ * child that holds a policy (the same, or the ground's) changes nothing.
  */
 constexpr std::uint32_t kPolicyRefreshTicks = 1000U;
 
@@ -151,7 +164,8 @@ void trn_refresh(const SupervisorsConfig& c, std::uint32_t now) noexcept {
   for (std::uint8_t child = 0U; child < kChildren; ++child) {
     for (std::uint8_t k = 0U; k < fdir::kMaxConstraints; ++k) {
       if (g_trn.down[child][k] != kNoLevel) {
-        send_policy(child == kChildFilter ? filter_sup(c) : vision_sup(c), k, g_trn.down[child][k], kNodeTrn);
+        send_policy(child == kChildFilter ? filter_sup(c) : vision_sup(c), k, g_trn.down[child][k], kNodeTrn,
+                    fdir::kMsgPolicyHeld);
       }
     }
   }
@@ -394,8 +408,7 @@ void filter_messages(const SupervisorsConfig& c) noexcept {
       filter_status(c, m);
     } else if (m.data_words == fdir::kParkDoneWords && m.data[0] == fdir::kMsgParkDone && m.source == c.health_tile) {
       filter_park_done(c, m);
-    } else if (m.data_words == fdir::kSupMsgWords && m.data[0] == fdir::kMsgPolicy && m.data[1] < fdir::kMaxConstraints &&
-               m.data[2] < fdir::kMaxLevels) {
+    } else if (is_policy(m, g_nodes[kNodeFilter])) {
       ++g_nodes[kNodeFilter].stats.policies;
       // A ground filter_tmr / filter_simplex reached the filter straight from the I/O tile: the
       // supervisor takes its mode as the policy (until the TRN supervisor sends another) and sends nothing.
@@ -455,8 +468,7 @@ void vision_messages(const SupervisorsConfig& c) noexcept {
   for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
     if (m.data_words == kVisionStatusWords && m.data[0] == kMsgVisionStatus) {
       vision_status(c, m);
-    } else if (m.data_words == fdir::kSupMsgWords && m.data[0] == fdir::kMsgPolicy && m.data[1] == kCap &&
-               m.data[2] < fdir::kMaxLevels) {
+    } else if (is_policy(m, g_nodes[kNodeVision]) && m.data[1] == kCap) {
       ++g_nodes[kNodeVision].stats.policies;
       vision_act(c, fdir::supervisor_policy(kSpecs[kNodeVision], g_nodes[kNodeVision].sup, kCap,
                                             static_cast<std::uint8_t>(m.data[2]), m.data[3]));
