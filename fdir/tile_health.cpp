@@ -158,8 +158,8 @@ Overdue find_overdue(bsp::TileId self, k::Ticks now) noexcept {
   Overdue o{};
   const std::uint32_t n = k::task_count(self);
   for (std::uint32_t i = 0; i < n && i < k::config::kMaxTasks; ++i) {
-    k::TaskStats st{};
-    if (k::task_stats(self, static_cast<k::TaskId>(i), &st) != k::Status::kOk || st.watch_ticks == 0U) {
+    k::TaskWatch st{};
+    if (k::task_watch(self, static_cast<k::TaskId>(i), &st) != k::Status::kOk || st.watch_ticks == 0U) {
       continue;
     }
     const k::Ticks since = now >= st.last_checkin ? now - st.last_checkin : 0U;

@@ -530,6 +530,15 @@ Status task_stats(bsp::TileId tile, TaskId id, TaskStats* out) noexcept {
   return Status::kOk;
 }
 
+Status task_watch(bsp::TileId tile, TaskId id, TaskWatch* out) noexcept {
+  if (out == nullptr || id >= task_count(tile)) {
+    return Status::kBadArg;
+  }
+  const Tcb& t = detail::g_slots[tile].ks->tcbs[id];
+  *out = TaskWatch{t.spec->watch_ticks, t.last_checkin};
+  return Status::kOk;
+}
+
 TaskId find_task(bsp::TileId tile, const char* name) noexcept {
   const std::uint32_t n = task_count(tile);
   for (std::uint32_t i = 0; i < n; ++i) {

@@ -117,6 +117,19 @@ std::uint32_t task_count(bsp::TileId tile) noexcept;
 /** Stats of task @p id on @p tile. @return kBadArg if out of range. [task|host] */
 Status task_stats(bsp::TileId tile, TaskId id, TaskStats* out) noexcept;
 
+/** What a tile's agent needs to watch one task's check-ins: cheap, no stack scan. */
+struct TaskWatch {
+  std::uint32_t watch_ticks;  ///< check-in budget from the task table (0: not watched)
+  Ticks last_checkin;         ///< tick of the last check-in (0 before the first)
+};
+
+/**
+ * Check-in budget and last check-in of task @p id on @p tile (task_stats
+ * without the stack's high-water scan, which reads the whole painted stack).
+ * @return kBadArg if out of range. [task|host]
+ */
+Status task_watch(bsp::TileId tile, TaskId id, TaskWatch* out) noexcept;
+
 /** Task id by name on @p tile, or kNoTask. [task|host] */
 TaskId find_task(bsp::TileId tile, const char* name) noexcept;
 

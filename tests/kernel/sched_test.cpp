@@ -227,3 +227,34 @@ TEST(Sched, AlignPeriodMovesReleasesToAPhaseOfTheBoardsTime) {
 }
 
 }  // namespace
+
+namespace {
+
+void check_in_every_tick(void*) {
+  for (;;) {
+    k::checkin();
+    k::sleep(1U);
+  }
+}
+
+}  // namespace
+
+// The agent's view of a watched task: its budget and last check-in, the same as in the full stats
+// (which also scan the stack for its high water), and out of range refused.
+TEST(Sched, TaskWatchGivesTheBudgetAndLastCheckinWithoutTheStackScan) {
+  static constexpr k::TaskSpec kTable[] = {
+      {"w", &check_in_every_tick, nullptr, 1, 0, 0, kStack, k::Policy::kPreemptive, 7U},
+  };
+  static_assert(k::check_table(kTable) == k::TableError::kOk);
+  ktest::run_table(kTable, 20 * kTick);
+  const k::TaskId id = k::find_task(0, "w");
+  ASSERT_NE(id, k::kNoTask);
+  k::TaskWatch w{};
+  ASSERT_EQ(k::task_watch(0, id, &w), k::Status::kOk);
+  const k::TaskStats s = ktest::stats_of("w");
+  EXPECT_EQ(w.watch_ticks, 7U);
+  EXPECT_EQ(w.last_checkin, s.last_checkin);
+  EXPECT_GE(w.last_checkin, 17U) << "it checks in every tick";
+  EXPECT_EQ(k::task_watch(0, static_cast<k::TaskId>(k::task_count(0)), &w), k::Status::kBadArg);
+  EXPECT_EQ(k::task_watch(0, id, nullptr), k::Status::kBadArg);
+}
