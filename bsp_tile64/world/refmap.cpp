@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <cstddef>
 #include <cstdint>
 
@@ -65,6 +66,13 @@ void fill_layer(MapProductHeader* p, std::uint32_t l, const double sun[3]) noexc
   }
 }
 
+/** The product's place in DDR, @p bytes long (nullptr and kNoMemory in @p e when DDR is full). */
+MapProductHeader* carve_product(std::uint64_t bytes, WorldError& e) noexcept {
+  const Carve c = carve(Region{Region::kDdr}, bytes, kAlign, kMapProductCarveName);
+  e = c.error == MemError::kOk ? WorldError::kOk : WorldError::kNoMemory;
+  return reinterpret_cast<MapProductHeader*>(c.ptr);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): product bytes
+}
+
 }  // namespace
 
 const MapProductHeader* refmap_build(const MapConfig& cfg, WorldError* err) noexcept {
@@ -90,18 +98,35 @@ const MapProductHeader* refmap_build(const MapConfig& cfg, WorldError* err) noex
     end = layout_layer(hdr.layers[kMapLayerCoarse], cfg.coarse_m_per_px, extent, cfg.dn_per_radiance, end);
     hdr.total_bytes = end;
   }
-  MapProductHeader* p = nullptr;
-  if (e == WorldError::kOk) {
-    const Carve c = carve(Region{Region::kDdr}, hdr.total_bytes, kAlign, kMapProductCarveName);
-    p = reinterpret_cast<MapProductHeader*>(c.ptr);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): product bytes
-    e = c.error == MemError::kOk ? WorldError::kOk : WorldError::kNoMemory;
-  }
+  MapProductHeader* p = e == WorldError::kOk ? carve_product(hdr.total_bytes, e) : nullptr;
   if (e == WorldError::kOk) {
     *p = hdr;
     double sun[3];
     sun_vector(cfg.sun, sun);
     fill_layer(p, kMapLayerFine, sun);
     fill_layer(p, kMapLayerCoarse, sun);
+  }
+  if (err != nullptr) {
+    *err = e;
+  }
+  return e == WorldError::kOk ? p : nullptr;
+}
+
+const MapProductHeader* refmap_restore(std::span<const std::byte> bytes, WorldError* err) noexcept {
+  WorldError e = WorldError::kOk;
+  MapProductHeader hdr{};
+  if (bytes.size() < sizeof(MapProductHeader)) {
+    e = WorldError::kBadConfig;
+  } else {
+    std::memcpy(&hdr, bytes.data(), sizeof hdr);
+    if (hdr.magic != kMapProductMagic || hdr.version != kMapProductVersion || hdr.layer_count != kMapLayers ||
+        hdr.total_bytes != bytes.size()) {
+      e = WorldError::kBadConfig;
+    }
+  }
+  MapProductHeader* p = e == WorldError::kOk ? carve_product(hdr.total_bytes, e) : nullptr;
+  if (e == WorldError::kOk) {
+    std::memcpy(p, bytes.data(), bytes.size());
   }
   if (err != nullptr) {
     *err = e;

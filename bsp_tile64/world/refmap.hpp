@@ -12,6 +12,9 @@
 #include "bsp_tile64/devices/map_product.hpp"
 #include "bsp_tile64/world/terrain.hpp"
 
+#include <cstddef>
+#include <span>
+
 namespace bsp::world {
 
 struct MapConfig {
@@ -28,5 +31,14 @@ struct MapConfig {
  * @return the product, or nullptr on error.
  */
 const MapProductHeader* refmap_build(const MapConfig& cfg, WorldError* err) noexcept;
+
+/**
+ * Carves the product into DDR from @p bytes kept from an earlier
+ * refmap_build() (a world cache), instead of rendering it again.
+ * @param[out] err kOk; kBadConfig if @p bytes is not a whole product (magic,
+ * version, layer count, total size); kNoMemory.
+ * @return the product, or nullptr on error. [host]
+ */
+const MapProductHeader* refmap_restore(std::span<const std::byte> bytes, WorldError* err) noexcept;
 
 }  // namespace bsp::world

@@ -217,21 +217,44 @@ void sun_vector(const SunAngle& sun, double out[3]) noexcept {
   out[2] = std::sin(el);
 }
 
-WorldError terrain_build(const TerrainConfig& cfg) noexcept {
-  if (!config_valid(cfg)) {
-    return WorldError::kBadConfig;
-  }
+namespace {
+
+/** The grid's size and scale from @p cfg (valid); the shade is stale. */
+void set_grid(const TerrainConfig& cfg) noexcept {
   g_cfg = cfg;
   g_n = cfg.size_px;
   g_centre_px = 0.5 * static_cast<double>(g_n - 1U);
   g_half_m = g_centre_px * cfg.m_per_px;
   g_shaded = false;
+}
+
+}  // namespace
+
+WorldError terrain_build(const TerrainConfig& cfg) noexcept {
+  if (!config_valid(cfg)) {
+    return WorldError::kBadConfig;
+  }
+  set_grid(cfg);
   Rng rng(cfg.seed, StreamId::kWorld, 0);
   build_relief(rng);
   Rng crater_rng(cfg.seed, StreamId::kWorld, 1);
   build_craters(crater_rng);
   Rng boulder_rng(cfg.seed, StreamId::kWorld, 2);
   build_boulders(boulder_rng);
+  g_built = true;
+  return WorldError::kOk;
+}
+
+std::span<const detail::Cell> terrain_cells() noexcept {
+  return g_built ? std::span<const detail::Cell>(g_cells, std::size_t{g_n} * g_n) : std::span<const detail::Cell>{};
+}
+
+WorldError terrain_restore(const TerrainConfig& cfg, std::span<const detail::Cell> cells) noexcept {
+  if (!config_valid(cfg) || cells.size() != std::size_t{cfg.size_px} * cfg.size_px) {
+    return WorldError::kBadConfig;
+  }
+  set_grid(cfg);
+  std::copy(cells.begin(), cells.end(), g_cells);
   g_built = true;
   return WorldError::kOk;
 }

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 
 namespace bsp::world {
 
@@ -120,5 +121,17 @@ static_assert(sizeof(Cell) == 8, "cells pack into 8 bytes");
 /** Raw view for the renderer's inner loop (row-major, iy rows). */
 const Cell* cell_data() noexcept;
 }  // namespace detail
+
+/** The built grid, size_px^2 cells row-major (empty before terrain_build()): what a world cache keeps. [host] */
+std::span<const detail::Cell> terrain_cells() noexcept;
+
+/**
+ * Takes a grid kept from an earlier terrain_build(@p cfg) instead of building
+ * it again (the same cells, bit for bit, as the build gives). The shade is
+ * computed again by terrain_shade().
+ * @return kBadConfig (grid untouched) if @p cfg is out of range or @p cells is
+ * not size_px^2 cells.
+ */
+WorldError terrain_restore(const TerrainConfig& cfg, std::span<const detail::Cell> cells) noexcept;
 
 }  // namespace bsp::world

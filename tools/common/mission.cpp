@@ -106,8 +106,8 @@ void Mission::draw_initial_estimate() {
 bool Mission::build(const MissionSetup& setup, std::string& error) {
   setup_ = setup;
   const Scenario& s = setup_.scenario;
-  if (bsp::world::terrain_build(s.terrain) != bsp::world::WorldError::kOk) {
-    error = "cannot build the terrain";
+  world_ = WorldCache(setup_.world_cache);
+  if (!world_.terrain(s.terrain, error)) {
     return false;
   }
   if (truth_.init(s.trajectory) != bsp::world::WorldError::kOk) {
@@ -181,7 +181,7 @@ bool Mission::boot(std::string& error) {
   }
   // DDR products after the board: the reference map, then the camera's frame ring.
   bsp::world::WorldError werr = bsp::world::WorldError::kOk;
-  if (bsp::world::refmap_build(s.map, &werr) == nullptr) {
+  if (world_.map(s.terrain, s.map, werr) == nullptr) {
     error = "cannot build the reference map (check [map] against the terrain size)";
     return false;
   }

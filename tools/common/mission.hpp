@@ -15,6 +15,7 @@
 #include "bsp_tile64/devices/imu.hpp"
 #include "bsp_tile64/world/trajectory.hpp"
 #include "tools/common/scenario.hpp"
+#include "tools/common/world_cache.hpp"
 #include "trn/filter/nav_state.hpp"
 
 #include <Eigen/Core>
@@ -33,6 +34,8 @@ struct MissionSetup {
    * over the map's vision tiles; the others stay on, routing, with no work.
    */
   std::uint32_t vision_tiles = 0;
+  /** Folder of world products kept between runs (tools/common/world_cache.hpp); empty: built every run. */
+  std::string world_cache;
 };
 
 /** The tiles excluded from the coordinator's list when it is given @p n of the map's vision tiles (0: none). */
@@ -84,6 +87,7 @@ class Mission {
   bsp::CameraDevice camera_{};
   trn::filter::InitialEstimate initial_{};
   std::uint64_t powered_ = 0;
+  WorldCache world_{};
 };
 
 }  // namespace tools

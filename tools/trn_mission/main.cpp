@@ -72,6 +72,8 @@ struct Options {
   bool quiet = false;
   bool view = false;
   bool memory_map = false;
+  bool no_plots = false;
+  std::string world_cache;
 };
 
 /** Everything checked before the run: scenario, plan, run folder. */
@@ -80,6 +82,7 @@ struct Inputs {
   std::optional<tools::FaultPlan> plan;
   double duration_s = 0.0;
   std::optional<tools::RunFolder> folder;
+  bool no_plots = false;
 };
 
 int bad_input(const std::string& msg) {
@@ -124,6 +127,7 @@ int prepare(const Options& o, Inputs& in) {
     }
     in.plan = *r.plan;
   }
+  in.no_plots = o.no_plots;
   const std::string out = o.out.empty() ? "out/" + in.scenario.name + "-seed" + std::to_string(in.scenario.seed)
                                         : o.out;
   std::string error;
@@ -508,7 +512,7 @@ bool write_outputs(Inputs& in, const tools::Summary& s, const tools::EventLog& l
          log.write(f.staging_path("events.log"), error) &&
          tools::write_tile_map_csv(f.staging_path("tile_map.csv"), bsp::kTile64.cols, bsp::kTile64.rows, tiles,
                                    error) &&
-         tools::write_plots(f.staging_dir(), error) && f.commit(error);
+         (in.no_plots || tools::write_plots(f.staging_dir(), error)) && f.commit(error);
 }
 
 int run(int argc, char** argv) {
@@ -528,6 +532,9 @@ int run(int argc, char** argv) {
   app.add_flag("--quiet", o.quiet, "No progress display");
   app.add_flag("--view", o.view, "Show the tile grid live (role and health of each tile)");
   app.add_flag("--memory-map", o.memory_map, "Print the memory map after the run");
+  app.add_option("--world-cache", o.world_cache,
+                 "Folder that keeps the built terrain and map product between runs (campaigns; default: none)");
+  app.add_flag("--no-plots", o.no_plots, "Write the run's data but no plots (campaigns: gnuplot costs time per run)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -549,6 +556,7 @@ int run(int argc, char** argv) {
   setup.scenario = in.scenario;
   setup.duration_s = in.duration_s;
   setup.vision_tiles = o.vision_tiles;
+  setup.world_cache = o.world_cache;
   std::string error;
   if (!mission.build(setup, error) || !mission.boot(error)) {
     std::fprintf(stderr, "trn_mission: %s\n", error.c_str());

@@ -23,7 +23,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string binary() { return std::string(build_info::kBinDir) + "/trn_mission"; }
+std::string image() { return std::string(build_info::kBinDir) + "/trn_mission"; }
+
+/**
+ * The image with the tests' world cache: every flight of a scenario after the first reads the built
+ * terrain and map product instead of building them (bit for bit the same, WorldCacheFliesTheSameBits).
+ */
+std::string binary() { return image() + " --world-cache " + std::string(build_info::kBinDir) + "/test-world-cache"; }
 
 /** Runs a command; returns its exit status (-1 if it did not exit). */
 int run(const std::string& cmd) {
@@ -34,8 +40,8 @@ int run(const std::string& cmd) {
 class TrnMissionBinary : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (!fs::exists(binary())) {
-      GTEST_SKIP() << binary() << " is not built (make test builds it)";
+    if (!fs::exists(image())) {
+      GTEST_SKIP() << image() << " is not built (make test builds it)";
     }
     dir_ = fs::temp_directory_path() / ("trn_mission_test_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
@@ -921,6 +927,32 @@ TEST_F(TrnMissionBinary, AReliabilityTelecommandGoesDownTheTree) {
   EXPECT_EQ(s["filter_outputs_skipped"], 0.0);
   EXPECT_GT(s["tmr_voted_outputs"].get<double>(), 300.0);
   EXPECT_EQ(s["sup_safe_mode"], 0.0);
+}
+
+// A world cache gives the same flight, bit for bit: built and kept, read back, and a damaged file
+// ignored and built again; without a cache, the same trace hash too.
+TEST_F(TrnMissionBinary, WorldCacheFliesTheSameBits) {
+  const fs::path cache = dir_ / "world";
+  const std::string args = " --quiet --no-plots --duration 2 --seed 3 --out ";
+  ASSERT_EQ(run(image() + args + (dir_ / "none").string()), 0);
+  ASSERT_EQ(run(image() + " --world-cache " + cache.string() + args + (dir_ / "cold").string()), 0);
+  std::vector<fs::path> files;
+  for (const fs::directory_entry& e : fs::directory_iterator(cache)) {
+    files.push_back(e.path());
+  }
+  ASSERT_EQ(files.size(), 2U) << "the terrain and the map product";
+  ASSERT_EQ(run(image() + " --world-cache " + cache.string() + args + (dir_ / "warm").string()), 0);
+  for (const fs::path& f : files) {
+    fs::resize_file(f, fs::file_size(f) / 2U);  // a damaged file: not a whole product
+  }
+  ASSERT_EQ(run(image() + " --world-cache " + cache.string() + args + (dir_ / "damaged").string()), 0);
+  const nlohmann::json none = read_json(dir_ / "none" / "summary.json");
+  for (const char* r : {"cold", "warm", "damaged"}) {
+    EXPECT_EQ(read_json(dir_ / r / "summary.json")["trace_hash"], none["trace_hash"]) << r;
+  }
+  for (const fs::path& f : files) {
+    EXPECT_GT(fs::file_size(f), 1000000U) << "written whole again after the damaged read: " << f;
+  }
 }
 
 // FDIR-SUP-15: a supervisor restarted from its image starts with no policy: the TRN supervisor
