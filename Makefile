@@ -220,6 +220,23 @@ slurm-smoke: ## Start Slurm if needed, run a 4-task job array and check its outp
 	@tools/build/deps.sh slurm
 	@tools/slurm/smoke.sh $(SLURM_DIR)
 
+# ---------------------------------------------------------------- campaigns
+# Fault-injection campaigns (docs/CAMPAIGNS.md). CAMPAIGN names the spec, JOBS
+# the runs in parallel (default: every core), TASKS the Slurm array's shards.
+CAMPAIGN ?= campaigns/single_faults.toml
+SLURM_CAMPAIGN ?= campaigns/slurm_small.toml
+JOBS ?= $(shell nproc)
+TASKS ?= 4
+.PHONY: campaign campaign-slurm
+campaign: deps ## Fly the campaign CAMPAIGN (default campaigns/single_faults.toml) on JOBS cores into out/campaign-<name>/
+	@$(MAKE) --no-print-directory $(BIN)/trn_campaign $(BIN)/trn_mission
+	$(BIN)/trn_campaign run $(CAMPAIGN) -j $(JOBS) --out out/campaign-$(basename $(notdir $(CAMPAIGN)))
+
+campaign-slurm: deps ## Start Slurm here, fly SLURM_CAMPAIGN as a job array of TASKS shards into out/campaign-slurm/, merge
+	@tools/build/deps.sh slurm
+	@$(MAKE) --no-print-directory $(BIN)/trn_campaign $(BIN)/trn_mission
+	tools/slurm/campaign.sh $(SLURM_DIR) $(BIN)/trn_campaign $(SLURM_CAMPAIGN) out/campaign-slurm $(TASKS)
+
 clean: ## Remove build outputs
 	@# Daemons running from build/slurm are stopped first: their pid files go with it.
 	@if [ -d $(SLURM_DIR)/run ]; then tools/slurm/slurm_down.sh $(SLURM_DIR); fi

@@ -156,36 +156,6 @@ bool known_fault_key(std::string_view key) {
          std::any_of(kAllFaultKeys.begin(), kAllFaultKeys.end(), [key](const char* c) { return key == c; });
 }
 
-/** Reads an integer within lo..hi; returns an error text (empty when read). */
-std::string read_int(const toml::node& node, std::int64_t lo, std::int64_t hi, std::int64_t& out) {
-  if (!node.is_integer()) {
-    return "wrong type: expected an integer";
-  }
-  const std::int64_t v = node.as_integer()->get();
-  if (v < lo || v > hi) {
-    return cat({std::to_string(v), " is out of range: allowed ", std::to_string(lo), " .. ", std::to_string(hi)});
-  }
-  out = v;
-  return {};
-}
-
-/** Reads a number (an integer is a valid float) within lo..hi. */
-std::string read_float(const toml::node& node, double lo, double hi, const char* unit, double& out) {
-  double v = 0.0;
-  if (node.is_integer()) {
-    v = static_cast<double>(node.as_integer()->get());
-  } else if (node.is_floating_point()) {
-    v = node.as_floating_point()->get();
-  } else {
-    return "wrong type: expected a number";
-  }
-  if (!(std::isfinite(v) && v >= lo && v <= hi)) {
-    return cat({fmt(v), " is out of range: allowed ", fmt(lo), " .. ", fmt(hi), unit});
-  }
-  out = v;
-  return {};
-}
-
 struct Limits {
   std::uint32_t tile_count;
   double max_time_s;

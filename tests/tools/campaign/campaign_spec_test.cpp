@@ -1,0 +1,166 @@
+/**
+ * @file campaign_spec_test.cpp
+ * @brief Campaign specs validated key by key, each run's plan drawn from (seed, index) alone and accepted by the
+ *        fault-plan parser, the outcome rules, and shard names (docs/CAMPAIGNS.md).
+ */
+#include "build_info.hpp"
+#include "tools/common/campaign.hpp"
+#include "tools/common/fault_plan.hpp"
+
+#include <gtest/gtest.h>
+
+#include <set>
+#include <string>
+
+namespace {
+
+namespace cp = tools::campaign;
+
+constexpr double kRunS = 46.0;
+
+cp::SpecResult parse(const std::string& text) { return cp::parse_spec(text, "spec.toml", kRunS); }
+
+const std::string kValid = R"(
+name = "t"
+campaign_seed = 9
+runs = 50
+faults_per_run = 2
+window_s = [5.0, 20.0]
+kinds = ["core_hang", "core_reset", "sdc", "seu", "packet_bit_flip", "switch_fail", "link_fail", "watchdog_fail"]
+roles = ["trn_supervisor", "vision_coordinator", "io", "filter", "vision", "filter_replica"]
+tiles = [27, 35]
+
+[[command]]
+t_s = 3.0
+name = "reliability_high"
+)";
+
+TEST(CampaignSpec, AValidSpecIsReadWithItsDefaults) {
+  const cp::SpecResult r = parse(kValid);
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_EQ(r.spec.name, "t");
+  EXPECT_EQ(r.spec.runs, 50U);
+  EXPECT_EQ(r.spec.faults_per_run, 2U);
+  EXPECT_EQ(r.spec.kinds.size(), 8U);
+  EXPECT_EQ(r.spec.roles.size(), 6U);
+  EXPECT_EQ(r.spec.tiles.size(), 2U);
+  EXPECT_DOUBLE_EQ(r.spec.window_lo_s, 5.0);
+  EXPECT_DOUBLE_EQ(r.spec.window_hi_s, 20.0);
+  EXPECT_DOUBLE_EQ(r.spec.pass_bound_m, 2.0);
+  EXPECT_DOUBLE_EQ(r.spec.degraded_bound_m, 20.0);
+  EXPECT_EQ(r.spec.seed, 1U);
+  ASSERT_EQ(r.spec.commands.size(), 1U);
+  EXPECT_EQ(r.spec.commands[0].name, "reliability_high");
+}
+
+TEST(CampaignSpec, EveryBadKeyIsNamedWithWhatIsAllowed) {
+  const cp::SpecResult r = parse(R"(
+name = "t"
+runs = 0
+kinds = ["core_hang", "melt"]
+roles = ["pilot"]
+window_s = [30.0, 10.0]
+pass_bound_m = 5.0
+degraded_bound_m = 1.0
+colour = "red"
+)");
+  ASSERT_FALSE(r.ok());
+  for (const char* e : {"spec.toml: unknown key colour (allowed: name, scenario,",
+                        "spec.toml: runs: 0 is out of range: allowed 1 ..",
+                        "spec.toml: kinds: element 1: unknown fault kind \"melt\" (allowed: core_hang,",
+                        "spec.toml: roles: element 0: unknown role \"pilot\" (allowed: trn_supervisor,",
+                        "spec.toml: window_s: the end must come after the start",
+                        "spec.toml: degraded_bound_m (1 m) is below pass_bound_m (5 m)"}) {
+    EXPECT_NE(r.error.find(e), std::string::npos) << "missing: " << e << "\nin:\n" << r.error;
+  }
+}
+
+TEST(CampaignSpec, MissingKeysAndAWindowBeyondTheRunAreErrors) {
+  const cp::SpecResult r = parse("kinds = []\nwindow_s = [1.0, 50.0]\n");
+  ASSERT_FALSE(r.ok());
+  for (const char* e : {"missing key name", "missing key runs", "no target: give roles, tiles or both",
+                        "window_s: 50 is out of range: allowed 0 .. 46 s (the run's duration)"}) {
+    EXPECT_NE(r.error.find(e), std::string::npos) << "missing: " << e << "\nin:\n" << r.error;
+  }
+  const cp::SpecResult syntax = parse("name = \n");
+  ASSERT_FALSE(syntax.ok());
+  EXPECT_NE(syntax.error.find("spec.toml:1:"), std::string::npos) << syntax.error;
+}
+
+// A run's plan depends on (campaign_seed, index) only: the same twice, another for another index or
+// seed; every drawn plan is one the fault-plan parser takes, with its faults inside the window.
+TEST(CampaignSpec, PlansAreDrawnFromSeedAndIndexAndAreValidPlans) {
+  const cp::SpecResult r = parse(kValid);
+  ASSERT_TRUE(r.ok()) << r.error;
+  std::set<std::string> kinds;
+  std::set<std::string> texts;
+  for (std::uint32_t i = 0; i < r.spec.runs; ++i) {
+    const cp::DrawnPlan a = cp::draw_plan(r.spec, i, 64U, kRunS);
+    ASSERT_TRUE(a.error.empty()) << a.error;
+    EXPECT_EQ(cp::draw_plan(r.spec, i, 64U, kRunS).toml, a.toml) << "run " << i;
+    texts.insert(a.toml);
+    kinds.insert(a.kind);
+    const tools::FaultPlanResult p = tools::parse_fault_plan(a.toml, "run", 64U, kRunS);
+    ASSERT_TRUE(p.ok()) << p.error << "\n" << a.toml;
+    ASSERT_EQ(p.plan->items.size(), 2U);
+    ASSERT_EQ(p.plan->commands.size(), 1U) << "the spec's command in every plan";
+    for (const tools::FaultPlanItem& it : p.plan->items) {
+      EXPECT_GE(it.t_s, 5.0);
+      EXPECT_LE(it.t_s, 20.0);
+    }
+  }
+  EXPECT_EQ(texts.size(), r.spec.runs) << "each run its own plan";
+  EXPECT_TRUE(kinds.count("mixed") > 0U) << "two faults of different kinds make a mixed run";
+  cp::Spec other = r.spec;
+  other.campaign_seed = 10U;
+  EXPECT_NE(cp::draw_plan(other, 0U, 64U, kRunS).toml, cp::draw_plan(r.spec, 0U, 64U, kRunS).toml);
+}
+
+// A target no draw can hit (an sdc on a spare tile, which publishes nothing) is refused after the
+// draws, naming the run and the parser's reason.
+TEST(CampaignSpec, APlanNoDrawCanMakeValidIsAnError) {
+  const cp::SpecResult r = parse("name = \"t\"\nruns = 1\nkinds = [\"sdc\"]\ntiles = [2]\n");
+  ASSERT_TRUE(r.ok()) << r.error;
+  const cp::DrawnPlan d = cp::draw_plan(r.spec, 0U, 64U, kRunS);
+  EXPECT_TRUE(d.toml.empty());
+  EXPECT_NE(d.error.find("run 0: no valid plan in 64 draws"), std::string::npos) << d.error;
+}
+
+// The outcome rules (docs/CAMPAIGNS.md, "Outcome classes").
+TEST(CampaignSpec, OutcomesFollowTheWrittenRules) {
+  const double pass = 2.0;
+  const double loose = 20.0;
+  auto cls = [&](bool ok, bool lost, double e, std::uint32_t det, std::uint32_t rec) {
+    return cp::classify(cp::RunFacts{ok, lost, e, det, rec}, pass, loose);
+  };
+  EXPECT_EQ(cls(false, false, 0.1, 0, 0), cp::Outcome::kCrash) << "no summary: a crash or a hang";
+  EXPECT_EQ(cls(true, false, 0.5, 0, 0), cp::Outcome::kMasked);
+  EXPECT_EQ(cls(true, false, 5.0, 0, 0), cp::Outcome::kSdc) << "wrong beyond the bound, nothing detected";
+  EXPECT_EQ(cls(true, true, 0.5, 0, 0), cp::Outcome::kSdc) << "lost, nothing detected";
+  EXPECT_EQ(cls(true, false, 0.5, 1, 1), cp::Outcome::kRecovered);
+  EXPECT_EQ(cls(true, false, 0.5, 2, 1), cp::Outcome::kDegraded) << "correct, but not every detection recovered";
+  EXPECT_EQ(cls(true, false, 5.0, 1, 1), cp::Outcome::kDegraded) << "within the looser bound";
+  EXPECT_EQ(cls(true, false, 25.0, 1, 1), cp::Outcome::kLost);
+  EXPECT_EQ(cls(true, true, 0.5, 1, 1), cp::Outcome::kLost);
+}
+
+TEST(CampaignSpec, ShardsAreIOverN) {
+  std::uint32_t i = 9U;
+  std::uint32_t n = 9U;
+  ASSERT_TRUE(cp::parse_shard("1/4", i, n));
+  EXPECT_EQ(i, 1U);
+  EXPECT_EQ(n, 4U);
+  for (const char* bad : {"4/4", "1/0", "a/2", "1/", "/2", "12", "-1/2", ""}) {
+    EXPECT_FALSE(cp::parse_shard(bad, i, n)) << bad;
+  }
+}
+
+TEST(CampaignSpec, TheShippedCampaignsAreValid) {
+  for (const char* f : {"campaigns/single_faults.toml", "campaigns/slurm_small.toml", "tests/fixtures/campaigns/small.toml",
+                        "tests/fixtures/campaigns/crash.toml"}) {
+    const cp::SpecResult r = cp::load_spec(std::string(build_info::kRepoRoot) + "/" + f, kRunS);
+    EXPECT_TRUE(r.ok()) << f << ": " << r.error;
+  }
+}
+
+}  // namespace

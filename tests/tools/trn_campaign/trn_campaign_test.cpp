@@ -1,0 +1,200 @@
+/**
+ * @file trn_campaign_test.cpp
+ * @brief trn_campaign as a user runs it: a small campaign in parallel, resumed without flying again,
+ *        sharded and merged to the same report, each run replayed bit for bit, a crashed or hung image
+ *        an outcome, bad specs refused, and the Slurm array script (docs/CAMPAIGNS.md).
+ */
+#include "build_dirs.hpp"
+#include "build_info.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string bin(const char* name) { return std::string(build_info::kBinDir) + "/" + name; }
+std::string fixture(const char* name) { return std::string(build_info::kRepoRoot) + "/tests/fixtures/campaigns/" + name; }
+/** The tests' world cache, shared with the mission tests: a world built once serves every run. */
+std::string world() { return std::string(build_info::kBinDir) + "/test-world-cache"; }
+
+/** Runs a command; its exit status (-1 if it did not exit); its output into @p out when given. */
+int run(const std::string& cmd, std::string* out = nullptr) {
+  const std::string log = fs::temp_directory_path() / ("trn_campaign_test_" + std::to_string(::getpid()) + ".log");
+  const int status = std::system((cmd + " >" + log + " 2>&1").c_str());
+  if (out != nullptr) {
+    std::ifstream in(log);
+    std::ostringstream s;
+    s << in.rdbuf();
+    *out = s.str();
+  }
+  std::remove(log.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+nlohmann::json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  return nlohmann::json::parse(in);
+}
+
+class TrnCampaignBinary : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!fs::exists(bin("trn_campaign")) || !fs::exists(bin("trn_mission"))) {
+      GTEST_SKIP() << "trn_campaign or trn_mission is not built (make test builds them)";
+    }
+    dir_ = fs::temp_directory_path() / ("trn_campaign_test_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  std::string campaign(const std::string& args) const {
+    return bin("trn_campaign") + " run " + fixture("small.toml") + " --world-cache " + world() + " " + args;
+  }
+
+  fs::path dir_;
+};
+
+/** The class counts over all runs, as the report gives them. */
+nlohmann::json classes_of(const fs::path& report) {
+  const nlohmann::json r = read_json(report);
+  nlohmann::json c = nlohmann::json::object();
+  for (const auto& [name, v] : r["classes"].items()) {
+    c[name] = v["count"];
+  }
+  return c;
+}
+
+// CMP-01, CMP-02, CMP-03: a campaign flies its runs in parallel, writes each run's plan and result and
+// the report; run again, it flies nothing; a run's plan flies again to the trace hash it recorded.
+TEST_F(TrnCampaignBinary, RunsInParallelResumesWithoutFlyingAgainAndReplaysARun) {
+  const fs::path out = dir_ / "c";
+  std::string log;
+  ASSERT_EQ(run(campaign("-j 2 --out " + out.string()), &log), 0) << log;
+  const nlohmann::json rep = read_json(out / "report.json");
+  EXPECT_EQ(rep["runs"], 4) << rep.dump(2);
+  EXPECT_NE(log.find("| outcome |"), std::string::npos) << "the Markdown table on stdout\n" << log;
+  for (const char* f : {"report.csv", "report.md", "campaign.toml", "golden/result.json"}) {
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  }
+  const fs::path r2 = out / "runs" / "000002";
+  const nlohmann::json res = read_json(r2 / "result.json");
+  const auto written = fs::last_write_time(r2 / "result.json");
+  ASSERT_EQ(run(campaign("-j 2 --out " + out.string()), &log), 0) << log;
+  EXPECT_NE(log.find("4 runs, 4 done before"), std::string::npos) << log;
+  EXPECT_EQ(fs::last_write_time(r2 / "result.json"), written) << "a finished run is not flown again";
+  EXPECT_EQ(classes_of(out / "report.json"), classes_of(out / "report.json"));
+  // The replay, as the plan's header says.
+  ASSERT_EQ(run(bin("trn_mission") + " --quiet --no-plots --world-cache " + world() + " --seed 1 --duration 8 --faults " +
+                (r2 / "plan.toml").string() + " --out " + (dir_ / "replay").string()),
+            0);
+  EXPECT_EQ(read_json(dir_ / "replay" / "summary.json")["trace_hash"], res["trace_hash"]);
+  EXPECT_EQ(read_json(r2 / "out" / "summary.json")["trace_hash"], res["trace_hash"]);
+}
+
+// CMP-04: shards fly disjoint runs; merged, they give the report a single campaign gives.
+TEST_F(TrnCampaignBinary, ShardsMergeIntoTheReportOfTheWholeCampaign) {
+  std::string log;
+  ASSERT_EQ(run(campaign("-j 2 --out " + (dir_ / "all").string())), 0);
+  ASSERT_EQ(run(campaign("-j 1 --shard 0/2 --out " + (dir_ / "s0").string())), 0);
+  ASSERT_EQ(run(campaign("-j 1 --shard 1/2 --out " + (dir_ / "s1").string())), 0);
+  EXPECT_TRUE(fs::exists(dir_ / "s0" / "runs" / "000000"));
+  EXPECT_FALSE(fs::exists(dir_ / "s0" / "runs" / "000001")) << "shard 0 of 2 flies the even runs";
+  ASSERT_EQ(run(bin("trn_campaign") + " merge --out " + (dir_ / "m").string() + " " + (dir_ / "s0").string() + " " +
+                    (dir_ / "s1").string(), &log),
+            0)
+      << log;
+  EXPECT_EQ(read_json(dir_ / "m" / "report.json")["runs"], 4);
+  EXPECT_EQ(classes_of(dir_ / "m" / "report.json"), classes_of(dir_ / "all" / "report.json"));
+  for (int i = 0; i < 4; ++i) {
+    char name[8];
+    std::snprintf(name, sizeof name, "%06d", i);
+    const fs::path shard = dir_ / (i % 2 == 0 ? "s0" : "s1") / "runs" / name / "result.json";
+    EXPECT_EQ(read_json(shard)["trace_hash"], read_json(dir_ / "all" / "runs" / name / "result.json")["trace_hash"])
+        << "run " << i << ": the same plan and the same flight in either";
+  }
+  // Folders of another campaign are not merged.
+  ASSERT_EQ(run(bin("trn_campaign") + " run " + fixture("crash.toml") + " --world-cache " + world() +
+                " --mission /bin/false --out " + (dir_ / "other").string()),
+            1)
+      << "the golden run of /bin/false is no flight";
+  EXPECT_EQ(run(bin("trn_campaign") + " merge --out " + (dir_ / "m2").string() + " " + (dir_ / "s0").string() + " " +
+                    (dir_ / "other").string(), &log),
+            2);
+  EXPECT_NE(log.find("holds another campaign"), std::string::npos) << log;
+}
+
+// CMP-05: an image that crashes or hangs is the run's outcome (hang_crash), not the campaign's end.
+TEST_F(TrnCampaignBinary, ACrashedOrHungImageIsTheRunsOutcome) {
+  // Run 0 crashes, run 1 hangs past the spec's timeout; the golden run and run 2 fly.
+  const fs::path fake = dir_ / "fake_mission.sh";
+  {
+    std::ofstream f(fake);
+    f << "#!/bin/bash\ncase \"$*\" in\n  *000000/plan.toml*) kill -SEGV $$ ;;\n  *000001/plan.toml*) exec sleep 600 ;;\n"
+         "  *) exec " << bin("trn_mission") << " \"$@\" ;;\nesac\n";
+  }
+  fs::permissions(fake, fs::perms::owner_all);
+  std::string log;
+  ASSERT_EQ(run(bin("trn_campaign") + " run " + fixture("crash.toml") + " --world-cache " + world() + " --mission " +
+                    fake.string() + " -j 3 --out " + (dir_ / "c").string(), &log),
+            0)
+      << log;
+  const nlohmann::json r0 = read_json(dir_ / "c" / "runs" / "000000" / "result.json");
+  const nlohmann::json r1 = read_json(dir_ / "c" / "runs" / "000001" / "result.json");
+  const nlohmann::json r2 = read_json(dir_ / "c" / "runs" / "000002" / "result.json");
+  EXPECT_EQ(r0["outcome"], "hang_crash");
+  EXPECT_EQ(r0["signal"], 11);
+  EXPECT_EQ(r1["outcome"], "hang_crash");
+  EXPECT_EQ(r1["timed_out"], true);
+  EXPECT_NE(r2["outcome"], "hang_crash");
+  EXPECT_EQ(read_json(dir_ / "c" / "report.json")["classes"]["hang_crash"]["count"], 2);
+}
+
+TEST_F(TrnCampaignBinary, BadInputIsRefusedWithExitStatusTwo) {
+  const fs::path spec = dir_ / "bad.toml";
+  {
+    std::ofstream f(spec);
+    f << "name = \"bad\"\nruns = 2\nkinds = [\"core_hang\"]\nroles = [\"filter\"]\nwindow_s = [1.0, 2.0]\ncolour = 3\n";
+  }
+  std::string log;
+  EXPECT_EQ(run(bin("trn_campaign") + " run " + spec.string() + " --out " + (dir_ / "b").string(), &log), 2);
+  EXPECT_NE(log.find("bad.toml: unknown key colour"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(dir_ / "b")) << "nothing written for a spec that is refused";
+  EXPECT_EQ(run(campaign("--shard 2/2 --out " + (dir_ / "s").string()), &log), 2);
+  EXPECT_NE(log.find("--shard 2/2: expected i/N"), std::string::npos) << log;
+  EXPECT_EQ(run(bin("trn_campaign") + " run " + (dir_ / "none.toml").string(), &log), 2);
+  EXPECT_NE(log.find("cannot read the campaign spec"), std::string::npos) << log;
+}
+
+// CMP-06: the Slurm array script flies shard i of N in array task i, all sharing one world cache.
+TEST_F(TrnCampaignBinary, TheSlurmScriptIsAnArrayOfShards) {
+  std::string log;
+  ASSERT_EQ(run(bin("trn_campaign") + " sbatch " + fixture("small.toml") + " --tasks 3 --out " + (dir_ / "s").string(),
+                &log),
+            0)
+      << log;
+  std::ifstream in(dir_ / "s" / "campaign.sbatch");
+  std::ostringstream t;
+  t << in.rdbuf();
+  const std::string s = t.str();
+  for (const char* want : {"#SBATCH --array=0-2", "--shard \"${SLURM_ARRAY_TASK_ID}/3\"", "/shard-${SLURM_ARRAY_TASK_ID}",
+                           "--world-cache ", "#SBATCH --output=", " merge --out "}) {
+    EXPECT_NE(s.find(want), std::string::npos) << want << "\n" << s;
+  }
+}
+
+}  // namespace

@@ -1,0 +1,613 @@
+/**
+ * @file main.cpp
+ * @brief trn_campaign: fault-injection campaigns over the mission image - runs in parallel,
+ *        resumable, sharded, merged; outcome classes with confidence intervals; a Slurm job array.
+ *
+ *   trn_campaign run SPEC [--out DIR] [-j N] [--shard i/N]   fly the campaign (or one shard of it)
+ *   trn_campaign merge --out DIR SHARD...                    one report from shard folders
+ *   trn_campaign sbatch SPEC --out DIR --tasks N             a Slurm job-array script for it
+ *
+ * Each run is a process of build/trn_mission with the run's drawn plan
+ * (docs/CAMPAIGNS.md): a crash or a hang of the image is the run's outcome,
+ * not the campaign's end. Every run's result is written atomically into its
+ * folder, so an interrupted campaign resumes where it stopped.
+ */
+#include "bsp_tile64/board.hpp"
+#include "bsp_tile64/world/trajectory.hpp"
+#include "tools/common/campaign.hpp"
+#include "tools/common/campaign_stats.hpp"
+#include "tools/common/scenario.hpp"
+#include "tools/common/text.hpp"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace cp = tools::campaign;
+using Clock = std::chrono::steady_clock;
+
+/** The golden run's index in results (no fault). */
+constexpr std::uint32_t kGolden = 0xFFFF'FFFFU;
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/** Writes @p text to @p p through a temporary name in the same folder and a rename. */
+bool write_atomic(const fs::path& p, const std::string& text, std::string& err) {
+  const fs::path tmp = p.string() + ".tmp" + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::trunc);
+    out << text;
+    out.flush();
+    if (!out) {
+      err = tmp.string() + ": cannot write";
+      return false;
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, p, ec);
+  if (ec) {
+    err = p.string() + ": cannot rename into place: " + ec.message();
+    return false;
+  }
+  return true;
+}
+
+/** The image next to this program (build/trn_mission), unless given. */
+std::string default_mission() {
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string("build/trn_mission") : (self.parent_path() / "trn_mission").string();
+}
+
+/** Seconds of the scenario's whole descent (the runs' length when the spec gives none). */
+bool descent_seconds(const std::string& scenario_path, double& out, std::string& err) {
+  tools::Scenario sc = tools::default_scenario();
+  if (!scenario_path.empty()) {
+    tools::ScenarioResult r = tools::load_scenario(scenario_path);
+    if (!r.ok()) {
+      err = r.error;
+      return false;
+    }
+    sc = *r.scenario;
+  }
+  bsp::world::Trajectory probe;
+  if (probe.init(sc.trajectory) != bsp::world::WorldError::kOk) {
+    err = "the scenario's trajectory is not valid";
+    return false;
+  }
+  out = std::floor(probe.duration_s());
+  return true;
+}
+
+struct Loaded {
+  cp::Spec spec;
+  std::string text;  ///< the spec file as written (copied into the campaign folder)
+  double run_s = 0.0;
+};
+
+bool load(const std::string& path, Loaded& l, std::string& err) {
+  // The scenario decides the longest window: read its path first, then validate against its descent.
+  cp::SpecResult first = cp::load_spec(path, 1000.0);
+  if (!first.ok()) {
+    err = first.error;
+    return false;
+  }
+  double descent = 0.0;
+  if (!descent_seconds(first.spec.scenario, descent, err)) {
+    err = path + ": scenario: " + err;
+    return false;
+  }
+  cp::SpecResult r = cp::load_spec(path, descent);
+  if (!r.ok()) {
+    err = r.error;
+    return false;
+  }
+  if (r.spec.duration_s > descent) {
+    err = path + ": duration_s: " + tools::format_number(r.spec.duration_s) + " s is longer than the descent (" +
+          tools::format_number(descent) + " s)";
+    return false;
+  }
+  l.spec = r.spec;
+  l.text = read_text(path);
+  l.run_s = r.spec.duration_s > 0.0 ? r.spec.duration_s : descent;
+  return true;
+}
+
+// ------------------------------------------------------------------ one run
+
+struct Job {
+  std::uint32_t index = 0U;  ///< kGolden: the fault-free run
+  fs::path dir;
+  std::string kind;
+  pid_t pid = -1;
+  Clock::time_point started;
+  bool timed_out = false;
+};
+
+std::vector<std::string> mission_args(const std::string& mission, const cp::Spec& s, const Job& j,
+                                      const fs::path& world) {
+  std::vector<std::string> a = {mission, "--quiet", "--no-plots", "--seed", std::to_string(s.seed), "--out",
+                                (j.dir / "out").string(), "--world-cache", world.string()};
+  if (s.duration_s > 0.0) {
+    a.insert(a.end(), {"--duration", tools::format_number(s.duration_s)});
+  }
+  if (!s.scenario.empty()) {
+    a.insert(a.end(), {"--scenario", s.scenario});
+  }
+  if (j.index != kGolden) {
+    a.insert(a.end(), {"--faults", (j.dir / "plan.toml").string()});
+  }
+  return a;
+}
+
+bool start(const std::string& mission, const cp::Spec& s, Job& j, const fs::path& world, std::string& err) {
+  std::error_code ec;
+  fs::remove_all(j.dir / "out", ec);  // a run cut short before: fly it again from nothing
+  std::vector<std::string> args = mission_args(mission, s, j, world);
+  std::vector<char*> argv;
+  argv.reserve(args.size() + 1U);
+  for (std::string& a : args) {
+    argv.push_back(a.data());  // posix_spawn takes char* const[]: the strings outlive the call
+  }
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  const std::string log = (j.dir / "run.log").string();
+  posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  const int rc = posix_spawn(&j.pid, args[0].c_str(), &fa, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0) {
+    err = "cannot start " + args[0] + ": " + std::strerror(rc);
+    return false;
+  }
+  j.started = Clock::now();
+  return true;
+}
+
+/** The result of a finished run from its exit status and summary. */
+cp::RunResult finish(const cp::Spec& s, const Job& j, int status, nlohmann::json& rec) {
+  cp::RunResult r;
+  r.index = j.index;
+  r.kind = j.index == kGolden ? std::string("none") : j.kind;
+  r.host_s = std::chrono::duration<double>(Clock::now() - j.started).count();
+  cp::RunFacts f;
+  const fs::path summary = j.dir / "out" / "summary.json";
+  const bool exited = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  rec["exit"] = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  rec["signal"] = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
+  rec["timed_out"] = j.timed_out;
+  if (exited && fs::exists(summary)) {
+    try {
+      const nlohmann::json sj = nlohmann::json::parse(read_text(summary));
+      f.exited_ok = true;
+      f.mission_lost = sj.value("mission_lost", 0.0) != 0.0;
+      f.final_error_m = sj.at("final_position_error_m").get<double>();
+      f.detected = sj.at("faults_detected").get<std::uint32_t>();
+      f.recovered = sj.at("faults_recovered").get<std::uint32_t>();
+      r.final_error_m = f.final_error_m;
+      r.max_error_m = sj.value("max_position_error_after_convergence_m", 0.0);
+      r.injected = sj.at("faults_injected").get<std::uint32_t>();
+      r.detected = f.detected;
+      r.recovered = f.recovered;
+      rec["mission_lost"] = f.mission_lost;
+      rec["not_delivered"] = sj.value("faults_not_delivered", 0);
+      rec["trace_hash"] = sj.value("trace_hash", std::string{});
+      rec["deadline_misses"] = sj.value("deadline_misses", 0);
+    } catch (const nlohmann::json::exception& e) {
+      f.exited_ok = false;  // an unreadable summary is the image's failure
+      rec["summary_error"] = e.what();
+    }
+  }
+  r.outcome = cp::classify(f, s.pass_bound_m, s.degraded_bound_m);
+  return r;
+}
+
+nlohmann::json to_json(const cp::RunResult& r, nlohmann::json rec) {
+  rec["index"] = r.index == kGolden ? nlohmann::json("golden") : nlohmann::json(r.index);
+  rec["kind"] = r.kind;
+  rec["outcome"] = cp::outcome_name(r.outcome);
+  rec["final_error_m"] = r.final_error_m;
+  rec["max_error_m"] = r.max_error_m;
+  rec["host_s"] = r.host_s;
+  rec["injected"] = r.injected;
+  rec["detected"] = r.detected;
+  rec["recovered"] = r.recovered;
+  return rec;
+}
+
+bool from_json(const nlohmann::json& j, cp::RunResult& r) {
+  try {
+    r.index = j.at("index").is_string() ? kGolden : j.at("index").get<std::uint32_t>();
+    r.kind = j.at("kind").get<std::string>();
+    if (!cp::outcome_from_name(j.at("outcome").get<std::string>(), r.outcome)) {
+      return false;
+    }
+    r.final_error_m = j.at("final_error_m").get<double>();
+    r.max_error_m = j.at("max_error_m").get<double>();
+    r.host_s = j.at("host_s").get<double>();
+    r.injected = j.at("injected").get<std::uint32_t>();
+    r.detected = j.at("detected").get<std::uint32_t>();
+    r.recovered = j.at("recovered").get<std::uint32_t>();
+  } catch (const nlohmann::json::exception&) {
+    return false;
+  }
+  return true;
+}
+
+bool read_result(const fs::path& file, cp::RunResult& r) {
+  if (!fs::exists(file)) {
+    return false;
+  }
+  try {
+    return from_json(nlohmann::json::parse(read_text(file)), r);
+  } catch (const nlohmann::json::exception&) {
+    return false;  // torn or foreign: the run is flown again
+  }
+}
+
+// ------------------------------------------------------------------ progress
+
+void progress(bool quiet, std::size_t done, std::size_t total, std::size_t running, Clock::time_point t0,
+              std::size_t done_at_start) {
+  if (quiet) {
+    return;
+  }
+  const double el = std::chrono::duration<double>(Clock::now() - t0).count();
+  const std::size_t new_done = done - done_at_start;
+  const double eta = new_done > 0U ? el / static_cast<double>(new_done) * static_cast<double>(total - done) : 0.0;
+  constexpr int kBar = 30;
+  const int fill = total > 0U ? static_cast<int>(kBar * done / total) : kBar;
+  std::fprintf(stderr, "\r[%s%s] %zu/%zu runs, %zu running, ETA %dm%02ds   ", std::string(static_cast<std::size_t>(fill), '#').c_str(),
+               std::string(static_cast<std::size_t>(kBar - fill), '.').c_str(), done, total, running,
+               static_cast<int>(eta) / 60, static_cast<int>(eta) % 60);
+  if (!::isatty(2)) {
+    std::fprintf(stderr, "\n");
+  }
+}
+
+// ------------------------------------------------------------------ commands
+
+struct RunOptions {
+  std::string spec;
+  std::string out;
+  std::uint32_t jobs = 0U;
+  std::string shard = "0/1";
+  std::string mission;
+  std::string world;  ///< world cache folder (default <out>/world)
+  bool quiet = false;
+};
+
+/** The campaign folder holds this campaign (or is new): the spec text must match. */
+bool claim_folder(const fs::path& out, const Loaded& l, std::string& err) {
+  std::error_code ec;
+  fs::create_directories(out / "runs", ec);
+  if (ec) {
+    err = out.string() + ": cannot create: " + ec.message();
+    return false;
+  }
+  const fs::path copy = out / "campaign.toml";
+  if (fs::exists(copy)) {
+    if (read_text(copy) != l.text) {
+      err = out.string() + " holds another campaign (its campaign.toml differs from the spec): choose another --out";
+      return false;
+    }
+    return true;
+  }
+  return write_atomic(copy, l.text, err);
+}
+
+int cmd_run(const RunOptions& o) {
+  Loaded l;
+  std::string err;
+  if (!load(o.spec, l, err)) {
+    std::fprintf(stderr, "trn_campaign: %s\n", err.c_str());
+    return 2;
+  }
+  std::uint32_t shard = 0U;
+  std::uint32_t shards = 1U;
+  if (!cp::parse_shard(o.shard, shard, shards)) {
+    std::fprintf(stderr, "trn_campaign: --shard %s: expected i/N with 0 <= i < N\n", o.shard.c_str());
+    return 2;
+  }
+  const fs::path out = o.out.empty() ? fs::path("out") / ("campaign-" + l.spec.name) : fs::path(o.out);
+  if (!claim_folder(out, l, err)) {
+    std::fprintf(stderr, "trn_campaign: %s\n", err.c_str());
+    return 2;
+  }
+  const std::string mission = o.mission.empty() ? default_mission() : o.mission;
+  if (::access(mission.c_str(), X_OK) != 0) {
+    std::fprintf(stderr, "trn_campaign: the mission image %s is missing (make build/trn_mission)\n", mission.c_str());
+    return 2;
+  }
+  // The runs of this shard, their plans drawn and written first: a bad spec fails before any flight.
+  std::vector<Job> todo;
+  std::vector<cp::RunResult> results;
+  Job golden;
+  golden.index = kGolden;
+  golden.dir = out / "golden";
+  std::error_code ec;
+  fs::create_directories(golden.dir, ec);
+  cp::RunResult g;
+  if (!read_result(golden.dir / "result.json", g)) {
+    todo.push_back(golden);
+  }
+  std::size_t total = 0U;
+  for (std::uint32_t i = shard; i < l.spec.runs; i += shards) {
+    ++total;
+    Job j;
+    j.index = i;
+    char name[16];
+    std::snprintf(name, sizeof name, "%06u", i);
+    j.dir = out / "runs" / name;
+    cp::RunResult r;
+    if (read_result(j.dir / "result.json", r)) {
+      results.push_back(r);
+      continue;
+    }
+    const cp::DrawnPlan p = cp::draw_plan(l.spec, i, bsp::kTile64.tiles(), l.run_s);
+    if (!p.error.empty()) {
+      std::fprintf(stderr, "trn_campaign: %s\n", p.error.c_str());
+      return 2;
+    }
+    fs::create_directories(j.dir, ec);
+    if (!write_atomic(j.dir / "plan.toml", p.toml, err)) {
+      std::fprintf(stderr, "trn_campaign: %s\n", err.c_str());
+      return 1;
+    }
+    j.kind = p.kind;
+    todo.push_back(j);
+  }
+  const std::uint32_t jobs = o.jobs > 0U ? o.jobs : std::max(1U, std::thread::hardware_concurrency());
+  if (!o.quiet) {
+    std::fprintf(stderr, "trn_campaign: %s, shard %u/%u: %zu runs, %zu done before, %u in parallel; folder %s\n",
+                 l.spec.name.c_str(), shard, shards, total, results.size(), jobs, out.string().c_str());
+  }
+  const std::size_t done_at_start = results.size();
+  const Clock::time_point t0 = Clock::now();
+  std::vector<Job> running;
+  std::size_t next = 0U;
+  while (next < todo.size() || !running.empty()) {
+    // The golden run goes first and alone: the campaign's bounds are checked against it.
+    const bool golden_running = !running.empty() && running[0].index == kGolden;
+    while (next < todo.size() && running.size() < jobs && !golden_running) {
+      Job j = todo[next++];
+      if (!start(mission, l.spec, j, o.world.empty() ? out / "world" : fs::path(o.world), err)) {
+        std::fprintf(stderr, "\ntrn_campaign: %s\n", err.c_str());
+        return 1;
+      }
+      running.push_back(j);
+      if (j.index == kGolden) {
+        break;
+      }
+    }
+    int status = 0;
+    const pid_t pid = ::waitpid(-1, &status, WNOHANG);
+    if (pid <= 0) {
+      for (Job& j : running) {
+        if (!j.timed_out && std::chrono::duration<double>(Clock::now() - j.started).count() > l.spec.timeout_s) {
+          j.timed_out = true;  // a hung image: killed, and the run's outcome says so
+          (void)::kill(j.pid, SIGKILL);
+        }
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      continue;
+    }
+    const auto it = std::find_if(running.begin(), running.end(), [pid](const Job& j) { return j.pid == pid; });
+    if (it == running.end()) {
+      continue;
+    }
+    const Job j = *it;
+    running.erase(it);
+    nlohmann::json rec;
+    const cp::RunResult r = finish(l.spec, j, status, rec);
+    if (j.index == kGolden && r.outcome != cp::Outcome::kMasked) {
+      std::fprintf(stderr, "trn_campaign: the fault-free run is not correct (%s, %s m against the pass bound of %s m): "
+                   "see %s\n", cp::outcome_name(r.outcome), tools::format_number(r.final_error_m).c_str(),
+                   tools::format_number(l.spec.pass_bound_m).c_str(), (j.dir / "run.log").string().c_str());
+      return 1;
+    }
+    if (j.index != kGolden) {
+      results.push_back(r);
+    }
+    if (!write_atomic(j.dir / "result.json", to_json(r, rec).dump(2) + "\n", err)) {
+      std::fprintf(stderr, "\ntrn_campaign: %s\n", err.c_str());
+      return 1;
+    }
+    progress(o.quiet, results.size(), total, running.size(), t0, done_at_start);
+  }
+  if (!o.quiet) {
+    std::fprintf(stderr, "\n");
+  }
+  std::sort(results.begin(), results.end(), [](const cp::RunResult& a, const cp::RunResult& b) { return a.index < b.index; });
+  const cp::Report rep = cp::summarize(l.spec.name, results);
+  if (!cp::write_report(rep, out, err)) {
+    std::fprintf(stderr, "trn_campaign: %s\n", err.c_str());
+    return 1;
+  }
+  if (!o.quiet) {
+    std::printf("%s", read_text(out / "report.md").c_str());
+    std::printf("report in %s/ (report.json, report.csv, report.md, outcomes.png)\n", out.string().c_str());
+  }
+  return 0;
+}
+
+int cmd_merge(const std::string& out_dir, const std::vector<std::string>& inputs, bool quiet) {
+  std::string spec_text;
+  std::map<std::uint32_t, cp::RunResult> by_index;
+  for (const std::string& in : inputs) {
+    const fs::path d(in);
+    if (!fs::exists(d / "campaign.toml")) {
+      std::fprintf(stderr, "trn_campaign: merge: %s is not a campaign folder (no campaign.toml)\n", in.c_str());
+      return 2;
+    }
+    const std::string t = read_text(d / "campaign.toml");
+    if (spec_text.empty()) {
+      spec_text = t;
+    } else if (t != spec_text) {
+      std::fprintf(stderr, "trn_campaign: merge: %s holds another campaign than %s\n", in.c_str(), inputs[0].c_str());
+      return 2;
+    }
+    std::error_code ec;
+    for (const fs::directory_entry& e : fs::directory_iterator(d / "runs", ec)) {
+      cp::RunResult r;
+      if (read_result(e.path() / "result.json", r)) {
+        by_index.emplace(r.index, r);  // a run in two shards: the same plan, the first one read
+      }
+    }
+  }
+  if (spec_text.empty()) {
+    std::fprintf(stderr, "trn_campaign: merge: no input folders\n");
+    return 2;
+  }
+  const cp::SpecResult sr = cp::parse_spec(spec_text, inputs[0] + "/campaign.toml", 1000.0);
+  if (!sr.ok()) {
+    std::fprintf(stderr, "trn_campaign: merge: %s\n", sr.error.c_str());
+    return 2;
+  }
+  std::vector<cp::RunResult> results;
+  results.reserve(by_index.size());
+  for (const auto& [i, r] : by_index) {
+    results.push_back(r);
+  }
+  std::string err;
+  const fs::path out(out_dir);
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (!write_atomic(out / "campaign.toml", spec_text, err)) {
+    std::fprintf(stderr, "trn_campaign: %s\n", err.c_str());
+    return 1;
+  }
+  if (results.size() < sr.spec.runs) {
+    std::fprintf(stderr, "trn_campaign: merge: %zu of %u runs have a result (the report covers those)\n",
+                 results.size(), sr.spec.runs);
+  }
+  const cp::Report rep = cp::summarize(sr.spec.name, results);
+  if (!cp::write_report(rep, out, err)) {
+    std::fprintf(stderr, "trn_campaign: %s\n", err.c_str());
+    return 1;
+  }
+  if (!quiet) {
+    std::printf("%s", read_text(out / "report.md").c_str());
+  }
+  return 0;
+}
+
+int cmd_sbatch(const std::string& spec_path, const std::string& out_dir, std::uint32_t tasks, const std::string& mission) {
+  Loaded l;
+  std::string err;
+  if (!load(spec_path, l, err)) {
+    std::fprintf(stderr, "trn_campaign: %s\n", err.c_str());
+    return 2;
+  }
+  std::error_code ec;
+  const fs::path out = fs::absolute(out_dir, ec);
+  fs::create_directories(out, ec);
+  const fs::path spec_abs = fs::absolute(spec_path, ec);
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  const std::string image = fs::absolute(mission.empty() ? default_mission() : mission, ec).string();
+  std::ostringstream s;
+  s << "#!/bin/bash\n"
+    << "# Campaign " << l.spec.name << " as a Slurm job array: task i flies shard i/" << tasks
+    << " into its own folder;\n# merge them after with: " << self.string() << " merge --out " << out.string()
+    << "/merged " << out.string() << "/shard-*\n"
+    << "#SBATCH --job-name=trn-campaign-" << l.spec.name << "\n"
+    << "#SBATCH --array=0-" << (tasks - 1U) << "\n"
+    << "#SBATCH --ntasks=1\n#SBATCH --cpus-per-task=1\n"
+    << "#SBATCH --output=" << out.string() << "/slurm-%A_%a.out\n"
+    << "set -euo pipefail\n"
+    << "exec " << self.string() << " run " << spec_abs.string() << " --quiet -j 1 --shard \"${SLURM_ARRAY_TASK_ID}/" << tasks
+    << "\" --out \"" << out.string() << "/shard-${SLURM_ARRAY_TASK_ID}\" --world-cache " << out.string()
+    << "/world --mission " << image << "\n";
+  if (!write_atomic(out / "campaign.sbatch", s.str(), err)) {
+    std::fprintf(stderr, "trn_campaign: %s\n", err.c_str());
+    return 1;
+  }
+  fs::permissions(out / "campaign.sbatch", fs::perms::owner_exec, fs::perm_options::add, ec);
+  std::printf("%s\n", (out / "campaign.sbatch").string().c_str());
+  return 0;
+}
+
+int run_main(int argc, char** argv) {
+  CLI::App app{"trn_campaign: fault-injection campaigns over the mission image"};
+  app.require_subcommand(1);
+  RunOptions ro;
+  CLI::App* run = app.add_subcommand("run", "Fly a campaign (or one shard of it) and write its report");
+  run->add_option("spec", ro.spec, "Campaign spec (TOML, docs/CAMPAIGNS.md)")->required();
+  run->add_option("--out", ro.out, "Campaign folder (default out/campaign-<name>); resumed if it holds this campaign");
+  run->add_option("-j,--jobs", ro.jobs, "Runs in parallel (default: the host's cores)")->check(CLI::Range(1U, 256U));
+  run->add_option("--shard", ro.shard, "Fly only runs i, i+N, i+2N, ... (i/N)");
+  run->add_option("--mission", ro.mission, "The mission image (default: trn_mission beside this program)");
+  run->add_option("--world-cache", ro.world, "Folder of built worlds shared by the runs (default <out>/world)");
+  run->add_flag("--quiet", ro.quiet, "No progress bar and no report on stdout");
+  std::string merge_out;
+  std::vector<std::string> merge_in;
+  bool merge_quiet = false;
+  CLI::App* merge = app.add_subcommand("merge", "One report from campaign folders (shards) of the same spec");
+  merge->add_option("--out", merge_out, "Folder of the merged report")->required();
+  merge->add_option("folders", merge_in, "Campaign or shard folders")->required();
+  merge->add_flag("--quiet", merge_quiet, "No report on stdout");
+  std::string sb_spec;
+  std::string sb_out;
+  std::string sb_mission;
+  std::uint32_t sb_tasks = 2U;
+  CLI::App* sb = app.add_subcommand("sbatch", "Write a Slurm job-array script that flies the campaign in shards");
+  sb->add_option("spec", sb_spec, "Campaign spec")->required();
+  sb->add_option("--out", sb_out, "Campaign folder (shards go to shard-<i>)")->required();
+  sb->add_option("--tasks", sb_tasks, "Array tasks (shards)")->check(CLI::Range(1U, 10000U));
+  sb->add_option("--mission", sb_mission, "The mission image (default: trn_mission beside this program)");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);
+    return rc == 0 ? 0 : 2;
+  }
+  if (run->parsed()) {
+    return cmd_run(ro);
+  }
+  if (merge->parsed()) {
+    return cmd_merge(merge_out, merge_in, merge_quiet);
+  }
+  return cmd_sbatch(sb_spec, sb_out, sb_tasks, sb_mission);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run_main(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "trn_campaign: %s\n", e.what());
+    return 1;
+  }
+}
