@@ -6,6 +6,7 @@
  *   trn_campaign run SPEC [--out DIR] [-j N] [--shard i/N]   fly the campaign (or one shard of it)
  *   trn_campaign merge --out DIR SHARD...                    one report from shard folders
  *   trn_campaign sbatch SPEC --out DIR --tasks N             a Slurm job-array script for it
+ *   trn_campaign margin --margin E [--confidence C]          runs needed for a margin of error
  *
  * Each run is a process of build/trn_mission with the run's drawn plan
  * (docs/CAMPAIGNS.md): a crash or a hang of the image is the run's outcome,
@@ -586,11 +587,27 @@ int run_main(int argc, char** argv) {
   sb->add_option("--out", sb_out, "Campaign folder (shards go to shard-<i>)")->required();
   sb->add_option("--tasks", sb_tasks, "Array tasks (shards)")->check(CLI::Range(1U, 10000U));
   sb->add_option("--mission", sb_mission, "The mission image (default: trn_mission beside this program)");
+  double margin = 0.01;
+  double confidence = 0.95;
+  double expected = 0.5;
+  std::uint64_t population = 0U;
+  CLI::App* mg = app.add_subcommand("margin", "Runs a campaign needs for a margin of error (Leveugle et al., DATE 2009)");
+  mg->add_option("--margin", margin, "Half-width of the interval, as a fraction (default 0.01)")->check(CLI::Range(1e-6, 0.5));
+  mg->add_option("--confidence", confidence, "Confidence (default 0.95)")->check(CLI::Range(0.5, 0.999999));
+  mg->add_option("--p", expected, "Expected fraction (default 0.5, the worst case)")->check(CLI::Range(0.0, 1.0));
+  mg->add_option("--population", population, "Faults in the whole fault space (default: infinite)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int rc = app.exit(e);
     return rc == 0 ? 0 : 2;
+  }
+  if (mg->parsed()) {
+    std::printf("%llu runs for a margin of %.4g %% at %.4g %% confidence (p = %.3g, population %s)\n",
+                static_cast<unsigned long long>(cp::runs_for_margin(margin, confidence, expected, population)),
+                margin * 100.0, confidence * 100.0, expected,
+                population == 0U ? "infinite" : std::to_string(population).c_str());
+    return 0;
   }
   if (run->parsed()) {
     return cmd_run(ro);

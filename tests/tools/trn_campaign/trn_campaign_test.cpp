@@ -180,6 +180,14 @@ TEST_F(TrnCampaignBinary, BadInputIsRefusedWithExitStatusTwo) {
   EXPECT_NE(log.find("cannot read the campaign spec"), std::string::npos) << log;
 }
 
+// The runs a margin needs, as Leveugle et al. (DATE 2009) give them: 9604 for 1 % at 95 %.
+TEST_F(TrnCampaignBinary, TheRunsForAMarginArePrinted) {
+  std::string log;
+  ASSERT_EQ(run(bin("trn_campaign") + " margin --margin 0.01", &log), 0) << log;
+  EXPECT_NE(log.find("9604 runs for a margin of 1 % at 95 % confidence"), std::string::npos) << log;
+  EXPECT_EQ(run(bin("trn_campaign") + " margin --margin 0.9", &log), 2) << "a margin above one half is refused";
+}
+
 // CMP-06: the Slurm array script flies shard i of N in array task i, all sharing one world cache.
 TEST_F(TrnCampaignBinary, TheSlurmScriptIsAnArrayOfShards) {
   std::string log;
