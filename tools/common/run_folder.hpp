@@ -191,6 +191,13 @@ class EventLog {
   bool addf(double t_s, EventCategory category, bsp::TileId tile, const char* fmt, ...) noexcept
       __attribute__((format(printf, 5, 6)));
 
+  /**
+   * Room for @p extra more events (allocates: after the flight only, e.g. for
+   * the injections' lines, which are never dropped however full the flight
+   * left the log).
+   */
+  void grow(std::size_t extra) { events_.resize(count_ + extra > events_.size() ? count_ + extra : events_.size()); }
+
   [[nodiscard]] std::size_t size() const noexcept { return count_; }
   [[nodiscard]] std::size_t dropped() const noexcept { return dropped_; }
   [[nodiscard]] std::size_t count(EventCategory c) const noexcept;

@@ -85,6 +85,9 @@ struct Inputs {
   bool no_plots = false;
 };
 
+/** Lines of events.log for the flight's events (a flood beyond them is counted at its end). */
+constexpr std::size_t kEventLogLines = std::size_t{1} << 15U;
+
 int bad_input(const std::string& msg) {
   std::fprintf(stderr, "trn_mission: %s\n", msg.c_str());
   return 2;
@@ -565,7 +568,7 @@ int run(int argc, char** argv) {
   if (in.plan.has_value() && !tools::arm_fault_plan(*in.plan, static_cast<double>(bsp::kTile64.clock_hz), error)) {
     return bad_input(error);
   }
-  tools::EventLog log;
+  tools::EventLog log(kEventLogLines);
   tools::NavCsv csv;
   if (!csv.open(in.folder->staging_path("nav.csv"), error)) {
     return bad_input(error);
@@ -593,6 +596,7 @@ int run(int argc, char** argv) {
   const double host_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double clock_hz = static_cast<double>(bsp::kTile64.clock_hz);
   const tools::FaultAccount faults = tools::join_faults(bsp::fault_log(), flight.events(), clock_hz);
+  log.grow(bsp::fault_log().size());  // every injection's line, however many flight events filled the log
   tools::log_fault_outcomes(bsp::fault_log(), faults, clock_hz, log);
   const tools::Summary s = make_summary(in, mission, flight, faults, rec, host_s, allocs, energy);
   if (!csv.close(error) || !write_outputs(in, s, log, tile_infos(mission, flight), error)) {

@@ -451,6 +451,22 @@ TEST(EventLog, AddingAllocatesNothingAndAFullLogCounts) {
   EXPECT_EQ(std::string(small.sorted()[0].text.data()).size(), tools::kEventTextBytes - 1U) << "long texts are cut";
 }
 
+// A log the flight filled still takes the injections' lines after it: grown, nothing dropped, the
+// flight's drops still counted (a run whose events flooded the log once lost its ground truth).
+TEST(EventLog, AFullLogGrowsForTheLinesAddedAfterTheFlight) {
+  tools::EventLog log(2U);
+  EXPECT_TRUE(log.add(1.0, tools::EventCategory::kDetect, 1U, "flight"));
+  EXPECT_TRUE(log.add(2.0, tools::EventCategory::kDetect, 1U, "flight"));
+  EXPECT_FALSE(log.add(3.0, tools::EventCategory::kDetect, 1U, "flood"));
+  log.grow(2U);
+  EXPECT_TRUE(log.add(0.5, tools::EventCategory::kInject, 9U, "switch_fail (planned) -> not detected"));
+  EXPECT_TRUE(log.add(0.7, tools::EventCategory::kInject, 9U, "second"));
+  EXPECT_FALSE(log.add(4.0, tools::EventCategory::kInfo, 0U, "beyond the room grown"));
+  EXPECT_EQ(log.size(), 4U);
+  EXPECT_EQ(log.dropped(), 2U);
+  EXPECT_EQ(std::string(log.sorted()[0].text.data()), "switch_fail (planned) -> not detected");
+}
+
 // ------------------------------------------------------------------ tile map and plots
 
 std::vector<tools::TileInfo> default_tiles() {
