@@ -7,6 +7,7 @@
 #include "tools/common/fault_plan.hpp"
 #include "tools/common/text.hpp"
 #include "tools/common/toml_input.hpp"
+#include "trn/tasks/sdc_points.hpp"
 
 #include <toml++/toml.h>
 
@@ -31,9 +32,10 @@ constexpr std::uint32_t kReplicaInstances = 3U;
 constexpr std::uint32_t kMaxPacketWord = 129U;
 constexpr std::uint32_t kMaxSdcBit = 65535U;
 
-constexpr std::array<std::string_view, 15> kKeys = {
+constexpr std::array<std::string_view, 17> kKeys = {
     "name",  "scenario", "seed",  "campaign_seed", "runs",      "faults_per_run", "duration_s", "window_s",
-    "kinds", "roles",    "tiles", "pass_bound_m",  "degraded_bound_m", "timeout_s", "command"};
+    "kinds", "roles",    "tiles", "points",        "carves",    "pass_bound_m",   "degraded_bound_m", "timeout_s",
+    "command"};
 
 /** The roles a campaign can aim at: those a fault plan names. */
 constexpr std::array<std::string_view, 6> kRoles = {"trn_supervisor", "vision_coordinator", "io",
@@ -190,10 +192,16 @@ std::string draw_fault(const Spec& spec, Stream& r, std::string& kind_out) {
   }
   switch (kind) {
     case bsp::FaultKind::kSdc:
+      if (!spec.points.empty()) {
+        o << "point = \"" << spec.points[r.below(spec.points.size())] << "\"\n";
+      }
       o << "bit = " << r.below(kMaxSdcBit + 1U) << "\n";
       break;
     case bsp::FaultKind::kSeu:
-      o << "bit = " << r.below(8U) << "\n";  // the byte: drawn among the tile's data by the injector's stream
+      if (!spec.carves.empty()) {
+        o << "carve = \"" << spec.carves[r.below(spec.carves.size())] << "\"\n";
+      }
+      o << "bit = " << r.below(8U) << "\n";  // the byte: drawn among the tile's data (or the carve) by the injector's stream
       break;
     case bsp::FaultKind::kPacketBitFlip:
       o << "word = " << r.below(kMaxPacketWord + 1U) << "\nbit = " << r.below(32U) << "\n";
@@ -328,6 +336,18 @@ SpecResult parse_spec(std::string_view text, const std::string& source, double m
         s.tiles.push_back(static_cast<std::uint32_t>(v));
       }
     }
+  }
+  if (const toml::node* n = root.get("points")) {
+    rd.fail("points", read_names(*n, s.points, [](const std::string& v) {
+              const bool known = std::any_of(trn::tasks::kSdcPoints.begin(), trn::tasks::kSdcPoints.end(),
+                                             [&v](const trn::tasks::SdcPoint& p) { return v == p.name; });
+              return known ? std::string{} : "unknown point \"" + v + "\" (docs/FAULT_PLANS.md, the points of an sdc)";
+            }));
+  }
+  if (const toml::node* n = root.get("carves")) {
+    rd.fail("carves", read_names(*n, s.carves, [](const std::string& v) {
+              return !v.empty() && v.size() <= 23U ? std::string{} : "a carve name is 1 .. 23 characters";
+            }));
   }
   if (s.roles.empty() && s.tiles.empty()) {
     errors.push_back(source + ": no target: give roles, tiles or both");

@@ -42,6 +42,8 @@ struct Spec {
   std::vector<bsp::FaultKind> kinds;
   std::vector<std::string> roles;   ///< targets by role (resolved by the role directory when due)
   std::vector<std::uint32_t> tiles; ///< targets by tile
+  std::vector<std::string> points;  ///< sdc: the points drawn from (empty: the first the target publishes at)
+  std::vector<std::string> carves;  ///< seu: the carves drawn from (empty: anywhere in the tile's data)
   double pass_bound_m = 2.0;        ///< a correct output: final position error within this, mission not lost
   double degraded_bound_m = 20.0;   ///< a degraded but kept mission: within this
   double timeout_s = 600.0;         ///< host seconds a run may take before it is killed (a hang)

@@ -126,6 +126,27 @@ TEST(CampaignSpec, APlanNoDrawCanMakeValidIsAnError) {
   EXPECT_NE(d.error.find("run 0: no valid plan in 64 draws"), std::string::npos) << d.error;
 }
 
+// Points and carves narrow what an sdc or an seu hits: every drawn plan names one of them.
+TEST(CampaignSpec, PointsAndCarvesNarrowTheDraws) {
+  const cp::SpecResult r = parse("name = \"t\"\nruns = 40\nkinds = [\"sdc\", \"seu\"]\nroles = [\"filter\"]\n"
+                                 "points = [\"filter_state\", \"nav_output\"]\ncarves = [\"ekf\"]\n");
+  ASSERT_TRUE(r.ok()) << r.error;
+  for (std::uint32_t i = 0; i < r.spec.runs; ++i) {
+    const cp::DrawnPlan d = cp::draw_plan(r.spec, i, 64U, kRunS);
+    ASSERT_TRUE(d.error.empty()) << d.error;
+    const tools::FaultPlanResult p = tools::parse_fault_plan(d.toml, "run", 64U, kRunS);
+    ASSERT_TRUE(p.ok()) << p.error;
+    const tools::FaultPlanItem& it = p.plan->items[0];
+    if (it.kind == bsp::FaultKind::kSeu) {
+      EXPECT_EQ(it.carve, "ekf") << d.toml;
+    } else {
+      EXPECT_TRUE(it.channel == 1U || it.channel == 2U) << "nav_output or filter_state\n" << d.toml;
+    }
+  }
+  const cp::SpecResult bad = parse("name = \"t\"\nruns = 1\nkinds = [\"sdc\"]\nroles = [\"filter\"]\npoints = [\"x\"]\n");
+  EXPECT_NE(bad.error.find("points: element 0: unknown point \"x\""), std::string::npos) << bad.error;
+}
+
 // The outcome rules (docs/CAMPAIGNS.md, "Outcome classes").
 TEST(CampaignSpec, OutcomesFollowTheWrittenRules) {
   const double pass = 2.0;
