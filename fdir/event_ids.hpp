@@ -68,7 +68,7 @@ enum class EventId : std::uint16_t {
   kTileReset = 0x0503,         ///< a silent tile was reset; subject: tile, cause: 0 by the supervisor, 1 by the supervisor's watcher, 2 by the supervisor for wrong results (a coordinator's report), a: resets of it, b: cap
   kTileRecovered = 0x0504,     ///< a reset tile booted its role again and reported; subject: tile, cause: boot cause, a: ticks since the reset
   kTileRebooted = 0x0505,      ///< a tile booted again without a command (crash); subject: tile, cause: boot cause
-  kTileLost = 0x0506,          ///< a reset tile never reported back; subject: tile, a: ticks waited
+  kTileLost = 0x0506,          ///< a tile given up: subject: tile, cause: 0 never reported back after its reset (a: ticks waited), 1 its reset refused, the watcher's tile (the supervisor's reset refused), kLostSwitchFailed its switch failed (cut off)
   kRoleMoved = 0x0507,         ///< a retired tile's role goes to a spare; subject: role slot (or a worker's boot slot), cause: old tile, a: spare, b: directory version (0: a worker replaced for wrong results, not a directory role)
   kRoleRestored = 0x0508,      ///< the spare booted the role and reported; subject: role slot, cause: retired tile, a: spare, b: ticks since the move
   kNoSpare = 0x0509,           ///< a role could not move (no spare left, or it would not switch on); subject: slot, cause: old tile

@@ -191,6 +191,7 @@ struct State {
   std::array<std::uint64_t, udn::kRoleSlots> to_tell{};  ///< per slot: tiles still to be sent its latest move
   std::uint64_t map_to_tell = 0U;  ///< tiles that booted and are still to be sent the fault map
   std::uint64_t adopted = 0U;      ///< spares that took a role: sent every new fault map (the health task skips spares)
+  std::uint64_t cut_off = 0U;      ///< watched tiles whose switch the fault map declares failed (handled once)
   std::array<std::uint32_t, bsp::kMaxTiles> map_sent{};  ///< fault-map version last sent to each tile
   std::array<std::uint32_t, bsp::kMaxTiles> arriving{};  ///< per spare switched on: the slot it takes (kNoSlot: none)
   std::array<bsp::TileId, bsp::kMaxTiles> arriving_from{};  ///< per spare switched on: the retired tile
@@ -652,6 +653,24 @@ void check_timeouts(State& s, const TileHealthConfig& cfg) noexcept {
   }
 }
 
+/**
+ * Watched tiles whose switch the fault map declares failed: cut off from the
+ * network for good (no reset brings a switch back), so they are retired at
+ * once and their roles go to spares; a role bound to its tile stays
+ * (no_spare). Each is handled once.
+ */
+void retire_cut_off(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexcept {
+  const std::uint64_t failed = udn::endpoint_fault_map().failed_tiles & s.watched & ~(s.view.retired | s.cut_off);
+  for (bsp::TileId t = 0; t < bsp::kMaxTiles; ++t) {
+    if ((failed & bit(t)) == 0ULL || t == self) {
+      continue;
+    }
+    s.cut_off |= bit(t);
+    report(EventId::kTileLost, t, kLostSwitchFailed, 0U);
+    retire(s, cfg, t);
+  }
+}
+
 /** The watchdogs that expired and the cores the pings named: reset, or retire past the cap. */
 void take_expiries(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexcept {
   const std::uint64_t expired = bsp::watchdog_take_expired();
@@ -786,6 +805,7 @@ void tile_health_task_main(void* arg) noexcept {
     take_expiries(*s, *cfg, self);
     take_reports(*s, *cfg, self);
     check_timeouts(*s, *cfg);
+    retire_cut_off(*s, *cfg, self);
     switch_off_parked(*s);
     tell_moves(*s);
     run_self_tests(*s, *cfg, self);

@@ -79,6 +79,9 @@
 namespace fdir {
 
 /** Boot report (udn::kFtChanHealth): [0] kMsgBooted [1] tile [2] bsp::BootCause. */
+/** tile_lost's cause for a tile cut off: its switch is declared failed (above every tile id). */
+inline constexpr std::uint32_t kLostSwitchFailed = 0x100U;
+
 inline constexpr std::uint32_t kMsgBooted = 0x424F4F54U;  // "BOOT"
 inline constexpr std::uint32_t kBootedWords = 3U;
 

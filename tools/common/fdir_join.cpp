@@ -7,6 +7,7 @@
 #include "bsp_tile64/profile.hpp"
 #include "tools/common/fault_plan.hpp"
 #include "fdir/supervisor.hpp"
+#include "fdir/tile_health.hpp"
 #include "trn/tasks/messages.hpp"
 #include "trn/tasks/supervisors.hpp"
 #include "trn/vision/correlator.hpp"
@@ -460,7 +461,12 @@ void describe_health_event(const fdir::Event& e, const char* s, std::span<char> 
       }
       break;
     case EventId::kTileLost:
-      (void)std::snprintf(b.data(), b.size(), "tile %s did not report back %u ticks (ms) after its reset", s, e.a);
+      if (e.cause == fdir::kLostSwitchFailed) {
+        (void)std::snprintf(b.data(), b.size(), "tile %s cut off: its switch is declared failed; retired, its roles "
+                            "go to spares", s);
+      } else {
+        (void)std::snprintf(b.data(), b.size(), "tile %s did not report back %u ticks (ms) after its reset", s, e.a);
+      }
       break;
     case EventId::kRoleMoved:
       if (e.b == 0U) {

@@ -955,6 +955,25 @@ TEST_F(TrnMissionBinary, WorldCacheFliesTheSameBits) {
   }
 }
 
+// A tile whose switch is declared failed is cut off for good (no reset brings a switch back): the
+// tile-health supervisor retires it at once and its role goes to a spare. Before, the coordinator
+// stayed on its dead tile and no frame came after 11 s (2.04 m at the end, a campaign's run 59).
+TEST_F(TrnMissionBinary, ATileWhoseSwitchFailedIsRetiredAndItsRoleMoves) {
+  ASSERT_EQ(run(binary() + " --quiet --no-plots --faults " + fixture("coordinator_switch_fail.toml") + " --out " +
+                (dir_ / "sw").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "sw" / "summary.json");
+  const std::string log = read_text(dir_ / "sw" / "events.log");
+  EXPECT_NE(log.find("switch_fail (planned) -> detected by tile 0 (switch_failed)"), std::string::npos) << log;
+  EXPECT_NE(log.find("tile_lost: tile 1 cut off: its switch is declared failed"), std::string::npos);
+  EXPECT_NE(log.find("role_moved: role slot 0 moves from retired tile 1 to spare 2"), std::string::npos);
+  EXPECT_NE(log.find("role_restored: role slot 0 runs again on tile 2 (was tile 1)"), std::string::npos);
+  EXPECT_EQ(s["coordinator_tile"], 2.0);
+  EXPECT_GE(s["frames"].get<double>(), 42.0) << "the frames go on from the spare";
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 1.0);
+  EXPECT_EQ(s["deadline_misses"], 0);
+}
+
 // FDIR-SUP-15: a supervisor restarted from its image starts with no policy: the TRN supervisor
 // hands its children their policies again every second, so the filter supervisor, reset after a
 // hang, holds reliability high again within that second and obeys the next policy.
