@@ -7,6 +7,7 @@
  *   trn_campaign merge --out DIR SHARD...                    one report from shard folders
  *   trn_campaign sbatch SPEC --out DIR --tasks N             a Slurm job-array script for it
  *   trn_campaign margin --margin E [--confidence C]          runs needed for a margin of error
+ *   trn_campaign shrink RUN_DIR                              a failing run's plan reduced (ddmin)
  *
  * Each run is a process of build/trn_mission with the run's drawn plan
  * (docs/CAMPAIGNS.md): a crash or a hang of the image is the run's outcome,
@@ -19,6 +20,7 @@
 #include "tools/common/campaign_stats.hpp"
 #include "tools/common/scenario.hpp"
 #include "tools/common/text.hpp"
+#include "tools/common/toml_input.hpp"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -463,6 +465,156 @@ int cmd_run(const RunOptions& o) {
   return 0;
 }
 
+/** Flies one job to its end (killed at the spec's timeout) and returns its result. */
+cp::RunResult fly_one(const std::string& mission, const cp::Spec& s, Job& j, const fs::path& world, std::string& err,
+                      bool& ok) {
+  ok = start(mission, s, j, world, err);
+  if (!ok) {
+    return {};
+  }
+  int status = 0;
+  while (::waitpid(j.pid, &status, WNOHANG) == 0) {
+    if (!j.timed_out && std::chrono::duration<double>(Clock::now() - j.started).count() > s.timeout_s) {
+      j.timed_out = true;
+      (void)::kill(j.pid, SIGKILL);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  nlohmann::json rec;
+  return finish(s, j, status, rec);
+}
+
+/** A plan's text with the faults of @p keep only (its name and commands kept). */
+std::string plan_subset(const toml::table& plan, const std::vector<std::size_t>& keep) {
+  toml::table out;
+  if (const toml::node* n = plan.get("name")) {
+    out.insert("name", *n);
+  }
+  if (const toml::node* n = plan.get("command")) {
+    out.insert("command", *n);
+  }
+  toml::array faults;
+  const toml::array* all = plan.get_as<toml::array>("fault");
+  for (const std::size_t i : keep) {
+    faults.push_back(*all->get(i));
+  }
+  out.insert("fault", faults);
+  std::ostringstream o;
+  o << out << "\n";
+  return o.str();
+}
+
+/**
+ * Delta debugging (Zeller and Hildebrandt, ddmin) over a failing run's faults:
+ * the smallest subset found that still ends in the run's outcome class,
+ * written beside the plan as plan.min.toml.
+ */
+int cmd_shrink(const std::string& run_dir, const std::string& mission_opt, const std::string& world_opt, bool quiet) {
+  const fs::path run(run_dir);
+  const fs::path campaign_dir = run.parent_path().parent_path();
+  cp::RunResult original;
+  if (!read_result(run / "result.json", original) || !fs::exists(run / "plan.toml")) {
+    std::fprintf(stderr, "trn_campaign: shrink: %s is not a finished campaign run (plan.toml, result.json)\n",
+                 run_dir.c_str());
+    return 2;
+  }
+  Loaded l;
+  std::string err;
+  if (!load((campaign_dir / "campaign.toml").string(), l, err)) {
+    std::fprintf(stderr, "trn_campaign: shrink: %s\n", err.c_str());
+    return 2;
+  }
+  if (original.outcome == cp::Outcome::kMasked || original.outcome == cp::Outcome::kRecovered) {
+    std::fprintf(stderr, "trn_campaign: shrink: run %s ended %s: nothing failed to shrink\n", run_dir.c_str(),
+                 cp::outcome_name(original.outcome));
+    return 2;
+  }
+  toml::table plan;
+  if (!tools::parse_toml(read_text(run / "plan.toml"), (run / "plan.toml").string(), plan, err) ||
+      plan.get_as<toml::array>("fault") == nullptr) {
+    std::fprintf(stderr, "trn_campaign: shrink: %s\n", err.empty() ? "the plan has no [[fault]]" : err.c_str());
+    return 2;
+  }
+  const std::string mission = mission_opt.empty() ? default_mission() : mission_opt;
+  const fs::path world = world_opt.empty() ? campaign_dir / "world" : fs::path(world_opt);
+  const std::size_t n_all = plan.get_as<toml::array>("fault")->size();
+  std::uint32_t flights = 0U;
+  bool broken = false;
+  // Whether the faults @p c still end in the run's class (each candidate flown once, in its own folder).
+  auto fails = [&](const std::vector<std::size_t>& c) {
+    Job j;
+    j.index = original.index;
+    j.dir = run / "shrink" / ("try-" + std::to_string(flights++));
+    std::error_code ec;
+    fs::create_directories(j.dir, ec);
+    std::string e;
+    bool ok = write_atomic(j.dir / "plan.toml", plan_subset(plan, c), e);
+    const cp::RunResult r = ok ? fly_one(mission, l.spec, j, world, e, ok) : cp::RunResult{};
+    if (!ok) {
+      broken = true;
+      err = e;
+      return false;
+    }
+    if (!quiet) {
+      std::fprintf(stderr, "trn_campaign: shrink: %zu faults -> %s\n", c.size(), cp::outcome_name(r.outcome));
+    }
+    return r.outcome == original.outcome;
+  };
+  std::vector<std::size_t> c(n_all);
+  for (std::size_t i = 0; i < n_all; ++i) {
+    c[i] = i;
+  }
+  std::size_t n = 2U;
+  while (c.size() >= 2U && !broken) {
+    const std::size_t chunk = (c.size() + n - 1U) / n;
+    bool reduced = false;
+    for (std::size_t start_i = 0; start_i < c.size() && !reduced && !broken; start_i += chunk) {
+      const std::vector<std::size_t> part(c.begin() + static_cast<std::ptrdiff_t>(start_i),
+                                          c.begin() + static_cast<std::ptrdiff_t>(std::min(c.size(), start_i + chunk)));
+      if (fails(part)) {
+        c = part;
+        n = 2U;
+        reduced = true;
+        break;
+      }
+      if (n > 2U) {
+        std::vector<std::size_t> rest;
+        for (const std::size_t k : c) {
+          if (std::find(part.begin(), part.end(), k) == part.end()) {
+            rest.push_back(k);
+          }
+        }
+        if (fails(rest)) {
+          c = rest;
+          n = std::max<std::size_t>(n - 1U, 2U);
+          reduced = true;
+        }
+      }
+    }
+    if (!reduced) {
+      if (n >= c.size()) {
+        break;
+      }
+      n = std::min(c.size(), 2U * n);
+    }
+  }
+  if (broken) {
+    std::fprintf(stderr, "trn_campaign: shrink: %s\n", err.c_str());
+    return 1;
+  }
+  std::string text = "# Shrunk from " + (run / "plan.toml").string() + " by trn_campaign shrink (ddmin): " +
+                     std::to_string(c.size()) + " of " + std::to_string(n_all) + " faults still end " +
+                     cp::outcome_name(original.outcome) + " (" + std::to_string(flights) + " flights)\n" +
+                     plan_subset(plan, c);
+  if (!write_atomic(run / "plan.min.toml", text, err)) {
+    std::fprintf(stderr, "trn_campaign: shrink: %s\n", err.c_str());
+    return 1;
+  }
+  std::printf("%zu of %zu faults still end %s (%u flights): %s\n", c.size(), n_all, cp::outcome_name(original.outcome),
+              flights, (run / "plan.min.toml").string().c_str());
+  return 0;
+}
+
 int cmd_merge(const std::string& out_dir, const std::vector<std::string>& inputs, bool quiet) {
   std::string spec_text;
   std::map<std::uint32_t, cp::RunResult> by_index;
@@ -587,6 +739,15 @@ int run_main(int argc, char** argv) {
   sb->add_option("--out", sb_out, "Campaign folder (shards go to shard-<i>)")->required();
   sb->add_option("--tasks", sb_tasks, "Array tasks (shards)")->check(CLI::Range(1U, 10000U));
   sb->add_option("--mission", sb_mission, "The mission image (default: trn_mission beside this program)");
+  std::string sh_run;
+  std::string sh_mission;
+  std::string sh_world;
+  bool sh_quiet = false;
+  CLI::App* sh = app.add_subcommand("shrink", "Reduce a failing run's plan to a minimal one that fails the same way");
+  sh->add_option("run", sh_run, "The run's folder (<campaign>/runs/<i>)")->required();
+  sh->add_option("--mission", sh_mission, "The mission image (default: trn_mission beside this program)");
+  sh->add_option("--world-cache", sh_world, "World cache folder (default <campaign>/world)");
+  sh->add_flag("--quiet", sh_quiet, "No line per flight");
   double margin = 0.01;
   double confidence = 0.95;
   double expected = 0.5;
@@ -611,6 +772,9 @@ int run_main(int argc, char** argv) {
   }
   if (run->parsed()) {
     return cmd_run(ro);
+  }
+  if (sh->parsed()) {
+    return cmd_shrink(sh_run, sh_mission, sh_world, sh_quiet);
   }
   if (merge->parsed()) {
     return cmd_merge(merge_out, merge_in, merge_quiet);

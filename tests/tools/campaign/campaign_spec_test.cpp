@@ -177,7 +177,8 @@ TEST(CampaignSpec, ShardsAreIOverN) {
 }
 
 TEST(CampaignSpec, TheShippedCampaignsAreValid) {
-  for (const char* f : {"campaigns/single_faults.toml", "campaigns/slurm_small.toml", "tests/fixtures/campaigns/small.toml",
+  for (const char* f : {"campaigns/single_faults.toml", "campaigns/slurm_small.toml", "campaigns/ft_single_1000.toml",
+                        "campaigns/ft_five_300.toml", "tests/fixtures/campaigns/small.toml",
                         "tests/fixtures/campaigns/crash.toml"}) {
     const cp::SpecResult r = cp::load_spec(std::string(build_info::kRepoRoot) + "/" + f, kRunS);
     EXPECT_TRUE(r.ok()) << f << ": " << r.error;

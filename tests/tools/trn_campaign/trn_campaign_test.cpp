@@ -164,6 +164,56 @@ TEST_F(TrnCampaignBinary, ACrashedOrHungImageIsTheRunsOutcome) {
   EXPECT_EQ(read_json(dir_ / "c" / "report.json")["classes"]["hang_crash"]["count"], 2);
 }
 
+// CMP-08: shrink finds the one guilty fault among six: a plan whose fault at 5.25 s crashes the (fake)
+// image reduces to that fault alone, written beside the plan; a run that did not fail is refused.
+TEST_F(TrnCampaignBinary, ShrinkFindsTheOneGuiltyFaultAmongMany) {
+  const fs::path c = dir_ / "c";
+  const fs::path r = c / "runs" / "000000";
+  fs::create_directories(r);
+  fs::copy_file(fixture("small.toml"), c / "campaign.toml");
+  {
+    std::ofstream plan(r / "plan.toml");
+    plan << "name = \"guilty\"\n";
+    for (const double t : {4.1, 4.3, 4.5, 4.7, 5.25, 5.9}) {
+      plan << "\n[[fault]]\nt_s = " << t << "\nkind = \"packet_bit_flip\"\ntile = 24\nword = 5\nbit = 3\n";
+    }
+    std::ofstream res(r / "result.json");
+    res << R"({"index": 0, "kind": "packet_bit_flip", "outcome": "hang_crash", "final_error_m": 0, "max_error_m": 0,
+               "host_s": 0, "injected": 0, "detected": 0, "recovered": 0})";
+  }
+  const fs::path fake = dir_ / "fake_mission.sh";
+  {
+    std::ofstream f(fake);
+    f << "#!/bin/bash\nplan=\nfor a in \"$@\"; do case \"$a\" in *plan.toml) plan=$a ;; esac; done\n"
+         "if [ -n \"$plan\" ] && grep -q '5.25' \"$plan\"; then kill -SEGV $$; fi\nexec "
+      << bin("trn_mission") << " \"$@\"\n";
+  }
+  fs::permissions(fake, fs::perms::owner_all);
+  std::string log;
+  ASSERT_EQ(run(bin("trn_campaign") + " shrink " + r.string() + " --world-cache " + world() + " --mission " +
+                    fake.string(), &log),
+            0)
+      << log;
+  EXPECT_NE(log.find("1 of 6 faults still end hang_crash"), std::string::npos) << log;
+  std::ifstream in(r / "plan.min.toml");
+  std::ostringstream t;
+  t << in.rdbuf();
+  EXPECT_NE(t.str().find("t_s = 5.25"), std::string::npos) << t.str();
+  EXPECT_EQ(t.str().find("t_s = 4.1"), std::string::npos) << t.str();
+  // The shrunk plan is a plan the image takes.
+  EXPECT_EQ(run(bin("trn_mission") + " --quiet --no-plots --world-cache " + world() + " --duration 8 --faults " +
+                (r / "plan.min.toml").string() + " --out " + (dir_ / "min").string()),
+            0);
+  // A run that ended well has nothing to shrink.
+  {
+    std::ofstream res(r / "result.json");
+    res << R"({"index": 0, "kind": "x", "outcome": "masked", "final_error_m": 0, "max_error_m": 0, "host_s": 0,
+               "injected": 0, "detected": 0, "recovered": 0})";
+  }
+  EXPECT_EQ(run(bin("trn_campaign") + " shrink " + r.string(), &log), 2);
+  EXPECT_NE(log.find("nothing failed to shrink"), std::string::npos) << log;
+}
+
 TEST_F(TrnCampaignBinary, BadInputIsRefusedWithExitStatusTwo) {
   const fs::path spec = dir_ / "bad.toml";
   {
