@@ -12,6 +12,12 @@
 
 .DEFAULT_GOAL := all
 SHELL := /bin/bash
+# Every core by default; a -j on the command line wins (make -j1 for one at a time).
+MAKEFLAGS += -j$(shell nproc 2>/dev/null || echo 2)
+# `make clean all` must not build while it cleans.
+ifneq ($(filter clean,$(MAKECMDGOALS)),)
+.NOTPARALLEL:
+endif
 
 BUILD ?= release
 SAN ?=
@@ -96,13 +102,22 @@ help: ## List the targets and options
 .PHONY: deps
 deps: ## Install missing Debian packages (compiler, Eigen, GoogleTest, gates...)
 	@tools/build/deps.sh base
+	@mkdir -p $(GEN) && touch $(GEN)/deps.ok
+
+# Whatever is built (make, make all, a single program), the packages come first:
+# every compile waits for this stamp, made once by installing what is missing
+# (or stopping with one line that names make deps when that cannot be done).
+DEPS_OK := $(GEN)/deps.ok
+$(DEPS_OK): tools/build/deps.sh
+	@tools/build/deps.sh base
+	@mkdir -p $(@D) && touch $@
 
 # ---------------------------------------------------------------- build rules
-$(GEN)/host_memory.ld: linker/host_memory.ld.S linker/memory_config.h
+$(GEN)/host_memory.ld: linker/host_memory.ld.S linker/memory_config.h | $(DEPS_OK)
 	@mkdir -p $(@D)
 	$(CXX) -E -P -x c -undef -I. $< -o $@
 
-$(OBJ)/%.o: %.cpp
+$(OBJ)/%.o: %.cpp | $(DEPS_OK)
 	@mkdir -p $(@D)
 	$(CXX) $(call flags_for,$<) -c $< -o $@
 

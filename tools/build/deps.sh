@@ -35,13 +35,24 @@ for g in "${groups[@]}"; do
   esac
 done
 
-missing=()
-for p in "${wanted[@]}"; do
-  # dpkg-query prints "install ok installed" only for a fully installed package.
-  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
-    missing+=("$p")
-  fi
-done
+# The wanted packages not fully installed ("install ok installed"), one per line.
+missing_packages() {
+  local p
+  for p in "${wanted[@]}"; do
+    if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+      echo "$p"
+    fi
+  done
+}
+
+mapfile -t missing < <(missing_packages)
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+# Goals of one parallel make (or two makes) may both find packages missing: they
+# install one at a time, and the second installs only what is still missing.
+exec 9>"${TMPDIR:-/tmp}/trn-deps.lock"
+flock 9
+mapfile -t missing < <(missing_packages)
 [ ${#missing[@]} -eq 0 ] && exit 0
 
 echo "deps: installing ${missing[*]}"
@@ -50,7 +61,7 @@ if [ "$(id -u)" -eq 0 ]; then
 elif command -v sudo >/dev/null 2>&1; then
   sudo_cmd=(sudo)
 else
-  echo "deps: need root or sudo to install: ${missing[*]}" >&2
+  echo "deps: missing ${missing[*]}: run 'make deps' as root (or with sudo)" >&2
   exit 1
 fi
 export DEBIAN_FRONTEND=noninteractive

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -60,8 +61,17 @@ nlohmann::json read_json(const fs::path& p) {
   return nlohmann::json::parse(in);
 }
 
+/** A file's whole text. */
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// Replay with faults: the plan's three faults land inside the 3 s flown (an IMU packet upset, a
+// vision tile's crash and another's hang), are detected, and the two flights are the same to the bit.
 TEST_F(TrnMissionBinary, SameInputsGiveTheSameTraceHashAndAFullRunFolder) {
-  const std::string common = binary() + " --duration 3 --quiet --demo-faults --seed 4 --out ";
+  const std::string plan = std::string(build_info::kRepoRoot) + "/tests/fixtures/fault_plans/early_faults.toml";
+  const std::string common = binary() + " --duration 3 --quiet --faults " + plan + " --seed 4 --out ";
   ASSERT_EQ(run(common + (dir_ / "a").string()), 0);
   ASSERT_EQ(run(common + (dir_ / "b").string()), 0);
   for (const char* f : {"summary.json", "nav.csv", "events.log", "tile_map.csv"}) {
@@ -69,6 +79,9 @@ TEST_F(TrnMissionBinary, SameInputsGiveTheSameTraceHashAndAFullRunFolder) {
   }
   const nlohmann::json a = read_json(dir_ / "a" / "summary.json");
   const nlohmann::json b = read_json(dir_ / "b" / "summary.json");
+  EXPECT_EQ(a["faults_injected"], 3);
+  EXPECT_EQ(a["faults_detected"], 3) << read_text(dir_ / "a" / "events.log");
+  EXPECT_EQ(read_text(dir_ / "a" / "events.log"), read_text(dir_ / "b" / "events.log"));
   EXPECT_EQ(a["trace_hash"], b["trace_hash"]);
   EXPECT_EQ(a["energy_j"], b["energy_j"]) << "the energy meter is as deterministic as the run";
   EXPECT_EQ(a["final_position_error_m"], b["final_position_error_m"]);
@@ -182,11 +195,6 @@ std::string fixture(const std::string& name) {
 
 std::string scenario_fixture(const std::string& name) {
   return std::string(build_info::kRepoRoot) + "/tests/fixtures/scenarios/" + name;
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 std::size_t count_of(const std::string& text, const std::string& what) {
