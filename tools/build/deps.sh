@@ -48,14 +48,6 @@ missing_packages() {
 mapfile -t missing < <(missing_packages)
 [ ${#missing[@]} -eq 0 ] && exit 0
 
-# Goals of one parallel make (or two makes) may both find packages missing: they
-# install one at a time, and the second installs only what is still missing.
-exec 9>"${TMPDIR:-/tmp}/trn-deps.lock"
-flock 9
-mapfile -t missing < <(missing_packages)
-[ ${#missing[@]} -eq 0 ] && exit 0
-
-echo "deps: installing ${missing[*]}"
 if [ "$(id -u)" -eq 0 ]; then
   sudo_cmd=()
 elif command -v sudo >/dev/null 2>&1; then
@@ -64,6 +56,17 @@ else
   echo "deps: missing ${missing[*]}: run 'make deps' as root (or with sudo)" >&2
   exit 1
 fi
+
+# Goals of one parallel make (or two makes) may both find packages missing: they
+# install one at a time, and the second installs only what is still missing.
+lock="${TMPDIR:-/tmp}/trn-deps.$(id -u).lock"
+if exec 9>>"$lock"; then
+  flock 9
+  mapfile -t missing < <(missing_packages)
+  [ ${#missing[@]} -eq 0 ] && exit 0
+fi
+
+echo "deps: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -qq
 "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
