@@ -106,7 +106,7 @@ void on_suspect(void* ctx, bsp::TileId /*reporter*/, bsp::TileId suspect) noexce
 
 /** True if the link leaving @p t towards neighbour @p nb is marked failed in @p map. */
 bool link_failed(const FaultMap& map, bsp::TileId t, std::size_t dir) noexcept {
-  return t < kRouteMaxTiles && ((map.failed_links[t] >> dir) & 1U) != 0U;
+  return t < kRouteMaxTiles && ((static_cast<std::uint32_t>(map.failed_links[t]) >> dir) & 1U) != 0U;
 }
 
 /** Stops probing neighbours that are off by design, failed, or behind a failed link (nothing answers). */
