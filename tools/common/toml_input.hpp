@@ -6,6 +6,33 @@
 
 #include "tools/common/text.hpp"
 
+namespace tools::detail {
+/** The first toml++ precondition the current parse broke (nullptr: none); see TOML_ASSERT below. */
+inline thread_local const char* g_toml_broken = nullptr;
+inline void toml_precondition_broken(const char* expr) noexcept {
+  if (g_toml_broken == nullptr) {
+    g_toml_broken = expr;
+  }
+}
+}  // namespace tools::detail
+
+// toml++ 3.3.0 (Debian 12) checks some of its parser's preconditions with
+// assert(), and malformed text can break them: a table header that starts with
+// a character no key starts with ("[:a]", "[[[1]]]"; upstream tomlplusplus
+// pull request 301) aborted every program reading a scenario, plan or
+// campaign. The parser goes on to report such text as a syntax error by
+// itself; here a broken check is recorded instead of aborting, and
+// parse_toml() refuses the text even if the parser did not. Every file of the
+// tools includes toml++ through this header only, so they all see one
+// definition. Not with NDEBUG: toml++ then assumes its checks hold
+// (undefined behaviour on such text).
+#ifdef NDEBUG
+#error "tools/common/toml_input.hpp: toml++ needs its precondition checks (NDEBUG turns them into assumptions)"
+#endif
+#ifdef TOML_ASSERT
+#error "tools/common/toml_input.hpp must be the first to include toml++"
+#endif
+#define TOML_ASSERT(expr) ((expr) ? static_cast<void>(0) : ::tools::detail::toml_precondition_broken(#expr))
 #include <toml++/toml.h>
 
 #include <cmath>
@@ -18,14 +45,22 @@ namespace tools {
 
 /**
  * Parses @p text (named @p source in messages) into @p root.
- * @return false with "<source>:<line>:<column>: TOML syntax error: ..." in @p error.
+ * @return false with "<source>:<line>:<column>: TOML syntax error: ..." in @p error
+ *         ("<source>: TOML syntax error: ..." where the parser cannot say where).
  */
 inline bool parse_toml(std::string_view text, const std::string& source, toml::table& root, std::string& error) {
+  detail::g_toml_broken = nullptr;
   try {
     root = toml::parse(text, source);
   } catch (const toml::parse_error& e) {
     error = source + ":" + std::to_string(e.source().begin.line) + ":" + std::to_string(e.source().begin.column) +
             ": TOML syntax error: " + std::string(e.description());
+    return false;
+  }
+  if (detail::g_toml_broken != nullptr) {
+    error = source + ": TOML syntax error: text the TOML parser cannot read (its check " + detail::g_toml_broken +
+            " failed)";
+    root = toml::table{};
     return false;
   }
   return true;

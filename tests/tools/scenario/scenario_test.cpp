@@ -99,6 +99,18 @@ TEST(Scenario, SyntaxErrorsGiveFileLineAndColumn) {
   EXPECT_NE(e.find("TOML syntax error"), std::string::npos) << e;
 }
 
+// Found by tests/fuzz/scenario_fuzz.cpp: a table header starting with a character no key starts
+// with broke an assertion inside toml++ 3.3.0 and aborted the program; it is a syntax error.
+TEST(Scenario, ATableHeaderTheTomlParserCannotReadIsASyntaxErrorNotAnAbort) {
+  for (const std::string& text : {std::string("[:dar0\0\0\0]\nrange_m 5.0\n", 23), std::string("[:a]\n"),
+                                 std::string("[[[1]]]\n"), std::string("seed = 3\n[[:x]]\n")}) {
+    const tools::ScenarioResult r = tools::parse_scenario(text, "fuzz.toml");
+    EXPECT_FALSE(r.ok());
+    EXPECT_EQ(r.error.rfind("fuzz.toml", 0), 0U) << r.error;
+    EXPECT_NE(r.error.find("TOML syntax error"), std::string::npos) << r.error;
+  }
+}
+
 TEST(Scenario, InconsistentKeysAreRejected) {
   const std::string e = error_of("inconsistent.toml");
   EXPECT_NE(e.find("[trajectory] end_altitude_m: must be below start_altitude_m"), std::string::npos) << e;
