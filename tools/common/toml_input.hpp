@@ -6,6 +6,9 @@
 
 #include "tools/common/text.hpp"
 
+#include <cstddef>
+#include <string_view>
+
 namespace tools::detail {
 /** The first toml++ precondition the current parse broke (nullptr: none); see TOML_ASSERT below. */
 inline thread_local const char* g_toml_broken = nullptr;
@@ -14,6 +17,15 @@ inline void toml_precondition_broken(const char* expr) noexcept {
     g_toml_broken = expr;
   }
 }
+/**
+ * The line of the first character of @p text that toml++ 3.3.0 would check as
+ * whitespace although it is not ASCII (0: none): outside strings and comments,
+ * where no such character is valid TOML, and after the line-ending backslash
+ * of a multi-line basic string. Its whitespace table reaches an "unreachable"
+ * branch (undefined behaviour) for most such characters (upstream tomlplusplus
+ * issue 190); text with one is refused before it is parsed.
+ */
+std::size_t toml_unsafe_line(std::string_view text);
 }  // namespace tools::detail
 
 // toml++ 3.3.0 (Debian 12) checks some of its parser's preconditions with
@@ -39,7 +51,6 @@ inline void toml_precondition_broken(const char* expr) noexcept {
 #include <cstdint>
 
 #include <string>
-#include <string_view>
 
 namespace tools {
 
@@ -49,6 +60,12 @@ namespace tools {
  *         ("<source>: TOML syntax error: ..." where the parser cannot say where).
  */
 inline bool parse_toml(std::string_view text, const std::string& source, toml::table& root, std::string& error) {
+  if (const std::size_t line = detail::toml_unsafe_line(text); line != 0U) {
+    error = source + ":" + std::to_string(line) +
+            ": TOML syntax error: a character that is not ASCII where the TOML parser cannot read it (outside a "
+            "string or comment, or after a line-ending backslash)";
+    return false;
+  }
   detail::g_toml_broken = nullptr;
   try {
     root = toml::parse(text, source);

@@ -111,6 +111,24 @@ TEST(Scenario, ATableHeaderTheTomlParserCannotReadIsASyntaxErrorNotAnAbort) {
   }
 }
 
+// Found by tests/fuzz/fault_plan_fuzz.cpp: a character that is not ASCII where toml++ 3.3.0
+// checks for whitespace (after a table header, a value, a line-ending backslash) reached an
+// "unreachable" branch of its Unicode table (undefined behaviour); the text is refused first.
+TEST(Scenario, ACharacterThatIsNotAsciiOutsideStringsIsASyntaxErrorWithItsLine) {
+  for (const std::string& text : {std::string("seed = 3\n[[phase]]\xD0\x92\n"), std::string("seed = 3 \xC2\xA1\n"),
+                                  std::string("name = \"\"\"\\\n\n  \xC2\xA7\"\"\"\nseed = 1\n")}) {
+    const tools::ScenarioResult r = tools::parse_scenario(text, "u.toml");
+    EXPECT_FALSE(r.ok());
+    EXPECT_EQ(r.error.rfind("u.toml:", 0), 0U) << r.error;
+    EXPECT_NE(r.error.find("TOML syntax error"), std::string::npos) << r.error;
+  }
+  EXPECT_NE(tools::parse_scenario("x = 1\n[[phase]]\xD0\x92\n", "u.toml").error.find("u.toml:2:"), std::string::npos);
+  // Where TOML allows them (strings, comments, after a byte order mark) they are read as before.
+  const tools::ScenarioResult ok = tools::parse_scenario(
+      "\xEF\xBB\xBF# \xC2\xA7 comment \xD0\x92\n[scenario]\nname = \"\xC2\xA7 \xD0\x92\"\n", "u.toml");
+  EXPECT_TRUE(ok.ok()) << ok.error;
+}
+
 TEST(Scenario, InconsistentKeysAreRejected) {
   const std::string e = error_of("inconsistent.toml");
   EXPECT_NE(e.find("[trajectory] end_altitude_m: must be below start_altitude_m"), std::string::npos) << e;
