@@ -18,12 +18,13 @@ inline void toml_precondition_broken(const char* expr) noexcept {
   }
 }
 /**
- * The line of the first character of @p text that toml++ 3.3.0 would check as
- * whitespace although it is not ASCII (0: none): outside strings and comments,
- * where no such character is valid TOML, and after the line-ending backslash
- * of a multi-line basic string. Its whitespace table reaches an "unreachable"
- * branch (undefined behaviour) for most such characters (upstream tomlplusplus
- * issue 190); text with one is refused before it is parsed.
+ * The line of the first character of @p text that toml++ 3.3.0 cannot tell is
+ * whitespace or not (0: none): U+00A1..U+0499 (Latin-1 and Latin Extended,
+ * Greek, Cyrillic), U+2C5E..U+3057 but U+3000, U+FB26..U+FEFE. Asked about one,
+ * its Unicode table reaches an "unreachable" branch (undefined behaviour;
+ * upstream tomlplusplus issue 190), and it asks wherever it looks for
+ * whitespace or the end of a value, inside strings too. Text with one, even in
+ * a string or a comment, is refused before it is parsed.
  */
 std::size_t toml_unsafe_line(std::string_view text);
 }  // namespace tools::detail
@@ -62,8 +63,8 @@ namespace tools {
 inline bool parse_toml(std::string_view text, const std::string& source, toml::table& root, std::string& error) {
   if (const std::size_t line = detail::toml_unsafe_line(text); line != 0U) {
     error = source + ":" + std::to_string(line) +
-            ": TOML syntax error: a character that is not ASCII where the TOML parser cannot read it (outside a "
-            "string or comment, or after a line-ending backslash)";
+            ": a character the TOML parser cannot read safely (U+00A1..U+0499, U+2C5E..U+3057, U+FB26..U+FEFE; "
+            "use ASCII)";
     return false;
   }
   detail::g_toml_broken = nullptr;
