@@ -134,17 +134,15 @@ void take(State& s, bsp::TileId self, std::uint32_t reporter, std::uint32_t susp
 }
 
 /** A transit report: the plan's bit for (prober, target) set or cleared. */
-void take_transit(State& s, const NetHealthConfig& cfg, const udn::FtMessage& m) noexcept {
-  const auto prober = static_cast<bsp::TileId>(m.data[1]);
-  const auto target = static_cast<bsp::TileId>(m.data[2]);
-  const std::uint32_t i = transit_index(cfg.transits, prober, target);
+void take_transit(State& s, const NetHealthConfig& cfg, const udn::TransitReport& t) noexcept {
+  const std::uint32_t i = transit_index(cfg.transits, t.prober, t.target);
   if (i >= kMaxTransits) {
     return;  // not a planned transit: nothing to judge it against
   }
   const std::uint64_t bit = std::uint64_t{1} << i;
-  s.lost = m.data[3] != 0U ? (s.lost | bit) : (s.lost & ~bit);
+  s.lost = t.lost ? (s.lost | bit) : (s.lost & ~bit);
   s.transit_change = k::now_ticks();
-  if (m.data[3] != 0U) {
+  if (t.lost) {
     s.lost_at[i] = s.transit_change == 0U ? 1U : s.transit_change;
   }
 }
@@ -276,10 +274,13 @@ void net_health_task_main(void* arg) noexcept {
   for (;;) {
     for (std::uint32_t i = 0; i < udn::kFtRxDepth && udn::endpoint_receive(udn::kFtChanFdir, m) == udn::FtError::kOk;
          ++i) {
-      if (m.data_words == udn::kSuspectWords && m.data[0] == udn::kMsgSuspect && m.data[1] == m.source) {
-        take(*s, self, m.data[1], m.data[2]);
-      } else if (m.data_words == udn::kTransitWords && m.data[0] == udn::kMsgTransit && m.data[1] == m.source) {
-        take_transit(*s, *cfg, m);
+      const std::span<const std::uint32_t> w(m.data.data(), m.data_words);
+      udn::SuspectReport suspect{};
+      udn::TransitReport transit{};
+      if (udn::unpack_suspect(w, suspect) && suspect.reporter == m.source) {
+        take(*s, self, suspect.reporter, suspect.suspect);
+      } else if (udn::unpack_transit(w, transit) && transit.prober == m.source) {
+        take_transit(*s, *cfg, transit);
       }
     }
     if (s->to_send == 0ULL) {

@@ -33,6 +33,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 
 namespace fdir {
 
@@ -159,5 +160,16 @@ inline constexpr std::uint32_t kMsgPolicy = 0x504F4C31U;    ///< "POL1" [1] cons
 inline constexpr std::uint32_t kMsgPolicyHeld = 0x504F4C32U;  ///< "POL2" the parent's policy again; same words
 inline constexpr std::uint32_t kMsgEscalate = 0x45534331U;  ///< "ESC1" [1] constraint [2] level [3] child node
 inline constexpr std::uint32_t kSupMsgWords = 4U;
+
+/** A policy or escalation message: constraint below kMaxConstraints, level below kMaxLevels. */
+struct SupMessage {
+  std::uint32_t tag = kMsgPolicy;  ///< kMsgPolicy, kMsgPolicyHeld or kMsgEscalate
+  std::uint8_t constraint = 0U;
+  std::uint8_t level = 0U;
+  std::uint32_t from = 0U;         ///< policy: where it came from; escalation: the child node
+};
+void pack_sup_message(const SupMessage& m, std::span<std::uint32_t, kSupMsgWords> w) noexcept;
+/** @return false, @p out left as it was, unless @p w is such a message with its fields in range. */
+[[nodiscard]] bool unpack_sup_message(std::span<const std::uint32_t> w, SupMessage& out) noexcept;
 
 }  // namespace fdir

@@ -88,10 +88,10 @@ struct Watch {
 };
 
 /** A heartbeat of the supervisor's tile: a reset the watcher commanded is closed by it. */
-void take_alive(Watch& w, const udn::FtMessage& m, bsp::TileId supervisor) noexcept {
+void take_alive(Watch& w, const TileBootReport& alive, bsp::TileId supervisor) noexcept {
   const k::Ticks now = k::now_ticks();
   if (w.pending) {
-    report(EventId::kTileRecovered, supervisor, m.data[2],
+    report(EventId::kTileRecovered, supervisor, static_cast<std::uint32_t>(alive.cause),
            static_cast<std::uint32_t>(now >= w.reset_at ? now - w.reset_at : 0U));
   }
   w.pending = false;
@@ -110,18 +110,19 @@ void take_agent_messages(bsp::TileId self, const HealthAgentConfig& cfg, Watch& 
     if (m.source != cfg.supervisor) {
       continue;
     }
-    if (m.data_words == kAliveWords && m.data[0] == kMsgAlive && cfg.watcher == self) {
-      take_alive(watch, m, cfg.supervisor);
+    const std::span<const std::uint32_t> in(m.data.data(), m.data_words);
+    TileBootReport alive{};
+    if (unpack_alive(in, alive) && cfg.watcher == self) {
+      take_alive(watch, alive, cfg.supervisor);
       continue;
     }
-    if (m.data_words != kSelfTestWords || m.data[0] != kMsgSelfTest) {
-      continue;
-    }
+    SelfTestRequest req{};
     std::uint32_t digest = 0U;
-    if (!own_digest(self, m.data[2], digest)) {
+    if (!unpack_self_test(in, req) || !own_digest(self, req.seed, digest)) {
       continue;
     }
-    const std::array<std::uint32_t, kSelfTestResultWords> w{kMsgSelfTestResult, self, m.data[1], digest};
+    std::array<std::uint32_t, kSelfTestResultWords> w{};
+    pack_self_test_result(SelfTestResult{self, req.round, digest}, w);
     (void)udn::endpoint_send(cfg.supervisor, udn::kFtChanHealth, w, 0U);  // a lost answer is a missing vote
   }
 }
@@ -329,27 +330,25 @@ void retire(State& s, const TileHealthConfig& cfg, bsp::TileId t) noexcept {
 }
 
 /** A worker whose results stay wrong (a coordinator's report): reset it, or switch it off for a spare. */
-void on_results_bad(State& s, const udn::FtMessage& m) noexcept {
-  const bsp::TileId t = m.data[2];
-  if (t >= bsp::kMaxTiles || (s.watched & bit(t)) == 0ULL || (s.view.pending & bit(t)) != 0ULL) {
+void on_results_bad(State& s, bsp::TileId from, const ResultsBad& bad) noexcept {
+  const bsp::TileId t = bad.worker;
+  if ((s.watched & bit(t)) == 0ULL || (s.view.pending & bit(t)) != 0ULL) {
     return;  // not ours, or being reset already
   }
-  if (m.data[3] == kResultsReset) {
+  if (!bad.replace) {
     reset_watched(s, t, 2U);
-    return;
-  }
-  if (m.data[3] != kResultsReplace) {
     return;
   }
   s.view.retired |= bit(t);
   s.watched &= ~bit(t);
   (void)bsp::power_off(t);
-  const bsp::TileId p = boot_spare(s, t, m.data[4]);
+  const bsp::TileId p = boot_spare(s, t, bad.boot_slot);
   if (p != bsp::kNoTile) {
-    report(EventId::kRoleMoved, m.data[4], t, p, 0U);
+    report(EventId::kRoleMoved, bad.boot_slot, t, p, 0U);
   }
-  const std::array<std::uint32_t, kReplacedWords> w{kMsgReplaced, t, p};
-  (void)udn::endpoint_send(m.source, m.data[5], w, 0U);  // lost, the coordinator goes on without the tile
+  std::array<std::uint32_t, kReplacedWords> w{};
+  pack_replaced(Replaced{t, p}, w);
+  (void)udn::endpoint_send(from, bad.answer_channel, w, 0U);  // lost, the coordinator goes on without the tile
 }
 
 /** Sends the latest move of each slot, and the fault map, to the tiles still to be told (one try each per pass). */
@@ -373,8 +372,8 @@ void tell_moves(State& s) noexcept {
     }
   }
   if (s.park_to_tell != 0ULL) {
-    const std::array<std::uint32_t, udn::kParkedWords> w{udn::kMsgParked, static_cast<std::uint32_t>(s.view.parked),
-                                                        static_cast<std::uint32_t>(s.view.parked >> 32U), s.park_serial};
+    std::array<std::uint32_t, udn::kParkedWords> w{};
+    udn::pack_parked(udn::ParkedSet{s.view.parked, s.park_serial}, w);
     for (bsp::TileId t = 0; t < bsp::kMaxTiles; ++t) {
       if ((s.park_to_tell & bit(t)) != 0ULL &&
           ((s.watched & bit(t)) == 0ULL || udn::endpoint_send(t, udn::kFtChanMap, w, 0U) == udn::FtError::kOk)) {
@@ -387,8 +386,8 @@ void tell_moves(State& s) noexcept {
     if (s.to_tell[slot] == 0ULL) {
       continue;
     }
-    const std::array<std::uint32_t, udn::kRoleMoveWords> w{udn::kMsgRoleMove, slot, dir.tile[slot],
-                                                          dir.version[slot]};
+    std::array<std::uint32_t, udn::kRoleMoveWords> w{};
+    udn::pack_role_move(udn::RoleMove{slot, dir.tile[slot], dir.version[slot]}, w);
     for (bsp::TileId t = 0; t < bsp::kMaxTiles; ++t) {
       if ((s.to_tell[slot] & bit(t)) == 0ULL) {
         continue;
@@ -410,20 +409,21 @@ void parked_changed(State& s) noexcept {
 }
 
 void answer_park(const State& s, bsp::TileId t, std::uint32_t off) noexcept {
-  const std::array<std::uint32_t, kParkDoneWords> w{kMsgParkDone, t, off};
+  std::array<std::uint32_t, kParkDoneWords> w{};
+  pack_park_done(ParkDone{t, off != 0U}, w);
   (void)udn::endpoint_send(s.park_by[t], s.park_chan[t], w, 0U);  // lost, the asker asks again
 }
 
 /** A park or wake request of the power policy. */
-void on_park(State& s, const udn::FtMessage& m, bsp::TileId self) noexcept {
-  const auto t = static_cast<bsp::TileId>(m.data[2]);
-  if (t >= bsp::kMaxTiles || t == self || m.data[4] >= udn::kFtAllChannels) {
+void on_park(State& s, bsp::TileId from, const ParkRequest& req, bsp::TileId self) noexcept {
+  const bsp::TileId t = req.tile;
+  if (t == self) {
     return;
   }
-  s.park_by[t] = m.source;
-  s.park_chan[t] = m.data[4];
+  s.park_by[t] = from;
+  s.park_chan[t] = req.answer_channel;
   const bool parked = (s.view.parked & bit(t)) != 0ULL;
-  if (m.data[3] != 0U) {
+  if (req.off) {
     const bool busy = ((s.view.pending | s.view.retired | s.waking) & bit(t)) != 0ULL;
     if (parked && (s.off_due & bit(t)) == 0ULL) {
       answer_park(s, t, 1U);  // asked again: the answer was lost
@@ -436,14 +436,14 @@ void on_park(State& s, const udn::FtMessage& m, bsp::TileId self) noexcept {
     s.off_due |= bit(t);
     s.off_at[t] = k::now_ticks() + kParkOffTicks;
     ++s.view.parks;
-    report(EventId::kTileParked, t, m.source);
+    report(EventId::kTileParked, t, from);
     parked_changed(s);
   } else if (!parked && (s.watched & bit(t)) != 0ULL && (s.waking & bit(t)) == 0ULL) {
     answer_park(s, t, 0U);  // asked again: the answer was lost
   } else if (parked) {
     s.view.parked &= ~bit(t);
     ++s.view.wakes;
-    report(EventId::kTileWoken, t, m.source);
+    report(EventId::kTileWoken, t, from);
     if ((s.off_due & bit(t)) != 0ULL) {
       s.off_due &= ~bit(t);  // still on: watched again at once
       s.watched |= bit(t);
@@ -519,7 +519,8 @@ void open_round(State& s, bsp::TileId self) noexcept {
     s.late_ok = false;
     s.round_at = k::now_ticks();
     const std::uint32_t seed = 0x9E3779B9U * s.round;
-    const std::array<std::uint32_t, kSelfTestWords> w{kMsgSelfTest, s.round, seed};
+    std::array<std::uint32_t, kSelfTestWords> w{};
+    pack_self_test(SelfTestRequest{s.round, seed}, w);
     if (own) {
       s.answered[0] = own_digest(self, seed, s.digest[0]);
     }
@@ -581,14 +582,14 @@ void close_round(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexce
   }
 }
 
-void take_result(State& s, const TileHealthConfig& cfg, const udn::FtMessage& m, bsp::TileId self) noexcept {
-  if (m.data[2] != s.round || (!s.round_open && !s.late_ok)) {
+void take_result(State& s, const TileHealthConfig& cfg, const SelfTestResult& r, bsp::TileId self) noexcept {
+  if (r.round != s.round || (!s.round_open && !s.late_ok)) {
     return;  // an older round's, or one voted already
   }
   for (std::uint32_t i = 0; i < 3U; ++i) {
-    if (s.tested[i] == m.source && !s.answered[i]) {
+    if (s.tested[i] == r.tile && !s.answered[i]) {
       s.answered[i] = true;
-      s.digest[i] = m.data[3];
+      s.digest[i] = r.digest;
     }
   }
   if (!s.round_open && s.answered[0] && s.answered[1] && s.answered[2]) {
@@ -693,16 +694,21 @@ void take_reports(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexc
   for (std::uint32_t i = 0; i < udn::kFtRxDepth && udn::endpoint_receive(udn::kFtChanHealth, m) == udn::FtError::kOk;
        ++i) {
     if (m.source >= bsp::kMaxTiles || m.data_words < 2U || m.data[1] != m.source) {
-      continue;
+      continue;  // word 1 of every report is its sender's tile
     }
-    if (m.data_words == kBootedWords && m.data[0] == kMsgBooted) {
-      on_booted(s, m.source, m.data[2]);
-    } else if (m.data_words == kSelfTestResultWords && m.data[0] == kMsgSelfTestResult) {
-      take_result(s, cfg, m, self);
-    } else if (m.data_words == kResultsBadWords && m.data[0] == kMsgResultsBad) {
-      on_results_bad(s, m);
-    } else if (m.data_words == kParkWords && m.data[0] == kMsgPark) {
-      on_park(s, m, self);
+    const std::span<const std::uint32_t> w(m.data.data(), m.data_words);
+    TileBootReport boot{};
+    SelfTestResult result{};
+    ResultsBad bad{};
+    ParkRequest park{};
+    if (unpack_booted(w, boot)) {
+      on_booted(s, m.source, static_cast<std::uint32_t>(boot.cause));
+    } else if (unpack_self_test_result(w, result)) {
+      take_result(s, cfg, result, self);
+    } else if (unpack_results_bad(w, bad)) {
+      on_results_bad(s, m.source, bad);
+    } else if (unpack_park(w, park)) {
+      on_park(s, m.source, park, self);
     }
   }
 }
@@ -737,8 +743,10 @@ void health_agent_main(void* arg) noexcept {
   bsp::watchdog_arm(static_cast<bsp::Cycles>(cfg->watchdog_ticks) * bsp::tick_cycles(), own_supervisor);
   bool reported = cfg->supervisor == bsp::kNoTile || own_supervisor;
   bool overdue_written = false;
-  const std::array<std::uint32_t, kBootedWords> boot{kMsgBooted, self, static_cast<std::uint32_t>(cause)};
-  const std::array<std::uint32_t, kAliveWords> alive{kMsgAlive, self, static_cast<std::uint32_t>(cause)};
+  std::array<std::uint32_t, kBootedWords> boot{};
+  std::array<std::uint32_t, kAliveWords> alive{};
+  pack_booted(TileBootReport{self, cause}, boot);
+  pack_alive(TileBootReport{self, cause}, alive);
   const bool sends_alive = own_supervisor && cfg->watcher < bsp::kMaxTiles && cfg->watcher != self;
   const bool watches = cfg->watcher == self && cfg->supervisor < bsp::kMaxTiles && !own_supervisor;
   Watch watch{};

@@ -124,6 +124,65 @@ inline constexpr std::uint32_t kParkOffTicks = 20U;
 /** The supervisor's answer to a replacement (-> the coordinator's channel): [0] kMsgReplaced [1] old tile [2] spare (kNoTile: none). */
 inline constexpr std::uint32_t kMsgReplaced = 0x52504C44U;  // "RPLD"
 inline constexpr std::uint32_t kReplacedWords = 3U;
+/*
+ * The health messages' fields, and their pack_ / unpack_ (tile_health_messages.cpp).
+ * An unpack_ returns false, leaving its output as it was, unless the words are
+ * exactly that message with every field in its documented range: tiles below
+ * bsp::kMaxTiles, a boot cause of bsp::BootCause, channels below
+ * udn::kFtAllChannels, flags 0 or 1.
+ */
+/** kMsgBooted and kMsgAlive: the sending tile and why it last booted. */
+struct TileBootReport {
+  bsp::TileId tile = 0U;
+  bsp::BootCause cause = bsp::BootCause::kPowerOn;
+};
+struct SelfTestRequest {
+  std::uint32_t round = 0U;
+  std::uint32_t seed = 0U;
+};
+struct SelfTestResult {
+  bsp::TileId tile = 0U;
+  std::uint32_t round = 0U;
+  std::uint32_t digest = 0U;
+};
+struct ResultsBad {
+  bsp::TileId coordinator = 0U;
+  bsp::TileId worker = 0U;
+  bool replace = false;               ///< kResultsReplace (true) or kResultsReset
+  std::uint32_t boot_slot = 0U;       ///< not kNoSlot
+  std::uint32_t answer_channel = 0U;
+};
+struct ParkRequest {
+  bsp::TileId asker = 0U;
+  bsp::TileId tile = 0U;
+  bool off = false;                   ///< park (true) or wake
+  std::uint32_t answer_channel = 0U;
+};
+struct ParkDone {
+  bsp::TileId tile = 0U;
+  bool off = false;
+};
+struct Replaced {
+  bsp::TileId old_tile = 0U;
+  bsp::TileId spare = 0U;             ///< bsp::kNoTile: none
+};
+void pack_booted(const TileBootReport& r, std::span<std::uint32_t, kBootedWords> w) noexcept;
+[[nodiscard]] bool unpack_booted(std::span<const std::uint32_t> w, TileBootReport& out) noexcept;
+void pack_alive(const TileBootReport& r, std::span<std::uint32_t, kAliveWords> w) noexcept;
+[[nodiscard]] bool unpack_alive(std::span<const std::uint32_t> w, TileBootReport& out) noexcept;
+void pack_self_test(const SelfTestRequest& r, std::span<std::uint32_t, kSelfTestWords> w) noexcept;
+[[nodiscard]] bool unpack_self_test(std::span<const std::uint32_t> w, SelfTestRequest& out) noexcept;
+void pack_self_test_result(const SelfTestResult& r, std::span<std::uint32_t, kSelfTestResultWords> w) noexcept;
+[[nodiscard]] bool unpack_self_test_result(std::span<const std::uint32_t> w, SelfTestResult& out) noexcept;
+void pack_results_bad(const ResultsBad& r, std::span<std::uint32_t, kResultsBadWords> w) noexcept;
+[[nodiscard]] bool unpack_results_bad(std::span<const std::uint32_t> w, ResultsBad& out) noexcept;
+void pack_park(const ParkRequest& r, std::span<std::uint32_t, kParkWords> w) noexcept;
+[[nodiscard]] bool unpack_park(std::span<const std::uint32_t> w, ParkRequest& out) noexcept;
+void pack_park_done(const ParkDone& r, std::span<std::uint32_t, kParkDoneWords> w) noexcept;
+[[nodiscard]] bool unpack_park_done(std::span<const std::uint32_t> w, ParkDone& out) noexcept;
+void pack_replaced(const Replaced& r, std::span<std::uint32_t, kReplacedWords> w) noexcept;
+[[nodiscard]] bool unpack_replaced(std::span<const std::uint32_t> w, Replaced& out) noexcept;
+
 /** Publication channel of a self-test digest (bsp::publish_filter: where corrupted outputs are injected). */
 inline constexpr std::uint32_t kSelfTestChannel = 7U;
 

@@ -226,7 +226,8 @@ bool send_now(Endpoint& ep, bsp::TileId to, std::uint32_t channel, std::span<con
 void send_reports(Endpoint& ep) noexcept {
   const bsp::TileId to = ep.cfg->report_to;
   while (ep.pending_count > 0U && to != bsp::kNoTile) {
-    const std::array<std::uint32_t, kSuspectWords> w{kMsgSuspect, ep.node.self, ep.pending[ep.pending_count - 1U]};
+    std::array<std::uint32_t, kSuspectWords> w{};
+    pack_suspect(SuspectReport{ep.node.self, ep.pending[ep.pending_count - 1U]}, w);
     if (!send_now(ep, to, kFtChanFdir, w)) {
       return;
     }
@@ -237,7 +238,8 @@ void send_reports(Endpoint& ep) noexcept {
     if (!p.report_owed) {
       continue;
     }
-    const std::array<std::uint32_t, kTransitWords> w{kMsgTransit, ep.node.self, p.target, p.lost ? 1U : 0U};
+    std::array<std::uint32_t, kTransitWords> w{};
+    pack_transit(TransitReport{ep.node.self, p.target, p.lost}, w);
     if (!send_now(ep, to, kFtChanFdir, w)) {
       return;
     }
@@ -324,55 +326,21 @@ bool set_parked(Endpoint& ep, std::uint64_t parked, std::uint32_t serial) noexce
 void take_maps(Endpoint& ep) noexcept {
   FtMessage m{};
   for (std::uint32_t i = 0; i < kFtRxDepth && ft_receive(ep.node, kFtChanMap, m) == FtError::kOk; ++i) {
+    const std::span<const std::uint32_t> w(m.data.data(), m.data_words);
     FaultMap map{};
-    if (m.data_words == kRoleMoveWords && m.data[0] == kMsgRoleMove) {
-      (void)move_role(ep, m.data[1], m.data[2], m.data[3]);
-    } else if (m.data_words == kParkedWords && m.data[0] == kMsgParked) {
-      (void)set_parked(ep, static_cast<std::uint64_t>(m.data[1]) | (static_cast<std::uint64_t>(m.data[2]) << 32U), m.data[3]);
-    } else if (unpack_fault_map(std::span<const std::uint32_t>(m.data.data(), m.data_words), map)) {
+    RoleMove move{};
+    ParkedSet parked{};
+    if (unpack_role_move(w, move)) {
+      (void)move_role(ep, move.slot, move.tile, move.version);
+    } else if (unpack_parked(w, parked)) {
+      (void)set_parked(ep, parked.tiles, parked.serial);
+    } else if (unpack_fault_map(w, map)) {
       (void)install(ep, map, m.source);
     }
   }
 }
 
 }  // namespace
-
-void pack_fault_map(const FaultMap& map, std::span<std::uint32_t, kFaultMapWords> w) noexcept {
-  w[0] = kMsgFaultMap;
-  w[1] = map.version;
-  w[2] = map.cols;
-  w[3] = map.rows;
-  w[4] = static_cast<std::uint32_t>(map.failed_tiles);
-  w[5] = static_cast<std::uint32_t>(map.failed_tiles >> 32U);
-  w[6] = static_cast<std::uint32_t>(map.no_forward);
-  w[7] = static_cast<std::uint32_t>(map.no_forward >> 32U);
-  for (std::uint32_t i = 0; i < kRouteMaxTiles / 4U; ++i) {
-    std::uint32_t word = 0U;
-    for (std::uint32_t k = 0; k < 4U; ++k) {
-      word |= static_cast<std::uint32_t>(map.failed_links[4U * i + k]) << (8U * k);
-    }
-    w[8U + i] = word;
-  }
-}
-
-bool unpack_fault_map(std::span<const std::uint32_t> w, FaultMap& map) noexcept {
-  if (w.size() != kFaultMapWords || w[0] != kMsgFaultMap || w[2] == 0U || w[3] == 0U ||
-      w[2] > kRouteMaxTiles || w[3] > kRouteMaxTiles || w[2] * w[3] > kRouteMaxTiles) {
-    return false;
-  }
-  map = FaultMap{};
-  map.version = w[1];
-  map.cols = w[2];
-  map.rows = w[3];
-  map.failed_tiles = static_cast<std::uint64_t>(w[4]) | (static_cast<std::uint64_t>(w[5]) << 32U);
-  map.no_forward = static_cast<std::uint64_t>(w[6]) | (static_cast<std::uint64_t>(w[7]) << 32U);
-  for (std::uint32_t i = 0; i < kRouteMaxTiles / 4U; ++i) {
-    for (std::uint32_t k = 0; k < 4U; ++k) {
-      map.failed_links[4U * i + k] = static_cast<std::uint8_t>(w[8U + i] >> (8U * k));
-    }
-  }
-  return true;
-}
 
 void endpoint_task_main(void* arg) noexcept {
   const bsp::TileId self = bsp::current_tile();

@@ -78,13 +78,37 @@ struct EndpointConfig {
 /** Transit targets one tile pings at most. */
 inline constexpr std::uint32_t kMaxTransitTargets = 4U;
 
-/** Suspect report (kFtChanFdir): [0] kMsgSuspect [1] reporter [2] suspect. */
+/*
+ * Message layouts. Each message has a pack_ that writes it and an unpack_
+ * that reads received words: unpack_ returns false, with its output left as
+ * it was, unless the words are exactly that message with every field in the
+ * range documented here (endpoint_messages.cpp; tests/fuzz/flight_msg_fuzz.cpp
+ * checks both directions).
+ */
+
+/** Suspect report (kFtChanFdir): [0] kMsgSuspect [1] reporter [2] suspect, two different tiles below kRouteMaxTiles. */
 inline constexpr std::uint32_t kMsgSuspect = 0x53555331U;  // "SUS1"
 inline constexpr std::uint32_t kSuspectWords = 3U;
+struct SuspectReport {
+  bsp::TileId reporter = 0U;
+  bsp::TileId suspect = 0U;
+};
+void pack_suspect(const SuspectReport& r, std::span<std::uint32_t, kSuspectWords> w) noexcept;
+[[nodiscard]] bool unpack_suspect(std::span<const std::uint32_t> w, SuspectReport& out) noexcept;
 
-/** Transit report (kFtChanFdir): [0] kMsgTransit [1] prober [2] target [3] 1 lost, 0 answers again. */
+/**
+ * Transit report (kFtChanFdir): [0] kMsgTransit [1] prober [2] target (tiles
+ * below kRouteMaxTiles) [3] 1 lost, 0 answers again.
+ */
 inline constexpr std::uint32_t kMsgTransit = 0x54524E31U;  // "TRN1"
 inline constexpr std::uint32_t kTransitWords = 4U;
+struct TransitReport {
+  bsp::TileId prober = 0U;
+  bsp::TileId target = 0U;
+  bool lost = false;
+};
+void pack_transit(const TransitReport& r, std::span<std::uint32_t, kTransitWords> w) noexcept;
+[[nodiscard]] bool unpack_transit(std::span<const std::uint32_t> w, TransitReport& out) noexcept;
 
 /**
  * Fault map (kFtChanMap), kFaultMapWords words:
@@ -98,9 +122,19 @@ void pack_fault_map(const FaultMap& map, std::span<std::uint32_t, kFaultMapWords
 /** @return false if @p w is not a fault map message of a grid of at most kRouteMaxTiles tiles. */
 [[nodiscard]] bool unpack_fault_map(std::span<const std::uint32_t> w, FaultMap& map) noexcept;
 
-/** Role move (kFtChanMap): [0] kMsgRoleMove [1] slot [2] tile [3] the slot's version after the move. */
+/**
+ * Role move (kFtChanMap): [0] kMsgRoleMove [1] slot (below kRoleSlots) [2] tile
+ * (below kRouteMaxTiles) [3] the slot's version after the move (not 0: the boot directory's).
+ */
 inline constexpr std::uint32_t kMsgRoleMove = 0x524F4C45U;  // "ROLE"
 inline constexpr std::uint32_t kRoleMoveWords = 4U;
+struct RoleMove {
+  std::uint32_t slot = 0U;
+  bsp::TileId tile = 0U;
+  std::uint32_t version = 0U;
+};
+void pack_role_move(const RoleMove& m, std::span<std::uint32_t, kRoleMoveWords> w) noexcept;
+[[nodiscard]] bool unpack_role_move(std::span<const std::uint32_t> w, RoleMove& out) noexcept;
 
 /**
  * Parked tiles (kFtChanMap): [0] kMsgParked [1..2] the tiles switched off by
@@ -110,6 +144,12 @@ inline constexpr std::uint32_t kRoleMoveWords = 4U;
  */
 inline constexpr std::uint32_t kMsgParked = 0x50524B31U;  // "PRK1"
 inline constexpr std::uint32_t kParkedWords = 4U;
+struct ParkedSet {
+  std::uint64_t tiles = 0U;  ///< bit per tile
+  std::uint32_t serial = 0U; ///< not 0: the boot state's
+};
+void pack_parked(const ParkedSet& p, std::span<std::uint32_t, kParkedWords> w) noexcept;
+[[nodiscard]] bool unpack_parked(std::span<const std::uint32_t> w, ParkedSet& out) noexcept;
 
 /** Applies a parked set on this tile's endpoint (what a kMsgParked message does). [task] @return false if older or closed. */
 bool endpoint_set_parked(std::uint64_t parked, std::uint32_t serial) noexcept;

@@ -149,6 +149,14 @@ struct FtMessage {
   std::array<std::uint32_t, kFtMaxDataWords> data{};
 };
 
+/**
+ * True if @p w is exactly a message of @p words words whose first word is
+ * @p tag: the first test of every decoder of received words.
+ */
+constexpr bool is_message(std::span<const std::uint32_t> w, std::uint32_t tag, std::size_t words) noexcept {
+  return w.size() == words && words > 0U && w[0] == tag;
+}
+
 namespace detail {
 struct TxSlot {
   bool used = false;

@@ -13,6 +13,7 @@
  * reported corrected bits (at most one per code); a rejected packet must be
  * left untouched. Any violation aborts.
  */
+#include "tests/fuzz/fuzz_check.hpp"
 #include "udn/ft_packet.hpp"
 
 #include <cstddef>
@@ -23,11 +24,9 @@
 
 namespace {
 
-void require(bool ok) {
-  if (!ok) {
-    std::abort();
-  }
-}
+using fuzz::Reader;
+
+void require(bool ok) { fuzz::require(ok, "packet codec property"); }
 
 bool is_valid(udn::DecodeStatus s) {
   return s == udn::DecodeStatus::kOk || s == udn::DecodeStatus::kCorrected || s == udn::DecodeStatus::kMisdelivered;
@@ -76,18 +75,6 @@ void fuzz_raw(const std::uint8_t* data, std::size_t size, std::uint16_t my_index
   (void)decode_and_check(words, my_index, udn::CrcPolicy::kAsFlagged);
   (void)decode_and_check(words, my_index, udn::CrcPolicy::kRequired);
 }
-
-struct Reader {
-  const std::uint8_t* p;
-  std::size_t left;
-  std::uint32_t take(unsigned bytes) {
-    std::uint32_t v = 0;
-    for (unsigned i = 0; i < bytes && left > 0; ++i, ++p, --left) {
-      v |= static_cast<std::uint32_t>(*p) << (8U * i);
-    }
-    return v;
-  }
-};
 
 void fuzz_structured(const std::uint8_t* data, std::size_t size, std::uint16_t my_index) {
   Reader r{data, size};

@@ -9,8 +9,6 @@
 #include "tools/common/toml_input.hpp"
 #include "trn/tasks/sdc_points.hpp"
 
-#include <toml++/toml.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>

@@ -15,8 +15,6 @@
 #include "tools/common/text.hpp"
 #include "tools/common/toml_input.hpp"
 
-#include <toml++/toml.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cmath>

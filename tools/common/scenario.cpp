@@ -7,8 +7,6 @@
 #include "tools/common/text.hpp"
 #include "tools/common/toml_input.hpp"
 
-#include <toml++/toml.h>
-
 #include <cerrno>
 #include <cmath>
 #include <cstring>

@@ -6,6 +6,7 @@
 
 #include "trn/filter/byte_io.hpp"
 
+#include <bit>
 #include <cmath>
 
 namespace trn::filter {
@@ -83,14 +84,20 @@ void write_history(ByteWriter& w, const PoseHistory& h) noexcept {
   }
 }
 
-/** Reads what write_history() wrote into ring slots 0..n-1; false on a bad count or reserved word. */
+/**
+ * Reads what write_history() wrote into ring slots 0..n-1; false on a bad
+ * count or reserved word, or an entry from n on that is not all zero bits
+ * (the layout's canonical bytes: one state has one block).
+ */
 bool read_history(ByteReader& r, PoseHistory& h) noexcept {
   const std::uint32_t n = r.u32();
   const std::uint32_t reserved = r.u32();
   for (double& v : h.ref_v_mps) {
     v = r.f64();
   }
-  for (PoseEntry& e : h.e) {
+  std::uint64_t unused_bits = 0U;
+  for (std::uint32_t i = 0; i < kHistoryLen; ++i) {
+    PoseEntry& e = h.e[i];
     e.t_s = r.f64();
     for (double& v : e.p_m) {
       v = r.f64();
@@ -98,10 +105,19 @@ bool read_history(ByteReader& r, PoseHistory& h) noexcept {
     for (double& v : e.q_wxyz) {
       v = r.f64();
     }
+    if (i >= n) {
+      unused_bits |= std::bit_cast<std::uint64_t>(e.t_s);
+      for (const double v : e.p_m) {
+        unused_bits |= std::bit_cast<std::uint64_t>(v);
+      }
+      for (const double v : e.q_wxyz) {
+        unused_bits |= std::bit_cast<std::uint64_t>(v);
+      }
+    }
   }
   h.count = n;
   h.newest = n > 0U ? n - 1U : 0U;
-  return n <= kHistoryLen && reserved == 0U;
+  return n <= kHistoryLen && reserved == 0U && unused_bits == 0U;
 }
 
 }  // namespace

@@ -50,7 +50,8 @@ BlockError write_state_block(const FilterState& s, StateBlock& out) noexcept;
 /**
  * Reads a block of @p n bytes into @p out. On any error @p out is left as it was.
  * Checks in order: size, magic, version, checksum, content (flags, finite
- * numbers, unit quaternions, a history ordered in time that ends at t_s).
+ * numbers, unit quaternions, a history ordered in time that ends at t_s,
+ * entries past the history's count all zero bits).
  * The history is placed oldest first from ring index 0. Not reentrant (one
  * static scratch state).
  */

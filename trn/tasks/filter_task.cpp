@@ -169,10 +169,8 @@ void catch_up(Slot& slot) noexcept {
 bool imu_due(const Slot& slot, std::uint32_t seq) noexcept { return seq + kImuLagJobs <= slot.job; }
 
 /** A telecommand in the IMU stream: held until the job that takes the sample sent before it. */
-void hold_command(Slot& slot, const udn::FtMessage& msg) noexcept {
-  for (std::uint32_t i = 0; i < kCommandWords; ++i) {
-    slot.cmd[i] = msg.data[i];
-  }
+void hold_command(Slot& slot, const Command& c) noexcept {
+  pack_command(c, slot.cmd);  // held as its words: they travel with the filter's frozen state
   slot.cmd_held = true;  // a second one before the first is taken replaces it (one a second in flight)
 }
 
@@ -229,15 +227,17 @@ void consume_imu(Slot& slot) noexcept {
     if (udn::endpoint_receive(kChanImu, msg) != udn::FtError::kOk) {
       break;
     }
-    if (msg.data_words == kCommandWords && msg.data[0] == kMsgCommand) {
-      hold_command(slot, msg);
+    const std::span<const std::uint32_t> w(msg.data.data(), msg.data_words);
+    Command cmd{};
+    if (unpack_command(w, cmd)) {
+      hold_command(slot, cmd);
       continue;
     }
-    if (msg.data_words != kImuWords) {
+    bsp::ImuSample s{};
+    if (!unpack_imu_msg(w, s)) {
       ++slot.stats.imu_rejected;
       continue;
     }
-    const bsp::ImuSample s = unpack_imu(std::span<const std::uint32_t, kImuWords>{msg.data.data(), kImuWords});
     if (slot.held_count == 0U && imu_due(slot, s.seq)) {
       take_sample(slot, s, budget);
     } else if (slot.held_count < kImuHeld) {
@@ -253,24 +253,6 @@ void consume_imu(Slot& slot) noexcept {
     (void)replay(slot, slot.job - kImuLagJobs + 1U, budget);
   }
   take_command(slot);
-}
-
-/** True if @p msg is a well-formed match-batch part whose matches all belong to its frame. */
-bool part_ok(const udn::FtMessage& msg) noexcept {
-  if (msg.data_words < kMatchHeaderWords || msg.data[0] != kMsgMatches) {
-    return false;
-  }
-  const std::uint32_t n = msg.data[3];
-  if (n == 0U || n > kMatchesPerPart || msg.data_words != kMatchHeaderWords + n * kMatchWords) {
-    return false;
-  }
-  for (std::uint32_t i = 0; i < n; ++i) {
-    // Word 21 of a packed match is its frame number (messages.hpp).
-    if (msg.data[kMatchHeaderWords + i * kMatchWords + 21U] != msg.data[1]) {
-      return false;
-    }
-  }
-  return true;
 }
 
 /** Moves the held matches whose job has come into the record, in order, as many as it takes. */
@@ -327,14 +309,14 @@ void consume_parts(Slot& slot) noexcept {
     }
     ++slot.stats.parts_received;
     work.int_ops += 8ULL + 2ULL * msg.data_words;
-    if (!part_ok(msg)) {
+    MatchPart part{};
+    if (!unpack_match_part(std::span<const std::uint32_t>(msg.data.data(), msg.data_words), part)) {
       ++slot.stats.parts_bad;
       continue;
     }
-    const std::uint32_t n = msg.data[3];
-    for (std::uint32_t i = 0; i < n; ++i) {
+    for (std::uint32_t i = 0; i < part.n; ++i) {
       const std::size_t at = kMatchHeaderWords + static_cast<std::size_t>(i) * kMatchWords;
-      take_match(slot, std::span<const std::uint32_t, kMatchWords>(msg.data.data() + at, kMatchWords), msg.data[4]);
+      take_match(slot, std::span<const std::uint32_t, kMatchWords>(msg.data.data() + at, kMatchWords), part.apply_job);
       ++slot.stats.matches_received;
     }
     work.mem_words += 2ULL * msg.data_words;  // read from the node, written into the record
@@ -476,24 +458,23 @@ bsp::TileId replica_tile(const Slot& slot, std::uint32_t i) noexcept {
 void drain_replicas(Slot& slot) noexcept {
   udn::FtMessage m{};
   for (std::uint32_t n = 0; n < 4U * kReplicas && udn::endpoint_receive(kChanNav, m) == udn::FtError::kOk; ++n) {
-    const std::uint32_t i = m.data_words >= 2U ? m.data[1] : kNoReplica;
-    if (i >= kReplicas) {
+    const std::span<const std::uint32_t> words(m.data.data(), m.data_words);
+    ReplicaHello hello{};
+    ReplicaOut out{};
+    if (unpack_replica_hello(words, hello)) {
+      slot.hello_mask |= 1U << hello.replica;
       continue;
     }
-    if (m.data_words == kReplicaHelloWords && m.data[0] == kMsgReplicaHello) {
-      slot.hello_mask |= 1U << i;
+    if (!unpack_replica_out(words, out)) {
       continue;
     }
-    if (m.data_words != kReplicaOutWords || m.data[0] != kMsgReplicaOut) {
-      continue;
-    }
-    fdir::TmrRecord& r = slot.out[i][m.data[2] % kOutRing];
-    r.job = m.data[2];
+    fdir::TmrRecord& r = slot.out[out.replica][out.job % kOutRing];
+    r.job = out.job;
     r.words = kVotedWords;
     for (std::uint32_t w = 0; w < kNavWords; ++w) {
-      r.w[w] = m.data[4U + w];
+      r.w[w] = words[kReplicaOutHeaderWords + w];
     }
-    r.w[kNavWords] = m.data[3];
+    r.w[kNavWords] = out.digest;
   }
 }
 
@@ -917,9 +898,10 @@ void send_status(const Slot& slot) noexcept {
                              : slot.mode == Mode::kStarting ? kFilterModeStarting
                              : slot.mode == Mode::kTmr      ? kFilterModeTmr
                                                             : kFilterModeStopping;
-  const std::array<std::uint32_t, kFilterStatusWords> w{kMsgFilterStatus,          slot.job,
-                                                        mode,                      slot.group.active_mask(),
-                                                        slot.stats.tmr_no_majority, slot.stats.outputs_skipped};
+  std::array<std::uint32_t, kFilterStatusWords> w{};
+  pack_filter_status(FilterStatus{slot.job, mode, slot.group.active_mask(), slot.stats.tmr_no_majority,
+                                  slot.stats.outputs_skipped},
+                     w);
   // A lost status is a missing verdict: the supervisor judges the next one.
   (void)udn::endpoint_send(udn::endpoint_role_tile(kSlotFilterSupervisor, slot.cfg->supervisor), kChanControl, w, 0U);
 }

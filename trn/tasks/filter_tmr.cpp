@@ -38,7 +38,8 @@ std::uint32_t seed_header_crc(const TmrSeed& s) noexcept {
 }
 
 void send_hello(const Replica& r, const TmrControl& ctl, const FilterTaskConfig& cfg) noexcept {
-  const std::array<std::uint32_t, kReplicaHelloWords> w{kMsgReplicaHello, r.index, ctl.epoch};
+  std::array<std::uint32_t, kReplicaHelloWords> w{};
+  pack_replica_hello(ReplicaHello{r.index, ctl.epoch}, w);
   (void)udn::endpoint_send(udn::endpoint_role_tile(kSlotFilter, bsp::kNoTile), kChanNav, w, 0U);
   (void)cfg;
 }
@@ -67,11 +68,7 @@ void try_seed(Replica& r, const TmrArea& a) noexcept {
 /** Sends the front this job's output and state digest, and keeps them in DDR for a voter that restarts. */
 void send_output(Replica& r, TmrArea& a, std::uint32_t job, std::uint32_t digest) noexcept {
   std::array<std::uint32_t, kReplicaOutWords> w{};
-  w[0] = kMsgReplicaOut;
-  w[1] = r.index;
-  w[2] = job;
-  w[3] = digest;
-  pack_nav(core_output(r.core), std::span<std::uint32_t, kNavWords>(w.data() + 4U, kNavWords));
+  pack_replica_out(ReplicaOut{r.index, job, digest}, core_output(r.core), w);
   // The solution as sent is what a fault may corrupt on its way out (every bit of it is delivered).
   (void)bsp::publish_filter(kNavChannel, w.data() + 4U, std::size_t{kNavWords} * sizeof(std::uint32_t));
   fdir::TmrRecord& kept = a.outputs[r.index][job % kHeldOutputs];
@@ -246,6 +243,36 @@ void filter_replica_main(void* arg) noexcept {
 
 FilterTaskStats replica_stats(bsp::TileId tile) noexcept {
   return tile < bsp::kMaxTiles ? g_replicas[tile].stats : FilterTaskStats{};
+}
+
+void pack_replica_hello(const ReplicaHello& h, std::span<std::uint32_t, kReplicaHelloWords> w) noexcept {
+  w[0] = kMsgReplicaHello;
+  w[1] = h.replica;
+  w[2] = h.epoch;
+}
+
+bool unpack_replica_hello(std::span<const std::uint32_t> w, ReplicaHello& out) noexcept {
+  if (!udn::is_message(w, kMsgReplicaHello, kReplicaHelloWords) || w[1] >= kReplicas) {
+    return false;
+  }
+  out = ReplicaHello{w[1], w[2]};
+  return true;
+}
+
+void pack_replica_out(const ReplicaOut& o, const filter::NavOutput& nav, std::span<std::uint32_t, kReplicaOutWords> w) noexcept {
+  w[0] = kMsgReplicaOut;
+  w[1] = o.replica;
+  w[2] = o.job;
+  w[3] = o.digest;
+  pack_nav(nav, w.subspan<kReplicaOutHeaderWords, kNavWords>());
+}
+
+bool unpack_replica_out(std::span<const std::uint32_t> w, ReplicaOut& out) noexcept {
+  if (!udn::is_message(w, kMsgReplicaOut, kReplicaOutWords) || w[1] >= kReplicas) {
+    return false;
+  }
+  out = ReplicaOut{w[1], w[2], w[3]};
+  return true;
 }
 
 }  // namespace trn::tasks

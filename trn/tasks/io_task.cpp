@@ -56,7 +56,8 @@ void forward_frames(const IoTaskConfig& cfg) noexcept {
 /** A command for the filter, in its IMU stream after the last sample read (@p last_imu): it takes it at a defined job. */
 void command_filter(const IoTaskConfig& cfg, std::uint32_t seq, std::uint32_t code, std::uint32_t arg,
                     std::uint32_t last_imu) noexcept {
-  const std::array<std::uint32_t, kCommandWords> w{kMsgCommand, seq, code, arg, last_imu};
+  std::array<std::uint32_t, kCommandWords> w{};
+  pack_command(Command{seq, code, arg, last_imu}, w);
   const bsp::TileId filter = udn::endpoint_role_tile(kSlotFilter, cfg.filter_tile);
   if (udn::endpoint_send(filter, kChanImu, w, kSendTicks) != udn::FtError::kOk) {
     ++g_stats.send_failures;
@@ -103,10 +104,10 @@ void forward_commands(const IoTaskConfig& cfg, std::uint32_t last_imu) noexcept 
   }
   udn::FtMessage m{};
   for (std::uint32_t n = 0; n < 4U && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++n) {
-    if (m.data_words == kSupCommandWords && m.data[0] == kMsgSupCommand &&
-        (m.data[1] == kCmdFilterTmr || m.data[1] == kCmdFilterSimplex)) {
+    SupCommand sc{};
+    if (unpack_sup_command(std::span<const std::uint32_t>(m.data.data(), m.data_words), sc)) {
       ++g_stats.sup_commands;
-      command_filter(cfg, kSupCommandSeq | g_stats.sup_commands, m.data[1], m.data[2], last_imu);
+      command_filter(cfg, kSupCommandSeq | g_stats.sup_commands, sc.code, sc.node, last_imu);
     }
   }
 }

@@ -308,4 +308,112 @@ inline constexpr std::uint32_t kResultHeaderWords = 5;
 static_assert(kUnitHeaderWords + kMaxLandmarksPerUnit <= 124U, "a unit fits one FT packet");
 static_assert(kResultHeaderWords + kMaxLandmarksPerUnit * kMatchWords <= 124U, "a result fits one FT packet");
 
+/*
+ * Decoders of received words (messages.cpp). Each returns false, leaving its
+ * output as it was, unless the words are exactly that message (size, tag)
+ * with every field in the range its layout above documents; the handlers of
+ * the tasks read messages through them (tests/fuzz/flight_msg_fuzz.cpp checks
+ * them against the packers).
+ */
+
+/** A telecommand for the filter: any code (the filter ignores one it does not know). */
+struct Command {
+  std::uint32_t seq = 0U;
+  std::uint32_t code = 0U;
+  std::uint32_t arg = 0U;
+  std::uint32_t after_imu = kNoImuYet;  ///< seq of the IMU sample it follows
+};
+void pack_command(const Command& c, std::span<std::uint32_t, kCommandWords> w) noexcept;
+[[nodiscard]] bool unpack_command(std::span<const std::uint32_t> w, Command& out) noexcept;
+
+/** A supervisor's command for the filter: code kCmdFilterTmr or kCmdFilterSimplex. */
+struct SupCommand {
+  std::uint32_t code = kCmdFilterTmr;
+  std::uint32_t node = 0U;
+};
+void pack_sup_command(const SupCommand& c, std::span<std::uint32_t, kSupCommandWords> w) noexcept;
+[[nodiscard]] bool unpack_sup_command(std::span<const std::uint32_t> w, SupCommand& out) noexcept;
+
+/** The filter front's status: mode kFilterModeSimplex .. kFilterModeStopping, voting a mask of the three replicas. */
+struct FilterStatus {
+  std::uint32_t job = 0U;
+  std::uint32_t mode = kFilterModeSimplex;
+  std::uint32_t voting = 0U;
+  std::uint32_t no_majority = 0U;
+  std::uint32_t skipped = 0U;
+};
+void pack_filter_status(const FilterStatus& f, std::span<std::uint32_t, kFilterStatusWords> w) noexcept;
+[[nodiscard]] bool unpack_filter_status(std::span<const std::uint32_t> w, FilterStatus& out) noexcept;
+
+/** The coordinator's status: healthy <= listed, rate divisor 1 or 2. */
+struct VisionStatus {
+  std::uint32_t frame = 0U;
+  std::uint32_t healthy = 0U;
+  std::uint32_t listed = 0U;
+  std::uint32_t lost = 0U;
+  std::uint32_t rate_div = 1U;
+};
+void pack_vision_status(const VisionStatus& v, std::span<std::uint32_t, kVisionStatusWords> w) noexcept;
+[[nodiscard]] bool unpack_vision_status(std::span<const std::uint32_t> w, VisionStatus& out) noexcept;
+
+/** The vision supervisor's image rate divisor: 1 or 2. */
+[[nodiscard]] bool unpack_vision_rate(std::span<const std::uint32_t> w, std::uint32_t& div) noexcept;
+
+/** A band of the coarse map to relight (kMsgRelight) or relit (kMsgRelightDone): rows from row0, both 0 .. INT32_MAX. */
+struct RelightBand {
+  std::int32_t row0 = 0;
+  std::int32_t rows = 0;
+};
+void pack_relight(std::uint32_t tag, const RelightBand& b, std::span<std::uint32_t, kRelightWords> w) noexcept;
+[[nodiscard]] bool unpack_relight(std::uint32_t tag, std::span<const std::uint32_t> w, RelightBand& out) noexcept;
+
+/** A navigation solution (any bits: a corrupted one is for the receiver to judge). */
+[[nodiscard]] bool unpack_nav_msg(std::span<const std::uint32_t> w, filter::NavOutput& out) noexcept;
+
+/** A frame notice: width and height 1 .. 65535. */
+[[nodiscard]] bool unpack_frame_msg(std::span<const std::uint32_t> w, FrameNotice& out) noexcept;
+
+/** An IMU sample (any bits: the filter refuses a bad one itself). */
+[[nodiscard]] bool unpack_imu_msg(std::span<const std::uint32_t> w, bsp::ImuSample& out) noexcept;
+
+/** A vision work unit: n 0 .. kMaxLandmarksPerUnit landmarks, each its index and search radius. */
+struct WorkUnit {
+  std::uint32_t frame = 0U;
+  std::uint32_t unit = 0U;
+  std::uint32_t n = 0U;
+  double t_s = 0.0;
+  std::uint64_t ddr_offset = 0U;
+  std::uint32_t width_px = 0U;   ///< 0 .. 65535
+  std::uint32_t height_px = 0U;  ///< 0 .. 65535
+  double p_m[3] = {0.0, 0.0, 0.0};
+  double q_mb_wxyz[4] = {1.0, 0.0, 0.0, 0.0};
+  std::uint16_t landmark[kMaxLandmarksPerUnit] = {};
+  std::uint16_t radius_px[kMaxLandmarksPerUnit] = {};
+};
+/** Writes kUnitHeaderWords + u.n words (pre: u.n <= kMaxLandmarksPerUnit, w that long). */
+void pack_unit(const WorkUnit& u, std::span<std::uint32_t> w) noexcept;
+[[nodiscard]] bool unpack_unit(std::span<const std::uint32_t> w, WorkUnit& out) noexcept;
+
+/** A vision unit's result: m 0 .. kMaxLandmarksPerUnit matches, m <= tried; the matches are the words after the header. */
+struct UnitResult {
+  std::uint32_t frame = 0U;
+  std::uint32_t unit = 0U;
+  std::uint32_t tried = 0U;
+  std::uint32_t m = 0U;
+};
+[[nodiscard]] bool unpack_result(std::span<const std::uint32_t> w, UnitResult& out) noexcept;
+
+/**
+ * A part of a match batch: part < parts, 1 .. kMatchesPerPart matches, every
+ * one of the part's frame; the matches are the words after the header.
+ */
+struct MatchPart {
+  std::uint32_t frame = 0U;
+  std::uint32_t part = 0U;
+  std::uint32_t parts = 1U;
+  std::uint32_t n = 0U;
+  std::uint32_t apply_job = 0U;  ///< 0: the next job
+};
+[[nodiscard]] bool unpack_match_part(std::span<const std::uint32_t> w, MatchPart& out) noexcept;
+
 }  // namespace trn::tasks

@@ -95,12 +95,14 @@ void send_words(bsp::TileId to, std::span<const std::uint32_t> w) noexcept {
 
 void send_policy(bsp::TileId to, std::uint8_t constraint, std::uint8_t level, std::uint8_t from,
                  std::uint32_t kind = fdir::kMsgPolicy) noexcept {
-  const std::array<std::uint32_t, fdir::kSupMsgWords> w{kind, constraint, level, from};
+  std::array<std::uint32_t, fdir::kSupMsgWords> w{};
+  fdir::pack_sup_message(fdir::SupMessage{kind, constraint, level, from}, w);
   send_words(to, w);
 }
 
 void send_escalation(bsp::TileId to, const fdir::SupDecision& d, std::uint8_t node) noexcept {
-  const std::array<std::uint32_t, fdir::kSupMsgWords> w{fdir::kMsgEscalate, d.constraint, d.level, node};
+  std::array<std::uint32_t, fdir::kSupMsgWords> w{};
+  fdir::pack_sup_message(fdir::SupMessage{fdir::kMsgEscalate, d.constraint, d.level, node}, w);
   send_words(to, w);
 }
 
@@ -108,12 +110,14 @@ void send_escalation(bsp::TileId to, const fdir::SupDecision& d, std::uint8_t no
  * Whether @p m is a policy for node @p n to take: a new one, or the one its
  * parent holds for it, sent again, while @p n holds none or only its default.
  */
-bool is_policy(const udn::FtMessage& m, const NodeState& n) noexcept {
-  if (m.data_words != fdir::kSupMsgWords || m.data[1] >= fdir::kMaxConstraints || m.data[2] >= fdir::kMaxLevels) {
-    return false;
-  }
-  return m.data[0] == fdir::kMsgPolicy ||
-         (m.data[0] == fdir::kMsgPolicyHeld && fdir::supervisor_takes_held(n.sup, static_cast<std::uint8_t>(m.data[1])));
+bool is_policy(const fdir::SupMessage& m, const NodeState& n) noexcept {
+  return m.tag == fdir::kMsgPolicy ||
+         (m.tag == fdir::kMsgPolicyHeld && fdir::supervisor_takes_held(n.sup, m.constraint));
+}
+
+/** The words of @p m as a policy or escalation; false for anything else. */
+bool sup_message(const udn::FtMessage& m, fdir::SupMessage& out) noexcept {
+  return fdir::unpack_sup_message(std::span<const std::uint32_t>(m.data.data(), m.data_words), out);
 }
 
 bsp::TileId filter_sup(const SupervisorsConfig& c) noexcept {
@@ -252,15 +256,14 @@ void trn_wake_ahead(const SupervisorsConfig& c, std::uint32_t now) noexcept {
 void trn_messages(const SupervisorsConfig& c) noexcept {
   udn::FtMessage m{};
   for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
-    if (m.data_words != fdir::kSupMsgWords || m.data[1] >= fdir::kMaxConstraints || m.data[2] >= fdir::kMaxLevels) {
+    fdir::SupMessage sm{};
+    if (!sup_message(m, sm)) {
       continue;
     }
-    const auto constraint = static_cast<std::uint8_t>(m.data[1]);
-    const auto level = static_cast<std::uint8_t>(m.data[2]);
-    if (m.data[0] == fdir::kMsgPolicy) {
-      trn_policy(c, constraint, level, m.data[3]);  // a ground policy through the I/O tile
-    } else if (m.data[0] == fdir::kMsgEscalate) {
-      trn_act(c, fdir::supervisor_escalation(kSpecs[kNodeTrn], g_nodes[kNodeTrn].sup, constraint, level, m.data[3]));
+    if (sm.tag == fdir::kMsgPolicy) {
+      trn_policy(c, sm.constraint, sm.level, sm.from);  // a ground policy through the I/O tile
+    } else if (sm.tag == fdir::kMsgEscalate) {
+      trn_act(c, fdir::supervisor_escalation(kSpecs[kNodeTrn], g_nodes[kNodeTrn].sup, sm.constraint, sm.level, sm.from));
     }
   }
 }
@@ -282,7 +285,8 @@ struct FilterSupState {
 FilterSupState g_fsup{};
 
 void command_filter(const SupervisorsConfig& c, std::uint32_t code) noexcept {
-  const std::array<std::uint32_t, kSupCommandWords> w{kMsgSupCommand, code, kNodeFilter};
+  std::array<std::uint32_t, kSupCommandWords> w{};
+  pack_sup_command(SupCommand{code, kNodeFilter}, w);
   send_words(udn::endpoint_role_tile(kSlotIo, c.io_tile), w);
   ++g_nodes[kNodeFilter].stats.commands;
 }
@@ -321,16 +325,16 @@ void filter_act(const SupervisorsConfig& c, const fdir::SupDecision& d, bool com
 }
 
 /** Judges the reliability level from one status of the filter. */
-void filter_status(const SupervisorsConfig& c, const udn::FtMessage& m) noexcept {
+void filter_status(const SupervisorsConfig& c, const FilterStatus& st) noexcept {
   NodeState& n = g_nodes[kNodeFilter];
   ++n.stats.statuses;
-  const std::uint32_t mode = m.data[2];
-  const auto voting = static_cast<std::uint32_t>(std::popcount(m.data[3]));
-  const bool fresh_faults = g_fsup.have_status && (m.data[4] != g_fsup.no_majority || m.data[5] != g_fsup.skipped);
+  const std::uint32_t mode = st.mode;
+  const auto voting = static_cast<std::uint32_t>(std::popcount(st.voting));
+  const bool fresh_faults = g_fsup.have_status && (st.no_majority != g_fsup.no_majority || st.skipped != g_fsup.skipped);
   g_fsup.have_status = true;
   g_fsup.mode = mode;
-  g_fsup.no_majority = m.data[4];
-  g_fsup.skipped = m.data[5];
+  g_fsup.no_majority = st.no_majority;
+  g_fsup.skipped = st.skipped;
   if (g_fsup.reseed_tmr && mode == kFilterModeSimplex) {
     g_fsup.reseed_tmr = false;
     command_filter(c, kCmdFilterTmr);
@@ -361,8 +365,8 @@ void replica_power(const SupervisorsConfig& c) noexcept {
       continue;
     }
     const bsp::TileId t = udn::endpoint_role_tile(kSlotReplica0 + i, c.replica_tiles[i]);
-    const std::array<std::uint32_t, fdir::kParkWords> w{fdir::kMsgPark, bsp::current_tile(), t, want == 1U ? 1U : 0U,
-                                                        kChanControl};
+    std::array<std::uint32_t, fdir::kParkWords> w{};
+    fdir::pack_park(fdir::ParkRequest{bsp::current_tile(), t, want == 1U, kChanControl}, w);
     if (t != bsp::kNoTile && udn::endpoint_send(c.health_tile, udn::kFtChanHealth, w, kSendTicks) == udn::FtError::kOk) {
       g_fsup.asked[i] = want;
       g_fsup.asked_at[i] = now;
@@ -385,13 +389,13 @@ void replica_power(const SupervisorsConfig& c) noexcept {
 }
 
 /** The tile-health supervisor's answer: a replica is off, or booted again. */
-void filter_park_done(const SupervisorsConfig& c, const udn::FtMessage& m) noexcept {
+void filter_park_done(const SupervisorsConfig& c, const fdir::ParkDone& done) noexcept {
   for (std::uint32_t i = 0; i < 3U; ++i) {
-    if (udn::endpoint_role_tile(kSlotReplica0 + i, c.replica_tiles[i]) != m.data[1]) {
+    if (udn::endpoint_role_tile(kSlotReplica0 + i, c.replica_tiles[i]) != done.tile) {
       continue;
     }
     g_fsup.asked[i] = 0U;
-    if (m.data[2] != 0U) {
+    if (done.off) {
       g_fsup.off |= 1U << i;
       ++g_nodes[kNodeFilter].stats.parks;
     } else if ((g_fsup.off & (1U << i)) != 0U) {
@@ -404,21 +408,23 @@ void filter_park_done(const SupervisorsConfig& c, const udn::FtMessage& m) noexc
 void filter_messages(const SupervisorsConfig& c) noexcept {
   udn::FtMessage m{};
   for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
-    if (m.data_words == kFilterStatusWords && m.data[0] == kMsgFilterStatus) {
-      filter_status(c, m);
-    } else if (m.data_words == fdir::kParkDoneWords && m.data[0] == fdir::kMsgParkDone && m.source == c.health_tile) {
-      filter_park_done(c, m);
-    } else if (is_policy(m, g_nodes[kNodeFilter])) {
+    const std::span<const std::uint32_t> w(m.data.data(), m.data_words);
+    FilterStatus status{};
+    fdir::ParkDone done{};
+    fdir::SupMessage sm{};
+    if (unpack_filter_status(w, status)) {
+      filter_status(c, status);
+    } else if (fdir::unpack_park_done(w, done) && m.source == c.health_tile) {
+      filter_park_done(c, done);
+    } else if (sup_message(m, sm) && is_policy(sm, g_nodes[kNodeFilter])) {
       ++g_nodes[kNodeFilter].stats.policies;
       // A ground filter_tmr / filter_simplex reached the filter straight from the I/O tile: the
       // supervisor takes its mode as the policy (until the TRN supervisor sends another) and sends nothing.
-      const bool ground = m.data[3] == fdir::kFromGround;
+      const bool ground = sm.from == fdir::kFromGround;
       if (ground) {
-        g_nodes[kNodeFilter].sup.c[m.data[1]] = fdir::ConstraintState{};
+        g_nodes[kNodeFilter].sup.c[sm.constraint] = fdir::ConstraintState{};
       }
-      filter_act(c,
-                 fdir::supervisor_policy(kSpecs[kNodeFilter], g_nodes[kNodeFilter].sup,
-                                         static_cast<std::uint8_t>(m.data[1]), static_cast<std::uint8_t>(m.data[2]), m.data[3]),
+      filter_act(c, fdir::supervisor_policy(kSpecs[kNodeFilter], g_nodes[kNodeFilter].sup, sm.constraint, sm.level, sm.from),
                  ground);
     }
   }
@@ -447,7 +453,7 @@ void vision_act(const SupervisorsConfig& c, const fdir::SupDecision& d) noexcept
   send_rate(c, d.alternative == kAltHalfRate ? 2U : 1U);
 }
 
-void vision_status(const SupervisorsConfig& c, const udn::FtMessage& m) noexcept {
+void vision_status(const SupervisorsConfig& c, const VisionStatus& st) noexcept {
   NodeState& n = g_nodes[kNodeVision];
   ++n.stats.statuses;
   const fdir::ConstraintState& cap = n.sup.c[kCap];
@@ -455,10 +461,10 @@ void vision_status(const SupervisorsConfig& c, const udn::FtMessage& m) noexcept
     // No policy from above yet: the full rate is the default demand.
     vision_act(c, fdir::supervisor_policy(kSpecs[kNodeVision], n.sup, kCap, fdir::kCapacityFull, fdir::kFromDefault));
   }
-  if (m.data[5] != n.stats.rate_div) {
+  if (st.rate_div != n.stats.rate_div) {
     send_rate(c, n.stats.rate_div);  // a restarted coordinator: the rate again
   }
-  const std::uint32_t healthy = m.data[2];
+  const std::uint32_t healthy = st.healthy;
   const std::uint32_t need = cap.level == fdir::kCapacityHalfRate ? c.vision_min_half : c.vision_min_full;
   vision_act(c, fdir::supervisor_judge(kSpecs[kNodeVision], n.sup, kCap, healthy >= need));
 }
@@ -466,12 +472,13 @@ void vision_status(const SupervisorsConfig& c, const udn::FtMessage& m) noexcept
 void vision_messages(const SupervisorsConfig& c) noexcept {
   udn::FtMessage m{};
   for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
-    if (m.data_words == kVisionStatusWords && m.data[0] == kMsgVisionStatus) {
-      vision_status(c, m);
-    } else if (is_policy(m, g_nodes[kNodeVision]) && m.data[1] == kCap) {
+    VisionStatus status{};
+    fdir::SupMessage sm{};
+    if (unpack_vision_status(std::span<const std::uint32_t>(m.data.data(), m.data_words), status)) {
+      vision_status(c, status);
+    } else if (sup_message(m, sm) && is_policy(sm, g_nodes[kNodeVision]) && sm.constraint == kCap) {
       ++g_nodes[kNodeVision].stats.policies;
-      vision_act(c, fdir::supervisor_policy(kSpecs[kNodeVision], g_nodes[kNodeVision].sup, kCap,
-                                            static_cast<std::uint8_t>(m.data[2]), m.data[3]));
+      vision_act(c, fdir::supervisor_policy(kSpecs[kNodeVision], g_nodes[kNodeVision].sup, kCap, sm.level, sm.from));
     }
   }
 }

@@ -159,8 +159,8 @@ bool relight_coarse(CoordState& st) noexcept {
     std::int32_t row0 = 0;
     std::int32_t rows = 0;
     band_rows(height, i, n, row0, rows);
-    const std::array<std::uint32_t, kRelightWords> w{kMsgRelight, static_cast<std::uint32_t>(row0),
-                                                     static_cast<std::uint32_t>(rows)};
+    std::array<std::uint32_t, kRelightWords> w{};
+    pack_relight(kMsgRelight, RelightBand{row0, rows}, w);
     // Band i goes to vision tile i, or the next one the network reaches
     // (a tile out of the fault map refuses at once).
     st.band_done[i] = rows == 0;
@@ -182,14 +182,15 @@ bool relight_coarse(CoordState& st) noexcept {
   udn::FtMessage m{};
   while (done < n && k::now_ticks() < until) {
     while (udn::endpoint_receive(kChanResult, m) == udn::FtError::kOk) {
-      if (m.data_words != kRelightWords || m.data[0] != kMsgRelightDone) {
+      RelightBand band{};
+      if (!unpack_relight(kMsgRelightDone, std::span<const std::uint32_t>(m.data.data(), m.data_words), band)) {
         continue;
       }
       for (std::uint32_t i = 0; i < n; ++i) {
         std::int32_t row0 = 0;
         std::int32_t rows = 0;
         band_rows(height, i, n, row0, rows);
-        if (!st.band_done[i] && m.data[1] == static_cast<std::uint32_t>(row0)) {
+        if (!st.band_done[i] && band.row0 == row0) {
           st.band_done[i] = true;
           ++done;
         }
@@ -232,8 +233,7 @@ bool take_tile_list(CoordState& st) noexcept {
 void drain_nav(CoordState& st) noexcept {
   udn::FtMessage m{};
   for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanNav, m) == udn::FtError::kOk; ++i) {
-    if (m.data_words == kNavWords && m.data[0] == kMsgNav) {
-      st.nav[st.nav_count % kNavRing] = unpack_nav(std::span<const std::uint32_t, kNavWords>(m.data.data(), kNavWords));
+    if (unpack_nav_msg(std::span<const std::uint32_t>(m.data.data(), m.data_words), st.nav[st.nav_count % kNavRing])) {
       ++st.nav_count;
     }
   }
@@ -249,10 +249,10 @@ std::uint32_t tile_index(const CoordState& st, bsp::TileId tile) noexcept {
 }
 
 /** The supervisor put a spare in the place of a tile whose matches stayed wrong: it gets the tile's share. */
-void take_replacement(CoordState& st, VisionCoordStats& stats, const udn::FtMessage& m) noexcept {
-  const std::uint32_t i = tile_index(st, m.data[1]);
-  const bsp::TileId spare = m.data[2];
-  if (m.source != st.cfg->health_tile || i >= st.cfg->vision_count || spare >= bsp::kMaxTiles) {
+void take_replacement(CoordState& st, VisionCoordStats& stats, bsp::TileId from, const fdir::Replaced& r) noexcept {
+  const std::uint32_t i = tile_index(st, r.old_tile);
+  const bsp::TileId spare = r.spare;
+  if (from != st.cfg->health_tile || i >= st.cfg->vision_count || spare >= bsp::kMaxTiles) {
     return;  // not from the supervisor, not ours, or no spare (the tile stays unused)
   }
   st.tiles[i] = spare;
@@ -266,43 +266,45 @@ void take_replacement(CoordState& st, VisionCoordStats& stats, const udn::FtMess
 void drain_notices(CoordState& st, VisionCoordStats& stats) noexcept {
   udn::FtMessage m{};
   for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
-    if (m.data_words == fdir::kReplacedWords && m.data[0] == fdir::kMsgReplaced) {
-      take_replacement(st, stats, m);
+    const std::span<const std::uint32_t> w(m.data.data(), m.data_words);
+    fdir::Replaced replaced{};
+    std::uint32_t div = 0U;
+    FrameNotice notice{};
+    if (fdir::unpack_replaced(w, replaced)) {
+      take_replacement(st, stats, m.source, replaced);
       continue;
     }
-    if (m.data_words == kVisionRateWords && m.data[0] == kMsgVisionRate && (m.data[1] == 1U || m.data[1] == 2U)) {
-      st.rate_div = m.data[1];
-      stats.rate_div = m.data[1];
+    if (unpack_vision_rate(w, div)) {
+      st.rate_div = div;
+      stats.rate_div = div;
       continue;
     }
-    if (m.data_words != kFrameNoticeWords || m.data[0] != kMsgFrame) {
+    if (!unpack_frame_msg(w, notice)) {
       continue;
     }
     ++stats.frames_seen;
-    if (m.data[1] % st.rate_div != 0U) {
+    if (notice.seq % st.rate_div != 0U) {
       ++stats.frames_rate_skipped;  // half rate: the tiles left get twice the time per frame
       continue;
     }
     if (st.have_pending) {
       ++stats.frames_skipped;  // a newer frame replaces one that never started
     }
-    st.pending = unpack_frame_notice(std::span<const std::uint32_t, kFrameNoticeWords>(m.data.data(), kFrameNoticeWords));
+    st.pending = notice;
     st.have_pending = true;
   }
 }
 
 void take_result(CoordState& st, VisionCoordStats& stats, const udn::FtMessage& m) noexcept {
-  if (m.data_words < kResultHeaderWords || m.data[0] != kMsgResult) {
+  UnitResult r{};
+  if (!unpack_result(std::span<const std::uint32_t>(m.data.data(), m.data_words), r)) {
     return;
   }
-  const std::uint32_t unit = m.data[2];
-  const std::uint32_t n = m.data[4];
-  if (!st.busy || m.data[1] != st.frame.seq || unit >= st.unit_count || st.units[unit].answered ||
+  const std::uint32_t unit = r.unit;
+  const std::uint32_t n = r.m;
+  if (!st.busy || r.frame != st.frame.seq || unit >= st.unit_count || st.units[unit].answered ||
       st.units[unit].tile != m.source) {
     ++stats.results_late;
-    return;
-  }
-  if (n > kMaxLandmarksPerUnit || m.data_words != kResultHeaderWords + n * kMatchWords) {
     return;
   }
   st.units[unit].answered = true;
@@ -392,22 +394,22 @@ bool tile_gets_work(const CoordState& st, std::uint32_t i) noexcept {
   return fdir::liveness_gets_work(st.live, i, st.frames_planned);
 }
 
-void pack_unit_header(const CoordState& st, const vision::PosePrior& prior, std::uint32_t unit, std::uint32_t n,
-                      std::span<std::uint32_t> w) noexcept {
-  w[0] = kMsgUnit;
-  w[1] = st.frame.seq;
-  w[2] = unit;
-  w[3] = n;
-  detail::put_f64(w, 4, st.frame.t_s);
-  w[6] = static_cast<std::uint32_t>(st.frame.ddr_offset);
-  w[7] = static_cast<std::uint32_t>(st.frame.ddr_offset >> 32U);
-  w[8] = (st.frame.width_px & 0xFFFFU) | ((st.frame.height_px & 0xFFFFU) << 16U);
+/** Packs @p wu (its landmarks set) as unit @p unit of the current frame, from @p prior. */
+void pack_frame_unit(const CoordState& st, const vision::PosePrior& prior, std::uint32_t unit, WorkUnit& wu,
+                     std::span<std::uint32_t> w) noexcept {
+  wu.frame = st.frame.seq;
+  wu.unit = unit;
+  wu.t_s = st.frame.t_s;
+  wu.ddr_offset = st.frame.ddr_offset;
+  wu.width_px = st.frame.width_px;
+  wu.height_px = st.frame.height_px;
   for (std::size_t i = 0; i < 3U; ++i) {
-    detail::put_f64(w, 9U + 2U * i, prior.p_m[i]);
+    wu.p_m[i] = prior.p_m[i];
   }
   for (std::size_t i = 0; i < 4U; ++i) {
-    detail::put_f64(w, 15U + 2U * i, prior.q_mb[i]);
+    wu.q_mb_wxyz[i] = prior.q_mb[i];
   }
+  pack_unit(wu, w);
 }
 
 /** Spreads the planned landmarks over the working tiles (round robin) and sends the units. */
@@ -428,18 +430,20 @@ void distribute(CoordState& st, VisionCoordStats& stats, const vision::PosePrior
     Unit& unit = st.units[u];
     unit = Unit{st.tiles[working[u]], 0U, false, false};
     std::uint32_t n = 0;
+    WorkUnit wu{};
     for (std::uint32_t j = u; j < used && n < kMaxLandmarksPerUnit; j += n_working) {
       const vision::PlannedLandmark& p = st.planned[j];
-      w[kUnitHeaderWords + n] = static_cast<std::uint32_t>(p.landmark) |
-                                (static_cast<std::uint32_t>(p.radius_px) << 16U);
+      wu.landmark[n] = p.landmark;
+      wu.radius_px[n] = static_cast<std::uint16_t>(p.radius_px);
       ++n;
     }
+    wu.n = n;
     unit.planned = n;
     if (n == 0U) {
       unit.answered = true;  // nothing to do: not waited for, not a miss
       continue;
     }
-    pack_unit_header(st, prior, u, n, w);
+    pack_frame_unit(st, prior, u, wu, w);
     const udn::FtError e = udn::endpoint_send(unit.tile, kChanControl,
                                      std::span<const std::uint32_t>(w.data(), kUnitHeaderWords + n), kVisionSendTicks);
     if (e == udn::FtError::kOk) {
@@ -556,9 +560,8 @@ void ask_supervisor(const CoordState& st, VisionCoordStats& stats, std::uint32_t
     return;
   }
   const bool replace = a == fdir::TrustAction::kReplace;
-  const std::array<std::uint32_t, fdir::kResultsBadWords> w{
-      fdir::kMsgResultsBad, bsp::current_tile(), st.tiles[i], replace ? fdir::kResultsReplace : fdir::kResultsReset,
-      kSlotVisionPool,      kChanControl};
+  std::array<std::uint32_t, fdir::kResultsBadWords> w{};
+  fdir::pack_results_bad(fdir::ResultsBad{bsp::current_tile(), st.tiles[i], replace, kSlotVisionPool, kChanControl}, w);
   if (udn::endpoint_send(st.cfg->health_tile, udn::kFtChanHealth, w, kVisionSendTicks) == udn::FtError::kOk) {
     ++(replace ? stats.replacements_asked : stats.resets_asked);
   }
@@ -629,8 +632,8 @@ void send_status(const CoordState& st, VisionCoordStats& stats, std::uint32_t lo
   if (st.cfg->supervisor == bsp::kNoTile) {
     return;
   }
-  const std::array<std::uint32_t, kVisionStatusWords> w{kMsgVisionStatus, st.frame.seq, stats.healthy_tiles, n, lost,
-                                                        st.rate_div};
+  std::array<std::uint32_t, kVisionStatusWords> w{};
+  pack_vision_status(VisionStatus{st.frame.seq, stats.healthy_tiles, n, lost, st.rate_div}, w);
   // A lost status is a missing verdict: the supervisor judges the next frame's.
   (void)udn::endpoint_send(udn::endpoint_role_tile(kSlotVisionSupervisor, st.cfg->supervisor), kChanControl, w, 0U);
 }

@@ -65,24 +65,23 @@ void report_checks(const vision::LandmarkDiag& d, std::uint16_t landmark, std::u
 
 /** Matches the landmarks of unit @p m; returns the result's length in words (0: bad unit). */
 std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const udn::FtMessage& m) noexcept {
-  const std::uint32_t n = m.data[3];
   const vision::LandmarkTable* table = landmark_table_find();
-  if (m.data[0] != kMsgUnit || n > kMaxLandmarksPerUnit || m.data_words != kUnitHeaderWords + n || table == nullptr) {
+  WorkUnit u{};
+  if (!unpack_unit(std::span<const std::uint32_t>(m.data.data(), m.data_words), u) || table == nullptr) {
     return 0U;
   }
-  const std::span<const std::uint32_t> w(m.data.data(), m.data_words);
+  const std::uint32_t n = u.n;
   vision::PosePrior prior{};
-  prior.t_s = detail::get_f64(w, 4);
-  const std::uint64_t offset = static_cast<std::uint64_t>(w[6]) | (static_cast<std::uint64_t>(w[7]) << 32U);
-  const std::uint32_t width = w[8] & 0xFFFFU;
-  const std::uint32_t height = w[8] >> 16U;
+  prior.t_s = u.t_s;
+  const std::uint32_t width = u.width_px;
+  const std::uint32_t height = u.height_px;
   for (std::size_t i = 0; i < 3U; ++i) {
-    prior.p_m[i] = detail::get_f64(w, 9U + 2U * i);
+    prior.p_m[i] = u.p_m[i];
   }
   for (std::size_t i = 0; i < 4U; ++i) {
-    prior.q_mb[i] = detail::get_f64(w, 15U + 2U * i);
+    prior.q_mb[i] = u.q_mb_wxyz[i];
   }
-  const std::uint8_t* pixels = ddr_at(offset, static_cast<std::uint64_t>(width) * height);
+  const std::uint8_t* pixels = ddr_at(u.ddr_offset, static_cast<std::uint64_t>(width) * height);
   if (pixels == nullptr) {
     return 0U;
   }
@@ -90,8 +89,8 @@ std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const udn::FtM
                                    static_cast<std::int32_t>(width)};
   std::uint32_t matched = 0;
   for (std::uint32_t i = 0; i < n; ++i) {
-    const auto index = static_cast<std::uint16_t>(w[kUnitHeaderWords + i] & 0xFFFFU);
-    const auto radius = static_cast<std::int32_t>(w[kUnitHeaderWords + i] >> 16U);
+    const std::uint16_t index = u.landmark[i];
+    const std::int32_t radius = u.radius_px[i];
     Match match{};
     bool accepted = false;
     vision::LandmarkDiag diag{};
@@ -99,11 +98,11 @@ std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const udn::FtM
     const vision::Status s = vision::match_landmark(image, st.cfg->camera, prior, st.fine, *table, index, radius,
                                                     *st.ws, match, accepted, diag, work);
     bsp::consume(work);
-    report_checks(diag, index, m.data[1]);
+    report_checks(diag, index, u.frame);
     ++stats.landmarks;
     if (s == vision::Status::kOk && accepted) {
       match.tile = static_cast<std::uint16_t>(bsp::current_tile());
-      match.frame = m.data[1];
+      match.frame = u.frame;
       match.t_s = prior.t_s;
       pack_match(match, std::span<std::uint32_t, kMatchWords>(st.out.data() + kResultHeaderWords + static_cast<std::size_t>(matched) * kMatchWords,
                                                               kMatchWords));
@@ -111,8 +110,8 @@ std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const udn::FtM
     }
   }
   st.out[0] = kMsgResult;
-  st.out[1] = m.data[1];
-  st.out[2] = m.data[2];
+  st.out[1] = u.frame;
+  st.out[2] = u.unit;
   st.out[3] = n;
   st.out[4] = matched;
   stats.matches += matched;
@@ -120,19 +119,20 @@ std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const udn::FtM
 }
 
 /** A band of the coarse map to relight into the shared copy; answered when done. */
-void relight_request(WorkerState& st, VisionWorkerStats& stats, const udn::FtMessage& m) noexcept {
+void relight_request(WorkerState& st, VisionWorkerStats& stats, bsp::TileId from, const RelightBand& band) noexcept {
   const std::uint8_t* relit = ddr_find(kRelitCarveName);
   const vision::ConstImageU8 src = st.coarse.image;
-  const auto row0 = static_cast<std::int32_t>(m.data[1]);
-  const auto rows = static_cast<std::int32_t>(m.data[2]);
+  const std::int32_t row0 = band.row0;
+  const std::int32_t rows = band.rows;
   // The copy is the coordinator's carve, laid out like the layer.
   const vision::ImageU8 dst{const_cast<std::uint8_t*>(relit), src.width, src.height, src.width};  // NOLINT(cppcoreguidelines-pro-type-const-cast): shared DDR buffer
   if (relit == nullptr || !relight_band(st.coarse, st.cfg->descent_sun_m, dst, row0, rows)) {
     ++stats.bad_units;
     return;
   }
-  const std::array<std::uint32_t, kRelightWords> w{kMsgRelightDone, m.data[1], m.data[2]};
-  if (udn::endpoint_send(m.source, kChanResult, w, kVisionSendTicks) != udn::FtError::kOk) {
+  std::array<std::uint32_t, kRelightWords> w{};
+  pack_relight(kMsgRelightDone, band, w);
+  if (udn::endpoint_send(from, kChanResult, w, kVisionSendTicks) != udn::FtError::kOk) {
     ++stats.send_failed;
   }
 }
@@ -161,8 +161,9 @@ void vision_worker_main(void* arg) noexcept {
       k::sleep(kWorkerIdleTicks);
       continue;
     }
-    if (m.data_words == kRelightWords && m.data[0] == kMsgRelight) {
-      relight_request(*st, stats, m);
+    RelightBand band{};
+    if (unpack_relight(kMsgRelight, std::span<const std::uint32_t>(m.data.data(), m.data_words), band)) {
+      relight_request(*st, stats, m.source, band);
       continue;
     }
     const std::uint32_t words = run_unit(*st, stats, m);

@@ -89,6 +89,14 @@ TEST(CampaignSpec, MissingKeysAndAWindowBeyondTheRunAreErrors) {
 
 // A run's plan depends on (campaign_seed, index) only: the same twice, another for another index or
 // seed; every drawn plan is one the fault-plan parser takes, with its faults inside the window.
+// The same text the scenario fuzzer found (tests/tools/scenario): toml++ asserted on it.
+TEST(CampaignSpec, ATableHeaderTheTomlParserCannotReadIsASyntaxErrorNotAnAbort) {
+  const cp::SpecResult r = parse("[[[1]]]\n");
+  EXPECT_FALSE(r.ok());
+  EXPECT_EQ(r.error.rfind("spec.toml:", 0), 0U) << r.error;
+  EXPECT_NE(r.error.find("TOML syntax error"), std::string::npos) << r.error;
+}
+
 TEST(CampaignSpec, PlansAreDrawnFromSeedAndIndexAndAreValidPlans) {
   const cp::SpecResult r = parse(kValid);
   ASSERT_TRUE(r.ok()) << r.error;

@@ -86,6 +86,14 @@ TEST(FaultPlan, EmptyTextIsAnEmptyPlan) {
   }
 }
 
+// The same text the scenario fuzzer found (tests/tools/scenario): toml++ asserted on it.
+TEST(FaultPlan, ATableHeaderTheTomlParserCannotReadIsASyntaxErrorNotAnAbort) {
+  const tools::FaultPlanResult r = tools::parse_fault_plan("[[fault]]\nt_s = 1.0\n[:a]\n", "plan.toml", kTiles, kDuration);
+  EXPECT_FALSE(r.ok());
+  EXPECT_EQ(r.error.rfind("plan.toml:", 0), 0U) << r.error;
+  EXPECT_NE(r.error.find("TOML syntax error"), std::string::npos) << r.error;
+}
+
 TEST(FaultPlan, EveryKindAndKeyIsParsed) {
   const tools::FaultPlanResult r = load("full.toml");
   ASSERT_TRUE(r.ok()) << r.error;

@@ -3,6 +3,7 @@
  * @brief Scenario files: defaults, every section parsed, and clear errors (file, key, range) for bad files.
  */
 #include "tools/common/scenario.hpp"
+#include "tools/common/toml_input.hpp"
 
 #include "build_info.hpp"
 
@@ -97,6 +98,75 @@ TEST(Scenario, SyntaxErrorsGiveFileLineAndColumn) {
   const std::string e = error_of("syntax_error.toml");
   EXPECT_NE(e.find("syntax_error.toml:3:"), std::string::npos) << e;
   EXPECT_NE(e.find("TOML syntax error"), std::string::npos) << e;
+}
+
+// Found by tests/fuzz/scenario_fuzz.cpp: a table header starting with a character no key starts
+// with broke an assertion inside toml++ 3.3.0 and aborted the program; it is a syntax error.
+TEST(Scenario, ATableHeaderTheTomlParserCannotReadIsASyntaxErrorNotAnAbort) {
+  for (const std::string& text : {std::string("[:dar0\0\0\0]\nrange_m 5.0\n", 23), std::string("[:a]\n"),
+                                 std::string("[[[1]]]\n"), std::string("seed = 3\n[[:x]]\n")}) {
+    const tools::ScenarioResult r = tools::parse_scenario(text, "fuzz.toml");
+    EXPECT_FALSE(r.ok());
+    EXPECT_EQ(r.error.rfind("fuzz.toml", 0), 0U) << r.error;
+    EXPECT_NE(r.error.find("TOML syntax error"), std::string::npos) << r.error;
+  }
+}
+
+// Found by tests/fuzz/fault_plan_fuzz.cpp and scenario_fuzz.cpp: toml++ 3.3.0 asks whether a
+// character is whitespace wherever it looks for whitespace or a value's end, and for most
+// characters that are not ASCII its table reached an "unreachable" branch (undefined behaviour).
+TEST(Scenario, ACharacterTheTomlParserCannotClassifyIsRefusedWithItsLine) {
+  for (const std::string& text :
+       {std::string("seed = 3\n[[phase]]\xD0\x92\n"), std::string("seed = 3 \xC2\xA1\n"),
+        std::string("[t0n]\nsize_px = 00ml.[tBB''='Bsize\xC8\xBD\n"), std::string("# \xC2\xB0 in a comment\n")}) {
+    const tools::ScenarioResult r = tools::parse_scenario(text, "u.toml");
+    EXPECT_FALSE(r.ok());
+    EXPECT_EQ(r.error.rfind("u.toml:", 0), 0U) << r.error;
+    EXPECT_NE(r.error.find("TOML parser cannot read"), std::string::npos) << r.error;
+  }
+  EXPECT_NE(tools::parse_scenario("x = 1\n[[phase]]\xD0\x92\n", "u.toml").error.find("u.toml:2:"), std::string::npos);
+  // Other characters that are not ASCII are read as before, a byte order mark too.
+  const tools::ScenarioResult ok = tools::parse_scenario(
+      "\xEF\xBB\xBF# \xE2\x80\x94 comment \xE4\xB8\xAD\n[scenario]\nname = \"\xE2\x80\x94 \xE4\xB8\xAD\"\n", "u.toml");
+  EXPECT_TRUE(ok.ok()) << ok.error;
+}
+
+/** toml++ 3.3.0's is_non_ascii_horizontal_whitespace(), reduced to whether it has an answer for @p c. */
+bool toml_has_answer(std::uint32_t c) {
+  if (c < 0xA0U || c > 0xFEFFU) {
+    return true;
+  }
+  const std::uint32_t block = (c - 0xA0U) / 0x3FAU;
+  if (((1ULL << block) & 0x7FFFFFFFFFFFF75EULL) != 0U || c == 0xA0U || c == 0x3000U || c == 0xFEFFU) {
+    return true;
+  }
+  return block == 5U || block == 7U;  // the switch's cases; any other block is its "unreachable" default
+}
+
+std::string utf8(std::uint32_t c) {
+  std::string s;
+  if (c < 0x800U) {
+    s += static_cast<char>(0xC0U | (c >> 6U));
+  } else if (c < 0x10000U) {
+    s += static_cast<char>(0xE0U | (c >> 12U));
+    s += static_cast<char>(0x80U | ((c >> 6U) & 0x3FU));
+  } else {
+    s += static_cast<char>(0xF0U | (c >> 18U));
+    s += static_cast<char>(0x80U | ((c >> 12U) & 0x3FU));
+    s += static_cast<char>(0x80U | ((c >> 6U) & 0x3FU));
+  }
+  s += static_cast<char>(0x80U | (c & 0x3FU));
+  return s;
+}
+
+TEST(Scenario, EveryCodePointTheTomlParserHasNoAnswerForIsRefusedAndNoOther) {
+  for (std::uint32_t c = 0x80U; c < 0x110000U; ++c) {
+    if (c >= 0xD800U && c <= 0xDFFFU) {
+      continue;  // surrogates: not UTF-8
+    }
+    const std::string text = "# " + utf8(c) + "\n";
+    ASSERT_EQ(tools::detail::toml_unsafe_line(text) != 0U, !toml_has_answer(c)) << std::hex << "U+" << c;
+  }
 }
 
 TEST(Scenario, InconsistentKeysAreRejected) {

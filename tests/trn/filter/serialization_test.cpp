@@ -4,6 +4,7 @@
  *        the same inputs (including one restored from a block) publish bit-identical outputs.
  */
 #include "tests/trn/filter/truth_sim.hpp"
+#include "trn/filter/byte_io.hpp"
 #include "trn/filter/ekf.hpp"
 #include "trn/filter/nav_output.hpp"
 #include "trn/filter/state_block.hpp"
@@ -215,6 +216,34 @@ TEST(FilterSerialization, WellFormedBlockWithNonFiniteContentIsRejected) {
   EXPECT_EQ(g_a.restore(g_state), FilterStatus::kBadInput);
   g_state = g_a.state();
   EXPECT_EQ(g_a.restore(g_state), FilterStatus::kOk);
+}
+
+// Found by tests/fuzz/state_block_fuzz.cpp: a block whose checksum is right but whose history
+// entries past its count are not zero was taken, so two different blocks gave one state.
+TEST(FilterSerialization, BlockWithAnUnusedHistoryEntryNotZeroIsRejected) {
+  start(g_a, 48);
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_EQ(g_a.propagate(bsp::ImuSample{static_cast<std::uint32_t>(k), 0, 0.01 * (k + 1), {}, {}}),
+              FilterStatus::kOk);
+  }
+  ASSERT_LT(g_a.state().hist.count, 200U);
+  ASSERT_EQ(trn::filter::write_state_block(g_a.state(), g_block1), BlockError::kOk);
+  const std::uint32_t crc_at = trn::filter::kStateBlockBytes - 4U;
+  const std::uint32_t entry200 = 2056U + 200U * trn::filter::kHistoryEntryBytes;
+  for (const std::uint32_t at : {entry200, entry200 + 7U, crc_at - 1U}) {
+    g_block2 = g_block1;
+    g_block2[at] = 0x40U;
+    const std::uint32_t crc = trn::filter::crc32(g_block2.data(), crc_at);
+    for (std::uint32_t i = 0; i < 4U; ++i) {
+      g_block2[crc_at + i] = static_cast<std::uint8_t>(crc >> (8U * i));
+    }
+    g_state = g_a.state();
+    EXPECT_EQ(trn::filter::read_state_block(g_block2.data(), trn::filter::kStateBlockBytes, g_state),
+              BlockError::kBadContent)
+        << "byte " << at;
+    EXPECT_EQ(g_state.t_s, g_a.state().t_s);
+  }
+  EXPECT_EQ(trn::filter::read_state_block(g_block1.data(), trn::filter::kStateBlockBytes, g_state), BlockError::kOk);
 }
 
 TEST(FilterSerialization, OutputBytesFollowTheDocumentedLayout) {

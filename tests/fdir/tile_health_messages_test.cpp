@@ -1,0 +1,77 @@
+/**
+ * @file tile_health_messages_test.cpp
+ * @brief The tile-health and supervisor message layouts (fdir/tile_health_messages.cpp,
+ *        fdir/supervisor.cpp): round trips, and fields out of range refused untouched.
+ */
+#include "fdir/supervisor.hpp"
+#include "fdir/tile_health.hpp"
+#include "udn/ft_link.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdint>
+
+namespace {
+
+TEST(TileHealthMessages, EveryMessageRoundTrips) {
+  std::array<std::uint32_t, fdir::kBootedWords> b{};
+  fdir::pack_booted(fdir::TileBootReport{5U, bsp::BootCause::kWatchdog}, b);
+  fdir::TileBootReport boot{};
+  ASSERT_TRUE(fdir::unpack_booted(b, boot));
+  EXPECT_EQ(boot.tile, 5U);
+  EXPECT_EQ(boot.cause, bsp::BootCause::kWatchdog);
+  EXPECT_FALSE(fdir::unpack_alive(b, boot));  // another tag
+
+  std::array<std::uint32_t, fdir::kResultsBadWords> rb{};
+  fdir::pack_results_bad(fdir::ResultsBad{1U, 24U, true, 8U, 0U}, rb);
+  fdir::ResultsBad bad{};
+  ASSERT_TRUE(fdir::unpack_results_bad(rb, bad));
+  EXPECT_TRUE(bad.replace);
+  EXPECT_EQ(bad.worker, 24U);
+  EXPECT_EQ(bad.boot_slot, 8U);
+
+  std::array<std::uint32_t, fdir::kParkWords> pk{};
+  fdir::pack_park(fdir::ParkRequest{6U, 19U, true, 2U}, pk);
+  fdir::ParkRequest park{};
+  ASSERT_TRUE(fdir::unpack_park(pk, park));
+  EXPECT_TRUE(park.off);
+  EXPECT_EQ(park.answer_channel, 2U);
+
+  std::array<std::uint32_t, fdir::kReplacedWords> rp{};
+  fdir::pack_replaced(fdir::Replaced{24U, bsp::kNoTile}, rp);
+  fdir::Replaced replaced{};
+  ASSERT_TRUE(fdir::unpack_replaced(rp, replaced));
+  EXPECT_EQ(replaced.spare, bsp::kNoTile);
+
+  std::array<std::uint32_t, fdir::kSupMsgWords> sm{};
+  fdir::pack_sup_message(fdir::SupMessage{fdir::kMsgEscalate, 1U, 2U, 7U}, sm);
+  fdir::SupMessage sup{};
+  ASSERT_TRUE(fdir::unpack_sup_message(sm, sup));
+  EXPECT_EQ(sup.tag, fdir::kMsgEscalate);
+  EXPECT_EQ(sup.level, 2U);
+}
+
+TEST(TileHealthMessages, FieldsOutOfRangeAreRefusedUntouched) {
+  fdir::TileBootReport boot{9U, bsp::BootCause::kCommand};
+  EXPECT_FALSE(fdir::unpack_booted(std::array<std::uint32_t, 3>{fdir::kMsgBooted, 5U, 4U}, boot));  // no such cause
+  EXPECT_FALSE(fdir::unpack_booted(std::array<std::uint32_t, 3>{fdir::kMsgBooted, bsp::kMaxTiles, 0U}, boot));
+  EXPECT_EQ(boot.tile, 9U);
+  fdir::ResultsBad bad{};
+  bad.worker = 3U;
+  EXPECT_FALSE(fdir::unpack_results_bad(  // neither reset nor replace
+      std::array<std::uint32_t, 6>{fdir::kMsgResultsBad, 1U, 24U, 3U, 8U, 0U}, bad));
+  EXPECT_FALSE(fdir::unpack_results_bad(  // an answer channel that does not exist
+      std::array<std::uint32_t, 6>{fdir::kMsgResultsBad, 1U, 24U, 2U, 8U, udn::kFtAllChannels}, bad));
+  EXPECT_FALSE(fdir::unpack_results_bad(  // no boot slot
+      std::array<std::uint32_t, 6>{fdir::kMsgResultsBad, 1U, 24U, 2U, fdir::kNoSlot, 0U}, bad));
+  EXPECT_EQ(bad.worker, 3U);
+  fdir::ParkDone done{};
+  EXPECT_FALSE(fdir::unpack_park_done(std::array<std::uint32_t, 3>{fdir::kMsgParkDone, 19U, 2U}, done));
+  fdir::SupMessage sup{};
+  EXPECT_FALSE(fdir::unpack_sup_message(std::array<std::uint32_t, 4>{fdir::kMsgPolicy, fdir::kMaxConstraints, 0U, 0U}, sup));
+  EXPECT_FALSE(fdir::unpack_sup_message(std::array<std::uint32_t, 4>{fdir::kMsgPolicy, 0U, fdir::kMaxLevels, 0U}, sup));
+  EXPECT_FALSE(fdir::unpack_sup_message(std::array<std::uint32_t, 4>{0x12345678U, 0U, 0U, 0U}, sup));
+}
+
+}  // namespace

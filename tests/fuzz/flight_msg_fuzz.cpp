@@ -1,0 +1,381 @@
+/**
+ * @file flight_msg_fuzz.cpp
+ * @brief libFuzzer target for every decoder of a message that crosses tiles: the endpoint's
+ *        (udn), the tile-health and supervisor messages (fdir), the TRN tasks' (trn).
+ *
+ * Input: [0] which decoder (modulo their number) [1] flags (bit 0: put the
+ * decoder's tag in word 0; bit 1: cut or pad to the decoder's usual length)
+ * then the words, little-endian, at most udn::kFtMaxDataWords. The flags let
+ * the fuzzer reach the field checks past the tag and length tests.
+ * Properties, for each decoder: a refused message leaves the output exactly as
+ * it was (every byte); an accepted one has every field within the documented
+ * range, and packing what was decoded gives back the very words received.
+ */
+#include "fdir/supervisor.hpp"
+#include "fdir/tile_health.hpp"
+#include "tests/fuzz/fuzz_check.hpp"
+#include "trn/tasks/filter_tmr.hpp"
+#include "trn/tasks/messages.hpp"
+#include "udn/endpoint.hpp"
+
+#include <array>
+#include <cstring>
+#include <span>
+#include <vector>
+
+namespace {
+
+using Words = std::span<const std::uint32_t>;
+using fuzz::require;
+
+/**
+ * Runs @p unpack into an output filled with a byte pattern; refused: the bytes
+ * are unchanged; accepted: @p accepted(out) checks the ranges and the repacking.
+ */
+template <class T, class Unpack, class Accepted>
+void run(Words w, Unpack unpack, Accepted accepted) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  alignas(T) std::array<unsigned char, sizeof(T)> raw{};
+  raw.fill(0xA5U);
+  T out{};
+  std::memcpy(&out, raw.data(), sizeof(T));
+  if (!unpack(w, out)) {
+    require(std::memcmp(&out, raw.data(), sizeof(T)) == 0, "a refused message leaves the output as it was");
+    return;
+  }
+  accepted(out);
+}
+
+/** True if @p packed (a fixed-size packing) is exactly @p w. */
+template <std::size_t N>
+bool same(const std::array<std::uint32_t, N>& packed, Words w) {
+  return w.size() == N && std::equal(packed.begin(), packed.end(), w.begin());
+}
+
+bool tile_ok(std::uint32_t t) { return t < bsp::kMaxTiles; }
+
+void udn_suspect(Words w) {
+  run<udn::SuspectReport>(w, udn::unpack_suspect, [&](const udn::SuspectReport& r) {
+    require(r.reporter < udn::kRouteMaxTiles && r.suspect < udn::kRouteMaxTiles && r.reporter != r.suspect, "suspect ranges");
+    std::array<std::uint32_t, udn::kSuspectWords> p{};
+    udn::pack_suspect(r, p);
+    require(same(p, w), "suspect repacks");
+  });
+}
+
+void udn_transit(Words w) {
+  run<udn::TransitReport>(w, udn::unpack_transit, [&](const udn::TransitReport& r) {
+    require(r.prober < udn::kRouteMaxTiles && r.target < udn::kRouteMaxTiles, "transit ranges");
+    std::array<std::uint32_t, udn::kTransitWords> p{};
+    udn::pack_transit(r, p);
+    require(same(p, w), "transit repacks");
+  });
+}
+
+void udn_fault_map(Words w) {
+  run<udn::FaultMap>(w, udn::unpack_fault_map, [&](const udn::FaultMap& m) {
+    const std::uint32_t tiles = m.cols * m.rows;
+    require(m.cols >= 1U && m.rows >= 1U && tiles <= udn::kRouteMaxTiles, "fault map grid");
+    for (std::uint32_t t = 0; t < udn::kRouteMaxTiles; ++t) {
+      const bool on_grid = t < tiles;
+      require(on_grid || (((m.failed_tiles | m.no_forward) >> t) & 1U) == 0U, "fault map tiles on the grid");
+      require(m.failed_links[t] < 16U && (on_grid || m.failed_links[t] == 0U), "fault map links");
+    }
+    std::array<std::uint32_t, udn::kFaultMapWords> p{};
+    udn::pack_fault_map(m, p);
+    require(same(p, w), "fault map repacks");
+  });
+}
+
+void udn_role_move(Words w) {
+  run<udn::RoleMove>(w, udn::unpack_role_move, [&](const udn::RoleMove& m) {
+    require(m.slot < udn::kRoleSlots && m.tile < udn::kRouteMaxTiles && m.version != 0U, "role move ranges");
+    std::array<std::uint32_t, udn::kRoleMoveWords> p{};
+    udn::pack_role_move(m, p);
+    require(same(p, w), "role move repacks");
+  });
+}
+
+void udn_parked(Words w) {
+  run<udn::ParkedSet>(w, udn::unpack_parked, [&](const udn::ParkedSet& s) {
+    require(s.serial != 0U, "parked serial");
+    std::array<std::uint32_t, udn::kParkedWords> p{};
+    udn::pack_parked(s, p);
+    require(same(p, w), "parked repacks");
+  });
+}
+
+template <bool kAlive>
+void fdir_boot(Words w) {
+  run<fdir::TileBootReport>(w, kAlive ? fdir::unpack_alive : fdir::unpack_booted, [&](const fdir::TileBootReport& r) {
+    require(tile_ok(r.tile) && r.cause <= bsp::BootCause::kOther, "boot report ranges");
+    std::array<std::uint32_t, 3> p{};
+    if constexpr (kAlive) {
+      fdir::pack_alive(r, p);
+    } else {
+      fdir::pack_booted(r, p);
+    }
+    require(same(p, w), "boot report repacks");
+  });
+}
+
+void fdir_self_test(Words w) {
+  run<fdir::SelfTestRequest>(w, fdir::unpack_self_test, [&](const fdir::SelfTestRequest& r) {
+    std::array<std::uint32_t, fdir::kSelfTestWords> p{};
+    fdir::pack_self_test(r, p);
+    require(same(p, w), "self-test repacks");
+  });
+}
+
+void fdir_self_test_result(Words w) {
+  run<fdir::SelfTestResult>(w, fdir::unpack_self_test_result, [&](const fdir::SelfTestResult& r) {
+    require(tile_ok(r.tile), "self-test result tile");
+    std::array<std::uint32_t, fdir::kSelfTestResultWords> p{};
+    fdir::pack_self_test_result(r, p);
+    require(same(p, w), "self-test result repacks");
+  });
+}
+
+void fdir_results_bad(Words w) {
+  run<fdir::ResultsBad>(w, fdir::unpack_results_bad, [&](const fdir::ResultsBad& r) {
+    require(tile_ok(r.coordinator) && tile_ok(r.worker) && r.boot_slot != fdir::kNoSlot &&
+                r.answer_channel < udn::kFtAllChannels,
+            "results-bad ranges");
+    std::array<std::uint32_t, fdir::kResultsBadWords> p{};
+    fdir::pack_results_bad(r, p);
+    require(same(p, w), "results-bad repacks");
+  });
+}
+
+void fdir_park(Words w) {
+  run<fdir::ParkRequest>(w, fdir::unpack_park, [&](const fdir::ParkRequest& r) {
+    require(tile_ok(r.asker) && tile_ok(r.tile) && r.answer_channel < udn::kFtAllChannels, "park ranges");
+    std::array<std::uint32_t, fdir::kParkWords> p{};
+    fdir::pack_park(r, p);
+    require(same(p, w), "park repacks");
+  });
+}
+
+void fdir_park_done(Words w) {
+  run<fdir::ParkDone>(w, fdir::unpack_park_done, [&](const fdir::ParkDone& r) {
+    require(tile_ok(r.tile), "park done tile");
+    std::array<std::uint32_t, fdir::kParkDoneWords> p{};
+    fdir::pack_park_done(r, p);
+    require(same(p, w), "park done repacks");
+  });
+}
+
+void fdir_replaced(Words w) {
+  run<fdir::Replaced>(w, fdir::unpack_replaced, [&](const fdir::Replaced& r) {
+    require(tile_ok(r.old_tile) && (tile_ok(r.spare) || r.spare == bsp::kNoTile), "replaced ranges");
+    std::array<std::uint32_t, fdir::kReplacedWords> p{};
+    fdir::pack_replaced(r, p);
+    require(same(p, w), "replaced repacks");
+  });
+}
+
+void fdir_sup(Words w) {
+  run<fdir::SupMessage>(w, fdir::unpack_sup_message, [&](const fdir::SupMessage& m) {
+    require(m.constraint < fdir::kMaxConstraints && m.level < fdir::kMaxLevels, "supervisor message ranges");
+    require(m.tag == fdir::kMsgPolicy || m.tag == fdir::kMsgPolicyHeld || m.tag == fdir::kMsgEscalate, "supervisor tag");
+    std::array<std::uint32_t, fdir::kSupMsgWords> p{};
+    fdir::pack_sup_message(m, p);
+    require(same(p, w), "supervisor message repacks");
+  });
+}
+
+namespace tt = trn::tasks;
+
+void trn_command(Words w) {
+  run<tt::Command>(w, tt::unpack_command, [&](const tt::Command& c) {
+    std::array<std::uint32_t, tt::kCommandWords> p{};
+    tt::pack_command(c, p);
+    require(same(p, w), "command repacks");
+  });
+}
+
+void trn_sup_command(Words w) {
+  run<tt::SupCommand>(w, tt::unpack_sup_command, [&](const tt::SupCommand& c) {
+    require(c.code == tt::kCmdFilterTmr || c.code == tt::kCmdFilterSimplex, "supervisor command code");
+    std::array<std::uint32_t, tt::kSupCommandWords> p{};
+    tt::pack_sup_command(c, p);
+    require(same(p, w), "supervisor command repacks");
+  });
+}
+
+void trn_filter_status(Words w) {
+  run<tt::FilterStatus>(w, tt::unpack_filter_status, [&](const tt::FilterStatus& f) {
+    require(f.mode <= tt::kFilterModeStopping && f.voting < 8U, "filter status ranges");
+    std::array<std::uint32_t, tt::kFilterStatusWords> p{};
+    tt::pack_filter_status(f, p);
+    require(same(p, w), "filter status repacks");
+  });
+}
+
+void trn_vision_status(Words w) {
+  run<tt::VisionStatus>(w, tt::unpack_vision_status, [&](const tt::VisionStatus& v) {
+    require(v.healthy <= v.listed && (v.rate_div == 1U || v.rate_div == 2U), "vision status ranges");
+    std::array<std::uint32_t, tt::kVisionStatusWords> p{};
+    tt::pack_vision_status(v, p);
+    require(same(p, w), "vision status repacks");
+  });
+}
+
+void trn_vision_rate(Words w) {
+  run<std::uint32_t>(w, tt::unpack_vision_rate, [&](std::uint32_t div) {
+    require(div == 1U || div == 2U, "rate divisor");
+    require(same(std::array<std::uint32_t, 2>{tt::kMsgVisionRate, div}, w), "rate repacks");
+  });
+}
+
+template <std::uint32_t kTag>
+void trn_relight(Words w) {
+  const auto unpack = [](Words x, tt::RelightBand& b) { return tt::unpack_relight(kTag, x, b); };
+  run<tt::RelightBand>(w, unpack, [&](const tt::RelightBand& b) {
+    require(b.row0 >= 0 && b.rows >= 0, "band rows");
+    std::array<std::uint32_t, tt::kRelightWords> p{};
+    tt::pack_relight(kTag, b, p);
+    require(same(p, w), "relight repacks");
+  });
+}
+
+void trn_nav(Words w) {
+  run<trn::filter::NavOutput>(w, tt::unpack_nav_msg, [&](const trn::filter::NavOutput& o) {
+    std::array<std::uint32_t, tt::kNavWords> p{};
+    tt::pack_nav(o, p);
+    require(same(p, w), "nav repacks");
+  });
+}
+
+void trn_frame(Words w) {
+  run<tt::FrameNotice>(w, tt::unpack_frame_msg, [&](const tt::FrameNotice& f) {
+    require(f.width_px >= 1U && f.width_px <= 0xFFFFU && f.height_px >= 1U && f.height_px <= 0xFFFFU, "frame size");
+    std::array<std::uint32_t, tt::kFrameNoticeWords> p{};
+    tt::pack_frame_notice(f, p);
+    require(same(p, w), "frame notice repacks");
+  });
+}
+
+void trn_imu(Words w) {
+  run<bsp::ImuSample>(w, tt::unpack_imu_msg, [&](const bsp::ImuSample& s) {
+    std::array<std::uint32_t, tt::kImuWords> p{};
+    tt::pack_imu(s, p);
+    require(same(p, w), "imu repacks");
+  });
+}
+
+void trn_unit(Words w) {
+  run<tt::WorkUnit>(w, tt::unpack_unit, [&](const tt::WorkUnit& u) {
+    require(u.n <= tt::kMaxLandmarksPerUnit && u.width_px <= 0xFFFFU && u.height_px <= 0xFFFFU, "unit ranges");
+    std::array<std::uint32_t, tt::kUnitHeaderWords + tt::kMaxLandmarksPerUnit> p{};
+    tt::pack_unit(u, p);
+    require(w.size() == tt::kUnitHeaderWords + u.n && std::equal(w.begin(), w.end(), p.begin()), "unit repacks");
+  });
+}
+
+void trn_result(Words w) {
+  run<tt::UnitResult>(w, tt::unpack_result, [&](const tt::UnitResult& r) {
+    require(r.m <= tt::kMaxLandmarksPerUnit && r.m <= r.tried, "result ranges");
+    require(w.size() == tt::kResultHeaderWords + r.m * tt::kMatchWords, "result length");
+    require(w[1] == r.frame && w[2] == r.unit && w[3] == r.tried && w[4] == r.m, "result header");
+  });
+}
+
+void trn_match_part(Words w) {
+  run<tt::MatchPart>(w, tt::unpack_match_part, [&](const tt::MatchPart& p) {
+    require(p.part < p.parts && p.n >= 1U && p.n <= tt::kMatchesPerPart, "match part ranges");
+    require(w.size() == tt::kMatchHeaderWords + p.n * tt::kMatchWords, "match part length");
+    require(w[1] == p.frame && w[2] == (p.part | (p.parts << 16U)) && w[3] == p.n && w[4] == p.apply_job, "part header");
+    for (std::uint32_t i = 0; i < p.n; ++i) {
+      const auto m = tt::unpack_match(w.subspan(tt::kMatchHeaderWords + i * tt::kMatchWords).first<tt::kMatchWords>());
+      require(m.frame == p.frame, "every match of the part's frame");
+    }
+  });
+}
+
+void trn_replica_hello(Words w) {
+  run<tt::ReplicaHello>(w, tt::unpack_replica_hello, [&](const tt::ReplicaHello& h) {
+    require(h.replica < tt::kReplicas, "replica index");
+    std::array<std::uint32_t, tt::kReplicaHelloWords> p{};
+    tt::pack_replica_hello(h, p);
+    require(same(p, w), "hello repacks");
+  });
+}
+
+void trn_replica_out(Words w) {
+  run<tt::ReplicaOut>(w, tt::unpack_replica_out, [&](const tt::ReplicaOut& o) {
+    require(o.replica < tt::kReplicas, "replica index");
+    std::array<std::uint32_t, tt::kReplicaOutWords> p{};
+    tt::pack_replica_out(o, tt::unpack_nav(w.subspan(tt::kReplicaOutHeaderWords).first<tt::kNavWords>()), p);
+    // The solution's words are carried as they came (the vote compares them), its tag word too:
+    // the packing writes kMsgNav there, every other word must come back.
+    require(w.size() == p.size(), "replica output length");
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      require(i == tt::kReplicaOutHeaderWords || p[i] == w[i], "replica output repacks");
+    }
+  });
+}
+
+struct Decoder {
+  void (*fn)(Words);
+  std::uint32_t tag;
+  std::uint32_t words;  ///< usual length (0: none fixed)
+};
+
+const Decoder kDecoders[] = {
+    {udn_suspect, udn::kMsgSuspect, udn::kSuspectWords},
+    {udn_transit, udn::kMsgTransit, udn::kTransitWords},
+    {udn_fault_map, udn::kMsgFaultMap, udn::kFaultMapWords},
+    {udn_role_move, udn::kMsgRoleMove, udn::kRoleMoveWords},
+    {udn_parked, udn::kMsgParked, udn::kParkedWords},
+    {fdir_boot<false>, fdir::kMsgBooted, fdir::kBootedWords},
+    {fdir_boot<true>, fdir::kMsgAlive, fdir::kAliveWords},
+    {fdir_self_test, fdir::kMsgSelfTest, fdir::kSelfTestWords},
+    {fdir_self_test_result, fdir::kMsgSelfTestResult, fdir::kSelfTestResultWords},
+    {fdir_results_bad, fdir::kMsgResultsBad, fdir::kResultsBadWords},
+    {fdir_park, fdir::kMsgPark, fdir::kParkWords},
+    {fdir_park_done, fdir::kMsgParkDone, fdir::kParkDoneWords},
+    {fdir_replaced, fdir::kMsgReplaced, fdir::kReplacedWords},
+    {fdir_sup, fdir::kMsgPolicy, fdir::kSupMsgWords},
+    {trn_command, tt::kMsgCommand, tt::kCommandWords},
+    {trn_sup_command, tt::kMsgSupCommand, tt::kSupCommandWords},
+    {trn_filter_status, tt::kMsgFilterStatus, tt::kFilterStatusWords},
+    {trn_vision_status, tt::kMsgVisionStatus, tt::kVisionStatusWords},
+    {trn_vision_rate, tt::kMsgVisionRate, tt::kVisionRateWords},
+    {trn_relight<tt::kMsgRelight>, tt::kMsgRelight, tt::kRelightWords},
+    {trn_relight<tt::kMsgRelightDone>, tt::kMsgRelightDone, tt::kRelightWords},
+    {trn_nav, tt::kMsgNav, tt::kNavWords},
+    {trn_frame, tt::kMsgFrame, tt::kFrameNoticeWords},
+    {trn_imu, 0U, tt::kImuWords},
+    {trn_unit, tt::kMsgUnit, 0U},
+    {trn_result, tt::kMsgResult, 0U},
+    {trn_match_part, tt::kMsgMatches, 0U},
+    {trn_replica_hello, tt::kMsgReplicaHello, tt::kReplicaHelloWords},
+    {trn_replica_out, tt::kMsgReplicaOut, tt::kReplicaOutWords},
+};
+constexpr std::size_t kDecoderCount = sizeof kDecoders / sizeof kDecoders[0];
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (size < 2) {
+    return 0;
+  }
+  const Decoder& d = kDecoders[data[0] % kDecoderCount];
+  const std::uint8_t flags = data[1];
+  fuzz::Reader r{data + 2, size - 2};
+  std::size_t n = r.left / 4U;
+  if ((flags & 2U) != 0U && d.words != 0U) {
+    n = d.words;
+  }
+  n = n < udn::kFtMaxDataWords ? n : udn::kFtMaxDataWords;
+  std::vector<std::uint32_t> w(n);
+  for (auto& x : w) {
+    x = r.take(4);
+  }
+  if ((flags & 1U) != 0U && d.tag != 0U && !w.empty()) {
+    w[0] = d.tag;
+  }
+  d.fn(w);
+  return 0;
+}

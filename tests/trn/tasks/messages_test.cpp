@@ -1,0 +1,108 @@
+/**
+ * @file messages_test.cpp
+ * @brief Decoders of the TRN tasks' messages (trn/tasks/messages.cpp, filter_tmr.cpp): round
+ *        trips against the packers, and malformed messages refused untouched.
+ */
+#include "trn/tasks/filter_tmr.hpp"
+#include "trn/tasks/messages.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace {
+
+namespace tt = trn::tasks;
+
+TEST(TrnMessages, WorkUnitRoundTrips) {
+  tt::WorkUnit u{};
+  u.frame = 42U;
+  u.unit = 3U;
+  u.n = 2U;
+  u.t_s = 12.5;
+  u.ddr_offset = 0x1'0000'1000ULL;
+  u.width_px = 640U;
+  u.height_px = 480U;
+  u.p_m[2] = 1500.0;
+  u.landmark[0] = 5U;
+  u.radius_px[0] = 20U;
+  u.landmark[1] = 9U;
+  u.radius_px[1] = 30U;
+  std::array<std::uint32_t, tt::kUnitHeaderWords + 2U> w{};
+  tt::pack_unit(u, w);
+  tt::WorkUnit back{};
+  ASSERT_TRUE(tt::unpack_unit(w, back));
+  EXPECT_EQ(back.ddr_offset, u.ddr_offset);
+  EXPECT_EQ(back.height_px, 480U);
+  EXPECT_EQ(back.p_m[2], 1500.0);
+  EXPECT_EQ(back.radius_px[1], 30U);
+  EXPECT_EQ(back.landmark[2], 0U);  // beyond n: zero
+  // One landmark word short of what n says: refused.
+  EXPECT_FALSE(tt::unpack_unit(std::span<const std::uint32_t>(w).first(w.size() - 1U), back));
+}
+
+TEST(TrnMessages, MatchPartRefusesAMatchOfAnotherFrameAndABadPartIndex) {
+  std::vector<std::uint32_t> w(tt::kMatchHeaderWords + tt::kMatchWords, 0U);
+  w[0] = tt::kMsgMatches;
+  w[1] = 42U;
+  w[2] = 1U | (2U << 16U);
+  w[3] = 1U;
+  w[4] = 57U;
+  w[tt::kMatchHeaderWords + 21U] = 42U;
+  tt::MatchPart p{};
+  ASSERT_TRUE(tt::unpack_match_part(w, p));
+  EXPECT_EQ(p.part, 1U);
+  EXPECT_EQ(p.parts, 2U);
+  EXPECT_EQ(p.apply_job, 57U);
+  w[tt::kMatchHeaderWords + 21U] = 41U;
+  p = tt::MatchPart{};
+  EXPECT_FALSE(tt::unpack_match_part(w, p));
+  EXPECT_EQ(p.apply_job, 0U);
+  w[tt::kMatchHeaderWords + 21U] = 42U;
+  w[2] = 2U | (2U << 16U);  // part 2 of 2
+  EXPECT_FALSE(tt::unpack_match_part(w, p));
+}
+
+TEST(TrnMessages, StatusesAndCommandsCheckTheirRanges) {
+  std::array<std::uint32_t, tt::kFilterStatusWords> fs{};
+  tt::pack_filter_status(tt::FilterStatus{10U, tt::kFilterModeTmr, 7U, 1U, 2U}, fs);
+  tt::FilterStatus f{};
+  ASSERT_TRUE(tt::unpack_filter_status(fs, f));
+  EXPECT_EQ(f.mode, tt::kFilterModeTmr);
+  fs[2] = tt::kFilterModeStopping + 1U;
+  EXPECT_FALSE(tt::unpack_filter_status(fs, f));
+  std::array<std::uint32_t, tt::kVisionStatusWords> vs{};
+  tt::pack_vision_status(tt::VisionStatus{1U, 41U, 40U, 0U, 1U}, vs);  // more healthy than listed
+  tt::VisionStatus v{};
+  EXPECT_FALSE(tt::unpack_vision_status(vs, v));
+  std::array<std::uint32_t, tt::kSupCommandWords> sc{};
+  tt::pack_sup_command(tt::SupCommand{tt::kCmdPowerSave, 1U}, sc);  // not a filter command
+  tt::SupCommand c{};
+  EXPECT_FALSE(tt::unpack_sup_command(sc, c));
+  std::uint32_t div = 7U;
+  EXPECT_FALSE(tt::unpack_vision_rate(std::array<std::uint32_t, 2>{tt::kMsgVisionRate, 3U}, div));
+  EXPECT_EQ(div, 7U);
+}
+
+TEST(TrnMessages, ReplicaMessagesNameOneOfTheThreeReplicas) {
+  std::array<std::uint32_t, tt::kReplicaHelloWords> h{};
+  tt::pack_replica_hello(tt::ReplicaHello{2U, 4U}, h);
+  tt::ReplicaHello hello{};
+  ASSERT_TRUE(tt::unpack_replica_hello(h, hello));
+  EXPECT_EQ(hello.epoch, 4U);
+  h[1] = tt::kReplicas;
+  EXPECT_FALSE(tt::unpack_replica_hello(h, hello));
+  std::array<std::uint32_t, tt::kReplicaOutWords> o{};
+  trn::filter::NavOutput nav{};
+  nav.t_s = 3.25;
+  tt::pack_replica_out(tt::ReplicaOut{1U, 100U, 0x1234U}, nav, o);
+  tt::ReplicaOut out{};
+  ASSERT_TRUE(tt::unpack_replica_out(o, out));
+  EXPECT_EQ(out.job, 100U);
+  EXPECT_EQ(tt::unpack_nav(std::span<const std::uint32_t>(o).subspan(tt::kReplicaOutHeaderWords).first<tt::kNavWords>()).t_s,
+            3.25);
+}
+
+}  // namespace
