@@ -9,7 +9,9 @@
  * only). Payloads are stamped and checked like the raw run's
  * (udn_stress_payload.hpp: corrupted, misdelivered); the order is checked per
  * (source, destination, channel) stream, the unit the layer keeps in order;
- * a message sent and never delivered counts as lost.
+ * a message sent and never delivered counts as lost. Every give-up the layer
+ * reports (its event sink) is checked against what the receivers really got
+ * once the run is over: a give-up of a message that arrived is a false alarm.
  */
 #include "tools/common/udn_stress.hpp"
 
@@ -23,12 +25,28 @@
 #include "udn/route.hpp"
 
 #include <array>
+#include <vector>
 
 namespace tools {
 namespace {
 
 constexpr std::uint32_t kStackBytes = 16U * 1024U;
 constexpr std::uint32_t kChannels = udn::kFtChannels;
+/** Recent messages of a stream whose sender's message number is kept (a give-up names one by its sequence). */
+constexpr std::uint32_t kRecent = 32U;
+/** Give-ups checked against the deliveries at the end of a run; more are counted unchecked. */
+constexpr std::size_t kGiveUpRecords = 1U << 16U;
+
+/** A give-up the layer reported: the message (its sender's number) and what the report said of it. */
+struct GiveUpRecord {
+  bsp::TileId source = 0U;
+  bool arrived_claimed = false;  ///< the report says the message was delivered (its ACKs were lost)
+  bool unknown = true;           ///< the report says its delivery is unknown
+  std::uint32_t number = 0U;     ///< the sender's message number
+};
+
+template <typename T>
+using PerStream = std::array<std::array<std::array<T, kChannels>, bsp::kMaxTiles>, bsp::kMaxTiles>;
 
 struct FtShared {
   StressOptions opts;
@@ -36,13 +54,49 @@ struct FtShared {
   udn::FaultMap map{};
   std::array<std::uint64_t, bsp::kMaxTiles> done{};  ///< messages sent or refused as unreachable
   std::array<bool, bsp::kMaxTiles> idle{};           ///< quota done and nothing unacknowledged
-  std::array<std::array<std::array<std::uint32_t, kChannels>, bsp::kMaxTiles>, bsp::kMaxTiles> sent{};
-  std::array<std::array<std::array<std::uint32_t, kChannels>, bsp::kMaxTiles>, bsp::kMaxTiles> got{};
+  PerStream<std::uint32_t> sent{};
+  PerStream<std::uint32_t> got{};
+  PerStream<std::array<std::uint32_t, kRecent>> number{};  ///< sender's number of stream message k at [k % kRecent]
+  PerStream<std::uint32_t> next_k{};  ///< receiver: stream index after the last message delivered
   StressResult::Delivery delivery{};
   StressResult::Ft ft{};
 };
 FtShared g_ft;
 std::array<udn::FtNode, bsp::kMaxTiles> g_ft_nodes{};
+/** Per source, per message number: delivered (sized before the run, so the run allocates nothing). */
+std::array<std::vector<std::uint8_t>, bsp::kMaxTiles> g_arrived;
+std::vector<GiveUpRecord> g_give_ups;
+
+/**
+ * The receiver's view of stream message @p seq: the index after the last one
+ * it got, plus the sequence's distance (the layer skips only given-up
+ * messages, far fewer than 256). Marks the sender's message as arrived.
+ */
+void mark_arrived(bsp::TileId source, bsp::TileId self, std::uint32_t ch, std::uint8_t seq) {
+  std::uint32_t& next = g_ft.next_k[source][self][ch];
+  const std::uint32_t k = next + ((seq - next) & 0xFFU);
+  next = k + 1U;
+  const std::uint32_t number = g_ft.number[source][self][ch][k % kRecent];
+  if (g_ft.sent[source][self][ch] - k <= kRecent && number < g_arrived[source].size()) {
+    g_arrived[source][number] = 1U;
+  }
+}
+
+/** Records a give-up the layer reported on @p tile (its sink); checked against deliveries at the end. */
+void on_ft_event(void* /*ctx*/, bsp::TileId tile, const udn::FtEvent& e) {
+  const bool gave_up = e.cause == udn::FtCause::kRetriesExhausted || e.cause == udn::FtCause::kUnreachable;
+  if (!gave_up || tile >= bsp::kMaxTiles || e.peer >= bsp::kMaxTiles || e.channel >= kChannels) {
+    return;
+  }
+  ++g_ft.ft.gave_up_unknown;
+  const std::uint32_t c = g_ft.sent[tile][e.peer][e.channel];
+  const std::uint32_t k = c - 1U - ((c - 1U - e.seq) & 0xFFU);
+  if (c == 0U || c - k > kRecent || g_give_ups.size() >= g_give_ups.capacity()) {
+    ++g_ft.ft.gave_up_unchecked;
+    return;
+  }
+  g_give_ups.push_back(GiveUpRecord{tile, false, true, g_ft.number[tile][e.peer][e.channel][k % kRecent]});
+}
 
 void check_received(bsp::TileId self) {
   udn::FtMessage m{};
@@ -63,6 +117,7 @@ void check_received(bsp::TileId self) {
       }
       ++k;
       ++g_ft.delivery.delivered;
+      mark_arrived(m.source, self, ch, m.seq);
     }
   }
 }
@@ -87,7 +142,9 @@ void send_some(bsp::TileId self, Source& src, std::array<std::uint32_t, udn::kFt
     stamp_payload(PayloadStamp{self, dest, static_cast<std::uint16_t>(g_ft.done[self])}, payload);
     const udn::FtError e = udn::ft_send(node, dest, ch, payload, static_cast<std::uint32_t>(k::now_ticks()));
     if (e == udn::FtError::kOk) {
-      ++g_ft.sent[self][dest][ch];
+      std::uint32_t& k = g_ft.sent[self][dest][ch];
+      g_ft.number[self][dest][ch][k % kRecent] = static_cast<std::uint32_t>(g_ft.done[self]);
+      ++k;
       ++g_ft.delivery.sent;
     } else if (e == udn::FtError::kUnreachable) {
       ++g_ft.ft.unreachable;
@@ -106,6 +163,7 @@ void ft_driver(void* /*arg*/) {
       udn::ft_init(g_ft_nodes[self], self, g_ft.map, udn::ft_task_port(), udn::FtConfig{}) != udn::FtError::kOk) {
     return;
   }
+  udn::ft_set_event_sink(g_ft_nodes[self], udn::FtEventSink{&on_ft_event, nullptr});
   const double per_tick = g_ft.opts.rate_per_us * 1e3;  // ticks are 1 ms
   Source src{bsp::Rng(g_ft.opts.seed, bsp::StreamId::kTraffic, self), per_tick, bsp::kNoTile};
   std::array<std::uint32_t, udn::kFtMaxData> data{};
@@ -184,6 +242,12 @@ void collect(StressResult& r) {
     }
   }
   g_ft.delivery.lost = g_ft.delivery.sent - in_order;
+  for (const GiveUpRecord& g : g_give_ups) {
+    const bool arrived = g_arrived[g.source][g.number] != 0U;
+    g_ft.ft.gave_up_unknown_arrived += (g.unknown && arrived) ? 1U : 0U;
+    g_ft.ft.gave_up_not_delivered_arrived += (!g.unknown && !g.arrived_claimed && arrived) ? 1U : 0U;
+    g_ft.ft.acks_lost_missing += (g.arrived_claimed && !arrived) ? 1U : 0U;
+  }
   r.delivery = g_ft.delivery;
   r.ft = g_ft.ft;
 }
@@ -196,6 +260,11 @@ StressResult run_stress_ft(const StressOptions& opts, bsp::heap::SealMode seal) 
   g_ft_nodes = {};
   g_ft.opts = opts;
   g_ft.plan = detail::make_plan(opts);
+  for (std::size_t t = 0; t < bsp::kMaxTiles; ++t) {
+    g_arrived[t].assign(g_ft.plan.quota[t], 0U);
+  }
+  g_give_ups.clear();
+  g_give_ups.reserve(kGiveUpRecords);
   bsp::NetConfig net{};
   net.max_in_flight_per_tile = bsp::kUdnMaxInFlightPerTile;
   net.queue_words = bsp::kUdnMaxQueueWords;
