@@ -358,7 +358,7 @@ void write_stress_json(std::ostream& out, const StressOptions& opts, const Stres
       << ",\"gave_up_not_delivered_arrived\":" << f.gave_up_not_delivered_arrived
       << ",\"gave_up_unknown\":" << f.gave_up_unknown << ",\"gave_up_unknown_arrived\":" << f.gave_up_unknown_arrived
       << ",\"acks_lost\":" << f.acks_lost << ",\"acks_lost_missing\":" << f.acks_lost_missing
-      << ",\"gave_up_unchecked\":" << f.gave_up_unchecked
+      << ",\"unmatched\":" << f.unmatched
       << ",\"unreachable\":" << f.unreachable << ",\"send_errors\":" << r.send_errors << ",\"net_sent\":" << s.sent
       << ",\"net_delivered\":" << s.delivered << ",\"bit_flips\":" << s.bit_flips
       << ",\"lost_offgrid\":" << lost(bsp::UdnLoss::kOffGrid)

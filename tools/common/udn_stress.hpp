@@ -130,7 +130,7 @@ struct StressResult {
     std::uint64_t gave_up_unknown_arrived = 0U;        ///< ... that arrived (a false alarm, said to be uncertain)
     std::uint64_t acks_lost = 0U;                      ///< reported delivered, only the ACKs lost
     std::uint64_t acks_lost_missing = 0U;              ///< ... that never arrived (a wrong claim)
-    std::uint64_t gave_up_unchecked = 0U;              ///< events the run could not match to a message
+    std::uint64_t unmatched = 0U;  ///< give-up events and deliveries the run could not match to a message
   } ft{};
   [[nodiscard]] bool completed() const noexcept { return end == StressEnd::kCompleted; }
 };

@@ -32,7 +32,7 @@ namespace {
 
 constexpr std::uint32_t kStackBytes = 16U * 1024U;
 constexpr std::uint32_t kChannels = udn::kFtChannels;
-/** Recent messages of a stream whose sender's message number is kept (a give-up names one by its sequence). */
+/** Recent messages of a stream whose sequence number and sender's number are kept (a give-up names one by its sequence). */
 constexpr std::uint32_t kRecent = 32U;
 /** Give-ups checked against the deliveries at the end of a run; more are counted unchecked. */
 constexpr std::size_t kGiveUpRecords = 1U << 16U;
@@ -45,6 +45,12 @@ struct GiveUpRecord {
   std::uint32_t number = 0U;     ///< the sender's message number
 };
 
+/** A message the layer took: the sequence number it got and its sender's number. */
+struct SentMessage {
+  std::uint32_t number = 0U;
+  std::uint8_t seq = 0U;
+};
+
 template <typename T>
 using PerStream = std::array<std::array<std::array<T, kChannels>, bsp::kMaxTiles>, bsp::kMaxTiles>;
 
@@ -55,9 +61,9 @@ struct FtShared {
   std::array<std::uint64_t, bsp::kMaxTiles> done{};  ///< messages sent or refused as unreachable
   std::array<bool, bsp::kMaxTiles> idle{};           ///< quota done and nothing unacknowledged
   PerStream<std::uint32_t> sent{};
-  PerStream<std::uint32_t> got{};
-  PerStream<std::array<std::uint32_t, kRecent>> number{};  ///< sender's number of stream message k at [k % kRecent]
-  PerStream<std::uint32_t> next_k{};  ///< receiver: stream index after the last message delivered
+  PerStream<std::array<SentMessage, kRecent>> recent{};  ///< stream message k at [k % kRecent]
+  PerStream<std::uint32_t> after_last{};  ///< receiver: 1 + the sender's number of the last message delivered (0: none)
+  std::uint64_t arrived = 0U;  ///< distinct messages delivered intact
   StressResult::Delivery delivery{};
   StressResult::Ft ft{};
 };
@@ -68,18 +74,47 @@ std::array<std::vector<std::uint8_t>, bsp::kMaxTiles> g_arrived;
 std::vector<GiveUpRecord> g_give_ups;
 
 /**
- * The receiver's view of stream message @p seq: the index after the last one
- * it got, plus the sequence's distance (the layer skips only given-up
- * messages, far fewer than 256). Marks the sender's message as arrived.
+ * The sender's number of the latest message of stream (source, dest, ch) that
+ * got sequence number @p seq: a sequence number that left the tile is never
+ * given to another message, and the layer delivers or gives up only recent ones.
+ * @return false if none of the recent ones has it.
  */
-void mark_arrived(bsp::TileId source, bsp::TileId self, std::uint32_t ch, std::uint8_t seq) {
-  std::uint32_t& next = g_ft.next_k[source][self][ch];
-  const std::uint32_t k = next + ((seq - next) & 0xFFU);
-  next = k + 1U;
-  const std::uint32_t number = g_ft.number[source][self][ch][k % kRecent];
-  if (g_ft.sent[source][self][ch] - k <= kRecent && number < g_arrived[source].size()) {
-    g_arrived[source][number] = 1U;
+bool recent_number(bsp::TileId source, bsp::TileId dest, std::uint32_t ch, std::uint8_t seq, std::uint64_t& number) {
+  const std::uint32_t c = g_ft.sent[source][dest][ch];
+  const auto& recent = g_ft.recent[source][dest][ch];
+  for (std::uint32_t back = 1U; back <= kRecent && back <= c; ++back) {
+    const SentMessage& m = recent[(c - back) % kRecent];
+    if (m.seq == seq) {
+      number = m.number;
+      return true;
+    }
   }
+  return false;
+}
+
+/**
+ * A delivered message, known by its stamp (the sender's number modulo 2^16,
+ * the latest such number the sender used; a one-word payload has none, its
+ * sequence number says): twice is a duplicate, before the last of its stream
+ * misordered; a gap is what the layer gave up.
+ */
+void take_delivered(bsp::TileId source, bsp::TileId self, std::uint32_t ch, std::uint8_t seq,
+                    const PayloadStamp& st) {
+  const std::uint64_t used = g_ft.done[source];  // the sender's numbers so far: 0 .. used - 1
+  std::uint64_t number = (used - 1U) - ((used - 1U - st.number) & 0xFFFFU);
+  if (used == 0U || (g_ft.opts.words < 2U && !recent_number(source, self, ch, seq, number))) {
+    ++g_ft.ft.unmatched;  // cannot be told: counted as not arrived
+    return;
+  }
+  std::uint32_t& after_last = g_ft.after_last[source][self][ch];
+  if (number >= g_arrived[source].size() || g_arrived[source][number] != 0U) {
+    ++g_ft.delivery.duplicated;
+    return;
+  }
+  g_ft.delivery.misordered += number + 1U < after_last ? 1U : 0U;
+  after_last = static_cast<std::uint32_t>(number + 1U);
+  g_arrived[source][number] = 1U;
+  ++g_ft.arrived;
 }
 
 /** Records a give-up the layer reported on @p tile (its sink); checked against deliveries at the end. */
@@ -89,35 +124,28 @@ void on_ft_event(void* /*ctx*/, bsp::TileId tile, const udn::FtEvent& e) {
     return;
   }
   ++g_ft.ft.gave_up_unknown;
-  const std::uint32_t c = g_ft.sent[tile][e.peer][e.channel];
-  const std::uint32_t k = c - 1U - ((c - 1U - e.seq) & 0xFFU);
-  if (c == 0U || c - k > kRecent || g_give_ups.size() >= g_give_ups.capacity()) {
-    ++g_ft.ft.gave_up_unchecked;
+  std::uint64_t number = 0U;
+  if (!recent_number(tile, e.peer, e.channel, e.seq, number) || g_give_ups.size() >= g_give_ups.capacity()) {
+    ++g_ft.ft.unmatched;
     return;
   }
-  g_give_ups.push_back(GiveUpRecord{tile, false, true, g_ft.number[tile][e.peer][e.channel][k % kRecent]});
+  g_give_ups.push_back(GiveUpRecord{tile, false, true, static_cast<std::uint32_t>(number)});
 }
 
 void check_received(bsp::TileId self) {
   udn::FtMessage m{};
   for (std::uint32_t ch = 0; ch < kChannels; ++ch) {
     while (udn::ft_receive(g_ft_nodes[self], ch, m) == udn::FtError::kOk) {
-      std::uint32_t& k = g_ft.got[m.source][self][ch];
-      const std::uint32_t sent = g_ft.sent[m.source][self][ch];
       const std::size_t n = m.data_words < m.data.size() ? m.data_words : m.data.size();
       PayloadStamp st{};
       const PayloadVerdict v =
           check_payload(std::span(m.data.data(), n), m.data_words, g_ft.opts.words, m.source, self, st);
       g_ft.delivery.corrupted_delivered += v == PayloadVerdict::kCorrupted ? 1U : 0U;
       g_ft.delivery.misdelivered += v == PayloadVerdict::kMisdelivered ? 1U : 0U;
-      if (k >= sent) {
-        ++g_ft.delivery.duplicated;
-      } else if (m.seq != (k & 0xFFU)) {
-        ++g_ft.delivery.misordered;
-      }
-      ++k;
       ++g_ft.delivery.delivered;
-      mark_arrived(m.source, self, ch, m.seq);
+      if (v == PayloadVerdict::kIntact && m.source < bsp::kMaxTiles) {
+        take_delivered(m.source, self, ch, m.seq, st);
+      }
     }
   }
 }
@@ -140,10 +168,11 @@ void send_some(bsp::TileId self, Source& src, std::array<std::uint32_t, udn::kFt
     const auto ch = static_cast<std::uint32_t>(g_ft.done[self] % kChannels);
     const std::span<std::uint32_t> payload(data.data(), g_ft.opts.words);
     stamp_payload(PayloadStamp{self, dest, static_cast<std::uint16_t>(g_ft.done[self])}, payload);
+    const std::uint8_t seq = node.tx_stream[dest][ch].next_seq;  // the one ft_send gives the message
     const udn::FtError e = udn::ft_send(node, dest, ch, payload, static_cast<std::uint32_t>(k::now_ticks()));
     if (e == udn::FtError::kOk) {
       std::uint32_t& k = g_ft.sent[self][dest][ch];
-      g_ft.number[self][dest][ch][k % kRecent] = static_cast<std::uint32_t>(g_ft.done[self]);
+      g_ft.recent[self][dest][ch][k % kRecent] = SentMessage{static_cast<std::uint32_t>(g_ft.done[self]), seq};
       ++k;
       ++g_ft.delivery.sent;
     } else if (e == udn::FtError::kUnreachable) {
@@ -233,15 +262,7 @@ void collect(StressResult& r) {
     g_ft.ft.uncorrectable_detected += n.stats.uncorrectable_detected;
     g_ft.ft.gave_up += n.stats.gave_up;
   }
-  std::uint64_t in_order = 0U;
-  for (std::size_t s = 0; s < bsp::kMaxTiles; ++s) {
-    for (std::size_t d = 0; d < bsp::kMaxTiles; ++d) {
-      for (std::uint32_t ch = 0; ch < kChannels; ++ch) {
-        in_order += std::min(g_ft.got[s][d][ch], g_ft.sent[s][d][ch]);
-      }
-    }
-  }
-  g_ft.delivery.lost = g_ft.delivery.sent - in_order;
+  g_ft.delivery.lost = g_ft.delivery.sent - g_ft.arrived;
   for (const GiveUpRecord& g : g_give_ups) {
     const bool arrived = g_arrived[g.source][g.number] != 0U;
     g_ft.ft.gave_up_unknown_arrived += (g.unknown && arrived) ? 1U : 0U;
