@@ -190,7 +190,9 @@ void judge_transits(State& s, const NetHealthConfig& cfg, bsp::TileId self) noex
   }
   s.lost &= ~off_ends;
   if (s.lost != 0U) {
-    const bsp::TileId x = transit_verdict(cfg.transits, s.lost, cfg.transit_subjects, s.votes.failed);
+    // A transit across a link the map says failed (voted by its two ends) tells nothing of a switch.
+    const std::uint64_t mute = transits_across(cfg.transits, udn::failed_link_set(s.map));
+    const bsp::TileId x = transit_verdict(cfg.transits, s.lost, cfg.transit_subjects, s.votes.failed, mute);
     if (x != bsp::kNoTile && udn::fault_map_fail_tile(s.map, x) == udn::RouteError::kOk) {
       s.votes.failed |= std::uint64_t{1} << x;
       const std::uint64_t through = transits_through(cfg.transits, x);

@@ -26,6 +26,56 @@ bool neighbours(std::uint32_t cols, std::uint32_t a, std::uint32_t b) noexcept {
 /** Switches a transit tests: its round trip without its two ends. */
 std::uint64_t interior(const Transit& t) noexcept { return t.path & ~bit(t.prober) & ~bit(t.target); }
 
+/** The two tiles whose software a transit relies on: the prober that reports it and the target that answers. */
+std::uint64_t ends(const Transit& t) noexcept { return bit(t.prober) | bit(t.target); }
+
+/**
+ * Transits @p mask hold two independent ones: no end in common. One tile,
+ * however faulty (it reports its transits lost, answers none, or lost its
+ * own links), is an end of at most one of them, as a switch fault the neighbours
+ * vote on needs two neighbours.
+ */
+bool independent(const TransitPlan& p, std::uint64_t mask) noexcept {
+  for (std::uint32_t i = 0; i < p.count && i < kMaxTransits; ++i) {
+    for (std::uint32_t j = i + 1U; j < p.count && j < kMaxTransits && has(mask, i); ++j) {
+      if (has(mask, j) && (ends(p.t[i]) & ends(p.t[j])) == 0U) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+bool empty(const udn::LinkSet& l) noexcept { return l.w[0] == 0U && l.w[1] == 0U; }
+
+bool meet(const udn::LinkSet& a, const udn::LinkSet& b) noexcept {
+  return (a.w[0] & b.w[0]) != 0U || (a.w[1] & b.w[1]) != 0U;
+}
+
+/** Links every transit of @p mask crosses (none for an empty mask): one of them failing would lose them all. */
+udn::LinkSet common_links(const TransitPlan& p, std::uint64_t mask) noexcept {
+  udn::LinkSet c{{~std::uint64_t{0}, ~std::uint64_t{0}}};
+  bool any = false;
+  for (std::uint32_t i = 0; i < p.count && i < kMaxTransits; ++i) {
+    if (has(mask, i)) {
+      c.w[0] &= p.t[i].links.w[0];
+      c.w[1] &= p.t[i].links.w[1];
+      any = true;
+    }
+  }
+  return any ? c : udn::LinkSet{};
+}
+
+/** Ends of the first transit of @p mask (0 for none): a second one avoiding them makes the pair independent. */
+std::uint64_t first_ends(const TransitPlan& p, std::uint64_t mask) noexcept {
+  for (std::uint32_t i = 0; i < p.count && i < kMaxTransits; ++i) {
+    if (has(mask, i)) {
+      return ends(p.t[i]);
+    }
+  }
+  return 0U;
+}
+
 std::uint64_t through(const TransitPlan& p, std::uint32_t tile) noexcept {
   std::uint64_t m = 0U;
   for (std::uint32_t i = 0; i < p.count; ++i) {
@@ -41,6 +91,22 @@ std::uint64_t touching(const TransitPlan& p, std::uint32_t tile) noexcept {
     m |= has(p.t[i].path, tile) ? bit(i) : 0U;
   }
   return m;
+}
+
+/**
+ * The transits @p mask can vote a switch failed: kTransitsPerSpare of them at
+ * least, two with no end in common, and no link all of them cross. Then one
+ * tile (a lying prober, a silent target, one end's failed link) or one failed
+ * link cannot lose them all.
+ */
+bool can_vote(const TransitPlan& p, std::uint64_t mask) noexcept {
+  return std::popcount(mask) >= static_cast<int>(kTransitsPerSpare) && independent(p, mask) &&
+         empty(common_links(p, mask));
+}
+
+/** Subject @p x is crossed by a transit and the transits touching it can vote it failed. */
+bool voted(const TransitPlan& p, std::uint32_t x) noexcept {
+  return through(p, x) != 0U && can_vote(p, touching(p, x));
 }
 
 /** Subject @p s is told apart from subject @p x: their failed switches kill different transits. */
@@ -65,37 +131,65 @@ bool chosen(const TransitPlan& p, std::uint32_t a, std::uint32_t b) noexcept {
   return false;
 }
 
+/** What a transit added to the plan must do. */
+struct Want {
+  std::uint32_t need;            ///< the subject it tests
+  bool need_inside;              ///< through @p need (else touching it: an end may be @p need)
+  std::uint32_t avoid;           ///< a tile it must not touch (64: none)
+  std::uint64_t avoid_ends;      ///< tiles that must be neither its prober nor its target
+  udn::LinkSet shrink;           ///< links all transits of the subject cross so far: it must miss one at least
+};
+
+int popcount(const udn::LinkSet& l) noexcept { return std::popcount(l.w[0]) + std::popcount(l.w[1]); }
+
+/** The links of @p a that @p b crosses too. */
+udn::LinkSet both(const udn::LinkSet& a, const udn::LinkSet& b) noexcept {
+  return udn::LinkSet{{a.w[0] & b.w[0], a.w[1] & b.w[1]}};
+}
+
+/** The round trip of (a, b) if it is a transit @p w accepts. */
+bool acceptable(const Search& s, const Want& w, std::uint32_t a, std::uint32_t b, Transit& t) noexcept {
+  const auto ta = static_cast<bsp::TileId>(a);
+  const auto tb = static_cast<bsp::TileId>(b);
+  t = Transit{ta, tb, udn::path_tiles(*s.map, ta, tb) | udn::path_tiles(*s.map, tb, ta), {}};
+  const udn::LinkSet l1 = udn::path_links(*s.map, ta, tb);
+  const udn::LinkSet l2 = udn::path_links(*s.map, tb, ta);
+  t.links = udn::LinkSet{{l1.w[0] | l2.w[0], l1.w[1] | l2.w[1]}};
+  const bool tests = w.need_inside ? has(interior(t), w.need) : has(t.path, w.need);
+  const bool shrinks = empty(w.shrink) || popcount(both(w.shrink, t.links)) < popcount(w.shrink);
+  return tests && shrinks && !(w.avoid < 64U && has(t.path, w.avoid));
+}
+
 /**
- * Adds the transit through @p need and not through @p avoid (kNoTile: any)
- * that crosses the fewest subjects, then the fewest switches, then comes
- * first in (prober, target) order. @return false when there is none or the plan is full.
+ * Adds the transit @p w accepts that leaves the fewest links common to the
+ * subject's transits, then crosses the fewest subjects, then the fewest
+ * switches, then comes first in (prober, target) order.
+ * @return false when there is none or the plan is full.
  */
-bool add_best(TransitPlan& p, Search& s, std::uint32_t need, std::uint32_t avoid) noexcept {
+bool add_best(TransitPlan& p, Search& s, const Want& w) noexcept {
   if (p.count >= kMaxTransits) {
     return false;
   }
   Transit best{};
+  int best_common = 129;
   int best_subjects = 65;
   int best_len = 129;
   for (std::uint32_t a = 0; a < s.tiles; ++a) {
-    if (!has(s.probers, a) || s.load[a] >= kTransitsPerProber) {
+    if (!has(s.probers, a) || s.load[a] >= kTransitsPerProber || has(w.avoid_ends, a)) {
       continue;
     }
     for (std::uint32_t b = 0; b < s.tiles; ++b) {
-      if (a == b || !has(s.probers, b) || neighbours(s.map->cols, a, b) || chosen(p, a, b)) {
+      Transit t{};
+      if (a == b || !has(s.probers, b) || has(w.avoid_ends, b) || neighbours(s.map->cols, a, b) || chosen(p, a, b) ||
+          !acceptable(s, w, a, b, t)) {
         continue;
       }
-      const auto ta = static_cast<bsp::TileId>(a);
-      const auto tb = static_cast<bsp::TileId>(b);
-      const Transit t{ta, tb, udn::path_tiles(*s.map, ta, tb) | udn::path_tiles(*s.map, tb, ta)};
-      const std::uint64_t in = interior(t);
-      if (!has(in, need) || (avoid < 64U && has(t.path, avoid))) {
-        continue;
-      }
-      const int ns = std::popcount(in & s.subjects);
+      const int nc = empty(w.shrink) ? 0 : popcount(both(w.shrink, t.links));
+      const int ns = std::popcount(interior(t) & s.subjects);
       const int len = std::popcount(t.path);
-      if (ns < best_subjects || (ns == best_subjects && len < best_len)) {
+      if (nc < best_common || (nc == best_common && (ns < best_subjects || (ns == best_subjects && len < best_len)))) {
         best = t;
+        best_common = nc;
         best_subjects = ns;
         best_len = len;
       }
@@ -136,10 +230,16 @@ TransitError plan_transits(const udn::FaultMap& map, std::uint64_t probers, std:
   out = TransitPlan{};
   Search s{&map, probers, subjects, tiles, {}};
   const std::uint64_t want = reachable(s);
-  // Coverage: every subject crossed by kTransitsPerSpare transits.
+  // Coverage: every subject crossed by transits that can vote it failed (two
+  // with no end in common, no link all of them cross), so no one tile's
+  // reports and no one failed link fail it. Each try adds what is missing.
+  constexpr std::uint32_t kTries = 3U * kTransitsPerSpare;
   for (std::uint32_t x = 0; x < tiles; ++x) {
-    for (std::uint32_t k = 0; k < kTransitsPerSpare && has(want, x); ++k) {
-      if (std::popcount(through(out, x)) < static_cast<int>(kTransitsPerSpare) && !add_best(out, s, x, 64U)) {
+    for (std::uint32_t k = 0; k < kTries && has(want, x) && !voted(out, x); ++k) {
+      const std::uint64_t m = touching(out, x);
+      const Want w{x, through(out, x) == 0U, 64U, independent(out, m) ? 0U : first_ends(out, through(out, x)),
+                   common_links(out, m)};
+      if (!add_best(out, s, w)) {
         break;
       }
     }
@@ -152,7 +252,8 @@ TransitError plan_transits(const udn::FaultMap& map, std::uint64_t probers, std:
     bool added = false;
     for (std::uint32_t x = 0; x < tiles; ++x) {
       for (std::uint32_t y = 0; y < tiles && has(want, x); ++y) {
-        if (y != x && has(subjects, y) && !apart(out, x, y) && through(out, x) != 0U && add_best(out, s, x, y)) {
+        if (y != x && has(subjects, y) && !apart(out, x, y) && through(out, x) != 0U &&
+            add_best(out, s, Want{x, true, y, 0U, {}})) {
           added = true;
         }
       }
@@ -165,7 +266,7 @@ TransitError plan_transits(const udn::FaultMap& map, std::uint64_t probers, std:
     if (!has(want, x)) {
       continue;
     }
-    bool ok = std::popcount(through(out, x)) >= static_cast<int>(kTransitsPerSpare);
+    bool ok = voted(out, x);
     for (std::uint32_t y = 0; y < tiles && ok; ++y) {
       ok = y == x || !has(subjects, y) || apart(out, x, y);
     }
@@ -213,8 +314,16 @@ std::uint32_t transit_index(const TransitPlan& plan, bsp::TileId prober, bsp::Ti
 
 std::uint64_t transits_through(const TransitPlan& plan, bsp::TileId tile) noexcept { return through(plan, tile); }
 
+std::uint64_t transits_across(const TransitPlan& plan, const udn::LinkSet& links) noexcept {
+  std::uint64_t m = 0U;
+  for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
+    m |= meet(plan.t[i].links, links) ? bit(i) : 0U;
+  }
+  return m;
+}
+
 bsp::TileId transit_verdict(const TransitPlan& plan, std::uint64_t lost, std::uint64_t subjects,
-                            std::uint64_t known_failed) noexcept {
+                            std::uint64_t known_failed, std::uint64_t mute) noexcept {
   // Candidates: subjects with enough telling transits, all lost. A failed
   // switch kills every transit through it, so a switch whose transits are a
   // part of another candidate's is explained by that one: the answer is the
@@ -222,15 +331,18 @@ bsp::TileId transit_verdict(const TransitPlan& plan, std::uint64_t lost, std::ui
   std::array<std::uint64_t, 64> counted{};
   std::uint64_t candidates = 0U;
   for (std::uint32_t x = 0; x < 64U; ++x) {
-    if (!has(subjects, x) || has(known_failed, x)) {
-      continue;
+    if (!has(subjects, x) || !has(plan.tested, x) || has(known_failed, x)) {
+      continue;  // a subject the plan cannot vote on is never failed by transits
     }
     for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
       const Transit& t = plan.t[i];
-      const bool tells = has(t.path, x) && (t.path & known_failed) == 0U;
+      const bool tells = has(t.path, x) && (t.path & known_failed) == 0U && !has(mute, i);
       counted[x] |= tells ? bit(i) : 0U;
     }
-    const bool fits = std::popcount(counted[x]) >= static_cast<int>(kTransitsPerSpare) && (counted[x] & ~lost) == 0U;
+    // Voted: two of the lost transits have no end in common and no link is
+    // crossed by all, so one faulty prober or target, or one failed link,
+    // cannot lose them all.
+    const bool fits = (counted[x] & ~lost) == 0U && can_vote(plan, counted[x]);
     candidates |= fits ? bit(x) : 0U;
   }
   bsp::TileId found = bsp::kNoTile;

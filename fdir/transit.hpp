@@ -9,10 +9,13 @@
  * once by the image before boot) chooses transits so that every subject
  * switch on a leg between live tiles (every spare that carries traffic, and
  * live tiles too poorly watched for a neighbour vote) is crossed by at least
- * kTransitsPerSpare of them, and no two subjects touch the same
- * transits. A failed switch kills exactly the transits through it, so the
- * verdict names the one subject whose transits are all lost and are not a
- * part of another such subject's. A live switch whose failure kills a
+ * kTransitsPerSpare of them, two of them independent (no end in common: a
+ * transit relies on its prober's report and its target's answer, so one
+ * faulty tile is an end of at most one of the two), and no two subjects
+ * touch the same transits. A failed switch kills exactly the transits through it, so the
+ * verdict names the one subject whose transits are all lost, two independent
+ * ones among them (voted, like a neighbour report that needs two
+ * neighbours), and are not a part of another such subject's. A live switch whose failure kills a
  * subject's transits is voted by its neighbours first; its transits then tell
  * nothing and are left out. Each prober pings its targets every probe round
  * (udn/endpoint.hpp) and reports a target lost after the miss threshold and
@@ -33,19 +36,20 @@ namespace fdir {
 
 inline constexpr std::uint32_t kMaxTransits = 64U;        ///< transits in one plan (bits of a 64-bit mask)
 inline constexpr std::uint32_t kTransitsPerProber = 4U;   ///< targets one tile pings at most
-inline constexpr std::uint32_t kTransitsPerSpare = 2U;    ///< transits crossing each testable spare, at least
+inline constexpr std::uint32_t kTransitsPerSpare = 2U;    ///< transits crossing each testable subject, at least (two independent)
 
 struct Transit {
   bsp::TileId prober = bsp::kNoTile;
   bsp::TileId target = bsp::kNoTile;
   std::uint64_t path = 0U;  ///< switches of the round trip (bit per tile), both ends included
+  udn::LinkSet links{};     ///< links of the round trip
 };
 
 struct TransitPlan {
   std::uint32_t count = 0U;
   std::array<Transit, kMaxTransits> t{};
-  std::uint64_t tested = 0U;      ///< subjects that meet the plan's rule (two transits, told apart)
-  std::uint64_t untested = 0U;    ///< subjects on some leg between probers that the plan could not test so
+  std::uint64_t tested = 0U;      ///< subjects that meet the plan's rule (two independent transits, told apart)
+  std::uint64_t untested = 0U;    ///< subjects on some leg between probers the plan could not test so: never failed by transits
 };
 
 enum class TransitError : std::uint8_t { kOk, kBadArgs };
@@ -77,15 +81,22 @@ std::uint64_t transit_targets(const TransitPlan& plan, bsp::TileId prober) noexc
 /** Index of transit (@p prober, @p target) in @p plan, or kMaxTransits. */
 std::uint32_t transit_index(const TransitPlan& plan, bsp::TileId prober, bsp::TileId target) noexcept;
 
+/** Transits of @p plan that cross a link of @p links (bit per plan index). */
+std::uint64_t transits_across(const TransitPlan& plan, const udn::LinkSet& links) noexcept;
+
 /**
  * The subject a failed switch explains the lost transits by, given the
- * transits reported lost (@p lost, bit per plan index) and the tiles already
- * known failed (a transit touching one tells nothing new and is left out).
- * Candidates have at least kTransitsPerSpare transits that count, all lost;
- * the answer is the one candidate whose transits no other candidate's include.
+ * transits reported lost (@p lost, bit per plan index), the tiles already
+ * known failed (a transit touching one tells nothing new and is left out) and
+ * the transits @p mute that tell nothing either (across a link known failed).
+ * Candidates are subjects the plan tested with at least kTransitsPerSpare
+ * transits that count, all lost, two of them independent (no end in common)
+ * and no link crossed by all of them: one prober's reports, one target's
+ * silence or one failed link never fail a switch. The answer is the one
+ * candidate whose transits no other candidate's include.
  * @return the subject, or bsp::kNoTile when there is no such one.
  */
 bsp::TileId transit_verdict(const TransitPlan& plan, std::uint64_t lost, std::uint64_t subjects,
-                            std::uint64_t known_failed) noexcept;
+                            std::uint64_t known_failed, std::uint64_t mute = 0U) noexcept;
 
 }  // namespace fdir

@@ -226,6 +226,50 @@ std::uint64_t path_tiles(const FaultMap& map, bsp::TileId s, bsp::TileId d) noex
   return on_path;
 }
 
+namespace {
+
+/** Adds the link leaving @p t in @p dir to @p set (its lower or left tile names it). */
+void add_link(const FaultMap& map, LinkSet& set, bsp::TileId t, bsp::UdnDir dir) noexcept {
+  const bsp::TileId n = neighbour(map, t, dir);
+  if (n == bsp::kNoTile) {
+    return;
+  }
+  const bool horizontal = dir == bsp::UdnDir::kEast || dir == bsp::UdnDir::kWest;
+  const bsp::TileId low = (n < t) ? n : t;
+  const std::uint32_t index = 2U * low + (horizontal ? 0U : 1U);
+  set.w[index / 64U] |= std::uint64_t{1} << (index % 64U);
+}
+
+}  // namespace
+
+LinkSet path_links(const FaultMap& map, bsp::TileId s, bsp::TileId d) noexcept {
+  LinkSet set{};
+  if (!on_grid(map, s) || !on_grid(map, d)) {
+    return set;
+  }
+  bsp::TileId t = s;
+  // At most cols + rows steps: each moves one column or row toward d.
+  for (std::uint32_t step = 0U; step <= map.cols + map.rows && t != d; ++step) {
+    const bsp::UdnDir dir = xy_step(map, t, d);
+    add_link(map, set, t, dir);
+    t = neighbour(map, t, dir);
+  }
+  return set;
+}
+
+LinkSet failed_link_set(const FaultMap& map) noexcept {
+  LinkSet set{};
+  const std::uint32_t tiles = map.cols * map.rows;
+  for (std::uint32_t t = 0U; t < tiles && t < kRouteMaxTiles; ++t) {
+    for (const bsp::UdnDir dir : {bsp::UdnDir::kEast, bsp::UdnDir::kWest, bsp::UdnDir::kNorth, bsp::UdnDir::kSouth}) {
+      if (link_failed(map, static_cast<bsp::TileId>(t), dir)) {
+        add_link(map, set, static_cast<bsp::TileId>(t), dir);
+      }
+    }
+  }
+  return set;
+}
+
 RouteError route_table_build(const FaultMap& map, bsp::TileId self, RouteTable& table, bsp::Work& work) noexcept {
   const std::uint32_t tiles = map.cols * map.rows;
   if (tiles == 0U || tiles > kRouteMaxTiles) {

@@ -73,6 +73,20 @@ std::uint64_t path_tiles(const FaultMap& map, bsp::TileId s, bsp::TileId d) noex
 /** Mesh hops of the X-then-Y path (Manhattan distance). */
 std::uint32_t path_hops(std::uint32_t cols, bsp::TileId s, bsp::TileId d) noexcept;
 
+/**
+ * Mesh links as a set, either direction: bit 2t is the link between tile t
+ * and its east neighbour, bit 2t + 1 the one to its south neighbour.
+ */
+struct LinkSet {
+  std::array<std::uint64_t, 2> w{};
+};
+
+/** Links the X-then-Y path from @p s to @p d crosses (empty off the grid). */
+LinkSet path_links(const FaultMap& map, bsp::TileId s, bsp::TileId d) noexcept;
+
+/** Links @p map says failed, in either direction. */
+LinkSet failed_link_set(const FaultMap& map) noexcept;
+
 /** The route from a table's tile to one destination. */
 struct Route {
   RouteError status = RouteError::kUnreachable;

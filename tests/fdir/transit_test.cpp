@@ -8,13 +8,20 @@
 
 #include <bit>
 #include <cstdio>
+#include <vector>
 
 namespace {
 
 constexpr std::uint64_t bit(std::uint32_t t) { return std::uint64_t{1} << t; }
 
-/** The mission's live tiles: supervisor 0, coordinator 1, I/O 9, filter 18, vision 24..63. */
-constexpr std::uint64_t kLive = bit(0) | bit(1) | bit(9) | bit(18) | (~std::uint64_t{0} << 24U);
+/**
+ * The mission's live tiles (trn/tasks/tile_map.hpp): supervisor 0, coordinator 1, filter and vision
+ * supervisors 6 and 7, I/O 9, filter 18, replicas 19..21, vision 24..63. The coordinator and the filter
+ * do not ping (trn::tasks::tile_map_transits): the other live tiles are the probers.
+ */
+constexpr std::uint64_t kLive = bit(0) | bit(1) | bit(6) | bit(7) | bit(9) | bit(18) | bit(19) | bit(20) | bit(21) |
+                                (~std::uint64_t{0} << 24U);
+constexpr std::uint64_t kProbers = kLive & ~bit(1) & ~bit(18);
 constexpr std::uint64_t kSpares = ~kLive;
 
 udn::FaultMap grid() {
@@ -25,24 +32,30 @@ udn::FaultMap grid() {
 
 TEST(Transit, UnderObservedTilesAreThoseWithOneLiveNeighbour) {
   const udn::FaultMap m = grid();
-  // 9 has only 1 (8, 10, 17 are spares); 18 has only 26; 0 has only 1; 1 has 0 and 9.
-  EXPECT_EQ(fdir::under_observed(m, kLive, 2), bit(0) | bit(9) | bit(18));
+  // 9 has only 1 (8, 10, 17 are spares); 0 has only 1; 6 and 7 only each other; 1 has 0 and 9;
+  // 18 has 19 and 26.
+  EXPECT_EQ(fdir::under_observed(m, kLive, 2), bit(0) | bit(6) | bit(7) | bit(9));
 }
 
 TEST(Transit, MissionPlanTestsEverySpareThatCarriesTrafficAndTellsThemApart) {
   const udn::FaultMap m = grid();
   const std::uint64_t subjects = kSpares | fdir::under_observed(m, kLive, 2);
   fdir::TransitPlan p{};
-  ASSERT_EQ(fdir::plan_transits(m, kLive, subjects, p), fdir::TransitError::kOk);
+  ASSERT_EQ(fdir::plan_transits(m, kProbers, subjects, p), fdir::TransitError::kOk);
   for (std::uint32_t i = 0; i < p.count; ++i) {
     std::printf("transit %2u: %2u -> %2u  spares on the way %d\n", i, p.t[i].prober, p.t[i].target,
                 std::popcount(p.t[i].path & kSpares & ~bit(p.t[i].prober) & ~bit(p.t[i].target)));
   }
-  std::printf("transits %u, tested %d, untested %d\n", p.count, std::popcount(p.tested), std::popcount(p.untested));
+  std::uint64_t probers = 0;
+  for (std::uint32_t i = 0; i < p.count; ++i) {
+    probers |= bit(p.t[i].prober);
+  }
+  std::printf("transits %u from %d probers, tested %d, untested %d\n", p.count, std::popcount(probers),
+              std::popcount(p.tested), std::popcount(p.untested));
   EXPECT_EQ(p.untested, 0U) << "every subject on a leg between live tiles is tested";
   EXPECT_NE(p.tested & bit(11), 0U);
-  EXPECT_NE(p.tested & bit(19), 0U);
-  EXPECT_NE(p.tested & bit(18), 0U);
+  EXPECT_NE(p.tested & bit(23), 0U);
+  EXPECT_NE(p.tested & bit(9), 0U);
   // No prober pings more than its share; no transit pairs mesh neighbours.
   for (bsp::TileId t = 0; t < 64; ++t) {
     EXPECT_LE(std::popcount(fdir::transit_targets(p, t)), static_cast<int>(fdir::kTransitsPerProber));
@@ -62,7 +75,7 @@ TEST(Transit, EverySingleFailedSwitchIsNamedAndNoOtherIsBlamed) {
   const udn::FaultMap m = grid();
   const std::uint64_t subjects = kSpares | fdir::under_observed(m, kLive, 2);
   fdir::TransitPlan p{};
-  ASSERT_EQ(fdir::plan_transits(m, kLive, subjects, p), fdir::TransitError::kOk);
+  ASSERT_EQ(fdir::plan_transits(m, kProbers, subjects, p), fdir::TransitError::kOk);
   for (bsp::TileId x = 0; x < 64; ++x) {
     const std::uint64_t lost = killed_by(p, x);
     const bsp::TileId v = fdir::transit_verdict(p, lost, subjects, 0U);
@@ -81,8 +94,8 @@ TEST(Transit, AHungCoreIsNoFailedSwitch) {
   const udn::FaultMap m = grid();
   const std::uint64_t subjects = kSpares | fdir::under_observed(m, kLive, 2);
   fdir::TransitPlan p{};
-  ASSERT_EQ(fdir::plan_transits(m, kLive, subjects, p), fdir::TransitError::kOk);
-  for (const bsp::TileId x : {bsp::TileId{9}, bsp::TileId{18}}) {
+  ASSERT_EQ(fdir::plan_transits(m, kProbers, subjects, p), fdir::TransitError::kOk);
+  for (const bsp::TileId x : {bsp::TileId{0}, bsp::TileId{9}}) {
     const std::uint64_t ends = killed_by(p, x) & ~fdir::transits_through(p, x);
     ASSERT_NE(fdir::transits_through(p, x), 0U) << "transits cross tile " << x;
     EXPECT_EQ(fdir::transit_verdict(p, ends, subjects, 0U), bsp::kNoTile) << "tile " << x;
@@ -93,7 +106,7 @@ TEST(Transit, AHungCoreIsNoFailedSwitch) {
 TEST(Transit, OneLostTransitIsNeverEnough) {
   const udn::FaultMap m = grid();
   fdir::TransitPlan p{};
-  ASSERT_EQ(fdir::plan_transits(m, kLive, kSpares, p), fdir::TransitError::kOk);
+  ASSERT_EQ(fdir::plan_transits(m, kProbers, kSpares, p), fdir::TransitError::kOk);
   for (std::uint32_t i = 0; i < p.count; ++i) {
     EXPECT_EQ(fdir::transit_verdict(p, bit(i), kSpares, 0U), bsp::kNoTile);
   }
@@ -103,7 +116,144 @@ TEST(Transit, OneLostTransitIsNeverEnough) {
 TEST(Transit, BadGridIsRefused) {
   udn::FaultMap m{};
   fdir::TransitPlan p{};
-  EXPECT_EQ(fdir::plan_transits(m, kLive, kSpares, p), fdir::TransitError::kBadArgs);
+  EXPECT_EQ(fdir::plan_transits(m, kProbers, kSpares, p), fdir::TransitError::kBadArgs);
 }
 
 }  // namespace
+
+namespace {
+
+/** The transits tile @p t is an end of in @p p: it pings them or answers them (bit per plan index). */
+std::uint64_t ended_by(const fdir::TransitPlan& p, bsp::TileId t) {
+  std::uint64_t m = 0;
+  for (std::uint32_t i = 0; i < p.count; ++i) {
+    m |= (p.t[i].prober == t || p.t[i].target == t) ? bit(i) : 0U;
+  }
+  return m;
+}
+
+/** Two transits of @p mask with no end in common (neither's prober or target is the other's). */
+bool independent_pair(const fdir::TransitPlan& p, std::uint64_t mask) {
+  for (std::uint32_t i = 0; i < p.count; ++i) {
+    for (std::uint32_t j = 0; j < p.count; ++j) {
+      const fdir::Transit& a = p.t[i];
+      const fdir::Transit& b = p.t[j];
+      const bool apart = a.prober != b.prober && a.prober != b.target && a.target != b.prober && a.target != b.target;
+      if ((mask & bit(i)) != 0U && (mask & bit(j)) != 0U && apart) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+fdir::TransitPlan mission_plan(std::uint64_t& subjects) {
+  const udn::FaultMap m = grid();
+  subjects = kSpares | fdir::under_observed(m, kLive, 2);
+  fdir::TransitPlan p{};
+  EXPECT_EQ(fdir::plan_transits(m, kProbers, subjects, p), fdir::TransitError::kOk);
+  return p;
+}
+
+}  // namespace
+
+// FDIR-TR-06: transit reports are voted like neighbour reports: every tested subject's switch is
+// crossed by two transits with no end in common, and a switch is failed only when two such are lost.
+TEST(Transit, EveryTestedSubjectIsCrossedByTwoIndependentTransits) {
+  std::uint64_t subjects = 0;
+  const fdir::TransitPlan p = mission_plan(subjects);
+  for (bsp::TileId x = 0; x < 64; ++x) {
+    if ((p.tested & bit(x)) != 0U) {
+      EXPECT_TRUE(independent_pair(p, killed_by(p, x))) << "subject " << x;
+    }
+  }
+}
+
+// FDIR-TR-07: one faulty tile, whatever it does to the transits it is an end of (a prober that
+// reports them lost, a target that answers none, an end whose own links failed), fails no switch.
+TEST(Transit, NoOneFaultyTileFailsASwitch) {
+  std::uint64_t subjects = 0;
+  const fdir::TransitPlan p = mission_plan(subjects);
+  for (bsp::TileId t = 0; t < 64; ++t) {
+    const std::uint64_t mine = ended_by(p, t);
+    ASSERT_LE(std::popcount(mine), 12) << "tile " << t;  // every part below is tried
+    for (std::uint64_t part = mine; part != 0U; part = (part - 1U) & mine) {
+      EXPECT_EQ(fdir::transit_verdict(p, part, subjects, 0U), bsp::kNoTile) << "tile " << t << " alone, lost " << part;
+    }
+  }
+}
+
+namespace {
+
+/** The tiles of the X-then-Y leg from @p a to @p b, in order (8 x 8 grid). */
+std::vector<std::uint32_t> leg(std::uint32_t a, std::uint32_t b) {
+  std::vector<std::uint32_t> v{a};
+  std::uint32_t x = a % 8U;
+  std::uint32_t y = a / 8U;
+  while (x != b % 8U) {
+    x = (b % 8U > x) ? x + 1U : x - 1U;
+    v.push_back(y * 8U + x);
+  }
+  while (y != b / 8U) {
+    y = (b / 8U > y) ? y + 1U : y - 1U;
+    v.push_back(y * 8U + x);
+  }
+  return v;
+}
+
+/** The transits of @p p whose round trip crosses the link between neighbours @p u and @p w. */
+std::uint64_t across(const fdir::TransitPlan& p, std::uint32_t u, std::uint32_t w) {
+  std::uint64_t m = 0;
+  for (std::uint32_t i = 0; i < p.count; ++i) {
+    for (const auto& v : {leg(p.t[i].prober, p.t[i].target), leg(p.t[i].target, p.t[i].prober)}) {
+      for (std::size_t k = 1; k < v.size(); ++k) {
+        m |= ((v[k - 1] == u && v[k] == w) || (v[k - 1] == w && v[k] == u)) ? bit(i) : 0U;
+      }
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+// FDIR-TR-08: a failed link, a prober's own included, loses transits of several subjects but all
+// of none: it fails no switch (nobody votes a link to a spare, so the transits are all there is).
+TEST(Transit, NoOneFailedLinkFailsASwitch) {
+  std::uint64_t subjects = 0;
+  const fdir::TransitPlan p = mission_plan(subjects);
+  for (std::uint32_t u = 0; u < 64U; ++u) {
+    for (const std::uint32_t w : {u + 1U, u + 8U}) {
+      if (w >= 64U || (w == u + 1U && u % 8U == 7U)) {
+        continue;
+      }
+      EXPECT_EQ(fdir::transit_verdict(p, across(p, u, w), subjects, 0U), bsp::kNoTile) << "link " << u << "-" << w;
+    }
+  }
+}
+
+// FDIR-TR-09: a link the neighbours voted failed (both ends live) is in the map: the transits across
+// it tell nothing more, so it and one faulty tile besides still fail no switch.
+TEST(Transit, AVotedLinkAndOneFaultyTileFailNoSwitch) {
+  std::uint64_t subjects = 0;
+  const fdir::TransitPlan p = mission_plan(subjects);
+  udn::FaultMap m = grid();
+  std::uint32_t voted_links = 0;
+  for (std::uint32_t u = 0; u < 64U; ++u) {
+    for (const bsp::UdnDir dir : {bsp::UdnDir::kEast, bsp::UdnDir::kSouth}) {
+      const std::uint32_t w = dir == bsp::UdnDir::kEast ? u + 1U : u + 8U;
+      if (w >= 64U || (dir == bsp::UdnDir::kEast && u % 8U == 7U) || (kLive & bit(u)) == 0U || (kLive & bit(w)) == 0U) {
+        continue;
+      }
+      udn::FaultMap with = m;
+      ASSERT_EQ(udn::fault_map_fail_link(with, static_cast<bsp::TileId>(u), dir, true), udn::RouteError::kOk);
+      const std::uint64_t mute = fdir::transits_across(p, udn::failed_link_set(with));
+      EXPECT_EQ(mute, across(p, u, w)) << "link " << u << "-" << w;
+      ++voted_links;
+      for (bsp::TileId e = 0; e < 64; ++e) {
+        EXPECT_EQ(fdir::transit_verdict(p, mute | ended_by(p, e), subjects, 0U, mute), bsp::kNoTile)
+            << "link " << u << "-" << w << " and tile " << e;
+      }
+    }
+  }
+  EXPECT_GT(voted_links, 0U);
+}

@@ -233,10 +233,9 @@ bool Mission::boot(std::string& error) {
   // neighbour. The coordinator and the filter take the mission's busiest
   // inbound traffic: they are crossed by transits but neither ping nor answer
   // them (probes queued behind a frame's results would tip their queues over).
-  const std::uint64_t subjects = spares | fdir::under_observed(ep.boot_map, powered_, image.net_health.votes_to_fail);
-  const std::uint64_t probers =
-      powered_ & ~(1ULL << trn::tasks::kCoordinatorTile) & ~(1ULL << trn::tasks::kFilterTile);
-  if (fdir::plan_transits(ep.boot_map, probers, subjects, image.net_health.transits) != fdir::TransitError::kOk) {
+  std::uint64_t subjects = 0;
+  if (trn::tasks::tile_map_transits(ep.boot_map, powered_, spares, image.net_health.votes_to_fail,
+                                    image.net_health.transits, subjects) != fdir::TransitError::kOk) {
     error = "cannot plan the transit probes";
     return false;
   }

@@ -354,7 +354,11 @@ void write_stress_json(std::ostream& out, const StressOptions& opts, const Stres
       << ",\"corrupted_delivered\":" << d.corrupted_delivered << ",\"misdelivered\":" << d.misdelivered
       << ",\"corrected\":" << f.corrected << ",\"forwarded\":" << f.forwarded
       << ",\"retransmitted\":" << f.retransmitted << ",\"uncorrectable_detected\":" << f.uncorrectable_detected
-      << ",\"gave_up\":" << f.gave_up
+      << ",\"gave_up\":" << f.gave_up << ",\"gave_up_not_delivered\":" << f.gave_up_not_delivered
+      << ",\"gave_up_not_delivered_arrived\":" << f.gave_up_not_delivered_arrived
+      << ",\"gave_up_unknown\":" << f.gave_up_unknown << ",\"gave_up_unknown_arrived\":" << f.gave_up_unknown_arrived
+      << ",\"acks_lost\":" << f.acks_lost << ",\"acks_lost_missing\":" << f.acks_lost_missing
+      << ",\"unmatched\":" << f.unmatched
       << ",\"unreachable\":" << f.unreachable << ",\"send_errors\":" << r.send_errors << ",\"net_sent\":" << s.sent
       << ",\"net_delivered\":" << s.delivered << ",\"bit_flips\":" << s.bit_flips
       << ",\"lost_offgrid\":" << lost(bsp::UdnLoss::kOffGrid)

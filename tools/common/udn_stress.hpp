@@ -123,6 +123,14 @@ struct StressResult {
     std::uint64_t uncorrectable_detected = 0U;
     std::uint64_t gave_up = 0U;      ///< given up after retries, each an event
     std::uint64_t unreachable = 0U;  ///< sends refused for lack of a route
+    // The give-up events, by what they say of the message, and checked against the receivers:
+    std::uint64_t gave_up_not_delivered = 0U;          ///< reported not delivered
+    std::uint64_t gave_up_not_delivered_arrived = 0U;  ///< ... that arrived all the same (a wrong claim)
+    std::uint64_t gave_up_unknown = 0U;                ///< reported with delivery unknown
+    std::uint64_t gave_up_unknown_arrived = 0U;        ///< ... that arrived (a false alarm, said to be uncertain)
+    std::uint64_t acks_lost = 0U;                      ///< reported delivered, only the ACKs lost
+    std::uint64_t acks_lost_missing = 0U;              ///< ... that never arrived (a wrong claim)
+    std::uint64_t unmatched = 0U;  ///< give-up events and deliveries the run could not match to a message
   } ft{};
   [[nodiscard]] bool completed() const noexcept { return end == StressEnd::kCompleted; }
 };

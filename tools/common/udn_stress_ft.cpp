@@ -9,7 +9,9 @@
  * only). Payloads are stamped and checked like the raw run's
  * (udn_stress_payload.hpp: corrupted, misdelivered); the order is checked per
  * (source, destination, channel) stream, the unit the layer keeps in order;
- * a message sent and never delivered counts as lost.
+ * a message sent and never delivered counts as lost. Every give-up the layer
+ * reports (its event sink) is checked against what the receivers really got
+ * once the run is over: a give-up of a message that arrived is a false alarm.
  */
 #include "tools/common/udn_stress.hpp"
 
@@ -23,12 +25,34 @@
 #include "udn/route.hpp"
 
 #include <array>
+#include <vector>
 
 namespace tools {
 namespace {
 
 constexpr std::uint32_t kStackBytes = 16U * 1024U;
 constexpr std::uint32_t kChannels = udn::kFtChannels;
+/** Recent messages of a stream whose sequence number and sender's number are kept (a give-up names one by its sequence). */
+constexpr std::uint32_t kRecent = 32U;
+/** Give-ups checked against the deliveries at the end of a run; more are counted unchecked. */
+constexpr std::size_t kGiveUpRecords = 1U << 16U;
+
+/** A give-up the layer reported: the message (its sender's number) and what the report said of it. */
+struct GiveUpRecord {
+  bsp::TileId source = 0U;
+  bool arrived_claimed = false;  ///< the report says the message was delivered (its ACKs were lost)
+  bool unknown = true;           ///< the report says its delivery is unknown
+  std::uint32_t number = 0U;     ///< the sender's message number
+};
+
+/** A message the layer took: the sequence number it got and its sender's number. */
+struct SentMessage {
+  std::uint32_t number = 0U;
+  std::uint8_t seq = 0U;
+};
+
+template <typename T>
+using PerStream = std::array<std::array<std::array<T, kChannels>, bsp::kMaxTiles>, bsp::kMaxTiles>;
 
 struct FtShared {
   StressOptions opts;
@@ -36,33 +60,92 @@ struct FtShared {
   udn::FaultMap map{};
   std::array<std::uint64_t, bsp::kMaxTiles> done{};  ///< messages sent or refused as unreachable
   std::array<bool, bsp::kMaxTiles> idle{};           ///< quota done and nothing unacknowledged
-  std::array<std::array<std::array<std::uint32_t, kChannels>, bsp::kMaxTiles>, bsp::kMaxTiles> sent{};
-  std::array<std::array<std::array<std::uint32_t, kChannels>, bsp::kMaxTiles>, bsp::kMaxTiles> got{};
+  PerStream<std::uint32_t> sent{};
+  PerStream<std::array<SentMessage, kRecent>> recent{};  ///< stream message k at [k % kRecent]
+  PerStream<std::uint32_t> after_last{};  ///< receiver: 1 + the sender's number of the last message delivered (0: none)
+  std::uint64_t arrived = 0U;  ///< distinct messages delivered intact
   StressResult::Delivery delivery{};
   StressResult::Ft ft{};
 };
 FtShared g_ft;
 std::array<udn::FtNode, bsp::kMaxTiles> g_ft_nodes{};
+/** Per source, per message number: delivered (sized before the run, so the run allocates nothing). */
+std::array<std::vector<std::uint8_t>, bsp::kMaxTiles> g_arrived;
+std::vector<GiveUpRecord> g_give_ups;
+
+/**
+ * The sender's number of the latest message of stream (source, dest, ch) that
+ * got sequence number @p seq: a sequence number that left the tile is never
+ * given to another message, and the layer delivers or gives up only recent ones.
+ * @return false if none of the recent ones has it.
+ */
+bool recent_number(bsp::TileId source, bsp::TileId dest, std::uint32_t ch, std::uint8_t seq, std::uint64_t& number) {
+  const std::uint32_t c = g_ft.sent[source][dest][ch];
+  const auto& recent = g_ft.recent[source][dest][ch];
+  for (std::uint32_t back = 1U; back <= kRecent && back <= c; ++back) {
+    const SentMessage& m = recent[(c - back) % kRecent];
+    if (m.seq == seq) {
+      number = m.number;
+      return true;
+    }
+  }
+  return false;
+}
+
+/**
+ * A delivered message, known by its stamp (the sender's number modulo 2^16,
+ * the latest such number the sender used; a one-word payload has none, its
+ * sequence number says): twice is a duplicate, before the last of its stream
+ * misordered; a gap is what the layer gave up.
+ */
+void take_delivered(bsp::TileId source, bsp::TileId self, std::uint32_t ch, std::uint8_t seq,
+                    const PayloadStamp& st) {
+  const std::uint64_t used = g_ft.done[source];  // the sender's numbers so far: 0 .. used - 1
+  std::uint64_t number = (used - 1U) - ((used - 1U - st.number) & 0xFFFFU);
+  if (used == 0U || (g_ft.opts.words < 2U && !recent_number(source, self, ch, seq, number))) {
+    ++g_ft.ft.unmatched;  // cannot be told: counted as not arrived
+    return;
+  }
+  std::uint32_t& after_last = g_ft.after_last[source][self][ch];
+  if (number >= g_arrived[source].size() || g_arrived[source][number] != 0U) {
+    ++g_ft.delivery.duplicated;
+    return;
+  }
+  g_ft.delivery.misordered += number + 1U < after_last ? 1U : 0U;
+  after_last = static_cast<std::uint32_t>(number + 1U);
+  g_arrived[source][number] = 1U;
+  ++g_ft.arrived;
+}
+
+/** Records a give-up the layer reported on @p tile (its sink); checked against deliveries at the end. */
+void on_ft_event(void* /*ctx*/, bsp::TileId tile, const udn::FtEvent& e) {
+  const bool gave_up = e.cause == udn::FtCause::kRetriesExhausted || e.cause == udn::FtCause::kUnreachable;
+  if (!gave_up || tile >= bsp::kMaxTiles || e.peer >= bsp::kMaxTiles || e.channel >= kChannels) {
+    return;
+  }
+  ++g_ft.ft.gave_up_unknown;
+  std::uint64_t number = 0U;
+  if (!recent_number(tile, e.peer, e.channel, e.seq, number) || g_give_ups.size() >= g_give_ups.capacity()) {
+    ++g_ft.ft.unmatched;
+    return;
+  }
+  g_give_ups.push_back(GiveUpRecord{tile, false, true, static_cast<std::uint32_t>(number)});
+}
 
 void check_received(bsp::TileId self) {
   udn::FtMessage m{};
   for (std::uint32_t ch = 0; ch < kChannels; ++ch) {
     while (udn::ft_receive(g_ft_nodes[self], ch, m) == udn::FtError::kOk) {
-      std::uint32_t& k = g_ft.got[m.source][self][ch];
-      const std::uint32_t sent = g_ft.sent[m.source][self][ch];
       const std::size_t n = m.data_words < m.data.size() ? m.data_words : m.data.size();
       PayloadStamp st{};
       const PayloadVerdict v =
           check_payload(std::span(m.data.data(), n), m.data_words, g_ft.opts.words, m.source, self, st);
       g_ft.delivery.corrupted_delivered += v == PayloadVerdict::kCorrupted ? 1U : 0U;
       g_ft.delivery.misdelivered += v == PayloadVerdict::kMisdelivered ? 1U : 0U;
-      if (k >= sent) {
-        ++g_ft.delivery.duplicated;
-      } else if (m.seq != (k & 0xFFU)) {
-        ++g_ft.delivery.misordered;
-      }
-      ++k;
       ++g_ft.delivery.delivered;
+      if (v == PayloadVerdict::kIntact && m.source < bsp::kMaxTiles) {
+        take_delivered(m.source, self, ch, m.seq, st);
+      }
     }
   }
 }
@@ -85,9 +168,12 @@ void send_some(bsp::TileId self, Source& src, std::array<std::uint32_t, udn::kFt
     const auto ch = static_cast<std::uint32_t>(g_ft.done[self] % kChannels);
     const std::span<std::uint32_t> payload(data.data(), g_ft.opts.words);
     stamp_payload(PayloadStamp{self, dest, static_cast<std::uint16_t>(g_ft.done[self])}, payload);
+    const std::uint8_t seq = node.tx_stream[dest][ch].next_seq;  // the one ft_send gives the message
     const udn::FtError e = udn::ft_send(node, dest, ch, payload, static_cast<std::uint32_t>(k::now_ticks()));
     if (e == udn::FtError::kOk) {
-      ++g_ft.sent[self][dest][ch];
+      std::uint32_t& k = g_ft.sent[self][dest][ch];
+      g_ft.recent[self][dest][ch][k % kRecent] = SentMessage{static_cast<std::uint32_t>(g_ft.done[self]), seq};
+      ++k;
       ++g_ft.delivery.sent;
     } else if (e == udn::FtError::kUnreachable) {
       ++g_ft.ft.unreachable;
@@ -106,6 +192,7 @@ void ft_driver(void* /*arg*/) {
       udn::ft_init(g_ft_nodes[self], self, g_ft.map, udn::ft_task_port(), udn::FtConfig{}) != udn::FtError::kOk) {
     return;
   }
+  udn::ft_set_event_sink(g_ft_nodes[self], udn::FtEventSink{&on_ft_event, nullptr});
   const double per_tick = g_ft.opts.rate_per_us * 1e3;  // ticks are 1 ms
   Source src{bsp::Rng(g_ft.opts.seed, bsp::StreamId::kTraffic, self), per_tick, bsp::kNoTile};
   std::array<std::uint32_t, udn::kFtMaxData> data{};
@@ -175,15 +262,13 @@ void collect(StressResult& r) {
     g_ft.ft.uncorrectable_detected += n.stats.uncorrectable_detected;
     g_ft.ft.gave_up += n.stats.gave_up;
   }
-  std::uint64_t in_order = 0U;
-  for (std::size_t s = 0; s < bsp::kMaxTiles; ++s) {
-    for (std::size_t d = 0; d < bsp::kMaxTiles; ++d) {
-      for (std::uint32_t ch = 0; ch < kChannels; ++ch) {
-        in_order += std::min(g_ft.got[s][d][ch], g_ft.sent[s][d][ch]);
-      }
-    }
+  g_ft.delivery.lost = g_ft.delivery.sent - g_ft.arrived;
+  for (const GiveUpRecord& g : g_give_ups) {
+    const bool arrived = g_arrived[g.source][g.number] != 0U;
+    g_ft.ft.gave_up_unknown_arrived += (g.unknown && arrived) ? 1U : 0U;
+    g_ft.ft.gave_up_not_delivered_arrived += (!g.unknown && !g.arrived_claimed && arrived) ? 1U : 0U;
+    g_ft.ft.acks_lost_missing += (g.arrived_claimed && !arrived) ? 1U : 0U;
   }
-  g_ft.delivery.lost = g_ft.delivery.sent - in_order;
   r.delivery = g_ft.delivery;
   r.ft = g_ft.ft;
 }
@@ -196,6 +281,11 @@ StressResult run_stress_ft(const StressOptions& opts, bsp::heap::SealMode seal) 
   g_ft_nodes = {};
   g_ft.opts = opts;
   g_ft.plan = detail::make_plan(opts);
+  for (std::size_t t = 0; t < bsp::kMaxTiles; ++t) {
+    g_arrived[t].assign(g_ft.plan.quota[t], 0U);
+  }
+  g_give_ups.clear();
+  g_give_ups.reserve(kGiveUpRecords);
   bsp::NetConfig net{};
   net.max_in_flight_per_tile = bsp::kUdnMaxInFlightPerTile;
   net.queue_words = bsp::kUdnMaxQueueWords;

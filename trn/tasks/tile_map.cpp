@@ -81,6 +81,14 @@ ImageError configure_image(const ImageConfig& cfg) noexcept {
 
 const ImageConfig& image_config() noexcept { return detail::g_image; }
 
+fdir::TransitError tile_map_transits(const udn::FaultMap& map, std::uint64_t powered, std::uint64_t spares,
+                                     std::uint32_t votes, fdir::TransitPlan& plan,
+                                     std::uint64_t& subjects_out) noexcept {
+  subjects_out = spares | fdir::under_observed(map, powered, votes);
+  const std::uint64_t probers = powered & ~(std::uint64_t{1} << kCoordinatorTile) & ~(std::uint64_t{1} << kFilterTile);
+  return fdir::plan_transits(map, probers, subjects_out, plan);
+}
+
 const char* role_name(Role r) noexcept {
   switch (r) {
     case Role::kTrnSupervisor: return "trn_supervisor";

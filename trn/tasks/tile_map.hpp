@@ -140,6 +140,18 @@ enum class ImageError : std::uint8_t {
 /** The configuration the tasks read (what configure_image last accepted). */
 const ImageConfig& image_config() noexcept;
 
+/**
+ * The image's transit probes (fdir/transit.hpp) on @p map: subjects are the
+ * @p spares and the tiles of @p powered with fewer than @p votes live
+ * neighbours (no neighbour vote can fail their switch); probers are the
+ * tiles of @p powered but the coordinator and the filter, which take the
+ * mission's busiest inbound traffic and neither ping nor answer transits
+ * (they are still crossed). @p subjects_out: the subjects. [host, before boot]
+ */
+[[nodiscard]] fdir::TransitError tile_map_transits(const udn::FaultMap& map, std::uint64_t powered,
+                                                   std::uint64_t spares, std::uint32_t votes,
+                                                   fdir::TransitPlan& plan, std::uint64_t& subjects_out) noexcept;
+
 namespace detail {
 /** The storage the task tables point into; written only by configure_image. */
 extern ImageConfig g_image;

@@ -107,4 +107,55 @@ TEST(ImageConfig, RefusedConfigurationChangesNothing) {
   EXPECT_EQ(image_config().io.filter_tile, trn::tasks::kFilterTile);
 }
 
+// FDIR-TR-01, FDIR-TR-06: the image's transit plan on its own tile map (every tile powered) tests
+// every subject, and every tested one can be voted failed: two transits with no end in common.
+TEST(ImageConfig, TransitPlanOnTheTileMapVotesOnEverySubject) {
+  std::uint64_t powered = 0;
+  std::uint64_t spares = 0;
+  for (std::uint32_t t = 0; t < trn::tasks::kMapTiles; ++t) {
+    const bool spare = trn::tasks::kTileRoles[t] == trn::tasks::Role::kSpare;
+    (spare ? spares : powered) |= std::uint64_t{1} << t;
+  }
+  udn::FaultMap map{};
+  ASSERT_EQ(udn::fault_map_init(map, 8U, 8U), udn::RouteError::kOk);
+  fdir::TransitPlan plan{};
+  std::uint64_t subjects = 0;
+  ASSERT_EQ(trn::tasks::tile_map_transits(map, powered, spares, 2U, plan, subjects), fdir::TransitError::kOk);
+  EXPECT_EQ(plan.untested, 0U);
+  EXPECT_NE(plan.tested, 0U);
+  EXPECT_EQ(plan.tested & ~subjects, 0U);
+  for (std::uint32_t i = 0; i < plan.count; ++i) {
+    EXPECT_NE(plan.t[i].prober, trn::tasks::kCoordinatorTile) << "the coordinator does not ping";
+    EXPECT_NE(plan.t[i].prober, trn::tasks::kFilterTile) << "the filter does not ping";
+    EXPECT_NE(plan.t[i].target, trn::tasks::kFilterTile) << "the filter does not answer";
+  }
+  for (bsp::TileId x = 0; x < 64U; ++x) {
+    if ((plan.tested & (std::uint64_t{1} << x)) == 0U) {
+      continue;
+    }
+    bool pair = false;
+    for (std::uint32_t i = 0; i < plan.count; ++i) {
+      for (std::uint32_t j = 0; j < plan.count; ++j) {
+        const fdir::Transit& a = plan.t[i];
+        const fdir::Transit& b = plan.t[j];
+        const std::uint64_t x_bit = std::uint64_t{1} << x;
+        const std::uint64_t a_ends = (std::uint64_t{1} << a.prober) | (std::uint64_t{1} << a.target);
+        const std::uint64_t b_ends = (std::uint64_t{1} << b.prober) | (std::uint64_t{1} << b.target);
+        pair = pair || ((a.path & x_bit) != 0U && (b.path & x_bit) != 0U && (a_ends & b_ends) == 0U);
+      }
+    }
+    EXPECT_TRUE(pair) << "subject " << x;
+  }
+  // Every subject's failed switch is named from the transits it loses (all that cross it).
+  for (bsp::TileId x = 0; x < 64U; ++x) {
+    std::uint64_t lost = 0;
+    for (std::uint32_t i = 0; i < plan.count; ++i) {
+      lost |= (plan.t[i].path >> x & 1U) != 0U ? std::uint64_t{1} << i : 0U;
+    }
+    if ((plan.tested & (std::uint64_t{1} << x)) != 0U) {
+      EXPECT_EQ(fdir::transit_verdict(plan, lost, subjects, 0U), x) << "subject " << x;
+    }
+  }
+}
+
 }  // namespace
