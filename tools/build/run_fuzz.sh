@@ -28,11 +28,13 @@ for t in "${targets[@]}"; do
     share=$(( (missing + left - 1) / left ))
     limit+=(-runs="$(( share > 0 ? share : 1 ))")
   fi
+  seeds=()
+  [ -d "tests/fuzz/corpus/$t" ] && seeds=("tests/fuzz/corpus/$t")
   echo "=== fuzz $t: ${limit[*]} (log: $out/$t.log)"
   start=$(date +%s)
   # ASan's leak detection is on by default for libFuzzer targets (-detect_leaks=1).
   if ! "$out/$t" "${limit[@]}" -timeout="$timeout" -max_len="$max_len" -detect_leaks=1 -print_final_stats=1 \
-      -artifact_prefix="$out/artifacts/$t/" "$out/corpus/$t" "tests/fuzz/corpus/$t" >"$out/$t.log" 2>&1; then
+      -artifact_prefix="$out/artifacts/$t/" "$out/corpus/$t" "${seeds[@]}" >"$out/$t.log" 2>&1; then
     tail -n 60 "$out/$t.log"
     echo "fuzz: $t FAILED (the input is in $out/artifacts/$t/)"
     exit 1
