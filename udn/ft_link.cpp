@@ -75,8 +75,32 @@ FtError route_and_send(FtNode& n, std::span<std::uint32_t> image, bsp::TileId de
 }
 
 void log_event(FtNode& n, FtCause cause, bsp::TileId peer, std::uint32_t channel, std::uint8_t seq,
-               std::uint32_t now) noexcept {
-  ft_event_emit(n.sink, n.self, FtEvent{now, cause, static_cast<std::uint8_t>(channel), seq, peer, 0U});
+               std::uint32_t now, FtDelivery delivery = FtDelivery::kUnknown) noexcept {
+  ft_event_emit(n.sink, n.self,
+                FtEvent{now, cause, static_cast<std::uint8_t>(channel), seq, peer, static_cast<std::uint32_t>(delivery)});
+}
+
+/** Answers (ACK, NACK) carry the stream's channel and, in the bits above, the receiver's resync record. */
+constexpr std::uint32_t kAnswerRecord = 1U << 8U;
+
+/** The data word of an answer of stream @p rs on @p channel. */
+std::uint32_t answer_word(const detail::RxStream& rs, std::uint32_t channel) noexcept {
+  return rs.rec_valid ? (channel | kAnswerRecord | (static_cast<std::uint32_t>(rs.rec_point) << 16U) |
+                         (static_cast<std::uint32_t>(rs.rec_from) << 24U))
+                      : channel;
+}
+
+/** An answer's data word, taken apart. */
+struct AnswerWord {
+  std::uint32_t channel;
+  bool record;
+  std::uint8_t point;  ///< the resync point the receiver took last
+  std::uint8_t from;   ///< what it expected then
+};
+
+AnswerWord split_answer(std::uint32_t w) noexcept {
+  return AnswerWord{w & 0xFFU, (w & kAnswerRecord) != 0U, static_cast<std::uint8_t>((w >> 16U) & 0xFFU),
+                    static_cast<std::uint8_t>(w >> 24U)};
 }
 
 /** Frees every slot of stream (dest, channel) that @p acked covers (cumulative). */
@@ -118,24 +142,6 @@ void resend_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint
   }
 }
 
-/** Gives up every outstanding packet of a stream: logged one by one, next packet resyncs. */
-void give_up_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint32_t now) noexcept {
-  bsp::TileId next = bsp::kNoTile;
-  const FtCause cause = (route_next_hop(n.routes, dest, next) == RouteError::kOk) ? FtCause::kRetriesExhausted
-                                                                                    : FtCause::kUnreachable;
-  for (detail::TxSlot& s : n.tx) {
-    if (s.used && s.dest == dest && s.channel == channel) {
-      log_event(n, cause, dest, channel, s.seq, now);
-      s.used = false;
-      --n.in_window[dest];
-      ++n.stats.gave_up;
-    }
-  }
-  detail::TxStream& st = n.tx_stream[dest][channel];
-  st.resync = true;
-  st.resync_seq = st.next_seq;
-}
-
 /** The oldest outstanding slot of a stream (nullptr if none). */
 detail::TxSlot* oldest(FtNode& n, bsp::TileId dest, std::uint32_t channel) noexcept {
   detail::TxSlot* best = nullptr;
@@ -147,6 +153,72 @@ detail::TxSlot* oldest(FtNode& n, bsp::TileId dest, std::uint32_t channel) noexc
     }
   }
   return best;
+}
+
+/** The cause a give-up towards @p dest is reported with: no route left, or retries used up. */
+FtCause give_up_cause(const FtNode& n, bsp::TileId dest) noexcept {
+  bsp::TileId next = bsp::kNoTile;
+  return (route_next_hop(n.routes, dest, next) == RouteError::kOk) ? FtCause::kRetriesExhausted
+                                                                     : FtCause::kUnreachable;
+}
+
+/** Gives up every packet of a stream, each logged with what is known of its delivery. @return how many. */
+std::uint32_t drop_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, FtDelivery delivery,
+                          std::uint32_t now) noexcept {
+  const FtCause cause = give_up_cause(n, dest);
+  std::uint32_t dropped = 0U;
+  for (detail::TxSlot& s : n.tx) {
+    if (s.used && s.dest == dest && s.channel == channel) {
+      log_event(n, cause, dest, channel, s.seq, now, delivery);
+      s.used = false;
+      --n.in_window[dest];
+      ++n.stats.gave_up;
+      ++dropped;
+    }
+  }
+  (delivery == FtDelivery::kUnknown ? n.stats.gave_up_unknown : n.stats.gave_up_not_delivered) += dropped;
+  return dropped;
+}
+
+/**
+ * The answer of stream (dest, channel) that tells what became of the packets
+ * given up before its resync point: with the record of that very point, each
+ * was delivered (before what the receiver expected then) or skipped. Any
+ * other answer that covers the point (the receiver restarted since) tells
+ * nothing: their events said "unknown" and stay so.
+ */
+void settle(FtNode& n, bsp::TileId dest, std::uint32_t channel, const AnswerWord& a, std::uint32_t now) noexcept {
+  detail::TxStream& st = n.tx_stream[dest][channel];
+  st.settle_pending = false;
+  const std::uint32_t count = seq_ahead(st.settle_point, st.settle_from);
+  const std::uint32_t delivered = seq_ahead(a.from, st.settle_from);
+  if (!a.record || a.point != st.settle_point || delivered > count) {
+    return;
+  }
+  for (std::uint32_t i = 0U; i < count; ++i) {
+    const auto seq = static_cast<std::uint8_t>(st.settle_from + i);
+    const FtDelivery d = i < delivered ? FtDelivery::kDelivered : FtDelivery::kNotDelivered;
+    log_event(n, FtCause::kSettled, dest, channel, seq, now, d);
+    ++(d == FtDelivery::kDelivered ? n.stats.settled_delivered : n.stats.settled_not_delivered);
+  }
+}
+
+/**
+ * Gives up every outstanding packet of a stream (each logged, delivery
+ * unknown: they left the tile); the next packet, R, carries the resync flag
+ * and its answer will tell what became of them.
+ */
+void give_up_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint32_t now) noexcept {
+  detail::TxStream& st = n.tx_stream[dest][channel];
+  const detail::TxSlot* first = oldest(n, dest, channel);
+  if (first != nullptr && !st.settle_pending) {
+    st.settle_from = first->seq;  // pending, the earlier ones and these are one run up to the new point
+  }
+  (void)drop_stream(n, dest, channel, FtDelivery::kUnknown, now);
+  st.settle_pending = true;
+  st.settle_point = st.next_seq;
+  st.resync = true;
+  st.resync_seq = st.next_seq;
 }
 
 /** Rewrites a queued packet's channel word with the resync flag (its codes are computed again). */
@@ -177,6 +249,7 @@ void flag_resync(detail::TxSlot& s) noexcept {
 void restart_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint32_t now) noexcept {
   detail::TxStream& st = n.tx_stream[dest][channel];
   detail::TxSlot* o = oldest(n, dest, channel);
+  st.settle_pending = false;  // the receiver lost its state: what it had taken before stays unknown
   if (o == nullptr) {
     st.resync = true;
     st.resync_seq = st.next_seq;
@@ -190,13 +263,16 @@ void restart_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uin
   resend_stream(n, dest, channel, o->seq, now, FtCause::kResentNack);
 }
 
+/** Exponential back-off (x2 per retry, at most x16): a congested forwarder gets air instead of a storm of resends. */
+bool due(const FtNode& n, std::uint32_t sent_tick, std::uint32_t retries, std::uint32_t now) noexcept {
+  const std::uint32_t backoff = (retries < 4U) ? retries : 4U;
+  return now - sent_tick >= (n.config.timeout_ticks << backoff);
+}
+
 void run_timers(FtNode& n, std::uint32_t now) noexcept {
   for (std::uint32_t i = 0U; i < kFtTxSlots; ++i) {
     const detail::TxSlot& s = n.tx[i];
-    // Exponential back-off (x2 per retry, at most x16): a congested forwarder
-    // gets air instead of a growing storm of go-back-N bursts.
-    const std::uint32_t backoff = (s.retries < 4U) ? s.retries : 4U;
-    if (!s.used || now - s.sent_tick < (n.config.timeout_ticks << backoff)) {
+    if (!s.used || !due(n, s.sent_tick, s.retries, now)) {
       continue;
     }
     detail::TxSlot* first = oldest(n, s.dest, s.channel);
@@ -216,7 +292,7 @@ void run_timers(FtNode& n, std::uint32_t now) noexcept {
 /** ACKs @p seq of (source, channel); if the network refuses, the ACK is owed to the next poll. */
 void send_ack(FtNode& n, std::uint32_t source, std::uint32_t channel, std::uint8_t seq) noexcept {
   detail::RxStream& rs = n.rx_stream[source][channel];
-  if (send_control(n, source, FtKind::kAck, seq, channel, true, rs.epoch) == FtError::kOk) {
+  if (send_control(n, source, FtKind::kAck, seq, answer_word(rs, channel), true, rs.epoch) == FtError::kOk) {
     ++n.stats.acks_sent;
     if (rs.ack_owed) {
       rs.ack_owed = false;
@@ -240,10 +316,38 @@ void pay_acks(FtNode& n) noexcept {
   }
 }
 
+/** Puts a message into its channel's receive queue. @return false if the queue is full (dropped, not ACKed). */
+bool enqueue(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> data) noexcept {
+  detail::RxQueue& q = n.rxq[cw.channel];
+  if (q.count >= kFtRxDepth) {
+    ++n.stats.rx_full_dropped;
+    return false;
+  }
+  FtMessage& m = q.msg[(q.head + q.count) % kFtRxDepth];
+  m.source = cw.source;
+  m.channel = static_cast<std::uint8_t>(cw.channel);
+  m.seq = cw.seq;
+  m.data_words = static_cast<std::uint16_t>(data.size());
+  for (std::size_t i = 0U; i < data.size(); ++i) {
+    m.data[i] = data[i];
+  }
+  ++q.count;
+  ++n.stats.delivered;
+  return true;
+}
+
+/** A resync point taken on a running stream: what it expected before, for every answer from now on. */
+void record_resync(detail::RxStream& rs, std::uint8_t point) noexcept {
+  rs.rec_valid = true;
+  rs.rec_point = point;
+  rs.rec_from = rs.expected;
+}
+
 /** Accepts or drops one data packet of (source, channel) in sequence; ACKs or NACKs. */
 void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> data) noexcept {
   detail::RxStream& rs = n.rx_stream[cw.source][cw.channel];
-  if (!rs.synced || cw.epoch != rs.epoch) {
+  const bool running = rs.synced && cw.epoch == rs.epoch;
+  if (!running) {
     // Nothing taken since this node started, or the sender restarted: only a
     // flagged packet starts the stream (the sender's oldest outstanding one).
     // For any other, the sender is asked once to flag its oldest and resend.
@@ -260,6 +364,7 @@ void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> da
     rs.expected = cw.seq;
     rs.nack_sent = false;
     rs.resync_asked = false;
+    rs.rec_valid = false;  // a new stream: nothing it took before is known here
   }
   const std::uint32_t ahead = seq_ahead(cw.seq, rs.expected);
   const bool resync = cw.resync && ahead != 0U && ahead < kHalfSeq;
@@ -271,27 +376,19 @@ void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> da
   if (ahead != 0U && !resync) {  // a gap: ask once for the missing one
     ++n.stats.out_of_order_dropped;
     if (!rs.nack_sent || rs.nacked != rs.expected) {
-      rs.nack_sent = send_control(n, cw.source, FtKind::kNack, rs.expected, cw.channel, true, rs.epoch) == FtError::kOk;
+      rs.nack_sent = send_control(n, cw.source, FtKind::kNack, rs.expected, answer_word(rs, cw.channel), true,
+                                  rs.epoch) == FtError::kOk;
       rs.nacked = rs.expected;
       n.stats.nacks_sent += rs.nack_sent ? 1U : 0U;
     }
     return;
   }
-  detail::RxQueue& q = n.rxq[cw.channel];
-  if (q.count >= kFtRxDepth) {
-    ++n.stats.rx_full_dropped;
+  if (!enqueue(n, cw, data)) {
     return;
   }
-  FtMessage& m = q.msg[(q.head + q.count) % kFtRxDepth];
-  m.source = cw.source;
-  m.channel = static_cast<std::uint8_t>(cw.channel);
-  m.seq = cw.seq;
-  m.data_words = static_cast<std::uint16_t>(data.size());
-  for (std::size_t i = 0U; i < data.size(); ++i) {
-    m.data[i] = data[i];
+  if (cw.resync && running) {
+    record_resync(rs, cw.seq);  // the packets from what it expected up to here were given up by the sender
   }
-  ++q.count;
-  ++n.stats.delivered;
   rs.expected = static_cast<std::uint8_t>(cw.seq + 1U);
   rs.nack_sent = false;
   send_ack(n, cw.source, cw.channel, cw.seq);
@@ -318,7 +415,33 @@ void pay_pongs(FtNode& n) noexcept {
   }
 }
 
-/** Control packets: ACK/NACK to the sender state, PING answered, PONG recorded. */
+/** The answer acknowledges up to @p covered, the stream's resync point included (and nothing not sent yet). */
+bool covers_point(const detail::TxStream& st, std::uint8_t covered) noexcept {
+  return seq_ahead(covered, st.settle_point) < seq_ahead(st.next_seq, st.settle_point);
+}
+
+/** A stream's answers (ACK, NACK, their record) to the sender state. */
+void on_answer(FtNode& n, const ChannelWord& cw, std::uint32_t word, std::uint32_t now) noexcept {
+  const AnswerWord a = split_answer(word);
+  if (cw.epoch != n.epoch || a.channel >= kFtAllChannels) {
+    return;  // it answers this node's previous incarnation
+  }
+  detail::TxStream& st = n.tx_stream[cw.source][a.channel];
+  if (cw.kind == FtKind::kNack && cw.resync) {
+    restart_stream(n, cw.source, a.channel, now);
+    return;
+  }
+  const auto covered = static_cast<std::uint8_t>(cw.kind == FtKind::kAck ? cw.seq : cw.seq - 1U);
+  if (st.settle_pending && covers_point(st, covered)) {
+    settle(n, cw.source, a.channel, a, now);
+  }
+  take_ack(n, cw.source, a.channel, covered);
+  if (cw.kind == FtKind::kNack) {
+    resend_stream(n, cw.source, a.channel, cw.seq, now, FtCause::kResentNack);
+  }
+}
+
+/** Control packets: answers to the sender state, PING answered, PONG recorded. */
 void on_control(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> data, std::uint32_t now) noexcept {
   if (cw.source >= n.routes.tiles) {
     return;
@@ -327,22 +450,10 @@ void on_control(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t>
   if ((cw.kind == FtKind::kPing || cw.kind == FtKind::kPong) && data.size() >= 2U) {
     n.peer_map_version[cw.source] = data[1];
   }
-  if ((cw.kind == FtKind::kAck || cw.kind == FtKind::kNack) && cw.epoch != n.epoch) {
-    return;  // it answers this node's previous incarnation
-  }
   switch (cw.kind) {
     case FtKind::kAck:
-      if (word < kFtAllChannels) {
-        take_ack(n, cw.source, word, cw.seq);
-      }
-      break;
     case FtKind::kNack:
-      if (word < kFtAllChannels && cw.resync) {
-        restart_stream(n, cw.source, word, now);
-      } else if (word < kFtAllChannels) {
-        take_ack(n, cw.source, word, static_cast<std::uint8_t>(cw.seq - 1U));
-        resend_stream(n, cw.source, word, cw.seq, now, FtCause::kResentNack);
-      }
+      on_answer(n, cw, word, now);
       break;
     case FtKind::kPing:
       answer_ping(n, cw.source, word);
@@ -377,7 +488,8 @@ void nack_if_identified(FtNode& n, std::span<const std::uint32_t> image, std::ui
     return;
   }
   const std::uint8_t need = rs.expected;
-  const bool nacked = send_control(n, cw.source, FtKind::kNack, need, cw.channel, true, rs.epoch) == FtError::kOk;
+  const bool nacked =
+      send_control(n, cw.source, FtKind::kNack, need, answer_word(rs, cw.channel), true, rs.epoch) == FtError::kOk;
   n.stats.nacks_sent += nacked ? 1U : 0U;
   log_event(n, FtCause::kDamaged, cw.source, cw.channel, nacked ? 1U : 0U, now);
 }
@@ -565,7 +677,8 @@ FtError ft_send(FtNode& node, bsp::TileId dest, std::uint32_t channel, std::span
   bsp::TileId next = bsp::kNoTile;
   if (route_next_hop(node.routes, dest, next) != RouteError::kOk) {
     ++node.stats.unreachable;
-    log_event(node, FtCause::kUnreachable, dest, channel, node.tx_stream[dest][channel].next_seq, now_tick);
+    log_event(node, FtCause::kUnreachable, dest, channel, node.tx_stream[dest][channel].next_seq, now_tick,
+              FtDelivery::kNotDelivered);  // refused: nothing was queued
     return FtError::kUnreachable;
   }
   detail::TxSlot* slot = nullptr;

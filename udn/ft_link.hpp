@@ -10,7 +10,8 @@
  * Application channels are 0..kFtChannels-1, then three system channels
  * (kFtChanFdir, kFtChanMap, kFtChanHealth) for fault management; channel kFtControlChannel
  * carries the unreliable control kinds (ACK, NACK, PING, PONG) whose data
- * word 0 names the acknowledged channel (ACK/NACK) or the nonce (PING/PONG);
+ * word 0 names the stream's channel (ACK/NACK, with the receiver's resync
+ * record above it) or the nonce (PING/PONG);
  * PING and PONG carry the sender's fault-map version in word 1, so a tile
  * that missed a map update is noticed by its neighbours' probes.
  *
@@ -35,14 +36,21 @@
  * unacknowledged one of its stream on timeout or NACK, each time re-routed
  * through the current table; a retransmission the local network interface
  * refuses (back-pressure) is not counted as a retry, as it never left the
- * tile; after max_retries counted retries an FtEvent is logged, the
- * stream's outstanding packets are given up (each logged) and the next packet
+ * tile; after max_retries counted retries the stream's outstanding packets
+ * are given up (each logged, delivery unknown) and the next packet, R,
  * carries the resync flag so the receiver restarts the sequence there.
+ * Give-ups settled: the receiver that takes a resync point (a flagged
+ * packet) on a stream it was following records what it expected then;
+ * every answer of the stream (ACK, NACK) carries that record
+ * in its data word ([7..0] channel, [8] record, [23..16] resync point,
+ * [31..24] expected before it). The sender that gets the record of its own
+ * resync point reports each packet it gave up as delivered (its ACKs were
+ * lost) or not delivered.
  *
  * Restarts: a node's epoch (3 bits, ft_set_epoch: the endpoint takes the
  * tile's boot count) is in every data packet, and an ACK or NACK carries the
- * epoch of the stream it answers. A receive stream adopts the first packet
- * A receive stream starts (again) only at a packet with the resync flag: a
+ * epoch of the stream it answers. A receive stream starts (again) only at a
+ * packet with the resync flag: a
  * fresh sender flags the first packet of each stream until it is
  * acknowledged. A receiver with no stream from the source (it restarted, or
  * the source did, with another epoch) answers an unflagged packet with a
@@ -137,6 +145,10 @@ struct FtStats {
   std::uint64_t acks_sent = 0U;
   std::uint64_t nacks_sent = 0U;
   std::uint64_t gave_up = 0U;         ///< packets given up after retries (each logged)
+  std::uint64_t gave_up_unknown = 0U;        ///< ... left the tile, no ACK came back: delivery unknown
+  std::uint64_t gave_up_not_delivered = 0U;  ///< ... never left the tile
+  std::uint64_t settled_delivered = 0U;      ///< given up, then the receiver's record showed it delivered (ACKs lost)
+  std::uint64_t settled_not_delivered = 0U;  ///< given up, then the receiver's record showed it skipped
   std::uint64_t unreachable = 0U;     ///< sends refused for lack of a route
 };
 
@@ -164,6 +176,9 @@ struct TxStream {
   std::uint8_t next_seq = 0U;
   std::uint8_t resync_seq = 0U;
   bool resync = true;  ///< the packet with resync_seq carries the resync flag (a new stream's first does)
+  bool settle_pending = false;  ///< packets given up whose delivery the resync point's answer will tell
+  std::uint8_t settle_from = 0U;   ///< the first of them
+  std::uint8_t settle_point = 0U;  ///< the resync point that follows them
 };
 struct RxStream {
   bool synced = false;     ///< a packet was accepted since ft_init
@@ -173,6 +188,9 @@ struct RxStream {
   std::uint8_t nacked = 0U;
   bool nack_sent = false;
   bool ack_owed = false;  ///< the network refused the last ACK: resent by the next poll
+  bool rec_valid = false;  ///< a resync point was taken while the stream ran: its record goes in every answer
+  std::uint8_t rec_point = 0U;  ///< that resync point
+  std::uint8_t rec_from = 0U;   ///< what the stream expected when it took it (the packets from there on were skipped)
 };
 struct FwdSlot {
   bool used = false;

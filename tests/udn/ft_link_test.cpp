@@ -12,6 +12,8 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -372,4 +374,131 @@ TEST(FtLink, AStaleAckIsNotTakenByTheRestartedSender) {
   EXPECT_TRUE(intact(got[0]));
   EXPECT_GE(g_nodes[10].stats.retransmitted, 1U);
   EXPECT_EQ(g_nodes[10].stats.gave_up, 0U);
+}
+
+// ------------------------------------------------------------------ give-ups
+
+namespace {
+
+/** Packets the network loses on the way (the sender sees them leave): by sending tile and kind; none when empty. */
+std::function<bool(bsp::TileId, udn::FtKind)> g_lose;
+
+bsp::NetError losing_send(void* ctx, bsp::TileId self, std::span<const std::uint32_t> words) {
+  const auto kind = static_cast<udn::FtKind>((words[udn::kWordChannel] >> 12U) & 0xFU);
+  return (g_lose && g_lose(self, kind)) ? bsp::NetError::kOk : ft_test::host_send(ctx, self, words);
+}
+
+/** Tiles 10 and 20 on the losing port, timeouts of 1 tick and one retry: give-ups come fast. */
+void boot_losing() {
+  const udn::FtConfig cfg{1U, 1U};
+  ft_test::boot(ft_test::grid_map(), 7U, cfg);
+  const udn::FtPort port{&losing_send, &ft_test::host_receive, nullptr};
+  for (const bsp::TileId t : {bsp::TileId{10}, bsp::TileId{20}}) {
+    ASSERT_EQ(udn::ft_init(g_nodes[t], t, ft_test::grid_map(), port, cfg), udn::FtError::kOk);
+    udn::ft_set_event_sink(g_nodes[t], udn::FtEventSink{&ft_test::record_event, nullptr});
+  }
+  g_lose = nullptr;
+}
+
+/** Sends one message 10 -> 20 on channel 2 and runs until it is acknowledged. @return what 20 got. */
+std::vector<udn::FtMessage> send_one(const std::vector<std::uint32_t>& m) {
+  EXPECT_EQ(udn::ft_send(g_nodes[10], 20U, 2U, m, ft_test::now_tick()), udn::FtError::kOk);
+  settle();
+  return drain(20U, 2U);
+}
+
+/** What tile 10's events said of the packets it gave up: (seq, FtDelivery) of its give-ups, then of its settlings. */
+std::vector<std::pair<std::uint32_t, udn::FtDelivery>> claims(udn::FtCause cause) {
+  std::vector<std::pair<std::uint32_t, udn::FtDelivery>> out;
+  for (const udn::FtEvent& e : ft_test::events_of(10U, cause)) {
+    out.emplace_back(e.seq, static_cast<udn::FtDelivery>(e.word));
+  }
+  return out;
+}
+
+}  // namespace
+
+// FT-GU-01: packets that arrived, their ACKs lost, are given up with their delivery unknown, never
+// as not delivered; the next packet's answer carries the receiver's record: delivered, ACKs lost.
+TEST(FtLinkGiveUp, ArrivedPacketsWhoseAcksAreLostAreSettledDelivered) {
+  boot_losing();
+  (void)take_got();
+  send_run(0U, 3U);
+  ASSERT_EQ(take_got().size(), 3U);
+  g_lose = [](bsp::TileId self, udn::FtKind k) { return self == 20U && k == udn::FtKind::kAck; };
+  for (std::uint32_t i = 3U; i < 6U; ++i) {
+    ASSERT_EQ(udn::ft_send(g_nodes[10], 20U, 2U, message(10U, 2U, i), ft_test::now_tick()), udn::FtError::kOk);
+  }
+  settle();
+  EXPECT_EQ(drain(20U, 2U).size(), 3U) << "they arrived";
+  EXPECT_EQ(g_nodes[10].stats.gave_up, 3U) << "their ACKs did not";
+  for (const auto& [seq, d] : claims(udn::FtCause::kRetriesExhausted)) {
+    EXPECT_EQ(d, udn::FtDelivery::kUnknown) << "seq " << seq;
+  }
+  g_lose = nullptr;
+  EXPECT_EQ(send_one(message(10U, 2U, 6U)).size(), 1U);
+  const auto settled = claims(udn::FtCause::kSettled);
+  ASSERT_EQ(settled.size(), 3U);
+  for (std::uint32_t i = 0; i < 3U; ++i) {
+    EXPECT_EQ(settled[i].first, 3U + i);
+    EXPECT_EQ(settled[i].second, udn::FtDelivery::kDelivered);
+  }
+  EXPECT_EQ(g_nodes[10].stats.settled_delivered, 3U);
+  EXPECT_EQ(g_nodes[10].stats.settled_not_delivered, 0U);
+}
+
+// FT-GU-02: of a run given up, those the receiver took before are settled delivered, the rest
+// not delivered (the receiver skipped them at the resync point), each by its sequence number.
+TEST(FtLinkGiveUp, APartlyDeliveredRunIsSettledPacketByPacket) {
+  boot_losing();
+  (void)take_got();
+  send_run(0U, 3U);
+  ASSERT_EQ(take_got().size(), 3U);
+  // Two arrive and lose their ACKs; the data of the next three is lost.
+  g_lose = [](bsp::TileId self, udn::FtKind k) { return self == 20U && k == udn::FtKind::kAck; };
+  for (std::uint32_t i = 3U; i < 5U; ++i) {
+    ASSERT_EQ(udn::ft_send(g_nodes[10], 20U, 2U, message(10U, 2U, i), ft_test::now_tick()), udn::FtError::kOk);
+  }
+  for (int i = 0; i < 4; ++i) ft_test::step();
+  ASSERT_EQ(drain(20U, 2U).size(), 2U);
+  g_lose = [](bsp::TileId self, udn::FtKind k) {
+    return (self == 20U && k == udn::FtKind::kAck) || (self == 10U && k == udn::FtKind::kData);
+  };
+  for (std::uint32_t i = 5U; i < 8U; ++i) {
+    ASSERT_EQ(udn::ft_send(g_nodes[10], 20U, 2U, message(10U, 2U, i), ft_test::now_tick()), udn::FtError::kOk);
+  }
+  settle();
+  EXPECT_EQ(g_nodes[10].stats.gave_up, 5U);
+  EXPECT_EQ(claims(udn::FtCause::kRetriesExhausted).size(), 5U);
+  g_lose = nullptr;
+  const auto got = send_one(message(10U, 2U, 8U));
+  ASSERT_EQ(got.size(), 1U);
+  EXPECT_EQ(got[0].seq, 8U);
+  const auto settled = claims(udn::FtCause::kSettled);
+  ASSERT_EQ(settled.size(), 5U);
+  for (std::uint32_t i = 0; i < 5U; ++i) {
+    EXPECT_EQ(settled[i].first, 3U + i);
+    EXPECT_EQ(settled[i].second, i < 2U ? udn::FtDelivery::kDelivered : udn::FtDelivery::kNotDelivered) << i;
+  }
+}
+
+// FT-GU-03: a receiver that restarted cannot tell what its previous incarnation took: the
+// give-ups stay "unknown", nothing is settled, and the stream goes on.
+TEST(FtLinkGiveUp, AReceiverThatRestartedSettlesNothing) {
+  boot_losing();
+  (void)take_got();
+  send_run(0U, 3U);
+  ASSERT_EQ(take_got().size(), 3U);
+  g_lose = [](bsp::TileId self, udn::FtKind k) { return self == 20U && k == udn::FtKind::kAck; };
+  ASSERT_EQ(udn::ft_send(g_nodes[10], 20U, 2U, message(10U, 2U, 3U), ft_test::now_tick()), udn::FtError::kOk);
+  settle();
+  EXPECT_EQ(drain(20U, 2U).size(), 1U);
+  EXPECT_EQ(g_nodes[10].stats.gave_up, 1U);
+  g_lose = nullptr;
+  const udn::FtPort port{&losing_send, &ft_test::host_receive, nullptr};
+  ASSERT_EQ(udn::ft_init(g_nodes[20], 20U, ft_test::grid_map(), port, udn::FtConfig{1U, 1U}), udn::FtError::kOk);
+  udn::ft_set_epoch(g_nodes[20], 1U);
+  EXPECT_EQ(send_one(message(10U, 2U, 4U)).size(), 1U);
+  EXPECT_TRUE(claims(udn::FtCause::kSettled).empty());
+  EXPECT_EQ(g_nodes[10].stats.gave_up_unknown, 1U);
 }
