@@ -80,7 +80,7 @@ void log_event(FtNode& n, FtCause cause, bsp::TileId peer, std::uint32_t channel
                 FtEvent{now, cause, static_cast<std::uint8_t>(channel), seq, peer, static_cast<std::uint32_t>(delivery)});
 }
 
-/** Answers (ACK, NACK) carry the stream's channel and, in the bits above, the receiver's resync record. */
+/** Answers (ACK, NACK, SYNC-ACK) carry the stream's channel and, in the bits above, the receiver's resync record. */
 constexpr std::uint32_t kAnswerRecord = 1U << 8U;
 
 /** The data word of an answer of stream @p rs on @p channel. */
@@ -114,6 +114,11 @@ void take_ack(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint8_t a
   detail::TxStream& st = n.tx_stream[dest][channel];
   if (st.resync && seq_ahead(acked, st.resync_seq) < kHalfSeq) {
     st.resync = false;
+  }
+  // The receiver expects acked + 1 or more; an answer beyond what was sent is not believed.
+  const auto expects = static_cast<std::uint8_t>(acked + 1U);
+  if (seq_ahead(expects, st.confirmed) <= seq_ahead(st.next_seq, st.confirmed)) {
+    st.confirmed = expects;
   }
 }
 
@@ -203,10 +208,52 @@ void settle(FtNode& n, bsp::TileId dest, std::uint32_t channel, const AnswerWord
   }
 }
 
+/** The SYNC slot of stream (dest, channel), or nullptr. */
+detail::SyncSlot* find_sync(FtNode& n, bsp::TileId dest, std::uint32_t channel) noexcept {
+  for (detail::SyncSlot& y : n.sync) {
+    if (y.used && y.dest == dest && y.channel == channel) {
+      return &y;
+    }
+  }
+  return nullptr;
+}
+
+/** Sends (again) a stream's SYNC; one that left the tile, or found no route, uses up a retry after the first. */
+void send_sync(FtNode& n, detail::SyncSlot& y, std::uint32_t now, bool first) noexcept {
+  y.sent_tick = now;
+  const FtError e = send_control(n, y.dest, FtKind::kSync, y.start, y.channel, true, n.epoch);
+  if (!first && e != FtError::kNetFull) {
+    ++y.retries;
+  }
+}
+
+/**
+ * Starts resynchronising a syncing stream: a SYNC asks the receiver to expect
+ * the stream's next sequence number. With every SYNC slot taken the stream
+ * waits (its packets stay queued); the next poll tries again.
+ */
+void start_sync(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint32_t now) noexcept {
+  if (find_sync(n, dest, channel) != nullptr) {
+    return;
+  }
+  const detail::TxSlot* first = oldest(n, dest, channel);  // a packet waiting already: R is its sequence
+  const std::uint8_t start = first != nullptr ? first->seq : n.tx_stream[dest][channel].next_seq;
+  for (detail::SyncSlot& y : n.sync) {
+    if (!y.used) {
+      y = detail::SyncSlot{true, static_cast<std::uint8_t>(dest), static_cast<std::uint8_t>(channel), start, 0U, now};
+      send_sync(n, y, now, true);
+      return;
+    }
+  }
+}
+
 /**
  * Gives up every outstanding packet of a stream (each logged, delivery
- * unknown: they left the tile); the next packet, R, carries the resync flag
- * and its answer will tell what became of them.
+ * unknown: they left the tile) and resynchronises it at its next sequence
+ * number R, whose answer will tell what became of them. The receiver expects
+ * at least `confirmed`: while R and the window after it stay within half
+ * the sequence space of that, R goes as a flagged packet; beyond, a flag
+ * could look like a duplicate, and the next packets wait for a SYNC.
  */
 void give_up_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint32_t now) noexcept {
   detail::TxStream& st = n.tx_stream[dest][channel];
@@ -217,8 +264,26 @@ void give_up_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uin
   (void)drop_stream(n, dest, channel, FtDelivery::kUnknown, now);
   st.settle_pending = true;
   st.settle_point = st.next_seq;
-  st.resync = true;
-  st.resync_seq = st.next_seq;
+  if (seq_ahead(st.next_seq, st.confirmed) + 2U * kFtWindow < kHalfSeq) {
+    st.resync = true;
+    st.resync_seq = st.next_seq;
+    return;
+  }
+  st.syncing = true;
+  st.resync = false;  // the SYNC starts the receiver's stream
+  start_sync(n, dest, channel, now);
+}
+
+/**
+ * A SYNC unanswered after its retries: the packets waiting for it never left
+ * the tile; they are given up (not delivered) and their sequence numbers
+ * taken back, so the next SYNC asks for the same R, which the receiver can
+ * still take however many SYNCs fail.
+ */
+void sync_failed(FtNode& n, detail::SyncSlot& y, std::uint32_t now) noexcept {
+  (void)drop_stream(n, y.dest, y.channel, FtDelivery::kNotDelivered, now);
+  n.tx_stream[y.dest][y.channel].next_seq = y.start;
+  y.used = false;  // the stream stays syncing: its next packet starts another SYNC (which may still settle)
 }
 
 /** Rewrites a queued packet's channel word with the resync flag (its codes are computed again). */
@@ -250,6 +315,7 @@ void restart_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uin
   detail::TxStream& st = n.tx_stream[dest][channel];
   detail::TxSlot* o = oldest(n, dest, channel);
   st.settle_pending = false;  // the receiver lost its state: what it had taken before stays unknown
+  st.confirmed = o != nullptr ? o->seq : st.next_seq;  // it starts where the flagged packet is
   if (o == nullptr) {
     st.resync = true;
     st.resync_seq = st.next_seq;
@@ -269,11 +335,31 @@ bool due(const FtNode& n, std::uint32_t sent_tick, std::uint32_t retries, std::u
   return now - sent_tick >= (n.config.timeout_ticks << backoff);
 }
 
+/** SYNCs: resent on timeout, failed after max_retries; a syncing stream with packets and no SYNC slot starts one. */
+void run_sync_timers(FtNode& n, std::uint32_t now) noexcept {
+  for (detail::SyncSlot& y : n.sync) {
+    if (!y.used || !due(n, y.sent_tick, y.retries, now)) {
+      continue;
+    }
+    if (y.retries >= n.config.max_retries) {
+      sync_failed(n, y, now);
+    } else {
+      send_sync(n, y, now, false);
+    }
+  }
+  for (const detail::TxSlot& s : n.tx) {
+    if (s.used && n.tx_stream[s.dest][s.channel].syncing) {
+      start_sync(n, s.dest, s.channel, now);
+    }
+  }
+}
+
 void run_timers(FtNode& n, std::uint32_t now) noexcept {
+  run_sync_timers(n, now);
   for (std::uint32_t i = 0U; i < kFtTxSlots; ++i) {
     const detail::TxSlot& s = n.tx[i];
-    if (!s.used || !due(n, s.sent_tick, s.retries, now)) {
-      continue;
+    if (!s.used || n.tx_stream[s.dest][s.channel].syncing || !due(n, s.sent_tick, s.retries, now)) {
+      continue;  // a syncing stream's packets wait for its SYNC-ACK
     }
     detail::TxSlot* first = oldest(n, s.dest, s.channel);
     if (first == nullptr) {
@@ -394,6 +480,60 @@ void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> da
   send_ack(n, cw.source, cw.channel, cw.seq);
 }
 
+/**
+ * A SYNC from the sender of stream (source, channel): expect seq R next. A
+ * SYNC behind what the stream expects is an old copy and dropped; a copy of
+ * the SYNC taken last (its SYNC-ACK was lost) finds R expected already and is
+ * answered again with the same record. Old data copies (behind R) are
+ * duplicates from now on.
+ */
+void on_sync(FtNode& n, const ChannelWord& cw, std::uint32_t channel) noexcept {
+  detail::RxStream& rs = n.rx_stream[cw.source][channel];
+  const bool running = rs.synced && rs.epoch == cw.epoch;
+  const std::uint32_t ahead = seq_ahead(cw.seq, rs.expected);
+  if (running && ahead >= kHalfSeq) {
+    return;
+  }
+  const bool copy = running && ahead == 0U && rs.rec_valid && rs.rec_point == cw.seq;
+  if (running && !copy) {
+    record_resync(rs, cw.seq);
+  } else if (!running) {
+    rs.rec_valid = false;  // it follows nothing of this sender: what it took before is not known here
+  }
+  rs.synced = true;
+  rs.epoch = cw.epoch;
+  rs.expected = cw.seq;
+  rs.nack_sent = false;
+  rs.resync_asked = false;
+  // Lost: the SYNC comes again.
+  (void)send_control(n, cw.source, FtKind::kSyncAck, cw.seq, answer_word(rs, channel), true, rs.epoch);
+}
+
+/** The receiver took the stream's SYNC: its waiting packets go, in sequence order. */
+void on_sync_ack(FtNode& n, bsp::TileId dest, const AnswerWord& a, std::uint8_t start, std::uint32_t now) noexcept {
+  const std::uint32_t channel = a.channel;
+  detail::SyncSlot* y = find_sync(n, dest, channel);
+  if (y == nullptr || y->start != start) {
+    return;  // answers an older SYNC
+  }
+  detail::TxStream& st = n.tx_stream[dest][channel];
+  if (st.settle_pending && st.settle_point == start) {
+    settle(n, dest, channel, a, now);
+  }
+  y->used = false;
+  st.syncing = false;
+  st.confirmed = start;
+  for (std::uint32_t k = 0U; k < kFtTxSlots; ++k) {
+    const auto seq = static_cast<std::uint8_t>(start + k);
+    for (detail::TxSlot& s : n.tx) {
+      if (s.used && s.dest == dest && s.channel == channel && s.seq == seq) {
+        s.sent_tick = now;  // refused here: its timeout resends it
+        (void)route_and_send(n, std::span<std::uint32_t>(s.image.data(), s.words), dest);
+      }
+    }
+  }
+}
+
 /** Answers a PING; if the network refuses, the PONG is owed to the next polls (the prober scores it a round later). */
 void answer_ping(FtNode& n, bsp::TileId prober, std::uint32_t nonce) noexcept {
   const bool sent = ft_send_control(n, prober, FtKind::kPong, 0U, nonce, false) == FtError::kOk;
@@ -420,13 +560,19 @@ bool covers_point(const detail::TxStream& st, std::uint8_t covered) noexcept {
   return seq_ahead(covered, st.settle_point) < seq_ahead(st.next_seq, st.settle_point);
 }
 
-/** A stream's answers (ACK, NACK, their record) to the sender state. */
+/** A stream's answers (ACK, NACK, SYNC-ACK, their record) to the sender state. */
 void on_answer(FtNode& n, const ChannelWord& cw, std::uint32_t word, std::uint32_t now) noexcept {
   const AnswerWord a = split_answer(word);
   if (cw.epoch != n.epoch || a.channel >= kFtAllChannels) {
     return;  // it answers this node's previous incarnation
   }
   detail::TxStream& st = n.tx_stream[cw.source][a.channel];
+  if (st.syncing || cw.kind == FtKind::kSyncAck) {
+    if (st.syncing && cw.kind == FtKind::kSyncAck) {
+      on_sync_ack(n, cw.source, a, cw.seq, now);
+    }
+    return;  // syncing, nothing of the stream is in flight: an ACK or NACK is of a packet given up
+  }
   if (cw.kind == FtKind::kNack && cw.resync) {
     restart_stream(n, cw.source, a.channel, now);
     return;
@@ -441,7 +587,7 @@ void on_answer(FtNode& n, const ChannelWord& cw, std::uint32_t word, std::uint32
   }
 }
 
-/** Control packets: answers to the sender state, PING answered, PONG recorded. */
+/** Control packets: answers to the sender state, SYNC to the receive stream, PING answered, PONG recorded. */
 void on_control(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> data, std::uint32_t now) noexcept {
   if (cw.source >= n.routes.tiles) {
     return;
@@ -453,7 +599,13 @@ void on_control(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t>
   switch (cw.kind) {
     case FtKind::kAck:
     case FtKind::kNack:
+    case FtKind::kSyncAck:
       on_answer(n, cw, word, now);
+      break;
+    case FtKind::kSync:
+      if (word < kFtAllChannels) {
+        on_sync(n, cw, word);
+      }
       break;
     case FtKind::kPing:
       answer_ping(n, cw.source, word);
@@ -626,6 +778,7 @@ void reset(FtNode& node) noexcept {
   for (detail::FwdSlot& f : node.fwd) {
     f.used = false;
   }
+  node.sync.fill(detail::SyncSlot{});
   node.acks_owed = 0U;
   node.pong_owed.fill(0U);
   node.pongs_owed = 0U;
@@ -696,7 +849,9 @@ FtError ft_send(FtNode& node, bsp::TileId dest, std::uint32_t channel, std::span
   if (encode_packet(f, data, slot->image, written) != EncodeStatus::kOk) {
     return FtError::kBadArgs;
   }
-  const FtError e = route_and_send(node, std::span<std::uint32_t>(slot->image.data(), written), dest);
+  // A resynchronising stream's packet waits in its slot for the SYNC-ACK.
+  const FtError e = st.syncing ? FtError::kOk
+                               : route_and_send(node, std::span<std::uint32_t>(slot->image.data(), written), dest);
   if (e != FtError::kOk) {
     return e;  // nothing queued: the caller retries the same message
   }
@@ -736,7 +891,7 @@ FtError send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_t s
     return FtError::kBadArgs;
   }
   const std::span<std::uint32_t> packet(image.data(), written);  // one or two data words
-  const bool reply = kind != FtKind::kPing;
+  const bool reply = kind != FtKind::kPing && kind != FtKind::kSync;
   if (routed) {
     return route_and_send(node, packet, dest, reply);
   }
@@ -793,6 +948,9 @@ std::uint32_t ft_outstanding(const FtNode& node) noexcept {
   std::uint32_t n = 0U;
   for (const detail::TxSlot& s : node.tx) {
     n += s.used ? 1U : 0U;
+  }
+  for (const detail::SyncSlot& y : node.sync) {
+    n += y.used ? 1U : 0U;
   }
   return n;
 }

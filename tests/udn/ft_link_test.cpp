@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -175,7 +176,7 @@ TEST(FtLink, UnreachableAndGiveUpAreLoggedEvents) {
   for (std::uint32_t s = 0; s < 3U; ++s) {
     ASSERT_EQ(udn::ft_send(g_nodes[27], 31U, 1U, message(27U, 1U, s), ft_test::now_tick()), udn::FtError::kOk);
   }
-  settle(200U);
+  settle();  // the give-up, then the SYNC that resynchronises the stream, unanswered too
   EXPECT_EQ(ft_test::outstanding(), 0U);
   EXPECT_EQ(g_nodes[27].stats.gave_up, 3U);
   const std::vector<udn::FtEvent> gave_up = ft_test::events_of(27U, udn::FtCause::kRetriesExhausted);
@@ -400,6 +401,18 @@ void boot_losing() {
   g_lose = nullptr;
 }
 
+/** Sends messages 10 -> 20 on channel 2 (payloads numbered from @p first) until @p count were given up. */
+void give_up_in_a_row(std::uint32_t first, std::uint32_t count) {
+  std::uint32_t sent = 0U;
+  for (std::uint32_t i = 0U; i < 200000U && g_nodes[10].stats.gave_up < count; ++i) {
+    if (sent < count &&
+        udn::ft_send(g_nodes[10], 20U, 2U, message(10U, 2U, first + sent), ft_test::now_tick()) == udn::FtError::kOk) {
+      ++sent;
+    }
+    ft_test::step();
+  }
+}
+
 /** Sends one message 10 -> 20 on channel 2 and runs until it is acknowledged. @return what 20 got. */
 std::vector<udn::FtMessage> send_one(const std::vector<std::uint32_t>& m) {
   EXPECT_EQ(udn::ft_send(g_nodes[10], 20U, 2U, m, ft_test::now_tick()), udn::FtError::kOk);
@@ -417,6 +430,39 @@ std::vector<std::pair<std::uint32_t, udn::FtDelivery>> claims(udn::FtCause cause
 }
 
 }  // namespace
+
+class FtLinkGiveUpsInARow : public testing::TestWithParam<std::uint32_t> {};
+
+// FT-RESYNC-01: however many messages of one stream are given up in a row (the receiver's
+// state kept all along), the stream resynchronises and the next message arrives, alone.
+TEST_P(FtLinkGiveUpsInARow, TheStreamResynchronisesAndTheNextMessageArrives) {
+  const std::uint32_t n = GetParam();
+  boot_losing();
+  (void)take_got();
+  send_run(0U, 3U);
+  ASSERT_EQ(take_got().size(), 3U);
+  g_lose = [](bsp::TileId self, udn::FtKind) { return self == 10U; };
+  give_up_in_a_row(3U, n);
+  ASSERT_EQ(g_nodes[10].stats.gave_up, n);
+  EXPECT_TRUE(drain(20U, 2U).empty());
+  g_lose = nullptr;
+  const auto last = message(10U, 2U, 3U + n);
+  const auto got = send_one(last);
+  ASSERT_EQ(got.size(), 1U) << "after " << n << " give-ups";
+  EXPECT_TRUE(std::equal(last.begin(), last.end(), got[0].data.begin()));
+  EXPECT_EQ(ft_test::outstanding(), 0U);
+  // FT-GU-01: every one reported once; none said delivered, for none arrived.
+  const udn::FtStats& st = g_nodes[10].stats;
+  EXPECT_EQ(st.gave_up, n);
+  EXPECT_EQ(claims(udn::FtCause::kRetriesExhausted).size(), n);
+  EXPECT_EQ(st.gave_up_unknown + st.gave_up_not_delivered, n);
+  EXPECT_GT(st.gave_up_not_delivered, 0U) << "packets waited for a SYNC, never left, and said so";
+  // The SYNC that got through carried the receiver's record: every packet that left is settled, skipped.
+  EXPECT_EQ(st.settled_not_delivered, st.gave_up_unknown);
+  EXPECT_EQ(st.settled_delivered, 0U);
+}
+
+INSTANTIATE_TEST_SUITE_P(Counts, FtLinkGiveUpsInARow, testing::Values(128U, 200U, 255U, 256U, 1000U));
 
 // FT-GU-01: packets that arrived, their ACKs lost, are given up with their delivery unknown, never
 // as not delivered; the next packet's answer carries the receiver's record: delivered, ACKs lost.
