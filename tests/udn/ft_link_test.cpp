@@ -401,6 +401,24 @@ void boot_losing() {
   g_lose = nullptr;
 }
 
+/** Boots the pair and delivers 3 messages 10 -> 20 on channel 2: the receiver follows the stream. */
+void start_stream() {
+  boot_losing();
+  (void)take_got();
+  send_run(0U, 3U);
+  ASSERT_EQ(take_got().size(), 3U);
+}
+
+/** Sends messages @p first .. @p last - 1 10 -> 20 on channel 2 without waiting for them. */
+void send_from(std::uint32_t first, std::uint32_t last) {
+  for (std::uint32_t i = first; i < last; ++i) {
+    ASSERT_EQ(udn::ft_send(g_nodes[10], 20U, 2U, message(10U, 2U, i), ft_test::now_tick()), udn::FtError::kOk);
+  }
+}
+
+/** The receiver's ACKs are lost. */
+bool acks_lost(bsp::TileId self, udn::FtKind k) { return self == 20U && k == udn::FtKind::kAck; }
+
 /** Sends messages 10 -> 20 on channel 2 (payloads numbered from @p first) until @p count were given up. */
 void give_up_in_a_row(std::uint32_t first, std::uint32_t count) {
   std::uint32_t sent = 0U;
@@ -437,10 +455,7 @@ class FtLinkGiveUpsInARow : public testing::TestWithParam<std::uint32_t> {};
 // state kept all along), the stream resynchronises and the next message arrives, alone.
 TEST_P(FtLinkGiveUpsInARow, TheStreamResynchronisesAndTheNextMessageArrives) {
   const std::uint32_t n = GetParam();
-  boot_losing();
-  (void)take_got();
-  send_run(0U, 3U);
-  ASSERT_EQ(take_got().size(), 3U);
+  start_stream();
   g_lose = [](bsp::TileId self, udn::FtKind) { return self == 10U; };
   give_up_in_a_row(3U, n);
   ASSERT_EQ(g_nodes[10].stats.gave_up, n);
@@ -467,14 +482,9 @@ INSTANTIATE_TEST_SUITE_P(Counts, FtLinkGiveUpsInARow, testing::Values(128U, 200U
 // FT-GU-01: packets that arrived, their ACKs lost, are given up with their delivery unknown, never
 // as not delivered; the next packet's answer carries the receiver's record: delivered, ACKs lost.
 TEST(FtLinkGiveUp, ArrivedPacketsWhoseAcksAreLostAreSettledDelivered) {
-  boot_losing();
-  (void)take_got();
-  send_run(0U, 3U);
-  ASSERT_EQ(take_got().size(), 3U);
-  g_lose = [](bsp::TileId self, udn::FtKind k) { return self == 20U && k == udn::FtKind::kAck; };
-  for (std::uint32_t i = 3U; i < 6U; ++i) {
-    ASSERT_EQ(udn::ft_send(g_nodes[10], 20U, 2U, message(10U, 2U, i), ft_test::now_tick()), udn::FtError::kOk);
-  }
+  start_stream();
+  g_lose = &acks_lost;
+  send_from(3U, 6U);
   settle();
   EXPECT_EQ(drain(20U, 2U).size(), 3U) << "they arrived";
   EXPECT_EQ(g_nodes[10].stats.gave_up, 3U) << "their ACKs did not";
@@ -496,23 +506,14 @@ TEST(FtLinkGiveUp, ArrivedPacketsWhoseAcksAreLostAreSettledDelivered) {
 // FT-GU-02: of a run given up, those the receiver took before are settled delivered, the rest
 // not delivered (the receiver skipped them at the resync point), each by its sequence number.
 TEST(FtLinkGiveUp, APartlyDeliveredRunIsSettledPacketByPacket) {
-  boot_losing();
-  (void)take_got();
-  send_run(0U, 3U);
-  ASSERT_EQ(take_got().size(), 3U);
+  start_stream();
   // Two arrive and lose their ACKs; the data of the next three is lost.
-  g_lose = [](bsp::TileId self, udn::FtKind k) { return self == 20U && k == udn::FtKind::kAck; };
-  for (std::uint32_t i = 3U; i < 5U; ++i) {
-    ASSERT_EQ(udn::ft_send(g_nodes[10], 20U, 2U, message(10U, 2U, i), ft_test::now_tick()), udn::FtError::kOk);
-  }
+  g_lose = &acks_lost;
+  send_from(3U, 5U);
   for (int i = 0; i < 4; ++i) ft_test::step();
   ASSERT_EQ(drain(20U, 2U).size(), 2U);
-  g_lose = [](bsp::TileId self, udn::FtKind k) {
-    return (self == 20U && k == udn::FtKind::kAck) || (self == 10U && k == udn::FtKind::kData);
-  };
-  for (std::uint32_t i = 5U; i < 8U; ++i) {
-    ASSERT_EQ(udn::ft_send(g_nodes[10], 20U, 2U, message(10U, 2U, i), ft_test::now_tick()), udn::FtError::kOk);
-  }
+  g_lose = [](bsp::TileId self, udn::FtKind k) { return acks_lost(self, k) || (self == 10U && k == udn::FtKind::kData); };
+  send_from(5U, 8U);
   settle();
   EXPECT_EQ(g_nodes[10].stats.gave_up, 5U);
   EXPECT_EQ(claims(udn::FtCause::kRetriesExhausted).size(), 5U);
@@ -531,12 +532,9 @@ TEST(FtLinkGiveUp, APartlyDeliveredRunIsSettledPacketByPacket) {
 // FT-GU-03: a receiver that restarted cannot tell what its previous incarnation took: the
 // give-ups stay "unknown", nothing is settled, and the stream goes on.
 TEST(FtLinkGiveUp, AReceiverThatRestartedSettlesNothing) {
-  boot_losing();
-  (void)take_got();
-  send_run(0U, 3U);
-  ASSERT_EQ(take_got().size(), 3U);
-  g_lose = [](bsp::TileId self, udn::FtKind k) { return self == 20U && k == udn::FtKind::kAck; };
-  ASSERT_EQ(udn::ft_send(g_nodes[10], 20U, 2U, message(10U, 2U, 3U), ft_test::now_tick()), udn::FtError::kOk);
+  start_stream();
+  g_lose = &acks_lost;
+  send_from(3U, 4U);
   settle();
   EXPECT_EQ(drain(20U, 2U).size(), 1U);
   EXPECT_EQ(g_nodes[10].stats.gave_up, 1U);
