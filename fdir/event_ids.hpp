@@ -36,14 +36,15 @@ enum class EventId : std::uint16_t {
   kPacketForwarded = 0x0102,   ///< misdelivered packet forwarded; subject: source tile, cause: destination index
   kPacketDamaged = 0x0103,     ///< beyond correction; subject: source tile (kUnknown if not identified), a: 1 if NACKed
   kPacketResent = 0x0104,      ///< go-back-N; subject: destination, cause: 0 NACK / 1 timeout, a: channel, b: seq
-  kPacketGaveUp = 0x0105,      ///< retries exhausted; subject: destination, a: channel, b: seq
-  kRouteUnreachable = 0x0106,  ///< no route; subject: destination
+  kPacketGaveUp = 0x0105,      ///< given up; subject: destination, cause: delivery (0 unknown, 1 not delivered), a: channel, b: seq
+  kRouteUnreachable = 0x0106,  ///< no route; subject: destination, cause: delivery (as packet_gave_up), a: channel, b: seq
   kForwardUnreachable = 0x0107,///< a forwarder had no route; subject: destination
   kNeighbourSuspect = 0x0108,  ///< the probe missed a neighbour N rounds; subject: neighbour
   kMapApplied = 0x0109,        ///< routes rebuilt from a fault map; subject: version, cause: tile it came from
   kMapPushed = 0x010A,         ///< a neighbour was behind: our map sent to it; subject: neighbour, a: version
   kTransitLost = 0x010B,       ///< a transit probe's target stopped answering; subject: target
   kTransitBack = 0x010C,       ///< a lost transit answers again; subject: target
+  kPacketSettled = 0x010D,     ///< a give-up of unknown delivery settled by the receiver's record; subject: destination, cause: 2 delivered (its ACKs were lost) / 1 not delivered, a: channel, b: seq
   // ---- network health (fdir/net_health)
   kSuspectVote = 0x0201,       ///< subject: suspect tile, cause: reporter, a: distinct reporters so far
   kSwitchFailed = 0x0202,      ///< subject: tile, a: votes, b: map version
@@ -119,7 +120,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 66> kEventTable{{
+inline constexpr std::array<EventInfo, 67> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -132,6 +133,7 @@ inline constexpr std::array<EventInfo, 66> kEventTable{{
     {EventId::kMapPushed, "map_pushed", Severity::kInfo, kStepNone},
     {EventId::kTransitLost, "transit_lost", Severity::kWarningLo, kStepNone},
     {EventId::kTransitBack, "transit_back", Severity::kInfo, kStepNone},
+    {EventId::kPacketSettled, "packet_settled", Severity::kWarningLo, kStepDetect},
     {EventId::kSuspectVote, "suspect_vote", Severity::kWarningLo, kStepDetect},
     {EventId::kSwitchFailed, "switch_failed", Severity::kWarningHi, kStepDetect | kStepIsolate},
     {EventId::kLinkFailed, "link_failed", Severity::kWarningHi, kStepDetect | kStepIsolate},

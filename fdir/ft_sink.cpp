@@ -19,8 +19,9 @@ void on_ft_event(void* /*ctx*/, bsp::TileId /*tile*/, const udn::FtEvent& e) noe
     case udn::FtCause::kDamaged: report(EventId::kPacketDamaged, peer, e.channel, e.seq); break;
     case udn::FtCause::kResentNack: report(EventId::kPacketResent, peer, 0U, e.channel, e.seq); break;
     case udn::FtCause::kResentTimeout: report(EventId::kPacketResent, peer, 1U, e.channel, e.seq); break;
-    case udn::FtCause::kRetriesExhausted: report(EventId::kPacketGaveUp, peer, 0U, e.channel, e.seq); break;
-    case udn::FtCause::kUnreachable: report(EventId::kRouteUnreachable, peer, 0U, e.channel, e.seq); break;
+    case udn::FtCause::kRetriesExhausted: report(EventId::kPacketGaveUp, peer, e.word, e.channel, e.seq); break;
+    case udn::FtCause::kUnreachable: report(EventId::kRouteUnreachable, peer, e.word, e.channel, e.seq); break;
+    case udn::FtCause::kSettled: report(EventId::kPacketSettled, peer, e.word, e.channel, e.seq); break;
     case udn::FtCause::kForwardUnreachable: report(EventId::kForwardUnreachable, peer, 0U); break;
     case udn::FtCause::kSuspectNeighbour: report(EventId::kNeighbourSuspect, peer, 0U); break;
     case udn::FtCause::kMapApplied: report(EventId::kMapApplied, e.word, peer); break;

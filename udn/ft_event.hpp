@@ -17,9 +17,19 @@
 
 namespace udn {
 
+/**
+ * What a give-up says of its packet (FtEvent::word of kRetriesExhausted and
+ * kUnreachable; of kSettled, kDelivered or kNotDelivered).
+ */
+enum class FtDelivery : std::uint8_t {
+  kUnknown = 0,       ///< it left the tile and no ACK came back: it may have arrived
+  kNotDelivered = 1,  ///< it never left the tile, or the receiver's record shows it skipped
+  kDelivered = 2,     ///< the receiver's record shows it delivered: only its ACKs were lost
+};
+
 enum class FtCause : std::uint8_t {
-  kRetriesExhausted,   ///< a reliable packet was not acknowledged after its retries
-  kUnreachable,        ///< no route to the destination (send refused, or give-up without a route)
+  kRetriesExhausted,   ///< a reliable packet given up (word: FtDelivery, what is known of it)
+  kUnreachable,        ///< no route to the destination (send refused: not delivered; or a give-up without a route, word: FtDelivery)
   kForwardUnreachable, ///< a forwarder had no route for a packet passing through
   kSuspectNeighbour,   ///< the probe missed a neighbour's switch too often
   kCorrected,          ///< a packet decoded with corrected bits (peer: its source)
@@ -31,6 +41,7 @@ enum class FtCause : std::uint8_t {
   kMapPushed,          ///< a neighbour probed with an older map version was sent ours (peer: neighbour; word: version)
   kTransitLost,        ///< a transit probe's target stopped answering (peer: target)
   kTransitBack,        ///< a lost transit answers again (peer: target)
+  kSettled,            ///< a packet given up with its delivery unknown: the receiver's record tells (peer: destination; word: FtDelivery)
 };
 
 struct FtEvent {
@@ -39,7 +50,7 @@ struct FtEvent {
   std::uint8_t channel = 0U;
   std::uint8_t seq = 0U;
   bsp::TileId peer = bsp::kNoTile;  ///< destination, source or suspect tile (see the cause)
-  std::uint32_t word = 0U;          ///< cause-specific value (a map version)
+  std::uint32_t word = 0U;          ///< cause-specific value (a map version, an FtDelivery)
 };
 
 /** Where a node's events go. Called on the tile that saw the event. [task|isr] */

@@ -75,8 +75,32 @@ FtError route_and_send(FtNode& n, std::span<std::uint32_t> image, bsp::TileId de
 }
 
 void log_event(FtNode& n, FtCause cause, bsp::TileId peer, std::uint32_t channel, std::uint8_t seq,
-               std::uint32_t now) noexcept {
-  ft_event_emit(n.sink, n.self, FtEvent{now, cause, static_cast<std::uint8_t>(channel), seq, peer, 0U});
+               std::uint32_t now, FtDelivery delivery = FtDelivery::kUnknown) noexcept {
+  ft_event_emit(n.sink, n.self,
+                FtEvent{now, cause, static_cast<std::uint8_t>(channel), seq, peer, static_cast<std::uint32_t>(delivery)});
+}
+
+/** Answers (ACK, NACK, SYNC-ACK) carry the stream's channel and, in the bits above, the receiver's resync record. */
+constexpr std::uint32_t kAnswerRecord = 1U << 8U;
+
+/** The data word of an answer of stream @p rs on @p channel. */
+std::uint32_t answer_word(const detail::RxStream& rs, std::uint32_t channel) noexcept {
+  return rs.rec_valid ? (channel | kAnswerRecord | (static_cast<std::uint32_t>(rs.rec_point) << 16U) |
+                         (static_cast<std::uint32_t>(rs.rec_from) << 24U))
+                      : channel;
+}
+
+/** An answer's data word, taken apart. */
+struct AnswerWord {
+  std::uint32_t channel;
+  bool record;
+  std::uint8_t point;  ///< the resync point the receiver took last
+  std::uint8_t from;   ///< what it expected then
+};
+
+AnswerWord split_answer(std::uint32_t w) noexcept {
+  return AnswerWord{w & 0xFFU, (w & kAnswerRecord) != 0U, static_cast<std::uint8_t>((w >> 16U) & 0xFFU),
+                    static_cast<std::uint8_t>(w >> 24U)};
 }
 
 /** Frees every slot of stream (dest, channel) that @p acked covers (cumulative). */
@@ -90,6 +114,11 @@ void take_ack(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint8_t a
   detail::TxStream& st = n.tx_stream[dest][channel];
   if (st.resync && seq_ahead(acked, st.resync_seq) < kHalfSeq) {
     st.resync = false;
+  }
+  // The receiver expects acked + 1 or more; an answer beyond what was sent is not believed.
+  const auto expects = static_cast<std::uint8_t>(acked + 1U);
+  if (seq_ahead(expects, st.confirmed) <= seq_ahead(st.next_seq, st.confirmed)) {
+    st.confirmed = expects;
   }
 }
 
@@ -118,24 +147,6 @@ void resend_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint
   }
 }
 
-/** Gives up every outstanding packet of a stream: logged one by one, next packet resyncs. */
-void give_up_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint32_t now) noexcept {
-  bsp::TileId next = bsp::kNoTile;
-  const FtCause cause = (route_next_hop(n.routes, dest, next) == RouteError::kOk) ? FtCause::kRetriesExhausted
-                                                                                    : FtCause::kUnreachable;
-  for (detail::TxSlot& s : n.tx) {
-    if (s.used && s.dest == dest && s.channel == channel) {
-      log_event(n, cause, dest, channel, s.seq, now);
-      s.used = false;
-      --n.in_window[dest];
-      ++n.stats.gave_up;
-    }
-  }
-  detail::TxStream& st = n.tx_stream[dest][channel];
-  st.resync = true;
-  st.resync_seq = st.next_seq;
-}
-
 /** The oldest outstanding slot of a stream (nullptr if none). */
 detail::TxSlot* oldest(FtNode& n, bsp::TileId dest, std::uint32_t channel) noexcept {
   detail::TxSlot* best = nullptr;
@@ -147,6 +158,132 @@ detail::TxSlot* oldest(FtNode& n, bsp::TileId dest, std::uint32_t channel) noexc
     }
   }
   return best;
+}
+
+/** The cause a give-up towards @p dest is reported with: no route left, or retries used up. */
+FtCause give_up_cause(const FtNode& n, bsp::TileId dest) noexcept {
+  bsp::TileId next = bsp::kNoTile;
+  return (route_next_hop(n.routes, dest, next) == RouteError::kOk) ? FtCause::kRetriesExhausted
+                                                                     : FtCause::kUnreachable;
+}
+
+/** Gives up every packet of a stream, each logged with what is known of its delivery. @return how many. */
+std::uint32_t drop_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, FtDelivery delivery,
+                          std::uint32_t now) noexcept {
+  const FtCause cause = give_up_cause(n, dest);
+  std::uint32_t dropped = 0U;
+  for (detail::TxSlot& s : n.tx) {
+    if (s.used && s.dest == dest && s.channel == channel) {
+      log_event(n, cause, dest, channel, s.seq, now, delivery);
+      s.used = false;
+      --n.in_window[dest];
+      ++n.stats.gave_up;
+      ++dropped;
+    }
+  }
+  (delivery == FtDelivery::kUnknown ? n.stats.gave_up_unknown : n.stats.gave_up_not_delivered) += dropped;
+  return dropped;
+}
+
+/**
+ * The answer of stream (dest, channel) that tells what became of the packets
+ * given up before its resync point: with the record of that very point, each
+ * was delivered (before what the receiver expected then) or skipped. Any
+ * other answer that covers the point (the receiver restarted since) tells
+ * nothing: their events said "unknown" and stay so.
+ */
+void settle(FtNode& n, bsp::TileId dest, std::uint32_t channel, const AnswerWord& a, std::uint32_t now) noexcept {
+  detail::TxStream& st = n.tx_stream[dest][channel];
+  st.settle_pending = false;
+  const std::uint32_t count = seq_ahead(st.settle_point, st.settle_from);
+  const std::uint32_t delivered = seq_ahead(a.from, st.settle_from);
+  if (!a.record || a.point != st.settle_point || delivered > count) {
+    return;
+  }
+  for (std::uint32_t i = 0U; i < count; ++i) {
+    const auto seq = static_cast<std::uint8_t>(st.settle_from + i);
+    const FtDelivery d = i < delivered ? FtDelivery::kDelivered : FtDelivery::kNotDelivered;
+    log_event(n, FtCause::kSettled, dest, channel, seq, now, d);
+    ++(d == FtDelivery::kDelivered ? n.stats.settled_delivered : n.stats.settled_not_delivered);
+  }
+}
+
+/** The SYNC slot of stream (dest, channel), or nullptr. */
+detail::SyncSlot* find_sync(FtNode& n, bsp::TileId dest, std::uint32_t channel) noexcept {
+  for (detail::SyncSlot& y : n.sync) {
+    if (y.used && y.dest == dest && y.channel == channel) {
+      return &y;
+    }
+  }
+  return nullptr;
+}
+
+/** Sends (again) a stream's SYNC; one that left the tile, or found no route, uses up a retry after the first. */
+void send_sync(FtNode& n, detail::SyncSlot& y, std::uint32_t now, bool first) noexcept {
+  y.sent_tick = now;
+  const FtError e = send_control(n, y.dest, FtKind::kSync, y.start, y.channel, true, n.epoch);
+  if (!first && e != FtError::kNetFull) {
+    ++y.retries;
+  }
+}
+
+/**
+ * Starts resynchronising a syncing stream: a SYNC asks the receiver to expect
+ * the stream's next sequence number. With every SYNC slot taken the stream
+ * waits (its packets stay queued); the next poll tries again.
+ */
+void start_sync(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint32_t now) noexcept {
+  if (find_sync(n, dest, channel) != nullptr) {
+    return;
+  }
+  const detail::TxSlot* first = oldest(n, dest, channel);  // a packet waiting already: R is its sequence
+  const std::uint8_t start = first != nullptr ? first->seq : n.tx_stream[dest][channel].next_seq;
+  for (detail::SyncSlot& y : n.sync) {
+    if (!y.used) {
+      y = detail::SyncSlot{true, static_cast<std::uint8_t>(dest), static_cast<std::uint8_t>(channel), start, 0U, now};
+      send_sync(n, y, now, true);
+      return;
+    }
+  }
+}
+
+/**
+ * Gives up every outstanding packet of a stream (each logged, delivery
+ * unknown: they left the tile) and resynchronises it at its next sequence
+ * number R, whose answer will tell what became of them. The receiver expects
+ * at least `confirmed`: while R and the window after it stay within half
+ * the sequence space of that, R goes as a flagged packet; beyond, a flag
+ * could look like a duplicate, and the next packets wait for a SYNC.
+ */
+void give_up_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint32_t now) noexcept {
+  detail::TxStream& st = n.tx_stream[dest][channel];
+  const detail::TxSlot* first = oldest(n, dest, channel);
+  if (first != nullptr && !st.settle_pending) {
+    st.settle_from = first->seq;  // pending, the earlier ones and these are one run up to the new point
+  }
+  (void)drop_stream(n, dest, channel, FtDelivery::kUnknown, now);
+  st.settle_pending = true;
+  st.settle_point = st.next_seq;
+  if (seq_ahead(st.next_seq, st.confirmed) + 2U * kFtWindow < kHalfSeq) {
+    st.resync = true;
+    st.resync_seq = st.next_seq;
+    return;
+  }
+  st.syncing = true;
+  st.resync = false;  // the SYNC starts the receiver's stream
+  start_sync(n, dest, channel, now);
+}
+
+/**
+ * A SYNC unanswered after its retries: the packets waiting for it never left
+ * the tile; they are given up (not delivered) and their sequence numbers
+ * taken back, so the next SYNC asks for the same R, which the receiver can
+ * still take however many SYNCs fail.
+ */
+void sync_failed(FtNode& n, detail::SyncSlot& y, std::uint32_t now) noexcept {
+  (void)drop_stream(n, y.dest, y.channel, FtDelivery::kNotDelivered, now);
+  n.tx_stream[y.dest][y.channel].next_seq = y.start;
+  y.used = false;  // the stream stays syncing: its next packet starts another SYNC (which may still settle)
 }
 
 /** Rewrites a queued packet's channel word with the resync flag (its codes are computed again). */
@@ -177,6 +314,8 @@ void flag_resync(detail::TxSlot& s) noexcept {
 void restart_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint32_t now) noexcept {
   detail::TxStream& st = n.tx_stream[dest][channel];
   detail::TxSlot* o = oldest(n, dest, channel);
+  st.settle_pending = false;  // the receiver lost its state: what it had taken before stays unknown
+  st.confirmed = o != nullptr ? o->seq : st.next_seq;  // it starts where the flagged packet is
   if (o == nullptr) {
     st.resync = true;
     st.resync_seq = st.next_seq;
@@ -190,14 +329,37 @@ void restart_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uin
   resend_stream(n, dest, channel, o->seq, now, FtCause::kResentNack);
 }
 
+/** Exponential back-off (x2 per retry, at most x16): a congested forwarder gets air instead of a storm of resends. */
+bool due(const FtNode& n, std::uint32_t sent_tick, std::uint32_t retries, std::uint32_t now) noexcept {
+  const std::uint32_t backoff = (retries < 4U) ? retries : 4U;
+  return now - sent_tick >= (n.config.timeout_ticks << backoff);
+}
+
+/** SYNCs: resent on timeout, failed after max_retries; a syncing stream with packets and no SYNC slot starts one. */
+void run_sync_timers(FtNode& n, std::uint32_t now) noexcept {
+  for (detail::SyncSlot& y : n.sync) {
+    if (!y.used || !due(n, y.sent_tick, y.retries, now)) {
+      continue;
+    }
+    if (y.retries >= n.config.max_retries) {
+      sync_failed(n, y, now);
+    } else {
+      send_sync(n, y, now, false);
+    }
+  }
+  for (const detail::TxSlot& s : n.tx) {
+    if (s.used && n.tx_stream[s.dest][s.channel].syncing) {
+      start_sync(n, s.dest, s.channel, now);
+    }
+  }
+}
+
 void run_timers(FtNode& n, std::uint32_t now) noexcept {
+  run_sync_timers(n, now);
   for (std::uint32_t i = 0U; i < kFtTxSlots; ++i) {
     const detail::TxSlot& s = n.tx[i];
-    // Exponential back-off (x2 per retry, at most x16): a congested forwarder
-    // gets air instead of a growing storm of go-back-N bursts.
-    const std::uint32_t backoff = (s.retries < 4U) ? s.retries : 4U;
-    if (!s.used || now - s.sent_tick < (n.config.timeout_ticks << backoff)) {
-      continue;
+    if (!s.used || n.tx_stream[s.dest][s.channel].syncing || !due(n, s.sent_tick, s.retries, now)) {
+      continue;  // a syncing stream's packets wait for its SYNC-ACK
     }
     detail::TxSlot* first = oldest(n, s.dest, s.channel);
     if (first == nullptr) {
@@ -216,7 +378,7 @@ void run_timers(FtNode& n, std::uint32_t now) noexcept {
 /** ACKs @p seq of (source, channel); if the network refuses, the ACK is owed to the next poll. */
 void send_ack(FtNode& n, std::uint32_t source, std::uint32_t channel, std::uint8_t seq) noexcept {
   detail::RxStream& rs = n.rx_stream[source][channel];
-  if (send_control(n, source, FtKind::kAck, seq, channel, true, rs.epoch) == FtError::kOk) {
+  if (send_control(n, source, FtKind::kAck, seq, answer_word(rs, channel), true, rs.epoch) == FtError::kOk) {
     ++n.stats.acks_sent;
     if (rs.ack_owed) {
       rs.ack_owed = false;
@@ -240,10 +402,38 @@ void pay_acks(FtNode& n) noexcept {
   }
 }
 
+/** Puts a message into its channel's receive queue. @return false if the queue is full (dropped, not ACKed). */
+bool enqueue(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> data) noexcept {
+  detail::RxQueue& q = n.rxq[cw.channel];
+  if (q.count >= kFtRxDepth) {
+    ++n.stats.rx_full_dropped;
+    return false;
+  }
+  FtMessage& m = q.msg[(q.head + q.count) % kFtRxDepth];
+  m.source = cw.source;
+  m.channel = static_cast<std::uint8_t>(cw.channel);
+  m.seq = cw.seq;
+  m.data_words = static_cast<std::uint16_t>(data.size());
+  for (std::size_t i = 0U; i < data.size(); ++i) {
+    m.data[i] = data[i];
+  }
+  ++q.count;
+  ++n.stats.delivered;
+  return true;
+}
+
+/** A resync point taken on a running stream: what it expected before, for every answer from now on. */
+void record_resync(detail::RxStream& rs, std::uint8_t point) noexcept {
+  rs.rec_valid = true;
+  rs.rec_point = point;
+  rs.rec_from = rs.expected;
+}
+
 /** Accepts or drops one data packet of (source, channel) in sequence; ACKs or NACKs. */
 void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> data) noexcept {
   detail::RxStream& rs = n.rx_stream[cw.source][cw.channel];
-  if (!rs.synced || cw.epoch != rs.epoch) {
+  const bool running = rs.synced && cw.epoch == rs.epoch;
+  if (!running) {
     // Nothing taken since this node started, or the sender restarted: only a
     // flagged packet starts the stream (the sender's oldest outstanding one).
     // For any other, the sender is asked once to flag its oldest and resend.
@@ -260,6 +450,7 @@ void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> da
     rs.expected = cw.seq;
     rs.nack_sent = false;
     rs.resync_asked = false;
+    rs.rec_valid = false;  // a new stream: nothing it took before is known here
   }
   const std::uint32_t ahead = seq_ahead(cw.seq, rs.expected);
   const bool resync = cw.resync && ahead != 0U && ahead < kHalfSeq;
@@ -271,30 +462,76 @@ void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> da
   if (ahead != 0U && !resync) {  // a gap: ask once for the missing one
     ++n.stats.out_of_order_dropped;
     if (!rs.nack_sent || rs.nacked != rs.expected) {
-      rs.nack_sent = send_control(n, cw.source, FtKind::kNack, rs.expected, cw.channel, true, rs.epoch) == FtError::kOk;
+      rs.nack_sent = send_control(n, cw.source, FtKind::kNack, rs.expected, answer_word(rs, cw.channel), true,
+                                  rs.epoch) == FtError::kOk;
       rs.nacked = rs.expected;
       n.stats.nacks_sent += rs.nack_sent ? 1U : 0U;
     }
     return;
   }
-  detail::RxQueue& q = n.rxq[cw.channel];
-  if (q.count >= kFtRxDepth) {
-    ++n.stats.rx_full_dropped;
+  if (!enqueue(n, cw, data)) {
     return;
   }
-  FtMessage& m = q.msg[(q.head + q.count) % kFtRxDepth];
-  m.source = cw.source;
-  m.channel = static_cast<std::uint8_t>(cw.channel);
-  m.seq = cw.seq;
-  m.data_words = static_cast<std::uint16_t>(data.size());
-  for (std::size_t i = 0U; i < data.size(); ++i) {
-    m.data[i] = data[i];
+  if (cw.resync && running) {
+    record_resync(rs, cw.seq);  // the packets from what it expected up to here were given up by the sender
   }
-  ++q.count;
-  ++n.stats.delivered;
   rs.expected = static_cast<std::uint8_t>(cw.seq + 1U);
   rs.nack_sent = false;
   send_ack(n, cw.source, cw.channel, cw.seq);
+}
+
+/**
+ * A SYNC from the sender of stream (source, channel): expect seq R next. A
+ * SYNC behind what the stream expects is an old copy and dropped; a copy of
+ * the SYNC taken last (its SYNC-ACK was lost) finds R expected already and is
+ * answered again with the same record. Old data copies (behind R) are
+ * duplicates from now on.
+ */
+void on_sync(FtNode& n, const ChannelWord& cw, std::uint32_t channel) noexcept {
+  detail::RxStream& rs = n.rx_stream[cw.source][channel];
+  const bool running = rs.synced && rs.epoch == cw.epoch;
+  const std::uint32_t ahead = seq_ahead(cw.seq, rs.expected);
+  if (running && ahead >= kHalfSeq) {
+    return;
+  }
+  const bool copy = running && ahead == 0U && rs.rec_valid && rs.rec_point == cw.seq;
+  if (running && !copy) {
+    record_resync(rs, cw.seq);
+  } else if (!running) {
+    rs.rec_valid = false;  // it follows nothing of this sender: what it took before is not known here
+  }
+  rs.synced = true;
+  rs.epoch = cw.epoch;
+  rs.expected = cw.seq;
+  rs.nack_sent = false;
+  rs.resync_asked = false;
+  // Lost: the SYNC comes again.
+  (void)send_control(n, cw.source, FtKind::kSyncAck, cw.seq, answer_word(rs, channel), true, rs.epoch);
+}
+
+/** The receiver took the stream's SYNC: its waiting packets go, in sequence order. */
+void on_sync_ack(FtNode& n, bsp::TileId dest, const AnswerWord& a, std::uint8_t start, std::uint32_t now) noexcept {
+  const std::uint32_t channel = a.channel;
+  detail::SyncSlot* y = find_sync(n, dest, channel);
+  if (y == nullptr || y->start != start) {
+    return;  // answers an older SYNC
+  }
+  detail::TxStream& st = n.tx_stream[dest][channel];
+  if (st.settle_pending && st.settle_point == start) {
+    settle(n, dest, channel, a, now);
+  }
+  y->used = false;
+  st.syncing = false;
+  st.confirmed = start;
+  for (std::uint32_t k = 0U; k < kFtTxSlots; ++k) {
+    const auto seq = static_cast<std::uint8_t>(start + k);
+    for (detail::TxSlot& s : n.tx) {
+      if (s.used && s.dest == dest && s.channel == channel && s.seq == seq) {
+        s.sent_tick = now;  // refused here: its timeout resends it
+        (void)route_and_send(n, std::span<std::uint32_t>(s.image.data(), s.words), dest);
+      }
+    }
+  }
 }
 
 /** Answers a PING; if the network refuses, the PONG is owed to the next polls (the prober scores it a round later). */
@@ -318,7 +555,39 @@ void pay_pongs(FtNode& n) noexcept {
   }
 }
 
-/** Control packets: ACK/NACK to the sender state, PING answered, PONG recorded. */
+/** The answer acknowledges up to @p covered, the stream's resync point included (and nothing not sent yet). */
+bool covers_point(const detail::TxStream& st, std::uint8_t covered) noexcept {
+  return seq_ahead(covered, st.settle_point) < seq_ahead(st.next_seq, st.settle_point);
+}
+
+/** A stream's answers (ACK, NACK, SYNC-ACK, their record) to the sender state. */
+void on_answer(FtNode& n, const ChannelWord& cw, std::uint32_t word, std::uint32_t now) noexcept {
+  const AnswerWord a = split_answer(word);
+  if (cw.epoch != n.epoch || a.channel >= kFtAllChannels) {
+    return;  // it answers this node's previous incarnation
+  }
+  detail::TxStream& st = n.tx_stream[cw.source][a.channel];
+  if (st.syncing || cw.kind == FtKind::kSyncAck) {
+    if (st.syncing && cw.kind == FtKind::kSyncAck) {
+      on_sync_ack(n, cw.source, a, cw.seq, now);
+    }
+    return;  // syncing, nothing of the stream is in flight: an ACK or NACK is of a packet given up
+  }
+  if (cw.kind == FtKind::kNack && cw.resync) {
+    restart_stream(n, cw.source, a.channel, now);
+    return;
+  }
+  const auto covered = static_cast<std::uint8_t>(cw.kind == FtKind::kAck ? cw.seq : cw.seq - 1U);
+  if (st.settle_pending && covers_point(st, covered)) {
+    settle(n, cw.source, a.channel, a, now);
+  }
+  take_ack(n, cw.source, a.channel, covered);
+  if (cw.kind == FtKind::kNack) {
+    resend_stream(n, cw.source, a.channel, cw.seq, now, FtCause::kResentNack);
+  }
+}
+
+/** Control packets: answers to the sender state, SYNC to the receive stream, PING answered, PONG recorded. */
 void on_control(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> data, std::uint32_t now) noexcept {
   if (cw.source >= n.routes.tiles) {
     return;
@@ -327,21 +596,15 @@ void on_control(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t>
   if ((cw.kind == FtKind::kPing || cw.kind == FtKind::kPong) && data.size() >= 2U) {
     n.peer_map_version[cw.source] = data[1];
   }
-  if ((cw.kind == FtKind::kAck || cw.kind == FtKind::kNack) && cw.epoch != n.epoch) {
-    return;  // it answers this node's previous incarnation
-  }
   switch (cw.kind) {
     case FtKind::kAck:
-      if (word < kFtAllChannels) {
-        take_ack(n, cw.source, word, cw.seq);
-      }
-      break;
     case FtKind::kNack:
-      if (word < kFtAllChannels && cw.resync) {
-        restart_stream(n, cw.source, word, now);
-      } else if (word < kFtAllChannels) {
-        take_ack(n, cw.source, word, static_cast<std::uint8_t>(cw.seq - 1U));
-        resend_stream(n, cw.source, word, cw.seq, now, FtCause::kResentNack);
+    case FtKind::kSyncAck:
+      on_answer(n, cw, word, now);
+      break;
+    case FtKind::kSync:
+      if (word < kFtAllChannels) {
+        on_sync(n, cw, word);
       }
       break;
     case FtKind::kPing:
@@ -377,7 +640,8 @@ void nack_if_identified(FtNode& n, std::span<const std::uint32_t> image, std::ui
     return;
   }
   const std::uint8_t need = rs.expected;
-  const bool nacked = send_control(n, cw.source, FtKind::kNack, need, cw.channel, true, rs.epoch) == FtError::kOk;
+  const bool nacked =
+      send_control(n, cw.source, FtKind::kNack, need, answer_word(rs, cw.channel), true, rs.epoch) == FtError::kOk;
   n.stats.nacks_sent += nacked ? 1U : 0U;
   log_event(n, FtCause::kDamaged, cw.source, cw.channel, nacked ? 1U : 0U, now);
 }
@@ -514,6 +778,7 @@ void reset(FtNode& node) noexcept {
   for (detail::FwdSlot& f : node.fwd) {
     f.used = false;
   }
+  node.sync.fill(detail::SyncSlot{});
   node.acks_owed = 0U;
   node.pong_owed.fill(0U);
   node.pongs_owed = 0U;
@@ -565,7 +830,8 @@ FtError ft_send(FtNode& node, bsp::TileId dest, std::uint32_t channel, std::span
   bsp::TileId next = bsp::kNoTile;
   if (route_next_hop(node.routes, dest, next) != RouteError::kOk) {
     ++node.stats.unreachable;
-    log_event(node, FtCause::kUnreachable, dest, channel, node.tx_stream[dest][channel].next_seq, now_tick);
+    log_event(node, FtCause::kUnreachable, dest, channel, node.tx_stream[dest][channel].next_seq, now_tick,
+              FtDelivery::kNotDelivered);  // refused: nothing was queued
     return FtError::kUnreachable;
   }
   detail::TxSlot* slot = nullptr;
@@ -583,7 +849,9 @@ FtError ft_send(FtNode& node, bsp::TileId dest, std::uint32_t channel, std::span
   if (encode_packet(f, data, slot->image, written) != EncodeStatus::kOk) {
     return FtError::kBadArgs;
   }
-  const FtError e = route_and_send(node, std::span<std::uint32_t>(slot->image.data(), written), dest);
+  // A resynchronising stream's packet waits in its slot for the SYNC-ACK.
+  const FtError e = st.syncing ? FtError::kOk
+                               : route_and_send(node, std::span<std::uint32_t>(slot->image.data(), written), dest);
   if (e != FtError::kOk) {
     return e;  // nothing queued: the caller retries the same message
   }
@@ -623,7 +891,7 @@ FtError send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_t s
     return FtError::kBadArgs;
   }
   const std::span<std::uint32_t> packet(image.data(), written);  // one or two data words
-  const bool reply = kind != FtKind::kPing;
+  const bool reply = kind != FtKind::kPing && kind != FtKind::kSync;
   if (routed) {
     return route_and_send(node, packet, dest, reply);
   }
@@ -680,6 +948,9 @@ std::uint32_t ft_outstanding(const FtNode& node) noexcept {
   std::uint32_t n = 0U;
   for (const detail::TxSlot& s : node.tx) {
     n += s.used ? 1U : 0U;
+  }
+  for (const detail::SyncSlot& y : node.sync) {
+    n += y.used ? 1U : 0U;
   }
   return n;
 }

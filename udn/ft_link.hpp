@@ -9,8 +9,10 @@
  *   [15..12] kind (FtKind) | [11..9] epoch | [8] resync | [7..0] channel
  * Application channels are 0..kFtChannels-1, then three system channels
  * (kFtChanFdir, kFtChanMap, kFtChanHealth) for fault management; channel kFtControlChannel
- * carries the unreliable control kinds (ACK, NACK, PING, PONG) whose data
- * word 0 names the acknowledged channel (ACK/NACK) or the nonce (PING/PONG);
+ * carries the unreliable control kinds (ACK, NACK, PING, PONG, SYNC,
+ * SYNC-ACK) whose data word 0 names the stream's channel (ACK, NACK, SYNC,
+ * SYNC-ACK; an answer's with the receiver's resync record above it) or the
+ * nonce (PING/PONG);
  * PING and PONG carry the sender's fault-map version in word 1, so a tile
  * that missed a map update is noticed by its neighbours' probes.
  *
@@ -35,14 +37,29 @@
  * unacknowledged one of its stream on timeout or NACK, each time re-routed
  * through the current table; a retransmission the local network interface
  * refuses (back-pressure) is not counted as a retry, as it never left the
- * tile; after max_retries counted retries an FtEvent is logged, the
- * stream's outstanding packets are given up (each logged) and the next packet
- * carries the resync flag so the receiver restarts the sequence there.
+ * tile; after max_retries counted retries the stream's outstanding packets
+ * are given up (each logged, delivery unknown) and the stream resynchronises
+ * at its next sequence number R. While R is less than half the sequence
+ * space minus two windows ahead of what the receiver last confirmed, the
+ * packet with R carries the resync flag and the receiver restarts there.
+ * Beyond that the flag could look like a duplicate: the next packets wait in
+ * the node while a SYNC (control, seq R) asks the receiver to expect R; its
+ * SYNC-ACK lets them go, and a SYNC unanswered after its retries gives up the
+ * packets waiting for it (they never left the tile: not delivered) and takes
+ * their sequence numbers back, so R stays where the receiver can take it
+ * however many packets are given up in a row.
+ * Give-ups settled: the receiver that takes a resync point (a flagged
+ * packet or a SYNC) on a stream it was following records what it expected
+ * then; every answer of the stream (ACK, NACK, SYNC-ACK) carries that record
+ * in its data word ([7..0] channel, [8] record, [23..16] resync point,
+ * [31..24] expected before it). The sender that gets the record of its own
+ * resync point reports each packet it gave up as delivered (its ACKs were
+ * lost) or not delivered.
  *
  * Restarts: a node's epoch (3 bits, ft_set_epoch: the endpoint takes the
- * tile's boot count) is in every data packet, and an ACK or NACK carries the
- * epoch of the stream it answers. A receive stream adopts the first packet
- * A receive stream starts (again) only at a packet with the resync flag: a
+ * tile's boot count) is in every data packet and SYNC, and an ACK, NACK or
+ * SYNC-ACK carries the epoch of the stream it answers. A receive stream
+ * starts (again) only at a SYNC or at a packet with the resync flag: a
  * fresh sender flags the first packet of each stream until it is
  * acknowledged. A receiver with no stream from the source (it restarted, or
  * the source did, with another epoch) answers an unflagged packet with a
@@ -82,6 +99,7 @@ inline constexpr std::uint32_t kFtWindow = 8U;    ///< unacknowledged packets pe
 inline constexpr std::uint32_t kFtTxSlots = 16U;  ///< retransmit buffers per tile
 inline constexpr std::uint32_t kFtRxDepth = 8U;   ///< messages per channel receive queue
 inline constexpr std::uint32_t kFtFwdSlots = 8U;  ///< packets held for forwarding while the network refuses
+inline constexpr std::uint32_t kFtSyncSlots = kFtTxSlots;  ///< streams resynchronising at once (SYNC sent, no SYNC-ACK yet)
 /**
  * Send credits kept for replies (ACK, NACK, PONG): data, forwards and PINGs
  * leave only while the network interface shows more than this many. Packets
@@ -94,7 +112,11 @@ inline constexpr std::uint32_t kFtFwdSlots = 8U;  ///< packets held for forwardi
 inline constexpr std::uint32_t kFtReplyReserve = 1U;
 inline constexpr std::uint32_t kFtMaxData = static_cast<std::uint32_t>(kFtMaxDataWords);
 
-enum class FtKind : std::uint8_t { kData = 0, kAck = 1, kNack = 2, kPing = 3, kPong = 4 };
+/**
+ * Packet kinds. kSync (sender to receiver, seq R): expect R next on the stream
+ * of channel word 0; kSyncAck (receiver to sender, seq R): the receiver took it.
+ */
+enum class FtKind : std::uint8_t { kData = 0, kAck = 1, kNack = 2, kPing = 3, kPong = 4, kSync = 5, kSyncAck = 6 };
 
 enum class FtError : std::uint8_t {
   kOk,
@@ -136,7 +158,11 @@ struct FtStats {
   std::uint64_t forward_failed = 0U;  ///< no route or network refused; the sender's timeout recovers
   std::uint64_t acks_sent = 0U;
   std::uint64_t nacks_sent = 0U;
-  std::uint64_t gave_up = 0U;         ///< packets given up after retries (each logged)
+  std::uint64_t gave_up = 0U;         ///< packets given up (each logged): after retries, or waiting for a SYNC that failed
+  std::uint64_t gave_up_unknown = 0U;        ///< ... left the tile, no ACK came back: delivery unknown
+  std::uint64_t gave_up_not_delivered = 0U;  ///< ... never left the tile (waiting for a SYNC)
+  std::uint64_t settled_delivered = 0U;      ///< given up, then the receiver's record showed it delivered (ACKs lost)
+  std::uint64_t settled_not_delivered = 0U;  ///< given up, then the receiver's record showed it skipped
   std::uint64_t unreachable = 0U;     ///< sends refused for lack of a route
 };
 
@@ -172,6 +198,20 @@ struct TxStream {
   std::uint8_t next_seq = 0U;
   std::uint8_t resync_seq = 0U;
   bool resync = true;  ///< the packet with resync_seq carries the resync flag (a new stream's first does)
+  bool syncing = false;  ///< new packets wait in their slots until a SYNC is acknowledged
+  std::uint8_t confirmed = 0U;  ///< what the receiver expected as last confirmed (an answer); it expects no less
+  bool settle_pending = false;  ///< packets given up whose delivery the resync point's answer will tell
+  std::uint8_t settle_from = 0U;   ///< the first of them
+  std::uint8_t settle_point = 0U;  ///< the resync point that follows them
+};
+/** A stream resynchronising after a give-up: its SYNC, resent on timeout like a data packet. */
+struct SyncSlot {
+  bool used = false;
+  std::uint8_t dest = 0U;
+  std::uint8_t channel = 0U;
+  std::uint8_t start = 0U;  ///< R: the sequence number the receiver is asked to expect
+  std::uint32_t retries = 0U;
+  std::uint32_t sent_tick = 0U;
 };
 struct RxStream {
   bool synced = false;     ///< a packet was accepted since ft_init
@@ -181,6 +221,9 @@ struct RxStream {
   std::uint8_t nacked = 0U;
   bool nack_sent = false;
   bool ack_owed = false;  ///< the network refused the last ACK: resent by the next poll
+  bool rec_valid = false;  ///< a resync point was taken while the stream ran: its record goes in every answer
+  std::uint8_t rec_point = 0U;  ///< that resync point
+  std::uint8_t rec_from = 0U;   ///< what the stream expected when it took it (the packets from there on were skipped)
 };
 struct FwdSlot {
   bool used = false;
@@ -211,6 +254,7 @@ struct FtNode {
   std::array<std::array<detail::RxStream, kFtAllChannels>, kRouteMaxTiles> rx_stream{};
   std::array<detail::RxQueue, kFtAllChannels> rxq{};
   std::array<detail::FwdSlot, kFtFwdSlots> fwd{};
+  std::array<detail::SyncSlot, kFtSyncSlots> sync{};
   std::uint32_t acks_owed = 0U;
   std::array<std::uint32_t, kRouteMaxTiles> pong_nonce{};  ///< last PONG nonce seen per source tile
   std::array<std::uint32_t, kRouteMaxTiles> pong_owed{};   ///< nonce of a PONG the network refused, per prober (0: none)
@@ -275,7 +319,7 @@ void ft_accept(FtNode& node, std::span<const std::uint32_t> payload, std::uint32
 /** Pops the oldest message of @p channel. @return kOk, kEmpty, kBadArgs. */
 FtError ft_receive(FtNode& node, std::uint32_t channel, FtMessage& out) noexcept;
 
-/** Unacknowledged packets of the node (0 once everything is delivered or given up). */
+/** Unacknowledged packets and unanswered SYNCs of the node (0 once everything is delivered or given up). */
 std::uint32_t ft_outstanding(const FtNode& node) noexcept;
 
 /** Channel word of a packet (see the file comment). */

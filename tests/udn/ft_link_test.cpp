@@ -10,8 +10,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <functional>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -173,7 +176,7 @@ TEST(FtLink, UnreachableAndGiveUpAreLoggedEvents) {
   for (std::uint32_t s = 0; s < 3U; ++s) {
     ASSERT_EQ(udn::ft_send(g_nodes[27], 31U, 1U, message(27U, 1U, s), ft_test::now_tick()), udn::FtError::kOk);
   }
-  settle(200U);
+  settle();  // the give-up, then the SYNC that resynchronises the stream, unanswered too
   EXPECT_EQ(ft_test::outstanding(), 0U);
   EXPECT_EQ(g_nodes[27].stats.gave_up, 3U);
   const std::vector<udn::FtEvent> gave_up = ft_test::events_of(27U, udn::FtCause::kRetriesExhausted);
@@ -372,4 +375,174 @@ TEST(FtLink, AStaleAckIsNotTakenByTheRestartedSender) {
   EXPECT_TRUE(intact(got[0]));
   EXPECT_GE(g_nodes[10].stats.retransmitted, 1U);
   EXPECT_EQ(g_nodes[10].stats.gave_up, 0U);
+}
+
+// ------------------------------------------------------------------ give-ups
+
+namespace {
+
+/** Packets the network loses on the way (the sender sees them leave): by sending tile and kind; none when empty. */
+std::function<bool(bsp::TileId, udn::FtKind)> g_lose;
+
+bsp::NetError losing_send(void* ctx, bsp::TileId self, std::span<const std::uint32_t> words) {
+  const auto kind = static_cast<udn::FtKind>((words[udn::kWordChannel] >> 12U) & 0xFU);
+  return (g_lose && g_lose(self, kind)) ? bsp::NetError::kOk : ft_test::host_send(ctx, self, words);
+}
+
+/** Tiles 10 and 20 on the losing port, timeouts of 1 tick and one retry: give-ups come fast. */
+void boot_losing() {
+  const udn::FtConfig cfg{1U, 1U};
+  ft_test::boot(ft_test::grid_map(), 7U, cfg);
+  const udn::FtPort port{&losing_send, &ft_test::host_receive, nullptr};
+  for (const bsp::TileId t : {bsp::TileId{10}, bsp::TileId{20}}) {
+    ASSERT_EQ(udn::ft_init(g_nodes[t], t, ft_test::grid_map(), port, cfg), udn::FtError::kOk);
+    udn::ft_set_event_sink(g_nodes[t], udn::FtEventSink{&ft_test::record_event, nullptr});
+  }
+  g_lose = nullptr;
+}
+
+/** Boots the pair and delivers 3 messages 10 -> 20 on channel 2: the receiver follows the stream. */
+void start_stream() {
+  boot_losing();
+  (void)take_got();
+  send_run(0U, 3U);
+  ASSERT_EQ(take_got().size(), 3U);
+}
+
+/** Sends messages @p first .. @p last - 1 10 -> 20 on channel 2 without waiting for them. */
+void send_from(std::uint32_t first, std::uint32_t last) {
+  for (std::uint32_t i = first; i < last; ++i) {
+    ASSERT_EQ(udn::ft_send(g_nodes[10], 20U, 2U, message(10U, 2U, i), ft_test::now_tick()), udn::FtError::kOk);
+  }
+}
+
+/** The receiver's ACKs are lost. */
+bool acks_lost(bsp::TileId self, udn::FtKind k) { return self == 20U && k == udn::FtKind::kAck; }
+
+/** Sends messages 10 -> 20 on channel 2 (payloads numbered from @p first) until @p count were given up. */
+void give_up_in_a_row(std::uint32_t first, std::uint32_t count) {
+  std::uint32_t sent = 0U;
+  for (std::uint32_t i = 0U; i < 200000U && g_nodes[10].stats.gave_up < count; ++i) {
+    if (sent < count &&
+        udn::ft_send(g_nodes[10], 20U, 2U, message(10U, 2U, first + sent), ft_test::now_tick()) == udn::FtError::kOk) {
+      ++sent;
+    }
+    ft_test::step();
+  }
+}
+
+/** Sends one message 10 -> 20 on channel 2 and runs until it is acknowledged. @return what 20 got. */
+std::vector<udn::FtMessage> send_one(const std::vector<std::uint32_t>& m) {
+  EXPECT_EQ(udn::ft_send(g_nodes[10], 20U, 2U, m, ft_test::now_tick()), udn::FtError::kOk);
+  settle();
+  return drain(20U, 2U);
+}
+
+/** What tile 10's events said of the packets it gave up: (seq, FtDelivery) of its give-ups, then of its settlings. */
+std::vector<std::pair<std::uint32_t, udn::FtDelivery>> claims(udn::FtCause cause) {
+  std::vector<std::pair<std::uint32_t, udn::FtDelivery>> out;
+  for (const udn::FtEvent& e : ft_test::events_of(10U, cause)) {
+    out.emplace_back(e.seq, static_cast<udn::FtDelivery>(e.word));
+  }
+  return out;
+}
+
+}  // namespace
+
+class FtLinkGiveUpsInARow : public testing::TestWithParam<std::uint32_t> {};
+
+// FT-RESYNC-01: however many messages of one stream are given up in a row (the receiver's
+// state kept all along), the stream resynchronises and the next message arrives, alone.
+TEST_P(FtLinkGiveUpsInARow, TheStreamResynchronisesAndTheNextMessageArrives) {
+  const std::uint32_t n = GetParam();
+  start_stream();
+  g_lose = [](bsp::TileId self, udn::FtKind) { return self == 10U; };
+  give_up_in_a_row(3U, n);
+  ASSERT_EQ(g_nodes[10].stats.gave_up, n);
+  EXPECT_TRUE(drain(20U, 2U).empty());
+  g_lose = nullptr;
+  const auto last = message(10U, 2U, 3U + n);
+  const auto got = send_one(last);
+  ASSERT_EQ(got.size(), 1U) << "after " << n << " give-ups";
+  EXPECT_TRUE(std::equal(last.begin(), last.end(), got[0].data.begin()));
+  EXPECT_EQ(ft_test::outstanding(), 0U);
+  // FT-GU-01: every one reported once; none said delivered, for none arrived.
+  const udn::FtStats& st = g_nodes[10].stats;
+  EXPECT_EQ(st.gave_up, n);
+  EXPECT_EQ(claims(udn::FtCause::kRetriesExhausted).size(), n);
+  EXPECT_EQ(st.gave_up_unknown + st.gave_up_not_delivered, n);
+  EXPECT_GT(st.gave_up_not_delivered, 0U) << "packets waited for a SYNC, never left, and said so";
+  // The SYNC that got through carried the receiver's record: every packet that left is settled, skipped.
+  EXPECT_EQ(st.settled_not_delivered, st.gave_up_unknown);
+  EXPECT_EQ(st.settled_delivered, 0U);
+}
+
+INSTANTIATE_TEST_SUITE_P(Counts, FtLinkGiveUpsInARow, testing::Values(128U, 200U, 255U, 256U, 1000U));
+
+// FT-GU-01: packets that arrived, their ACKs lost, are given up with their delivery unknown, never
+// as not delivered; the next packet's answer carries the receiver's record: delivered, ACKs lost.
+TEST(FtLinkGiveUp, ArrivedPacketsWhoseAcksAreLostAreSettledDelivered) {
+  start_stream();
+  g_lose = &acks_lost;
+  send_from(3U, 6U);
+  settle();
+  EXPECT_EQ(drain(20U, 2U).size(), 3U) << "they arrived";
+  EXPECT_EQ(g_nodes[10].stats.gave_up, 3U) << "their ACKs did not";
+  for (const auto& [seq, d] : claims(udn::FtCause::kRetriesExhausted)) {
+    EXPECT_EQ(d, udn::FtDelivery::kUnknown) << "seq " << seq;
+  }
+  g_lose = nullptr;
+  EXPECT_EQ(send_one(message(10U, 2U, 6U)).size(), 1U);
+  const auto settled = claims(udn::FtCause::kSettled);
+  ASSERT_EQ(settled.size(), 3U);
+  for (std::uint32_t i = 0; i < 3U; ++i) {
+    EXPECT_EQ(settled[i].first, 3U + i);
+    EXPECT_EQ(settled[i].second, udn::FtDelivery::kDelivered);
+  }
+  EXPECT_EQ(g_nodes[10].stats.settled_delivered, 3U);
+  EXPECT_EQ(g_nodes[10].stats.settled_not_delivered, 0U);
+}
+
+// FT-GU-02: of a run given up, those the receiver took before are settled delivered, the rest
+// not delivered (the receiver skipped them at the resync point), each by its sequence number.
+TEST(FtLinkGiveUp, APartlyDeliveredRunIsSettledPacketByPacket) {
+  start_stream();
+  // Two arrive and lose their ACKs; the data of the next three is lost.
+  g_lose = &acks_lost;
+  send_from(3U, 5U);
+  for (int i = 0; i < 4; ++i) ft_test::step();
+  ASSERT_EQ(drain(20U, 2U).size(), 2U);
+  g_lose = [](bsp::TileId self, udn::FtKind k) { return acks_lost(self, k) || (self == 10U && k == udn::FtKind::kData); };
+  send_from(5U, 8U);
+  settle();
+  EXPECT_EQ(g_nodes[10].stats.gave_up, 5U);
+  EXPECT_EQ(claims(udn::FtCause::kRetriesExhausted).size(), 5U);
+  g_lose = nullptr;
+  const auto got = send_one(message(10U, 2U, 8U));
+  ASSERT_EQ(got.size(), 1U);
+  EXPECT_EQ(got[0].seq, 8U);
+  const auto settled = claims(udn::FtCause::kSettled);
+  ASSERT_EQ(settled.size(), 5U);
+  for (std::uint32_t i = 0; i < 5U; ++i) {
+    EXPECT_EQ(settled[i].first, 3U + i);
+    EXPECT_EQ(settled[i].second, i < 2U ? udn::FtDelivery::kDelivered : udn::FtDelivery::kNotDelivered) << i;
+  }
+}
+
+// FT-GU-03: a receiver that restarted cannot tell what its previous incarnation took: the
+// give-ups stay "unknown", nothing is settled, and the stream goes on.
+TEST(FtLinkGiveUp, AReceiverThatRestartedSettlesNothing) {
+  start_stream();
+  g_lose = &acks_lost;
+  send_from(3U, 4U);
+  settle();
+  EXPECT_EQ(drain(20U, 2U).size(), 1U);
+  EXPECT_EQ(g_nodes[10].stats.gave_up, 1U);
+  g_lose = nullptr;
+  const udn::FtPort port{&losing_send, &ft_test::host_receive, nullptr};
+  ASSERT_EQ(udn::ft_init(g_nodes[20], 20U, ft_test::grid_map(), port, udn::FtConfig{1U, 1U}), udn::FtError::kOk);
+  udn::ft_set_epoch(g_nodes[20], 1U);
+  EXPECT_EQ(send_one(message(10U, 2U, 4U)).size(), 1U);
+  EXPECT_TRUE(claims(udn::FtCause::kSettled).empty());
+  EXPECT_EQ(g_nodes[10].stats.gave_up_unknown, 1U);
 }

@@ -552,11 +552,16 @@ std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noe
                           s, e.cause == 0U ? "NACK" : "timeout", e.a, e.b);
       break;
     case EventId::kPacketGaveUp:
-      (void)std::snprintf(b.data(), b.size(), "packet to tile %s given up after its retries (channel %u, seq %u)",
-                          s, e.a, e.b);
+      (void)std::snprintf(b.data(), b.size(), "packet to tile %s given up (channel %u, seq %u): %s", s, e.a, e.b,
+                          e.cause == 1U ? "not delivered (it never left)" : "delivery unknown (no ACK came back)");
       break;
     case EventId::kRouteUnreachable:
-      (void)std::snprintf(b.data(), b.size(), "no route to tile %s", s);
+      (void)std::snprintf(b.data(), b.size(), "no route to tile %s (channel %u, seq %u): %s", s, e.a, e.b,
+                          e.cause == 1U ? "not delivered" : "given up, delivery unknown");
+      break;
+    case EventId::kPacketSettled:
+      (void)std::snprintf(b.data(), b.size(), "packet to tile %s given up (channel %u, seq %u) was %s", s, e.a, e.b,
+                          e.cause == 2U ? "delivered: only its ACKs were lost" : "not delivered: the receiver skipped it");
       break;
     case EventId::kForwardUnreachable:
       (void)std::snprintf(b.data(), b.size(), "no route to forward a packet to tile %s", s);

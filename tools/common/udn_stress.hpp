@@ -123,7 +123,8 @@ struct StressResult {
     std::uint64_t uncorrectable_detected = 0U;
     std::uint64_t gave_up = 0U;      ///< given up after retries, each an event
     std::uint64_t unreachable = 0U;  ///< sends refused for lack of a route
-    // The give-up events, by what they say of the message, and checked against the receivers:
+    // The messages given up, by what the layer's events said of each last (a give-up of unknown
+    // delivery may be settled later), and checked against the receivers:
     std::uint64_t gave_up_not_delivered = 0U;          ///< reported not delivered
     std::uint64_t gave_up_not_delivered_arrived = 0U;  ///< ... that arrived all the same (a wrong claim)
     std::uint64_t gave_up_unknown = 0U;                ///< reported with delivery unknown

@@ -37,12 +37,11 @@ constexpr std::uint32_t kRecent = 32U;
 /** Give-ups checked against the deliveries at the end of a run; more are counted unchecked. */
 constexpr std::size_t kGiveUpRecords = 1U << 16U;
 
-/** A give-up the layer reported: the message (its sender's number) and what the report said of it. */
+/** A give-up the layer reported: the message (its sender's number) and what the reports said of it last. */
 struct GiveUpRecord {
   bsp::TileId source = 0U;
-  bool arrived_claimed = false;  ///< the report says the message was delivered (its ACKs were lost)
-  bool unknown = true;           ///< the report says its delivery is unknown
-  std::uint32_t number = 0U;     ///< the sender's message number
+  udn::FtDelivery claim = udn::FtDelivery::kUnknown;  ///< the give-up's, or the settling event's after it
+  std::uint32_t number = 0U;                           ///< the sender's message number
 };
 
 /** A message the layer took: the sequence number it got and its sender's number. */
@@ -64,6 +63,7 @@ struct FtShared {
   PerStream<std::array<SentMessage, kRecent>> recent{};  ///< stream message k at [k % kRecent]
   PerStream<std::uint32_t> after_last{};  ///< receiver: 1 + the sender's number of the last message delivered (0: none)
   std::uint64_t arrived = 0U;  ///< distinct messages delivered intact
+  bool in_send = false;        ///< a driver is inside ft_send (a kUnreachable event then is a refused send)
   StressResult::Delivery delivery{};
   StressResult::Ft ft{};
 };
@@ -117,19 +117,35 @@ void take_delivered(bsp::TileId source, bsp::TileId self, std::uint32_t ch, std:
   ++g_ft.arrived;
 }
 
-/** Records a give-up the layer reported on @p tile (its sink); checked against deliveries at the end. */
+/**
+ * Records what the layer reported on @p tile (its sink) of a message it gave
+ * up: the give-up, then maybe its settling; checked against deliveries at the end.
+ */
 void on_ft_event(void* /*ctx*/, bsp::TileId tile, const udn::FtEvent& e) {
-  const bool gave_up = e.cause == udn::FtCause::kRetriesExhausted || e.cause == udn::FtCause::kUnreachable;
-  if (!gave_up || tile >= bsp::kMaxTiles || e.peer >= bsp::kMaxTiles || e.channel >= kChannels) {
+  const bool refused = e.cause == udn::FtCause::kUnreachable && g_ft.in_send;  // nothing was sent
+  const bool gave_up = (e.cause == udn::FtCause::kRetriesExhausted || e.cause == udn::FtCause::kUnreachable) && !refused;
+  const bool settled = e.cause == udn::FtCause::kSettled;
+  if ((!gave_up && !settled) || tile >= bsp::kMaxTiles || e.peer >= bsp::kMaxTiles || e.channel >= kChannels) {
     return;
   }
-  ++g_ft.ft.gave_up_unknown;
   std::uint64_t number = 0U;
-  if (!recent_number(tile, e.peer, e.channel, e.seq, number) || g_give_ups.size() >= g_give_ups.capacity()) {
+  if (!recent_number(tile, e.peer, e.channel, e.seq, number)) {
     ++g_ft.ft.unmatched;
     return;
   }
-  g_give_ups.push_back(GiveUpRecord{tile, false, true, static_cast<std::uint32_t>(number)});
+  const auto claim = static_cast<udn::FtDelivery>(e.word);
+  if (gave_up && g_give_ups.size() < g_give_ups.capacity()) {
+    g_give_ups.push_back(GiveUpRecord{tile, claim, static_cast<std::uint32_t>(number)});
+    return;
+  }
+  for (std::size_t i = g_give_ups.size(); settled && i > 0U; --i) {
+    GiveUpRecord& g = g_give_ups[i - 1U];
+    if (g.source == tile && g.number == number) {
+      g.claim = claim;
+      return;
+    }
+  }
+  ++g_ft.ft.unmatched;  // a settling of no give-up seen, or no room left
 }
 
 void check_received(bsp::TileId self) {
@@ -169,7 +185,9 @@ void send_some(bsp::TileId self, Source& src, std::array<std::uint32_t, udn::kFt
     const std::span<std::uint32_t> payload(data.data(), g_ft.opts.words);
     stamp_payload(PayloadStamp{self, dest, static_cast<std::uint16_t>(g_ft.done[self])}, payload);
     const std::uint8_t seq = node.tx_stream[dest][ch].next_seq;  // the one ft_send gives the message
+    g_ft.in_send = true;
     const udn::FtError e = udn::ft_send(node, dest, ch, payload, static_cast<std::uint32_t>(k::now_ticks()));
+    g_ft.in_send = false;
     if (e == udn::FtError::kOk) {
       std::uint32_t& k = g_ft.sent[self][dest][ch];
       g_ft.recent[self][dest][ch][k % kRecent] = SentMessage{static_cast<std::uint32_t>(g_ft.done[self]), seq};
@@ -265,9 +283,15 @@ void collect(StressResult& r) {
   g_ft.delivery.lost = g_ft.delivery.sent - g_ft.arrived;
   for (const GiveUpRecord& g : g_give_ups) {
     const bool arrived = g_arrived[g.source][g.number] != 0U;
-    g_ft.ft.gave_up_unknown_arrived += (g.unknown && arrived) ? 1U : 0U;
-    g_ft.ft.gave_up_not_delivered_arrived += (!g.unknown && !g.arrived_claimed && arrived) ? 1U : 0U;
-    g_ft.ft.acks_lost_missing += (g.arrived_claimed && !arrived) ? 1U : 0U;
+    StressResult::Ft& f = g_ft.ft;
+    switch (g.claim) {
+      case udn::FtDelivery::kUnknown: ++f.gave_up_unknown; f.gave_up_unknown_arrived += arrived ? 1U : 0U; break;
+      case udn::FtDelivery::kNotDelivered:
+        ++f.gave_up_not_delivered;
+        f.gave_up_not_delivered_arrived += arrived ? 1U : 0U;
+        break;
+      case udn::FtDelivery::kDelivered: ++f.acks_lost; f.acks_lost_missing += arrived ? 0U : 1U; break;
+    }
   }
   r.delivery = g_ft.delivery;
   r.ft = g_ft.ft;
