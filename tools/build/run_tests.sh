@@ -13,6 +13,8 @@
 set -uo pipefail
 results=$1; shift
 mkdir -p "$results"
+# Reports of an earlier run (other binaries, other shard counts) would be read as this one's.
+rm -f "$results"/*.xml "$results"/*.rc "$results"/*.log
 jobs=${TEST_JOBS:-$(nproc 2>/dev/null || echo 1)}
 [ "$jobs" -ge 1 ] 2>/dev/null || jobs=1
 
