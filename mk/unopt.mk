@@ -19,7 +19,7 @@ UNOPT_OBJ := $(patsubst %.cpp,$(OBJ)/O0/%.o,$(UNOPT_SRC))
 UNOPT_TEST_BINS := $(if $(filter release,$(BUILD)),$(if $(UNOPT_SRC),\
   $(foreach d,$(UNOPT_TEST_DIRS),$(BIN)/tests/$(call test_name,$(d))_tests_O0)))
 
-$(UNOPT_OBJ): $(OBJ)/O0/%.o: %.cpp
+$(UNOPT_OBJ): $(OBJ)/O0/%.o: %.cpp | $(DEPS_OK)
 	@mkdir -p $(@D)
 	$(CXX) $(patsubst -O2,-O0,$(call flags_for,$<)) -c $< -o $@
 
