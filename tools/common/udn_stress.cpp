@@ -16,6 +16,7 @@
 #include <cmath>
 #include <iomanip>
 #include <map>
+#include <memory>
 #include <span>
 #include <type_traits>
 
@@ -325,7 +326,8 @@ StressResult run_stress(const StressOptions& opts, bsp::heap::SealMode seal) {
     return run_stress_ft(opts, seal);
   }
   StressResult r;
-  g_shared = Shared{};
+  std::destroy_at(&g_shared);  // in place: no temporary of the whole state on the stack
+  std::construct_at(&g_shared);
   g_shared.opts = opts;
   g_shared.plan = detail::make_plan(opts);
   if (g_shared.plan.sender_count == 0U || !detail::boot_stress_board(opts, g_shared.plan, kTasks, bsp::NetConfig{})) {

@@ -25,6 +25,7 @@
 #include "udn/route.hpp"
 
 #include <array>
+#include <memory>
 #include <vector>
 
 namespace tools {
@@ -301,8 +302,12 @@ void collect(StressResult& r) {
 
 StressResult run_stress_ft(const StressOptions& opts, bsp::heap::SealMode seal) {
   StressResult r;
-  g_ft = FtShared{};
-  g_ft_nodes = {};
+  // Reset in place: `g_ft = FtShared{}` would build the megabytes of a
+  // temporary on the stack first (instrumented builds keep it there and overflow).
+  std::destroy_at(&g_ft);
+  std::construct_at(&g_ft);
+  std::destroy_at(&g_ft_nodes);
+  std::construct_at(&g_ft_nodes);
   g_ft.opts = opts;
   g_ft.plan = detail::make_plan(opts);
   for (std::size_t t = 0; t < bsp::kMaxTiles; ++t) {
