@@ -4,6 +4,8 @@
  */
 #include "trn/vision/ntt.hpp"
 
+#include <cstddef>
+
 namespace trn::vision {
 
 namespace detail {
@@ -52,14 +54,14 @@ constexpr Twiddles make_twiddles(bool inverse) noexcept {
   return t;
 }
 
-constexpr Twiddles kForward = make_twiddles(false);
-constexpr Twiddles kInverse = make_twiddles(true);
+constexpr Twiddles kForwardTw = make_twiddles(false);
+constexpr Twiddles kInverseTw = make_twiddles(true);
 
 // 31 is a quadratic non-residue, so w_L = 31^((p-1)/L) has order exactly L: w_L^(L/2) = -1.
 static_assert(pow_mod(kGenerator, (kP - 1U) / 2U) == kP - 1U, "31 must be a non-residue mod p");
-static_assert(pow_mod(kForward.w[kNttMaxSide / 2 + 1], static_cast<std::uint32_t>(kNttMaxSide / 2)) == kP - 1U,
+static_assert(pow_mod(kForwardTw.w[kNttMaxSide / 2 + 1], static_cast<std::uint32_t>(kNttMaxSide / 2)) == kP - 1U,
               "the longest transform's root must have full order");
-static_assert(mul_mod_slow(kForward.w[kNttMaxSide / 2 + 1], kInverse.w[kNttMaxSide / 2 + 1]) == 1U,
+static_assert(mul_mod_slow(kForwardTw.w[kNttMaxSide / 2 + 1], kInverseTw.w[kNttMaxSide / 2 + 1]) == 1U,
               "inverse roots");
 
 /** -1/p mod 2^32 by Newton's iteration (each step doubles the correct low bits, from 3). */
@@ -126,31 +128,92 @@ inline std::uint32_t redc(std::uint64_t t) noexcept {
   return u >= kP ? u - kP : u;
 }
 
-/** Length-2^log2_n forward transform of one contiguous row (natural in, bit-reversed out). */
-void row_forward(std::uint32_t* x, std::int32_t log2_n) noexcept {
-  const std::int32_t n = std::int32_t{1} << log2_n;
-  for (std::int32_t h = n / 2; h >= 1; h /= 2) {
-    const std::uint32_t* w = kForward.w + h;
-    const std::uint32_t* wq = kForward.wq + h;
-    for (std::int32_t s = 0; s < n; s += 2 * h) {
-      std::uint32_t* a = x + s;
-      for (std::int32_t j = 0; j < h; ++j) {
-        butterfly_dif(a[j], a[j + h], w[j], wq[j]);
-      }
+/** The butterfly of a forward (DIF) or an inverse (DIT) pass. */
+template <bool kInverse>
+inline void butterfly(std::uint32_t& a, std::uint32_t& b, std::uint32_t w, std::uint32_t wq) noexcept {
+  if constexpr (kInverse) {
+    butterfly_dit(a, b, w, wq);
+  } else {
+    butterfly_dif(a, b, w, wq);
+  }
+}
+
+/**
+ * One butterfly with one twiddle over two row segments. With kWidth > 0 the
+ * segments go through local copies of fixed length, which cannot alias each
+ * other: the host compiler vectorises that loop.
+ */
+template <std::int32_t kWidth, bool kInverse>
+inline void segment(std::uint32_t* ra, std::uint32_t* rb, std::int32_t n, std::uint32_t w,
+                    std::uint32_t wq) noexcept {
+  if constexpr (kWidth > 0) {
+    std::uint32_t a[static_cast<std::size_t>(kWidth)];
+    std::uint32_t b[static_cast<std::size_t>(kWidth)];
+    for (std::int32_t c = 0; c < kWidth; ++c) {
+      a[c] = ra[c];
+      b[c] = rb[c];
+    }
+    for (std::int32_t c = 0; c < kWidth; ++c) {
+      butterfly<kInverse>(a[c], b[c], w, wq);
+    }
+    for (std::int32_t c = 0; c < kWidth; ++c) {
+      ra[c] = a[c];
+      rb[c] = b[c];
+    }
+  } else {
+    for (std::int32_t c = 0; c < n; ++c) {
+      butterfly<kInverse>(ra[c], rb[c], w, wq);
     }
   }
 }
 
-/** Length-2^log2_n inverse transform of one contiguous row (bit-reversed in, natural out, unscaled). */
-void row_inverse(std::uint32_t* x, std::int32_t log2_n) noexcept {
+/** One butterfly over two row segments of kWidth, each element with its own twiddle (see segment()). */
+template <std::int32_t kWidth, bool kInverse>
+inline void segment_twiddled(std::uint32_t* ra, std::uint32_t* rb, const std::uint32_t* w,
+                             const std::uint32_t* wq) noexcept {
+  std::uint32_t a[static_cast<std::size_t>(kWidth)];
+  std::uint32_t b[static_cast<std::size_t>(kWidth)];
+  for (std::int32_t c = 0; c < kWidth; ++c) {
+    a[c] = ra[c];
+    b[c] = rb[c];
+  }
+  for (std::int32_t c = 0; c < kWidth; ++c) {
+    butterfly<kInverse>(a[c], b[c], w[c], wq[c]);
+  }
+  for (std::int32_t c = 0; c < kWidth; ++c) {
+    ra[c] = a[c];
+    rb[c] = b[c];
+  }
+}
+
+/**
+ * Transform of one contiguous row of 2^log2_n: forward (natural in, bit-reversed
+ * out, stages h = n/2 .. 1) or inverse (bit-reversed in, natural out, unscaled,
+ * stages h = 1 .. n/2). Stages with h >= 4 run in segments of fixed width
+ * (vectorised on the host), the two shortest one butterfly at a time.
+ */
+template <bool kInverse>
+void row_transform(std::uint32_t* x, std::int32_t log2_n) noexcept {
+  const Twiddles& t = kInverse ? kInverseTw : kForwardTw;
   const std::int32_t n = std::int32_t{1} << log2_n;
-  for (std::int32_t h = 1; h < n; h *= 2) {
-    const std::uint32_t* w = kInverse.w + h;
-    const std::uint32_t* wq = kInverse.wq + h;
+  for (std::int32_t k = 0; k < log2_n; ++k) {
+    const std::int32_t h = kInverse ? (std::int32_t{1} << k) : (n >> (k + 1));
+    const std::uint32_t* w = t.w + h;
+    const std::uint32_t* wq = t.wq + h;
     for (std::int32_t s = 0; s < n; s += 2 * h) {
       std::uint32_t* a = x + s;
-      for (std::int32_t j = 0; j < h; ++j) {
-        butterfly_dit(a[j], a[j + h], w[j], wq[j]);
+      if (h >= kNttColumnBlock) {
+        for (std::int32_t j = 0; j < h; j += kNttColumnBlock) {
+          segment_twiddled<kNttColumnBlock, kInverse>(a + j, a + j + h, w + j, wq + j);
+        }
+      } else if (h == 8) {
+        segment_twiddled<8, kInverse>(a, a + h, w, wq);
+      } else if (h == 4) {
+        segment_twiddled<4, kInverse>(a, a + h, w, wq);
+      } else {
+        for (std::int32_t j = 0; j < h; ++j) {
+          butterfly<kInverse>(a[j], a[j + h], w[j], wq[j]);
+        }
       }
     }
   }
@@ -169,13 +232,11 @@ void columns_forward(std::uint32_t* col0, std::int32_t stride, std::int32_t log2
   for (std::int32_t h = rows / 2; h >= 1; h /= 2) {
     for (std::int32_t s = 0; s < rows; s += 2 * h) {
       for (std::int32_t j = 0; j < h; ++j) {
-        const std::uint32_t w = kForward.w[h + j];
-        const std::uint32_t wq = kForward.wq[h + j];
+        const std::uint32_t w = kForwardTw.w[h + j];
+        const std::uint32_t wq = kForwardTw.wq[h + j];
         std::uint32_t* ra = col0 + static_cast<std::int64_t>(s + j) * stride;
         std::uint32_t* rb = ra + static_cast<std::int64_t>(h) * stride;
-        for (std::int32_t c = 0; c < n; ++c) {
-          butterfly_dif(ra[c], rb[c], w, wq);
-        }
+        segment<kWidth, false>(ra, rb, n, w, wq);
       }
     }
   }
@@ -189,13 +250,11 @@ void columns_inverse(std::uint32_t* col0, std::int32_t stride, std::int32_t log2
   for (std::int32_t h = 1; h < rows; h *= 2) {
     for (std::int32_t s = 0; s < rows; s += 2 * h) {
       for (std::int32_t j = 0; j < h; ++j) {
-        const std::uint32_t w = kInverse.w[h + j];
-        const std::uint32_t wq = kInverse.wq[h + j];
+        const std::uint32_t w = kInverseTw.w[h + j];
+        const std::uint32_t wq = kInverseTw.wq[h + j];
         std::uint32_t* ra = col0 + static_cast<std::int64_t>(s + j) * stride;
         std::uint32_t* rb = ra + static_cast<std::int64_t>(h) * stride;
-        for (std::int32_t c = 0; c < n; ++c) {
-          butterfly_dit(ra[c], rb[c], w, wq);
-        }
+        segment<kWidth, true>(ra, rb, n, w, wq);
       }
     }
   }
@@ -299,7 +358,7 @@ Status ntt_forward(NttPlane plane, std::int32_t rows_in, bsp::Work& work) noexce
   }
   const std::int32_t width = plane.width();
   for (std::int32_t y = 0; y < rows_in; ++y) {
-    detail::row_forward(plane.data + static_cast<std::int64_t>(y) * width, plane.log2_w);
+    detail::row_transform<false>(plane.data + static_cast<std::int64_t>(y) * width, plane.log2_w);
   }
   detail::all_columns(plane, false);
   work += ntt_forward_work(plane.log2_w, plane.log2_h, rows_in);
@@ -313,7 +372,7 @@ Status ntt_inverse(NttPlane plane, std::int32_t row0, std::int32_t rows, bsp::Wo
   detail::all_columns(plane, true);
   const std::int32_t width = plane.width();
   for (std::int32_t y = row0; y < row0 + rows; ++y) {
-    detail::row_inverse(plane.data + static_cast<std::int64_t>(y) * width, plane.log2_w);
+    detail::row_transform<true>(plane.data + static_cast<std::int64_t>(y) * width, plane.log2_w);
   }
   work += ntt_inverse_work(plane.log2_w, plane.log2_h, rows);
   return Status::kOk;
