@@ -97,7 +97,9 @@ static_assert(mul_mod_slow(kConvolutionScale.c[16], 1U << 16U) == static_cast<st
 /** a w mod p by Shoup's method. Any 32-bit a; w in [0, p), wq = floor(w 2^32 / p). */
 inline std::uint32_t mul_shoup(std::uint32_t a, std::uint32_t w, std::uint32_t wq) noexcept {
   const auto q = static_cast<std::uint32_t>((static_cast<std::uint64_t>(a) * wq) >> 32U);
-  const std::uint32_t r = a * w - q * kP;  // the true a w - q p lies in [0, 2p): the wraps cancel
+  // q p mod 2^32 by p's form, as counted: (q << 31) - (q << 27) + q. The true a w - q p lies in
+  // [0, 2p), so the wraps mod 2^32 cancel.
+  const std::uint32_t r = a * w - ((q << 31U) - (q << 27U) + q);
   return r >= kP ? r - kP : r;
 }
 
