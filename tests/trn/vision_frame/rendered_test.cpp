@@ -201,6 +201,8 @@ TYPED_TEST(Rendered, CoarseStageRemovesThreeToFourKilometreErrorsThenFineMatchin
     ASSERT_TRUE(c.accepted) << "seed " << this->kSeed << " direction " << d << " reason "
                             << static_cast<int>(c.coarse.match.reason());
     errs.push_back(err);
+    std::printf("[ seed %llu   4000 m coarse    ] direction %d: error after dp %.2f m\n",
+                static_cast<unsigned long long>(this->kSeed), d, err);
     EXPECT_LT(err, 25.0) << "seed " << this->kSeed << " direction " << d;  // half a coarse-scale (48 m) pixel
     // The coarse Match: the image point sees its map point, within its sigma.
     const trn::Match& m = c.match;
