@@ -3,7 +3,8 @@
  * @brief Per-frame vision on rendered frames of the default world and descent, two world seeds:
  *        fine matches land on the truth projection (exact and offset priors), the coarse stage
  *        removes kilometre errors and fine matching works after it (by the spatial and the
- *        transform correlation alike, bit for bit), bad inputs are refused.
+ *        transform correlation alike, bit for bit), its grid footprint warp stays within a
+ *        sixty-fourth of a pixel and 1 DN of the exact warp, bad inputs are refused.
  *
  * The world (default 4096^2 terrain, map product, descent shading, landmarks)
  * is built once per seed: the tests are typed over the seed so that gtest runs
@@ -13,6 +14,8 @@
 
 #include "bsp_tile64/cost_model.hpp"
 #include "bsp_tile64/profile.hpp"
+#include "trn/vision/pose_geometry.hpp"
+#include "trn/vision/warp_grid.hpp"
 
 #include <gtest/gtest.h>
 
@@ -310,13 +313,95 @@ TYPED_TEST(Rendered, CoarseStageByTheTransformGivesTheSpatialResultBitForBit) {
     EXPECT_EQ(surface_bits(t), surface_s) << "direction " << d;
     const auto cs = static_cast<double>(bsp::cost_of(bsp::kTile64, ws));
     const auto ct = static_cast<double>(bsp::cost_of(bsp::kTile64, wt));
-    // The warp of the footprint (soft float, ~96 M cycles) is the same on both paths.
+    // The footprint warp (grid warp, ~3.7 M cycles) is the same on both paths.
     EXPECT_LT(ct, 0.4 * cs) << "direction " << d;
     if (d == 0) {
       std::printf("[ seed %llu   4000 m coarse    ] coarse_frame TILE64 cycles: spatial %.1f M, transform %.1f M\n",
                   static_cast<unsigned long long>(this->kSeed), cs / 1e6, ct / 1e6);
     }
   }
+}
+
+TYPED_TEST(Rendered, CoarseFootprintGridWarpIsWithinASixtyFourthPixelAndOneDnOfTheExactWarp) {
+  // The scenes of CoarseStageRemovesThreeToFourKilometreErrors, by the coordinator's method: the
+  // footprint homographies coarse_frame builds, the grid warp's source coordinates against them per
+  // spacing, its pixels against warp_homography()'s, and the stage's offsets and cycles both ways.
+  World& w = *this->w_;
+  tv::CoarseFrameParams grid_p;
+  grid_p.coarse.method = tv::CorrelationMethod::kTransform;
+  tv::CoarseFrameParams exact_p = grid_p;
+  exact_p.warp_grid_px = 0;
+  ASSERT_EQ(grid_p.warp_grid_px, 8);
+  static std::vector<std::uint8_t> exact_px(std::size_t{256} * 256U);
+  static std::vector<std::uint8_t> grid_px(std::size_t{256} * 256U);
+  double worst_px[4] = {};
+  int worst_dn[2] = {};  // G 8 (the default), G 16
+  double worst_dp_m = 0.0;
+  for (int d = 0; d < 9; ++d) {
+    const double az = d * 45.0 * kDeg;
+    const double r = d < 8 ? 3200.0 : 4200.0;
+    double err_e = 0.0;
+    double err_g = 0.0;
+    tv::PosePrior prior;
+    bsp::CameraPose truth;
+    bsp::Work we;
+    bsp::Work wg;
+    const tv::CoarseFrameResult e = run_coarse(w, 4000.0, r * std::sin(az), r * std::cos(az), w.coarse_lit, err_e,
+                                               prior, truth, exact_p, &we);
+    const tv::CoarseFrameResult g = run_coarse(w, 4000.0, r * std::sin(az), r * std::cos(az), w.coarse_lit, err_g,
+                                               prior, truth, grid_p, &wg);
+    ASSERT_TRUE(e.accepted && g.accepted) << "seed " << this->kSeed << " direction " << d;
+    // The same footprint geometry both ways; only the resampling differs.
+    for (int k = 0; k < 9; ++k) EXPECT_EQ(bits(g.footprint_h.h[k]), bits(e.footprint_h.h[k]));
+    const double dp_m = std::hypot(g.dp_m[0] - e.dp_m[0], g.dp_m[1] - e.dp_m[1]);
+    worst_dp_m = std::max(worst_dp_m, dp_m);
+    std::printf("[ seed %llu   4000 m coarse    ] direction %d: error after dp exact warp %.2f m, grid warp %.2f m "
+                "(dp %.2f m apart)\n",
+                static_cast<unsigned long long>(this->kSeed), d, err_e, err_g, dp_m);
+    EXPECT_LT(err_g, 25.0) << "direction " << d;
+    EXPECT_LT(dp_m, 0.5) << "direction " << d;  // a hundredth of a 48 m coarse-scale pixel (measured <= 0.07)
+    const tv::ConstImageU8 frame = w.view(w.frame_at(4000.0));
+    for (std::int32_t gp = 8, i = 0; gp <= 32; gp *= 2, ++i) {
+      const tv::detail::GridShape shape = tv::detail::grid_shape(gp, 256, 256);
+      auto visit = [&](std::int32_t x, std::int32_t y, std::int32_t xq, std::int32_t yq, bool usable) {
+        ASSERT_TRUE(usable);
+        double u = 0.0;
+        double v = 0.0;
+        ASSERT_TRUE(tv::apply_homography(g.footprint_h, x, y, u, v));
+        worst_px[i] = std::max(worst_px[i], std::max(std::fabs(xq / 65536.0 - u), std::fabs(yq / 65536.0 - v)));
+      };
+      bsp::Work work;
+      tv::detail::walk_grid(g.footprint_h, shape, 256, 256, visit, work);
+    }
+    std::int32_t out_e = -1;
+    bsp::Work work;
+    ASSERT_EQ(tv::warp_homography(frame, g.footprint_h, {exact_px.data(), 256, 256, 256}, 0, out_e, work),
+              tv::Status::kOk);
+    EXPECT_EQ(out_e, 0);
+    for (std::int32_t gp = 8, i = 0; gp <= 16; gp *= 2, ++i) {
+      std::int32_t out_g = -1;
+      ASSERT_EQ(tv::warp_homography_grid(frame, g.footprint_h, gp, {grid_px.data(), 256, 256, 256}, 0, out_g, work),
+                tv::Status::kOk);
+      EXPECT_EQ(out_g, 0);
+      for (std::size_t k = 0; k < exact_px.size(); ++k)
+        worst_dn[i] = std::max(worst_dn[i], std::abs(exact_px[k] - grid_px[k]));
+    }
+    if (d == 0) {
+      std::printf("[ seed %llu   4000 m coarse    ] coarse_frame TILE64 cycles (transform): exact warp %.1f M, "
+                  "grid warp %.1f M\n",
+                  static_cast<unsigned long long>(this->kSeed),
+                  static_cast<double>(bsp::cost_of(bsp::kTile64, we)) / 1e6,
+                  static_cast<double>(bsp::cost_of(bsp::kTile64, wg)) / 1e6);
+    }
+  }
+  std::printf("[ seed %llu   4000 m coarse    ] grid warp source coordinates within %.5f px (G 8), %.5f (G 16), "
+              "%.5f (G 32); pixels within %d DN (G 8), %d DN (G 16); dp within %.2f m of the exact warp's\n",
+              static_cast<unsigned long long>(this->kSeed), worst_px[0], worst_px[1], worst_px[2], worst_dn[0],
+              worst_dn[1], worst_dp_m);
+  // Measured: 0.0032 px at G 8, 0.013 at G 16 (2 DN: the footprint samples sharp rendered detail).
+  EXPECT_LT(worst_px[0], 1.0 / 256.0);
+  EXPECT_LT(worst_px[1], 1.0 / 64.0);
+  EXPECT_LE(worst_dn[0], 1);
 }
 
 TYPED_TEST(Rendered, CoarseFootprintLargerThanTheFrameIsNotSearched) {
@@ -366,10 +451,10 @@ TYPED_TEST(Rendered, BadInputsAreRefused) {
   EXPECT_EQ(match(frame, good, 0, 8, bad_mp), tv::Status::kBadInput);
   // A landmark outside the frame is not an error: not matched, the window's misses counted.
   std::uint16_t far = 0;
-  for (std::uint16_t i = 0; i < w.table->count; ++i) {
+  for (std::uint32_t i = 0; i < w.table->count; ++i) {
     const tv::Landmark& lm = w.table->items[i];
     if (std::hypot(lm.p_m[0] - truth.r_m.x(), lm.p_m[1] - truth.r_m.y()) > 6000.0) {
-      far = i;
+      far = static_cast<std::uint16_t>(i);
       break;
     }
   }
