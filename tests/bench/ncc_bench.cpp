@@ -2,16 +2,24 @@
  * @file ncc_bench.cpp
  * @brief Hand-coded NCC against a naive reference and OpenCV matchTemplate (TM_CCOEFF_NORMED).
  *
- * Same inputs for all three: the fine work (a 21x21 template over a 49x49
+ * Same inputs for all: the fine work (a 21x21 template over a 49x49
  * window, 29x29 surface) and the coarse work (a 64x64 template over a 256x256
  * decimated map, 193x193 surface). Each variant produces the whole surface;
- * OpenCV runs single-threaded for a like-for-like comparison. At the end the
- * binary prints time ratios (OpenCV / hand and naive / hand; above 1 means the
- * hand-coded version is faster).
+ * OpenCV runs single-threaded for a like-for-like comparison. The coarse work
+ * runs twice by hand: spatial dot products (Hand) and the exact integer
+ * transform (Transform), then the whole checked correlate() both ways
+ * (Checked_Spatial, Checked_Transform: what coarse_match runs after decimation).
+ * At the end the binary prints time ratios (above 1 means the hand-coded
+ * version is faster), the TILE64 cycles the cost model charges for each coarse
+ * variant, and whether the transform surface equals the spatial one bit for bit.
  */
+#include "bsp_tile64/cost_model.hpp"
+#include "bsp_tile64/profile.hpp"
 #include "bsp_tile64/rng.hpp"
+#include "trn/vision/correlator.hpp"
 #include "trn/vision/integral.hpp"
 #include "trn/vision/ncc.hpp"
+#include "trn/vision/transform_dots.hpp"
 
 #include <benchmark/benchmark.h>
 #include <opencv2/core.hpp>
@@ -107,6 +115,59 @@ void run_hand(benchmark::State& state, const Case& c) {
   }
 }
 
+/** The surface by the transform: statistics, integral, all dot products at once, scores. */
+bool transform_surface(const Case& c, std::vector<float>& surf, bsp::Work& work) {
+  static tv::FixedIntegral<256, 256> integral;
+  static tv::TransformWorkspace<256> planes;
+  const std::int32_t s = c.win - c.tw + 1;
+  const tv::ConstImageU8 t{c.t.data(), c.tw, c.tw, c.tw};
+  const tv::ConstImageU8 w{c.w.data(), c.win, c.win, c.win};
+  tv::TemplateStats st;
+  tv::ImageView<const std::uint32_t> dots;
+  std::int32_t flat = 0;
+  return tv::template_stats(t, st, work) == tv::Status::kOk && integral.build(w, work) == tv::Status::kOk &&
+         tv::transform_dots(t, w, planes.buffers(), dots, work) == tv::Status::kOk &&
+         tv::ncc_surface_from_dots(st, integral.ref(), dots, {surf.data(), s, s, s}, {}, flat, work) ==
+             tv::Status::kOk;
+}
+
+void run_transform(benchmark::State& state, const Case& c) {
+  const std::int32_t s = c.win - c.tw + 1;
+  std::vector<float> surf(static_cast<std::size_t>(s * s));
+  for (auto _ : state) {
+    bsp::Work work;
+    if (!transform_surface(c, surf, work)) {
+      state.SkipWithError("transform NCC failed");
+      break;
+    }
+    benchmark::DoNotOptimize(surf.data());
+    state.counters["int_macs"] = static_cast<double>(work.int_macs);
+  }
+}
+
+/** The whole checked correlation (checksum, digest, peak and its neighbourhood again) by @p method. */
+tv::Status run_checked(const Case& c, tv::CorrelationMethod method, tv::MatchResult& out, bsp::Work& work) {
+  static tv::CorrelatorWorkspace<256> corr;
+  static tv::TransformWorkspace<256> planes;
+  tv::CorrelatorBuffers buf = corr.buffers();
+  buf.transform = planes.buffers();
+  const tv::QualityParams q{0.5F, 0.8F, 4, 1, tv::Subpixel::kParaboloid};  // the coarse stage's
+  return tv::correlate({c.t.data(), c.tw, c.tw, c.tw}, {c.w.data(), c.win, c.win, c.win}, q, buf, out, work,
+                       tv::CorrelationTaps{}, method);
+}
+
+void run_checked_bench(benchmark::State& state, const Case& c, tv::CorrelationMethod method) {
+  for (auto _ : state) {
+    tv::MatchResult r;
+    bsp::Work work;
+    if (run_checked(c, method, r, work) != tv::Status::kOk) {
+      state.SkipWithError("checked correlation failed");
+      break;
+    }
+    benchmark::DoNotOptimize(r.peak.score);
+  }
+}
+
 void run_naive(benchmark::State& state, const Case& c) {
   const std::int32_t s = c.win - c.tw + 1;
   std::vector<double> surf(static_cast<std::size_t>(s * s));
@@ -135,6 +196,13 @@ void BM_Fine_OpenCV(benchmark::State& s) { run_opencv(s, fine_case()); }
 void BM_Coarse_Hand(benchmark::State& s) { run_hand(s, coarse_case()); }
 void BM_Coarse_Naive(benchmark::State& s) { run_naive(s, coarse_case()); }
 void BM_Coarse_OpenCV(benchmark::State& s) { run_opencv(s, coarse_case()); }
+void BM_Coarse_Transform(benchmark::State& s) { run_transform(s, coarse_case()); }
+void BM_Coarse_Checked_Spatial(benchmark::State& s) {
+  run_checked_bench(s, coarse_case(), tv::CorrelationMethod::kSpatial);
+}
+void BM_Coarse_Checked_Transform(benchmark::State& s) {
+  run_checked_bench(s, coarse_case(), tv::CorrelationMethod::kTransform);
+}
 
 BENCHMARK(BM_Fine_Hand)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Fine_Naive)->Unit(benchmark::kMicrosecond);
@@ -142,13 +210,20 @@ BENCHMARK(BM_Fine_OpenCV)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Coarse_Hand)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Coarse_Naive)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Coarse_OpenCV)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Coarse_Transform)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Coarse_Checked_Spatial)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Coarse_Checked_Transform)->Unit(benchmark::kMillisecond);
 
 /** Console output as usual, plus the CPU time of each run kept for the ratios. */
 class RatioReporter : public benchmark::ConsoleReporter {
  public:
   void ReportRuns(const std::vector<Run>& runs) override {
     for (const Run& r : runs) {
-      cpu_ns_[r.benchmark_name()] = r.GetAdjustedCPUTime() * unit_ns(r.time_unit);
+      // With --benchmark_repetitions the ratios use the medians; single runs are used as they are.
+      const bool aggregate = r.run_type == Run::RT_Aggregate;
+      if (aggregate && r.aggregate_name != "median") continue;
+      if (!aggregate && r.repetitions > 1) continue;
+      cpu_ns_[r.run_name.function_name] = r.GetAdjustedCPUTime() * unit_ns(r.time_unit);
     }
     ConsoleReporter::ReportRuns(runs);
   }
@@ -162,6 +237,20 @@ class RatioReporter : public benchmark::ConsoleReporter {
       std::printf("ratio %-6s: OpenCV/hand %.2f, naive/hand %.1f (hand %.1f us, OpenCV %.1f us, naive %.1f us)\n",
                   stage, cv->second / hand->second, naive->second / hand->second, hand->second / 1e3,
                   cv->second / 1e3, naive->second / 1e3);
+    }
+    const auto spatial = cpu_ns_.find("BM_Coarse_Hand");
+    const auto transform = cpu_ns_.find("BM_Coarse_Transform");
+    const auto cv = cpu_ns_.find("BM_Coarse_OpenCV");
+    if (spatial != cpu_ns_.end() && transform != cpu_ns_.end() && cv != cpu_ns_.end()) {
+      std::printf("ratio Coarse: transform/OpenCV %.2f, spatial/transform %.1f (transform %.2f ms, OpenCV %.2f ms)\n",
+                  transform->second / cv->second, spatial->second / transform->second, transform->second / 1e6,
+                  cv->second / 1e6);
+    }
+    const auto cs = cpu_ns_.find("BM_Coarse_Checked_Spatial");
+    const auto ct = cpu_ns_.find("BM_Coarse_Checked_Transform");
+    if (cs != cpu_ns_.end() && ct != cpu_ns_.end()) {
+      std::printf("ratio Coarse checked correlate(): spatial/transform %.1f (spatial %.2f ms, transform %.2f ms)\n",
+                  cs->second / ct->second, cs->second / 1e6, ct->second / 1e6);
     }
   }
 
@@ -206,6 +295,48 @@ double max_diff_vs_opencv(const Case& c) {
   return worst;
 }
 
+/** Emulated TILE64 cycles of the coarse variants, and whether both paths agree bit for bit. */
+void print_coarse_cycles() {
+  const Case& c = coarse_case();
+  const std::int32_t s = c.win - c.tw + 1;
+  std::vector<float> hand(static_cast<std::size_t>(s) * static_cast<std::size_t>(s));
+  std::vector<float> trans(hand.size());
+  bsp::Work wh;
+  bsp::Work wt;
+  {
+    static tv::FixedIntegral<256, 256> integral;
+    const tv::ConstImageU8 t{c.t.data(), c.tw, c.tw, c.tw};
+    const tv::ConstImageU8 w{c.w.data(), c.win, c.win, c.win};
+    tv::TemplateStats st;
+    std::int32_t flat = 0;
+    if (tv::template_stats(t, st, wh) != tv::Status::kOk || integral.build(w, wh) != tv::Status::kOk ||
+        tv::ncc_surface(t, st, w, integral.ref(), {hand.data(), s, s, s}, {}, flat, wh) != tv::Status::kOk) {
+      std::printf("coarse cycles: spatial surface failed\n");
+      return;
+    }
+  }
+  if (!transform_surface(c, trans, wt)) {
+    std::printf("coarse cycles: transform surface failed\n");
+    return;
+  }
+  const bool same = std::memcmp(hand.data(), trans.data(), hand.size() * sizeof(float)) == 0;
+  tv::MatchResult rs;
+  tv::MatchResult rt;
+  bsp::Work cs;
+  bsp::Work ct;
+  if (run_checked(c, tv::CorrelationMethod::kSpatial, rs, cs) != tv::Status::kOk ||
+      run_checked(c, tv::CorrelationMethod::kTransform, rt, ct) != tv::Status::kOk) {
+    std::printf("coarse cycles: checked correlation failed\n");
+    return;
+  }
+  const auto cyc = [](const bsp::Work& w) { return static_cast<double>(bsp::cost_of(bsp::kTile64, w)) / 1e6; };
+  std::printf("TILE64 cycles, coarse 64 on 256: surface spatial %.1f M, transform %.1f M (%.1fx); "
+              "checked correlate() spatial %.1f M, transform %.1f M (%.1fx)\n",
+              cyc(wh), cyc(wt), cyc(wh) / cyc(wt), cyc(cs), cyc(ct), cyc(cs) / cyc(ct));
+  std::printf("transform surface == spatial surface bit for bit: %s; checked peaks (%d, %d) and (%d, %d)\n",
+              same ? "yes" : "NO", rs.peak.ix, rs.peak.iy, rt.peak.ix, rt.peak.iy);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -215,6 +346,7 @@ int main(int argc, char** argv) {
   reporter.print_ratios();
   std::printf("max |hand - OpenCV| over the surface: fine %.2e, coarse %.2e\n", max_diff_vs_opencv(fine_case()),
               max_diff_vs_opencv(coarse_case()));
+  print_coarse_cycles();
   benchmark::Shutdown();
   return 0;
 }

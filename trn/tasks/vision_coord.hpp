@@ -42,6 +42,17 @@ inline constexpr std::uint32_t kSuspectAfterMisses = 2;
 /** A suspect tile is sent one unit every this many frames (it comes back by answering). */
 inline constexpr std::uint32_t kProbeEveryFrames = 5;
 
+/**
+ * The coordinator's coarse stage: dot products by the exact transform, which
+ * gives the spatial search's result bit for bit at about a fifth of its
+ * cycles (docs/VISION.md, "Coarse search by an exact transform").
+ */
+constexpr vision::CoarseFrameParams coord_coarse_params() noexcept {
+  vision::CoarseFrameParams p{};
+  p.coarse.method = vision::CorrelationMethod::kTransform;
+  return p;
+}
+
 struct VisionCoordConfig {
   bsp::CameraModel camera{};
   double descent_sun_m[3] = {0.0, 0.0, 0.0};  ///< unit vector to the descent sun, map frame (mission knowledge)
@@ -50,7 +61,7 @@ struct VisionCoordConfig {
   std::uint32_t vision_count = 0;
   vision::SelectParams select{};       ///< landmark selection on the fine map layer
   vision::FramePlanParams plan{};
-  vision::CoarseFrameParams coarse{};
+  vision::CoarseFrameParams coarse = coord_coarse_params();
   double coarse_above_sigma_m = 150.0; ///< coarse stage when the horizontal sigma exceeds this
   double deadline_s = 0.8;             ///< from the frame notice to the batch leaving for the filter (frames come every 1 s)
   /// The prior comes from the newest solution at least this much older than the capture: two

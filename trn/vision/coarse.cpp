@@ -69,7 +69,9 @@ Status coarse_match(ConstImageU8 map_region, ConstImageU8 image, const CoarsePar
   if (!tmpl.valid()) {
     return Status::kBadInput;
   }
-  st = correlate(tmpl, ws.map_small.cview(), p.quality, ws.corr.buffers(), out.match, work);
+  CorrelatorBuffers buf = ws.corr.buffers();
+  buf.transform = ws.transform.buffers();
+  st = correlate(tmpl, ws.map_small.cview(), p.quality, buf, out.match, work, CorrelationTaps{}, p.method);
   if (st != Status::kOk) {
     return st;
   }

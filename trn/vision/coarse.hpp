@@ -7,8 +7,11 @@
  * template_px square of the small image is correlated (spatial NCC, integer
  * dot products) over the whole small map region. At 12 m/px and factor 4 a
  * 1024 px map region is 256 coarse px (48 m each): a +/- 3 km error is
- * +/- 64 coarse px. Work: (256 - 64 + 1)^2 positions x 4096 MACs ~ 153 M MACs.
- * A workspace is ~1.2 MiB: DDR or static storage, one per coarse task.
+ * +/- 64 coarse px. Work, spatially: (256 - 64 + 1)^2 positions x 4096 MACs
+ * ~ 153 M MACs. CoarseParams::method = kTransform computes the same dot products
+ * by the exact integer transform (transform_dots.hpp) instead: the same
+ * CoarseResult bit for bit, about a fifth of the TILE64 cycles (docs/VISION.md).
+ * A workspace is ~1.7 MiB: DDR or static storage, one per coarse task.
  */
 #pragma once
 
@@ -28,12 +31,14 @@ struct CoarseParams {
   std::int32_t factor = 4;        ///< decimation factor (box filter side), 1..kCoarseMaxFactor
   std::int32_t template_px = 64;  ///< template side at the coarse scale
   QualityParams quality{0.5F, 0.8F, 4, 1, Subpixel::kParaboloid};
+  CorrelationMethod method = CorrelationMethod::kSpatial;  ///< how the dot products are computed (same result)
 };
 
 struct CoarseWorkspace {
   FixedImage<std::uint8_t, kCoarseMaxPx, kCoarseMaxPx> map_small;
   FixedImage<std::uint8_t, kCoarseMaxPx, kCoarseMaxPx> image_small;
   CorrelatorWorkspace<kCoarseMaxPx> corr;
+  TransformWorkspace<kCoarseMaxPx> transform;  ///< planes of CorrelationMethod::kTransform
 };
 
 struct CoarseResult {

@@ -21,9 +21,38 @@ struct SurfaceJob {
   const TemplateStats& stats;
   const CorrelatorBuffers& buf;
   const CorrelationTaps& taps;
+  CorrelationMethod method;
   ImageF32 surface;
   ImageU8 flags;
 };
+
+/** The surface of @p j by its method, each dot product published and summed into @p check. */
+Status surface_of(const SurfaceJob& j, const IntegralRef& integral, NccCheck& check, std::int32_t& flat_windows,
+                  bsp::Work& work) noexcept {
+  if (j.method == CorrelationMethod::kSpatial) {
+    return ncc_surface(j.tmpl, j.stats, j.window, integral, j.surface, j.flags, flat_windows, work, &check);
+  }
+  ImageView<const std::uint32_t> dots;
+  const Status st = transform_dots(j.tmpl, j.window, j.buf.transform, dots, work);
+  if (st != Status::kOk) {
+    return st;
+  }
+  return ncc_surface_from_dots(j.stats, integral, dots, j.surface, j.flags, flat_windows, work, &check);
+}
+
+/** Whether @p method can run on @p buf for @p window: kOk, or why not. */
+Status method_fits(CorrelationMethod method, const CorrelatorBuffers& buf, ConstImageU8 window) noexcept {
+  if (method == CorrelationMethod::kSpatial) {
+    return Status::kOk;
+  }
+  if (method != CorrelationMethod::kTransform || buf.transform.window_plane == nullptr ||
+      buf.transform.template_plane == nullptr || buf.transform.scaled == nullptr) {
+    return Status::kBadInput;
+  }
+  const bool fits = window.width <= buf.transform.max_side && window.height <= buf.transform.max_side &&
+                    window.width <= kNttMaxSide && window.height <= kNttMaxSide;
+  return fits ? Status::kOk : Status::kTooLarge;
+}
 
 /**
  * Builds the window's integral image and the surface (publishing each dot
@@ -38,7 +67,7 @@ Status compute_surface(const SurfaceJob& j, IntegralRef& integral, NccCheck& che
   }
   check.publish = j.taps.publish;
   check.dot_channel = j.taps.dot_channel;
-  st = ncc_surface(j.tmpl, j.stats, j.window, integral, j.surface, j.flags, flat_windows, work, &check);
+  st = surface_of(j, integral, check, flat_windows, work);
   if (st != Status::kOk) {
     return st;
   }
@@ -108,7 +137,7 @@ Status checked_surface(const SurfaceJob& j, const QualityParams& q, MatchResult&
 }  // namespace
 
 Status correlate(ConstImageU8 tmpl, ConstImageU8 window, const QualityParams& q, const CorrelatorBuffers& buf,
-                 MatchResult& out, bsp::Work& work, const CorrelationTaps& taps) noexcept {
+                 MatchResult& out, bsp::Work& work, const CorrelationTaps& taps, CorrelationMethod method) noexcept {
   out = MatchResult{};
   if (!tmpl.valid() || !window.valid() || tmpl.width > window.width || tmpl.height > window.height ||
       buf.sum == nullptr || buf.surface == nullptr || buf.flags == nullptr) {
@@ -116,6 +145,10 @@ Status correlate(ConstImageU8 tmpl, ConstImageU8 window, const QualityParams& q,
   }
   if (window.width > buf.max_window_px || window.height > buf.max_window_px) {
     return Status::kTooLarge;
+  }
+  const Status fit = method_fits(method, buf, window);
+  if (fit != Status::kOk) {
+    return fit;
   }
   TemplateStats stats;
   const Status st = template_stats(tmpl, stats, work);
@@ -128,7 +161,8 @@ Status correlate(ConstImageU8 tmpl, ConstImageU8 window, const QualityParams& q,
   }
   const std::int32_t sw = window.width - tmpl.width + 1;
   const std::int32_t sh = window.height - tmpl.height + 1;
-  const SurfaceJob job{tmpl, window, stats, buf, taps, ImageF32{buf.surface, sw, sh, sw}, ImageU8{buf.flags, sw, sh, sw}};
+  const SurfaceJob job{tmpl,   window, stats, buf, taps, method, ImageF32{buf.surface, sw, sh, sw},
+                       ImageU8{buf.flags, sw, sh, sw}};
   const Status cs = checked_surface(job, q, out, work);
   if (cs != Status::kOk) {
     return cs;

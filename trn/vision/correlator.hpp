@@ -18,6 +18,23 @@
  * kCorrelationMaxRecompute times; still wrong, the match is rejected with
  * Reject::kCheckFailed, so nothing wrong is sent. A recomputed match is bit
  * for bit the clean one.
+ *
+ * Two ways to the dot products (CorrelationMethod), one set of checks. kSpatial
+ * computes each dot product alone (ncc_surface); kTransform computes them all
+ * at once by the exact integer transform (transform_dots.hpp) and scores them by
+ * the same code (ncc_surface_from_dots). Both give the same integers, so the
+ * same surface, checksums and match, bit for bit. On either path each dot
+ * product is published on the dot channel before its use and summed, so a
+ * corruption injected there is caught the same way. What the checks cover on
+ * the transform path: the dot-product sum checks the whole transform end to end
+ * (loads, both forward transforms, the pointwise product, the inverse); one
+ * wrong dot product always fails it. A fault inside the transform spreads over
+ * many dot products (a wrong spectrum value shifts every output by a multiple
+ * of its root's powers, mod p) and fails it unless their integer errors sum to
+ * exactly zero, which is not excluded by construction but needs thousands of
+ * residues to cancel. The peak's neighbourhood is computed again by the spatial
+ * dot products, a different algorithm, so the values a match is made of are
+ * checked independently of the transform.
  */
 #pragma once
 
@@ -27,6 +44,7 @@
 #include "trn/vision/integral.hpp"
 #include "trn/vision/ncc.hpp"
 #include "trn/vision/peak.hpp"
+#include "trn/vision/transform_dots.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -39,6 +57,12 @@ inline constexpr std::uint32_t kCorrelationSurfaceChannel = 9;
 inline constexpr std::uint32_t kCorrelationDotChannel = 10;
 /** Recomputations of a surface found wrong before the match is rejected (as fdir::kAbftMaxRecompute). */
 inline constexpr std::uint32_t kCorrelationMaxRecompute = 2U;
+
+/** How a surface's dot products are computed (the same integers either way; see the file comment). */
+enum class CorrelationMethod : std::uint8_t {
+  kSpatial = 0,    ///< each dot product alone: n integer MACs per offset
+  kTransform = 1,  ///< all at once by the exact 2-D transform; needs CorrelatorBuffers::transform
+};
 
 /** The check that found a correlation wrong (the events' cause). */
 enum class CorrelationCheck : std::uint8_t {
@@ -63,6 +87,7 @@ struct CorrelatorBuffers {
   float* surface = nullptr;
   std::uint8_t* flags = nullptr;
   std::int32_t max_window_px = 0;     ///< window (and surface) side capacity
+  TransformBuffers transform{};       ///< planes of CorrelationMethod::kTransform (none: spatial only)
 };
 
 /** Buffers for windows up to MaxWindow x MaxWindow pixels. */
@@ -99,12 +124,15 @@ struct MatchResult {
  * Correlates @p tmpl over every position of @p window, checks the surface and
  * its peak (see the file comment) and applies the quality checks.
  * @param taps where the dot products and the surface are published
- * @return kBadInput for invalid views or a template larger than the window,
- *         kTooLarge when the window exceeds the buffers. A flat template or
+ * @param method how the dot products are computed; the result does not depend on it
+ * @return kBadInput for invalid views, a template larger than the window or
+ *         kTransform without transform buffers; kTooLarge when the window
+ *         exceeds the buffers (the transform's too). A flat template or
  *         all-flat window is not an error: the result says kFlatTemplate / kFlatWindow;
  *         a surface still wrong after its recomputations says kCheckFailed.
  */
 Status correlate(ConstImageU8 tmpl, ConstImageU8 window, const QualityParams& q, const CorrelatorBuffers& buf,
-                 MatchResult& out, bsp::Work& work, const CorrelationTaps& taps = CorrelationTaps{}) noexcept;
+                 MatchResult& out, bsp::Work& work, const CorrelationTaps& taps = CorrelationTaps{},
+                 CorrelationMethod method = CorrelationMethod::kSpatial) noexcept;
 
 }  // namespace trn::vision

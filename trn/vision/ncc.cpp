@@ -74,15 +74,64 @@ float score_from(const TemplateStats& stats, const WindowTerms& t, std::uint32_t
 /** The bits of a score, for the surface's digest. */
 std::uint64_t bits_of(float v) noexcept { return std::bit_cast<std::uint32_t>(v); }
 
+/** Whether the surface, flags and integral fit each other and a non-flat template of @p stats. */
+bool shape_ok(const TemplateStats& stats, const IntegralRef& integral, ImageF32 surface, ImageU8 flags) noexcept {
+  const bool sizes_ok = surface.valid() && integral.sum != nullptr &&
+                        surface.width == integral.width - stats.width + 1 &&
+                        surface.height == integral.height - stats.height + 1;
+  const bool flags_ok = !flags.valid() || (flags.width == surface.width && flags.height == surface.height);
+  return sizes_ok && flags_ok && !stats.flat;
+}
+
 /** Whether the views and sizes suit ncc_surface(). */
 bool surface_args_ok(ConstImageU8 tmpl, const TemplateStats& stats, ConstImageU8 window,
                      const IntegralRef& integral, ImageF32 surface, ImageU8 flags) noexcept {
-  const bool sizes_ok = tmpl.valid() && window.valid() && surface.valid() && stats.width == tmpl.width &&
-                        stats.height == tmpl.height && integral.width == window.width &&
-                        integral.height == window.height && surface.width == window.width - tmpl.width + 1 &&
-                        surface.height == window.height - tmpl.height + 1;
-  const bool flags_ok = !flags.valid() || (flags.width == surface.width && flags.height == surface.height);
-  return sizes_ok && flags_ok && !stats.flat && integral.sum != nullptr;
+  return tmpl.valid() && window.valid() && stats.width == tmpl.width && stats.height == tmpl.height &&
+         integral.width == window.width && integral.height == window.height &&
+         shape_ok(stats, integral, surface, flags);
+}
+
+/**
+ * The surface, position by position: the one loop of both paths. @p dot_at(x, y)
+ * gives the dot product at a non-flat offset; it is published in place before its
+ * use, so a corruption injected there is what the score and the sum see.
+ */
+template <typename DotAt>
+void score_surface(const TemplateStats& stats, const IntegralRef& integral, ImageF32 surface, ImageU8 flags,
+                   std::int32_t& flat_count, NccCheck& c, const DotAt& dot_at) noexcept {
+  c.dot_sum = 0;
+  c.surface_sum = 0U;
+  for (std::int32_t y = 0; y < surface.height; ++y) {
+    float* out = surface.row(y);
+    for (std::int32_t x = 0; x < surface.width; ++x) {
+      const WindowTerms t = window_terms(integral, x, y, stats.width, stats.height, stats.n);
+      const bool flat = t.var_w <= 0;
+      if (flat) {
+        out[x] = 0.0F;
+        ++flat_count;
+        c.dot_sum += stats.sum * (t.sw / stats.n);  // every pixel is sw / n, exactly
+      } else {
+        std::uint32_t dot = dot_at(x, y);
+        if (c.publish != nullptr) {
+          (void)c.publish(c.dot_channel, &dot, sizeof dot);
+        }
+        c.dot_sum += dot;
+        out[x] = score_from(stats, t, dot);
+      }
+      c.surface_sum += bits_of(out[x]);
+      if (flags.valid()) {
+        flags.at(x, y) = flat ? 1U : 0U;
+      }
+    }
+  }
+}
+
+/** The two sums of a checked surface, when asked for. */
+void charge_check(const NccCheck* check, ImageF32 surface, bsp::Work& work) noexcept {
+  if (check != nullptr) {
+    const auto positions = static_cast<std::uint64_t>(surface.width) * static_cast<std::uint64_t>(surface.height);
+    work.int_ops += 2U * positions;
+  }
 }
 
 }  // namespace
@@ -118,16 +167,25 @@ Status template_stats(ConstImageU8 tmpl, TemplateStats& out, bsp::Work& work) no
   return Status::kOk;
 }
 
+bsp::Work ncc_score_work(std::int32_t surf_w, std::int32_t surf_h) noexcept {
+  const auto positions = static_cast<std::uint64_t>(surf_w) * static_cast<std::uint64_t>(surf_h);
+  bsp::Work w;
+  w.int_macs = positions * 3U;    // n*dot, sum products
+  w.int_ops = positions * 12U;    // integral corners, subtractions
+  w.mem_words = positions * 13U;  // the corners (four uint32, four uint64: 12 words), one output
+  w.flops = positions * 3U;       // product, convert, clamp
+  w.fdivs = positions * 2U;       // square root and division
+  return w;
+}
+
 bsp::Work ncc_surface_work(std::int32_t tmpl_w, std::int32_t tmpl_h, std::int32_t surf_w,
                            std::int32_t surf_h) noexcept {
   const auto n = static_cast<std::uint64_t>(tmpl_w) * static_cast<std::uint64_t>(tmpl_h);
   const auto positions = static_cast<std::uint64_t>(surf_w) * static_cast<std::uint64_t>(surf_h);
-  bsp::Work w;
-  w.int_macs = positions * (n + 3U);            // dot product, n*dot, sum products
-  w.int_ops = positions * (n / 8U + 12U);       // row accumulations, integral corners, subtractions
-  w.mem_words = positions * (n / 2U + 12U + 1U);  // template + window bytes, 8 integral words, output
-  w.flops = positions * 3U;                     // product, convert, clamp
-  w.fdivs = positions * 2U;                     // square root and division
+  bsp::Work w = ncc_score_work(surf_w, surf_h);
+  w.int_macs += positions * n;        // the dot product
+  w.int_ops += positions * (n / 8U);  // row accumulations
+  w.mem_words += positions * (n / 2U);  // template and window bytes
   return w;
 }
 
@@ -139,38 +197,27 @@ Status ncc_surface(ConstImageU8 tmpl, const TemplateStats& stats, ConstImageU8 w
     return Status::kBadInput;
   }
   NccCheck none;
-  NccCheck& c = check != nullptr ? *check : none;
-  c.dot_sum = 0;
-  c.surface_sum = 0U;
-  for (std::int32_t y = 0; y < surface.height; ++y) {
-    float* out = surface.row(y);
-    for (std::int32_t x = 0; x < surface.width; ++x) {
-      const detail::WindowTerms t = detail::window_terms(integral, x, y, tmpl.width, tmpl.height, stats.n);
-      const bool flat = t.var_w <= 0;
-      if (flat) {
-        out[x] = 0.0F;
-        ++flat_count;
-        c.dot_sum += stats.sum * (t.sw / stats.n);  // every pixel is sw / n, exactly
-      } else {
-        std::uint32_t dot = detail::dot_at(tmpl, window, x, y);
-        // Published in place before its use: a corruption injected there is what the score and the sum see.
-        if (c.publish != nullptr) {
-          (void)c.publish(c.dot_channel, &dot, sizeof dot);
-        }
-        c.dot_sum += dot;
-        out[x] = detail::score_from(stats, t, dot);
-      }
-      c.surface_sum += detail::bits_of(out[x]);
-      if (flags.valid()) {
-        flags.at(x, y) = flat ? 1U : 0U;
-      }
-    }
-  }
+  detail::score_surface(stats, integral, surface, flags, flat_count, check != nullptr ? *check : none,
+                        [&](std::int32_t x, std::int32_t y) { return detail::dot_at(tmpl, window, x, y); });
   work += ncc_surface_work(tmpl.width, tmpl.height, surface.width, surface.height);
-  if (check != nullptr) {
-    const auto positions = static_cast<std::uint64_t>(surface.width) * static_cast<std::uint64_t>(surface.height);
-    work.int_ops += 2U * positions;  // the two sums
+  detail::charge_check(check, surface, work);
+  return Status::kOk;
+}
+
+Status ncc_surface_from_dots(const TemplateStats& stats, const IntegralRef& integral,
+                             ImageView<const std::uint32_t> dots, ImageF32 surface, ImageU8 flags,
+                             std::int32_t& flat_count, bsp::Work& work, NccCheck* check) noexcept {
+  flat_count = 0;
+  if (!dots.valid() || !detail::shape_ok(stats, integral, surface, flags) || dots.width != surface.width ||
+      dots.height != surface.height) {
+    return Status::kBadInput;
   }
+  NccCheck none;
+  detail::score_surface(stats, integral, surface, flags, flat_count, check != nullptr ? *check : none,
+                        [&](std::int32_t x, std::int32_t y) { return dots.at(x, y); });
+  work += ncc_score_work(surface.width, surface.height);
+  work.mem_words += static_cast<std::uint64_t>(surface.width) * static_cast<std::uint64_t>(surface.height);
+  detail::charge_check(check, surface, work);
   return Status::kOk;
 }
 

@@ -92,6 +92,21 @@ Status ncc_surface(ConstImageU8 tmpl, const TemplateStats& stats, ConstImageU8 w
                    NccCheck* check = nullptr) noexcept;
 
 /**
+ * The correlation surface from dot products computed elsewhere (transform_dots.hpp):
+ * @p dots (x, y) is sum T W with the template at window offset (x, y), for every
+ * offset of @p surface. The rest is ncc_surface()'s, by the same code: given the
+ * same dot products, the same scores, flags, flat count, publications (each
+ * non-flat offset's dot product, in place before its use, in the same order) and
+ * check sums, bit for bit. A flat window's dot product is neither read nor
+ * published; it enters the sum by its exact value, as in ncc_surface().
+ * @param integral built over the window the dot products came from
+ * @return kBadInput when sizes disagree or the template is flat (surface untouched).
+ */
+Status ncc_surface_from_dots(const TemplateStats& stats, const IntegralRef& integral,
+                             ImageView<const std::uint32_t> dots, ImageF32 surface, ImageU8 flags,
+                             std::int32_t& flat_count, bsp::Work& work, NccCheck* check = nullptr) noexcept;
+
+/**
  * The score ncc_surface() gives offset (@p x, @p y), computed alone by the same
  * operations in the same order: bit for bit the surface's value (0 for a flat
  * window). Pre: the arguments passed ncc_surface()'s checks and (x, y) is on its surface.
@@ -110,7 +125,13 @@ std::int64_t ncc_dot_checksum(ConstImageU8 tmpl, const IntegralRef& integral, st
 /** The sum of the bit patterns of @p surface's values (NccCheck::surface_sum of an intact surface). */
 std::uint64_t surface_digest(ConstImageF32 surface, bsp::Work& work) noexcept;
 
-/** Work one surface costs, as ncc_surface() counts it (for budgets and tests). */
+/**
+ * Work of the scores of a surface from given dot products (window sums, numerator,
+ * square root, division); ncc_surface_from_dots() adds one word per offset to read its dot product.
+ */
+bsp::Work ncc_score_work(std::int32_t surf_w, std::int32_t surf_h) noexcept;
+
+/** Work one surface costs, as ncc_surface() counts it: the dot products plus ncc_score_work() (for budgets and tests). */
 bsp::Work ncc_surface_work(std::int32_t tmpl_w, std::int32_t tmpl_h, std::int32_t surf_w,
                            std::int32_t surf_h) noexcept;
 

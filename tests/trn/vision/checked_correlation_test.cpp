@@ -2,7 +2,8 @@
  * @file checked_correlation_test.cpp
  * @brief The checked correlation (correlator.hpp): the dot-product checksum is exact, every single
  *        corrupted dot product and a corrupted surface are found and computed again to the clean match
- *        bit for bit, and a persistent corruption rejects the match (FDIR-CC-01..04).
+ *        bit for bit, and a persistent corruption rejects the match (FDIR-CC-01..04), by the spatial
+ *        and by the transform dot products alike.
  */
 #include "trn/vision/correlator.hpp"
 #include "trn/vision/integral.hpp"
@@ -66,13 +67,17 @@ struct Scene {
   Image window = vision_test::smooth_texture(kWin, kWin, 1, 7U);
   Image tmpl{kTmpl, kTmpl};
   tv::CorrelatorWorkspace<32> ws{};
+  tv::TransformWorkspace<32> tws{};
 
   Scene() {
     for (std::int32_t y = 0; y < kTmpl; ++y)
       for (std::int32_t x = 0; x < kTmpl; ++x) tmpl.at(x, y) = window.at(kTrueX + x, kTrueY + y);
   }
-  tv::Status run(tv::MatchResult& out, const tv::CorrelationTaps& taps, bsp::Work& work) {
-    return tv::correlate(tmpl.view(), window.view(), tv::QualityParams{}, ws.buffers(), out, work, taps);
+  tv::Status run(tv::MatchResult& out, const tv::CorrelationTaps& taps, bsp::Work& work,
+                 tv::CorrelationMethod method = tv::CorrelationMethod::kSpatial) {
+    tv::CorrelatorBuffers buf = ws.buffers();
+    buf.transform = tws.buffers();
+    return tv::correlate(tmpl.view(), window.view(), tv::QualityParams{}, buf, out, work, taps, method);
   }
 };
 
@@ -80,6 +85,10 @@ tv::CorrelationTaps test_taps(std::uint32_t channel, std::int64_t index, std::ui
   g_corruption = Corruption{channel, index, period, bit, 0, 0};
   return tv::CorrelationTaps{&corrupt, kTestChannelDot, kTestChannelSurface};
 }
+
+constexpr tv::CorrelationMethod kMethods[] = {tv::CorrelationMethod::kSpatial, tv::CorrelationMethod::kTransform};
+
+const char* name_of(tv::CorrelationMethod m) { return m == tv::CorrelationMethod::kSpatial ? "spatial" : "transform"; }
 
 std::vector<float> copy_surface(const tv::MatchResult& r) {
   std::vector<float> v;
@@ -165,7 +174,8 @@ TEST(CheckedCorrelation, ACleanSurfacePassesWithNoRecomputation) {
 }
 
 // FDIR-CC-02: every single dot product of the surface, corrupted in turn (a low and a high bit), is
-// found by the checksum; the surface computed again gives the clean match bit for bit.
+// found by the checksum; the surface computed again gives the clean match bit for bit. On the transform
+// path the dot products are published before use just the same, so the same corruptions are caught.
 TEST(CheckedCorrelation, EveryCorruptedDotProductIsFoundAndTheMatchIsTheCleanOne) {
   Scene sc;
   tv::MatchResult clean;
@@ -173,15 +183,17 @@ TEST(CheckedCorrelation, EveryCorruptedDotProductIsFoundAndTheMatchIsTheCleanOne
   ASSERT_EQ(sc.run(clean, tv::CorrelationTaps{nullptr, 0U, 0U}, w), tv::Status::kOk);
   ASSERT_TRUE(clean.accepted());
   const std::vector<float> s0 = copy_surface(clean);
-  for (const std::uint32_t bit : {0U, 21U}) {
-    for (std::int64_t k = 0; k < std::int64_t{kSurf} * kSurf; ++k) {
-      tv::MatchResult r;
-      ASSERT_EQ(sc.run(r, test_taps(kTestChannelDot, k, bit), w), tv::Status::kOk);
-      ASSERT_EQ(g_corruption.flips, 1) << "dot " << k;
-      EXPECT_EQ(r.recomputes, 1U) << "dot " << k << " bit " << bit;
-      EXPECT_EQ(r.first_check, tv::CorrelationCheck::kDotSum) << "dot " << k;
-      EXPECT_FALSE(r.check_failed);
-      expect_same_match(clean, s0, r, "dot");
+  for (const tv::CorrelationMethod method : kMethods) {
+    for (const std::uint32_t bit : {0U, 21U}) {
+      for (std::int64_t k = 0; k < std::int64_t{kSurf} * kSurf; ++k) {
+        tv::MatchResult r;
+        ASSERT_EQ(sc.run(r, test_taps(kTestChannelDot, k, bit), w, method), tv::Status::kOk);
+        ASSERT_EQ(g_corruption.flips, 1) << name_of(method) << " dot " << k;
+        EXPECT_EQ(r.recomputes, 1U) << name_of(method) << " dot " << k << " bit " << bit;
+        EXPECT_EQ(r.first_check, tv::CorrelationCheck::kDotSum) << name_of(method) << " dot " << k;
+        EXPECT_FALSE(r.check_failed);
+        expect_same_match(clean, s0, r, name_of(method));
+      }
     }
   }
 }
@@ -214,17 +226,52 @@ TEST(CheckedCorrelation, APersistentCorruptionRejectsTheMatch) {
   Scene sc;
   bsp::Work w;
   const std::int64_t dots = std::int64_t{kSurf} * kSurf;
-  for (const std::uint32_t channel : {kTestChannelDot, kTestChannelSurface}) {
-    tv::MatchResult r;
-    // Dot product 5 of each computation, or value 0 of each surface (one publication per computation).
-    const bool dot = channel == kTestChannelDot;
-    ASSERT_EQ(sc.run(r, test_taps(channel, dot ? 5 : 0, 27U, dot ? dots : 1), w), tv::Status::kOk);
-    EXPECT_EQ(g_corruption.flips, std::int64_t{tv::kCorrelationMaxRecompute} + 1) << "channel " << channel;
-    EXPECT_TRUE(r.check_failed);
-    EXPECT_EQ(r.recomputes, tv::kCorrelationMaxRecompute);
-    EXPECT_EQ(r.reason(), tv::Reject::kCheckFailed);
-    EXPECT_FALSE(r.accepted());
+  for (const tv::CorrelationMethod method : kMethods) {
+    for (const std::uint32_t channel : {kTestChannelDot, kTestChannelSurface}) {
+      tv::MatchResult r;
+      // Dot product 5 of each computation, or value 0 of each surface (one publication per computation).
+      const bool dot = channel == kTestChannelDot;
+      ASSERT_EQ(sc.run(r, test_taps(channel, dot ? 5 : 0, 27U, dot ? dots : 1), w, method), tv::Status::kOk);
+      EXPECT_EQ(g_corruption.flips, std::int64_t{tv::kCorrelationMaxRecompute} + 1)
+          << name_of(method) << " channel " << channel;
+      EXPECT_TRUE(r.check_failed) << name_of(method);
+      EXPECT_EQ(r.recomputes, tv::kCorrelationMaxRecompute);
+      EXPECT_EQ(r.reason(), tv::Reject::kCheckFailed);
+      EXPECT_FALSE(r.accepted());
+    }
   }
+}
+
+// FDIR-CC-01: the transform path gives the spatial match, surface and recomputation count bit for bit,
+// publishes as many dot products (one per non-flat offset), and needs its buffers.
+TEST(CheckedCorrelation, TheTransformPathGivesTheSpatialMatchBitForBit) {
+  Scene sc;
+  tv::MatchResult spatial;
+  bsp::Work ws;
+  ASSERT_EQ(sc.run(spatial, test_taps(0U, -1, 0U), ws), tv::Status::kOk);
+  const std::vector<float> s0 = copy_surface(spatial);
+  g_corruption = Corruption{kTestChannelDot, -1, 0, 0U, 0, 0};
+  tv::MatchResult transform;
+  bsp::Work wt;
+  ASSERT_EQ(sc.run(transform, tv::CorrelationTaps{&corrupt, kTestChannelDot, kTestChannelSurface}, wt,
+                   tv::CorrelationMethod::kTransform),
+            tv::Status::kOk);
+  EXPECT_EQ(g_corruption.calls, std::int64_t{kSurf} * kSurf) << "one publication per dot product";
+  EXPECT_TRUE(transform.accepted());
+  EXPECT_EQ(transform.recomputes, 0U);
+  EXPECT_EQ(transform.flat_windows, spatial.flat_windows);
+  expect_same_match(spatial, s0, transform, "transform");
+  EXPECT_NE(wt.int_macs, ws.int_macs) << "the transform path counts its own work";
+  tv::MatchResult r;
+  tv::CorrelatorBuffers no_planes = sc.ws.buffers();
+  EXPECT_EQ(tv::correlate(sc.tmpl.view(), sc.window.view(), tv::QualityParams{}, no_planes, r, wt,
+                          tv::CorrelationTaps{}, tv::CorrelationMethod::kTransform),
+            tv::Status::kBadInput);
+  static tv::TransformWorkspace<16> small;
+  no_planes.transform = small.buffers();
+  EXPECT_EQ(tv::correlate(sc.tmpl.view(), sc.window.view(), tv::QualityParams{}, no_planes, r, wt,
+                          tv::CorrelationTaps{}, tv::CorrelationMethod::kTransform),
+            tv::Status::kTooLarge);
 }
 
 // The checks' cost: the checksum (one integral lookup per template pixel), the digest (one add per

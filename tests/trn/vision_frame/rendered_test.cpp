@@ -2,7 +2,9 @@
  * @file rendered_test.cpp
  * @brief Per-frame vision on rendered frames of the default world and descent, two world seeds:
  *        fine matches land on the truth projection (exact and offset priors), the coarse stage
- *        removes kilometre errors and fine matching works after it, bad inputs are refused.
+ *        removes kilometre errors and fine matching works after it (by the spatial and the
+ *        transform correlation alike, bit for bit), its grid footprint warp stays within a
+ *        sixty-fourth of a pixel and 1 DN of the exact warp, bad inputs are refused.
  *
  * The world (default 4096^2 terrain, map product, descent shading, landmarks)
  * is built once per seed: the tests are typed over the seed so that gtest runs
@@ -10,8 +12,14 @@
  */
 #include "tests/trn/vision_frame/world.hpp"
 
+#include "bsp_tile64/cost_model.hpp"
+#include "bsp_tile64/profile.hpp"
+#include "trn/vision/pose_geometry.hpp"
+#include "trn/vision/warp_grid.hpp"
+
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cstdio>
 #include <type_traits>
 
@@ -153,7 +161,9 @@ TYPED_TEST(Rendered, WithoutRelightingTheMapSunDefeatsTheFineChecks) {
 
 /** Coarse stage at @p alt with the prior moved by (dx, dy); returns the result and the error after dp_m. */
 tv::CoarseFrameResult run_coarse(World& w, double alt, double dx, double dy, const tv::MapView& map, double& err_m,
-                                 tv::PosePrior& prior, bsp::CameraPose& truth) {
+                                 tv::PosePrior& prior, bsp::CameraPose& truth,
+                                 const tv::CoarseFrameParams& params = tv::CoarseFrameParams{},
+                                 bsp::Work* work_out = nullptr) {
   static tv::CoarseFrameWorkspace ws;
   double t = 0.0;
   truth = w.truth_at(alt, &t);
@@ -162,10 +172,12 @@ tv::CoarseFrameResult run_coarse(World& w, double alt, double dx, double dy, con
   prior.p_m[1] += dy;
   tv::CoarseFrameResult r;
   bsp::Work work;
-  EXPECT_EQ(tv::coarse_frame(w.view(w.frame_at(alt)), w.cam, prior, map, tv::CoarseFrameParams{}, ws, r, work),
-            tv::Status::kOk);
+  EXPECT_EQ(tv::coarse_frame(w.view(w.frame_at(alt)), w.cam, prior, map, params, ws, r, work), tv::Status::kOk);
+  if (work_out != nullptr) {
+    *work_out = work;
+  }
   err_m = std::hypot(prior.p_m[0] + r.dp_m[0] - truth.r_m.x(), prior.p_m[1] + r.dp_m[1] - truth.r_m.y());
-  if (r.accepted) {
+  if (r.accepted && params.coarse.method == tv::CorrelationMethod::kSpatial) {
     EXPECT_GT(work.int_macs, 100000000U);  // ~153 M MACs of correlation
     if (dx > 0.0 && dy > 0.0 && dx < 3000.0) {
       std::printf("[ coarse work ] %.1f M MACs %.2f M int ops %.2f M flops %.2f M fdivs %.2f M mem words\n",
@@ -192,6 +204,8 @@ TYPED_TEST(Rendered, CoarseStageRemovesThreeToFourKilometreErrorsThenFineMatchin
     ASSERT_TRUE(c.accepted) << "seed " << this->kSeed << " direction " << d << " reason "
                             << static_cast<int>(c.coarse.match.reason());
     errs.push_back(err);
+    std::printf("[ seed %llu   4000 m coarse    ] direction %d: error after dp %.2f m\n",
+                static_cast<unsigned long long>(this->kSeed), d, err);
     EXPECT_LT(err, 25.0) << "seed " << this->kSeed << " direction " << d;  // half a coarse-scale (48 m) pixel
     // The coarse Match: the image point sees its map point, within its sigma.
     const trn::Match& m = c.match;
@@ -237,6 +251,157 @@ TYPED_TEST(Rendered, CoarseStageOnTheUnrelitMapIsBiasedButWithinOneHundredMetres
   }
   std::printf("[ seed %llu   4000 m coarse    ] unrelit map: error after dp median %.1f max %.1f m\n",
               static_cast<unsigned long long>(this->kSeed), quantile(errs, 0.5), quantile(errs, 1.0));
+}
+
+/** The bits of a double, for bit-for-bit comparisons. */
+std::uint64_t bits(double v) { return std::bit_cast<std::uint64_t>(v); }
+
+/** The coarse surface of the last coarse_frame(), copied (the next call reuses the workspace). */
+std::vector<std::uint32_t> surface_bits(const tv::CoarseFrameResult& r) {
+  std::vector<std::uint32_t> v;
+  const tv::ConstImageF32 s = r.coarse.match.surface;
+  for (std::int32_t y = 0; y < s.height; ++y)
+    for (std::int32_t x = 0; x < s.width; ++x) v.push_back(std::bit_cast<std::uint32_t>(s.at(x, y)));
+  return v;
+}
+
+TYPED_TEST(Rendered, CoarseStageByTheTransformGivesTheSpatialResultBitForBit) {
+  // The scenes of CoarseStageRemovesThreeToFourKilometreErrors: the relit layer, eight directions at
+  // 3.2 km, then 4.2 km east. The transform path must give the same result to the last bit.
+  World& w = *this->w_;
+  tv::CoarseFrameParams transform_p;
+  transform_p.coarse.method = tv::CorrelationMethod::kTransform;
+  for (int d = 0; d < 9; ++d) {
+    const double az = d * 45.0 * kDeg;
+    const double r = d < 8 ? 3200.0 : 4200.0;
+    double err_s = 0.0;
+    double err_t = 0.0;
+    tv::PosePrior prior;
+    bsp::CameraPose truth;
+    bsp::Work ws;
+    bsp::Work wt;
+    const tv::CoarseFrameResult s = run_coarse(w, 4000.0, r * std::sin(az), r * std::cos(az), w.coarse_lit, err_s,
+                                               prior, truth, tv::CoarseFrameParams{}, &ws);
+    const std::vector<std::uint32_t> surface_s = surface_bits(s);
+    const tv::CoarseFrameResult t = run_coarse(w, 4000.0, r * std::sin(az), r * std::cos(az), w.coarse_lit, err_t,
+                                               prior, truth, transform_p, &wt);
+    ASSERT_TRUE(s.accepted) << "seed " << this->kSeed << " direction " << d;
+    EXPECT_EQ(t.accepted, s.accepted) << "direction " << d;
+    EXPECT_EQ(bits(t.dp_m[0]), bits(s.dp_m[0])) << "direction " << d;
+    EXPECT_EQ(bits(t.dp_m[1]), bits(s.dp_m[1])) << "direction " << d;
+    EXPECT_EQ(bits(t.sigma_m), bits(s.sigma_m));
+    EXPECT_EQ(bits(t.ground_z_m), bits(s.ground_z_m));
+    EXPECT_EQ(t.outside_px, s.outside_px);
+    EXPECT_EQ(bits(t.coarse.x_px), bits(s.coarse.x_px)) << "direction " << d;
+    EXPECT_EQ(bits(t.coarse.y_px), bits(s.coarse.y_px)) << "direction " << d;
+    EXPECT_EQ(t.coarse.match.peak.ix, s.coarse.match.peak.ix);
+    EXPECT_EQ(t.coarse.match.peak.iy, s.coarse.match.peak.iy);
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(t.coarse.match.peak.score),
+              std::bit_cast<std::uint32_t>(s.coarse.match.peak.score));
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(t.coarse.match.peak.second),
+              std::bit_cast<std::uint32_t>(s.coarse.match.peak.second));
+    EXPECT_EQ(t.coarse.match.flat_windows, s.coarse.match.flat_windows);
+    EXPECT_EQ(t.coarse.match.recomputes, s.coarse.match.recomputes);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(bits(t.match.w_c[k]), bits(s.match.w_c[k])) << "direction " << d;
+      EXPECT_EQ(bits(t.match.p_m[k]), bits(s.match.p_m[k])) << "direction " << d;
+    }
+    EXPECT_EQ(bits(t.match.u_px), bits(s.match.u_px));
+    EXPECT_EQ(bits(t.match.v_px), bits(s.match.v_px));
+    EXPECT_EQ(bits(t.match.sigma_px), bits(s.match.sigma_px));
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(t.match.quality), std::bit_cast<std::uint32_t>(s.match.quality));
+    EXPECT_EQ(surface_bits(t), surface_s) << "direction " << d;
+    const auto cs = static_cast<double>(bsp::cost_of(bsp::kTile64, ws));
+    const auto ct = static_cast<double>(bsp::cost_of(bsp::kTile64, wt));
+    // The footprint warp (grid warp, ~3.7 M cycles) is the same on both paths.
+    EXPECT_LT(ct, 0.4 * cs) << "direction " << d;
+    if (d == 0) {
+      std::printf("[ seed %llu   4000 m coarse    ] coarse_frame TILE64 cycles: spatial %.1f M, transform %.1f M\n",
+                  static_cast<unsigned long long>(this->kSeed), cs / 1e6, ct / 1e6);
+    }
+  }
+}
+
+TYPED_TEST(Rendered, CoarseFootprintGridWarpIsWithinASixtyFourthPixelAndOneDnOfTheExactWarp) {
+  // The scenes of CoarseStageRemovesThreeToFourKilometreErrors, by the coordinator's method: the
+  // footprint homographies coarse_frame builds, the grid warp's source coordinates against them per
+  // spacing, its pixels against warp_homography()'s, and the stage's offsets and cycles both ways.
+  World& w = *this->w_;
+  tv::CoarseFrameParams grid_p;
+  grid_p.coarse.method = tv::CorrelationMethod::kTransform;
+  tv::CoarseFrameParams exact_p = grid_p;
+  exact_p.warp_grid_px = 0;
+  ASSERT_EQ(grid_p.warp_grid_px, 8);
+  static std::vector<std::uint8_t> exact_px(std::size_t{256} * 256U);
+  static std::vector<std::uint8_t> grid_px(std::size_t{256} * 256U);
+  double worst_px[4] = {};
+  int worst_dn[2] = {};  // G 8 (the default), G 16
+  double worst_dp_m = 0.0;
+  for (int d = 0; d < 9; ++d) {
+    const double az = d * 45.0 * kDeg;
+    const double r = d < 8 ? 3200.0 : 4200.0;
+    double err_e = 0.0;
+    double err_g = 0.0;
+    tv::PosePrior prior;
+    bsp::CameraPose truth;
+    bsp::Work we;
+    bsp::Work wg;
+    const tv::CoarseFrameResult e = run_coarse(w, 4000.0, r * std::sin(az), r * std::cos(az), w.coarse_lit, err_e,
+                                               prior, truth, exact_p, &we);
+    const tv::CoarseFrameResult g = run_coarse(w, 4000.0, r * std::sin(az), r * std::cos(az), w.coarse_lit, err_g,
+                                               prior, truth, grid_p, &wg);
+    ASSERT_TRUE(e.accepted && g.accepted) << "seed " << this->kSeed << " direction " << d;
+    // The same footprint geometry both ways; only the resampling differs.
+    for (int k = 0; k < 9; ++k) EXPECT_EQ(bits(g.footprint_h.h[k]), bits(e.footprint_h.h[k]));
+    const double dp_m = std::hypot(g.dp_m[0] - e.dp_m[0], g.dp_m[1] - e.dp_m[1]);
+    worst_dp_m = std::max(worst_dp_m, dp_m);
+    std::printf("[ seed %llu   4000 m coarse    ] direction %d: error after dp exact warp %.2f m, grid warp %.2f m "
+                "(dp %.2f m apart)\n",
+                static_cast<unsigned long long>(this->kSeed), d, err_e, err_g, dp_m);
+    EXPECT_LT(err_g, 25.0) << "direction " << d;
+    EXPECT_LT(dp_m, 0.5) << "direction " << d;  // a hundredth of a 48 m coarse-scale pixel (measured <= 0.07)
+    const tv::ConstImageU8 frame = w.view(w.frame_at(4000.0));
+    for (std::int32_t gp = 8, i = 0; gp <= 32; gp *= 2, ++i) {
+      const tv::detail::GridShape shape = tv::detail::grid_shape(gp, 256, 256);
+      auto visit = [&](std::int32_t x, std::int32_t y, std::int32_t xq, std::int32_t yq, bool usable) {
+        ASSERT_TRUE(usable);
+        double u = 0.0;
+        double v = 0.0;
+        ASSERT_TRUE(tv::apply_homography(g.footprint_h, x, y, u, v));
+        worst_px[i] = std::max(worst_px[i], std::max(std::fabs(xq / 65536.0 - u), std::fabs(yq / 65536.0 - v)));
+      };
+      bsp::Work work;
+      tv::detail::walk_grid(g.footprint_h, shape, 256, 256, visit, work);
+    }
+    std::int32_t out_e = -1;
+    bsp::Work work;
+    ASSERT_EQ(tv::warp_homography(frame, g.footprint_h, {exact_px.data(), 256, 256, 256}, 0, out_e, work),
+              tv::Status::kOk);
+    EXPECT_EQ(out_e, 0);
+    for (std::int32_t gp = 8, i = 0; gp <= 16; gp *= 2, ++i) {
+      std::int32_t out_g = -1;
+      ASSERT_EQ(tv::warp_homography_grid(frame, g.footprint_h, gp, {grid_px.data(), 256, 256, 256}, 0, out_g, work),
+                tv::Status::kOk);
+      EXPECT_EQ(out_g, 0);
+      for (std::size_t k = 0; k < exact_px.size(); ++k)
+        worst_dn[i] = std::max(worst_dn[i], std::abs(exact_px[k] - grid_px[k]));
+    }
+    if (d == 0) {
+      std::printf("[ seed %llu   4000 m coarse    ] coarse_frame TILE64 cycles (transform): exact warp %.1f M, "
+                  "grid warp %.1f M\n",
+                  static_cast<unsigned long long>(this->kSeed),
+                  static_cast<double>(bsp::cost_of(bsp::kTile64, we)) / 1e6,
+                  static_cast<double>(bsp::cost_of(bsp::kTile64, wg)) / 1e6);
+    }
+  }
+  std::printf("[ seed %llu   4000 m coarse    ] grid warp source coordinates within %.5f px (G 8), %.5f (G 16), "
+              "%.5f (G 32); pixels within %d DN (G 8), %d DN (G 16); dp within %.2f m of the exact warp's\n",
+              static_cast<unsigned long long>(this->kSeed), worst_px[0], worst_px[1], worst_px[2], worst_dn[0],
+              worst_dn[1], worst_dp_m);
+  // Measured: 0.0032 px at G 8, 0.013 at G 16 (2 DN: the footprint samples sharp rendered detail).
+  EXPECT_LT(worst_px[0], 1.0 / 256.0);
+  EXPECT_LT(worst_px[1], 1.0 / 64.0);
+  EXPECT_LE(worst_dn[0], 1);
 }
 
 TYPED_TEST(Rendered, CoarseFootprintLargerThanTheFrameIsNotSearched) {
@@ -286,10 +451,10 @@ TYPED_TEST(Rendered, BadInputsAreRefused) {
   EXPECT_EQ(match(frame, good, 0, 8, bad_mp), tv::Status::kBadInput);
   // A landmark outside the frame is not an error: not matched, the window's misses counted.
   std::uint16_t far = 0;
-  for (std::uint16_t i = 0; i < w.table->count; ++i) {
+  for (std::uint32_t i = 0; i < w.table->count; ++i) {
     const tv::Landmark& lm = w.table->items[i];
     if (std::hypot(lm.p_m[0] - truth.r_m.x(), lm.p_m[1] - truth.r_m.y()) > 6000.0) {
-      far = i;
+      far = static_cast<std::uint16_t>(i);
       break;
     }
   }
