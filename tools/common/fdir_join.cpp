@@ -8,6 +8,7 @@
 #include "tools/common/fault_plan.hpp"
 #include "fdir/supervisor.hpp"
 #include "fdir/tile_health.hpp"
+#include "trn/match.hpp"
 #include "trn/tasks/messages.hpp"
 #include "trn/tasks/supervisors.hpp"
 #include "trn/vision/correlator.hpp"
@@ -92,6 +93,8 @@ constexpr double kAbftSameJobS = 0.010;
  * takes under 20 ms), reported once the landmark is done.
  */
 constexpr double kCorrelationSameLandmarkS = 0.020;
+/** ... and the coordinator's coarse stage, reported once the stage is done (about 100 ms on one tile). */
+constexpr double kCorrelationCoarseStageS = 0.300;
 
 /** Whether @p e is a checked correlation's event about the sdc @p r (same tile, a correlation point, soon after). */
 bool correlation_check_of(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
@@ -99,7 +102,8 @@ bool correlation_check_of(const bsp::FaultRecord& r, const fdir::Event& e, doubl
                      r.spec.channel == trn::vision::kCorrelationSurfaceChannel;
   return point && (e.id == EventId::kCorrelationCorrected || e.id == EventId::kCorrelationFailed) &&
          e.tile == r.spec.tile && e.cycle >= r.applied_cycle &&
-         seconds(e.cycle - r.applied_cycle, clock_hz) <= kCorrelationSameLandmarkS;
+         seconds(e.cycle - r.applied_cycle, clock_hz) <=
+             (e.subject == trn::kCoarseLandmark ? kCorrelationCoarseStageS : kCorrelationSameLandmarkS);
 }
 
 /** How long after a replica's output was corrupted its vote reports it at most: the job's vote waits for its last output. */
@@ -320,8 +324,9 @@ bool describe_tmr_event(const fdir::Event& e, const char* s, std::span<char> b) 
       const char* what = e.cause == 1U   ? "its dot products off the integral image's checksum"
                          : e.cause == 2U ? "its surface changed before the peak search ended"
                                          : "a score around its peak different when computed again";
-      (void)std::snprintf(b.data(), b.size(), "landmark %s at frame %u: correlation wrong (%s), %s after %u "
-                          "recomputation(s)", s, e.a, what,
+      (void)std::snprintf(b.data(), b.size(), "%s%s at frame %u: correlation wrong (%s), %s after %u "
+                          "recomputation(s)", e.subject == trn::kCoarseLandmark ? "the coarse stage" : "landmark ",
+                          e.subject == trn::kCoarseLandmark ? "" : s, e.a, what,
                           e.id == EventId::kCorrelationFailed ? "still wrong, not matched" : "right", e.b);
       return true;
     }

@@ -66,11 +66,13 @@ inline constexpr std::array<SdcPoint, 10> kSdcPoints{{
      role_bit(Role::kTrnSupervisor) | role_bit(Role::kVisionCoordinator) | role_bit(Role::kIo) |
          role_bit(Role::kFilter) | role_bit(Role::kVision) | role_bit(Role::kFilterReplica),
      "the tile's self-test digest"},
-    {"correlation_surface", vision::kCorrelationSurfaceChannel, role_bit(Role::kVision),
-     "a landmark's correlation surface (floats, row-major) after it is computed, before its peak is searched"},
-    {"correlation_dot", vision::kCorrelationDotChannel, role_bit(Role::kVision),
-     "one dot product of a landmark's correlation surface (a uint32 of template times window) before it is "
-     "used"},
+    {"correlation_surface", vision::kCorrelationSurfaceChannel,
+     role_bit(Role::kVision) | role_bit(Role::kVisionCoordinator),
+     "a correlation surface (floats, row-major) after it is computed, before its peak is searched: a landmark's "
+     "on a vision tile, the coarse stage's on the coordinator"},
+    {"correlation_dot", vision::kCorrelationDotChannel, role_bit(Role::kVision) | role_bit(Role::kVisionCoordinator),
+     "one dot product of a correlation surface (a uint32 of template times window) before it is used: a "
+     "landmark's on a vision tile, the coarse stage's (from the transform) on the coordinator"},
 }};
 
 /** The point publishing on @p channel; nullptr when no flight code publishes there. */

@@ -371,6 +371,8 @@ bool coarse_if_needed(CoordState& st, VisionCoordStats& stats, const vision::Con
   const vision::Status s =
       vision::coarse_frame(image, st.cfg->camera, prior, st.coarse_map, st.cfg->coarse, *st.coarse_ws, res, work);
   bsp::consume(work);
+  const vision::MatchResult& cm = res.coarse.match;
+  report_correlation_checks(cm.check_failed, cm.recomputes, cm.first_check, kCoarseLandmark, st.frame.seq);
   if (s != vision::Status::kOk || !res.accepted) {
     return false;
   }

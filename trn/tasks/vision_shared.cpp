@@ -6,6 +6,7 @@
 
 #include "bsp_tile64/memory.hpp"
 #include "bsp_tile64/work.hpp"
+#include "fdir/event_log.hpp"
 #include "kernel/kernel.hpp"
 
 #include <cstring>
@@ -73,6 +74,15 @@ std::uint8_t* ddr_carve_named(const char* what, std::size_t bytes, std::size_t a
 
 const vision::LandmarkTable* landmark_table_find() noexcept {
   return reinterpret_cast<const vision::LandmarkTable*>(ddr_find(kLandmarkCarveName));  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
+}
+
+void report_correlation_checks(bool failed, std::uint32_t recomputes, vision::CorrelationCheck first,
+                               std::uint16_t landmark, std::uint32_t frame) noexcept {
+  if (!failed && recomputes == 0U) {
+    return;
+  }
+  fdir::report(failed ? fdir::EventId::kCorrelationFailed : fdir::EventId::kCorrelationCorrected, landmark,
+               static_cast<std::uint32_t>(first), frame, recomputes);
 }
 
 }  // namespace trn::tasks

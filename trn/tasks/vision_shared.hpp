@@ -26,6 +26,16 @@ inline constexpr std::uint32_t kVisionSendTicks = 20;
 /** The shared landmark table, or nullptr before the coordinator selected it. [task|host] */
 const vision::LandmarkTable* landmark_table_find() noexcept;
 
+/**
+ * A checked correlation that found a wrong surface, as an event of this tile
+ * (kCorrelationCorrected, or kCorrelationFailed when still wrong): subject the
+ * landmark (kCoarseLandmark for the coarse stage), cause the check that failed
+ * first, a the frame, b the recomputations. Nothing when the checks all passed
+ * at once. [task]
+ */
+void report_correlation_checks(bool failed, std::uint32_t recomputes, vision::CorrelationCheck first,
+                               std::uint16_t landmark, std::uint32_t frame) noexcept;
+
 /** @p bytes of DDR at @p offset, or nullptr when they are not all inside DDR. */
 const std::uint8_t* ddr_at(std::uint64_t offset, std::uint64_t bytes) noexcept;
 

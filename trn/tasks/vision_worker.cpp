@@ -54,15 +54,6 @@ bool worker_set_up(WorkerState& st) noexcept {
   return true;
 }
 
-/** A landmark's checked correlations that found a wrong surface, as events (this tile computed them). */
-void report_checks(const vision::LandmarkDiag& d, std::uint16_t landmark, std::uint32_t frame) noexcept {
-  if (!d.check_failed && d.recomputes == 0U) {
-    return;
-  }
-  fdir::report(d.check_failed ? fdir::EventId::kCorrelationFailed : fdir::EventId::kCorrelationCorrected, landmark,
-               static_cast<std::uint32_t>(d.first_check), frame, d.recomputes);
-}
-
 /** Matches the landmarks of unit @p m; returns the result's length in words (0: bad unit). */
 std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const udn::FtMessage& m) noexcept {
   const vision::LandmarkTable* table = landmark_table_find();
@@ -98,7 +89,7 @@ std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const udn::FtM
     const vision::Status s = vision::match_landmark(image, st.cfg->camera, prior, st.fine, *table, index, radius,
                                                     *st.ws, match, accepted, diag, work);
     bsp::consume(work);
-    report_checks(diag, index, u.frame);
+    report_correlation_checks(diag.check_failed, diag.recomputes, diag.first_check, index, u.frame);
     ++stats.landmarks;
     if (s == vision::Status::kOk && accepted) {
       match.tile = static_cast<std::uint16_t>(bsp::current_tile());

@@ -561,8 +561,9 @@ TEST_F(TrnMissionBinary, ARestartedCoordinatorKeepsTheReplacement) {
   EXPECT_EQ(s["vision_units_lost"], 0) << "after the restart";
 }
 
-// FDIR-CC-05: corrupted correlations on vision tiles (two dot products, one surface value) are
-// found by the tiles' checks while the landmark is matched, computed again, credited to the
+// FDIR-CC-05: corrupted correlations on vision tiles (two dot products, one surface value) and
+// one in the coordinator's coarse stage (a dot product from the transform) are found by the
+// tiles' checks while the landmark (the stage) is matched, computed again, credited to the
 // injections by the join, and the navigation output stays the clean flight's, bit for bit.
 TEST_F(TrnMissionBinary, CorruptedCorrelationsOnVisionTilesAreCorrectedAndTheOutputUnchanged) {
   ASSERT_EQ(run(binary() + " --quiet --duration 8 --out " + (dir_ / "clean").string()), 0);
@@ -572,17 +573,18 @@ TEST_F(TrnMissionBinary, CorruptedCorrelationsOnVisionTilesAreCorrectedAndTheOut
   const nlohmann::json clean = read_json(dir_ / "clean" / "summary.json");
   const nlohmann::json s = read_json(dir_ / "cc" / "summary.json");
   const std::string log = read_text(dir_ / "cc" / "events.log");
-  EXPECT_EQ(s["faults_injected"], 3);
-  EXPECT_EQ(s["faults_detected"], 3) << log;
-  EXPECT_EQ(s["faults_recovered"], 3);
+  EXPECT_EQ(s["faults_injected"], 4);
+  EXPECT_EQ(s["faults_detected"], 4) << log;
+  EXPECT_EQ(s["faults_recovered"], 4);
   EXPECT_EQ(count_of(log, "correlation wrong (its dot products off the integral image's checksum), right after 1 "
                           "recomputation(s)"),
-            2U)
+            3U)
       << log;
+  EXPECT_EQ(count_of(log, "tile  1  correlation_corrected: the coarse stage at frame"), 1U) << log;
   EXPECT_EQ(count_of(log, "correlation wrong (its surface changed before the peak search ended), right after 1 "
                           "recomputation(s)"),
             1U);
-  EXPECT_EQ(count_of(log, "(correlation_corrected)"), 3U) << "each injection credited to its tile's check";
+  EXPECT_EQ(count_of(log, "(correlation_corrected)"), 4U) << "each injection credited to its tile's check";
   EXPECT_EQ(count_of(log, "correlation_failed"), 0U);
   EXPECT_EQ(count_of(read_text(dir_ / "clean" / "events.log"), "correlation_"), 0U) << "no false alarm";
   EXPECT_EQ(s["filter_output_crc"], clean["filter_output_crc"]) << "the corrected surfaces change nothing";
