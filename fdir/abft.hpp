@@ -47,6 +47,11 @@
  * can: an error below its row's tolerance but above its column's, i.e. an
  * element many orders of magnitude smaller than the rest of its row.
  *
+ * Symmetric outer products. The Kalman update's K (P H^T)^T is symmetric;
+ * abft_upper_product computes its upper triangle only and checks each row of
+ * the triangle against K_i times the suffix sum of the other operand's rows
+ * (row i holds columns i..m-1), the same row check for a triangle.
+ *
  * Flight code: no allocation, fixed-size Eigen matrices, bounded loops.
  */
 #pragma once
@@ -341,6 +346,144 @@ AbftResult abft_product(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<
     ++first.recomputes;
     const AbftResult again = abft_check(a, b, c, s, work, site.rows_only);
     if (again.bad_rows == 0U && again.bad_cols == 0U) {
+      first.verdict = AbftVerdict::kCorrected;
+      break;
+    }
+  }
+  abft_report(site, first);
+  return first;
+}
+
+/**
+ * Scratch of a checked symmetric outer product (abft_upper_product): the
+ * caller's storage, like AbftSums.
+ */
+template <int M, int N>
+struct AbftUpperSums {
+  Eigen::Matrix<double, M, N> suffix;      ///< row i: the sum of the second operand's rows i..M-1
+  Eigen::Matrix<double, M, N> abs_suffix;  ///< the same of its absolute values (when a tolerance was needed)
+  Eigen::Matrix<double, M, 1> row_ref;     ///< K_i . suffix_i
+  Eigen::Matrix<double, M, 1> rs;          ///< the computed triangle's row sums
+};
+
+/** The upper triangle (diagonal included) of U = K A^T, element by element in a fixed order. */
+template <int M, int N>
+void abft_upper_kernel(const Eigen::Matrix<double, M, N>& k, const Eigen::Matrix<double, M, N>& a,
+                       Eigen::Matrix<double, M, M>& u) noexcept {
+  for (int j = 0; j < M; ++j) {
+    for (int i = 0; i <= j; ++i) {
+      double v = 0.0;
+      for (int c = 0; c < N; ++c) {
+        v += k(i, c) * a(j, c);
+      }
+      u(i, j) = v;
+    }
+  }
+}
+
+namespace detail {
+
+/** Row i of the triangle against K_i . suffix_i; the rows past their tolerance into a result. */
+template <int M, int N>
+AbftResult abft_upper_check(const Eigen::Matrix<double, M, N>& k, const Eigen::Matrix<double, M, N>& a,
+                            const Eigen::Matrix<double, M, M>& u, AbftUpperSums<M, N>& s,
+                            bsp::Work& work) noexcept {
+  AbftResult r{};
+  bool abs_ready = false;
+  double worst = -1.0;
+  for (int i = 0; i < M; ++i) {
+    double sum = 0.0;
+    for (int j = i; j < M; ++j) {
+      sum += u(i, j);
+    }
+    s.rs(i) = sum;
+    // Row i is an (M - i)-column product of inner dimension N: the tolerance of abft.hpp's comment.
+    const double f = kAbftSafety * static_cast<double>(N + (M - i) + 2) * kAbftUnitRoundoff;
+    const double d = sum - s.row_ref(i);
+    if (std::abs(d) <= f * std::abs(s.row_ref(i)) + kAbftFloor) {
+      continue;
+    }
+    if (!abs_ready) {
+      s.abs_suffix.row(M - 1) = a.row(M - 1).cwiseAbs();
+      for (int j = M - 2; j >= 0; --j) {
+        s.abs_suffix.row(j) = s.abs_suffix.row(j + 1) + a.row(j).cwiseAbs();
+      }
+      abs_ready = true;
+      work += bsp::Work{std::uint64_t{M} * N, 0U, (std::uint64_t{M} - 1U) * N, 0U, std::uint64_t{M} * N};
+    }
+    const double tol = f * k.row(i).cwiseAbs().dot(s.abs_suffix.row(i)) + kAbftFloor;
+    work += bsp::Work{0U, 0U, 2U * std::uint64_t{N} + 2U, 0U, 2U * std::uint64_t{N}};
+    if (!(std::abs(d) <= tol)) {
+      ++r.bad_rows;
+      const double excess = std::isfinite(d) ? std::abs(d) / tol : HUGE_VAL;
+      if (excess > worst) {
+        worst = excess;
+        r.row = i;
+        r.residual = d;
+      }
+    }
+  }
+  const std::uint64_t tri = std::uint64_t{M} * (std::uint64_t{M} + 1U) / 2U;
+  work.flops += tri + 4U * std::uint64_t{M};
+  work.mem_words += tri;
+  return r;
+}
+
+}  // namespace detail
+
+/** Flops counted for a passing abft_upper_product check of an M x N by N x M symmetric outer product. */
+constexpr std::uint64_t abft_upper_flops(std::uint64_t m, std::uint64_t n) noexcept {
+  return (m - 1U) * n + 2U * m * n + m * (m + 1U) / 2U + 4U * m;
+}
+
+/** The most a clean abft_upper_product check adds to abft_upper_flops: every row's exact tolerance. */
+constexpr std::uint64_t abft_upper_tolerance_flops(std::uint64_t m, std::uint64_t n) noexcept {
+  return (m - 1U) * n + m * (2U * n + 2U);
+}
+
+/**
+ * The upper triangle of U = K A^T (diagonal included) for a product known to
+ * be symmetric (K = A W with W symmetric: the Kalman update's
+ * P H^T S^-1 H P), checked on the rows of the triangle it computes: row i of
+ * the triangle sums to K_i . (A_i + ... + A_{M-1}), suffix sums of A's rows
+ * (the Huang and Abraham row check of a triangular product; same tolerance,
+ * with the row's own M - i columns). The lower triangle is not written. A
+ * wrong element fails its row, which is located (the column is not: the
+ * event says rows only); the triangle is computed again, at most
+ * kAbftMaxRecompute times, and reported like abft_product. The check costs
+ * abft_upper_flops, against about 2 M^2 N for the triangle.
+ */
+template <int M, int N>
+AbftResult abft_upper_product(const Eigen::Matrix<double, M, N>& k, const Eigen::Matrix<double, M, N>& a,
+                              Eigen::Matrix<double, M, M>& u, const AbftSite& site, AbftUpperSums<M, N>& s,
+                              bsp::Work& work) noexcept {
+  abft_upper_kernel(k, a, u);
+  if (site.sdc_channel != 0U) {
+    (void)bsp::publish_filter(site.sdc_channel, u.data(), sizeof(double) * static_cast<std::size_t>(M * M));
+  }
+  s.suffix.row(M - 1) = a.row(M - 1);
+  for (int j = M - 2; j >= 0; --j) {
+    s.suffix.row(j) = s.suffix.row(j + 1) + a.row(j);
+  }
+  for (int i = 0; i < M; ++i) {
+    double v = 0.0;
+    for (int c = 0; c < N; ++c) {
+      v += k(i, c) * s.suffix(i, c);
+    }
+    s.row_ref(i) = v;
+  }
+  work.flops += (std::uint64_t{M} - 1U) * N + 2U * std::uint64_t{M} * N;  // suffix sums, K_i . suffix_i
+  work.mem_words += 3U * std::uint64_t{M} * N;
+  AbftResult first = detail::abft_upper_check(k, a, u, s, work);
+  if (first.bad_rows == 0U) {
+    return first;
+  }
+  first.verdict = AbftVerdict::kFailed;
+  for (std::uint32_t n = 0; n < kAbftMaxRecompute; ++n) {
+    abft_upper_kernel(k, a, u);
+    ++first.recomputes;
+    const AbftResult again = detail::abft_upper_check(k, a, u, s, work);
+    if (again.bad_rows == 0U) {
       first.verdict = AbftVerdict::kCorrected;
       break;
     }

@@ -1,6 +1,6 @@
 /**
  * @file covariance.cpp
- * @brief Process noise, covariance propagation, Joseph update with a sparse H, attitude reset.
+ * @brief Process noise, covariance propagation, gated Kalman update with a sparse H, attitude reset.
  */
 #include "trn/filter/covariance.hpp"
 
@@ -144,17 +144,6 @@ void remove_lag_noise(Mat15x2& pht, const Meas2& m) noexcept {
   pht.middleRows<3>(kIdxTh) -= d.q_th * m.hth.transpose();
 }
 
-/** P <- P + sign D (the position-velocity cross terms on both sides). */
-void add_lag_noise(Mat15& p, const LagNoise& d, double sign) noexcept {
-  for (int i = 0; i < 3; ++i) {
-    p(kIdxP + i, kIdxP + i) += sign * d.q_pp;
-    p(kIdxP + i, kIdxV + i) += sign * d.q_pv;
-    p(kIdxV + i, kIdxP + i) += sign * d.q_pv;
-    p(kIdxV + i, kIdxV + i) += sign * d.q_vv;
-    p(kIdxTh + i, kIdxTh + i) += sign * d.q_th;
-  }
-}
-
 /** H^T's position, velocity and attitude rows (the rest of H^T is zero): the dense B of X H^T's checks. */
 void dense_ht(const Meas2& m, Eigen::Matrix<double, kHtRows, 2>& ht) noexcept {
   ht.middleRows<3>(kIdxP) = m.hp.transpose();
@@ -179,46 +168,21 @@ bool passed(CovWork& w, std::uint32_t id, const fdir::AbftResult& r) noexcept {
 }
 
 /**
- * The checked products of an accepted update after P H^T: K, K (P H^T)^T,
- * M = (P - D) - K (P H^T)^T (into w.fp), M H^T, the Joseph term, and P
- * written from them (upper triangle, mirrored). P is read only until every
- * product has passed; false (P untouched) when one is still wrong.
+ * P <- P - U on U's upper triangle, mirrored (P stays exactly symmetric).
+ * A lagged match weighs P - D, and D comes back after the update:
+ * (P - D) - K ((P - D) H^T)^T + D, the same expression, so P itself never
+ * has D taken off. False (P untouched) when a variance would not stay
+ * positive (round-off against a far more precise measurement).
  */
-bool checked_joseph(Mat15& p, const Meas2& m, const Mat2& s_inv, bool noise, CovWork& w, bsp::Work& work) noexcept {
-  if (!passed(w, kAbftSiteGain,
-              fdir::abft_product(w.pht, s_inv, w.k, update_site(w, kAbftSiteGain), fdir::AbftDense{}, w.abft_gain,
-                                 work))) {
-    return false;
-  }
-  if (!passed(w, kAbftSiteKpht,
-              fdir::abft_product(w.k, w.pht.transpose(), w.kx, update_site(w, kAbftSiteKpht), fdir::AbftDense{},
-                                 w.abft_kt, work))) {
-    return false;
-  }
-  // (I - K H) P = P - K (P H^T)^T, exact Joseph congruence applied in two sparse steps.
-  w.fp = p;
-  if (noise) {
-    add_lag_noise(w.fp, m.d, -1.0);
-  }
-  w.fp -= w.kx;
-  const auto mht = [&m, &w](const auto& /*mh*/, const auto& /*ht*/, Mat15x2& out) noexcept { times_ht(w.fp, m, out); };
-  if (!passed(w, kAbftSiteMht,
-              fdir::abft_product(w.fp.leftCols<kHtRows>(), w.ht, w.mht, update_site(w, kAbftSiteMht), mht, w.abft_ht,
-                                 work))) {
-    return false;
-  }
-  // (I-KH)P(I-KH)^T + K R K^T = M - (M H^T - K R) K^T with M = (I-KH)P: one
-  // 15x2x15 product instead of two, whole (its row checksums need every
-  // row), then its upper triangle off M, mirrored: P exactly symmetric.
-  w.mht -= w.k * m.r_var.asDiagonal();
-  if (!passed(w, kAbftSiteJoseph,
-              fdir::abft_product(w.mht, w.k.transpose(), w.kx, update_site(w, kAbftSiteJoseph), fdir::AbftDense{},
-                                 w.abft_kt, work))) {
-    return false;
+bool subtract_update(Mat15& p, const Mat15& u) noexcept {
+  for (int i = 0; i < kErrDim; ++i) {
+    if (!(p(i, i) - u(i, i) > 0.0)) {
+      return false;
+    }
   }
   for (int j = 0; j < kErrDim; ++j) {
     for (int i = 0; i <= j; ++i) {
-      const double v = w.fp(i, j) - w.kx(i, j);
+      const double v = p(i, j) - u(i, j);
       p(i, j) = v;
       p(j, i) = v;
     }
@@ -228,7 +192,7 @@ bool checked_joseph(Mat15& p, const Meas2& m, const Mat2& s_inv, bool noise, Cov
 
 }  // namespace
 
-GateResult joseph_update(Mat15& p, const Meas2& m, double gate_chi2, Vec15& dx, CovWork& w,
+GateResult kalman_update(Mat15& p, const Meas2& m, double gate_chi2, Vec15& dx, CovWork& w,
                          bsp::Work& work) noexcept {
   GateResult g;
   w.last_update.fill(fdir::AbftResult{});
@@ -259,17 +223,27 @@ GateResult joseph_update(Mat15& p, const Meas2& m, double gate_chi2, Vec15& dx, 
     return g;  // NaN residuals fail here too
   }
   // Charged before the products: a failed check did (at least) this work.
-  work.flops += kFlopsJoseph - kFlopsGate + (lagged ? kFlopsLagJoseph - kFlopsLagGate : 0U);
+  work.flops += kFlopsUpdate - kFlopsGate;
   work.fdivs += 4;
-  work.mem_words += 6ULL * kErrDim * kErrDim * 2;
-  if (!checked_joseph(p, m, s_inv, noise, w, work)) {
+  work.mem_words += 4ULL * kErrDim * kErrDim;
+  if (!passed(w, kAbftSiteGain,
+              fdir::abft_product(w.pht, s_inv, w.k, update_site(w, kAbftSiteGain), fdir::AbftDense{}, w.abft_gain,
+                                 work))) {
+    g.check_failed = true;
+    return g;
+  }
+  // K (P H^T)^T = P H^T S^-1 H P is symmetric: its upper triangle only,
+  // checked row by row against K times suffix sums of P H^T's rows.
+  if (!passed(w, kAbftSiteKpht,
+              fdir::abft_upper_product(w.k, w.pht, w.kx, update_site(w, kAbftSiteKpht), w.abft_kt, work))) {
     g.check_failed = true;
     return g;  // a product still wrong: the measurement is dropped, P and dx untouched
   }
-  g.accepted = true;
-  if (noise) {
-    add_lag_noise(p, m.d, 1.0);
+  if (!subtract_update(p, w.kx)) {
+    g.variance_lost = true;
+    return g;
   }
+  g.accepted = true;
   dx.noalias() = w.k * m.r;
   return g;
 }

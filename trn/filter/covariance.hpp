@@ -1,7 +1,7 @@
 /**
  * @file covariance.hpp
  * @brief Covariance operations of the error-state filter: process noise, propagation,
- *        gated 2D Joseph update with a sparse H, and the attitude reset.
+ *        gated 2D Kalman update with a sparse H, and the attitude reset.
  *
  * All 15x15 work matrices live in CovWork, owned by the filter object (static
  * storage), so no function here puts more than a few small matrices on the stack.
@@ -29,40 +29,37 @@ inline constexpr std::uint32_t kAbftSiteFp = 1;    ///< F P
 inline constexpr std::uint32_t kAbftSiteFpft = 2;  ///< (F P) F^T
 
 /**
- * Publication channel of the Joseph update's five checked products, each
- * before its row checksums are checked (`filter_update_product`). One
- * channel for the five: a fault armed there corrupts the next one computed,
- * in flight P H^T of the next measurement.
+ * Publication channel of the update's three checked products, each before
+ * its row checksums are checked (`filter_update_product`). One channel for
+ * the three: a fault armed there corrupts the next one computed, in flight
+ * P H^T of the next measurement.
  */
 inline constexpr std::uint32_t kFilterUpdateProductChannel = 8;
-/** Sites of the update's checked products, in the order joseph_update computes them. */
+/** Sites of the update's checked products, in the order kalman_update computes them. */
 inline constexpr std::uint32_t kAbftSitePht = 3;     ///< P H^T (15x2)
 inline constexpr std::uint32_t kAbftSiteGain = 4;    ///< the gain K = (P H^T) S^-1 (15x2)
-inline constexpr std::uint32_t kAbftSiteKpht = 5;    ///< K (P H^T)^T (15x15)
-inline constexpr std::uint32_t kAbftSiteMht = 6;     ///< M H^T, M = (I - K H) P (15x2)
-inline constexpr std::uint32_t kAbftSiteJoseph = 7;  ///< (M H^T - K R) K^T, the Joseph term (15x15)
+inline constexpr std::uint32_t kAbftSiteKpht = 5;    ///< K (P H^T)^T (15x15, symmetric: its upper triangle)
 /** Number of the update's sites (kAbftSitePht + i, i < this). */
-inline constexpr std::uint32_t kUpdateSites = 5;
+inline constexpr std::uint32_t kUpdateSites = 3;
 /** CovWork::update_sdc_sites with every update site publishing (flight). */
 inline constexpr std::uint32_t kAllUpdateSites = (1U << kUpdateSites) - 1U;
 /** Columns of the error state H reads (position, velocity, attitude): the dense operand of X H^T's checks. */
 inline constexpr int kHtRows = kIdxBg;
 
-/** Work matrices of the covariance operations (about 7.9 KB; keep out of task stacks). */
+/** Work matrices of the covariance operations (about 7.6 KB; keep out of task stacks). */
 struct CovWork {
-  Mat15 fp = Mat15::Zero();      ///< F P during propagation; (I - K H) P during an update
-  Mat15 kx = Mat15::Zero();      ///< K (P H^T)^T, then the Joseph term (M H^T - K R) K^T
-  Mat15x2 pht = Mat15x2::Zero(); ///< P H^T
+  Mat15 fp = Mat15::Zero();      ///< F P during propagation
+  Mat15 kx = Mat15::Zero();      ///< K (P H^T)^T during an update (its upper triangle only)
+  Mat15x2 pht = Mat15x2::Zero(); ///< P H^T (then (P - D) H^T for a lagged match)
   Mat15x2 k = Mat15x2::Zero();   ///< Kalman gain
-  Mat15x2 mht = Mat15x2::Zero(); ///< (I - K H) P H^T
   Eigen::Matrix<double, kHtRows, 2> ht = Eigen::Matrix<double, kHtRows, 2>::Zero();  ///< H^T's non-zero rows
   fdir::AbftSums<kErrDim, kErrDim, kErrDim> abft{};  ///< checksums of the propagation's products
-  fdir::AbftSums<kErrDim, kHtRows, 2> abft_ht{};     ///< row checksums of P H^T and M H^T
+  fdir::AbftSums<kErrDim, kHtRows, 2> abft_ht{};     ///< row checksums of P H^T
   fdir::AbftSums<kErrDim, 2, 2> abft_gain{};         ///< of the gain
-  fdir::AbftSums<kErrDim, 2, kErrDim> abft_kt{};     ///< of K (P H^T)^T and the Joseph term
+  fdir::AbftUpperSums<kErrDim, 2> abft_kt{};         ///< of K (P H^T)^T's upper triangle
   fdir::AbftResult last_fp{};    ///< the last propagation's checks (kClean unless a product was wrong)
   fdir::AbftResult last_fpft{};
-  /** The last joseph_update's checks, by site - kAbftSitePht (kClean for a product not reached). */
+  /** The last kalman_update's checks, by site - kAbftSitePht (kClean for a product not reached). */
   std::array<fdir::AbftResult, kUpdateSites> last_update{};
   /**
    * Bit i set: site kAbftSitePht + i publishes its product on
@@ -126,28 +123,32 @@ void propagate_covariance(Mat15& p, const Mat15& f, const Vec15& q, CovWork& w, 
 
 /** Outcome of one gated update. */
 struct GateResult {
-  double d2 = 0.0;            ///< Mahalanobis distance squared of the residual
-  bool accepted = false;      ///< d2 <= gate, S invertible and every product checked right
-  bool check_failed = false;  ///< a product still wrong after its recomputations: nothing applied
+  double d2 = 0.0;             ///< Mahalanobis distance squared of the residual
+  bool accepted = false;       ///< d2 <= gate, S invertible, every product checked right, variances kept positive
+  bool check_failed = false;   ///< a product still wrong after its recomputations: nothing applied
+  bool variance_lost = false;  ///< the update would leave a variance <= 0 (round-off): nothing applied
 };
 
 /**
- * Gated Joseph-form update: S = H P H^T + R, d2 = r^T S^-1 r; if d2 <= gate,
- * K = P H^T S^-1, P <- (I-KH) P (I-KH)^T + K R K^T (computed in factored form,
- * never forming I-KH, the Joseph term whole and its upper triangle mirrored,
- * so P comes out exactly symmetric), and dx = K r. A lagged measurement uses
- * P - m.d throughout and adds m.d back at the end; m.d is ignored (taken as
- * zero) unless every diagonal entry of P it touches exceeds twice its own. A
- * rejected measurement leaves P and dx untouched.
+ * Gated Kalman update: S = H P H^T + R, d2 = r^T S^-1 r; if d2 <= gate,
+ * K = P H^T S^-1, P <- P - K (P H^T)^T and dx = K r. K (P H^T)^T =
+ * P H^T S^-1 H P is symmetric: its upper triangle is computed and mirrored,
+ * so P comes out exactly symmetric. A lagged measurement weighs P - m.d (the
+ * process noise added since the image) in P H^T and S; D comes back after
+ * the update, which leaves P - K ((P - D) H^T)^T, so P itself is never
+ * touched by D. m.d is ignored (taken as zero) unless every diagonal entry
+ * of P it touches exceeds twice its own. An update that would leave a
+ * variance <= 0 is refused (variance_lost). A rejected measurement leaves P
+ * and dx untouched.
  *
- * Five products are checked on their row checksums (fdir/abft.hpp, rows
- * only; sites kAbftSitePht..kAbftSiteJoseph, results in w.last_update) and
+ * Three products are checked on their row checksums (fdir/abft.hpp, rows
+ * only; sites kAbftSitePht..kAbftSiteKpht, results in w.last_update) and
  * computed again while wrong. One still wrong after its recomputations
  * (reported abft_failed) is not applied: P is written only after the last
  * check, so the measurement is dropped, P and dx untouched, and the result
  * says check_failed (not accepted). Pre: P symmetric positive definite.
  */
-GateResult joseph_update(Mat15& p, const Meas2& m, double gate_chi2, Vec15& dx, CovWork& w,
+GateResult kalman_update(Mat15& p, const Meas2& m, double gate_chi2, Vec15& dx, CovWork& w,
                          bsp::Work& work) noexcept;
 
 /**
@@ -165,22 +166,20 @@ void symmetrize(Mat15& p) noexcept;
 // Per side: seven 3x3 by 3x15 block products (135 MAC each) and two scaled rows.
 inline constexpr std::uint64_t kFlopsCovPropagate = 2ULL * (7 * 135 * 2 + 2 * 15 * 2) + 15 + 210;
 /**
- * Flops of one accepted joseph_update, its checks apart (a rejected one costs
+ * Flops of one accepted kalman_update, its checks apart (a rejected one costs
  * kFlopsGate and the check of P H^T).
  */
 // Gate: P H^T (15x6 by 6x2), S (2x6 by 6x2, + R), det, S^-1, d2.
 inline constexpr std::uint64_t kFlopsGate = 360 + 2 * 2 * 6 * 2 + 12 + 8;
-// K (15x2 by 2x2), M = P - K (P H^T)^T (15x2x15), M H^T, - K R, the Joseph
-// term (M H^T - K R) K^T whole (225 entries of 2 MAC), its upper triangle
-// off M (120), dx = K r.
-inline constexpr std::uint64_t kFlopsJoseph = kFlopsGate + 120 + 900 + 360 + 60 + 675 + 120 + 60;
+// K (15x2 by 2x2), the upper triangle of K (P H^T)^T (120 entries of 2 MAC),
+// the diagonal's sign test (15), P minus that triangle (120), dx = K r.
+inline constexpr std::uint64_t kFlopsUpdate = kFlopsGate + 120 + 480 + 15 + 120 + 60;
 /**
  * Extra flops of a lagged measurement: P - lag P_v on two sets of six columns,
- * and in S; D H^T off P H^T; -lag H_p in the checks' dense H^T (gate); P - D
- * and P + D (update).
+ * and in S; D H^T off P H^T; -lag H_p in the checks' dense H^T. The update
+ * itself adds none (D cancels out of P - K (P H^T)^T).
  */
 inline constexpr std::uint64_t kFlopsLagGate = 90 + 12 + 9 + 40 + 6;
-inline constexpr std::uint64_t kFlopsLagJoseph = kFlopsLagGate + 90 + 30;
 /** Flops of lag_noise(). */
 inline constexpr std::uint64_t kFlopsLagNoise = 12;
 /** Flops of one reset_attitude call: G times the attitude rows, then the attitude block. */

@@ -162,9 +162,13 @@ FilterStatus Ekf::update(const Match* matches, std::uint32_t n, UpdateReport& re
       ++rep.rejected_invalid;
       continue;
     }
-    const GateResult g = joseph_update(s_.p, meas_, cfg_.gate_chi2, dx_, w_, work_);
+    const GateResult g = kalman_update(s_.p, meas_, cfg_.gate_chi2, dx_, w_, work_);
     if (g.check_failed) {
       ++rep.rejected_check;  // reported abft_failed by the check; the match is dropped, the state untouched
+      continue;
+    }
+    if (g.variance_lost) {
+      ++rep.rejected_invalid;  // it would leave a variance <= 0: it cannot be applied
       continue;
     }
     if (!g.accepted) {

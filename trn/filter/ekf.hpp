@@ -44,7 +44,7 @@ enum class FilterStatus : std::uint8_t {
 struct UpdateReport {
   std::uint32_t accepted = 0;
   std::uint32_t rejected_gate = 0;
-  std::uint32_t rejected_invalid = 0;
+  std::uint32_t rejected_invalid = 0;  ///< not finite, geometrically invalid, or an update that would leave a variance <= 0
   std::uint32_t rejected_stale = 0;   ///< image time before the history or after the state
   std::uint32_t coarse_accepted = 0;  ///< of accepted: coarse-stage matches (landmark kCoarseLandmark)
   std::uint32_t rejected_check = 0;   ///< an update product still wrong after its recomputations (abft_failed)
@@ -80,7 +80,7 @@ class Ekf {
 
   /**
    * Applies up to kMaxMatchesPerFrame matches one by one, each at its image
-   * time (measure, gate, Joseph update, injection, reset); a coarse-stage match
+   * time (measure, gate, Kalman update, injection, reset); a coarse-stage match
    * takes the same path with its own sigma_px. Errors: kNotInitialized,
    * kBadInput (null with n > 0, n too big).
    */
@@ -135,24 +135,24 @@ inline constexpr std::uint64_t kFlopsPerPropagation =
     kFlopsStrapdown + kFlopsCovPropagate + kFlopsCovChecks + kFlopsHistoryRecord;
 /** The row check of P H^T when it passes (every measurement that reaches the gate pays it). */
 inline constexpr std::uint64_t kFlopsCheckPht = fdir::abft_rows_flops(kErrDim, kHtRows, 2);
-/** The row checks of an accepted update's five products when they pass (P H^T, K, K (P H^T)^T, M H^T, Joseph). */
-inline constexpr std::uint64_t kFlopsUpdateChecks = 2U * kFlopsCheckPht + fdir::abft_rows_flops(kErrDim, 2, 2) +
-                                                    2U * fdir::abft_rows_flops(kErrDim, 2, kErrDim);
+/** The row checks of an accepted update's three products when they pass (P H^T, K, K (P H^T)^T). */
+inline constexpr std::uint64_t kFlopsUpdateChecks =
+    kFlopsCheckPht + fdir::abft_rows_flops(kErrDim, 2, 2) + fdir::abft_upper_flops(kErrDim, 2);
 /**
- * Flops of one accepted match at the state's time: measurement, gate, Joseph
+ * Flops of one accepted match at the state's time: measurement, gate, Kalman
  * update and its checks, injection, reset. A check whose residual passes the
  * free lower bound of its tolerance costs this; one above it (cancellation in
  * a row sum) adds its row's exact tolerance, at most kFlopsUpdateTolerances.
  */
-inline constexpr std::uint64_t kFlopsPerMatch = kFlopsBearing + kFlopsJoseph + kFlopsUpdateChecks + 60 + kFlopsReset;
+inline constexpr std::uint64_t kFlopsPerMatch = kFlopsBearing + kFlopsUpdate + kFlopsUpdateChecks + 60 + kFlopsReset;
 /** The most a clean update's checks add to kFlopsPerMatch: every row's exact tolerance, at each site. */
-inline constexpr std::uint64_t kFlopsUpdateTolerances = 2U * fdir::abft_rows_tolerance_flops(kErrDim, kHtRows, 2) +
+inline constexpr std::uint64_t kFlopsUpdateTolerances = fdir::abft_rows_tolerance_flops(kErrDim, kHtRows, 2) +
                                                         fdir::abft_rows_tolerance_flops(kErrDim, 2, 2) +
-                                                        2U * fdir::abft_rows_tolerance_flops(kErrDim, 2, kErrDim);
+                                                        fdir::abft_upper_tolerance_flops(kErrDim, 2);
 /** Flops of mapping a past image time's attitude columns onto the current error state: H_th R(q_rel). */
 inline constexpr std::uint64_t kFlopsLagMap = 24 + 30;
 /** Flops of one accepted match measured in the past (the usual case in flight). */
 inline constexpr std::uint64_t kFlopsPerLaggedMatch =
-    kFlopsPerMatch + kFlopsHistoryPose + kFlopsLagMap + kFlopsLagNoise + kFlopsLagJoseph;
+    kFlopsPerMatch + kFlopsHistoryPose + kFlopsLagMap + kFlopsLagNoise + kFlopsLagGate;
 
 }  // namespace trn::filter

@@ -56,8 +56,8 @@ inline constexpr std::array<SdcPoint, 10> kSdcPoints{{
      "checked"},
     {"filter_update_product", filter::kFilterUpdateProductChannel,
      role_bit(Role::kFilter) | role_bit(Role::kFilterReplica),
-     "one of the Joseph update's products (P H^T, the gain K = (P H^T) S^-1, K (P H^T)^T, M H^T, the Joseph term "
-     "(M H^T - K R) K^T; the next one computed: P H^T of the next measurement) before its row checksums are checked"},
+     "one of the Kalman update's products (P H^T, the gain K = (P H^T) S^-1, K (P H^T)^T; the next one computed: "
+     "P H^T of the next measurement) before its row checksums are checked"},
     {"match_position", vision::kMatchPositionChannel, role_bit(Role::kVision),
      "a vision tile's matched image position (u, v in pixels, two doubles) before its bearing is formed; a shift "
      "moves u of every match the tile makes",
