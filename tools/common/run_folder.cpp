@@ -128,11 +128,13 @@ std::string csv_safe(const std::string& s) {
 // ------------------------------------------------------------------ plots
 
 std::string position_error_script() {
-  return "# Position error of the navigation filter and its 3-sigma bound over time, from nav.csv.\n"
+  return "# Position error of the navigation filter and its 3-sigma bound over time, from nav.csv;\n"
+         "# below it, each axis's error over the 3-sigma the filter reports with it (integrity).\n"
          "# Run in this folder: gnuplot position_error.gp\n" +
-         gnuplot_png_terminal("1100,650") +
+         gnuplot_png_terminal("1100,1000") +
          "set output 'position_error.png'\n"
          "set datafile separator comma\n"
+         "set multiplot layout 2,1\n"
          "set title 'Position error of the navigation filter'\n"
          "set xlabel 'emulated time (s)'\n"
          "set ylabel 'position error (m)'\n"
@@ -143,7 +145,19 @@ std::string position_error_script() {
          "title '|estimate - truth|', \\\n"
          "     '' using (column('t_s')):(sqrt(column('sigma3_x_m')**2 + column('sigma3_y_m')**2 + "
          "column('sigma3_z_m')**2)) with lines lw 1.5 dt 2 lc rgb '#d62728' "
-         "title '3-sigma bound (root sum of the per-axis 3-sigma)'\n";
+         "title '3-sigma bound (root sum of the per-axis 3-sigma)'\n"
+         "set title 'Integrity: each axis error over its own reported 3-sigma (above 1: outside the bound)'\n"
+         "set ylabel '|error| / 3-sigma'\n"
+         "set yrange [0.001:*]\n"
+         "plot 'nav.csv' using (column('t_s')):(abs(column('est_x_m') - column('truth_x_m')) / column('sigma3_x_m')) "
+         "with lines lw 1 lc rgb '#1f77b4' title 'x', \\\n"
+         "     '' using (column('t_s')):(abs(column('est_y_m') - column('truth_y_m')) / column('sigma3_y_m')) "
+         "with lines lw 1 lc rgb '#2ca02c' title 'y', \\\n"
+         "     '' using (column('t_s')):(abs(column('est_z_m') - column('truth_z_m')) / column('sigma3_z_m')) "
+         "with lines lw 1 lc rgb '#9467bd' title 'z', \\\n"
+         "     1.0 with lines lw 1.5 dt 2 lc rgb '#d62728' title '3-sigma', \\\n"
+         "     5.0 / 3.0 with lines lw 1.5 dt 3 lc rgb '#000000' title '5-sigma'\n"
+         "unset multiplot\n";
 }
 
 struct TileMapShape {

@@ -27,6 +27,7 @@
 #include "tools/common/fdir_join.hpp"
 #include "tools/common/memory_report.hpp"
 #include "tools/common/mission.hpp"
+#include "tools/common/nav_integrity.hpp"
 #include "tools/common/phase_energy.hpp"
 #include "tools/common/run_folder.hpp"
 #include "tools/common/scenario.hpp"
@@ -151,6 +152,7 @@ struct FlightRecord {
   double max_error_after_convergence_m = 0.0;
   double converged_at_s = -1.0;
   double longest_gap_s = 0.0;  ///< longest time between two successive new outputs (or the start and the first)
+  tools::NavIntegrity integrity{};  ///< outputs after convergence against their own 3-sigma, per axis
 };
 
 /** Faults applied so far per tile, from the injector's log (ground truth: the view's count, never a detection). */
@@ -282,6 +284,8 @@ void fly(const Options& o, const tools::Mission& m, double duration_s, tools::Na
     }
     if (rec.converged_at_s >= 0.0) {
       rec.max_error_after_convergence_m = std::max(rec.max_error_after_convergence_m, n.position_error_m);
+      rec.integrity.add(n.t_s, {n.est_p[0] - n.truth_p[0], n.est_p[1] - n.truth_p[1], n.est_p[2] - n.truth_p[2]},
+                        {n.sigma3_p[0], n.sigma3_p[1], n.sigma3_p[2]});
     }
     if (s % per_second != 0U && s != steps) {
       continue;
@@ -415,6 +419,18 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
     s.extra.push_back(g);
   }
   s.extra.emplace_back("converged_at_s", rec.converged_at_s);
+  // Integrity after convergence: each axis's error against the 3-sigma the same output reports.
+  const tools::NavIntegrity& ni = rec.integrity;
+  s.extra.emplace_back("integrity_outputs", static_cast<double>(ni.outputs));
+  for (int a = 0; a < 3; ++a) {
+    const auto k = static_cast<std::size_t>(a);
+    const std::string axis(1, static_cast<char>('x' + a));
+    s.extra.emplace_back("integrity_beyond_3sigma_fraction_" + axis, ni.fraction_beyond_3sigma(a));
+    s.extra.emplace_back("integrity_beyond_5sigma_" + axis, static_cast<double>(ni.beyond_5sigma[k]));
+    s.extra.emplace_back("integrity_worst_ratio_" + axis, ni.worst_ratio[k]);
+  }
+  s.extra.emplace_back("integrity_worst_at_s", ni.worst_at_s);
+  s.extra.emplace_back("integrity_bad_sigma", static_cast<double>(ni.bad_sigma));
   s.extra.emplace_back("landmarks_selected", c.landmarks_selected);
   s.extra.emplace_back("coarse_accepted", c.coarse_accepted);
   s.extra.emplace_back("vision_units_lost", c.units_lost);
@@ -487,6 +503,19 @@ void print_summary(const tools::Summary& s, const std::string& dir) {
       std::printf("  NAVIGATION LOST        the newest navigation output is stale at the end (see nav_output_age_at_end_s)\n");
     }
   }
+  const auto extra = [&s](const char* key) {
+    for (const auto& [k, v] : s.extra) {
+      if (k == key) {
+        return v;
+      }
+    }
+    return static_cast<double>(NAN);
+  };
+  std::printf("  integrity              beyond 3-sigma after convergence: x %.2f %%, y %.2f %%, z %.2f %% of %.0f "
+              "outputs; worst error / 3-sigma %.2f, %.2f, %.2f\n",
+              100.0 * extra("integrity_beyond_3sigma_fraction_x"), 100.0 * extra("integrity_beyond_3sigma_fraction_y"),
+              100.0 * extra("integrity_beyond_3sigma_fraction_z"), extra("integrity_outputs"),
+              extra("integrity_worst_ratio_x"), extra("integrity_worst_ratio_y"), extra("integrity_worst_ratio_z"));
   std::printf("  final velocity error   %.3f m/s, attitude error %.4f deg\n", s.final_velocity_error_mps,
               s.final_attitude_error_deg);
   std::printf("  frames                 %llu, %.1f matches per frame\n", static_cast<unsigned long long>(s.frames),

@@ -9,6 +9,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -111,6 +114,49 @@ std::vector<std::vector<std::string>> csv_rows(const fs::path& p) {
     rows.push_back(cells);
   }
   return rows;
+}
+
+// Issue 23's integrity measure: every output after convergence is held against its own per-axis
+// 3-sigma; summary.json's counts and worst ratios are those of nav.csv's rows (to its printed digits).
+TEST_F(TrnMissionBinary, SummaryCarriesTheIntegrityOfTheOutputsAfterConvergence) {
+  ASSERT_EQ(run(binary() + " --duration 8 --quiet --no-plots --seed 1 --out " + (dir_ / "i").string()), 0);
+  const nlohmann::json s = read_json(dir_ / "i" / "summary.json");
+  const double converged = s["converged_at_s"].get<double>();
+  ASSERT_GT(converged, 0.0);
+  const std::vector<std::vector<std::string>> rows = csv_rows(dir_ / "i" / "nav.csv");
+  ASSERT_GT(rows.size(), 2U);
+  const std::vector<std::string>& head = rows[0];
+  const auto col = [&head](const std::string& name) {
+    return static_cast<std::size_t>(std::find(head.begin(), head.end(), name) - head.begin());
+  };
+  std::size_t outputs = 0;
+  std::array<double, 3> worst{};
+  for (std::size_t r = 1; r < rows.size(); ++r) {
+    if (std::stod(rows[r][col("t_s")]) < converged - 1e-9) {
+      continue;
+    }
+    ++outputs;
+    for (int a = 0; a < 3; ++a) {
+      const std::string ax(1, static_cast<char>('x' + a));
+      const double e = std::stod(rows[r][col("est_" + ax + "_m")]) - std::stod(rows[r][col("truth_" + ax + "_m")]);
+      const double ratio = std::abs(e) / std::stod(rows[r][col("sigma3_" + ax + "_m")]);
+      worst[static_cast<std::size_t>(a)] = std::max(worst[static_cast<std::size_t>(a)], ratio);
+    }
+  }
+  EXPECT_GT(outputs, 40U);
+  EXPECT_EQ(s["integrity_outputs"].get<double>(), static_cast<double>(outputs));
+  EXPECT_EQ(s["integrity_bad_sigma"].get<double>(), 0.0);
+  for (int a = 0; a < 3; ++a) {
+    const std::string ax(1, static_cast<char>('x' + a));
+    const double frac = s["integrity_beyond_3sigma_fraction_" + ax].get<double>();
+    EXPECT_GE(frac, 0.0);
+    EXPECT_LE(frac, 1.0);
+    // nav.csv prints millimetres: the ratio recomputed from it agrees to a few of them.
+    EXPECT_NEAR(s["integrity_worst_ratio_" + ax].get<double>(), worst[static_cast<std::size_t>(a)],
+                0.01 * worst[static_cast<std::size_t>(a)] + 0.005)
+        << ax;
+  }
+  EXPECT_GE(s["integrity_worst_at_s"].get<double>(), converged);
 }
 
 // TOOLS-EN-07: summary.json carries the chip's energy, its mean power and the energy by phase, role and state,
