@@ -33,6 +33,8 @@ class TraceDumpWriter {
   TraceDumpWriter() = default;
   TraceDumpWriter(const TraceDumpWriter&) = delete;
   TraceDumpWriter& operator=(const TraceDumpWriter&) = delete;
+  TraceDumpWriter(TraceDumpWriter&&) = delete;  ///< the board's sink points at this object
+  TraceDumpWriter& operator=(TraceDumpWriter&&) = delete;
   /** Closes the file if still open (without reporting a write error: call close() to see it). */
   ~TraceDumpWriter();
 
