@@ -56,6 +56,8 @@ void trace_reset() noexcept {
 
 std::uint64_t trace_hash() noexcept { return g_trace.hash; }
 
+std::uint64_t trace_initial_hash() noexcept { return kHashSeed; }
+
 std::uint64_t trace_count() noexcept { return g_trace.count; }
 
 std::size_t trace_recent(std::span<TraceEvent> out) noexcept {

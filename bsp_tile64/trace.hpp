@@ -72,6 +72,9 @@ std::size_t trace_recent(std::span<TraceEvent> out) noexcept;
 /** Installs (or with nullptr removes) the trace sink. Survives trace_reset(). [host] */
 void set_trace_sink(TraceSink sink) noexcept;
 
+/** The hash before any event (what trace_reset() starts from): tools fold a dumped trace from it. */
+std::uint64_t trace_initial_hash() noexcept;
+
 /** The hash step, exposed for tests: folds one event into @p h. */
 std::uint64_t trace_fold(std::uint64_t h, const TraceEvent& ev) noexcept;
 

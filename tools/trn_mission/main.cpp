@@ -32,6 +32,7 @@
 #include "tools/common/run_folder.hpp"
 #include "tools/common/scenario.hpp"
 #include "tools/common/tile_view.hpp"
+#include "tools/common/trace_dump.hpp"
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/tile_map.hpp"
 #include "trn/tasks/vision_coord.hpp"
@@ -75,6 +76,7 @@ struct Options {
   bool memory_map = false;
   bool no_plots = false;
   std::string world_cache;
+  std::string trace_dump;  ///< empty: no dump
 };
 
 /** Everything checked before the run: scenario, plan, run folder. */
@@ -567,6 +569,8 @@ int run(int argc, char** argv) {
   app.add_option("--world-cache", o.world_cache,
                  "Folder that keeps the built terrain and map product between runs (campaigns; default: none)");
   app.add_flag("--no-plots", o.no_plots, "Write the run's data but no plots (campaigns: gnuplot costs time per run)");
+  app.add_option("--trace-dump", o.trace_dump,
+                 "Write every trace event of the run to this file (compare two runs with trn_trace diff)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -583,13 +587,19 @@ int run(int argc, char** argv) {
   std::printf("trn_mission: building the world (scenario %s, seed %llu)\n", in.scenario.name.c_str(),
               static_cast<unsigned long long>(in.scenario.seed));
   std::fflush(stdout);
+  // The dump opens before the board is built so that it holds every event the hash folds, boot included
+  // (the board's init resets the hash; the sink stays installed).
+  std::string error;
+  tools::TraceDumpWriter dump;
+  if (!o.trace_dump.empty() && !dump.open(o.trace_dump, error)) {
+    return bad_input(error);
+  }
   tools::Mission mission;
   tools::MissionSetup setup;
   setup.scenario = in.scenario;
   setup.duration_s = in.duration_s;
   setup.vision_tiles = o.vision_tiles;
   setup.world_cache = o.world_cache;
-  std::string error;
   if (!mission.build(setup, error) || !mission.boot(error)) {
     std::fprintf(stderr, "trn_mission: %s\n", error.c_str());
     return 1;
@@ -620,6 +630,10 @@ int run(int argc, char** argv) {
   bsp::heap::seal(bsp::heap::SealMode::kFatal);
   fly(o, mission, in.duration_s, csv, log, flight, rec, infos, energy);
   energy.finish(bsp::board_time());
+  if (!dump.close(error)) {
+    std::fprintf(stderr, "trn_mission: %s\n", error.c_str());
+    return 1;
+  }
   const std::uint64_t allocs = bsp::heap::allocs_after_seal();
   bsp::heap::unseal();
   const double host_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

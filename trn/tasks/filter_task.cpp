@@ -399,7 +399,11 @@ void checkpoint(Slot& slot) noexcept {
 
 bool rejoin(Slot& slot, std::uint32_t job) noexcept;
 
-bool set_up(Slot& slot, const FilterTaskConfig& cfg) noexcept {
+// Never inlined: its checkpoint read holds a whole FilterState (about 18 KiB) on the stack, which must
+// be gone before the task's loop runs. Clang inlined it into filter_task_main, whose frame then kept
+// those bytes for the whole flight (18728 bytes instead of GCC's 320); with the loop's own calls on
+// top, the 32 KiB stack overflowed into the next task's saved context when the filter went TMR.
+[[gnu::noinline]] bool set_up(Slot& slot, const FilterTaskConfig& cfg) noexcept {
   if (cfg.matches_per_job == 0U || cfg.matches_per_job > kMaxMatchesPerFrame) {
     return false;
   }

@@ -73,9 +73,13 @@ TEST(CameraProjection, RandomPosesAndPointsFollowThePinholeEquations) {
     m.r_bc[i] = r_bc(i / 3, i % 3);
   }
   for (int k = 0; k < 1000; ++k) {
-    const bsp::CameraPose pose{{rng.uniform(-500, 500), rng.uniform(-500, 500), rng.uniform(500, 4000)},
-                               attitude(rng.uniform(-180, 180), rng.uniform(-20, 20), rng.uniform(-20, 20))};
-    const Eigen::Vector3d p(rng.uniform(-3000, 3000), rng.uniform(-3000, 3000), rng.uniform(-200, 200));
+    // One draw per statement (or in a braced list): a call's argument order is unspecified.
+    const Eigen::Vector3d r{rng.uniform(-500, 500), rng.uniform(-500, 500), rng.uniform(500, 4000)};
+    const double yaw = rng.uniform(-180, 180);
+    const double pitch = rng.uniform(-20, 20);
+    const double roll = rng.uniform(-20, 20);
+    const bsp::CameraPose pose{r, attitude(yaw, pitch, roll)};
+    const Eigen::Vector3d p{rng.uniform(-3000, 3000), rng.uniform(-3000, 3000), rng.uniform(-200, 200)};
     // Reference: p_C = (R_MB r_bc)^T (p - r), element by element.
     const Eigen::Matrix3d r_mb = pose.q_mb.toRotationMatrix();
     double pc[3] = {0, 0, 0};

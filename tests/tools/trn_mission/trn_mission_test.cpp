@@ -5,6 +5,8 @@
  */
 #include "build_dirs.hpp"
 #include "build_info.hpp"
+#include "tools/common/run_folder.hpp"
+#include "tools/common/trace_dump.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -16,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -1009,6 +1012,36 @@ TEST_F(TrnMissionBinary, WorldCacheFliesTheSameBits) {
   for (const fs::path& f : files) {
     EXPECT_GT(fs::file_size(f), 1000000U) << "written whole again after the damaged read: " << f;
   }
+}
+
+// Where two runs part: a trace dump holds every event the hash folds (it folds back to the summary's
+// hash), a replay's dump is the same event for event, and trn_trace diff says so (exit 0) or names the
+// first differing event of another seed's run (exit 1).
+TEST_F(TrnMissionBinary, ATraceDumpFoldsToTheSummarysHashAndTrnTraceNamesTheFirstDifference) {
+  const std::string args = " --quiet --no-plots --duration 2 --out ";
+  const auto fly = [&](const char* name, int seed) {
+    return run(binary() + args + (dir_ / name).string() + " --seed " + std::to_string(seed) + " --trace-dump " +
+               (dir_ / name).string() + ".trace");
+  };
+  ASSERT_EQ(fly("a", 2), 0);
+  ASSERT_EQ(fly("b", 2), 0);
+  ASSERT_EQ(fly("c", 5), 0);
+  std::string error;
+  const std::optional<tools::TraceDump> a = tools::read_trace_dump((dir_ / "a.trace").string(), error);
+  ASSERT_TRUE(a.has_value()) << error;
+  EXPECT_GT(a->events.size(), 1000U);
+  EXPECT_EQ(tools::trace_hash_hex(a->hash), read_json(dir_ / "a" / "summary.json")["trace_hash"]);
+  const std::string trn_trace = std::string(build_info::kBinDir) + "/trn_trace diff ";
+  EXPECT_EQ(run(trn_trace + (dir_ / "a.trace").string() + " " + (dir_ / "b.trace").string()), 0);
+  const std::string diff = (dir_ / "diff.txt").string();
+  const int status =
+      std::system((trn_trace + (dir_ / "a.trace").string() + " " + (dir_ / "c.trace").string() + " > " + diff).c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1) << "trn_trace diff exits 1 when the runs differ";
+  const std::string out = read_text(diff);
+  EXPECT_NE(out.find("first difference at event #"), std::string::npos) << out;
+  EXPECT_NE(out.find("  a #"), std::string::npos) << out;
+  EXPECT_NE(out.find("  b #"), std::string::npos) << out;
 }
 
 // A tile whose switch is declared failed is cut off for good (no reset brings a switch back): the

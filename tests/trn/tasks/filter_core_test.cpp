@@ -41,7 +41,7 @@ void add_matches(JobRecord& r, const Pose& truth, const bsp::CameraModel& cam, s
   }
   for (std::uint32_t k = 0; k < kBatch; ++k) {
     trn::Match m{};
-    const Eigen::Vector3d p_l(truth.p.x() + rng.normal(0.0, 300.0), truth.p.y() + rng.normal(0.0, 300.0), 0.0);
+    const Eigen::Vector3d p_l{truth.p.x() + rng.normal(0.0, 300.0), truth.p.y() + rng.normal(0.0, 300.0), 0.0};  // braces: draws in order
     const Eigen::Vector3d d_m = (p_l - truth.p).normalized();
     const Eigen::Vector3d w_c = r_bc.transpose() * (truth.q.conjugate() * d_m);
     for (int i = 0; i < 3; ++i) {

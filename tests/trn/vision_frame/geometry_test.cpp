@@ -61,9 +61,13 @@ TEST(PoseGeometry, ProjectionEqualsTheCameraDeviceForRandomPosesAndPoints) {
   const bsp::CameraModel m = tilted_camera();
   int in_front = 0;
   for (int k = 0; k < 1000; ++k) {
-    const bsp::CameraPose pose{{rng.uniform(-500, 500), rng.uniform(-500, 500), rng.uniform(500, 4000)},
-                               attitude(rng.uniform(-180, 180), rng.uniform(-20, 20), rng.uniform(-20, 20))};
-    const Eigen::Vector3d p(rng.uniform(-3000, 3000), rng.uniform(-3000, 3000), rng.uniform(-200, 200));
+    // One draw per statement (or in a braced list): a call's argument order is unspecified.
+    const Eigen::Vector3d r{rng.uniform(-500, 500), rng.uniform(-500, 500), rng.uniform(500, 4000)};
+    const double yaw = rng.uniform(-180, 180);
+    const double pitch = rng.uniform(-20, 20);
+    const double roll = rng.uniform(-20, 20);
+    const bsp::CameraPose pose{r, attitude(yaw, pitch, roll)};
+    const Eigen::Vector3d p{rng.uniform(-3000, 3000), rng.uniform(-3000, 3000), rng.uniform(-200, 200)};
     const double pm[3] = {p.x(), p.y(), p.z()};
     const bsp::PixelPoint ref = bsp::project(m, pose, p);
     double u = 0.0;
@@ -94,8 +98,12 @@ TEST(PoseGeometry, PlaneHomographyMapsGridPixelsWhereTheCameraProjectsTheirPoint
   bsp::Rng rng(kSeed, bsp::StreamId::kTest);
   const bsp::CameraModel m = tilted_camera();
   for (int k = 0; k < 200; ++k) {
-    const bsp::CameraPose pose{{rng.uniform(-500, 500), rng.uniform(-500, 500), rng.uniform(1000, 4000)},
-                               attitude(rng.uniform(-180, 180), rng.uniform(-10, 10), rng.uniform(-10, 10))};
+    // One draw per statement (or in a braced list): a call's argument order is unspecified.
+    const Eigen::Vector3d r{rng.uniform(-500, 500), rng.uniform(-500, 500), rng.uniform(1000, 4000)};
+    const double yaw = rng.uniform(-180, 180);
+    const double pitch = rng.uniform(-10, 10);
+    const double roll = rng.uniform(-10, 10);
+    const bsp::CameraPose pose{r, attitude(yaw, pitch, roll)};
     tv::PlaneGrid grid;
     grid.origin_m[0] = rng.uniform(-800, 800);
     grid.origin_m[1] = rng.uniform(-800, 800);
