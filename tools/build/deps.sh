@@ -11,7 +11,7 @@ base_pkgs=(
   libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
   libboost-dev
-  cppcheck clang-tidy gcovr gnuplot-nox
+  cppcheck clang-tidy clang gcovr gnuplot-nox
 )
 bench_pkgs=(libopencv-dev)
 fuzz_pkgs=(clang libclang-rt-dev)
