@@ -589,8 +589,8 @@ void judge_tiles(CoordState& st, VisionCoordStats& stats, std::uint32_t first, b
 
 /**
  * Checks the frame's fine matches against the pose they fit together, judges
- * each tile by its share of failed matches, and leaves the matches of the
- * tiles not trusted now out of the batch.
+ * each tile by its share of failed matches, and leaves out of the batch the
+ * matches of the tiles not trusted now (matches_unused) and the failed ones.
  */
 void check_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   const std::uint32_t first = (st.match_count > 0U && st.matches[0].landmark == kCoarseLandmark) ? 1U : 0U;
@@ -610,12 +610,12 @@ void check_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   judge_tiles(st, stats, first, r.checked);
   std::uint32_t kept = first;
   for (std::uint32_t k = first; k < st.match_count; ++k) {
-    if (fdir::result_trust_used(st.trust, tile_index(st, st.matches[k].tile))) {
+    if (!fdir::result_trust_used(st.trust, tile_index(st, st.matches[k].tile))) {
+      ++stats.matches_unused;
+    } else if (!(r.checked && st.failed[k - first])) {
       st.matches[kept] = st.matches[k];
       ++kept;
-    } else {
-      ++stats.matches_unused;
-    }
+    }  // else failed (counted in matches_failed): a filter whose covariance is still wide could take it
   }
   st.match_count = kept;
   stats.tiles_untrusted = fdir::result_trust_untrusted(st.trust);

@@ -97,7 +97,7 @@ struct VisionCoordStats {
   std::uint32_t suspect_tiles;        ///< tiles currently given no work
   std::uint32_t frames_checked;       ///< frames whose matches were checked for consistency
   std::uint32_t matches_checked;
-  std::uint32_t matches_failed;       ///< matches off the pose the frame's matches fit
+  std::uint32_t matches_failed;       ///< matches off the pose the frame's matches fit (left out of the batch)
   std::uint32_t matches_unused;       ///< matches of untrusted tiles, not sent to the filter
   std::uint32_t tiles_untrusted;      ///< tiles whose matches are not used now
   std::uint32_t resets_asked;         ///< tiles the supervisor was asked to reset for wrong matches
