@@ -109,6 +109,48 @@ void Ekf::apply_correction(const Vec15& dx) noexcept {
   work_.fdivs += 4;
 }
 
+GateResult Ekf::iterated_update(const Match& m) noexcept {
+  x0_ = s_.x;
+  p0_ = s_.p;
+  const GateResult first = kalman_update(s_.p, meas_, cfg_.gate_chi2, dx_, w_, work_);
+  if (!first.accepted || first.check_failed || first.variance_lost) {
+    return first;
+  }
+  for (std::uint32_t it = 1; it < kCoarseIterations; ++it) {
+    // Relinearize at x0 + dx_ (the nominal state only: P is reset once, by the caller).
+    s_.x.p_m = x0_.p_m + dx_.segment<3>(kIdxP);
+    s_.x.v_mps = x0_.v_mps + dx_.segment<3>(kIdxV);
+    s_.x.q_mb = (x0_.q_mb * quat_exp(dx_.segment<3>(kIdxTh))).normalized();
+    s_.x.bg_rads = x0_.bg_rads + dx_.segment<3>(kIdxBg);
+    s_.x.ba_mps2 = x0_.ba_mps2 + dx_.segment<3>(kIdxBa);
+    work_.flops += 60;
+    work_.fdivs += 4;
+    const MatchCheck mc = measure(m, meas_);
+    if (mc != MatchCheck::kOk) {
+      break;  // the last iteration that passed stands
+    }
+    // The residual about x0: r(x) + H (x - x0), with x - x0 = dx_ in error-state terms.
+    meas_.r.noalias() += meas_.hp * (dx_.segment<3>(kIdxP) - meas_.lag_s * dx_.segment<3>(kIdxV));
+    meas_.r.noalias() += meas_.hth * dx_.segment<3>(kIdxTh);
+    work_.flops += 36;
+    p_iter_ = p0_;
+    const GateResult g = kalman_update(p_iter_, meas_, cfg_.gate_chi2, dx_iter_, w_, work_);
+    if (!g.accepted || g.check_failed || g.variance_lost) {
+      break;
+    }
+    const double moved = (dx_iter_.segment<3>(kIdxP) - dx_.segment<3>(kIdxP)).norm();
+    s_.p = p_iter_;
+    dx_ = dx_iter_;
+    work_.flops += 12;
+    work_.fdivs += 1;
+    if (!(moved >= kCoarseConvergedM)) {
+      break;
+    }
+  }
+  s_.x = x0_;
+  return first;
+}
+
 MatchCheck Ekf::measure(const Match& m, Meas2& out) noexcept {
   if (!std::isfinite(m.t_s)) {
     return MatchCheck::kInvalid;
@@ -162,7 +204,9 @@ FilterStatus Ekf::update(const Match* matches, std::uint32_t n, UpdateReport& re
       ++rep.rejected_invalid;
       continue;
     }
-    const GateResult g = kalman_update(s_.p, meas_, cfg_.gate_chi2, dx_, w_, work_);
+    const GateResult g = matches[i].landmark == kCoarseLandmark
+                             ? iterated_update(matches[i])
+                             : kalman_update(s_.p, meas_, cfg_.gate_chi2, dx_, w_, work_);
     if (g.check_failed) {
       ++rep.rejected_check;  // reported abft_failed by the check; the match is dropped, the state untouched
       continue;

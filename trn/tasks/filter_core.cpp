@@ -64,14 +64,34 @@ void push(MatchQueue& q, const Match& m, FilterTaskStats& st) noexcept {
   st.queue_high_water = q.count > st.queue_high_water ? q.count : st.queue_high_water;
 }
 
-/** Applies at most matches_per_job queued matches (two calls when the ring wraps). */
+/**
+ * How many of the @p available queued matches from @p head fit in @p budget
+ * updates: a coarse match costs filter::kCoarseIterations (its iterated
+ * update), any other one. At least one when any is available, so a budget
+ * smaller than a coarse match's cost still moves the queue. Lowers @p budget.
+ */
+std::uint32_t matches_that_fit(const MatchQueue& q, std::uint32_t head, std::uint32_t available,
+                               std::uint32_t& budget) noexcept {
+  std::uint32_t n = 0;
+  while (n < available && budget > 0U) {
+    const bool coarse = q.m[(head + n) % kMatchQueueLen].landmark == kCoarseLandmark;
+    const std::uint32_t cost = coarse ? filter::kCoarseIterations : 1U;
+    if (cost > budget && n > 0U) {
+      break;
+    }
+    budget -= cost < budget ? cost : budget;
+    ++n;
+  }
+  return n;
+}
+
+/** Applies the queued matches that fit in matches_per_job updates (two calls when the ring wraps). */
 void apply_matches(FilterCore& c) noexcept {
   MatchQueue& q = *c.queue;
   std::uint32_t budget = c.cfg->matches_per_job;
   for (int pass = 0; pass < 2 && budget > 0U && q.count > 0U; ++pass) {
     const std::uint32_t contiguous = kMatchQueueLen - q.head;
-    std::uint32_t n = budget < q.count ? budget : q.count;
-    n = n < contiguous ? n : contiguous;
+    const std::uint32_t n = matches_that_fit(q, q.head, q.count < contiguous ? q.count : contiguous, budget);
     filter::UpdateReport rep{};
     if (c.ekf->update(&q.m[q.head], n, rep) != filter::FilterStatus::kOk) {
       ++c.stats->filter_errors;
@@ -83,7 +103,6 @@ void apply_matches(FilterCore& c) noexcept {
     c.stats->rejected_invalid += rep.rejected_invalid;
     q.head = (q.head + n) % kMatchQueueLen;
     q.count -= n;
-    budget -= n;
   }
 }
 
