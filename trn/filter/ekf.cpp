@@ -97,14 +97,22 @@ FilterStatus Ekf::propagate(const bsp::ImuSample& imu) noexcept {
   return FilterStatus::kOk;
 }
 
+namespace {
+
+/** @p x0 with error-state correction @p dx injected, into @p out (which may be @p x0). */
+void inject(const NominalState& x0, const Vec15& dx, NominalState& out) noexcept {
+  out.p_m = x0.p_m + dx.segment<3>(kIdxP);
+  out.v_mps = x0.v_mps + dx.segment<3>(kIdxV);
+  out.q_mb = (x0.q_mb * quat_exp(dx.segment<3>(kIdxTh))).normalized();
+  out.bg_rads = x0.bg_rads + dx.segment<3>(kIdxBg);
+  out.ba_mps2 = x0.ba_mps2 + dx.segment<3>(kIdxBa);
+}
+
+}  // namespace
+
 void Ekf::apply_correction(const Vec15& dx) noexcept {
-  s_.x.p_m += dx.segment<3>(kIdxP);
-  s_.x.v_mps += dx.segment<3>(kIdxV);
-  const Vec3 dth = dx.segment<3>(kIdxTh);
-  s_.x.q_mb = (s_.x.q_mb * quat_exp(dth)).normalized();
-  s_.x.bg_rads += dx.segment<3>(kIdxBg);
-  s_.x.ba_mps2 += dx.segment<3>(kIdxBa);
-  reset_attitude(s_.p, dth, work_);
+  inject(s_.x, dx, s_.x);
+  reset_attitude(s_.p, dx.segment<3>(kIdxTh), work_);
   work_.flops += 60;
   work_.fdivs += 4;
 }
@@ -118,11 +126,7 @@ GateResult Ekf::iterated_update(const Match& m) noexcept {
   }
   for (std::uint32_t it = 1; it < kCoarseIterations; ++it) {
     // Relinearize at x0 + dx_ (the nominal state only: P is reset once, by the caller).
-    s_.x.p_m = x0_.p_m + dx_.segment<3>(kIdxP);
-    s_.x.v_mps = x0_.v_mps + dx_.segment<3>(kIdxV);
-    s_.x.q_mb = (x0_.q_mb * quat_exp(dx_.segment<3>(kIdxTh))).normalized();
-    s_.x.bg_rads = x0_.bg_rads + dx_.segment<3>(kIdxBg);
-    s_.x.ba_mps2 = x0_.ba_mps2 + dx_.segment<3>(kIdxBa);
+    inject(x0_, dx_, s_.x);
     work_.flops += 60;
     work_.fdivs += 4;
     const MatchCheck mc = measure(m, meas_);

@@ -350,6 +350,23 @@ TEST(FilterLagged, LaggedJacobianMatchesFiniteDifferencesOfTheBackPropagatedPred
   }
 }
 
+/** A coarse-stage match now: the image centre and its ground point at z = 0 (camera = body axes here). */
+trn::Match centre_coarse_match(const TruthSim& truth, const bsp::CameraModel& cam, double sigma_px) {
+  trn::Match coarse{};
+  const Vec3 axis = truth.q().toRotationMatrix() * Vec3::UnitZ();
+  const Vec3 ground = truth.p() + (-truth.p().z() / axis.z()) * axis;
+  for (int k = 0; k < 3; ++k) {
+    coarse.w_c[k] = k == 2 ? 1.0 : 0.0;
+    coarse.p_m[k] = ground(k);
+  }
+  coarse.u_px = cam.cx_px;
+  coarse.v_px = cam.cy_px;
+  coarse.sigma_px = sigma_px;
+  coarse.landmark = trn::kCoarseLandmark;
+  coarse.t_s = truth.t();
+  return coarse;
+}
+
 TEST(FilterLagged, CoarseMatchRemovesAThreeKilometreErrorAndFineMatchesConverge) {
   constexpr std::uint64_t kSeed = 95;
   SCOPED_TRACE(testing::Message() << "seed " << kSeed);
@@ -367,18 +384,7 @@ TEST(FilterLagged, CoarseMatchRemovesAThreeKilometreErrorAndFineMatchesConverge)
     ASSERT_EQ(g_ekf.propagate(truth.next_imu()), FilterStatus::kOk);
   }
   // Coarse stage: the image centre found in the map, its ground point, a sigma of 16 px (~130 m).
-  trn::Match coarse{};
-  const Vec3 axis = truth.q().toRotationMatrix() * Vec3::UnitZ();  // camera = body axes here
-  const Vec3 ground = truth.p() + (-truth.p().z() / axis.z()) * axis;
-  for (int k = 0; k < 3; ++k) {
-    coarse.w_c[k] = k == 2 ? 1.0 : 0.0;
-    coarse.p_m[k] = ground(k);
-  }
-  coarse.u_px = cam.cx_px;
-  coarse.v_px = cam.cy_px;
-  coarse.sigma_px = 16.0;
-  coarse.landmark = trn::kCoarseLandmark;
-  coarse.t_s = truth.t();
+  const trn::Match coarse = centre_coarse_match(truth, cam, 16.0);
   for (int k = 0; k < 50; ++k) {  // the coarse result arrives 0.5 s after the image
     ASSERT_EQ(g_ekf.propagate(truth.next_imu()), FilterStatus::kOk);
   }
@@ -448,18 +454,7 @@ TEST(FilterLagged, ACoarseMatchFromKilometresOffKeepsTheAttitudeAndItsCovariance
   for (int k = 0; k < 20; ++k) {
     ASSERT_EQ(g_ekf.propagate(truth.next_imu()), FilterStatus::kOk);
   }
-  trn::Match coarse{};
-  const Vec3 axis = truth.q().toRotationMatrix() * Vec3::UnitZ();  // camera = body axes here
-  const Vec3 ground = truth.p() + (-truth.p().z() / axis.z()) * axis;
-  for (int k = 0; k < 3; ++k) {
-    coarse.w_c[k] = k == 2 ? 1.0 : 0.0;
-    coarse.p_m[k] = ground(k);
-  }
-  coarse.u_px = cam.cx_px;
-  coarse.v_px = cam.cy_px;
-  coarse.sigma_px = 6.0;
-  coarse.landmark = trn::kCoarseLandmark;
-  coarse.t_s = truth.t();
+  const trn::Match coarse = centre_coarse_match(truth, cam, 6.0);
   for (int k = 0; k < 89; ++k) {
     ASSERT_EQ(g_ekf.propagate(truth.next_imu()), FilterStatus::kOk);
   }
