@@ -256,10 +256,13 @@ CAMPAIGN ?= campaigns/single_faults.toml
 SLURM_CAMPAIGN ?= campaigns/slurm_small.toml
 JOBS ?= $(shell nproc)
 TASKS ?= 4
-.PHONY: campaign campaign-slurm
+.PHONY: campaign campaign-slurm integrity
 campaign: deps ## Fly the campaign CAMPAIGN (default campaigns/single_faults.toml) on JOBS cores into out/campaign-<name>/
 	@$(MAKE) --no-print-directory $(BIN)/trn_campaign $(BIN)/trn_mission
 	$(BIN)/trn_campaign run $(CAMPAIGN) -j $(JOBS) --out out/campaign-$(basename $(notdir $(CAMPAIGN)))
+
+integrity: ## Fly 100 fault-free seeds (campaigns/integrity_100.toml) and report the filter's integrity into out/campaign-integrity_100/
+	@$(MAKE) --no-print-directory campaign CAMPAIGN=campaigns/integrity_100.toml
 
 campaign-slurm: deps ## Start Slurm here, fly SLURM_CAMPAIGN as a job array of TASKS shards into out/campaign-slurm/, merge
 	@tools/build/deps.sh slurm

@@ -30,10 +30,10 @@ constexpr std::uint32_t kReplicaInstances = 3U;
 constexpr std::uint32_t kMaxPacketWord = 129U;
 constexpr std::uint32_t kMaxSdcBit = 65535U;
 
-constexpr std::array<std::string_view, 17> kKeys = {
-    "name",  "scenario", "seed",  "campaign_seed", "runs",      "faults_per_run", "duration_s", "window_s",
-    "kinds", "roles",    "tiles", "points",        "carves",    "pass_bound_m",   "degraded_bound_m", "timeout_s",
-    "command"};
+constexpr std::array<std::string_view, 18> kKeys = {
+    "name",  "scenario", "seed",  "seed_per_run", "campaign_seed", "runs",      "faults_per_run", "duration_s",
+    "window_s", "kinds", "roles", "tiles",        "points",        "carves",    "pass_bound_m",   "degraded_bound_m",
+    "timeout_s", "command"};
 
 /** The roles a campaign can aim at: those a fault plan names. */
 constexpr std::array<std::string_view, 6> kRoles = {"trn_supervisor", "vision_coordinator", "io",
@@ -215,6 +215,10 @@ std::string draw_fault(const Spec& spec, Stream& r, std::string& kind_out) {
 
 }  // namespace
 
+std::uint64_t scenario_seed(const Spec& spec, std::uint32_t index) {
+  return spec.seed_per_run ? spec.seed + index : spec.seed;
+}
+
 std::uint64_t run_seed(std::uint64_t campaign_seed, std::uint32_t index) {
   Stream s{campaign_seed ^ (0xD1B5'4A32'D192'ED03ULL * (static_cast<std::uint64_t>(index) + 1U))};
   return s.next();
@@ -273,12 +277,22 @@ SpecResult parse_spec(std::string_view text, const std::string& source, double m
     }
   }
   rd.integer("seed", 0, INT64_MAX, s.seed);
+  if (const toml::node* n = root.get("seed_per_run")) {
+    if (!n->is_boolean()) {
+      rd.fail("seed_per_run", "wrong type: expected true or false");
+    } else {
+      s.seed_per_run = n->as_boolean()->get();
+    }
+  }
   rd.integer("campaign_seed", 0, INT64_MAX, s.campaign_seed);
   if (root.get("runs") == nullptr) {
     errors.push_back(source + ": missing key runs (1 .. " + std::to_string(kMaxRuns) + ")");
   }
   rd.integer("runs", 1, kMaxRuns, s.runs);
-  rd.integer("faults_per_run", 1, kMaxFaultsPerRun, s.faults_per_run);
+  rd.integer("faults_per_run", 0, kMaxFaultsPerRun, s.faults_per_run);
+  if (s.seed_per_run && s.seed > static_cast<std::uint64_t>(INT64_MAX) - s.runs) {
+    rd.fail("seed", "with seed_per_run the last run's seed (seed + runs - 1) must stay within 0 .. 2^63 - 1");
+  }
   rd.number("duration_s", 1.0, 1000.0, " s", s.duration_s);
   rd.number("pass_bound_m", 0.001, 1e6, " m", s.pass_bound_m);
   rd.number("degraded_bound_m", 0.001, 1e6, " m", s.degraded_bound_m);
@@ -309,10 +323,10 @@ SpecResult parse_spec(std::string_view text, const std::string& source, double m
     for (const std::string& k : names) {
       s.kinds.push_back(*fault_kind_from_name(k));
     }
-    if (names.empty() && errors.empty()) {
+    if (names.empty() && errors.empty() && s.faults_per_run > 0U) {
       rd.fail("kinds", "empty: name at least one fault kind");
     }
-  } else {
+  } else if (s.faults_per_run > 0U) {
     errors.push_back(source + ": missing key kinds (allowed: " + kind_names() + ")");
   }
   if (const toml::node* n = root.get("roles")) {
@@ -347,7 +361,14 @@ SpecResult parse_spec(std::string_view text, const std::string& source, double m
               return !v.empty() && v.size() <= 23U ? std::string{} : "a carve name is 1 .. 23 characters";
             }));
   }
-  if (s.roles.empty() && s.tiles.empty()) {
+  if (s.faults_per_run == 0U) {
+    // A fault-free campaign: a key that only shapes the draws would be silently ignored, so it is refused.
+    for (const std::string_view k : {"kinds", "roles", "tiles", "points", "carves", "window_s", "campaign_seed"}) {
+      if (root.get(k) != nullptr) {
+        rd.fail(k, "faults_per_run is 0: no fault is drawn, so this key has no meaning");
+      }
+    }
+  } else if (s.roles.empty() && s.tiles.empty()) {
     errors.push_back(source + ": no target: give roles, tiles or both");
   }
   if (s.degraded_bound_m < s.pass_bound_m) {
@@ -392,14 +413,14 @@ DrawnPlan draw_plan(const Spec& spec, std::uint32_t index, std::uint32_t tile_co
   for (std::uint32_t attempt = 0; attempt < kDrawAttempts; ++attempt) {
     std::ostringstream o;
     o << "# Run " << index << " of campaign " << spec.name << " (campaign_seed " << spec.campaign_seed
-      << "), drawn by trn_campaign; fly it again with\n# trn_mission --faults <this file> --seed " << spec.seed
+      << "), drawn by trn_campaign; fly it again with\n# trn_mission --faults <this file> --seed " << scenario_seed(spec, index)
       << (spec.duration_s > 0.0 ? " --duration " + format_number(spec.duration_s) : std::string{})
       << (spec.scenario.empty() ? std::string{} : " --scenario " + spec.scenario) << "\nname = \"" << spec.name
       << "-" << index << "\"\n";
     for (const SpecCommand& c : spec.commands) {
       o << "\n[[command]]\nt_s = " << format_number(c.t_s) << "\nname = \"" << c.name << "\"\n";
     }
-    std::string kind;
+    std::string kind = spec.faults_per_run == 0U ? std::string("none") : std::string{};
     for (std::uint32_t f = 0; f < spec.faults_per_run; ++f) {
       std::string k;
       o << draw_fault(spec, r, k);

@@ -33,9 +33,10 @@ struct Spec {
   std::string name;
   std::string scenario;             ///< scenario file (resolved against the spec's folder); empty: the built-in one
   std::uint64_t seed = 1U;          ///< the scenario's seed in every run (the world, sensors and the injector's draws)
+  bool seed_per_run = false;        ///< run i flies the scenario seed `seed` + i (a seed sweep); the golden run flies `seed`
   std::uint64_t campaign_seed = 1U; ///< seeds the plans' draws
   std::uint32_t runs = 0U;
-  std::uint32_t faults_per_run = 1U;
+  std::uint32_t faults_per_run = 1U;  ///< 0: fault-free runs (no kinds, no targets), e.g. a seed sweep of the filter's integrity
   double duration_s = 0.0;          ///< emulated seconds per run; 0: the whole descent
   double window_lo_s = 0.0;         ///< faults drawn uniformly in [lo, hi]
   double window_hi_s = 0.0;
@@ -56,6 +57,9 @@ struct SpecResult {
   [[nodiscard]] bool ok() const { return error.empty(); }
 };
 
+/** The scenario seed run @p index flies: `seed`, or `seed` + index in a seed sweep. */
+std::uint64_t scenario_seed(const Spec& spec, std::uint32_t index);
+
 /** Parses a spec's text (named @p source in messages); @p max_duration_s bounds the window when duration_s is 0. */
 SpecResult parse_spec(std::string_view text, const std::string& source, double max_duration_s);
 
@@ -65,7 +69,7 @@ SpecResult load_spec(const std::string& path, double max_duration_s);
 /** One run's plan, drawn. */
 struct DrawnPlan {
   std::string toml;   ///< the fault-plan file's text
-  std::string kind;   ///< the fault kind of the run ("mixed" when its faults differ)
+  std::string kind;   ///< the fault kind of the run ("mixed" when its faults differ, "none" in a fault-free campaign)
   std::string error;  ///< empty when drawn; else why no valid plan could be drawn
 };
 

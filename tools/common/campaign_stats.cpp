@@ -18,6 +18,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <limits>
 #include <map>
 #include <stdexcept>
 #include <system_error>
@@ -195,28 +196,68 @@ bool write_atomic(const fs::path& dir, const std::string& name, const std::strin
   return true;
 }
 
-/** Runs outcomes.gp in @p dir into a temporary PNG, renamed to outcomes.png on success. @return a note, "" if all went well. */
-std::string make_png(const fs::path& dir) {
+/** Runs @p stem.gp in @p dir into a temporary PNG, renamed to @p stem.png on success. @return a note, "" if all went well. */
+std::string make_png(const fs::path& dir, const std::string& stem) {
   const std::string gnuplot = find_on_path("gnuplot");
   if (gnuplot.empty()) {
-    return "gnuplot is not installed: the chart script is " + (dir / "outcomes.gp").string() +
+    return "gnuplot is not installed: the chart script is " + (dir / (stem + ".gp")).string() +
            " (run it there with gnuplot)";
   }
-  const fs::path tmp = temp_path(dir, "outcomes.png");
+  const fs::path tmp = temp_path(dir, stem + ".png");
   std::string failed =
-      run_gnuplot(gnuplot, dir.string(), "outcomes.gp", {"-e", "out=" + gp_string(tmp.filename().string())});
+      run_gnuplot(gnuplot, dir.string(), stem + ".gp", {"-e", "out=" + gp_string(tmp.filename().string())});
   std::error_code ec;
   if (!failed.empty()) {
     fs::remove(tmp, ec);
     return failed;
   }
-  fs::rename(tmp, dir / "outcomes.png", ec);
+  fs::rename(tmp, dir / (stem + ".png"), ec);
   if (ec) {
     fs::remove(tmp, ec);
-    return (dir / "outcomes.png").string() + ": cannot move into place: " + ec.message();
+    return (dir / (stem + ".png")).string() + ": cannot move into place: " + ec.message();
   }
   return {};
 }
+
+/** The @p q quantile (0..1) of sorted @p v by linear interpolation between order statistics (R's type 7). */
+double quantile_sorted(const std::vector<double>& v, double q) {
+  if (v.empty()) {
+    return 0.0;
+  }
+  const double h = q * static_cast<double>(v.size() - 1U);
+  const auto lo = static_cast<std::size_t>(std::floor(h));
+  const std::size_t hi = std::min(lo + 1U, v.size() - 1U);
+  return v[lo] + (h - static_cast<double>(lo)) * (v[hi] - v[lo]);
+}
+
+/** The spread of @p value over @p runs, runs whose value is not finite left out. */
+template <typename F>
+Spread spread_of(std::span<const RunResult> runs, F value) {
+  Spread sp;
+  std::vector<double> v;
+  for (const RunResult& r : runs) {
+    const double x = value(r);
+    if (!std::isfinite(x)) {
+      continue;
+    }
+    v.push_back(x);
+    if (sp.n == 0U || x > sp.max) {
+      sp.max = x;
+      sp.max_index = r.index;
+      sp.max_seed = r.seed;
+    }
+    ++sp.n;
+  }
+  std::sort(v.begin(), v.end());
+  sp.median = quantile_sorted(v, 0.5);
+  sp.p90 = quantile_sorted(v, 0.9);
+  return sp;
+}
+
+/** A number for CSV: empty when not finite. */
+std::string csv_number(double v) { return std::isfinite(v) ? format("%.6g", v) : std::string{}; }
+
+constexpr std::array<const char*, 3> kAxes = {"x", "y", "z"};
 
 }  // namespace
 
@@ -353,7 +394,55 @@ Report summarize(std::string_view campaign, std::span<const RunResult> runs, dou
     r.kinds.push_back(KindReport{kind, t.runs, classes_of(t.counts, t.runs, conf)});
   }
   r.margin_at_runs = margin_for_runs(r.runs, conf);
+  for (const RunResult& run : runs) {
+    if (run.has_integrity) {
+      r.per_run.push_back(run);
+    }
+  }
+  std::sort(r.per_run.begin(), r.per_run.end(), [](const RunResult& a, const RunResult& b) { return a.index < b.index; });
+  r.integrity = summarize_integrity(r.per_run);
   return r;
+}
+
+IntegrityReport summarize_integrity(std::span<const RunResult> runs) {
+  IntegrityReport ir;
+  std::vector<RunResult> with;
+  for (const RunResult& r : runs) {
+    if (r.has_integrity) {
+      with.push_back(r);
+    }
+  }
+  ir.runs = with.size();
+  ir.final_error_m = spread_of(with, [](const RunResult& r) { return r.final_error_m; });
+  ir.max_error_m = spread_of(with, [](const RunResult& r) {
+    return r.converged_at_s >= 0.0 ? r.max_error_m : std::numeric_limits<double>::quiet_NaN();
+  });
+  for (const RunResult& r : with) {
+    if (r.converged_at_s < 0.0) {
+      ++ir.not_converged;
+    } else if (!(r.max_error_m <= kIntegrityMaxErrorBoundM)) {
+      ++ir.runs_over_max_error;  // a NaN maximum counts as over
+    }
+    for (std::size_t a = 0; a < 3U; ++a) {
+      AxisIntegrity& ax = ir.axes[a];
+      ax.outputs += r.integrity_outputs;
+      ax.beyond_3sigma += r.beyond_3sigma[a];
+      ax.beyond_5sigma += r.beyond_5sigma[a];
+      if (r.integrity_outputs > 0U &&
+          static_cast<double>(r.beyond_3sigma[a]) > kIntegrityFractionBound * static_cast<double>(r.integrity_outputs)) {
+        ++ax.runs_over_fraction;
+      }
+      if (r.beyond_5sigma[a] > 0U) {
+        ++ax.runs_beyond_5sigma;
+      }
+      if (std::isfinite(r.worst_ratio[a]) && r.worst_ratio[a] > ax.worst_ratio) {
+        ax.worst_ratio = r.worst_ratio[a];
+        ax.worst_index = r.index;
+        ax.worst_seed = r.seed;
+      }
+    }
+  }
+  return ir;
 }
 
 // ------------------------------------------------------------------ report files
@@ -384,6 +473,31 @@ std::string report_json(const Report& r) {
     kinds.push_back(Json{{"kind", k.kind}, {"runs", k.runs}, {"classes", classes(k.classes, k.runs)}});
   }
   j["kinds"] = kinds;
+  const IntegrityReport& ir = r.integrity;
+  const auto spread = [&num](const Spread& sp) {
+    return Json{{"runs", sp.n}, {"median", num(sp.median)}, {"p90", num(sp.p90)}, {"max", num(sp.max)},
+                {"max_run", sp.max_index}, {"max_seed", sp.max_seed}};
+  };
+  Json integ{{"runs", ir.runs},
+             {"not_converged", ir.not_converged},
+             {"final_error_m", spread(ir.final_error_m)},
+             {"max_error_after_convergence_m", spread(ir.max_error_m)},
+             {"max_error_bound_m", kIntegrityMaxErrorBoundM},
+             {"runs_over_max_error_bound", ir.runs_over_max_error},
+             {"fraction_bound", kIntegrityFractionBound}};
+  for (std::size_t a = 0; a < 3U; ++a) {
+    const AxisIntegrity& ax = ir.axes[a];
+    integ[kAxes[a]] = Json{{"outputs", ax.outputs},
+                           {"beyond_3sigma", ax.beyond_3sigma},
+                           {"beyond_3sigma_fraction", num(fraction(ax.beyond_3sigma, ax.outputs))},
+                           {"beyond_5sigma", ax.beyond_5sigma},
+                           {"runs_over_fraction_bound", ax.runs_over_fraction},
+                           {"runs_beyond_5sigma", ax.runs_beyond_5sigma},
+                           {"worst_ratio", num(ax.worst_ratio)},
+                           {"worst_run", ax.worst_index},
+                           {"worst_seed", ax.worst_seed}};
+  }
+  j["integrity"] = integ;
   // A name that is not valid UTF-8 is replaced, not thrown.
   return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
@@ -431,7 +545,113 @@ std::string report_md(const Report& r) {
     }
     s += "\n";
   }
+  const IntegrityReport& ir = r.integrity;
+  s += "\n## Navigation integrity\n\n";
+  if (ir.runs == 0U) {
+    return s + "No run gave integrity figures.\n";
+  }
+  const auto spread = [](const Spread& sp) {
+    return format("median %.3g, 90th percentile %.3g, max %.3g (run %u, seed %llu)", sp.median, sp.p90, sp.max,
+                  sp.max_index, static_cast<unsigned long long>(sp.max_seed));
+  };
+  s += format("%llu runs with figures; %llu never converged. Targets: every converged run's maximum error after "
+              "convergence within %.3g m, at most %.3g %% of the outputs beyond their 3-sigma on each axis, none beyond "
+              "5-sigma. Per run: integrity.csv, integrity.png.\n\n",
+              static_cast<unsigned long long>(ir.runs), static_cast<unsigned long long>(ir.not_converged),
+              kIntegrityMaxErrorBoundM, 100.0 * kIntegrityFractionBound);
+  s += "- final position error (m): " + spread(ir.final_error_m) + "\n";
+  s += "- maximum error after convergence (m): " +
+       (ir.max_error_m.n > 0U ? spread(ir.max_error_m) : std::string("no run converged")) +
+       format("; %llu of %llu converged runs beyond %.3g m\n", static_cast<unsigned long long>(ir.runs_over_max_error),
+              static_cast<unsigned long long>(ir.max_error_m.n), kIntegrityMaxErrorBoundM);
+  s += "\n| axis | outputs | beyond 3-sigma | runs beyond " + format("%.3g", 100.0 * kIntegrityFractionBound) +
+       " % | beyond 5-sigma | runs with one beyond 5-sigma | worst error / 3-sigma |\n|---|---:|---:|---:|---:|---:|---:|\n";
+  for (std::size_t a = 0; a < 3U; ++a) {
+    const AxisIntegrity& ax = ir.axes[a];
+    s += format("| %s | %llu | %llu (%.2f %%) | %llu | %llu | %llu | %.3g (run %u, seed %llu) |\n", kAxes[a],
+                static_cast<unsigned long long>(ax.outputs), static_cast<unsigned long long>(ax.beyond_3sigma),
+                100.0 * fraction(ax.beyond_3sigma, ax.outputs), static_cast<unsigned long long>(ax.runs_over_fraction),
+                static_cast<unsigned long long>(ax.beyond_5sigma), static_cast<unsigned long long>(ax.runs_beyond_5sigma),
+                ax.worst_ratio, ax.worst_index, static_cast<unsigned long long>(ax.worst_seed));
+  }
   return s;
+}
+
+std::string integrity_csv(const Report& r) {
+  std::string s = std::string(kIntegrityCsvHeader) + "\n";
+  for (const RunResult& run : r.per_run) {
+    s += std::to_string(run.index) + "," + std::to_string(run.seed) + "," + outcome_name(run.outcome) + "," +
+         csv_number(run.final_error_m) + "," + csv_number(run.converged_at_s >= 0.0 ? run.max_error_m : NAN) + "," +
+         csv_number(run.converged_at_s >= 0.0 ? run.converged_at_s : NAN) + "," + std::to_string(run.integrity_outputs);
+    for (const std::uint64_t c : run.beyond_3sigma) {
+      s += "," + std::to_string(c);
+    }
+    for (const std::uint64_t c : run.beyond_5sigma) {
+      s += "," + std::to_string(c);
+    }
+    for (const double w : run.worst_ratio) {
+      s += "," + csv_number(w);
+    }
+    s += "\n";
+  }
+  return s;
+}
+
+std::string integrity_gnuplot(const Report& r) {
+  std::string data;
+  for (const RunResult& run : r.per_run) {
+    const double n = static_cast<double>(run.integrity_outputs);
+    const auto pct_of = [n](std::uint64_t c) { return n > 0.0 ? 100.0 * static_cast<double>(c) / n : NAN; };
+    const auto gp_num = [](double v) { return std::isfinite(v) ? format("%.6g", v) : std::string("NaN"); };
+    data += format("%u %llu ", run.index, static_cast<unsigned long long>(run.seed)) + gp_num(run.final_error_m) + " " +
+            gp_num(run.converged_at_s >= 0.0 ? run.max_error_m : NAN) + " " + gp_num(pct_of(run.beyond_3sigma[0])) +
+            " " + gp_num(pct_of(run.beyond_3sigma[1])) + " " + gp_num(pct_of(run.beyond_3sigma[2])) + "\n";
+  }
+  const IntegrityReport& ir = r.integrity;
+  double seed_lo = r.per_run.empty() ? 0.0 : static_cast<double>(r.per_run.front().seed);
+  double seed_hi = seed_lo;
+  for (const RunResult& run : r.per_run) {
+    seed_lo = std::min(seed_lo, static_cast<double>(run.seed));
+    seed_hi = std::max(seed_hi, static_cast<double>(run.seed));
+  }
+  // A seed sweep is plotted by seed; runs of one seed (a fault campaign) by run index.
+  const bool by_seed = seed_hi > seed_lo;
+  const double x_lo = by_seed ? seed_lo : static_cast<double>(r.per_run.empty() ? 0U : r.per_run.front().index);
+  const double x_hi = by_seed ? seed_hi : static_cast<double>(r.per_run.empty() ? 0U : r.per_run.back().index);
+  const std::string x = by_seed ? "2" : "1";
+  return "# Navigation integrity per run: the final and the maximum position error after convergence (top), and\n"
+         "# the outputs after convergence whose error exceeds their own 3-sigma, per axis (bottom).\n"
+         "# Run in this folder: gnuplot integrity.gp (writes integrity.png; gnuplot -e \"out='x.png'\" integrity.gp "
+         "writes x.png)\n" +
+         gnuplot_png_terminal("1000,760") +
+         "if (!exists('out')) { out = 'integrity.png' }\n"
+         "set output out\n"
+         "# run index, scenario seed, final error (m), max error after convergence (m), beyond 3-sigma x, y, z (%)\n"
+         "$runs << EOD\n" +
+         data +
+         "EOD\n"
+         "set multiplot layout 2,1 title " +
+         gp_string("Campaign " + r.campaign + ": navigation integrity of " + std::to_string(ir.runs) + " runs") +
+         "\n"
+         "set grid\n"
+         "set key below horizontal\n"  // not over the points: the worst run may sit in any corner
+         "set xlabel '" + (by_seed ? std::string("scenario seed") : std::string("run")) + "'\n" +
+         format("set xrange [%.0f:%.0f]\n", x_lo - 1.0, x_hi + 1.0) +
+         "set logscale y\n"
+         "set ylabel 'position error (m)'\n" +
+         "plot $runs using " + x + ":4 with points pt 7 ps 0.7 lc rgb '#c44e52' title 'max after convergence', \\\n"
+         "     $runs using " + x + ":3 with points pt 5 ps 0.6 lc rgb '#4c72b0' title 'final', \\\n" +
+         format("     %.6g with lines dt 2 lc rgb '#000000' title '%.3g m target'\n", kIntegrityMaxErrorBoundM,
+                kIntegrityMaxErrorBoundM) +
+         "unset logscale y\n"
+         "set ylabel 'outputs beyond 3-sigma (%)'\n"
+         "set yrange [0:*]\n" +
+         "plot $runs using ($" + x + "-0.2):5 with impulses lw 2 lc rgb '#4c72b0' title 'x', \\\n"
+         "     $runs using " + x + ":6 with impulses lw 2 lc rgb '#55a868' title 'y', \\\n"
+         "     $runs using ($" + x + "+0.2):7 with impulses lw 2 lc rgb '#c44e52' title 'z', \\\n" +
+         format("     %.6g with lines dt 2 lc rgb '#000000' title '%.3g %% target'\n", 100.0 * kIntegrityFractionBound,
+                100.0 * kIntegrityFractionBound) +
+         "unset multiplot\n";
 }
 
 std::string report_gnuplot(const Report& r) {
@@ -501,7 +721,23 @@ bool write_report(const Report& r, const fs::path& dir, std::string& err, std::s
         return false;
       }
     }
-    note = make_png(dir);
+    note = make_png(dir, "outcomes");
+    const std::array<std::pair<const char*, std::string>, 2> integrity = {
+        {{"integrity.csv", r.per_run.empty() ? std::string{} : integrity_csv(r)},
+         {"integrity.gp", r.per_run.empty() ? std::string{} : integrity_gnuplot(r)}}};
+    for (const auto& [name, text] : integrity) {
+      if (text.empty()) {
+        fs::remove(dir / name, ec);  // no figures: none of an earlier report stays beside this one
+      } else if (!write_atomic(dir, name, text, err)) {
+        return false;
+      }
+    }
+    if (r.per_run.empty()) {
+      fs::remove(dir / "integrity.png", ec);
+    } else {
+      const std::string n = make_png(dir, "integrity");
+      note += n.empty() || note == n ? std::string{} : (note.empty() ? "" : "; ") + n;
+    }
     return true;
   } catch (const std::exception& e) {
     err = dir.string() + ": cannot write the report: " + e.what();

@@ -93,10 +93,56 @@ struct RunResult {
   std::string kind;              ///< the fault kind of the run ("core_hang", "sdc", ...; "mixed" when several kinds)
   Outcome outcome = Outcome::kMasked;
   double final_error_m = 0.0;
-  double max_error_m = 0.0;      ///< max position error after convergence
+  double max_error_m = 0.0;      ///< max position error after convergence (NaN: the filter never converged)
   double host_s = 0.0;           ///< host seconds the run took
   std::uint32_t injected = 0, detected = 0, recovered = 0;
+  std::uint64_t seed = 0;        ///< the scenario seed the run flew
+  /// Navigation integrity from the run's summary (docs/FILTER.md, "Integrity"): set only when the image
+  /// exited well and its summary gave the figures.
+  bool has_integrity = false;
+  double converged_at_s = -1.0;  ///< when the filter's horizontal 3-sigma first fell below its bound; < 0: never
+  std::uint64_t integrity_outputs = 0;          ///< outputs after convergence held against their own 3-sigma
+  std::array<std::uint64_t, 3> beyond_3sigma{};  ///< per axis (x, y, z): outputs whose error exceeds their 3-sigma
+  std::array<std::uint64_t, 3> beyond_5sigma{};  ///< per axis: outputs whose error exceeds their 5-sigma
+  std::array<double, 3> worst_ratio{};           ///< per axis: the largest |error| / (3 sigma)
 };
+
+/** The integrity targets a report holds the runs against (issue "navigation integrity"). */
+inline constexpr double kIntegrityMaxErrorBoundM = 3.0;  ///< max error after convergence, on every run
+inline constexpr double kIntegrityFractionBound = 0.01;  ///< outputs beyond 3-sigma, per axis, over all runs
+
+/** A distribution of one figure over runs: quantiles by linear interpolation (R's type 7). */
+struct Spread {
+  std::uint64_t n = 0;           ///< runs with a finite value
+  double median = 0.0, p90 = 0.0, max = 0.0;
+  std::uint32_t max_index = 0;   ///< the run with the largest value
+  std::uint64_t max_seed = 0;    ///< its scenario seed
+};
+
+/** One axis over all runs. */
+struct AxisIntegrity {
+  std::uint64_t outputs = 0;
+  std::uint64_t beyond_3sigma = 0;       ///< outputs beyond their 3-sigma, pooled over the runs
+  std::uint64_t beyond_5sigma = 0;
+  std::uint64_t runs_over_fraction = 0;  ///< runs whose own fraction beyond 3-sigma exceeds kIntegrityFractionBound
+  std::uint64_t runs_beyond_5sigma = 0;  ///< runs with at least one output beyond 5-sigma
+  double worst_ratio = 0.0;              ///< the largest |error| / (3 sigma) of any run
+  std::uint32_t worst_index = 0;
+  std::uint64_t worst_seed = 0;
+};
+
+/** The integrity of the runs that gave figures. */
+struct IntegrityReport {
+  std::uint64_t runs = 0;            ///< runs with integrity figures
+  std::uint64_t not_converged = 0;   ///< of those, runs whose filter never converged
+  Spread final_error_m;              ///< over the runs with figures
+  Spread max_error_m;                ///< max error after convergence, over the converged runs
+  std::uint64_t runs_over_max_error = 0;  ///< converged runs whose max error after convergence exceeds kIntegrityMaxErrorBoundM
+  std::array<AxisIntegrity, 3> axes{};
+};
+
+/** The figures of @p runs that gave them (has_integrity). */
+IntegrityReport summarize_integrity(std::span<const RunResult> runs);
 
 /** The runs of one class and the intervals of their fraction. */
 struct ClassCount {
@@ -123,6 +169,8 @@ struct Report {
   std::vector<KindReport> kinds;                     ///< per fault kind, sorted by kind name
   double margin_at_runs = 0.0;   ///< margin_for_runs(runs, confidence): worst case p = 0.5, infinite population
   double host_s_total = 0.0;
+  IntegrityReport integrity;     ///< navigation integrity of the runs
+  std::vector<RunResult> per_run;  ///< the runs with integrity figures, by index (integrity.csv and its plot)
 };
 
 /**
@@ -141,6 +189,15 @@ std::string report_json(const Report& r);
 std::string report_csv(const Report& r);
 /** report.md: a heading, the run count, confidence and margin, and the table of classes by kind. */
 std::string report_md(const Report& r);
+/** The header line of integrity.csv. */
+inline constexpr const char* kIntegrityCsvHeader =
+    "index,seed,outcome,final_error_m,max_error_m,converged_at_s,outputs,beyond_3sigma_x,beyond_3sigma_y,"
+    "beyond_3sigma_z,beyond_5sigma_x,beyond_5sigma_y,beyond_5sigma_z,worst_ratio_x,worst_ratio_y,worst_ratio_z";
+/** integrity.csv: one row per run with integrity figures (an empty field: a value that is not finite). */
+std::string integrity_csv(const Report& r);
+/** integrity.gp: per run, the final and the maximum error after convergence, and the fraction beyond 3-sigma per axis. */
+std::string integrity_gnuplot(const Report& r);
+
 /** outcomes.gp: the bar chart of the fraction per class over all runs with Clopper-Pearson error bars. */
 std::string report_gnuplot(const Report& r);
 
@@ -148,7 +205,9 @@ std::string report_gnuplot(const Report& r);
  * Writes report.json, report.csv, report.md and outcomes.gp into @p dir
  * (created if missing), each atomically (a temporary name in @p dir, then a
  * rename), and, when gnuplot is on the PATH, runs outcomes.gp to make
- * outcomes.png (also renamed into place). No gnuplot, or a gnuplot that fails,
+ * outcomes.png (also renamed into place). When runs gave integrity figures,
+ * integrity.csv, integrity.gp and integrity.png too (else any of an earlier
+ * report are removed, so the folder never shows figures of other runs). No gnuplot, or a gnuplot that fails,
  * is not an error: @p note says so and the report stays whole.
  * @return false with the reason in @p err if a file cannot be written.
  */

@@ -32,12 +32,14 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -158,7 +160,8 @@ struct Job {
 
 std::vector<std::string> mission_args(const std::string& mission, const cp::Spec& s, const Job& j,
                                       const fs::path& world) {
-  std::vector<std::string> a = {mission, "--quiet", "--no-plots", "--seed", std::to_string(s.seed), "--out",
+  const std::uint64_t seed = j.index == kGolden ? s.seed : cp::scenario_seed(s, j.index);
+  std::vector<std::string> a = {mission, "--quiet", "--no-plots", "--seed", std::to_string(seed), "--out",
                                 (j.dir / "out").string(), "--world-cache", world.string()};
   if (s.duration_s > 0.0) {
     a.insert(a.end(), {"--duration", tools::format_number(s.duration_s)});
@@ -198,11 +201,40 @@ bool start(const std::string& mission, const cp::Spec& s, Job& j, const fs::path
   return true;
 }
 
+/** A number of a summary or a result; null (how a value that is not finite is written) reads as NaN. */
+double number_or_nan(const nlohmann::json& j, const char* key) {
+  const nlohmann::json& v = j.at(key);
+  return v.is_null() ? std::nan("") : v.get<double>();
+}
+
+constexpr std::array<const char*, 3> kAxes = {"x", "y", "z"};
+
+/** The navigation-integrity figures of a summary (docs/FILTER.md, "Integrity"); throws if one is missing. */
+void read_integrity(const nlohmann::json& sj, cp::RunResult& r) {
+  r.converged_at_s = number_or_nan(sj, "converged_at_s");
+  if (!(r.converged_at_s >= 0.0)) {
+    r.converged_at_s = -1.0;
+  }
+  const double outputs = number_or_nan(sj, "integrity_outputs");
+  r.integrity_outputs = std::isfinite(outputs) && outputs > 0.0 ? static_cast<std::uint64_t>(outputs) : 0U;
+  for (std::size_t a = 0; a < 3U; ++a) {
+    const std::string axis = kAxes[a];
+    const double f = number_or_nan(sj, ("integrity_beyond_3sigma_fraction_" + axis).c_str());
+    // The summary gives the fraction of a count of outputs: the count is its nearest integer.
+    r.beyond_3sigma[a] = std::isfinite(f) ? static_cast<std::uint64_t>(std::llround(f * outputs)) : r.integrity_outputs;
+    const double n5 = number_or_nan(sj, ("integrity_beyond_5sigma_" + axis).c_str());
+    r.beyond_5sigma[a] = std::isfinite(n5) && n5 > 0.0 ? static_cast<std::uint64_t>(n5) : 0U;
+    r.worst_ratio[a] = number_or_nan(sj, ("integrity_worst_ratio_" + axis).c_str());
+  }
+  r.has_integrity = true;
+}
+
 /** The result of a finished run from its exit status and summary. */
 cp::RunResult finish(const cp::Spec& s, const Job& j, int status, nlohmann::json& rec) {
   cp::RunResult r;
   r.index = j.index;
   r.kind = j.index == kGolden ? std::string("none") : j.kind;
+  r.seed = j.index == kGolden ? s.seed : cp::scenario_seed(s, j.index);
   r.host_s = std::chrono::duration<double>(Clock::now() - j.started).count();
   cp::RunFacts f;
   const fs::path summary = j.dir / "out" / "summary.json";
@@ -215,11 +247,15 @@ cp::RunResult finish(const cp::Spec& s, const Job& j, int status, nlohmann::json
       const nlohmann::json sj = nlohmann::json::parse(read_text(summary));
       f.exited_ok = true;
       f.mission_lost = sj.value("mission_lost", 0.0) != 0.0;
-      f.final_error_m = sj.at("final_position_error_m").get<double>();
+      // A final error that is not finite (written as null) is a lost navigation, not an unreadable summary.
+      f.final_error_m = number_or_nan(sj, "final_position_error_m");
+      if (!std::isfinite(f.final_error_m)) {
+        f.final_error_m = std::numeric_limits<double>::infinity();
+      }
       f.detected = sj.at("faults_detected").get<std::uint32_t>();
       f.recovered = sj.at("faults_recovered").get<std::uint32_t>();
       r.final_error_m = f.final_error_m;
-      r.max_error_m = sj.value("max_position_error_after_convergence_m", 0.0);
+      r.max_error_m = number_or_nan(sj, "max_position_error_after_convergence_m");  // NaN: never converged
       r.injected = sj.at("faults_injected").get<std::uint32_t>();
       r.detected = f.detected;
       r.recovered = f.recovered;
@@ -227,6 +263,12 @@ cp::RunResult finish(const cp::Spec& s, const Job& j, int status, nlohmann::json
       rec["not_delivered"] = sj.value("faults_not_delivered", 0);
       rec["trace_hash"] = sj.value("trace_hash", std::string{});
       rec["deadline_misses"] = sj.value("deadline_misses", 0);
+      try {
+        read_integrity(sj, r);
+      } catch (const nlohmann::json::exception& e) {
+        r.has_integrity = false;  // an image without the figures: its outcome stands, its integrity is unknown
+        rec["integrity_error"] = e.what();
+      }
     } catch (const nlohmann::json::exception& e) {
       f.exited_ok = false;  // an unreadable summary is the image's failure
       rec["summary_error"] = e.what();
@@ -240,12 +282,23 @@ nlohmann::json to_json(const cp::RunResult& r, nlohmann::json rec) {
   rec["index"] = r.index == kGolden ? nlohmann::json("golden") : nlohmann::json(r.index);
   rec["kind"] = r.kind;
   rec["outcome"] = cp::outcome_name(r.outcome);
-  rec["final_error_m"] = r.final_error_m;
-  rec["max_error_m"] = r.max_error_m;
+  const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+  rec["seed"] = r.seed;
+  rec["final_error_m"] = num(r.final_error_m);
+  rec["max_error_m"] = num(r.max_error_m);
   rec["host_s"] = r.host_s;
   rec["injected"] = r.injected;
   rec["detected"] = r.detected;
   rec["recovered"] = r.recovered;
+  if (r.has_integrity) {
+    nlohmann::json in{{"converged_at_s", r.converged_at_s}, {"outputs", r.integrity_outputs}};
+    for (std::size_t a = 0; a < 3U; ++a) {
+      in[kAxes[a]] = {{"beyond_3sigma", r.beyond_3sigma[a]},
+                      {"beyond_5sigma", r.beyond_5sigma[a]},
+                      {"worst_ratio", num(r.worst_ratio[a])}};
+    }
+    rec["integrity"] = in;
+  }
   return rec;
 }
 
@@ -256,12 +309,24 @@ bool from_json(const nlohmann::json& j, cp::RunResult& r) {
     if (!cp::outcome_from_name(j.at("outcome").get<std::string>(), r.outcome)) {
       return false;
     }
-    r.final_error_m = j.at("final_error_m").get<double>();
-    r.max_error_m = j.at("max_error_m").get<double>();
+    r.final_error_m = number_or_nan(j, "final_error_m");
+    r.max_error_m = number_or_nan(j, "max_error_m");
     r.host_s = j.at("host_s").get<double>();
     r.injected = j.at("injected").get<std::uint32_t>();
     r.detected = j.at("detected").get<std::uint32_t>();
     r.recovered = j.at("recovered").get<std::uint32_t>();
+    r.seed = j.value("seed", std::uint64_t{0});  // results of a campaign before seeds were recorded have none
+    if (const auto in = j.find("integrity"); in != j.end()) {
+      r.converged_at_s = in->at("converged_at_s").get<double>();
+      r.integrity_outputs = in->at("outputs").get<std::uint64_t>();
+      for (std::size_t a = 0; a < 3U; ++a) {
+        const nlohmann::json& ax = in->at(kAxes[a]);
+        r.beyond_3sigma[a] = ax.at("beyond_3sigma").get<std::uint64_t>();
+        r.beyond_5sigma[a] = ax.at("beyond_5sigma").get<std::uint64_t>();
+        r.worst_ratio[a] = number_or_nan(ax, "worst_ratio");
+      }
+      r.has_integrity = true;
+    }
   } catch (const nlohmann::json::exception&) {
     return false;
   }

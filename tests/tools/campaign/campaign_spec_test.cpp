@@ -184,8 +184,48 @@ TEST(CampaignSpec, ShardsAreIOverN) {
   }
 }
 
+// A seed sweep without faults (the integrity campaign): run i flies seed + i, its plan carries the spec's
+// telecommands and no fault, and a key that only shapes fault draws is refused rather than ignored.
+TEST(CampaignSpec, AFaultFreeSeedSweepFliesSeedPlusIndexAndRefusesKeysOfDraws) {
+  const cp::SpecResult r = parse(
+      "name = \"sweep\"\nseed = 7\nseed_per_run = true\nfaults_per_run = 0\nruns = 3\n"
+      "[[command]]\nt_s = 3.0\nname = \"reliability_high\"\n");
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_TRUE(r.spec.seed_per_run);
+  EXPECT_EQ(r.spec.faults_per_run, 0U);
+  EXPECT_EQ(cp::scenario_seed(r.spec, 0U), 7U);
+  EXPECT_EQ(cp::scenario_seed(r.spec, 2U), 9U);
+  const cp::DrawnPlan d = cp::draw_plan(r.spec, 2U, 64U, kRunS);
+  ASSERT_TRUE(d.error.empty()) << d.error;
+  EXPECT_EQ(d.kind, "none");
+  EXPECT_NE(d.toml.find("--seed 9"), std::string::npos) << "the replay line names the run's own seed\n" << d.toml;
+  const tools::FaultPlanResult p = tools::parse_fault_plan(d.toml, "run", 64U, kRunS);
+  ASSERT_TRUE(p.ok()) << p.error << "\n" << d.toml;
+  EXPECT_TRUE(p.plan->items.empty());
+  EXPECT_EQ(p.plan->commands.size(), 1U);
+
+  cp::Spec fixed = r.spec;
+  fixed.seed_per_run = false;
+  EXPECT_EQ(cp::scenario_seed(fixed, 2U), 7U) << "without seed_per_run every run flies the spec's seed";
+
+  const cp::SpecResult bad = parse(
+      "name = \"sweep\"\nfaults_per_run = 0\nruns = 3\nkinds = [\"sdc\"]\nroles = [\"filter\"]\n"
+      "window_s = [1.0, 2.0]\nseed_per_run = 1\n");
+  EXPECT_FALSE(bad.ok());
+  for (const char* key : {"kinds", "roles", "window_s"}) {
+    EXPECT_NE(bad.error.find(std::string("spec.toml: ") + key + ": faults_per_run is 0"), std::string::npos)
+        << key << "\n" << bad.error;
+  }
+  EXPECT_NE(bad.error.find("seed_per_run: wrong type: expected true or false"), std::string::npos) << bad.error;
+  const cp::SpecResult overflow =
+      parse("name = \"sweep\"\nfaults_per_run = 0\nruns = 3\nseed_per_run = true\nseed = 9223372036854775806\n");
+  EXPECT_NE(overflow.error.find("seed: with seed_per_run"), std::string::npos) << overflow.error;
+  EXPECT_FALSE(parse("name = \"t\"\nruns = 3\n").ok()) << "faults drawn (the default 1) still need kinds";
+}
+
 TEST(CampaignSpec, TheShippedCampaignsAreValid) {
   for (const char* f : {"campaigns/single_faults.toml", "campaigns/slurm_small.toml", "campaigns/ft_single_1000.toml",
+                        "campaigns/integrity_100.toml",
                         "campaigns/ft_five_300.toml", "tests/fixtures/campaigns/small.toml",
                         "tests/fixtures/campaigns/crash.toml"}) {
     const cp::SpecResult r = cp::load_spec(std::string(build_info::kRepoRoot) + "/" + f, kRunS);

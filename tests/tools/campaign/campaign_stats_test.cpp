@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -397,6 +398,119 @@ TEST(Summarize, NoRunsGivesTheWholeInterval) {
   EXPECT_THROW((void)tools::campaign::summarize("bad", {}, 1.0), std::invalid_argument);
   const std::vector<RunResult> bad = {run(3, "sdc", static_cast<Outcome>(9))};
   EXPECT_THROW((void)tools::campaign::summarize("bad", bad), std::invalid_argument) << "an outcome outside the enum";
+}
+
+// ------------------------------------------------------------------ integrity
+
+/** A run with integrity figures: per axis, outputs beyond 3 and 5 sigma and the worst ratio. */
+RunResult flown(std::uint32_t index, std::uint64_t seed, double final_m, double max_m, double converged_s,
+                std::uint64_t outputs, std::array<std::uint64_t, 3> b3, std::array<std::uint64_t, 3> b5,
+                std::array<double, 3> worst) {
+  RunResult r = run(index, "none", Outcome::kMasked);
+  r.seed = seed;
+  r.has_integrity = true;
+  r.final_error_m = final_m;
+  r.max_error_m = max_m;
+  r.converged_at_s = converged_s;
+  r.integrity_outputs = outputs;
+  r.beyond_3sigma = b3;
+  r.beyond_5sigma = b5;
+  r.worst_ratio = worst;
+  return r;
+}
+
+/** Four runs with figures (one never converged) and a crashed one without, in shuffled order. */
+std::vector<RunResult> sweep_runs() {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  RunResult crashed = run(4, "none", Outcome::kCrash);
+  crashed.seed = 14;
+  return {flown(3, 13, 0.3, 2.0, 2.9, 2000, {0, 35, 0}, {0, 1, 0}, {0.5, 2.5, 0.6}), crashed,
+          flown(0, 10, 0.5, 1.0, 3.0, 1000, {0, 5, 20}, {0, 0, 2}, {0.8, 1.1, 1.9}),
+          flown(2, 12, 0.9, nan, -1.0, 0, {0, 0, 0}, {0, 0, 0}, {nan, nan, nan}),
+          flown(1, 11, 0.2, 4.0, 3.1, 1000, {10, 0, 0}, {0, 0, 0}, {1.5, 0.9, 0.7})};
+}
+
+// The integrity of a sweep: the spreads by linear interpolation over the runs that have the figure, the
+// axes pooled over the outputs, a run at exactly the 1 % bound not over it, and the worst run of each.
+TEST(SummarizeIntegrity, PoolsTheAxesAndNamesTheWorstRuns) {
+  const tools::campaign::Report rep = tools::campaign::summarize("sweep", sweep_runs());
+  const tools::campaign::IntegrityReport& r = rep.integrity;
+  EXPECT_EQ(r.runs, 4U) << "the crashed run has no figures";
+  EXPECT_EQ(r.not_converged, 1U);
+  ASSERT_EQ(rep.per_run.size(), 4U);
+  EXPECT_EQ(rep.per_run[0].index, 0U) << "by index";
+  EXPECT_EQ(rep.per_run[3].index, 3U);
+  EXPECT_EQ(r.final_error_m.n, 4U);
+  EXPECT_NEAR(r.final_error_m.median, 0.4, 1e-12);  // 0.2 0.3 | 0.5 0.9
+  EXPECT_NEAR(r.final_error_m.p90, 0.78, 1e-12);    // 0.5 + 0.7 (0.9 - 0.5)
+  EXPECT_EQ(r.final_error_m.max, 0.9);
+  EXPECT_EQ(r.final_error_m.max_index, 2U);
+  EXPECT_EQ(r.final_error_m.max_seed, 12U);
+  EXPECT_EQ(r.max_error_m.n, 3U) << "the run that never converged has no maximum after convergence";
+  EXPECT_NEAR(r.max_error_m.median, 2.0, 1e-12);
+  EXPECT_NEAR(r.max_error_m.p90, 3.6, 1e-12);
+  EXPECT_EQ(r.max_error_m.max_seed, 11U);
+  EXPECT_EQ(r.runs_over_max_error, 1U);
+  const std::array<std::uint64_t, 3> b3 = {10, 40, 20};
+  const std::array<std::uint64_t, 3> b5 = {0, 1, 2};
+  const std::array<std::uint64_t, 3> over = {0, 1, 1};  // x: 10 of 1000 is the bound itself, not beyond it
+  const std::array<std::uint64_t, 3> with5 = {0, 1, 1};
+  const std::array<double, 3> worst = {1.5, 2.5, 1.9};
+  const std::array<std::uint64_t, 3> worst_seed = {11, 13, 10};
+  for (std::size_t a = 0; a < 3U; ++a) {
+    const tools::campaign::AxisIntegrity& ax = r.axes[a];
+    EXPECT_EQ(ax.outputs, 4000U) << a;
+    EXPECT_EQ(ax.beyond_3sigma, b3[a]) << a;
+    EXPECT_EQ(ax.beyond_5sigma, b5[a]) << a;
+    EXPECT_EQ(ax.runs_over_fraction, over[a]) << a;
+    EXPECT_EQ(ax.runs_beyond_5sigma, with5[a]) << a;
+    EXPECT_EQ(ax.worst_ratio, worst[a]) << a;
+    EXPECT_EQ(ax.worst_seed, worst_seed[a]) << a;
+  }
+}
+
+// The report carries the integrity: the JSON figures, a Markdown table per axis, integrity.csv one row per
+// run with figures (an empty field where a value is not finite), the plot script; a later report of runs
+// without figures removes them, so the folder never mixes two campaigns' figures.
+TEST(WriteReport, TheIntegrityFilesHoldTheRunsWithFigures) {
+  TempDir tmp;
+  const tools::campaign::Report rep = tools::campaign::summarize("sweep", sweep_runs());
+  std::string err;
+  std::string note;
+  ASSERT_TRUE(tools::campaign::write_report(rep, tmp / "r", err, note)) << err;
+  const fs::path dir = tmp / "r";
+  const nlohmann::json j = nlohmann::json::parse(read_file(dir / "report.json"));
+  const nlohmann::json& in = j.at("integrity");
+  EXPECT_EQ(in.at("runs"), 4);
+  EXPECT_EQ(in.at("not_converged"), 1);
+  EXPECT_EQ(in.at("runs_over_max_error_bound"), 1);
+  EXPECT_EQ(in.at("max_error_after_convergence_m").at("max_seed"), 11);
+  EXPECT_EQ(in.at("y").at("beyond_3sigma"), 40);
+  EXPECT_DOUBLE_EQ(in.at("y").at("beyond_3sigma_fraction").get<double>(), 40.0 / 4000.0);
+  EXPECT_EQ(in.at("z").at("worst_seed"), 10);
+
+  const std::string md = read_file(dir / "report.md");
+  EXPECT_NE(md.find("## Navigation integrity"), std::string::npos) << md;
+  EXPECT_NE(md.find("| y | 4000 | 40 (1.00 %) | 1 | 1 | 1 | 2.5 (run 3, seed 13) |"), std::string::npos) << md;
+  EXPECT_NE(md.find("1 of 3 converged runs beyond 3 m"), std::string::npos) << md;
+
+  const std::vector<std::string> csv = lines_of(read_file(dir / "integrity.csv"));
+  ASSERT_EQ(csv.size(), 5U);
+  EXPECT_EQ(csv[0], tools::campaign::kIntegrityCsvHeader);
+  EXPECT_EQ(csv[1], "0,10,masked,0.5,1,3,1000,0,5,20,0,0,2,0.8,1.1,1.9");
+  EXPECT_EQ(csv[3], "2,12,masked,0.9,,,0,0,0,0,0,0,0,,,") << "never converged: no maximum, no time, no ratios";
+  const std::string gp = read_file(dir / "integrity.gp");
+  EXPECT_NE(gp.find("'integrity.png'"), std::string::npos);
+  EXPECT_NE(gp.find("2 12 0.9 NaN NaN NaN NaN"), std::string::npos) << gp;
+  if (note.empty()) {
+    EXPECT_TRUE(is_png(dir / "integrity.png")) << "gnuplot ran without a note: the plot is there";
+  }
+
+  ASSERT_TRUE(tools::campaign::write_report(tools::campaign::summarize("faults", ten_runs()), dir, err, note)) << err;
+  for (const char* f : {"integrity.csv", "integrity.gp", "integrity.png"}) {
+    EXPECT_FALSE(fs::exists(dir / f)) << f << " of the earlier report is gone";
+  }
+  EXPECT_NE(read_file(dir / "report.md").find("No run gave integrity figures."), std::string::npos);
 }
 
 // ------------------------------------------------------------------ CST-06 report files

@@ -10,12 +10,14 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -104,6 +106,54 @@ TEST_F(TrnCampaignBinary, RunsInParallelResumesWithoutFlyingAgainAndReplaysARun)
             0);
   EXPECT_EQ(read_json(dir_ / "replay" / "summary.json")["trace_hash"], res["trace_hash"]);
   EXPECT_EQ(read_json(r2 / "out" / "summary.json")["trace_hash"], res["trace_hash"]);
+}
+
+// A fault-free seed sweep: run i flies seed + i (its summary says so), and each run's navigation integrity
+// is carried from its summary into its result, integrity.csv and the report.
+TEST_F(TrnCampaignBinary, ASeedSweepFliesOneSeedPerRunAndReportsItsIntegrity) {
+  const fs::path out = dir_ / "sweep";
+  std::string log;
+  ASSERT_EQ(run(bin("trn_campaign") + " run " + fixture("sweep.toml") + " --world-cache " + world() + " -j 2 --out " +
+                    out.string(),
+                &log),
+            0)
+      << log;
+  std::vector<std::string> hashes;
+  for (int i = 0; i < 2; ++i) {
+    const fs::path r = out / "runs" / (i == 0 ? "000000" : "000001");
+    const nlohmann::json res = read_json(r / "result.json");
+    const nlohmann::json sum = read_json(r / "out" / "summary.json");
+    EXPECT_EQ(res["seed"], 2 + i);
+    EXPECT_EQ(sum["seed"], 2 + i) << "the image flew the run's own seed";
+    EXPECT_EQ(res["kind"], "none");
+    EXPECT_EQ(res["injected"], 0);
+    std::ifstream plan(r / "plan.toml");
+    std::ostringstream text;
+    text << plan.rdbuf();
+    EXPECT_NE(text.str().find("--seed " + std::to_string(2 + i)), std::string::npos) << text.str();
+    ASSERT_TRUE(res.contains("integrity")) << res.dump(2);
+    const nlohmann::json& in = res["integrity"];
+    EXPECT_EQ(in["outputs"].get<double>(), sum["integrity_outputs"].get<double>());
+    EXPECT_GT(in["outputs"].get<double>(), 0.0) << "the filter converges within 5 s";
+    EXPECT_EQ(in["converged_at_s"].get<double>(), sum["converged_at_s"].get<double>());
+    for (const char* axis : {"x", "y", "z"}) {
+      const double f = sum[std::string("integrity_beyond_3sigma_fraction_") + axis].get<double>();
+      EXPECT_EQ(in[axis]["beyond_3sigma"].get<double>(), std::round(f * in["outputs"].get<double>())) << axis;
+      EXPECT_EQ(in[axis]["beyond_5sigma"].get<double>(), sum[std::string("integrity_beyond_5sigma_") + axis].get<double>());
+    }
+    hashes.push_back(res["trace_hash"].get<std::string>());
+  }
+  EXPECT_NE(hashes[0], hashes[1]) << "two seeds, two flights";
+  EXPECT_EQ(read_json(out / "golden" / "result.json")["trace_hash"], hashes[0]) << "the golden run flies seed 2 too";
+  const nlohmann::json rep = read_json(out / "report.json");
+  EXPECT_EQ(rep["integrity"]["runs"], 2) << rep.dump(2);
+  std::ifstream csv(out / "integrity.csv");
+  std::string line;
+  int lines = 0;
+  while (std::getline(csv, line)) {
+    ++lines;
+  }
+  EXPECT_EQ(lines, 3) << "the header and one row per run";
 }
 
 // CMP-04: shards fly disjoint runs; merged, they give the report a single campaign gives.
