@@ -195,8 +195,10 @@ run: deps ## Build and fly the default descent with the demonstration faults (RU
 	@$(MAKE) --no-print-directory $(BIN)/trn_mission
 	$(BIN)/trn_mission $(RUN_ARGS) $(ARGS)
 
-test: deps ## Build and run every GoogleTest binary; ends with "tests: N passed, N failed"
+test: deps ## Build and run every GoogleTest binary (the GCC release build checks the stack budget first); ends with "tests: N passed, N failed"
 	@$(MAKE) --no-print-directory $(TEST_BINS) $(foreach p,$(PROGRAMS),$(BIN)/$(p))
+	@# The frame budget holds for the GCC release objects (-fstack-usage); sanitizers and -O0 grow frames.
+	$(if $(filter release,$(VARIANT)),@tools/build/stack_report.sh $(OBJ) $(FLIGHT_SRC))
 	@tools/build/run_tests.sh $(BIN)/test-results $(TEST_BINS)
 
 compdb: $(BIN)/compile_commands.json ## Write the compilation database for tools and editors

@@ -183,34 +183,38 @@ BlockError read_body(ByteReader& r, FilterState& s) noexcept {
 
 }  // namespace
 
-BlockError read_state_block(const std::uint8_t* data, std::uint32_t n, FilterState& out) noexcept {
+const FilterState* read_state_block_in_place(const std::uint8_t* data, std::uint32_t n, BlockError& err) noexcept {
+  err = BlockError::kBadSize;
   if (data == nullptr || n != kStateBlockBytes) {
-    return BlockError::kBadSize;
+    return nullptr;
   }
   ByteReader r(data, n);
   const std::uint32_t magic = r.u32();
   const std::uint32_t version = r.u32();
   const std::uint32_t size = r.u32();
   const std::uint32_t reserved = r.u32();
-  if (magic != kStateMagic) {
-    return BlockError::kBadMagic;
-  }
-  if (version != kStateVersion) {
-    return BlockError::kBadVersion;
-  }
   ByteReader crc_r(data + kCrcOffset, 4U);
-  if (crc_r.u32() != crc32(data, kCrcOffset)) {
-    return BlockError::kBadChecksum;
+  if (magic != kStateMagic) {
+    err = BlockError::kBadMagic;
+  } else if (version != kStateVersion) {
+    err = BlockError::kBadVersion;
+  } else if (crc_r.u32() != crc32(data, kCrcOffset)) {
+    err = BlockError::kBadChecksum;
+  } else if (size != kStateBlockBytes || reserved != 0U) {
+    err = BlockError::kBadContent;
+  } else {
+    err = read_body(r, g_scratch);
   }
-  if (size != kStateBlockBytes || reserved != 0U) {
-    return BlockError::kBadContent;
+  return err == BlockError::kOk ? &g_scratch : nullptr;
+}
+
+BlockError read_state_block(const std::uint8_t* data, std::uint32_t n, FilterState& out) noexcept {
+  BlockError e = BlockError::kOk;
+  const FilterState* s = read_state_block_in_place(data, n, e);
+  if (s != nullptr) {
+    out = *s;
   }
-  const BlockError e = read_body(r, g_scratch);
-  if (e != BlockError::kOk) {
-    return e;
-  }
-  out = g_scratch;
-  return BlockError::kOk;
+  return e;
 }
 
 }  // namespace trn::filter

@@ -57,4 +57,14 @@ BlockError write_state_block(const FilterState& s, StateBlock& out) noexcept;
  */
 BlockError read_state_block(const std::uint8_t* data, std::uint32_t n, FilterState& out) noexcept;
 
+/**
+ * Reads and checks a block like read_state_block() but leaves the state in the
+ * module's static scratch and returns it (nullptr on any error, @p err says
+ * which): a caller that restores from it needs no 18 KiB FilterState on its
+ * stack. The scratch serves every tile, so the state must be used before the
+ * caller makes any kernel or board call (a switch to another tile), and is
+ * overwritten by the next read.
+ */
+const FilterState* read_state_block_in_place(const std::uint8_t* data, std::uint32_t n, BlockError& err) noexcept;
+
 }  // namespace trn::filter

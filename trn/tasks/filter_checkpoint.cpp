@@ -48,7 +48,7 @@ void checkpoint_write(CheckpointArea& a, const filter::FilterState& s, std::uint
   work.int_ops += w.int_ops;
 }
 
-CheckpointRead checkpoint_read(const CheckpointArea& a, filter::FilterState& out, bsp::Work& work) noexcept {
+CheckpointRead checkpoint_read(const CheckpointArea& a, bsp::Work& work) noexcept {
   CheckpointRead r{};
   // Newest first: slot order by sequence number.
   const bool first_is_1 = a.slot[1].seq > a.slot[0].seq;
@@ -61,16 +61,27 @@ CheckpointRead checkpoint_read(const CheckpointArea& a, filter::FilterState& out
     const bsp::Work w = block_work();
     work.mem_words += w.mem_words;
     work.int_ops += w.int_ops;
-    if (!header_ok(s) ||
-        filter::read_state_block(s.block.data(), filter::kStateBlockBytes, out) != filter::BlockError::kOk) {
+    filter::BlockError e = filter::BlockError::kOk;
+    const filter::FilterState* st =
+        header_ok(s) ? filter::read_state_block_in_place(s.block.data(), filter::kStateBlockBytes, e) : nullptr;
+    if (st == nullptr) {
       ++r.bad;
       r.bad_slot = i;
       continue;
     }
     r.found = true;
+    r.state = st;
     r.slot = i;
     r.seq = s.seq;
     r.imu_seq = s.imu_seq;
+  }
+  return r;
+}
+
+CheckpointRead checkpoint_read(const CheckpointArea& a, filter::FilterState& out, bsp::Work& work) noexcept {
+  const CheckpointRead r = checkpoint_read(a, work);
+  if (r.state != nullptr) {
+    out = *r.state;
   }
   return r;
 }

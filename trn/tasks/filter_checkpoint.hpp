@@ -55,7 +55,13 @@ struct CheckpointRead {
   std::uint32_t slot = 0U;   ///< the slot read (when found)
   std::uint32_t bad = 0U;    ///< slots written (magic present) that failed a check
   std::uint32_t bad_slot = 0U;  ///< index of the last one
+  /// When found: the state read, in the state block reader's static scratch (read_state_block_in_place():
+  /// use it before any kernel or board call).
+  const filter::FilterState* state = nullptr;
 };
+
+/** Finds the newest good checkpoint and leaves its state in the reader's scratch (no state on the stack). */
+CheckpointRead checkpoint_read(const CheckpointArea& a, bsp::Work& work) noexcept;
 
 /** Reads the newest good checkpoint into @p out (left as it was when none is good). */
 CheckpointRead checkpoint_read(const CheckpointArea& a, filter::FilterState& out, bsp::Work& work) noexcept;

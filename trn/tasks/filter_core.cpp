@@ -257,9 +257,10 @@ bool core_load(FilterCore& c, const CoreImage& in, bsp::Work& work) noexcept {
   if (head >= kMatchQueueLen || count > kMatchQueueLen || in.queue[kQueueWords - 2U] > 1U) {
     return false;
   }
-  filter::FilterState st{};
-  if (filter::read_state_block(in.block.data(), filter::kStateBlockBytes, st) != filter::BlockError::kOk ||
-      c.ekf->restore(st) != filter::FilterStatus::kOk) {
+  // The state stays in the block reader's static scratch (18 KiB off the stack), restored at once.
+  filter::BlockError e = filter::BlockError::kOk;
+  const filter::FilterState* st = filter::read_state_block_in_place(in.block.data(), filter::kStateBlockBytes, e);
+  if (st == nullptr || c.ekf->restore(*st) != filter::FilterStatus::kOk) {
     return false;
   }
   MatchQueue& q = *c.queue;

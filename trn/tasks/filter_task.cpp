@@ -399,10 +399,10 @@ void checkpoint(Slot& slot) noexcept {
 
 bool rejoin(Slot& slot, std::uint32_t job) noexcept;
 
-// Never inlined: its checkpoint read holds a whole FilterState (about 18 KiB) on the stack, which must
-// be gone before the task's loop runs. Clang inlined it into filter_task_main, whose frame then kept
-// those bytes for the whole flight (18728 bytes instead of GCC's 320); with the loop's own calls on
-// top, the 32 KiB stack overflowed into the next task's saved context when the filter went TMR.
+// Never inlined: Clang once inlined it into filter_task_main when its checkpoint read held a whole
+// FilterState (about 18 KiB) on the stack, and the loop's frame kept those bytes for the whole flight
+// (the 32 KiB stack overflowed into the next task's saved context when the filter went TMR). The state
+// now stays in the block reader's static scratch; the attribute keeps set-up out of the loop's frame.
 [[gnu::noinline]] bool set_up(Slot& slot, const FilterTaskConfig& cfg) noexcept {
   if (cfg.matches_per_job == 0U || cfg.matches_per_job > kMaxMatchesPerFrame) {
     return false;
@@ -426,15 +426,16 @@ bool rejoin(Slot& slot, std::uint32_t job) noexcept;
   slot.ckpt = cfg.checkpoint_every != 0U ? checkpoint_area() : nullptr;
   slot.ring = cfg.checkpoint_every != 0U ? imu_ring() : nullptr;
   if (slot.ckpt != nullptr) {
-    // A checkpoint left by an earlier start (a reset, or the tile this role moved from).
-    filter::FilterState st{};
+    // A checkpoint left by an earlier start (a reset, or the tile this role moved from). Its state
+    // stays in the reader's scratch, restored before any call that may switch tiles.
     bsp::Work work{};
-    const CheckpointRead r = checkpoint_read(*slot.ckpt, st, work);
+    const CheckpointRead r = checkpoint_read(*slot.ckpt, work);
+    const bool restored = r.found && slot.core.ekf->restore(*r.state) == filter::FilterStatus::kOk;
     bsp::consume(work);
     if (r.bad != 0U) {
       fdir::report(fdir::EventId::kCheckpointBad, r.bad_slot, 0U, r.bad);
     }
-    if (r.found && slot.core.ekf->restore(st) == filter::FilterStatus::kOk) {
+    if (restored) {
       slot.core.have_imu = true;
       slot.core.last_imu = r.imu_seq;
       slot.have_imu = true;

@@ -8,7 +8,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <Eigen/LU>
 
 #include <algorithm>
 #include <cmath>
@@ -30,6 +29,50 @@ struct Pose {
   Vec3 c;
   Mat3 r;  ///< camera to map
 };
+
+/**
+ * Solves a x = b for a symmetric positive definite 6x6 @p a by LDL^T, in
+ * fixed loops on the stack's 6x6 (Eigen's pivoting solvers work on blocks of
+ * run-time size, which puts a variable-size buffer on the stack). False when
+ * a pivot is not positive and finite (not positive definite, or not finite).
+ */
+bool solve_spd6(const Mat6& a, const Vec6& b, Vec6& x) noexcept {
+  Mat6 l = Mat6::Identity();
+  Vec6 d = Vec6::Zero();
+  for (int j = 0; j < 6; ++j) {
+    double dj = a(j, j);
+    for (int k = 0; k < j; ++k) {
+      dj -= l(j, k) * l(j, k) * d(k);
+    }
+    if (!(dj > 0.0) || !std::isfinite(dj)) {
+      return false;
+    }
+    d(j) = dj;
+    for (int i = j + 1; i < 6; ++i) {
+      double v = a(i, j);
+      for (int k = 0; k < j; ++k) {
+        v -= l(i, k) * l(j, k) * d(k);
+      }
+      l(i, j) = v / dj;
+    }
+  }
+  Vec6 y;
+  for (int i = 0; i < 6; ++i) {  // L y = b
+    double v = b(i);
+    for (int k = 0; k < i; ++k) {
+      v -= l(i, k) * y(k);
+    }
+    y(i) = v;
+  }
+  for (int i = 5; i >= 0; --i) {  // D L^T x = y
+    double v = y(i) / d(i);
+    for (int k = i + 1; k < 6; ++k) {
+      v -= l(k, i) * x(k);
+    }
+    x(i) = v;
+  }
+  return true;
+}
 
 /** Residual (observed minus predicted pixel) of @p m at @p pose; false when it is not in front of the camera. */
 bool residual(const bsp::CameraModel& cam, const Pose& pose, const Match& m, Eigen::Vector2d& r, Vec3& d,
@@ -76,9 +119,9 @@ bool gauss_newton_step(const bsp::CameraModel& cam, Pose& pose, const Match* mat
   }
   // The depth-scale direction is weak for a flat scene: a little damping keeps the step finite.
   jtj.diagonal().array() += 1e-9 * jtj.trace();
-  const Vec6 step = jtj.fullPivLu().solve(jtr);
+  Vec6 step;
   work.flops += 6ULL * 6ULL * 6ULL;
-  if (!step.allFinite()) {
+  if (!solve_spd6(jtj, jtr, step) || !step.allFinite()) {
     return false;
   }
   pose.c += step.head<3>();

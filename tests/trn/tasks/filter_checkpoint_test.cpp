@@ -103,6 +103,37 @@ TEST_F(FilterCheckpoint, TheNewestGoodSlotIsReadAndAnUpsetOneIsRefused) {
   EXPECT_EQ(r.bad, 2U);
 }
 
+// The read that leaves the state in the block reader's scratch (the filter task's set-up: no 18 KiB state
+// on its stack) finds the same slot as the copying read, and a refused slot gives no state.
+TEST_F(FilterCheckpoint, TheInPlaceReadFindsWhatTheCopyingReadFinds) {
+  CheckpointArea* a = trn::tasks::checkpoint_area();
+  ASSERT_NE(a, nullptr);
+  bsp::Work w{};
+  advance(10);
+  trn::tasks::checkpoint_write(*a, g_ekf.state(), 9U, 1U, 0U, w);
+  advance(10);
+  trn::tasks::checkpoint_write(*a, g_ekf.state(), 19U, 2U, 1U, w);
+  const CheckpointRead r = trn::tasks::checkpoint_read(*a, w);
+  ASSERT_TRUE(r.found);
+  ASSERT_NE(r.state, nullptr);
+  EXPECT_EQ(r.seq, 2U);
+  EXPECT_EQ(r.state->t_s, g_ekf.state().t_s);
+  trn::filter::StateBlock again{};
+  ASSERT_EQ(trn::filter::write_state_block(*r.state, again), trn::filter::BlockError::kOk);
+  EXPECT_EQ(again, a->slot[1].block) << "the state read writes back to the same bytes";
+  a->slot[0].seq ^= 4U;  // header upset
+  a->slot[1].block[100] ^= 0x10U;  // block upset
+  const CheckpointRead none = trn::tasks::checkpoint_read(*a, w);
+  EXPECT_FALSE(none.found);
+  EXPECT_EQ(none.state, nullptr);
+  EXPECT_EQ(none.bad, 2U);
+  trn::filter::BlockError e = trn::filter::BlockError::kOk;
+  EXPECT_EQ(trn::filter::read_state_block_in_place(a->slot[1].block.data(), trn::filter::kStateBlockBytes, e), nullptr);
+  EXPECT_EQ(e, trn::filter::BlockError::kBadChecksum);
+  EXPECT_EQ(trn::filter::read_state_block_in_place(a->slot[1].block.data(), 7U, e), nullptr);
+  EXPECT_EQ(e, trn::filter::BlockError::kBadSize);
+}
+
 TEST(ImuRing, SamplesAreFoundUntilOverwritten) {
   ASSERT_EQ(bsp::region_reset(bsp::Region{bsp::Region::kDdr}), bsp::MemError::kOk);
   trn::tasks::ImuRing* r = trn::tasks::imu_ring();
