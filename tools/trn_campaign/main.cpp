@@ -395,6 +395,43 @@ bool claim_folder(const fs::path& out, const Loaded& l, std::string& err) {
   return write_atomic(copy, l.text, err);
 }
 
+/** The mission image's identity: its size and modification time (as the world cache keys its products). */
+std::string image_stamp(const std::string& image) {
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(image, ec);
+  if (ec) {
+    return {};
+  }
+  const auto t = fs::last_write_time(image, ec);
+  return ec ? std::string{} : std::to_string(size) + "@" + std::to_string(t.time_since_epoch().count());
+}
+
+/**
+ * The folder's runs were flown by this build of the image, or it has none yet: a campaign resumed with
+ * a rebuilt image would report old and new runs as one. The stamp is written before the first run.
+ */
+bool claim_image(const fs::path& out, const std::string& image, std::string& err) {
+  const std::string stamp = image_stamp(image);
+  const fs::path file = out / "image.stamp";
+  if (fs::exists(file)) {
+    if (read_text(file) == stamp + "\n") {
+      return true;
+    }
+    err = out.string() + " holds runs flown by another build of the mission image (" + image +
+          " changed since): choose another --out, or remove the folder to fly the campaign again";
+    return false;
+  }
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator(out / "runs", ec)) {
+    if (fs::exists(e.path() / "result.json")) {
+      err = out.string() + " holds runs of a build it did not record (no image.stamp): choose another --out, "
+                           "or remove the folder to fly the campaign again";
+      return false;
+    }
+  }
+  return write_atomic(file, stamp + "\n", err);
+}
+
 int cmd_run(const RunOptions& o) {
   Loaded l;
   std::string err;
@@ -416,6 +453,10 @@ int cmd_run(const RunOptions& o) {
   const std::string mission = o.mission.empty() ? default_mission() : o.mission;
   if (::access(mission.c_str(), X_OK) != 0) {
     std::fprintf(stderr, "trn_campaign: the mission image %s is missing (make build/trn_mission)\n", mission.c_str());
+    return 2;
+  }
+  if (!claim_image(out, mission, err)) {
+    std::fprintf(stderr, "trn_campaign: %s\n", err.c_str());
     return 2;
   }
   // The runs of this shard, their plans drawn and written first: a bad spec fails before any flight.
@@ -682,6 +723,7 @@ int cmd_shrink(const std::string& run_dir, const std::string& mission_opt, const
 
 int cmd_merge(const std::string& out_dir, const std::vector<std::string>& inputs, bool quiet) {
   std::string spec_text;
+  std::string stamp;
   std::map<std::uint32_t, cp::RunResult> by_index;
   for (const std::string& in : inputs) {
     const fs::path d(in);
@@ -694,6 +736,14 @@ int cmd_merge(const std::string& out_dir, const std::vector<std::string>& inputs
       spec_text = t;
     } else if (t != spec_text) {
       std::fprintf(stderr, "trn_campaign: merge: %s holds another campaign than %s\n", in.c_str(), inputs[0].c_str());
+      return 2;
+    }
+    const std::string st = fs::exists(d / "image.stamp") ? read_text(d / "image.stamp") : std::string("none");
+    if (stamp.empty()) {
+      stamp = st;
+    } else if (st != stamp) {
+      std::fprintf(stderr, "trn_campaign: merge: %s was flown by another build of the mission image than %s\n",
+                   in.c_str(), inputs[0].c_str());
       return 2;
     }
     std::error_code ec;
@@ -722,7 +772,8 @@ int cmd_merge(const std::string& out_dir, const std::vector<std::string>& inputs
   const fs::path out(out_dir);
   std::error_code ec;
   fs::create_directories(out, ec);
-  if (!write_atomic(out / "campaign.toml", spec_text, err)) {
+  if (!write_atomic(out / "campaign.toml", spec_text, err) ||
+      (stamp != "none" && !write_atomic(out / "image.stamp", stamp, err))) {
     std::fprintf(stderr, "trn_campaign: %s\n", err.c_str());
     return 1;
   }

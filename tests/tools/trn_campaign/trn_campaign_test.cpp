@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -156,6 +157,32 @@ TEST_F(TrnCampaignBinary, ASeedSweepFliesOneSeedPerRunAndReportsItsIntegrity) {
   EXPECT_EQ(lines, 3) << "the header and one row per run";
 }
 
+// A campaign folder remembers the build of the image that flew its runs: resumed with a rebuilt image it
+// is refused (its report would mix two builds' runs), and so is a folder of runs with no record of it.
+TEST_F(TrnCampaignBinary, AFolderFlownByAnotherBuildOfTheImageIsNotResumed) {
+  const fs::path image = dir_ / "trn_mission";
+  fs::copy_file(bin("trn_mission"), image);
+  fs::permissions(image, fs::perms::owner_exec, fs::perm_options::add);
+  {
+    std::ofstream spec(dir_ / "one.toml");
+    spec << "name = \"one\"\nfaults_per_run = 0\nruns = 1\nduration_s = 2\npass_bound_m = 5000.0\n"
+            "degraded_bound_m = 5000.0\n";
+  }
+  const fs::path out = dir_ / "one";
+  const std::string cmd = bin("trn_campaign") + " run " + (dir_ / "one.toml").string() + " --quiet --mission " +
+                          image.string() + " --world-cache " + (dir_ / "world").string() + " --out " + out.string();
+  std::string log;
+  ASSERT_EQ(run(cmd, &log), 0) << log;
+  ASSERT_TRUE(fs::exists(out / "image.stamp"));
+  ASSERT_EQ(run(cmd, &log), 0) << "the same build resumes\n" << log;
+  fs::last_write_time(image, fs::last_write_time(image) + std::chrono::seconds(5));  // a rebuild
+  EXPECT_EQ(run(cmd, &log), 2);
+  EXPECT_NE(log.find("another build of the mission image"), std::string::npos) << log;
+  fs::remove(out / "image.stamp");
+  EXPECT_EQ(run(cmd, &log), 2);
+  EXPECT_NE(log.find("did not record"), std::string::npos) << log;
+}
+
 // CMP-04: shards fly disjoint runs; merged, they give the report a single campaign gives.
 TEST_F(TrnCampaignBinary, ShardsMergeIntoTheReportOfTheWholeCampaign) {
   std::string log;
@@ -186,6 +213,15 @@ TEST_F(TrnCampaignBinary, ShardsMergeIntoTheReportOfTheWholeCampaign) {
                     (dir_ / "other").string(), &log),
             2);
   EXPECT_NE(log.find("holds another campaign"), std::string::npos) << log;
+  // Shards of the same spec flown by two builds of the image are not merged either.
+  fs::copy(dir_ / "s1", dir_ / "s1b", fs::copy_options::recursive);
+  {
+    std::ofstream(dir_ / "s1b" / "image.stamp") << "1@2\n";
+  }
+  EXPECT_EQ(run(bin("trn_campaign") + " merge --out " + (dir_ / "m3").string() + " " + (dir_ / "s0").string() + " " +
+                    (dir_ / "s1b").string(), &log),
+            2);
+  EXPECT_NE(log.find("another build of the mission image"), std::string::npos) << log;
 }
 
 // CMP-05: an image that crashes or hangs is the run's outcome (hang_crash), not the campaign's end.
