@@ -262,6 +262,9 @@ bool Mission::boot(std::string& error) {
   configure_supervisors(s, image.sup);
   trn::tasks::FilterTaskConfig& f = image.filter;
   f.filter.imu = imu_spec(s.imu);
+  f.filter.map_tie_sigma_m[0] = s.map_tie.horizontal_m;
+  f.filter.map_tie_sigma_m[1] = s.map_tie.horizontal_m;
+  f.filter.map_tie_sigma_m[2] = s.map_tie.vertical_m;
   f.camera = camera_.model();
   f.initial = initial_;
   f.nav_sink = trn::tasks::kCoordinatorTile;
@@ -308,7 +311,8 @@ NavSample Mission::nav() const {
   n.est_p = Eigen::Vector3d(o.p_m[0], o.p_m[1], o.p_m[2]);
   n.est_v = Eigen::Vector3d(o.v_mps[0], o.v_mps[1], o.v_mps[2]);
   for (int i = 0; i < 3; ++i) {
-    n.sigma3_p[i] = 3.0 * std::sqrt(std::max(o.var_diag[i], 0.0));
+    // Against the world: the filter's map-relative variance with the map's tie variance (what guidance trusts).
+    n.sigma3_p[i] = 3.0 * std::sqrt(std::max(o.pos_var_world[i], 0.0));
   }
   n.position_error_m = (n.est_p - n.truth_p).norm();
   n.velocity_error_mps = (n.est_v - n.truth_v).norm();

@@ -89,6 +89,8 @@ const std::vector<KeySpec>& specs() {
     f("map", "extent_m", 0, 2e5, "side of the mapped square, m; 0: the whole terrain", [](Scenario& s) -> double& { return s.map.extent_m; }),
     f("map", "sun_azimuth_deg", 0, 360, "orbital imaging sun, clockwise from north, deg", [](Scenario& s) -> double& { return s.map.sun.azimuth_deg; }),
     f("map", "sun_elevation_deg", 5, 90, "orbital imaging sun elevation, deg", [](Scenario& s) -> double& { return s.map.sun.elevation_deg; }),
+    f("map", "tie_horizontal_m", 0, 1000, "the map's horizontal accuracy against the world, 1 sigma per axis, m", [](Scenario& s) -> double& { return s.map_tie.horizontal_m; }),
+    f("map", "tie_vertical_m", 0, 1000, "the map's vertical accuracy against the world, 1 sigma, m", [](Scenario& s) -> double& { return s.map_tie.vertical_m; }),
     f("trajectory", "start_altitude_m", 500, 20000, "altitude above the datum at t = 0, m", [](Scenario& s) -> double& { return s.trajectory.start_altitude_m; }),
     f("trajectory", "end_altitude_m", 0, 20000, "altitude at the end of the descent, m (< start)", [](Scenario& s) -> double& { return s.trajectory.end_altitude_m; }),
     f("trajectory", "start_x_m", -1e5, 1e5, "east position at t = 0, m", [](Scenario& s) -> double& { return s.trajectory.start_x_m; }),

@@ -35,6 +35,20 @@ struct InitialErrors {
 };
 
 /**
+ * The map product's stated accuracy against the world (1 sigma): how far the
+ * landmarks the matches lock on sit, as a body, from where the map puts them.
+ * The defaults are what `make integrity` measured for the default map (6 m/px,
+ * imaged under a sun at 250 / 50 deg against the descent's 135 / 35): the RMS
+ * over seeds 1-100 of each descent's mean error after 5 s, the worse
+ * horizontal axis (east, 0.34 m; north 0.18 m) for both, and 0.23 m vertical
+ * (docs/FILTER.md, "Integrity"). Another map needs its own measurement.
+ */
+struct MapTie {
+  double horizontal_m = 0.34;  ///< per horizontal axis
+  double vertical_m = 0.23;
+};
+
+/**
  * A mission phase: from its start time on, the TRN supervisor's policies.
  * Reliability "high" runs the filter as TMR; power "save" switches off the
  * tiles the phase does not need (the idle filter replicas), woken before a
@@ -62,6 +76,7 @@ struct Scenario {
   std::uint64_t seed = 1;  ///< run seed: sensor noise and initial-error draws
   bsp::world::TerrainConfig terrain;
   bsp::world::MapConfig map;
+  MapTie map_tie;  ///< the map's accuracy, given to the filter (FilterConfig::map_tie_sigma_m)
   bsp::world::TrajectoryConfig trajectory;
   bsp::ImuErrorConfig imu;
   bsp::CameraConfig camera;

@@ -32,7 +32,9 @@ ConfigError check_config(const FilterConfig& c) noexcept {
     return ConfigError::kBadGate;
   }
   if (!positive(c.min_depth) || c.min_depth >= 1.0 || !positive(c.pixel_sigma_floor_px) ||
-      !positive(c.max_sigma_pos_m) || !positive(c.stale_update_s) || !positive(c.max_history_gap_s)) {
+      !positive(c.max_sigma_pos_m) || !positive(c.stale_update_s) || !positive(c.max_history_gap_s) ||
+      !non_negative(c.map_tie_sigma_m[0]) || !non_negative(c.map_tie_sigma_m[1]) ||
+      !non_negative(c.map_tie_sigma_m[2])) {
     return ConfigError::kBadLimit;
   }
   return ConfigError::kOk;

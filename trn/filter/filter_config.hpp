@@ -43,6 +43,12 @@ struct FilterConfig {
   /// A lagged match between two history entries further apart than this (IMU
   /// samples lost there) is refused as stale: interpolating across the gap would guess.
   double max_history_gap_s = 0.05;
+  /// 1-sigma error of the map itself against the world, per map axis (east, north, up): how far the
+  /// landmarks the matches lock on sit, as a body, from where the map puts them. The filter's
+  /// covariance is relative to the map (every landmark shares this error, so no match reveals it);
+  /// the solution reports its position variance against the world with it added
+  /// (NavOutput::pos_var_world). 0: a map taken as exact.
+  double map_tie_sigma_m[3] = {0.0, 0.0, 0.0};
 };
 
 enum class ConfigError : std::uint8_t { kOk, kBadNoise, kBadTau, kBadDt, kBadGate, kBadLimit };

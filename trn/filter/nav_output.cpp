@@ -46,6 +46,9 @@ NavOutput make_nav_output(const FilterState& s, const FilterConfig& cfg) noexcep
   for (int i = 0; i < kErrDim; ++i) {
     o.var_diag[i] = s.p(i, i);
   }
+  for (int i = 0; i < 3; ++i) {
+    o.pos_var_world[i] = o.var_diag[i] + cfg.map_tie_sigma_m[i] * cfg.map_tie_sigma_m[i];
+  }
   o.flags = solution_flags(s, cfg);
   o.last_accepted = s.c.last_accepted;
   o.last_rejected = s.c.last_rejected;
@@ -75,6 +78,9 @@ void write_nav_output(const NavOutput& o, NavOutputBytes& out) noexcept {
   w.u32(o.last_accepted);
   w.u32(o.last_rejected);
   w.u32(o.imu_gaps);
+  for (const double v : o.pos_var_world) {
+    w.f64(v);
+  }
   w.u32(crc32(out.data(), kNavOutputBytes - 4U));
 }
 

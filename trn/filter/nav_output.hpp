@@ -3,11 +3,12 @@
  * @brief The navigation solution published every period, and its byte form for bit-identical voting.
  *
  * Byte form, little-endian, no padding (offsets in bytes):
- *    0 u32 magic 0x564E5254 ("TRNV")   4 u32 version (1)
+ *    0 u32 magic 0x564E5254 ("TRNV")   4 u32 version (2)
  *    8 u64 propagations               16 f64 t_s
  *   24 f64 p[3]  48 f64 v[3]  72 f64 q(w,x,y,z)  104 f64 covariance diagonal[15]
  *  224 u32 flags  228 u32 last_accepted  232 u32 last_rejected  236 u32 imu_gaps
- *  240 u32 CRC-32 of bytes [0, 240)
+ *  240 f64 position variance against the world[3]
+ *  264 u32 CRC-32 of bytes [0, 264)
  */
 #pragma once
 
@@ -36,7 +37,10 @@ struct NavOutput {
   double p_m[3] = {0.0, 0.0, 0.0};
   double v_mps[3] = {0.0, 0.0, 0.0};
   double q_mb_wxyz[4] = {1.0, 0.0, 0.0, 0.0};
-  double var_diag[15] = {};  ///< error-state variances [dp dv dtheta db_g db_a]
+  double var_diag[15] = {};  ///< error-state variances [dp dv dtheta db_g db_a]: relative to the map
+  /// Position variance against the world: var_diag[0..2] plus the map's tie variance
+  /// (FilterConfig::map_tie_sigma_m). What guidance should trust; the map search uses var_diag.
+  double pos_var_world[3] = {};
   std::uint32_t flags = 0;
   std::uint32_t last_accepted = 0;
   std::uint32_t last_rejected = 0;
@@ -44,8 +48,8 @@ struct NavOutput {
 };
 
 inline constexpr std::uint32_t kNavMagic = 0x564E5254U;
-inline constexpr std::uint32_t kNavVersion = 1U;
-inline constexpr std::uint32_t kNavOutputBytes = 244U;
+inline constexpr std::uint32_t kNavVersion = 2U;
+inline constexpr std::uint32_t kNavOutputBytes = 268U;
 using NavOutputBytes = std::array<std::uint8_t, kNavOutputBytes>;
 
 /** The solution of state @p s under configuration @p cfg (flags from its limits). */

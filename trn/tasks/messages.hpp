@@ -212,11 +212,12 @@ inline constexpr std::uint32_t kMatchesPerPart = 5;
 static_assert(kMatchHeaderWords + kMatchesPerPart * kMatchWords <= 124U, "a part fits one FT packet");
 
 /**
- * Navigation solution message (filter -> coordinator, kChanNav), 42 words:
+ * Navigation solution message (filter -> coordinator, kChanNav), 48 words:
  *   [0] kMsgNav [1] flags [2..3] t_s [4..9] p [10..15] v [16..23] q (w x y z)
- *   [24..41] variance diagonal of dp, dv, dtheta (9 doubles).
+ *   [24..41] variance diagonal of dp, dv, dtheta (9 doubles, relative to the map)
+ *   [42..47] position variance against the world (3 doubles: the map's tie variance added).
  */
-inline constexpr std::uint32_t kNavWords = 42;
+inline constexpr std::uint32_t kNavWords = 48;
 
 inline void pack_nav(const filter::NavOutput& o, std::span<std::uint32_t, kNavWords> w) noexcept {
   w[0] = kMsgNav;
@@ -231,6 +232,9 @@ inline void pack_nav(const filter::NavOutput& o, std::span<std::uint32_t, kNavWo
   }
   for (std::size_t i = 0; i < 9U; ++i) {
     detail::put_f64(w, 24U + 2U * i, o.var_diag[i]);
+  }
+  for (std::size_t i = 0; i < 3U; ++i) {
+    detail::put_f64(w, 42U + 2U * i, o.pos_var_world[i]);
   }
 }
 
@@ -248,6 +252,9 @@ inline filter::NavOutput unpack_nav(std::span<const std::uint32_t, kNavWords> w)
   }
   for (std::size_t i = 0; i < 9U; ++i) {
     o.var_diag[i] = detail::get_f64(w, 24U + 2U * i);
+  }
+  for (std::size_t i = 0; i < 3U; ++i) {
+    o.pos_var_world[i] = detail::get_f64(w, 42U + 2U * i);
   }
   return o;
 }

@@ -184,6 +184,41 @@ TEST_F(TrnMissionBinary, ACoarseFixWithAnAltitudeErrorConvergesInItsOwnFrame) {
   EXPECT_LT(std::stod(rows.back()[col]), 0.05) << "attitude error at the end, deg (the initial one is 0.81)";
 }
 
+// The map's tie accuracy (scenario [map] tie_horizontal_m, tie_vertical_m) is added to the position variance
+// the filter reports against the world, and to nothing else: the same estimate to the bit, a 3-sigma whose
+// square grows by 9 tie^2 per axis.
+TEST_F(TrnMissionBinary, TheMapsTieAccuracyWidensTheReportedSigmaAndNotTheEstimate) {
+  {
+    std::ofstream sc(dir_ / "exact.toml");
+    sc << "[map]\ntie_horizontal_m = 0\ntie_vertical_m = 0\n";
+  }
+  ASSERT_EQ(run(binary() + " --duration 4 --quiet --no-plots --seed 1 --out " + (dir_ / "tie").string()), 0);
+  ASSERT_EQ(run(binary() + " --duration 4 --quiet --no-plots --seed 1 --scenario " + (dir_ / "exact.toml").string() +
+                " --out " + (dir_ / "exact").string()),
+            0);
+  const std::vector<std::vector<std::string>> tie = csv_rows(dir_ / "tie" / "nav.csv");
+  const std::vector<std::vector<std::string>> exact = csv_rows(dir_ / "exact" / "nav.csv");
+  ASSERT_EQ(tie.size(), exact.size());
+  ASSERT_GT(tie.size(), 30U);
+  const std::vector<std::string>& head = tie[0];
+  const auto col = [&head](const char* name) {
+    return static_cast<std::size_t>(std::find(head.begin(), head.end(), name) - head.begin());
+  };
+  const std::array<double, 3> tie_m = {0.34, 0.34, 0.23};  // the defaults (tools/common/scenario.hpp)
+  const std::array<const char*, 3> est = {"est_x_m", "est_y_m", "est_z_m"};
+  const std::array<const char*, 3> s3 = {"sigma3_x_m", "sigma3_y_m", "sigma3_z_m"};
+  for (std::size_t r = 1; r < tie.size(); ++r) {
+    for (std::size_t k = 0; k < 3U; ++k) {
+      ASSERT_LT(col(s3[k]), head.size());
+      EXPECT_EQ(tie[r][col(est[k])], exact[r][col(est[k])]) << "row " << r << " " << est[k];
+      const double a = std::stod(tie[r][col(s3[k])]);
+      const double b = std::stod(exact[r][col(s3[k])]);
+      // nav.csv rounds; compare the squares with a tolerance of the rounding.
+      EXPECT_NEAR(a * a - b * b, 9.0 * tie_m[k] * tie_m[k], 0.02 * (a + b) + 1e-3) << "row " << r << " " << s3[k];
+    }
+  }
+}
+
 // TOOLS-EN-07: summary.json carries the chip's energy, its mean power and the energy by phase, role and state,
 // which add up to it; tile_map.csv carries each tile's energy and power state.
 TEST_F(TrnMissionBinary, SummaryAndTileMapCarryTheEnergy) {

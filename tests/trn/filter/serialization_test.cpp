@@ -262,6 +262,38 @@ TEST(FilterSerialization, OutputBytesFollowTheDocumentedLayout) {
   EXPECT_EQ(o.flags & trn::filter::kNavImuOk, 0U);  // nothing integrated yet
   EXPECT_EQ(o.flags & trn::filter::kNavValid, 0U);
   EXPECT_NE(o.flags & trn::filter::kNavInitialized, 0U);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(o.pos_var_world[i], o.var_diag[i]) << "a map taken as exact (the default) adds nothing";
+  }
+}
+
+// The map's tie error is shared by every landmark, so no match shows it: the filter's covariance stays
+// relative to the map and the solution adds the tie variance to the position it reports against the world.
+TEST(FilterSerialization, TheWorldVarianceAddsTheMapTieToThePosition) {
+  start(g_a, 49);
+  trn::filter::FilterConfig cfg{};
+  cfg.map_tie_sigma_m[0] = 0.34;
+  cfg.map_tie_sigma_m[1] = 0.34;
+  cfg.map_tie_sigma_m[2] = 0.23;
+  ASSERT_EQ(trn::filter::check_config(cfg), trn::filter::ConfigError::kOk);
+  const trn::filter::NavOutput o = trn::filter::make_nav_output(g_a.state(), cfg);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(o.pos_var_world[i], o.var_diag[i] + cfg.map_tie_sigma_m[i] * cfg.map_tie_sigma_m[i]) << i;
+    EXPECT_EQ(o.var_diag[i], g_a.state().p(i, i)) << "the map-relative variance is the filter's own";
+  }
+  trn::filter::NavOutputBytes b{};
+  trn::filter::write_nav_output(o, b);
+  double z = 0.0;
+  std::memcpy(&z, &b[256], sizeof z);
+  EXPECT_EQ(z, o.pos_var_world[2]) << "offset 240 + 2 x 8 of the documented layout";
+  std::uint32_t version = 0;
+  std::memcpy(&version, &b[4], sizeof version);
+  EXPECT_EQ(version, 2U);
+  for (const double bad : {-0.1, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    trn::filter::FilterConfig c = cfg;
+    c.map_tie_sigma_m[2] = bad;
+    EXPECT_EQ(trn::filter::check_config(c), trn::filter::ConfigError::kBadLimit) << bad;
+  }
 }
 
 }  // namespace

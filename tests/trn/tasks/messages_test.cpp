@@ -105,4 +105,34 @@ TEST(TrnMessages, ReplicaMessagesNameOneOfTheThreeReplicas) {
             3.25);
 }
 
+// The solution message carries both covariances: the map-relative one the coordinator searches with and
+// the position variance against the world that guidance (and the ground's integrity measure) reads.
+TEST(TrnMessages, TheNavMessageCarriesTheMapRelativeAndTheWorldVariances) {
+  trn::filter::NavOutput nav{};
+  nav.flags = 0xA5U;
+  nav.t_s = 12.5;
+  for (std::size_t i = 0; i < 9U; ++i) {
+    nav.var_diag[i] = 0.5 + static_cast<double>(i);
+  }
+  nav.pos_var_world[0] = 0.25 + 0.1156;
+  nav.pos_var_world[1] = 1.25 + 0.1156;
+  nav.pos_var_world[2] = 2.25 + 0.0529;
+  std::array<std::uint32_t, tt::kNavWords> w{};
+  tt::pack_nav(nav, w);
+  const trn::filter::NavOutput back = tt::unpack_nav(w);
+  EXPECT_EQ(back.flags, nav.flags);
+  EXPECT_EQ(back.t_s, nav.t_s);
+  for (std::size_t i = 0; i < 9U; ++i) {
+    EXPECT_EQ(back.var_diag[i], nav.var_diag[i]) << i;
+  }
+  for (std::size_t i = 0; i < 3U; ++i) {
+    EXPECT_EQ(back.pos_var_world[i], nav.pos_var_world[i]) << i;
+  }
+  trn::filter::NavOutput decoded{};
+  ASSERT_TRUE(tt::unpack_nav_msg(w, decoded));
+  EXPECT_EQ(decoded.pos_var_world[2], nav.pos_var_world[2]);
+  EXPECT_FALSE(tt::unpack_nav_msg(std::span<const std::uint32_t>(w).first(42U), decoded))
+      << "the message before the world variances (42 words) is refused";
+}
+
 }  // namespace
