@@ -117,6 +117,12 @@ void Ekf::apply_correction(const Vec15& dx) noexcept {
   work_.fdivs += 4;
 }
 
+bool Ekf::position_loose() const noexcept {
+  constexpr double kLooseVar = kLooseSigmaM * kLooseSigmaM;
+  return s_.p(kIdxP, kIdxP) > kLooseVar || s_.p(kIdxP + 1, kIdxP + 1) > kLooseVar ||
+         s_.p(kIdxP + 2, kIdxP + 2) > kLooseVar;
+}
+
 GateResult Ekf::iterated_update(const Match& m) noexcept {
   x0_ = s_.x;
   p0_ = s_.p;
@@ -208,7 +214,7 @@ FilterStatus Ekf::update(const Match* matches, std::uint32_t n, UpdateReport& re
       ++rep.rejected_invalid;
       continue;
     }
-    const GateResult g = matches[i].landmark == kCoarseLandmark
+    const GateResult g = matches[i].landmark == kCoarseLandmark || position_loose()
                              ? iterated_update(matches[i])
                              : kalman_update(s_.p, meas_, cfg_.gate_chi2, dx_, w_, work_);
     if (g.check_failed) {

@@ -67,15 +67,17 @@ void push(MatchQueue& q, const Match& m, FilterTaskStats& st) noexcept {
 /**
  * How many of the @p available queued matches from @p head fit in @p budget
  * updates: a coarse match costs filter::kCoarseIterations (its iterated
- * update), any other one. At least one when any is available, so a budget
- * smaller than a coarse match's cost still moves the queue. Lowers @p budget.
+ * update), and so does every match when @p loose (the filter's position is
+ * loose, and it iterates them all); any other one. At least one when any is
+ * available, so a budget smaller than a coarse match's cost still moves the
+ * queue. Lowers @p budget.
  */
-std::uint32_t matches_that_fit(const MatchQueue& q, std::uint32_t head, std::uint32_t available,
+std::uint32_t matches_that_fit(const MatchQueue& q, std::uint32_t head, std::uint32_t available, bool loose,
                                std::uint32_t& budget) noexcept {
   std::uint32_t n = 0;
   while (n < available && budget > 0U) {
     const bool coarse = q.m[(head + n) % kMatchQueueLen].landmark == kCoarseLandmark;
-    const std::uint32_t cost = coarse ? filter::kCoarseIterations : 1U;
+    const std::uint32_t cost = coarse || loose ? filter::kCoarseIterations : 1U;
     if (cost > budget && n > 0U) {
       break;
     }
@@ -91,7 +93,9 @@ void apply_matches(FilterCore& c) noexcept {
   std::uint32_t budget = c.cfg->matches_per_job;
   for (int pass = 0; pass < 2 && budget > 0U && q.count > 0U; ++pass) {
     const std::uint32_t contiguous = kMatchQueueLen - q.head;
-    const std::uint32_t n = matches_that_fit(q, q.head, q.count < contiguous ? q.count : contiguous, budget);
+    // A loose position iterates every match (Ekf::update()): each counts as a coarse one.
+    const std::uint32_t n =
+        matches_that_fit(q, q.head, q.count < contiguous ? q.count : contiguous, c.ekf->position_loose(), budget);
     filter::UpdateReport rep{};
     if (c.ekf->update(&q.m[q.head], n, rep) != filter::FilterStatus::kOk) {
       ++c.stats->filter_errors;

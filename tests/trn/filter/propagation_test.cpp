@@ -111,7 +111,9 @@ TEST(FilterPropagation, CountedWorkEqualsThePublishedBudgetConstants) {
   ASSERT_EQ(g_ekf.configure(cfg, cam), FilterStatus::kOk);
   TruthSim truth(3, false, cfg.imu);
   bsp::Rng rng(3, bsp::StreamId::kTest, 11);
-  ASSERT_EQ(g_ekf.init(filter_test::perturbed_estimate(truth, rng, 10.0, 0.1, 1e-3)), FilterStatus::kOk);
+  // A position known to 3 m: one linearization per match (a loose one iterates, below).
+  ASSERT_EQ(g_ekf.init(filter_test::perturbed_estimate(truth, rng, 3.0, 0.1, 1e-3)), FilterStatus::kOk);
+  ASSERT_FALSE(g_ekf.position_loose());
   ASSERT_EQ(g_ekf.propagate(truth.next_imu()), FilterStatus::kOk);
   EXPECT_EQ(g_ekf.take_work().flops, trn::filter::kFlopsPerPropagation);
   trn::Match m{};
@@ -135,6 +137,30 @@ TEST(FilterPropagation, CountedWorkEqualsThePublishedBudgetConstants) {
   const std::uint64_t lagged_flops = g_ekf.take_work().flops;
   EXPECT_GE(lagged_flops, trn::filter::kFlopsPerLaggedMatch);
   EXPECT_LE(lagged_flops, trn::filter::kFlopsPerLaggedMatch + trn::filter::kFlopsUpdateTolerances);
+}
+
+// While some position sigma exceeds kLooseSigmaM every match is an iterated update: it is linearized again at
+// the state it lands on (more than one match's work, at most kCoarseIterations of them), and lands nearer
+// the truth than a tight filter would need.
+TEST(FilterPropagation, ALoosePositionIteratesEachMatch) {
+  trn::filter::FilterConfig cfg;
+  const bsp::CameraModel cam{};
+  ASSERT_EQ(g_ekf.configure(cfg, cam), FilterStatus::kOk);
+  TruthSim truth(3, false, cfg.imu);
+  bsp::Rng rng(3, bsp::StreamId::kTest, 11);
+  ASSERT_EQ(g_ekf.init(filter_test::perturbed_estimate(truth, rng, 10.0, 0.1, 1e-3)), FilterStatus::kOk);
+  ASSERT_TRUE(g_ekf.position_loose()) << "10 m > kLooseSigmaM";
+  ASSERT_EQ(g_ekf.propagate(truth.next_imu()), FilterStatus::kOk);
+  (void)g_ekf.take_work();
+  trn::Match m{};
+  truth.make_matches(rng, cam, 1, 0.5, &m);
+  trn::filter::UpdateReport rep;
+  ASSERT_EQ(g_ekf.update(&m, 1, rep), FilterStatus::kOk);
+  ASSERT_EQ(rep.accepted, 1U);
+  const std::uint64_t flops = g_ekf.take_work().flops;
+  EXPECT_GT(flops, trn::filter::kFlopsPerMatch + trn::filter::kFlopsUpdateTolerances) << "linearized more than once";
+  EXPECT_LE(flops, trn::filter::kCoarseIterations *
+                       (trn::filter::kFlopsPerMatch + trn::filter::kFlopsUpdateTolerances + 100U));
 }
 
 }  // namespace
