@@ -614,6 +614,14 @@ std::string integrity_gnuplot(const Report& r) {
     seed_lo = std::min(seed_lo, static_cast<double>(run.seed));
     seed_hi = std::max(seed_hi, static_cast<double>(run.seed));
   }
+  double top_pct = 0.0;  // the largest share beyond 3-sigma: the target line stays in view below it
+  for (const RunResult& run : r.per_run) {
+    for (const std::uint64_t c : run.beyond_3sigma) {
+      if (run.integrity_outputs > 0U) {
+        top_pct = std::max(top_pct, 100.0 * static_cast<double>(c) / static_cast<double>(run.integrity_outputs));
+      }
+    }
+  }
   // A seed sweep is plotted by seed; runs of one seed (a fault campaign) by run index.
   const bool by_seed = seed_hi > seed_lo;
   const double x_lo = by_seed ? seed_lo : static_cast<double>(r.per_run.empty() ? 0U : r.per_run.front().index);
@@ -644,8 +652,8 @@ std::string integrity_gnuplot(const Report& r) {
          format("     %.6g with lines dt 2 lc rgb '#000000' title '%.3g m target'\n", kIntegrityMaxErrorBoundM,
                 kIntegrityMaxErrorBoundM) +
          "unset logscale y\n"
-         "set ylabel 'outputs beyond 3-sigma (%)'\n"
-         "set yrange [0:*]\n" +
+         "set ylabel 'outputs beyond 3-sigma (%)'\n" +
+         format("set yrange [0:%.6g]\n", std::max(2.0 * 100.0 * kIntegrityFractionBound, 1.1 * top_pct)) +
          "plot $runs using ($" + x + "-0.2):5 with impulses lw 2 lc rgb '#4c72b0' title 'x', \\\n"
          "     $runs using " + x + ":6 with impulses lw 2 lc rgb '#55a868' title 'y', \\\n"
          "     $runs using ($" + x + "+0.2):7 with impulses lw 2 lc rgb '#c44e52' title 'z', \\\n" +
