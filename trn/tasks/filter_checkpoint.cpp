@@ -78,12 +78,4 @@ CheckpointRead checkpoint_read(const CheckpointArea& a, bsp::Work& work) noexcep
   return r;
 }
 
-CheckpointRead checkpoint_read(const CheckpointArea& a, filter::FilterState& out, bsp::Work& work) noexcept {
-  const CheckpointRead r = checkpoint_read(a, work);
-  if (r.state != nullptr) {
-    out = *r.state;
-  }
-  return r;
-}
-
 }  // namespace trn::tasks

@@ -63,7 +63,4 @@ struct CheckpointRead {
 /** Finds the newest good checkpoint and leaves its state in the reader's scratch (no state on the stack). */
 CheckpointRead checkpoint_read(const CheckpointArea& a, bsp::Work& work) noexcept;
 
-/** Reads the newest good checkpoint into @p out (left as it was when none is good). */
-CheckpointRead checkpoint_read(const CheckpointArea& a, filter::FilterState& out, bsp::Work& work) noexcept;
-
 }  // namespace trn::tasks

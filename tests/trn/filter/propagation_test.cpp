@@ -140,8 +140,7 @@ TEST(FilterPropagation, CountedWorkEqualsThePublishedBudgetConstants) {
 }
 
 // While some position sigma exceeds kLooseSigmaM every match is an iterated update: it is linearized again at
-// the state it lands on (more than one match's work, at most kCoarseIterations of them), and lands nearer
-// the truth than a tight filter would need.
+// the state it lands on (more than one match's work, at most kCoarseIterations of them).
 TEST(FilterPropagation, ALoosePositionIteratesEachMatch) {
   trn::filter::FilterConfig cfg;
   const bsp::CameraModel cam{};

@@ -22,7 +22,6 @@ using trn::tasks::CheckpointArea;
 using trn::tasks::CheckpointRead;
 
 Ekf g_ekf;
-trn::filter::FilterState g_out;
 
 class FilterCheckpoint : public ::testing::Test {
  protected:
@@ -51,7 +50,7 @@ TEST_F(FilterCheckpoint, NoCheckpointIsFoundInAFreshArea) {
   CheckpointArea* a = trn::tasks::checkpoint_area();
   ASSERT_NE(a, nullptr);
   bsp::Work w{};
-  const CheckpointRead r = trn::tasks::checkpoint_read(*a, g_out, w);
+  const CheckpointRead r = trn::tasks::checkpoint_read(*a, w);
   EXPECT_FALSE(r.found);
   EXPECT_EQ(r.bad, 0U);
   EXPECT_EQ(trn::tasks::checkpoint_area(), a) << "a later start finds the same area by name";
@@ -70,20 +69,22 @@ TEST_F(FilterCheckpoint, TheNewestGoodSlotIsReadAndAnUpsetOneIsRefused) {
   EXPECT_GT(w.mem_words, 0U) << "the copies are charged";
   EXPECT_EQ(a->slot[0].seq, 1U);
   EXPECT_EQ(a->slot[1].seq, 2U) << "the slots alternate";
-  CheckpointRead r = trn::tasks::checkpoint_read(*a, g_out, w);
+  CheckpointRead r = trn::tasks::checkpoint_read(*a, w);
   ASSERT_TRUE(r.found);
   EXPECT_EQ(r.seq, 2U);
   EXPECT_EQ(r.imu_seq, 19U);
-  EXPECT_EQ(g_out.t_s, t2);
+  ASSERT_NE(r.state, nullptr);
+  EXPECT_EQ(r.state->t_s, t2);
   // An upset in the newest block: refused by its checksum, the older slot is used.
   a->slot[1].block[100] ^= 0x10U;
-  r = trn::tasks::checkpoint_read(*a, g_out, w);
+  r = trn::tasks::checkpoint_read(*a, w);
   ASSERT_TRUE(r.found);
   EXPECT_EQ(r.seq, 1U);
   EXPECT_EQ(r.imu_seq, 9U);
   EXPECT_EQ(r.bad, 1U);
   EXPECT_EQ(r.bad_slot, 1U);
-  EXPECT_EQ(g_out.t_s, t1);
+  ASSERT_NE(r.state, nullptr);
+  EXPECT_EQ(r.state->t_s, t1);
   // A filter resumed from slot 0 writes its next checkpoint into the other one.
   ASSERT_EQ(r.slot, 0U);
   advance(10);
@@ -92,20 +93,20 @@ TEST_F(FilterCheckpoint, TheNewestGoodSlotIsReadAndAnUpsetOneIsRefused) {
   EXPECT_EQ(a->slot[0].seq, 1U);
   // A torn write (the header's magic cleared first, the rest not done) is refused as well.
   a->slot[1].magic = 0U;
-  r = trn::tasks::checkpoint_read(*a, g_out, w);
+  r = trn::tasks::checkpoint_read(*a, w);
   ASSERT_TRUE(r.found);
   EXPECT_EQ(r.seq, 1U);
   EXPECT_EQ(r.bad, 1U);
   // A header upset (sequence number) is caught by the header CRC.
   a->slot[0].seq ^= 4U;
-  r = trn::tasks::checkpoint_read(*a, g_out, w);
+  r = trn::tasks::checkpoint_read(*a, w);
   EXPECT_FALSE(r.found);
   EXPECT_EQ(r.bad, 2U);
 }
 
-// The read that leaves the state in the block reader's scratch (the filter task's set-up: no 18 KiB state
-// on its stack) finds the same slot as the copying read, and a refused slot gives no state.
-TEST_F(FilterCheckpoint, TheInPlaceReadFindsWhatTheCopyingReadFinds) {
+// The read leaves the state in the block reader's scratch (the filter task's set-up holds no 18 KiB state
+// on its stack): the state found writes back to the slot's bytes, and a refused slot gives no state.
+TEST_F(FilterCheckpoint, TheStateReadInPlaceIsTheSlotsState) {
   CheckpointArea* a = trn::tasks::checkpoint_area();
   ASSERT_NE(a, nullptr);
   bsp::Work w{};
