@@ -201,13 +201,17 @@ inline constexpr std::uint32_t kFilterPeriodTicks = 10U;
 /**
  * The filter job whose record takes a frame's batch, counted from the job of
  * its capture: after the 20 ms readout, the frame's processing (fine frames
- * 40-85 ms, the coarse stage up to its 800 ms deadline) and the parts' crossing
- * (8 a job). A function of the frame, not of when the batch arrives, so which
- * job takes a match does not depend on the network's timing; a part later
- * than that is taken when it comes.
+ * 40-85 ms; a frame with the coarse stage 174-228 ms on seeds 1-200, the
+ * coarse stage about 130 ms of it) and the parts' crossing (8 a job). A
+ * function of the frame, not of when the batch arrives, so which job takes a
+ * match depends neither on the network's timing nor on a correction's
+ * recomputation; a part later than that is taken when it comes. Every job of
+ * lag is the velocity's uncertainty times 10 ms on the position a coarse
+ * frame fixes (docs/FILTER.md, "Fix and convergence"): the coarse frame's
+ * margin is about 80 ms over the slowest seen, no longer.
  */
 inline constexpr std::uint32_t kFineApplyJobs = 15U;
-inline constexpr std::uint32_t kCoarseApplyJobs = 90U;
+inline constexpr std::uint32_t kCoarseApplyJobs = 35U;
 inline constexpr std::uint32_t kMatchesPerPart = 5;
 static_assert(kMatchHeaderWords + kMatchesPerPart * kMatchWords <= 124U, "a part fits one FT packet");
 

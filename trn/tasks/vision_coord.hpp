@@ -94,6 +94,7 @@ struct VisionCoordStats {
   std::uint32_t matches_total;        ///< fine matches gathered (coarse not included)
   std::uint32_t last_frame_matches;
   std::uint32_t batch_send_failed;    ///< batch parts the filter tile did not take
+  std::uint32_t status_send_failed;   ///< frame statuses the vision supervisor did not take
   std::uint32_t suspect_tiles;        ///< tiles currently given no work
   std::uint32_t frames_checked;       ///< frames whose matches were checked for consistency
   std::uint32_t matches_checked;
