@@ -15,6 +15,8 @@
  */
 #pragma once
 
+#include "tools/common/nav_integrity.hpp"
+
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -100,8 +102,9 @@ struct RunResult {
   /// Navigation integrity from the run's summary (docs/FILTER.md, "Integrity"): set only when the image
   /// exited well and its summary gave the figures.
   bool has_integrity = false;
-  double converged_at_s = -1.0;  ///< when the filter's horizontal 3-sigma first fell below its bound; < 0: never
-  std::uint64_t integrity_outputs = 0;          ///< outputs after convergence held against their own 3-sigma
+  double fix_at_s = -1.0;        ///< when the filter's horizontal 3-sigma first fell below tools::kFixSigma3M; < 0: never
+  double converged_at_s = -1.0;  ///< when it first fell to tools::kConvergedSigma3M; < 0: never
+  std::uint64_t integrity_outputs = 0;          ///< outputs from the fix on held against their own 3-sigma
   std::array<std::uint64_t, 3> beyond_3sigma{};  ///< per axis (x, y, z): outputs whose error exceeds their 3-sigma
   std::array<std::uint64_t, 3> beyond_5sigma{};  ///< per axis: outputs whose error exceeds their 5-sigma
   std::array<double, 3> worst_ratio{};           ///< per axis: the largest |error| / (3 sigma)
@@ -109,6 +112,8 @@ struct RunResult {
 
 /** The integrity targets a report holds the runs against (issue "navigation integrity"). */
 inline constexpr double kIntegrityMaxErrorBoundM = 3.0;  ///< max error after convergence, on every run
+static_assert(kIntegrityMaxErrorBoundM >= kConvergedSigma3M,
+              "a run is held to its bound only once the filter claims at least that accuracy");
 inline constexpr double kIntegrityFractionBound = 0.01;  ///< outputs beyond 3-sigma, per axis, over all runs
 
 /** A distribution of one figure over runs: quantiles by linear interpolation (R's type 7). */
@@ -191,7 +196,7 @@ std::string report_csv(const Report& r);
 std::string report_md(const Report& r);
 /** The header line of integrity.csv. */
 inline constexpr const char* kIntegrityCsvHeader =
-    "index,seed,outcome,final_error_m,max_error_m,converged_at_s,outputs,beyond_3sigma_x,beyond_3sigma_y,"
+    "index,seed,outcome,final_error_m,max_error_m,fix_at_s,converged_at_s,outputs,beyond_3sigma_x,beyond_3sigma_y,"
     "beyond_3sigma_z,beyond_5sigma_x,beyond_5sigma_y,beyond_5sigma_z,worst_ratio_x,worst_ratio_y,worst_ratio_z";
 /** integrity.csv: one row per run with integrity figures (an empty field: a value that is not finite). */
 std::string integrity_csv(const Report& r);

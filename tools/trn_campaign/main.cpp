@@ -211,6 +211,10 @@ constexpr std::array<const char*, 3> kAxes = {"x", "y", "z"};
 
 /** The navigation-integrity figures of a summary (docs/FILTER.md, "Integrity"); throws if one is missing. */
 void read_integrity(const nlohmann::json& sj, cp::RunResult& r) {
+  r.fix_at_s = number_or_nan(sj, "fix_at_s");
+  if (!(r.fix_at_s >= 0.0)) {
+    r.fix_at_s = -1.0;
+  }
   r.converged_at_s = number_or_nan(sj, "converged_at_s");
   if (!(r.converged_at_s >= 0.0)) {
     r.converged_at_s = -1.0;
@@ -291,7 +295,7 @@ nlohmann::json to_json(const cp::RunResult& r, nlohmann::json rec) {
   rec["detected"] = r.detected;
   rec["recovered"] = r.recovered;
   if (r.has_integrity) {
-    nlohmann::json in{{"converged_at_s", r.converged_at_s}, {"outputs", r.integrity_outputs}};
+    nlohmann::json in{{"fix_at_s", r.fix_at_s}, {"converged_at_s", r.converged_at_s}, {"outputs", r.integrity_outputs}};
     for (std::size_t a = 0; a < 3U; ++a) {
       in[kAxes[a]] = {{"beyond_3sigma", r.beyond_3sigma[a]},
                       {"beyond_5sigma", r.beyond_5sigma[a]},
@@ -317,6 +321,7 @@ bool from_json(const nlohmann::json& j, cp::RunResult& r) {
     r.recovered = j.at("recovered").get<std::uint32_t>();
     r.seed = j.value("seed", std::uint64_t{0});  // results of a campaign before seeds were recorded have none
     if (const auto in = j.find("integrity"); in != j.end()) {
+      r.fix_at_s = in->at("fix_at_s").get<double>();
       r.converged_at_s = in->at("converged_at_s").get<double>();
       r.integrity_outputs = in->at("outputs").get<std::uint64_t>();
       for (std::size_t a = 0; a < 3U; ++a) {

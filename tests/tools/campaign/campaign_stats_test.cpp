@@ -403,7 +403,7 @@ TEST(Summarize, NoRunsGivesTheWholeInterval) {
 // ------------------------------------------------------------------ integrity
 
 /** A run with integrity figures: per axis, outputs beyond 3 and 5 sigma and the worst ratio. */
-RunResult flown(std::uint32_t index, std::uint64_t seed, double final_m, double max_m, double converged_s,
+RunResult flown(std::uint32_t index, std::uint64_t seed, double final_m, double max_m, double fix_s, double converged_s,
                 std::uint64_t outputs, std::array<std::uint64_t, 3> b3, std::array<std::uint64_t, 3> b5,
                 std::array<double, 3> worst) {
   RunResult r = run(index, "none", Outcome::kMasked);
@@ -411,6 +411,7 @@ RunResult flown(std::uint32_t index, std::uint64_t seed, double final_m, double 
   r.has_integrity = true;
   r.final_error_m = final_m;
   r.max_error_m = max_m;
+  r.fix_at_s = fix_s;
   r.converged_at_s = converged_s;
   r.integrity_outputs = outputs;
   r.beyond_3sigma = b3;
@@ -424,10 +425,10 @@ std::vector<RunResult> sweep_runs() {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   RunResult crashed = run(4, "none", Outcome::kCrash);
   crashed.seed = 14;
-  return {flown(3, 13, 0.3, 2.0, 2.9, 2000, {0, 35, 0}, {0, 1, 0}, {0.5, 2.5, 0.6}), crashed,
-          flown(0, 10, 0.5, 1.0, 3.0, 1000, {0, 5, 20}, {0, 0, 2}, {0.8, 1.1, 1.9}),
-          flown(2, 12, 0.9, nan, -1.0, 0, {0, 0, 0}, {0, 0, 0}, {nan, nan, nan}),
-          flown(1, 11, 0.2, 4.0, 3.1, 1000, {10, 0, 0}, {0, 0, 0}, {1.5, 0.9, 0.7})};
+  return {flown(3, 13, 0.3, 2.0, 2.2, 2.9, 2000, {0, 35, 0}, {0, 1, 0}, {0.5, 2.5, 0.6}), crashed,
+          flown(0, 10, 0.5, 1.0, 2.3, 3.0, 1000, {0, 5, 20}, {0, 0, 2}, {0.8, 1.1, 1.9}),
+          flown(2, 12, 0.9, nan, -1.0, -1.0, 0, {0, 0, 0}, {0, 0, 0}, {nan, nan, nan}),
+          flown(1, 11, 0.2, 4.0, 2.25, 3.1, 1000, {10, 0, 0}, {0, 0, 0}, {1.5, 0.9, 0.7})};
 }
 
 // The integrity of a sweep: the spreads by linear interpolation over the runs that have the figure, the
@@ -497,8 +498,8 @@ TEST(WriteReport, TheIntegrityFilesHoldTheRunsWithFigures) {
   const std::vector<std::string> csv = lines_of(read_file(dir / "integrity.csv"));
   ASSERT_EQ(csv.size(), 5U);
   EXPECT_EQ(csv[0], tools::campaign::kIntegrityCsvHeader);
-  EXPECT_EQ(csv[1], "0,10,masked,0.5,1,3,1000,0,5,20,0,0,2,0.8,1.1,1.9");
-  EXPECT_EQ(csv[3], "2,12,masked,0.9,,,0,0,0,0,0,0,0,,,") << "never converged: no maximum, no time, no ratios";
+  EXPECT_EQ(csv[1], "0,10,masked,0.5,1,2.3,3,1000,0,5,20,0,0,2,0.8,1.1,1.9");
+  EXPECT_EQ(csv[3], "2,12,masked,0.9,,,,0,0,0,0,0,0,0,,,") << "never converged: no maximum, no times, no ratios";
   const std::string gp = read_file(dir / "integrity.gp");
   EXPECT_NE(gp.find("'integrity.png'"), std::string::npos);
   EXPECT_NE(gp.find("2 12 0.9 NaN NaN NaN NaN"), std::string::npos) << gp;

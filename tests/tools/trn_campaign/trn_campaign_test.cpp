@@ -136,6 +136,7 @@ TEST_F(TrnCampaignBinary, ASeedSweepFliesOneSeedPerRunAndReportsItsIntegrity) {
     const nlohmann::json& in = res["integrity"];
     EXPECT_EQ(in["outputs"].get<double>(), sum["integrity_outputs"].get<double>());
     EXPECT_GT(in["outputs"].get<double>(), 0.0) << "the filter converges within 5 s";
+    EXPECT_EQ(in["fix_at_s"].get<double>(), sum["fix_at_s"].get<double>());
     EXPECT_EQ(in["converged_at_s"].get<double>(), sum["converged_at_s"].get<double>());
     for (const char* axis : {"x", "y", "z"}) {
       const double f = sum[std::string("integrity_beyond_3sigma_fraction_") + axis].get<double>();
