@@ -6,12 +6,26 @@
 
 #include "kernel/config.hpp"
 
+#include <array>
+#include <cstring>
+
 namespace k::detail {
 namespace {
 /** Canary byte at offset i: position-dependent so a constant fill cannot forge it. */
 constexpr std::byte canary_byte(std::uint32_t i) noexcept {
   return static_cast<std::byte>(0xC3U ^ (i * 37U));
 }
+
+constexpr std::array<std::byte, config::kCanaryBytes> make_canary() noexcept {
+  std::array<std::byte, config::kCanaryBytes> c{};
+  for (std::uint32_t i = 0; i < config::kCanaryBytes; ++i) {
+    c[i] = canary_byte(i);
+  }
+  return c;
+}
+
+/** The whole canary, so that the check at every switch is one block compare. */
+constexpr std::array<std::byte, config::kCanaryBytes> kCanary = make_canary();
 }  // namespace
 
 void stack_prepare(std::byte* stack, std::uint32_t bytes) noexcept {
@@ -24,11 +38,7 @@ void stack_prepare(std::byte* stack, std::uint32_t bytes) noexcept {
 }
 
 bool stack_canary_ok(const std::byte* stack) noexcept {
-  std::uint32_t diff = 0;
-  for (std::uint32_t i = 0; i < config::kCanaryBytes; ++i) {
-    diff |= static_cast<std::uint32_t>(stack[i] ^ canary_byte(i));
-  }
-  return diff == 0U;
+  return std::memcmp(stack, kCanary.data(), kCanary.size()) == 0;
 }
 
 // Reads the painted part of a stack whose live frames may carry

@@ -296,4 +296,34 @@ TEST(FilterSerialization, TheWorldVarianceAddsTheMapTieToThePosition) {
   }
 }
 
+// The records' CRC-32 takes four bytes at a time and the last one to three singly: the standard check
+// value, at compile time too, and every length and start within a word against the bit-by-bit definition.
+constexpr std::array<std::uint8_t, 9> kCheckBytes = {'1', '2', '3', '4', '5', '6', '7', '8', '9'};
+static_assert(trn::filter::crc32(kCheckBytes.data(), 9U) == 0xCBF43926U);
+
+TEST(FilterSerialization, TheRecordCrcIsCrc32AtEveryLength) {
+  const auto reference = [](const std::uint8_t* d, std::uint32_t n) {
+    std::uint32_t c = 0xFFFFFFFFU;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      c ^= d[i];
+      for (int k = 0; k < 8; ++k) {
+        c = (c & 1U) != 0U ? (c >> 1U) ^ 0xEDB88320U : c >> 1U;
+      }
+    }
+    return ~c;
+  };
+  std::array<std::uint8_t, 160> buf{};
+  std::uint32_t x = 0x12345678U;
+  for (auto& b : buf) {
+    x = x * 1664525U + 1013904223U;
+    b = static_cast<std::uint8_t>(x >> 24U);
+  }
+  for (std::uint32_t start = 0; start < 4U; ++start) {
+    for (std::uint32_t n = 0; n + start <= buf.size(); ++n) {
+      ASSERT_EQ(trn::filter::crc32(buf.data() + start, n), reference(buf.data() + start, n))
+          << "start " << start << " n " << n;
+    }
+  }
+}
+
 }  // namespace
