@@ -11,6 +11,7 @@
 #include "fdir/tile_health.hpp"
 #include "kernel/kernel.hpp"
 #include "trn/match.hpp"
+#include "trn/tasks/match_deal.hpp"
 #include "trn/tasks/messages.hpp"
 #include "trn/tasks/sdc_points.hpp"
 #include "trn/tasks/vision_shared.hpp"
@@ -20,6 +21,7 @@
 #include <array>
 #include <cmath>
 #include <new>
+#include <span>
 
 namespace trn::tasks {
 namespace {
@@ -503,63 +505,14 @@ void start_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   ++st.frames_planned;
 }
 
-/** The image quadrant of @p m about the optical centre: 0..3. */
-std::uint32_t quadrant(const CoordState& st, const Match& m) noexcept {
-  return (m.u_px < st.cfg->camera.cx_px ? 0U : 1U) + (m.v_px < st.cfg->camera.cy_px ? 0U : 2U);
-}
-
-/**
- * Deals the matches from @p first round the image's quadrants (one from each
- * in turn, each quadrant's in their present order), in place: the filter
- * applies a batch a few matches a job, and each job's few then span the
- * image, fixing position and attitude together instead of a corner's
- * bearings pulling the solution along their common direction. Seeds 11 and
- * 76 (docs/FILTER.md, "Fix and convergence"): the worst output inside the
- * coarse frame's batch went from 1.37 to 0.99 and from 1.36 to 0.54 of its
- * 3-sigma.
- */
-void deal_by_quadrant(CoordState& st, std::uint32_t first) noexcept {
-  std::array<std::uint32_t, 4> cursor{first, first, first, first};
-  std::uint32_t place = first;
-  // Each round gives every quadrant with a match left its next one; at most n rounds.
-  for (std::uint32_t round = first; round < st.match_count && place < st.match_count; ++round) {
-    for (std::uint32_t q = 0; q < 4U; ++q) {
-      while (cursor[q] < st.match_count && quadrant(st, st.matches[cursor[q]]) != q) {
-        ++cursor[q];
-      }
-      if (cursor[q] < st.match_count) {
-        st.order[place] = static_cast<std::uint16_t>(cursor[q]);
-        st.placed[place] = false;
-        ++place;
-        ++cursor[q];
-      }
-    }
-  }
-  // Apply the permutation by following its cycles (place j takes match order[j]).
-  for (std::uint32_t i = first; i < st.match_count; ++i) {
-    if (st.placed[i]) {
-      continue;
-    }
-    const Match held = st.matches[i];
-    std::uint32_t j = i;
-    for (std::uint32_t step = first; step < st.match_count; ++step) {
-      st.placed[j] = true;
-      const std::uint32_t from = st.order[j];
-      if (from == i) {
-        st.matches[j] = held;
-        break;
-      }
-      st.matches[j] = st.matches[from];
-      j = from;
-    }
-  }
-}
-
 /**
  * Orders the fine matches by landmark (then tile and pixel), then deals them
  * round the image's quadrants (deal_by_quadrant()): results come in whatever
  * order the network brings them, and the filter's result depends on the
  * order it applies them. The coarse match, when there is one, stays first.
+ * Seeds 11 and 76 (docs/FILTER.md, "Fix and convergence"): dealt, the worst
+ * output inside the coarse frame's batch went from 1.37 to 0.99 and from 1.36
+ * to 0.54 of its 3-sigma.
  */
 void order_matches(CoordState& st) noexcept {
   const std::uint32_t first = (st.match_count > 0U && st.matches[0].landmark == kCoarseLandmark) ? 1U : 0U;
@@ -576,12 +529,16 @@ void order_matches(CoordState& st) noexcept {
     return a.u_px != b.u_px ? a.u_px < b.u_px : a.v_px < b.v_px;
   };
   std::sort(st.matches.begin() + first, st.matches.begin() + st.match_count, before);
-  deal_by_quadrant(st, first);
+  // The scratch holds every place of the matches array, so the deal is never refused; were it,
+  // the sorted order would stand (a valid order, only not dealt) and the deal's work is not charged.
+  const bool dealt = deal_by_quadrant(std::span<Match>(st.matches.data(), st.match_count), first,
+                                      st.cfg->camera.cx_px, st.cfg->camera.cy_px, st.order, st.placed);
   // About n log2 n (n <= 201: log2 n <= 8) compares, and as many moves of 25-word matches; the deal
   // tests each match's quadrant once per quadrant and moves each match once more.
   const std::uint64_t n = st.match_count;
   const std::uint64_t n_log_n = 8ULL * n;
-  bsp::consume(bsp::Work{4ULL * n_log_n + 8ULL * n, 0U, 8ULL * n, 0U, 25ULL * (n_log_n + n)});
+  const std::uint64_t dealt_n = dealt ? n : 0U;
+  bsp::consume(bsp::Work{4ULL * n_log_n + 8ULL * dealt_n, 0U, 8ULL * dealt_n, 0U, 25ULL * (n_log_n + dealt_n)});
 }
 
 void send_batch(CoordState& st, VisionCoordStats& stats) noexcept {
