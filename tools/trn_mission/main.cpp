@@ -47,8 +47,10 @@
 #include <deque>
 #include <exception>
 #include <iostream>
+#include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -161,6 +163,8 @@ struct FlightRecord {
   double longest_gap_s = 0.0;  ///< longest time between two successive new outputs (or the start and the first)
   tools::NavIntegrity integrity{};  ///< outputs from the fix on against their own 3-sigma, per axis
   double last_checked_s = -1.0;     ///< time of the newest output check() saw
+  /** (time, truth altitude) of every output check() saw; reserved before the heap is sealed, never grown. */
+  std::vector<std::pair<double, double>> altitude;
 };
 
 /** Holds a new output @p n against the record's rules: fix, convergence, maximum error, integrity. */
@@ -169,6 +173,9 @@ void check(const tools::NavSample& n, FlightRecord& rec) {
     return;  // no output yet, or the one already seen
   }
   rec.last_checked_s = n.t_s;
+  if (rec.altitude.size() < rec.altitude.capacity()) {
+    rec.altitude.emplace_back(n.t_s, n.altitude_m);
+  }
   const double sigma3_h = n.sigma3_p.head<2>().norm();
   if (rec.fix_at_s < 0.0 && sigma3_h < tools::kFixSigma3M) {
     rec.fix_at_s = n.t_s;
@@ -384,6 +391,42 @@ void add_supervisor_keys(tools::Summary& s, const trn::tasks::VisionCoordStats& 
   s.extra.emplace_back("vision_healthy_tiles", c.healthy_tiles);
 }
 
+/** Altitude bands matches per frame are reported by, m (the default descent spans 4200 to 1080 m). */
+constexpr double kAltitudeBandM = 500.0;
+
+/**
+ * Matches per frame by altitude band: each frame_done the coordinator reported
+ * (its fine matches), put in the band of the truth altitude at the output
+ * nearest before the report (the report comes at most a frame's work after the
+ * capture: worst_frame_ms, ~0.2 s, ~15 m of descent). Keys
+ * matches_per_frame_alt_<lo>_<hi>_m and frames_alt_<lo>_<hi>_m for every band
+ * with a frame; none when there was no output yet.
+ */
+void add_matches_by_altitude(const tools::FlightEventCollector& flight, const FlightRecord& rec, tools::Summary& s) {
+  std::map<std::int64_t, std::pair<std::uint64_t, std::uint64_t>> bands;  // lower edge -> frames, matches
+  const double clock_hz = static_cast<double>(bsp::kTile64.clock_hz);
+  for (const fdir::Event& e : flight.events()) {
+    if (e.id != fdir::EventId::kFrameDone || rec.altitude.empty()) {
+      continue;
+    }
+    const double t = static_cast<double>(e.cycle) / clock_hz;
+    auto it = std::upper_bound(rec.altitude.begin(), rec.altitude.end(), t,
+                               [](double v, const std::pair<double, double>& a) { return v < a.first; });
+    if (it != rec.altitude.begin()) {
+      --it;
+    }
+    const auto lo = static_cast<std::int64_t>(std::floor(it->second / kAltitudeBandM) * kAltitudeBandM);
+    ++bands[lo].first;
+    bands[lo].second += e.b;
+  }
+  for (auto b = bands.rbegin(); b != bands.rend(); ++b) {
+    const std::string name =
+        std::to_string(b->first) + "_" + std::to_string(b->first + static_cast<std::int64_t>(kAltitudeBandM)) + "_m";
+    s.extra.emplace_back("matches_per_frame_alt_" + name,
+                         static_cast<double>(b->second.second) / static_cast<double>(b->second.first));
+    s.extra.emplace_back("frames_alt_" + name, static_cast<double>(b->second.first));
+  }
+}
 
 tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const tools::FlightEventCollector& flight,
                             const tools::FaultAccount& faults, const FlightRecord& rec, double host_s,
@@ -508,6 +551,7 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("worst_frame_ms", static_cast<double>(c.max_frame_cycles) * 1000.0 /
                                              static_cast<double>(bsp::kTile64.clock_hz));
   s.extra.emplace_back("final_position_3sigma_m", rec.last.sigma3_p.norm());
+  add_matches_by_altitude(flight, rec, s);
   add_supervisor_keys(s, c);
   // Energy from the board's meter: the chip, per phase, per role of the tile map, per power state.
   std::vector<std::string> roles;
@@ -549,6 +593,18 @@ void print_summary(const tools::Summary& s, const std::string& dir) {
               s.final_attitude_error_deg);
   std::printf("  frames                 %llu, %.1f matches per frame\n", static_cast<unsigned long long>(s.frames),
               s.matches_per_frame_mean);
+  std::string bands;
+  for (const auto& [key, value] : s.extra) {
+    constexpr std::string_view kPrefix = "matches_per_frame_alt_";
+    if (key.starts_with(kPrefix)) {
+      std::string band = key.substr(kPrefix.size(), key.size() - kPrefix.size() - 2U);  // "<lo>_<hi>"
+      band[band.find('_')] = '-';
+      bands += (bands.empty() ? "" : ", ") + band + " m " + std::to_string(static_cast<int>(std::lround(value)));
+    }
+  }
+  if (!bands.empty()) {
+    std::printf("  matches by altitude    %s\n", bands.c_str());
+  }
   std::printf("  deadline misses        %llu\n", static_cast<unsigned long long>(s.deadline_misses));
   std::printf("  heap allocs after init %llu\n", static_cast<unsigned long long>(s.heap_allocs_after_init));
   std::printf("  faults                 %llu injected, %llu detected, %llu recovered\n",
@@ -653,6 +709,8 @@ int run(int argc, char** argv) {
                    bsp::kTile64.tiles(), error)) {
     return bad_input(error);
   }
+  // One entry per output check (kChecksPerStep per step), room taken before the seal.
+  rec.altitude.reserve(static_cast<std::size_t>(std::llround(in.duration_s / kStepS)) * kChecksPerStep + 1U);
   const auto t0 = std::chrono::steady_clock::now();
   bsp::heap::seal(bsp::heap::SealMode::kFatal);
   fly(o, mission, in.duration_s, csv, log, flight, rec, infos, energy);
