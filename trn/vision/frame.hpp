@@ -107,6 +107,7 @@ struct FramePlanParams {
   double sigma_k = 3.0;               ///< search radius covers this many sigma of the prior
   std::int32_t min_radius_px = 4;     ///< map pixels
   std::int32_t max_radius_px = kFineMaxSearchPx;
+  bool footprint_cull = true;  ///< skip landmarks outside the frame's map footprint (same plan, less work)
 };
 
 /** A landmark predicted inside the frame. */

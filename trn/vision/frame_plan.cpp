@@ -12,6 +12,15 @@
  * the table (count, then emit) keep the memory to three small per-cell arrays;
  * each landmark is written straight to its round-robin slot, so the output is
  * ordered by round, then by cell: any prefix of it is spread over the image.
+ *
+ * Before either pass, landmarks that cannot be in the frame are culled by a
+ * map-frame box (FootprintBox): the frame less the border is a pyramid from
+ * the camera centre, and every landmark lies between the table's lowest and
+ * highest landmark; that slab of the pyramid is the convex hull of the four
+ * corner rays' hits on the slab's two planes, so the box around those eight
+ * points holds every landmark that could project inside the frame. The cull
+ * only skips work: the plan is the same with it as without (test). A corner
+ * ray that does not go down through both planes turns the cull off.
  */
 #include "trn/vision/frame.hpp"
 
@@ -191,6 +200,79 @@ std::uint32_t slot_of(const std::uint16_t* quota, std::int32_t cells, std::uint3
   return pos;
 }
 
+/** Map-frame x-y box outside which no landmark of the table can project inside the frame less the border. */
+struct FootprintBox {
+  bool on = false;  ///< false: no cull (a corner ray misses a plane)
+  double x_min = 0.0;
+  double x_max = 0.0;
+  double y_min = 0.0;
+  double y_max = 0.0;
+};
+
+/** Slack of the box, m: covers rounding between the box's arithmetic and the projection's. */
+constexpr double kFootprintSlackM = 1.0;
+
+/** The box of @p table's landmarks seen at @p pose through the frame less @p border_px (file comment). */
+FootprintBox footprint_box(const LandmarkTable& table, const bsp::CameraModel& cam, const PoseGeometry& pose,
+                           std::int32_t border_px, bsp::Work& work) noexcept {
+  FootprintBox box;
+  if (table.count == 0U) {
+    return box;
+  }
+  double z_lo = table.items[0].p_m[2];
+  double z_hi = z_lo;
+  for (std::uint32_t i = 1U; i < table.count; ++i) {
+    const double z = table.items[i].p_m[2];
+    z_lo = z < z_lo ? z : z_lo;
+    z_hi = z > z_hi ? z : z_hi;
+  }
+  work.int_ops += 2ULL * table.count;
+  if (!(std::isfinite(z_lo) && std::isfinite(z_hi) && pose.c_m[2] > z_hi)) {
+    return box;
+  }
+  const double b = static_cast<double>(border_px);
+  const double us[2] = {b, static_cast<double>(cam.width_px) - 1.0 - b};
+  const double vs[2] = {b, static_cast<double>(cam.height_px) - 1.0 - b};
+  const double planes[2] = {z_lo, z_hi};
+  box.x_min = pose.c_m[0];
+  box.x_max = pose.c_m[0];
+  box.y_min = pose.c_m[1];
+  box.y_max = pose.c_m[1];
+  for (std::uint32_t k = 0U; k < 4U; ++k) {
+    double w_c[3];
+    double w_m[3];
+    pixel_ray(cam, us[k & 1U], vs[k >> 1U], w_c, work);
+    to_map(pose, w_c, w_m);
+    if (!(w_m[2] < -1e-9)) {
+      return FootprintBox{};  // this ray does not come down to the planes
+    }
+    for (const double z : planes) {
+      const double t = (z - pose.c_m[2]) / w_m[2];
+      const double x = pose.c_m[0] + t * w_m[0];
+      const double y = pose.c_m[1] + t * w_m[1];
+      box.x_min = x < box.x_min ? x : box.x_min;
+      box.x_max = x > box.x_max ? x : box.x_max;
+      box.y_min = y < box.y_min ? y : box.y_min;
+      box.y_max = y > box.y_max ? y : box.y_max;
+    }
+  }
+  work.flops += 4ULL * (15ULL + 2ULL * 5ULL);  // per corner: rotation, then two plane hits
+  work.fdivs += 8U;
+  box.x_min -= kFootprintSlackM;
+  box.x_max += kFootprintSlackM;
+  box.y_min -= kFootprintSlackM;
+  box.y_max += kFootprintSlackM;
+  box.on = std::isfinite(box.x_min) && std::isfinite(box.x_max) && std::isfinite(box.y_min) &&
+           std::isfinite(box.y_max);
+  return box;
+}
+
+/** False when @p lm lies outside @p box (so it cannot be in the frame). */
+bool in_box(const FootprintBox& box, const Landmark& lm) noexcept {
+  return !box.on ||
+         (lm.p_m[0] >= box.x_min && lm.p_m[0] <= box.x_max && lm.p_m[1] >= box.y_min && lm.p_m[1] <= box.y_max);
+}
+
 }  // namespace
 
 Status plan_frame(const LandmarkTable& table, const MapView& map, const bsp::CameraModel& cam,
@@ -220,16 +302,17 @@ Status plan_frame(const LandmarkTable& table, const MapView& map, const bsp::Cam
   std::uint16_t quota[kPlanMaxGrid * kPlanMaxGrid] = {};
   std::uint16_t taken[kPlanMaxGrid * kPlanMaxGrid] = {};
   PlannedLandmark pl;
+  const FootprintBox box = p.footprint_cull ? footprint_box(table, cam, pose, p.border_px, work) : FootprintBox{};
   // Pass 1: how many landmarks each cell can offer.
   for (std::uint32_t i = 0U; i < table.count; ++i) {
-    if (predict(table.items[i], cam, pose, prior, map, p, pl, work)) {
+    if (in_box(box, table.items[i]) && predict(table.items[i], cam, pose, prior, map, p, pl, work)) {
       ++counts[cell_of(grid, pl.u_px, pl.v_px)];
     }
   }
   const std::uint32_t total = fill_quotas(counts, cells, limit, quota, work);
   // Pass 2: the first quota[c] landmarks of each cell (table order), written in round-robin order.
   for (std::uint32_t i = 0U; i < table.count && n < total; ++i) {
-    if (!predict(table.items[i], cam, pose, prior, map, p, pl, work)) {
+    if (!in_box(box, table.items[i]) || !predict(table.items[i], cam, pose, prior, map, p, pl, work)) {
       continue;
     }
     const std::int32_t c = cell_of(grid, pl.u_px, pl.v_px);
@@ -240,7 +323,7 @@ Status plan_frame(const LandmarkTable& table, const MapView& map, const bsp::Cam
       ++n;
     }
   }
-  work.int_ops += 8U * static_cast<std::uint64_t>(table.count);
+  work.int_ops += 12U * static_cast<std::uint64_t>(table.count);  // loops and the box test, both passes
   return Status::kOk;
 }
 
