@@ -23,6 +23,7 @@
 #include <benchmark/benchmark.h>
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 namespace {
@@ -32,10 +33,16 @@ trn::filter::FilterState g_saved;
 std::array<bsp::ImuSample, 1000> g_imu{};
 std::array<trn::Match, trn::kMaxMatchesPerFrame> g_matches{};  // taken at the state's time
 std::array<trn::Match, trn::kMaxMatchesPerFrame> g_lagged{};   // taken 0.5 s before it
+std::array<trn::Match, trn::kMaxMatchesPerFrame> g_fix{};      // an image at 4.5 s, applied at once (tight)
 constexpr std::size_t kStateSample = 550;
 
-/** A filter 5.5 s into a descent; matches of an image at 5.0 s and of one at 5.5 s ready. */
-void setup() {
+/**
+ * A filter 5.5 s into a descent; matches of an image at 5.0 s and of one at 5.5 s ready.
+ * @p tight: an image at 4.5 s was applied (position sigma below a metre, the
+ * flight's state after its first frames); otherwise none was (sigma ~50 m:
+ * every match an iterated update, Ekf::position_loose(), as right after the fix).
+ */
+void setup(bool tight = true) {
   const bsp::CameraModel cam{};
   trn::filter::FilterConfig cfg;
   (void)g_ekf.configure(cfg, cam);
@@ -46,6 +53,11 @@ void setup() {
     g_imu[i] = truth.next_imu();
     if (i < kStateSample) {
       (void)g_ekf.propagate(g_imu[i]);
+    }
+    if (i + 1U == 450U && tight) {
+      truth.make_matches(rng, cam, static_cast<int>(g_fix.size()), 0.5, g_fix.data());
+      trn::filter::UpdateReport rep;
+      (void)g_ekf.update(g_fix.data(), static_cast<std::uint32_t>(g_fix.size()), rep);
     }
     if (i + 1U == 500U) {
       truth.make_matches(rng, cam, static_cast<int>(g_lagged.size()), 0.5, g_lagged.data());
@@ -88,8 +100,8 @@ void BM_FilterRestore(benchmark::State& st) {
 BENCHMARK(BM_FilterRestore);
 
 /** Restores the saved state, then (optionally) one propagation and @p n updates from @p m. */
-void bench_update(benchmark::State& st, const trn::Match* m, std::uint32_t n, bool propagate) {
-  setup();
+void bench_update(benchmark::State& st, const trn::Match* m, std::uint32_t n, bool propagate, bool tight = true) {
+  setup(tight);
   trn::filter::UpdateReport rep;
   std::uint64_t accepted = 0;
   for (auto _ : st) {
@@ -103,6 +115,7 @@ void bench_update(benchmark::State& st, const trn::Match* m, std::uint32_t n, bo
   const auto iters = static_cast<std::uint64_t>(st.iterations());
   report(st, g_ekf.take_work(), iters);
   st.counters["accepted"] = static_cast<double>(accepted) / static_cast<double>(iters);
+  st.counters["pos_sigma_m"] = std::sqrt(g_saved.p(trn::filter::kIdxP, trn::filter::kIdxP));
 }
 
 void BM_FilterUpdateOneMatch(benchmark::State& st) { bench_update(st, g_matches.data(), 1U, false); }
@@ -117,6 +130,12 @@ BENCHMARK(BM_FilterUpdateLaggedBatch150);
 /** What one 100 Hz job of the filter task computes: a propagation and 15 lagged matches. */
 void BM_FilterJobPropagateAnd15Lagged(benchmark::State& st) { bench_update(st, g_lagged.data(), 15U, true); }
 BENCHMARK(BM_FilterJobPropagateAnd15Lagged);
+
+/** The same job while the position is loose (no image applied yet): each match an iterated update. */
+void BM_FilterJobPropagateAnd15LaggedLoose(benchmark::State& st) {
+  bench_update(st, g_lagged.data(), 15U, true, false);
+}
+BENCHMARK(BM_FilterJobPropagateAnd15LaggedLoose);
 
 void BM_FilterStateBlockAndOutput(benchmark::State& st) {
   setup();
