@@ -108,6 +108,11 @@ struct FramePlanParams {
   std::int32_t min_radius_px = 4;     ///< map pixels
   std::int32_t max_radius_px = kFineMaxSearchPx;
   bool footprint_cull = true;  ///< skip landmarks outside the frame's map footprint (same plan, less work)
+  /// A landmark whose corner strength (Landmark::corner) is below this is planned only with a search
+  /// radius of at most weak_max_radius_px: a faint patch matched over a wide window can lock onto a
+  /// wrong peak that passes the quality checks, so faint landmarks wait for a tight prior.
+  float strong_corner = 0.0F;
+  std::int32_t weak_max_radius_px = kFineMaxSearchPx;
 };
 
 /** A landmark predicted inside the frame. */
@@ -130,6 +135,22 @@ struct PlannedLandmark {
 Status plan_frame(const LandmarkTable& table, const MapView& map, const bsp::CameraModel& cam,
                   const PosePrior& prior, const FramePlanParams& p, PlannedLandmark* out, std::uint32_t cap,
                   std::uint32_t& n, bsp::Work& work) noexcept;
+
+/** Predictions of one plan's first pass, kept for its second (plan_frame with a scratch). DDR or static, ~150 KB. */
+struct PlanScratch {
+  PlannedLandmark kept[kMaxLandmarks];
+  std::uint16_t cell[kMaxLandmarks];  ///< the plan grid's visit index of each kept prediction
+};
+
+/**
+ * The same plan, bit for bit, with each landmark predicted once: the first
+ * pass keeps its predictions in @p scratch and the second reads them back
+ * instead of predicting the table again (about half the work when many
+ * landmarks are in view). A null @p scratch plans as above.
+ */
+Status plan_frame(const LandmarkTable& table, const MapView& map, const bsp::CameraModel& cam,
+                  const PosePrior& prior, const FramePlanParams& p, PlannedLandmark* out, std::uint32_t cap,
+                  std::uint32_t& n, PlanScratch* scratch, bsp::Work& work) noexcept;
 
 /** Buffers of one landmark match: the warped window and the correlator's. Static or carved, ~130 KiB. */
 struct LandmarkWorkspace {

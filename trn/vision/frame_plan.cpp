@@ -142,7 +142,7 @@ bool predict(const Landmark& lm, const bsp::CameraModel& cam, const PoseGeometry
     return false;
   }
   const std::int32_t r = search_radius(prior, pose, lm.p_m, map.geo.m_per_px, fp, work);
-  if (r < 0) {
+  if (r < 0 || (lm.corner < fp.strong_corner && r > fp.weak_max_radius_px)) {
     return false;
   }
   Window win;
@@ -273,11 +273,52 @@ bool in_box(const FootprintBox& box, const Landmark& lm) noexcept {
          (lm.p_m[0] >= box.x_min && lm.p_m[0] <= box.x_max && lm.p_m[1] >= box.y_min && lm.p_m[1] <= box.y_max);
 }
 
+/** The g x g plan grid over the frame less @p border_px for @p limit landmarks, its visit order set. */
+PlanGrid make_grid(const bsp::CameraModel& cam, std::int32_t border_px, std::uint32_t limit, bsp::Work& work) noexcept {
+  PlanGrid grid;
+  grid.g = static_cast<std::int32_t>(std::ceil(std::sqrt(static_cast<double>(limit))));
+  grid.g = grid.g > kPlanMaxGrid ? kPlanMaxGrid : grid.g;
+  grid.x0 = static_cast<double>(border_px);
+  grid.y0 = static_cast<double>(border_px);
+  grid.cell_w = (static_cast<double>(cam.width_px) - 1.0 - 2.0 * grid.x0) / grid.g + 1e-9;
+  grid.cell_h = (static_cast<double>(cam.height_px) - 1.0 - 2.0 * grid.y0) / grid.g + 1e-9;
+  set_visit_order(grid, work);
+  return grid;
+}
+
+/**
+ * Pass 2 from the @p kept predictions of @p scratch (table order): the first
+ * quota[c] of each cell, each written to its round-robin slot. @return the
+ * landmarks written (at most @p total).
+ */
+std::uint32_t emit_kept(const PlanScratch& scratch, std::uint32_t kept, const std::uint16_t* quota,
+                        std::int32_t cells, std::uint32_t total, PlannedLandmark* out, bsp::Work& work) noexcept {
+  std::uint16_t taken[kPlanMaxGrid * kPlanMaxGrid] = {};
+  std::uint32_t n = 0U;
+  for (std::uint32_t k = 0U; k < kept && n < total; ++k) {
+    const std::int32_t c = scratch.cell[k];
+    if (taken[c] < quota[c]) {
+      out[slot_of(quota, cells, taken[c], c, work)] = scratch.kept[k];
+      ++taken[c];
+      ++n;
+    }
+  }
+  work.int_ops += 4U * static_cast<std::uint64_t>(kept);
+  work.mem_words += 5U * static_cast<std::uint64_t>(kept);  // written once, read once
+  return n;
+}
+
 }  // namespace
 
 Status plan_frame(const LandmarkTable& table, const MapView& map, const bsp::CameraModel& cam,
                   const PosePrior& prior, const FramePlanParams& p, PlannedLandmark* out, std::uint32_t cap,
                   std::uint32_t& n, bsp::Work& work) noexcept {
+  return plan_frame(table, map, cam, prior, p, out, cap, n, nullptr, work);
+}
+
+Status plan_frame(const LandmarkTable& table, const MapView& map, const bsp::CameraModel& cam,
+                  const PosePrior& prior, const FramePlanParams& p, PlannedLandmark* out, std::uint32_t cap,
+                  std::uint32_t& n, PlanScratch* scratch, bsp::Work& work) noexcept {
   n = 0U;
   PoseGeometry pose;
   if ((out == nullptr && cap > 0U) || !map.image.valid() ||
@@ -289,27 +330,33 @@ Status plan_frame(const LandmarkTable& table, const MapView& map, const bsp::Cam
   if (limit == 0U) {
     return Status::kOk;
   }
-  PlanGrid grid;
-  grid.g = static_cast<std::int32_t>(std::ceil(std::sqrt(static_cast<double>(limit))));
-  grid.g = grid.g > kPlanMaxGrid ? kPlanMaxGrid : grid.g;
-  grid.x0 = static_cast<double>(p.border_px);
-  grid.y0 = static_cast<double>(p.border_px);
-  grid.cell_w = (static_cast<double>(cam.width_px) - 1.0 - 2.0 * grid.x0) / grid.g + 1e-9;
-  grid.cell_h = (static_cast<double>(cam.height_px) - 1.0 - 2.0 * grid.y0) / grid.g + 1e-9;
-  set_visit_order(grid, work);
+  const PlanGrid grid = make_grid(cam, p.border_px, limit, work);
   const std::int32_t cells = grid.cells;
   std::uint16_t counts[kPlanMaxGrid * kPlanMaxGrid] = {};
   std::uint16_t quota[kPlanMaxGrid * kPlanMaxGrid] = {};
   std::uint16_t taken[kPlanMaxGrid * kPlanMaxGrid] = {};
   PlannedLandmark pl;
   const FootprintBox box = p.footprint_cull ? footprint_box(table, cam, pose, p.border_px, work) : FootprintBox{};
-  // Pass 1: how many landmarks each cell can offer.
+  // Pass 1: how many landmarks each cell can offer (each prediction kept when there is a scratch).
+  std::uint32_t kept = 0U;
   for (std::uint32_t i = 0U; i < table.count; ++i) {
     if (in_box(box, table.items[i]) && predict(table.items[i], cam, pose, prior, map, p, pl, work)) {
-      ++counts[cell_of(grid, pl.u_px, pl.v_px)];
+      const std::int32_t c = cell_of(grid, pl.u_px, pl.v_px);
+      ++counts[c];
+      if (scratch != nullptr) {
+        pl.landmark = static_cast<std::uint16_t>(i);
+        scratch->kept[kept] = pl;
+        scratch->cell[kept] = static_cast<std::uint16_t>(c);
+        ++kept;  // at most table.count <= kMaxLandmarks
+      }
     }
   }
   const std::uint32_t total = fill_quotas(counts, cells, limit, quota, work);
+  if (scratch != nullptr) {
+    n = emit_kept(*scratch, kept, quota, cells, total, out, work);
+    work.int_ops += 12U * static_cast<std::uint64_t>(table.count);
+    return Status::kOk;
+  }
   // Pass 2: the first quota[c] landmarks of each cell (table order), written in round-robin order.
   for (std::uint32_t i = 0U; i < table.count && n < total; ++i) {
     if (!in_box(box, table.items[i]) || !predict(table.items[i], cam, pose, prior, map, p, pl, work)) {

@@ -81,6 +81,7 @@ class Plan : public ::testing::Test {
   static inline std::vector<std::int16_t> elevation_;
   static inline tv::MapView map_{};
   static inline tv::LandmarkTable table_{};
+  static inline tv::PlanScratch scratch_{};
   bsp::CameraModel cam_ = bsp::make_camera(1024, 1024, 90.0);
   bsp::CameraPose pose_{{100.0, -50.0, 3000.0}, attitude(30.0, 2.0, -1.0)};
   bsp::Work work_{};
@@ -283,7 +284,7 @@ TEST_F(Plan, BadInputsAreRefused) {
   EXPECT_EQ(run(map_, cam_, good, p, out.data()), tv::Status::kBadInput);
 }
 
-TEST_F(Plan, TheFootprintCullGivesTheSamePlanForLessWork) {
+TEST_F(Plan, TheFootprintCullAndTheScratchGiveTheSamePlanForLessWork) {
   // The dense table with heights between -300 and +450 m, so the cull's slab has a thickness.
   static tv::LandmarkTable hilly;
   hilly = table_;
@@ -310,14 +311,26 @@ TEST_F(Plan, TheFootprintCullGivesTheSamePlanForLessWork) {
           std::uint32_t nb = 0;
           bsp::Work wa{};
           bsp::Work wb{};
+          std::vector<tv::PlannedLandmark> c(cap);
+          std::uint32_t nc = 0;
+          bsp::Work wc{};
           ASSERT_EQ(tv::plan_frame(hilly, map_, cam_, pr, on, a.data(), cap, na, wa), tv::Status::kOk);
           ASSERT_EQ(tv::plan_frame(hilly, map_, cam_, pr, off, b.data(), cap, nb, wb), tv::Status::kOk);
+          ASSERT_EQ(tv::plan_frame(hilly, map_, cam_, pr, on, c.data(), cap, nc, &scratch_, wc), tv::Status::kOk);
           ASSERT_EQ(na, nb) << "alt " << alt << " yaw " << yaw << " tilt " << tilt;
+          ASSERT_EQ(na, nc) << "with the scratch, alt " << alt << " yaw " << yaw << " tilt " << tilt;
           for (std::uint32_t k = 0; k < na; ++k) {
             ASSERT_EQ(a[k].landmark, b[k].landmark) << "place " << k << ", alt " << alt << " tilt " << tilt;
             ASSERT_EQ(a[k].u_px, b[k].u_px);
             ASSERT_EQ(a[k].v_px, b[k].v_px);
             ASSERT_EQ(a[k].radius_px, b[k].radius_px);
+            ASSERT_EQ(a[k].landmark, c[k].landmark) << "with the scratch, place " << k;
+            ASSERT_EQ(a[k].u_px, c[k].u_px);
+            ASSERT_EQ(a[k].v_px, c[k].v_px);
+            ASSERT_EQ(a[k].radius_px, c[k].radius_px);
+          }
+          if (na > 0U) {
+            EXPECT_LT(wc.flops, wa.flops) << "the scratch predicts each landmark once";
           }
           ++poses;
           culled_cheaper += wa.flops < wb.flops ? 1U : 0U;
@@ -334,6 +347,44 @@ TEST_F(Plan, TheFootprintCullGivesTheSamePlanForLessWork) {
   std::printf("%u plans the same with and without the cull; %u of them cheaper with it\n", poses, culled_cheaper);
   // At 50 deg of tilt the far edge of a 90 deg field of view looks above the horizon: no cull, no saving.
   EXPECT_GE(culled_cheaper, poses / 2U);
+}
+
+TEST_F(Plan, FaintLandmarksWaitForATightPrior) {
+  // Every other landmark faint (corner 6), the rest strong (30).
+  static tv::LandmarkTable mixed;
+  mixed = table_;
+  for (std::uint32_t i = 0; i < mixed.count; ++i) {
+    mixed.items[i].corner = (i % 2U) == 0U ? 6.0F : 30.0F;
+  }
+  tv::FramePlanParams p;
+  p.strong_corner = 20.0F;
+  p.weak_max_radius_px = 8;
+  const auto plan_of = [&](double sigma_m) {
+    tv::PosePrior pr = prior(pose_);
+    pr.sigma_p_m[0] = pr.sigma_p_m[1] = pr.sigma_p_m[2] = sigma_m;
+    std::vector<tv::PlannedLandmark> out(400);
+    std::uint32_t n = 0;
+    EXPECT_EQ(tv::plan_frame(mixed, map_, cam_, pr, p, out.data(), 400, n, work_), tv::Status::kOk);
+    out.resize(n);
+    return out;
+  };
+  const auto faint = [&](const std::vector<tv::PlannedLandmark>& v) {
+    return std::count_if(v.begin(), v.end(), [&](const tv::PlannedLandmark& pl) {
+      return mixed.items[pl.landmark].corner < p.strong_corner;
+    });
+  };
+  const std::vector<tv::PlannedLandmark> tight = plan_of(1.0);  // radius 4 px: everyone
+  const std::vector<tv::PlannedLandmark> loose = plan_of(40.0);  // radius 22 px: strong ones only
+  ASSERT_EQ(tight.size(), 150U);
+  ASSERT_EQ(loose.size(), 150U) << "enough strong landmarks in view to fill the plan";
+  EXPECT_GT(faint(tight), 50);
+  EXPECT_EQ(faint(loose), 0);
+  for (const tv::PlannedLandmark& pl : tight) {
+    EXPECT_LE(pl.radius_px, p.weak_max_radius_px);
+  }
+  for (const tv::PlannedLandmark& pl : loose) {
+    EXPECT_GT(pl.radius_px, p.weak_max_radius_px);
+  }
 }
 
 }  // namespace
