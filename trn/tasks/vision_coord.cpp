@@ -58,6 +58,7 @@ struct CoordState {
   vision::MapView coarse_map;
   vision::LandmarkTable* table;
   vision::CoarseFrameWorkspace* coarse_ws;
+  vision::PlanScratch* plan_scratch;
   std::array<filter::NavOutput, kNavRing> nav;
   std::uint32_t nav_count;  ///< solutions received (ring index = count % kNavRing)
   bool have_pending;
@@ -116,10 +117,12 @@ bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
       ddr_carve_named(kLandmarkCarveName, sizeof(vision::LandmarkTable), alignof(vision::LandmarkTable)));
   st.coarse_ws = reinterpret_cast<vision::CoarseFrameWorkspace*>(  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
       ddr_carve_named(kCoarseWsCarveName, sizeof(vision::CoarseFrameWorkspace), alignof(vision::CoarseFrameWorkspace)));
+  st.plan_scratch = reinterpret_cast<vision::PlanScratch*>(  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
+      ddr_carve_named(kPlanScratchCarveName, sizeof(vision::PlanScratch), alignof(vision::PlanScratch)));
   const vision::ConstImageU8 orbital = st.coarse_map.image;
   std::uint8_t* relit =
       ddr_carve_named(kRelitCarveName, static_cast<std::size_t>(orbital.width) * static_cast<std::size_t>(orbital.height), 1U);
-  if (st.table == nullptr || st.coarse_ws == nullptr || relit == nullptr) {
+  if (st.table == nullptr || st.coarse_ws == nullptr || st.plan_scratch == nullptr || relit == nullptr) {
     return false;
   }
   ::new (st.table) vision::LandmarkTable{};
@@ -496,7 +499,8 @@ void start_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   bsp::Work work{};
   std::uint32_t planned = 0;
   if (vision::plan_frame(*st.table, st.fine, st.cfg->camera, prior, st.cfg->plan, st.planned.data(),
-                         static_cast<std::uint32_t>(st.planned.size()), planned, work) != vision::Status::kOk) {
+                         static_cast<std::uint32_t>(st.planned.size()), planned, st.plan_scratch, work) !=
+      vision::Status::kOk) {
     planned = 0;
   }
   bsp::consume(work);

@@ -53,14 +53,38 @@ constexpr vision::CoarseFrameParams coord_coarse_params() noexcept {
   return p;
 }
 
+/**
+ * The coordinator's landmark selection: a landmark per 32 px cell (192 m on
+ * the 6 m layer), down to a faint corner strength, so that the frame still
+ * holds ~80 landmarks near the end of the descent, where it sees ~2 km of
+ * ground (docs/VISION.md, "Landmarks by altitude").
+ */
+constexpr vision::SelectParams coord_select_params() noexcept {
+  vision::SelectParams p{};
+  p.cell_px = 32;
+  p.cell_inset_px = 8;
+  p.min_separation_px = 16;
+  p.min_corner = 5.0F;
+  p.min_stddev = 4.0F;
+  return p;
+}
+
+/** The coordinator's frame plan: faint landmarks (below the former selection's corner strength) only with a tight prior. */
+constexpr vision::FramePlanParams coord_plan_params() noexcept {
+  vision::FramePlanParams p{};
+  p.strong_corner = 20.0F;
+  p.weak_max_radius_px = 8;
+  return p;
+}
+
 struct VisionCoordConfig {
   bsp::CameraModel camera{};
   double descent_sun_m[3] = {0.0, 0.0, 0.0};  ///< unit vector to the descent sun, map frame (mission knowledge)
   bsp::TileId filter_tile = bsp::kNoTile;
   std::array<bsp::TileId, kMaxVisionTiles> vision_tiles{};
   std::uint32_t vision_count = 0;
-  vision::SelectParams select{};       ///< landmark selection on the fine map layer
-  vision::FramePlanParams plan{};
+  vision::SelectParams select = coord_select_params();  ///< landmark selection on the fine map layer
+  vision::FramePlanParams plan = coord_plan_params();
   vision::CoarseFrameParams coarse = coord_coarse_params();
   double coarse_above_sigma_m = 150.0; ///< coarse stage when the horizontal sigma exceeds this
   double deadline_s = 0.8;             ///< from the frame notice to the batch leaving for the filter (frames come every 1 s)

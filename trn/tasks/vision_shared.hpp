@@ -20,6 +20,8 @@ inline constexpr const char* kLandmarkCarveName = "landmarks";
 inline constexpr const char* kRelitCarveName = "coarse_relit";
 /** DDR carve name of the coordinator's coarse-stage workspace. */
 inline constexpr const char* kCoarseWsCarveName = "coarse_ws";
+/** DDR carve of the coordinator's plan scratch (vision::PlanScratch: each frame's predictions, kept between its two passes). */
+inline constexpr const char* kPlanScratchCarveName = "plan_scratch";
 /** Ticks a unit, a result or a batch part may wait for the network before it is counted as failed. */
 inline constexpr std::uint32_t kVisionSendTicks = 20;
 

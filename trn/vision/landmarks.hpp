@@ -29,7 +29,7 @@
 namespace trn::vision {
 
 /** Capacity of the landmark table (also the most grid cells a selection may use). */
-inline constexpr std::uint32_t kMaxLandmarks = 4096;
+inline constexpr std::uint32_t kMaxLandmarks = 8192;
 
 struct MapGeometry {
   double m_per_px = 12.0;  ///< ground sample distance
