@@ -58,6 +58,7 @@ enum class EventId : std::uint16_t {
   kFrameDone = 0x0303,         ///< a: frame, b: matches, cause: units lost
   kResultsSuspect = 0x0304,    ///< a worker's results fail the consistency check (result_trust.hpp); subject: tile, cause: 0 first time / 1 again after its reset (its replacement is asked), a: failed in the window, b: checked in it
   kResultsConsistent = 0x0305, ///< a suspect worker's results pass again; subject: tile, cause: 0 while suspect / 1 after its reset, a: clean rounds in a row
+  kVisionSetUpFailed = 0x0306, ///< the vision coordinator could not start: no frame will be planned; subject: step (1 its lists, 2 map product, 3 DDR carves, 4 landmark selection, 5 relit coarse map), a: the step's status code
   // ---- health table, asserts
   kMonitorWarn = 0x0401,       ///< subject: monitor index, a: value, b: threshold
   kMonitorFatal = 0x0402,      ///< subject: monitor index, a: value, b: threshold; the action is taken
@@ -120,7 +121,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 67> kEventTable{{
+inline constexpr std::array<EventInfo, 68> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -145,6 +146,7 @@ inline constexpr std::array<EventInfo, 67> kEventTable{{
     {EventId::kFrameDone, "frame_done", Severity::kInfo, kStepNone},
     {EventId::kResultsSuspect, "results_suspect", Severity::kWarningHi, kStepDetect | kStepIsolate},
     {EventId::kResultsConsistent, "results_consistent", Severity::kInfo, kStepRecover},
+    {EventId::kVisionSetUpFailed, "vision_set_up_failed", Severity::kFatal, kStepDetect},
     {EventId::kMonitorWarn, "monitor_warn", Severity::kWarningLo, kStepDetect},
     {EventId::kMonitorFatal, "monitor_fatal", Severity::kWarningHi, kStepDetect | kStepIsolate},
     {EventId::kActionCapped, "action_capped", Severity::kFatal, kStepNone},

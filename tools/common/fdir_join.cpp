@@ -630,6 +630,13 @@ std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noe
       (void)std::snprintf(b.data(), b.size(), "worker tile %s: results consistent again for %u frames%s: used again", s,
                           e.a, e.cause == 1U ? " after its reset" : "");
       break;
+    case EventId::kVisionSetUpFailed: {
+      static constexpr std::array<const char*, 6> kSteps{"?", "its tile lists", "the map product", "its DDR carves",
+                                                        "the landmark selection", "the relit coarse map"};
+      (void)std::snprintf(b.data(), b.size(), "the vision coordinator could not start: %s failed (status %u); "
+                          "no frame will be planned", kSteps[e.subject < kSteps.size() ? e.subject : 0U], e.a);
+      break;
+    }
     case EventId::kMonitorWarn:
     case EventId::kMonitorFatal:
       (void)std::snprintf(b.data(), b.size(), "monitor %s %s: value %u against %u", s,

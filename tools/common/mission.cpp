@@ -275,6 +275,7 @@ bool Mission::boot(std::string& error) {
   c.filter_tile = trn::tasks::kFilterTile;
   c.health_tile = trn::tasks::kSupervisorTile;
   c.supervisor = trn::tasks::kVisionSupervisorTile;
+  c.select = setup_.select;
   // The coordinator learns of lost tiles by their silence; tiles left out on purpose are not in its list.
   trn::tasks::tile_map_vision_tiles(c, vision_exclude_mask(setup_.vision_tiles));
   trn::vision::sun_direction(s.camera.sun.azimuth_deg, s.camera.sun.elevation_deg, c.descent_sun_m);

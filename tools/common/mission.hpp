@@ -17,6 +17,7 @@
 #include "tools/common/scenario.hpp"
 #include "tools/common/world_cache.hpp"
 #include "trn/filter/nav_state.hpp"
+#include "trn/tasks/vision_coord.hpp"
 
 #include <Eigen/Core>
 
@@ -36,6 +37,8 @@ struct MissionSetup {
   std::uint32_t vision_tiles = 0;
   /** Folder of world products kept between runs (tools/common/world_cache.hpp); empty: built every run. */
   std::string world_cache;
+  /** The coordinator's landmark selection (its own settings, trn::tasks::coord_select_params(), by default). */
+  trn::vision::SelectParams select = trn::tasks::coord_select_params();
 };
 
 /** The tiles excluded from the coordinator's list when it is given @p n of the map's vision tiles (0: none). */
@@ -70,6 +73,8 @@ class Mission {
 
   /** Changes which role tiles stay off at the next boot() (the world is kept). */
   void set_unpowered(std::uint64_t mask) { setup_.unpowered = mask; }
+  /** Changes the coordinator's landmark selection at the next boot(). */
+  void set_select(const trn::vision::SelectParams& p) { setup_.select = p; }
 
   [[nodiscard]] const MissionSetup& setup() const { return setup_; }
   [[nodiscard]] const bsp::world::Trajectory& truth() const { return truth_; }

@@ -105,11 +105,20 @@ k::Ticks seconds_to_ticks(double s) noexcept {
 
 // ------------------------------------------------------------------ coordinator: set-up
 
+/** Set-up steps as kVisionSetUpFailed names them (its subject). */
+enum class SetUpStep : std::uint32_t { kLists = 1, kMapProduct = 2, kCarves = 3, kSelection = 4, kRelight = 5 };
+
+/** Says why the coordinator cannot start; @return false (for the caller's return). */
+bool set_up_failed(SetUpStep step, std::uint32_t status) noexcept {
+  fdir::report(fdir::EventId::kVisionSetUpFailed, static_cast<std::uint32_t>(step), 0U, status);
+  return false;
+}
+
 bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
   const bsp::MapProductHeader* product = bsp::map_product_find();
   if (product == nullptr || vision::map_view(product, bsp::kMapLayerFine, st.fine) != vision::Status::kOk ||
       vision::map_view(product, bsp::kMapLayerCoarse, st.coarse_map) != vision::Status::kOk) {
-    return false;
+    return set_up_failed(SetUpStep::kMapProduct, product == nullptr ? 1U : 2U);
   }
   // A restarted coordinator takes back the DDR its predecessor carved (the
   // products are rebuilt below): restarts never use up the shared region.
@@ -123,7 +132,7 @@ bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
   std::uint8_t* relit =
       ddr_carve_named(kRelitCarveName, static_cast<std::size_t>(orbital.width) * static_cast<std::size_t>(orbital.height), 1U);
   if (st.table == nullptr || st.coarse_ws == nullptr || st.plan_scratch == nullptr || relit == nullptr) {
-    return false;
+    return set_up_failed(SetUpStep::kCarves, 0U);
   }
   ::new (st.table) vision::LandmarkTable{};
   ::new (st.coarse_ws) vision::CoarseFrameWorkspace{};
@@ -136,9 +145,10 @@ bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
   // metres as float: the selection runs on the image alone and each chosen
   // landmark's 3D position is then read from the product.
   bsp::Work work{};
-  if (vision::select_landmarks(st.fine.image, vision::ConstImageF32{}, st.fine.geo, st.cfg->select, *st.table,
-                               work) != vision::Status::kOk) {
-    return false;
+  const vision::Status selected =
+      vision::select_landmarks(st.fine.image, vision::ConstImageF32{}, st.fine.geo, st.cfg->select, *st.table, work);
+  if (selected != vision::Status::kOk) {
+    return set_up_failed(SetUpStep::kSelection, static_cast<std::uint32_t>(selected));
   }
   for (std::uint32_t i = 0; i < st.table->count; ++i) {
     vision::Landmark& lm = st.table->items[i];
@@ -718,6 +728,7 @@ void vision_coord_main(void* arg) noexcept {
   bsp::MemError err = bsp::MemError::kOk;
   auto* st = bsp::carve_control_array<CoordState>(bsp::Region{self}, 1, "vision_coord", &err);
   if (cfg == nullptr || cfg->vision_count > kMaxVisionTiles || err != bsp::MemError::kOk || !udn::endpoint_wait_ready(100)) {
+    (void)set_up_failed(SetUpStep::kLists, cfg == nullptr ? 1U : 2U);
     return;
   }
   ::new (st) CoordState{};
@@ -727,8 +738,16 @@ void vision_coord_main(void* arg) noexcept {
   if (!take_tile_list(*st) ||
       fdir::liveness_init(st->live, fdir::LivenessConfig{kSuspectAfterMisses, kProbeEveryFrames}, st->tiles.data(),
                           cfg->vision_count) != fdir::LivenessError::kOk ||
-      fdir::result_trust_init(st->trust, cfg->trust, st->tiles.data(), cfg->vision_count) != fdir::TrustError::kOk ||
-      !coord_set_up(*st, stats) || !relight_coarse(*st)) {
+      fdir::result_trust_init(st->trust, cfg->trust, st->tiles.data(), cfg->vision_count) != fdir::TrustError::kOk) {
+    (void)set_up_failed(SetUpStep::kLists, 3U);
+    return;
+  }
+  // coord_set_up() says which of its steps failed; the relight, here.
+  if (!coord_set_up(*st, stats)) {
+    return;
+  }
+  if (!relight_coarse(*st)) {
+    (void)set_up_failed(SetUpStep::kRelight, 0U);
     return;
   }
   for (;;) {

@@ -119,4 +119,30 @@ TEST_F(PipelineTest, TenVisionTilesRemovedFramesStillComplete) {
   mission_->set_unpowered(0);
 }
 
+TEST_F(PipelineTest, ACoordinatorThatCannotStartSaysWhy) {
+  // 8 px cells on the 6 m layer are more cells than the landmark table holds: the selection refuses.
+  trn::vision::SelectParams tiny = trn::tasks::coord_select_params();
+  tiny.cell_px = 8;
+  tiny.cell_inset_px = 2;
+  tiny.min_separation_px = 4;
+  tiny.stride_px = 2;
+  mission_->set_unpowered(0);
+  mission_->set_select(tiny);
+  std::string error;
+  ASSERT_TRUE(mission_->boot(error)) << error;
+  fly_s(1.5);
+  mission_->set_select(trn::tasks::coord_select_params());  // the next tests boot the usual coordinator
+  std::uint32_t said = 0;
+  for (std::uint64_t i = 0; i < fdir::event_log_written(kCoordinatorTile); ++i) {
+    fdir::Event e{};
+    if (fdir::event_log_read(kCoordinatorTile, i, &e) && e.id == fdir::EventId::kVisionSetUpFailed) {
+      EXPECT_EQ(e.subject, 4U) << "the landmark selection";
+      EXPECT_EQ(e.a, static_cast<std::uint32_t>(trn::vision::Status::kTooLarge));
+      ++said;
+    }
+  }
+  EXPECT_EQ(said, 1U);
+  EXPECT_EQ(trn::tasks::vision_coord_stats(kCoordinatorTile).frames_processed, 0U);
+}
+
 }  // namespace
