@@ -13,7 +13,7 @@ base_pkgs=(
   libboost-dev
   cppcheck clang-tidy clang gcovr gnuplot-nox
 )
-bench_pkgs=(libopencv-dev)
+bench_pkgs=(libopencv-dev python3)  # python3: the closing summary, tools/build/bench_summary.py
 fuzz_pkgs=(clang libclang-rt-dev)
 study_pkgs=(jq)
 # A single-node Slurm cluster for campaigns (tools/slurm/): the controller, the
