@@ -47,9 +47,9 @@ Status downsample_box(ConstImageU8 in, std::int32_t factor, ImageU8 out, bsp::Wo
   return Status::kOk;
 }
 
-Status coarse_match(ConstImageU8 map_region, ConstImageU8 image, const CoarseParams& p, CoarseWorkspace& ws,
-                    CoarseResult& out, bsp::Work& work) noexcept {
-  out = CoarseResult{};
+Status coarse_prepare(ConstImageU8 map_region, ConstImageU8 image, const CoarseParams& p, CoarseWorkspace& ws,
+                      CoarsePrepared& out, bsp::Work& work) noexcept {
+  out = CoarsePrepared{};
   if (!map_region.valid() || !image.valid() || p.factor < 1 || p.factor > kCoarseMaxFactor ||
       p.template_px < 2 || p.template_px > kCoarseMaxTemplatePx) {
     return Status::kBadInput;
@@ -63,22 +63,44 @@ Status coarse_match(ConstImageU8 map_region, ConstImageU8 image, const CoarsePar
     return st;
   }
   const ConstImageU8 small = ws.image_small.cview();
-  const std::int32_t tx0 = (small.width - p.template_px) / 2;
-  const std::int32_t ty0 = (small.height - p.template_px) / 2;
-  const ConstImageU8 tmpl = small.sub(tx0, ty0, p.template_px, p.template_px);
-  if (!tmpl.valid()) {
+  out.tx0 = (small.width - p.template_px) / 2;
+  out.ty0 = (small.height - p.template_px) / 2;
+  out.tmpl = small.sub(out.tx0, out.ty0, p.template_px, p.template_px);
+  out.window = ws.map_small.cview();
+  if (!out.tmpl.valid() || out.tmpl.width > out.window.width || out.tmpl.height > out.window.height) {
     return Status::kBadInput;
   }
-  CorrelatorBuffers buf = ws.corr.buffers();
-  buf.transform = ws.transform.buffers();
-  st = correlate(tmpl, ws.map_small.cview(), p.quality, buf, out.match, work, CorrelationTaps{}, p.method);
+  out.surface_w = out.window.width - out.tmpl.width + 1;
+  out.surface_h = out.window.height - out.tmpl.height + 1;
+  return Status::kOk;
+}
+
+void coarse_result(const CoarsePrepared& prep, const CoarseParams& p, const MatchResult& m, CoarseResult& out) noexcept {
+  out = CoarseResult{};
+  out.match = m;
+  // Image coarse pixel i sits at map coarse pixel i + offset, and a coarse offset is
+  // `factor` full-resolution pixels because both grids start at their own pixel 0.
+  out.x_px = (m.x_px - prep.tx0) * p.factor;
+  out.y_px = (m.y_px - prep.ty0) * p.factor;
+}
+
+Status coarse_match(ConstImageU8 map_region, ConstImageU8 image, const CoarseParams& p, CoarseWorkspace& ws,
+                    CoarseResult& out, bsp::Work& work) noexcept {
+  out = CoarseResult{};
+  CoarsePrepared prep;
+  Status st = coarse_prepare(map_region, image, p, ws, prep, work);
   if (st != Status::kOk) {
     return st;
   }
-  // Image coarse pixel i sits at map coarse pixel i + offset, and a coarse offset is
-  // `factor` full-resolution pixels because both grids start at their own pixel 0.
-  out.x_px = (out.match.x_px - tx0) * p.factor;
-  out.y_px = (out.match.y_px - ty0) * p.factor;
+  CorrelatorBuffers buf = ws.corr.buffers();
+  buf.transform = ws.transform.buffers();
+  MatchResult m;
+  st = correlate(prep.tmpl, prep.window, p.quality, buf, m, work, CorrelationTaps{}, p.method);
+  if (st != Status::kOk) {
+    out.match = m;
+    return st;
+  }
+  coarse_result(prep, p, m, out);
   return Status::kOk;
 }
 

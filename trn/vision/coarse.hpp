@@ -65,4 +65,25 @@ Status downsample_box(ConstImageU8 in, std::int32_t factor, ImageU8 out, bsp::Wo
 Status coarse_match(ConstImageU8 map_region, ConstImageU8 image, const CoarseParams& p, CoarseWorkspace& ws,
                     CoarseResult& out, bsp::Work& work) noexcept;
 
+/** coarse_match() before its correlation: the decimated window and the template in the workspace. */
+struct CoarsePrepared {
+  ConstImageU8 window{};       ///< the decimated map region (ws.map_small)
+  ConstImageU8 tmpl{};         ///< the central template_px square of the decimated image (in ws.image_small)
+  std::int32_t tx0 = 0;        ///< the template's top-left in the decimated image
+  std::int32_t ty0 = 0;
+  std::int32_t surface_w = 0;  ///< offsets per row of the correlation surface
+  std::int32_t surface_h = 0;  ///< rows of the correlation surface
+};
+
+/**
+ * coarse_match()'s first half: decimates both inputs into @p ws and picks the
+ * template, for a correlation run elsewhere (in bands: correlator.hpp).
+ * @return as coarse_match().
+ */
+Status coarse_prepare(ConstImageU8 map_region, ConstImageU8 image, const CoarseParams& p, CoarseWorkspace& ws,
+                      CoarsePrepared& out, bsp::Work& work) noexcept;
+
+/** coarse_match()'s second half: the correlation's outcome @p m as the image's place in the map region. */
+void coarse_result(const CoarsePrepared& prep, const CoarseParams& p, const MatchResult& m, CoarseResult& out) noexcept;
+
 }  // namespace trn::vision

@@ -178,4 +178,153 @@ Status correlate(ConstImageU8 tmpl, ConstImageU8 window, const QualityParams& q,
   return Status::kOk;
 }
 
+namespace {
+
+/** Whether @p tmpl fits @p window and is not flat: kOk with its statistics in @p stats. */
+Status band_template(ConstImageU8 tmpl, ConstImageU8 window, TemplateStats& stats, bsp::Work& work) noexcept {
+  if (!tmpl.valid() || !window.valid() || tmpl.width > window.width || tmpl.height > window.height) {
+    return Status::kBadInput;
+  }
+  const Status st = template_stats(tmpl, stats, work);
+  if (st != Status::kOk) {
+    return st;
+  }
+  return stats.flat ? Status::kBadInput : Status::kOk;
+}
+
+/**
+ * Every existing score of the 3 x 3 neighbourhood of @p p computed again alone,
+ * over the window of that neighbourhood only (its integral in @p scratch), and
+ * compared bit for bit with @p surface.
+ */
+Status neighbourhood_check(ConstImageU8 tmpl, const TemplateStats& stats, ConstImageU8 window, ConstImageF32 surface,
+                           const Peak& p, const CorrelatorBuffers& scratch, CorrelationCheck& bad,
+                           bsp::Work& work) noexcept {
+  bad = CorrelationCheck::kNone;
+  const std::int32_t x0 = p.ix - 1 < 0 ? 0 : p.ix - 1;
+  const std::int32_t y0 = p.iy - 1 < 0 ? 0 : p.iy - 1;
+  const std::int32_t x1 = p.ix + 1 >= surface.width ? surface.width - 1 : p.ix + 1;
+  const std::int32_t y1 = p.iy + 1 >= surface.height ? surface.height - 1 : p.iy + 1;
+  if (x1 < x0 || y1 < y0) {
+    return Status::kOk;  // no peak on the surface: nothing the refinement reads
+  }
+  const ConstImageU8 sub = window.sub(x0, y0, x1 - x0 + tmpl.width, y1 - y0 + tmpl.height);
+  IntegralRef integral;
+  const Status st = build_integral(sub, scratch.sum, scratch.sum_sq, scratch.integral_entries, integral, work);
+  if (st != Status::kOk) {
+    return st;
+  }
+  for (std::int32_t y = y0; y <= y1; ++y) {
+    for (std::int32_t x = x0; x <= x1; ++x) {
+      const float again = ncc_score_at(tmpl, stats, sub, integral, x - x0, y - y0, work);
+      if (std::bit_cast<std::uint32_t>(again) != std::bit_cast<std::uint32_t>(surface.at(x, y))) {
+        bad = CorrelationCheck::kPeakScore;
+        return Status::kOk;
+      }
+    }
+  }
+  return Status::kOk;
+}
+
+}  // namespace
+
+Status correlate_band(ConstImageU8 tmpl, ConstImageU8 window, std::int32_t row0, std::int32_t rows,
+                      const BandBuffers& buf, BandResult& out, bsp::Work& work, const CorrelationTaps& taps) noexcept {
+  out = BandResult{};
+  if (buf.sum == nullptr || buf.sum_sq == nullptr || buf.surface == nullptr || buf.flags == nullptr) {
+    return Status::kBadInput;
+  }
+  TemplateStats stats;
+  Status st = band_template(tmpl, window, stats, work);
+  if (st != Status::kOk) {
+    return st;
+  }
+  const std::int32_t sw = window.width - tmpl.width + 1;
+  const std::int32_t sh = window.height - tmpl.height + 1;
+  if (row0 < 0 || rows < 1 || row0 > sh - rows) {
+    return Status::kBadInput;
+  }
+  if (static_cast<std::int64_t>(sw) * rows > buf.surface_values) {
+    return Status::kTooLarge;
+  }
+  const ConstImageU8 band_window = window.sub(0, row0, window.width, rows + tmpl.height - 1);
+  const ImageF32 surface{buf.surface, sw, rows, sw};
+  const ImageU8 flags{buf.flags, sw, rows, sw};
+  out.width = sw;
+  out.rows = rows;
+  for (std::uint32_t attempt = 0U; attempt <= kCorrelationMaxRecompute; ++attempt) {
+    out.recomputes = attempt;
+    IntegralRef integral;
+    st = build_integral(band_window, buf.sum, buf.sum_sq, buf.integral_entries, integral, work);
+    if (st != Status::kOk) {
+      return st;
+    }
+    NccCheck check;
+    check.publish = taps.publish;
+    check.dot_channel = taps.dot_channel;
+    st = ncc_surface(tmpl, stats, band_window, integral, surface, flags, out.flat_windows, work, &check);
+    if (st != Status::kOk) {
+      return st;
+    }
+    if (taps.publish != nullptr) {
+      (void)taps.publish(taps.surface_channel, surface.data, static_cast<std::size_t>(sw) * static_cast<std::size_t>(rows) * sizeof(float));
+    }
+    const std::int64_t ref = ncc_dot_checksum(tmpl, integral, sw, rows, work);
+    work.int_ops += 1U;
+    CorrelationCheck bad = CorrelationCheck::kNone;
+    if (ref != check.dot_sum) {
+      bad = CorrelationCheck::kDotSum;
+    } else if (surface_digest(surface.as_const(), work) != check.surface_sum) {
+      bad = CorrelationCheck::kSurface;
+    }
+    out.digest = check.surface_sum;
+    out.check_failed = bad != CorrelationCheck::kNone;
+    if (!out.check_failed) {
+      break;
+    }
+    if (out.first_check == CorrelationCheck::kNone) {
+      out.first_check = bad;
+    }
+  }
+  return Status::kOk;
+}
+
+Status correlate_gathered(ConstImageU8 tmpl, ConstImageU8 window, const QualityParams& q, ConstImageF32 surface,
+                          std::uint64_t digest, std::int32_t flat_windows, std::uint32_t recomputes,
+                          const CorrelatorBuffers& scratch, MatchResult& out, bsp::Work& work) noexcept {
+  out = MatchResult{};
+  TemplateStats stats;
+  const Status st = band_template(tmpl, window, stats, work);
+  if (st != Status::kOk) {
+    return st;
+  }
+  const std::int32_t sw = window.width - tmpl.width + 1;
+  const std::int32_t sh = window.height - tmpl.height + 1;
+  if (!surface.valid() || surface.width != sw || surface.height != sh || scratch.sum == nullptr ||
+      scratch.sum_sq == nullptr) {
+    return Status::kBadInput;
+  }
+  out.flat_windows = flat_windows;
+  out.recomputes = recomputes;
+  out.surface = surface;
+  CorrelationCheck bad = surface_digest(surface, work) != digest ? CorrelationCheck::kSurface : CorrelationCheck::kNone;
+  if (bad == CorrelationCheck::kNone) {
+    out.peak = find_peak(surface, q, work);
+    const Status nst = neighbourhood_check(tmpl, stats, window, surface, out.peak, scratch, bad, work);
+    if (nst != Status::kOk) {
+      return nst;
+    }
+  }
+  out.check_failed = bad != CorrelationCheck::kNone;
+  out.first_check = bad;
+  if (out.check_failed) {
+    out.peak.reason = Reject::kCheckFailed;
+  } else if (out.flat_windows == sw * sh) {
+    out.peak.reason = Reject::kFlatWindow;
+  }
+  out.x_px = out.peak.x_px;
+  out.y_px = out.peak.y_px;
+  return Status::kOk;
+}
+
 }  // namespace trn::vision

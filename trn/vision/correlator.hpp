@@ -135,4 +135,70 @@ Status correlate(ConstImageU8 tmpl, ConstImageU8 window, const QualityParams& q,
                  MatchResult& out, bsp::Work& work, const CorrelationTaps& taps = CorrelationTaps{},
                  CorrelationMethod method = CorrelationMethod::kSpatial) noexcept;
 
+/**
+ * A correlation in bands (one surface computed by several tiles, each some of
+ * its rows, gathered by one): correlate_band() computes and checks rows
+ * [row0, row0 + rows) of the surface correlate() gives @p tmpl over @p window,
+ * correlate_gathered() searches the assembled surface. A score depends only on
+ * the template, the window's pixels under it and their sums, and box sums are
+ * differences of the integral image, so a band's values are the whole
+ * surface's bit for bit (tests/trn/vision/checked_correlation_test.cpp), and
+ * so is the match.
+ *
+ * Checks. A band is checked where it is computed, as correlate() checks a
+ * surface: its dot products' sum against the checksum of the band window's
+ * integral image, and its digest taken again after it is published; a band
+ * still wrong after kCorrelationMaxRecompute is reported failed
+ * (BandResult::check_failed), never used. The gatherer holds the assembled
+ * surface's digest to the sum of the bands' (a value changed on its way
+ * fails it) and computes the peak's 3 x 3 scores again alone.
+ */
+
+/** Buffers of one band (integral of the band's window, its rows of surface and flags). */
+struct BandBuffers {
+  std::uint32_t* sum = nullptr;
+  std::uint64_t* sum_sq = nullptr;
+  std::int64_t integral_entries = 0;  ///< capacity of sum and sum_sq
+  float* surface = nullptr;           ///< the band's rows, packed (stride = surface width)
+  std::uint8_t* flags = nullptr;
+  std::int64_t surface_values = 0;    ///< capacity of surface and flags
+};
+
+/** What a band's computation says to its gatherer. */
+struct BandResult {
+  std::int32_t width = 0;         ///< surface width (offsets per row)
+  std::int32_t rows = 0;          ///< rows computed
+  std::int32_t flat_windows = 0;  ///< flat windows among them
+  std::uint64_t digest = 0U;      ///< surface_digest() of the band as computed
+  std::uint32_t recomputes = 0U;  ///< band computed again after a failed check
+  bool check_failed = false;      ///< still wrong after kCorrelationMaxRecompute: not to be used
+  CorrelationCheck first_check = CorrelationCheck::kNone;
+};
+
+/**
+ * Rows [@p row0, @p row0 + @p rows) of the surface of @p tmpl over @p window,
+ * computed spatially and checked (see above), into @p buf (row r of the band at
+ * buf.surface + r * width).
+ * @return kBadInput for invalid views, a template larger than the window, a flat
+ *         template, missing buffers or rows outside the surface; kTooLarge when
+ *         the band exceeds the buffers.
+ */
+Status correlate_band(ConstImageU8 tmpl, ConstImageU8 window, std::int32_t row0, std::int32_t rows,
+                      const BandBuffers& buf, BandResult& out, bsp::Work& work,
+                      const CorrelationTaps& taps = CorrelationTaps{}) noexcept;
+
+/**
+ * The match of @p surface, assembled from bands of @p tmpl over @p window:
+ * its digest against @p digest (the sum of the bands'), the peak search, the
+ * peak's 3 x 3 neighbourhood computed again alone (integral of the
+ * neighbourhood's window into @p scratch) and the quality checks. A failed
+ * check rejects the match (Reject::kCheckFailed; first_check says which).
+ * @p flat_windows and @p recomputes are the bands' sums.
+ * @return kBadInput for invalid views, a flat template or a surface of the wrong
+ *         size; kTooLarge when the neighbourhood's window exceeds @p scratch.
+ */
+Status correlate_gathered(ConstImageU8 tmpl, ConstImageU8 window, const QualityParams& q, ConstImageF32 surface,
+                          std::uint64_t digest, std::int32_t flat_windows, std::uint32_t recomputes,
+                          const CorrelatorBuffers& scratch, MatchResult& out, bsp::Work& work) noexcept;
+
 }  // namespace trn::vision

@@ -35,6 +35,7 @@
 #include "trn/vision/fine.hpp"
 #include "trn/vision/image.hpp"
 #include "trn/vision/landmarks.hpp"
+#include "trn/vision/pose_geometry.hpp"
 #include "trn/vision/status.hpp"
 #include "trn/vision/warp.hpp"
 
@@ -264,5 +265,36 @@ struct CoarseFrameResult {
 Status coarse_frame(ConstImageU8 frame, const bsp::CameraModel& cam, const PosePrior& prior, const MapView& map,
                     const CoarseFrameParams& p, CoarseFrameWorkspace& ws, CoarseFrameResult& out,
                     bsp::Work& work) noexcept;
+
+/**
+ * coarse_frame() around its correlation, for a surface computed in bands by
+ * other tiles (correlate_band(), correlate_gathered()): coarse_frame_prepare()
+ * warps and decimates, coarse_frame_finish() turns the correlation's outcome
+ * into the result. prepare, the bands, gathered, finish give coarse_frame()'s
+ * result bit for bit (tests/trn/vision_frame/rendered_test.cpp).
+ */
+struct CoarseFrameStage {
+  bool search = false;       ///< the footprint was warped whole: correlate prep.tmpl over prep.window
+  CoarsePrepared prep{};     ///< the decimated template and window (in the workspace)
+  PoseGeometry pose{};       ///< the prior's camera
+  double t_s = 0.0;          ///< the prior's time
+  std::int32_t search_col = 0;  ///< map column of search-region pixel (0, 0)
+  std::int32_t search_row = 0;
+};
+
+/**
+ * The coarse stage up to its correlation; fills @p out's ground height,
+ * footprint and coverage. stage.search is false when the footprint is not
+ * searched (the frame does not cover it): @p out is then final (not accepted).
+ * @return as coarse_frame().
+ */
+Status coarse_frame_prepare(ConstImageU8 frame, const bsp::CameraModel& cam, const PosePrior& prior,
+                            const MapView& map, const CoarseFrameParams& p, CoarseFrameWorkspace& ws,
+                            CoarseFrameStage& stage, CoarseFrameResult& out, bsp::Work& work) noexcept;
+
+/** The coarse stage after its correlation: @p m (of stage.prep) as the position correction and Match in @p out. */
+void coarse_frame_finish(const bsp::CameraModel& cam, const MapView& map, const CoarseFrameParams& p,
+                         const CoarseFrameStage& stage, const MatchResult& m, CoarseFrameResult& out,
+                         bsp::Work& work) noexcept;
 
 }  // namespace trn::vision

@@ -11,7 +11,8 @@
  * resampled from the frame through the plane's homography (exact at nodes every
  * warp_grid_px pixels, fixed point between: warp_grid.hpp); the search region
  * (search_px square centred on the same pixel, clamped to the map) is a view
- * of the layer, not a copy. coarse_match() decimates both and correlates.
+ * of the layer, not a copy. coarse_prepare() decimates both; the correlation runs
+ * here (coarse_frame()) or in bands on other tiles (coarse_frame_prepare(), _finish()).
  */
 #include "trn/vision/frame.hpp"
 
@@ -121,7 +122,7 @@ bool coarse_layout(const PoseGeometry& pose, const MapView& map, const CoarseFra
  * dp = Q - t' r_xy - c_xy (= Q - P when z(Q) equals the plane's height).
  */
 void coarse_solution(const bsp::CameraModel& cam, const PoseGeometry& pose, const MapView& map,
-                     const CoarseFrameParams& p, const CoarseLayout& lay, const Homography& h,
+                     const CoarseFrameParams& p, std::int32_t search_col, std::int32_t search_row, const Homography& h,
                      CoarseFrameResult& out, bsp::Work& work) noexcept {
   const double fc = 0.5 * static_cast<double>(p.footprint_px - 1);
   double u = 0.0;
@@ -129,8 +130,8 @@ void coarse_solution(const bsp::CameraModel& cam, const PoseGeometry& pose, cons
   if (!apply_homography(h, fc, fc, u, v)) {
     return;
   }
-  const double qc = lay.search_col + out.coarse.x_px + fc;  // map pixel of the centre's content
-  const double qr = lay.search_row + out.coarse.y_px + fc;
+  const double qc = search_col + out.coarse.x_px + fc;  // map pixel of the centre's content
+  const double qr = search_row + out.coarse.y_px + fc;
   Match& m = out.match;
   m.p_m[0] = map.geo.x0_m + qc * map.geo.m_per_px;
   m.p_m[1] = map.geo.y0_m - qr * map.geo.m_per_px;
@@ -158,10 +159,11 @@ void coarse_solution(const bsp::CameraModel& cam, const PoseGeometry& pose, cons
 
 }  // namespace
 
-Status coarse_frame(ConstImageU8 frame, const bsp::CameraModel& cam, const PosePrior& prior, const MapView& map,
-                    const CoarseFrameParams& p, CoarseFrameWorkspace& ws, CoarseFrameResult& out,
-                    bsp::Work& work) noexcept {
+Status coarse_frame_prepare(ConstImageU8 frame, const bsp::CameraModel& cam, const PosePrior& prior,
+                            const MapView& map, const CoarseFrameParams& p, CoarseFrameWorkspace& ws,
+                            CoarseFrameStage& stage, CoarseFrameResult& out, bsp::Work& work) noexcept {
   out = CoarseFrameResult{};
+  stage = CoarseFrameStage{};
   PoseGeometry pose;
   if (!frame_matches(frame, cam) || !map_ok(map) || !coarse_params_ok(p, map) ||
       !prior_pose(prior, cam, pose, work)) {
@@ -196,12 +198,46 @@ Status coarse_frame(ConstImageU8 frame, const bsp::CameraModel& cam, const PoseP
     return st;  // a footprint the frame does not cover is not searched
   }
   const ConstImageU8 region = map.image.sub(lay.search_col, lay.search_row, p.search_px, p.search_px);
-  st = coarse_match(region, ws.footprint.cview(), p.coarse, ws.coarse, out.coarse, work);
-  if (st != Status::kOk || !out.coarse.accepted()) {
+  st = coarse_prepare(region, ws.footprint.cview(), p.coarse, ws.coarse, stage.prep, work);
+  if (st != Status::kOk) {
     return st;
   }
-  out.match.t_s = prior.t_s;
-  coarse_solution(cam, pose, map, p, lay, h, out, work);
+  stage.search = true;
+  stage.pose = pose;
+  stage.t_s = prior.t_s;
+  stage.search_col = lay.search_col;
+  stage.search_row = lay.search_row;
+  return Status::kOk;
+}
+
+void coarse_frame_finish(const bsp::CameraModel& cam, const MapView& map, const CoarseFrameParams& p,
+                         const CoarseFrameStage& stage, const MatchResult& m, CoarseFrameResult& out,
+                         bsp::Work& work) noexcept {
+  coarse_result(stage.prep, p.coarse, m, out.coarse);
+  if (!stage.search || !out.coarse.accepted()) {
+    return;
+  }
+  out.match.t_s = stage.t_s;
+  coarse_solution(cam, stage.pose, map, p, stage.search_col, stage.search_row, out.footprint_h, out, work);
+}
+
+Status coarse_frame(ConstImageU8 frame, const bsp::CameraModel& cam, const PosePrior& prior, const MapView& map,
+                    const CoarseFrameParams& p, CoarseFrameWorkspace& ws, CoarseFrameResult& out,
+                    bsp::Work& work) noexcept {
+  CoarseFrameStage stage;
+  Status st = coarse_frame_prepare(frame, cam, prior, map, p, ws, stage, out, work);
+  if (st != Status::kOk || !stage.search) {
+    return st;
+  }
+  CorrelatorBuffers buf = ws.coarse.corr.buffers();
+  buf.transform = ws.coarse.transform.buffers();
+  MatchResult m;
+  st = correlate(stage.prep.tmpl, stage.prep.window, p.coarse.quality, buf, m, work, CorrelationTaps{}, p.coarse.method);
+  if (st != Status::kOk) {
+    out.coarse.match = m;
+    return st;
+  }
+  coarse_frame_finish(cam, map, p, stage, m, out, work);
   return Status::kOk;
 }
 

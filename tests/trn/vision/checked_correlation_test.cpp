@@ -3,7 +3,8 @@
  * @brief The checked correlation (correlator.hpp): the dot-product checksum is exact, every single
  *        corrupted dot product and a corrupted surface are found and computed again to the clean match
  *        bit for bit, and a persistent corruption rejects the match (FDIR-CC-01..04), by the spatial
- *        and by the transform dot products alike.
+ *        and by the transform dot products alike; a surface computed in bands and gathered is the
+ *        same surface and match, and each band and the gatherer check what they hold (FDIR-CC-05..07).
  */
 #include "trn/vision/correlator.hpp"
 #include "trn/vision/integral.hpp"
@@ -288,6 +289,162 @@ TEST(CheckedCorrelation, TheChecksCostAFewPercentOfTheSurface) {
                                static_cast<std::uint64_t>(kWin) * static_cast<std::uint64_t>(kWin);
   EXPECT_EQ(checks, static_cast<std::uint64_t>(n) + 9U * static_cast<std::uint64_t>(n + 3));
   EXPECT_LT(static_cast<double>(checks), 0.1 * static_cast<double>(surface.int_macs));
+}
+
+
+namespace band_test {
+
+/** Band buffers for the Scene's surface (every row at most). */
+struct BandSpace {
+  std::vector<std::uint32_t> sum = std::vector<std::uint32_t>((kWin + 1) * (kWin + 1));
+  std::vector<std::uint64_t> sum_sq = std::vector<std::uint64_t>((kWin + 1) * (kWin + 1));
+  std::vector<float> surface = std::vector<float>(kSurf * kSurf);
+  std::vector<std::uint8_t> flags = std::vector<std::uint8_t>(kSurf * kSurf);
+  tv::BandBuffers buffers() {
+    return tv::BandBuffers{sum.data(), sum_sq.data(), static_cast<std::int64_t>(sum.size()), surface.data(),
+                           flags.data(), static_cast<std::int64_t>(surface.size())};
+  }
+};
+
+/** The Scene's surface in bands of @p rows (the last shorter), gathered into @p out; the bands' digest, flats and recomputations. */
+void gather_bands(Scene& sc, std::int32_t rows, std::vector<float>& out, std::uint64_t& digest, std::int32_t& flats,
+                  std::uint32_t& recomputes, const tv::CorrelationTaps& taps) {
+  out.assign(kSurf * kSurf, 0.0F);
+  digest = 0U;
+  flats = 0;
+  recomputes = 0U;
+  BandSpace b;
+  bsp::Work w;
+  for (std::int32_t row0 = 0; row0 < kSurf; row0 += rows) {
+    const std::int32_t n = row0 + rows <= kSurf ? rows : kSurf - row0;
+    tv::BandResult r;
+    ASSERT_EQ(tv::correlate_band(sc.tmpl.view(), sc.window.view(), row0, n, b.buffers(), r, w, taps), tv::Status::kOk);
+    ASSERT_FALSE(r.check_failed) << "band at " << row0;
+    EXPECT_EQ(r.width, kSurf);
+    EXPECT_EQ(r.rows, n);
+    std::memcpy(out.data() + static_cast<std::size_t>(row0) * kSurf, b.surface.data(), sizeof(float) * static_cast<std::size_t>(kSurf * n));
+    digest += r.digest;
+    flats += r.flat_windows;
+    recomputes += r.recomputes;
+  }
+}
+
+}  // namespace band_test
+
+// FDIR-CC-05: a surface computed in bands (any band height) and gathered gives correlate()'s
+// surface and match bit for bit; the bands' digests sum to the whole surface's.
+TEST(CheckedCorrelation, BandsGatheredGiveTheWholeSurfaceAndMatchBitForBit) {
+  Scene sc;
+  tv::MatchResult clean;
+  bsp::Work w;
+  ASSERT_EQ(sc.run(clean, tv::CorrelationTaps{nullptr, 0U, 0U}, w), tv::Status::kOk);
+  ASSERT_TRUE(clean.accepted());
+  const std::vector<float> s0 = copy_surface(clean);
+  for (const std::int32_t rows : {1, 2, 3, 5, kSurf}) {
+    std::vector<float> surface;
+    std::uint64_t digest = 0U;
+    std::int32_t flats = 0;
+    std::uint32_t recomputes = 0U;
+    band_test::gather_bands(sc, rows, surface, digest, flats, recomputes, tv::CorrelationTaps{nullptr, 0U, 0U});
+    EXPECT_EQ(std::memcmp(surface.data(), s0.data(), s0.size() * sizeof(float)), 0) << "bands of " << rows;
+    const tv::ConstImageF32 gathered{surface.data(), kSurf, kSurf, kSurf};
+    EXPECT_EQ(digest, tv::surface_digest(gathered, w));
+    tv::MatchResult g;
+    ASSERT_EQ(tv::correlate_gathered(sc.tmpl.view(), sc.window.view(), tv::QualityParams{}, gathered, digest, flats,
+                                     recomputes, sc.ws.buffers(), g, w),
+              tv::Status::kOk);
+    EXPECT_FALSE(g.check_failed);
+    EXPECT_EQ(g.flat_windows, clean.flat_windows);
+    expect_same_match(clean, s0, g, "gathered");
+  }
+}
+
+// FDIR-CC-06: a band checks itself as a surface does: a corrupted dot product or surface value
+// is computed again to the clean band; a persistent one says the band failed.
+TEST(CheckedCorrelation, ABandFindsItsOwnCorruptionAndSaysWhenItStaysWrong) {
+  Scene sc;
+  band_test::BandSpace b;
+  bsp::Work w;
+  tv::BandResult clean;
+  ASSERT_EQ(tv::correlate_band(sc.tmpl.view(), sc.window.view(), 3, 4, b.buffers(), clean, w,
+                               tv::CorrelationTaps{nullptr, 0U, 0U}),
+            tv::Status::kOk);
+  const std::vector<float> s0(b.surface.begin(), b.surface.begin() + 4 * kSurf);
+  for (const std::uint32_t channel : {kTestChannelDot, kTestChannelSurface}) {
+    tv::BandResult r;
+    ASSERT_EQ(tv::correlate_band(sc.tmpl.view(), sc.window.view(), 3, 4, b.buffers(), r, w,
+                                 test_taps(channel, channel == kTestChannelDot ? 2 : 0, 30U)),
+              tv::Status::kOk);
+    ASSERT_EQ(g_corruption.flips, 1);
+    EXPECT_EQ(r.recomputes, 1U) << "channel " << channel;
+    EXPECT_EQ(r.first_check, channel == kTestChannelDot ? tv::CorrelationCheck::kDotSum : tv::CorrelationCheck::kSurface);
+    EXPECT_FALSE(r.check_failed);
+    EXPECT_EQ(r.digest, clean.digest);
+    EXPECT_EQ(std::memcmp(b.surface.data(), s0.data(), s0.size() * sizeof(float)), 0);
+    const bool dot = channel == kTestChannelDot;
+    ASSERT_EQ(tv::correlate_band(sc.tmpl.view(), sc.window.view(), 3, 4, b.buffers(), r, w,
+                                 test_taps(channel, dot ? 2 : 0, 30U, dot ? 4 * kSurf : 1)),
+              tv::Status::kOk);
+    EXPECT_TRUE(r.check_failed) << "channel " << channel;
+    EXPECT_EQ(r.recomputes, tv::kCorrelationMaxRecompute);
+  }
+}
+
+// FDIR-CC-07: the gatherer finds a value changed after its band was checked (the digests
+// disagree) and a wrong score at the peak (the digests agree but the score computed again
+// does not): either rejects the match.
+TEST(CheckedCorrelation, TheGathererRejectsAChangedSurfaceAndAWrongPeak) {
+  Scene sc;
+  std::vector<float> surface;
+  std::uint64_t digest = 0U;
+  std::int32_t flats = 0;
+  std::uint32_t recomputes = 0U;
+  band_test::gather_bands(sc, 4, surface, digest, flats, recomputes, tv::CorrelationTaps{nullptr, 0U, 0U});
+  bsp::Work w;
+  const tv::ConstImageF32 gathered{surface.data(), kSurf, kSurf, kSurf};
+  const std::size_t peak = static_cast<std::size_t>(kTrueY) * kSurf + kTrueX;
+  const float was = surface[peak];
+  surface[peak] = -was;  // changed on its way: the digest says so
+  tv::MatchResult g;
+  ASSERT_EQ(tv::correlate_gathered(sc.tmpl.view(), sc.window.view(), tv::QualityParams{}, gathered, digest, flats,
+                                   recomputes, sc.ws.buffers(), g, w),
+            tv::Status::kOk);
+  EXPECT_TRUE(g.check_failed);
+  EXPECT_EQ(g.first_check, tv::CorrelationCheck::kSurface);
+  EXPECT_EQ(g.reason(), tv::Reject::kCheckFailed);
+  // A neighbour of the peak wrong from the start (its band's digest includes it): found by the peak's scores again.
+  surface[peak] = was;
+  const float right = surface[peak + 1];
+  surface[peak + 1] = right * 0.5F;
+  const std::uint64_t wrong_digest = tv::surface_digest(gathered, w);
+  ASSERT_EQ(tv::correlate_gathered(sc.tmpl.view(), sc.window.view(), tv::QualityParams{}, gathered, wrong_digest,
+                                   flats, recomputes, sc.ws.buffers(), g, w),
+            tv::Status::kOk);
+  EXPECT_TRUE(g.check_failed);
+  EXPECT_EQ(g.first_check, tv::CorrelationCheck::kPeakScore);
+  EXPECT_FALSE(g.accepted());
+}
+
+TEST(CheckedCorrelation, BandArgumentsOutsideTheSurfaceOrBuffersAreRefused) {
+  Scene sc;
+  band_test::BandSpace b;
+  bsp::Work w;
+  tv::BandResult r;
+  EXPECT_EQ(tv::correlate_band(sc.tmpl.view(), sc.window.view(), -1, 2, b.buffers(), r, w), tv::Status::kBadInput);
+  EXPECT_EQ(tv::correlate_band(sc.tmpl.view(), sc.window.view(), kSurf - 1, 2, b.buffers(), r, w), tv::Status::kBadInput);
+  EXPECT_EQ(tv::correlate_band(sc.tmpl.view(), sc.window.view(), 0, 0, b.buffers(), r, w), tv::Status::kBadInput);
+  tv::BandBuffers small = b.buffers();
+  small.surface_values = kSurf * 2;
+  EXPECT_EQ(tv::correlate_band(sc.tmpl.view(), sc.window.view(), 0, 3, small, r, w), tv::Status::kTooLarge);
+  small = b.buffers();
+  small.integral_entries = 10;
+  EXPECT_EQ(tv::correlate_band(sc.tmpl.view(), sc.window.view(), 0, 3, small, r, w), tv::Status::kTooLarge);
+  EXPECT_EQ(tv::correlate_band(sc.window.view(), sc.tmpl.view(), 0, 1, b.buffers(), r, w), tv::Status::kBadInput);
+  tv::MatchResult g;
+  const tv::ConstImageF32 wrong{b.surface.data(), kSurf - 1, kSurf, kSurf};
+  EXPECT_EQ(tv::correlate_gathered(sc.tmpl.view(), sc.window.view(), tv::QualityParams{}, wrong, 0U, 0, 0U,
+                                   sc.ws.buffers(), g, w),
+            tv::Status::kBadInput);
 }
 
 }  // namespace

@@ -14,11 +14,13 @@
 
 #include "bsp_tile64/cost_model.hpp"
 #include "bsp_tile64/profile.hpp"
+#include "trn/tasks/vision_coord.hpp"
 #include "trn/vision/pose_geometry.hpp"
 #include "trn/vision/warp_grid.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstdio>
 #include <type_traits>
@@ -318,6 +320,98 @@ TYPED_TEST(Rendered, CoarseStageByTheTransformGivesTheSpatialResultBitForBit) {
     if (d == 0) {
       std::printf("[ seed %llu   4000 m coarse    ] coarse_frame TILE64 cycles: spatial %.1f M, transform %.1f M\n",
                   static_cast<unsigned long long>(this->kSeed), cs / 1e6, ct / 1e6);
+    }
+  }
+}
+
+/**
+ * coarse_frame_prepare(), the surface in bands of @p band_rows by correlate_band(), gathered by
+ * correlate_gathered(), coarse_frame_finish(): what the coordinator and the vision tiles do.
+ */
+tv::CoarseFrameResult run_coarse_in_bands(World& w, const tv::ConstImageU8 frame, const tv::PosePrior& prior,
+                                          const tv::CoarseFrameParams& params, std::int32_t band_rows,
+                                          std::uint32_t& bands) {
+  static tv::CoarseFrameWorkspace ws;
+  tv::CoarseFrameStage stage;
+  tv::CoarseFrameResult r;
+  bsp::Work work;
+  EXPECT_EQ(tv::coarse_frame_prepare(frame, w.cam, prior, w.coarse_lit, params, ws, stage, r, work), tv::Status::kOk);
+  EXPECT_TRUE(stage.search);
+  const tv::CoarsePrepared& prep = stage.prep;
+  const std::int32_t sw = prep.surface_w;
+  const std::int32_t sh = prep.surface_h;
+  const auto entries = static_cast<std::size_t>(prep.window.width + 1) * static_cast<std::size_t>(band_rows + prep.tmpl.height);
+  std::vector<std::uint32_t> sum(entries);
+  std::vector<std::uint64_t> sum_sq(entries);
+  std::vector<float> band(static_cast<std::size_t>(sw * band_rows));
+  std::vector<std::uint8_t> flags(band.size());
+  std::vector<float> surface(static_cast<std::size_t>(sw * sh));
+  std::uint64_t digest = 0U;
+  std::int32_t flats = 0;
+  std::uint32_t recomputes = 0U;
+  bands = 0U;
+  for (std::int32_t row0 = 0; row0 < sh; row0 += band_rows) {
+    const std::int32_t n = row0 + band_rows <= sh ? band_rows : sh - row0;
+    tv::BandResult b;
+    const tv::BandBuffers buf{sum.data(), sum_sq.data(), static_cast<std::int64_t>(entries), band.data(), flags.data(),
+                              static_cast<std::int64_t>(band.size())};
+    EXPECT_EQ(tv::correlate_band(prep.tmpl, prep.window, row0, n, buf, b, work), tv::Status::kOk);
+    std::copy(band.begin(), band.begin() + sw * n, surface.begin() + static_cast<std::ptrdiff_t>(row0) * sw);
+    digest += b.digest;
+    flats += b.flat_windows;
+    recomputes += b.recomputes;
+    ++bands;
+  }
+  tv::MatchResult m;
+  EXPECT_EQ(tv::correlate_gathered(prep.tmpl, prep.window, params.coarse.quality,
+                                   tv::ConstImageF32{surface.data(), sw, sh, sw}, digest, flats, recomputes,
+                                   ws.coarse.corr.buffers(), m, work),
+            tv::Status::kOk);
+  tv::coarse_frame_finish(w.cam, w.coarse_lit, params, stage, m, r, work);
+  // The surface lives in this function: what the caller compares is its match.
+  r.coarse.match.surface = tv::ConstImageF32{};
+  return r;
+}
+
+TYPED_TEST(Rendered, CoarseStageInBandsGivesTheOnePieceResultBitForBit) {
+  // What the coordinator's coarse stage does over the vision tiles (bands of 5 rows: 40 tiles;
+  // 16 rows: the most a tile's slot holds; 193: one band), on the scenes of
+  // CoarseStageRemovesThreeToFourKilometreErrors: the one-piece result to the last bit.
+  World& w = *this->w_;
+  const tv::CoarseFrameParams params = trn::tasks::coord_coarse_params();
+  for (int d = 0; d < 9; ++d) {
+    const double az = d * 45.0 * kDeg;
+    const double r = d < 8 ? 3200.0 : 4200.0;
+    double err = 0.0;
+    tv::PosePrior prior;
+    bsp::CameraPose truth;
+    const tv::CoarseFrameResult one = run_coarse(w, 4000.0, r * std::sin(az), r * std::cos(az), w.coarse_lit, err,
+                                                 prior, truth, params);
+    ASSERT_TRUE(one.accepted) << "direction " << d;
+    for (const std::int32_t rows : {5, 16, 193}) {
+      std::uint32_t bands = 0U;
+      const tv::CoarseFrameResult b = run_coarse_in_bands(w, w.view(w.frame_at(4000.0)), prior, params, rows, bands);
+      EXPECT_EQ(bands, (193U + static_cast<std::uint32_t>(rows) - 1U) / static_cast<std::uint32_t>(rows));
+      EXPECT_EQ(b.accepted, one.accepted) << "direction " << d << " rows " << rows;
+      EXPECT_EQ(bits(b.dp_m[0]), bits(one.dp_m[0])) << "direction " << d << " rows " << rows;
+      EXPECT_EQ(bits(b.dp_m[1]), bits(one.dp_m[1])) << "direction " << d << " rows " << rows;
+      EXPECT_EQ(bits(b.sigma_m), bits(one.sigma_m));
+      EXPECT_EQ(bits(b.coarse.x_px), bits(one.coarse.x_px));
+      EXPECT_EQ(bits(b.coarse.y_px), bits(one.coarse.y_px));
+      EXPECT_EQ(std::bit_cast<std::uint32_t>(b.coarse.match.peak.score),
+                std::bit_cast<std::uint32_t>(one.coarse.match.peak.score));
+      EXPECT_EQ(std::bit_cast<std::uint32_t>(b.coarse.match.peak.second),
+                std::bit_cast<std::uint32_t>(one.coarse.match.peak.second));
+      EXPECT_EQ(b.coarse.match.flat_windows, one.coarse.match.flat_windows);
+      EXPECT_FALSE(b.coarse.match.check_failed);
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(bits(b.match.w_c[k]), bits(one.match.w_c[k]));
+        EXPECT_EQ(bits(b.match.p_m[k]), bits(one.match.p_m[k]));
+      }
+      EXPECT_EQ(bits(b.match.u_px), bits(one.match.u_px));
+      EXPECT_EQ(bits(b.match.v_px), bits(one.match.v_px));
+      EXPECT_EQ(bits(b.match.sigma_px), bits(one.match.sigma_px));
+      EXPECT_EQ(b.match.t_s, one.match.t_s);
     }
   }
 }
