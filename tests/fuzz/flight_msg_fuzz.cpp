@@ -239,6 +239,26 @@ void trn_relight(Words w) {
   });
 }
 
+void trn_coarse_band(Words w) {
+  run<tt::CoarseBand>(w, tt::unpack_coarse_band, [&](const tt::CoarseBand& b) {
+    require(b.row0 >= 0 && b.rows >= 0 && b.window_w >= 1 && b.window_h >= 1 && b.tmpl_w >= 1 && b.tmpl_h >= 1,
+            "coarse band ranges");
+    std::array<std::uint32_t, tt::kCoarseBandWords> p{};
+    tt::pack_coarse_band(b, p);
+    require(same(p, w), "coarse band repacks");
+  });
+}
+
+void trn_coarse_band_done(Words w) {
+  run<tt::CoarseBandDone>(w, tt::unpack_coarse_band_done, [&](const tt::CoarseBandDone& d) {
+    require(d.row0 >= 0 && d.rows >= 0 && d.flat_windows >= 0 && d.status <= 0xFFU && d.first_check <= 0xFFU,
+            "coarse band done ranges");
+    std::array<std::uint32_t, tt::kCoarseBandDoneWords> p{};
+    tt::pack_coarse_band_done(d, p);
+    require(same(p, w), "coarse band done repacks");
+  });
+}
+
 void trn_nav(Words w) {
   run<trn::filter::NavOutput>(w, tt::unpack_nav_msg, [&](const trn::filter::NavOutput& o) {
     std::array<std::uint32_t, tt::kNavWords> p{};
@@ -344,6 +364,8 @@ const Decoder kDecoders[] = {
     {trn_vision_rate, tt::kMsgVisionRate, tt::kVisionRateWords},
     {trn_relight<tt::kMsgRelight>, tt::kMsgRelight, tt::kRelightWords},
     {trn_relight<tt::kMsgRelightDone>, tt::kMsgRelightDone, tt::kRelightWords},
+    {trn_coarse_band, tt::kMsgCoarseBand, tt::kCoarseBandWords},
+    {trn_coarse_band_done, tt::kMsgCoarseBandDone, tt::kCoarseBandDoneWords},
     {trn_nav, tt::kMsgNav, tt::kNavWords},
     {trn_frame, tt::kMsgFrame, tt::kFrameNoticeWords},
     {trn_imu, 0U, tt::kImuWords},

@@ -70,6 +70,10 @@ if os.path.exists(mission):
                  "longest frame %.0f ms; %d deadline misses; final error %.2f m"
                  % (s["seed"], s["emulated_s"], s["realtime_factor"], s["frames"], s["matches_per_frame_mean"],
                     s.get("worst_frame_ms", float("nan")), s["deadline_misses"], s["final_position_error_m"]))
+    if "coarse_stage_ms" in s:
+        lines.append("coarse stage: %.1f ms emulated (warp and decimation, %d bands dealt to the vision tiles, "
+                     "computed and gathered, the match); %d bands computed by the coordinator instead"
+                     % (s["coarse_stage_ms"], s.get("coarse_bands_sent", 0), s.get("coarse_bands_redone", 0)))
     bands = [(k[len("matches_per_frame_alt_"):-2].replace("_", "-"), v, s.get("frames_alt_" + k[len("matches_per_frame_alt_"):], 0))
              for k, v in s.items() if k.startswith("matches_per_frame_alt_")]
     if bands:

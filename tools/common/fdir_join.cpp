@@ -10,6 +10,7 @@
 #include "fdir/tile_health.hpp"
 #include "trn/match.hpp"
 #include "trn/tasks/messages.hpp"
+#include "trn/tasks/sdc_points.hpp"
 #include "trn/tasks/supervisors.hpp"
 #include "trn/vision/correlator.hpp"
 
@@ -106,6 +107,16 @@ bool correlation_check_of(const bsp::FaultRecord& r, const fdir::Event& e, doubl
              (e.subject == trn::kCoarseLandmark ? kCorrelationCoarseStageS : kCorrelationSameLandmarkS);
 }
 
+/**
+ * Whether @p e is the coordinator finding the corrupted band @p r of a vision tile (its copy
+ * against the band's digest) and computing it itself, within the coarse stage.
+ */
+bool coarse_band_check_of(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
+  return r.spec.channel == trn::tasks::kCoarseBandChannel && e.id == EventId::kCoarseBandRedone &&
+         e.subject == r.spec.tile && e.cycle >= r.applied_cycle &&
+         seconds(e.cycle - r.applied_cycle, clock_hz) <= kCorrelationCoarseStageS;
+}
+
 /** How long after a replica's output was corrupted its vote reports it at most: the job's vote waits for its last output. */
 constexpr double kTmrSameVoteS = 0.030;
 
@@ -169,7 +180,7 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
       // corrupted correlation by its tile's checks while the landmark is matched.
       // Two replicas' outputs corrupted in one job leave no majority: the vote names the different ones.
       return detects_wrong_data(t, e) || (e.id == EventId::kResultsSuspect && e.subject == t) ||
-             correlation_check_of(r, e, clock_hz) || no_majority_of(r, e, clock_hz) ||
+             correlation_check_of(r, e, clock_hz) || coarse_band_check_of(r, e, clock_hz) || no_majority_of(r, e, clock_hz) ||
              ((e.id == EventId::kAbftCorrected || e.id == EventId::kAbftFailed) && e.tile == t &&
               seconds(e.cycle - r.applied_cycle, clock_hz) <= kAbftSameJobS);
     case bsp::FaultKind::kWatchdogFail:
@@ -635,6 +646,13 @@ std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noe
                                                         "the landmark selection", "the relit coarse map"};
       (void)std::snprintf(b.data(), b.size(), "the vision coordinator could not start: %s failed (status %u); "
                           "no frame will be planned", kSteps[e.subject < kSteps.size() ? e.subject : 0U], e.a);
+      break;
+    }
+    case EventId::kCoarseBandRedone: {
+      static constexpr std::array<const char*, 5> kWhy{"?", "it could not be sent", "no answer in time",
+                                                       "its checks failed", "its copy differs from its digest"};
+      (void)std::snprintf(b.data(), b.size(), "coarse band from row %u of frame %u dealt to tile %s: %s; "
+                          "computed by the coordinator", e.a, e.b, s, kWhy[e.cause < kWhy.size() ? e.cause : 0U]);
       break;
     }
     case EventId::kMonitorWarn:

@@ -503,6 +503,12 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("integrity_bad_sigma", static_cast<double>(ni.bad_sigma));
   s.extra.emplace_back("landmarks_selected", c.landmarks_selected);
   s.extra.emplace_back("coarse_accepted", c.coarse_accepted);
+  // The coarse stage's bands: dealt to the vision tiles, computed by the coordinator instead.
+  s.extra.emplace_back("coarse_bands_sent", c.coarse_bands_sent);
+  s.extra.emplace_back("coarse_bands_redone", c.coarse_bands_redone);
+  s.extra.emplace_back("coarse_one_piece", c.coarse_one_piece);
+  s.extra.emplace_back("coarse_stage_ms", 1e3 * static_cast<double>(c.max_coarse_cycles) /
+                                              static_cast<double>(bsp::kTile64.clock_hz));
   s.extra.emplace_back("vision_units_lost", c.units_lost);
   s.extra.emplace_back("vision_batch_send_failed", c.batch_send_failed);
   s.extra.emplace_back("vision_status_send_failed", c.status_send_failed);

@@ -104,6 +104,61 @@ bool unpack_relight(std::uint32_t tag, std::span<const std::uint32_t> w, Relight
   return true;
 }
 
+void pack_coarse_band(const CoarseBand& b, std::span<std::uint32_t, kCoarseBandWords> w) noexcept {
+  const auto u = [](std::int32_t v) { return static_cast<std::uint32_t>(v) & 0xFFFFU; };
+  w[0] = kMsgCoarseBand;
+  w[1] = b.frame;
+  w[2] = static_cast<std::uint32_t>(b.row0);
+  w[3] = static_cast<std::uint32_t>(b.rows);
+  w[4] = u(b.window_w) | (u(b.window_h) << 16U);
+  w[5] = u(b.tmpl_x) | (u(b.tmpl_y) << 16U);
+  w[6] = u(b.tmpl_w) | (u(b.tmpl_h) << 16U);
+}
+
+bool unpack_coarse_band(std::span<const std::uint32_t> w, CoarseBand& out) noexcept {
+  if (!udn::is_message(w, kMsgCoarseBand, kCoarseBandWords) || w[2] > kMaxRow || w[3] > kMaxRow) {
+    return false;
+  }
+  const auto lo = [](std::uint32_t v) { return static_cast<std::int32_t>(v & 0xFFFFU); };
+  const auto hi = [](std::uint32_t v) { return static_cast<std::int32_t>(v >> 16U); };
+  CoarseBand b{w[1], static_cast<std::int32_t>(w[2]), static_cast<std::int32_t>(w[3]), lo(w[4]), hi(w[4]),
+               lo(w[5]),  hi(w[5]), lo(w[6]), hi(w[6])};
+  if (b.window_w == 0 || b.window_h == 0 || b.tmpl_w == 0 || b.tmpl_h == 0) {
+    return false;
+  }
+  out = b;
+  return true;
+}
+
+void pack_coarse_band_done(const CoarseBandDone& d, std::span<std::uint32_t, kCoarseBandDoneWords> w) noexcept {
+  w[0] = kMsgCoarseBandDone;
+  w[1] = d.frame;
+  w[2] = static_cast<std::uint32_t>(d.row0);
+  w[3] = static_cast<std::uint32_t>(d.rows);
+  w[4] = static_cast<std::uint32_t>(d.flat_windows);
+  w[5] = static_cast<std::uint32_t>(d.digest & 0xFFFFFFFFULL);
+  w[6] = static_cast<std::uint32_t>(d.digest >> 32U);
+  w[7] = d.recomputes;
+  w[8] = (d.status & 0xFFU) | ((d.check_failed ? 1U : 0U) << 8U) | ((d.first_check & 0xFFU) << 16U);
+}
+
+bool unpack_coarse_band_done(std::span<const std::uint32_t> w, CoarseBandDone& out) noexcept {
+  if (!udn::is_message(w, kMsgCoarseBandDone, kCoarseBandDoneWords) || w[2] > kMaxRow || w[3] > kMaxRow ||
+      w[4] > kMaxRow || (w[8] >> 24U) != 0U || ((w[8] >> 8U) & 0xFFU) > 1U) {
+    return false;
+  }
+  out.frame = w[1];
+  out.row0 = static_cast<std::int32_t>(w[2]);
+  out.rows = static_cast<std::int32_t>(w[3]);
+  out.flat_windows = static_cast<std::int32_t>(w[4]);
+  out.digest = static_cast<std::uint64_t>(w[5]) | (static_cast<std::uint64_t>(w[6]) << 32U);
+  out.recomputes = w[7];
+  out.status = w[8] & 0xFFU;
+  out.check_failed = ((w[8] >> 8U) & 1U) != 0U;
+  out.first_check = (w[8] >> 16U) & 0xFFU;
+  return true;
+}
+
 bool unpack_nav_msg(std::span<const std::uint32_t> w, filter::NavOutput& out) noexcept {
   if (!udn::is_message(w, kMsgNav, kNavWords)) {
     return false;

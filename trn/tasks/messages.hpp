@@ -55,6 +55,14 @@ inline constexpr std::uint32_t kMsgMatches = 0x4D544331U;  ///< "MTC1" part of a
 inline constexpr std::uint32_t kMsgRelight = 0x524C5431U;  ///< "RLT1" relight a band of the coarse map: [1] row0 [2] rows
 inline constexpr std::uint32_t kMsgRelightDone = 0x524C4431U;  ///< "RLD1" the band is done: [1] row0 [2] rows
 inline constexpr std::uint32_t kRelightWords = 3;
+/// "CBD1" compute a band of the coarse surface (CoarseBand): [1] frame [2] row0 [3] rows [4] window width | height << 16
+/// [5] template x | y << 16 in the decimated image [6] template width | height << 16
+inline constexpr std::uint32_t kMsgCoarseBand = 0x43424431U;
+inline constexpr std::uint32_t kCoarseBandWords = 7;
+/// "CBR1" the band is in the tile's slot (CoarseBandDone): [1] frame [2] row0 [3] rows [4] flat windows
+/// [5..6] digest (low, high) [7] recomputes [8] status | check failed << 8 | first check << 16
+inline constexpr std::uint32_t kMsgCoarseBandDone = 0x43425231U;
+inline constexpr std::uint32_t kCoarseBandDoneWords = 9;
 inline constexpr std::uint32_t kMsgReplicaOut = 0x52504F31U;    ///< "RPO1" a TMR replica's job output (filter_tmr.hpp)
 inline constexpr std::uint32_t kMsgReplicaHello = 0x52504831U;  ///< "RPH1" a TMR replica waits for a seed
 /**
@@ -377,6 +385,36 @@ struct RelightBand {
 };
 void pack_relight(std::uint32_t tag, const RelightBand& b, std::span<std::uint32_t, kRelightWords> w) noexcept;
 [[nodiscard]] bool unpack_relight(std::uint32_t tag, std::span<const std::uint32_t> w, RelightBand& out) noexcept;
+
+/** A band of the coarse stage's surface for a vision tile: rows [row0, row0 + rows) of the decimated template over the window. */
+struct CoarseBand {
+  std::uint32_t frame = 0U;
+  std::int32_t row0 = 0;
+  std::int32_t rows = 0;
+  std::int32_t window_w = 0;  ///< the decimated map region (the coarse workspace's map_small), 1 .. 65535
+  std::int32_t window_h = 0;
+  std::int32_t tmpl_x = 0;    ///< the template in the decimated image (image_small), 0 .. 65535
+  std::int32_t tmpl_y = 0;
+  std::int32_t tmpl_w = 0;    ///< 1 .. 65535
+  std::int32_t tmpl_h = 0;
+};
+void pack_coarse_band(const CoarseBand& b, std::span<std::uint32_t, kCoarseBandWords> w) noexcept;
+[[nodiscard]] bool unpack_coarse_band(std::span<const std::uint32_t> w, CoarseBand& out) noexcept;
+
+/** A vision tile's answer to a CoarseBand: the band is in its slot, with what its checks found. */
+struct CoarseBandDone {
+  std::uint32_t frame = 0U;
+  std::int32_t row0 = 0;
+  std::int32_t rows = 0;
+  std::int32_t flat_windows = 0;
+  std::uint64_t digest = 0U;      ///< vision::surface_digest() of the band as computed and checked
+  std::uint32_t recomputes = 0U;
+  std::uint32_t status = 0U;      ///< vision::Status of the computation (0: kOk), 0 .. 255
+  bool check_failed = false;      ///< still wrong after its recomputations: not to be used
+  std::uint32_t first_check = 0U; ///< vision::CorrelationCheck, 0 .. 255
+};
+void pack_coarse_band_done(const CoarseBandDone& d, std::span<std::uint32_t, kCoarseBandDoneWords> w) noexcept;
+[[nodiscard]] bool unpack_coarse_band_done(std::span<const std::uint32_t> w, CoarseBandDone& out) noexcept;
 
 /** A navigation solution (any bits: a corrupted one is for the receiver to judge). */
 [[nodiscard]] bool unpack_nav_msg(std::span<const std::uint32_t> w, filter::NavOutput& out) noexcept;

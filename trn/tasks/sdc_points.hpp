@@ -30,6 +30,9 @@ inline constexpr std::uint32_t kVisionMatchesChannel = 3;
 /** One part of the coordinator's match batch (header and matches) just before it is sent to the filter. */
 inline constexpr std::uint32_t kCoordinatorBatchChannel = 4;
 
+/** A vision tile's band of the coarse stage's surface in its DDR slot, after its checks, just before it is reported done. */
+inline constexpr std::uint32_t kCoarseBandChannel = 11;
+
 /** Bit per Role (1 << Role). */
 constexpr std::uint32_t role_bit(Role r) noexcept { return 1U << static_cast<std::uint32_t>(r); }
 
@@ -41,7 +44,7 @@ struct SdcPoint {
   bool shifts = false;  ///< the value starts with a double: a plan's `shift` (a lasting error) applies
 };
 
-inline constexpr std::array<SdcPoint, 10> kSdcPoints{{
+inline constexpr std::array<SdcPoint, 11> kSdcPoints{{
     {"nav_output", kNavChannel, role_bit(Role::kFilter) | role_bit(Role::kFilterReplica),
      "the filter's solution as delivered (in TMR: the voted one on the filter's tile, each replica's own on a "
      "replica)"},
@@ -69,10 +72,15 @@ inline constexpr std::array<SdcPoint, 10> kSdcPoints{{
     {"correlation_surface", vision::kCorrelationSurfaceChannel,
      role_bit(Role::kVision) | role_bit(Role::kVisionCoordinator),
      "a correlation surface (floats, row-major) after it is computed, before its peak is searched: a landmark's "
-     "on a vision tile, the coarse stage's on the coordinator"},
+     "on a vision tile; the coarse stage's bands where they are computed (vision tiles, the coordinator for a band "
+     "it does itself) or its whole surface on the coordinator when it correlates in one piece"},
     {"correlation_dot", vision::kCorrelationDotChannel, role_bit(Role::kVision) | role_bit(Role::kVisionCoordinator),
      "one dot product of a correlation surface (a uint32 of template times window) before it is used: a "
-     "landmark's on a vision tile, the coarse stage's (from the transform) on the coordinator"},
+     "landmark's on a vision tile, the coarse stage's where its bands are computed (or from the transform on the "
+     "coordinator when it correlates in one piece)"},
+    {"coarse_band", kCoarseBandChannel, role_bit(Role::kVision),
+     "a vision tile's band of the coarse stage's surface (floats, row-major) in its DDR slot after its checks, "
+     "before it is reported done: the coordinator's copy no longer matches the band's digest"},
 }};
 
 /** The point publishing on @p channel; nullptr when no flight code publishes there. */

@@ -52,6 +52,31 @@ struct TileListRecord {
 constexpr std::uint32_t kTileListMagic = 0x564C5354U;  // "VLST"
 constexpr const char* kTileListCarveName = "vision_tile_list";
 
+/** Bands of the coarse surface at most: one per vision tile, more when a slot cannot hold a tile's share. */
+constexpr std::uint32_t kMaxCoarseBands = 64;
+
+/** Why the coordinator computes a band itself (kCoarseBandRedone's cause). */
+enum class BandRedo : std::uint32_t { kNone = 0, kNotSent = 1, kNoAnswer = 2, kFailed = 3, kCopyWrong = 4 };
+
+/** One band of a coarse frame's surface: the rows, the tile it was dealt to, what came of it. */
+struct CoarseBandJob {
+  std::int32_t row0;
+  std::int32_t rows;
+  bsp::TileId tile;
+  bool answered;  ///< not waited for any more (answered, or never sent)
+  bool done;      ///< its rows are in the gathered surface, checked
+  BandRedo why;   ///< why not done, once answered
+};
+
+/** The coarse surface being gathered (in the coarse workspace's correlator buffers). */
+struct CoarseGather {
+  vision::ImageF32 surface;
+  std::uint64_t digest;      ///< sum of the gathered bands' digests
+  std::int32_t flat_windows;
+  std::uint32_t recomputes;
+  std::uint32_t pending;     ///< bands not answered yet
+};
+
 struct CoordState {
   const VisionCoordConfig* cfg;
   vision::MapView fine;
@@ -59,6 +84,9 @@ struct CoordState {
   vision::LandmarkTable* table;
   vision::CoarseFrameWorkspace* coarse_ws;
   vision::PlanScratch* plan_scratch;
+  std::array<CoarseBandJob, kMaxCoarseBands> bands;
+  std::uint32_t band_count;
+  CoarseGather gather;
   std::array<filter::NavOutput, kNavRing> nav;
   std::uint32_t nav_count;  ///< solutions received (ring index = count % kNavRing)
   bool have_pending;
@@ -128,10 +156,13 @@ bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
       ddr_carve_named(kCoarseWsCarveName, sizeof(vision::CoarseFrameWorkspace), alignof(vision::CoarseFrameWorkspace)));
   st.plan_scratch = reinterpret_cast<vision::PlanScratch*>(  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
       ddr_carve_named(kPlanScratchCarveName, sizeof(vision::PlanScratch), alignof(vision::PlanScratch)));
+  // Every tile's band slot (CoarseBandSlots, ~16 MB): the vision tiles find it by name.
+  const std::uint8_t* band_slots = ddr_carve_named(kCoarseBandCarveName, sizeof(CoarseBandSlots), alignof(CoarseBandSlots));
   const vision::ConstImageU8 orbital = st.coarse_map.image;
   std::uint8_t* relit =
       ddr_carve_named(kRelitCarveName, static_cast<std::size_t>(orbital.width) * static_cast<std::size_t>(orbital.height), 1U);
-  if (st.table == nullptr || st.coarse_ws == nullptr || st.plan_scratch == nullptr || relit == nullptr) {
+  if (st.table == nullptr || st.coarse_ws == nullptr || st.plan_scratch == nullptr || relit == nullptr ||
+      band_slots == nullptr) {
     return set_up_failed(SetUpStep::kCarves, 0U);
   }
   ::new (st.table) vision::LandmarkTable{};
@@ -375,6 +406,266 @@ bool prior_at(const CoordState& st, double t_s, vision::PosePrior& out) noexcept
 
 // ------------------------------------------------------------------ coordinator: a frame
 
+/** The coarse stage's correlation in one piece on this tile (by its configured method: the transform). */
+vision::Status coarse_one_piece(CoordState& st, const vision::CoarsePrepared& prep, vision::MatchResult& out) noexcept {
+  vision::CorrelatorBuffers buf = st.coarse_ws->coarse.corr.buffers();
+  buf.transform = st.coarse_ws->coarse.transform.buffers();
+  bsp::Work work{};
+  const vision::Status s = vision::correlate(prep.tmpl, prep.window, st.cfg->coarse.coarse.quality, buf, out, work,
+                                             vision::CorrelationTaps{}, st.cfg->coarse.coarse.method);
+  bsp::consume(work);
+  report_correlation_checks(out.check_failed, out.recomputes, out.first_check, kCoarseLandmark, st.frame.seq);
+  return s;
+}
+
+/** Copies @p j's rows from @p slot into the gathered surface; true when the copy's digest is @p digest. */
+bool gather_band(CoordState& st, const CoarseBandJob& j, const CoarseBandSlot& slot, std::uint64_t digest) noexcept {
+  const std::int32_t sw = st.gather.surface.width;
+  const auto values = static_cast<std::size_t>(sw) * static_cast<std::size_t>(j.rows);
+  float* dst = st.gather.surface.row(j.row0);
+  std::copy_n(slot.surface, values, dst);
+  bsp::Work work{};
+  work.mem_words += 2U * values;
+  const bool same = vision::surface_digest(vision::ConstImageF32{dst, sw, j.rows, sw}, work) == digest;
+  bsp::consume(work);
+  return same;
+}
+
+/** A tile's answer for a band of this frame: its rows gathered when its checks passed and the copy matches. */
+void take_band_done(CoordState& st, VisionCoordStats& stats, bsp::TileId from, const CoarseBandDone& d) noexcept {
+  std::uint32_t j = 0;
+  while (j < st.band_count && !(st.bands[j].row0 == d.row0 && st.bands[j].rows == d.rows && st.bands[j].tile == from &&
+                                !st.bands[j].answered)) {
+    ++j;
+  }
+  if (j == st.band_count || d.frame != st.frame.seq) {
+    ++stats.results_late;
+    return;
+  }
+  CoarseBandJob& b = st.bands[j];
+  b.answered = true;
+  --st.gather.pending;
+  const CoarseBandSlot* slot = coarse_band_slot(from);
+  if (d.status != 0U || d.check_failed || slot == nullptr) {
+    b.why = BandRedo::kFailed;
+    return;
+  }
+  if (!gather_band(st, b, *slot, d.digest)) {
+    b.why = BandRedo::kCopyWrong;
+    return;
+  }
+  b.done = true;
+  st.gather.digest += d.digest;
+  st.gather.flat_windows += d.flat_windows;
+  st.gather.recomputes += d.recomputes;
+}
+
+/** The vision tiles that answer and are trusted, as indices into the tile list; @return how many. */
+std::uint32_t band_workers(const CoordState& st, std::array<std::uint32_t, kMaxVisionTiles>& working) noexcept {
+  std::uint32_t n = 0;
+  for (std::uint32_t i = 0; i < st.cfg->vision_count; ++i) {
+    if (st.live.misses[i] < st.live.config.suspect_after_misses && fdir::result_trust_used(st.trust, i)) {
+      working[n] = i;
+      ++n;
+    }
+  }
+  return n;
+}
+
+/**
+ * Sends @p w to working tile @p first, or the next one the network takes it
+ * for (a tile out of the fault map refuses at once). @return the working
+ * index it went to; @p n_working when none took it.
+ */
+std::uint32_t send_band(const CoordState& st, const std::array<std::uint32_t, kMaxVisionTiles>& working,
+                        std::uint32_t n_working, std::uint32_t first,
+                        const std::array<std::uint32_t, kCoarseBandWords>& w) noexcept {
+  for (std::uint32_t k = 0; k < n_working; ++k) {
+    const std::uint32_t at = (first + k) % n_working;
+    if (udn::endpoint_send(st.tiles[working[at]], kChanControl, w, kVisionSendTicks) == udn::FtError::kOk) {
+      return at;
+    }
+  }
+  return n_working;
+}
+
+/**
+ * Deals the rows of @p prep's surface in bands over the vision tiles that
+ * answer and are trusted (one band each, more when a slot cannot hold a
+ * tile's share) and sends them. @return the bands a tile got at most;
+ * 0 when nothing was dealt (no such tile, or bands too many for a slot).
+ */
+std::uint32_t deal_coarse_bands(CoordState& st, VisionCoordStats& stats, const vision::CoarsePrepared& prep) noexcept {
+  st.band_count = 0U;
+  std::array<std::uint32_t, kMaxVisionTiles> working{};
+  const std::uint32_t n_working = band_workers(st, working);
+  const std::int32_t rows_max = coarse_band_rows_max(prep);
+  const std::int32_t sh = prep.surface_h;
+  if (n_working == 0U || rows_max < 1) {
+    return 0U;
+  }
+  const auto need = static_cast<std::uint32_t>((sh + rows_max - 1) / rows_max);
+  const std::uint32_t n = need > n_working ? need : n_working;
+  if (n > kMaxCoarseBands) {
+    return 0U;
+  }
+  st.band_count = n;
+  st.gather.pending = 0U;
+  std::array<std::uint32_t, kMaxVisionTiles> dealt{};  // bands per working tile
+  std::uint32_t per_tile = 1U;
+  std::array<std::uint32_t, kCoarseBandWords> w{};
+  for (std::uint32_t i = 0; i < n; ++i) {
+    CoarseBandJob& b = st.bands[i];
+    band_rows(sh, i, n, b.row0, b.rows);
+    b = CoarseBandJob{b.row0, b.rows, st.tiles[working[i % n_working]], b.rows == 0, b.rows == 0, BandRedo::kNone};
+    if (b.done) {
+      continue;
+    }
+    pack_coarse_band(CoarseBand{st.frame.seq, b.row0, b.rows, prep.window.width, prep.window.height, prep.tx0, prep.ty0,
+                                prep.tmpl.width, prep.tmpl.height},
+                     w);
+    k::checkin();
+    const std::uint32_t at = send_band(st, working, n_working, i % n_working, w);
+    if (at == n_working) {
+      b.answered = true;  // no tile took it: the coordinator computes it
+      b.why = BandRedo::kNotSent;
+      continue;
+    }
+    b.tile = st.tiles[working[at]];
+    ++dealt[at];
+    per_tile = dealt[at] > per_tile ? dealt[at] : per_tile;
+    ++stats.coarse_bands_sent;
+    ++st.gather.pending;
+  }
+  return per_tile;
+}
+
+/**
+ * Ticks to wait for the bands: twice what @p per_tile bands of the largest
+ * size cost a tile by the cost model, plus the network's and the tiles' idle
+ * poll (about 36 ticks with 40 tiles).
+ */
+k::Ticks band_wait_ticks(const vision::CoarsePrepared& prep, std::int32_t rows, std::uint32_t per_tile) noexcept {
+  constexpr k::Ticks kSlackTicks = 10;
+  const bsp::Cycles band = bsp::cost_of(vision::ncc_surface_work(prep.tmpl.width, prep.tmpl.height, prep.surface_w, rows));
+  const bsp::Cycles tick = bsp::tick_cycles();
+  const auto ticks = static_cast<k::Ticks>(tick == 0U ? 0U : (band + tick - 1U) / tick);
+  return k::Ticks{2U} * per_tile * ticks + kSlackTicks;
+}
+
+/** The bands not gathered, computed here: band by band, or in one piece when that costs less. */
+vision::Status redo_bands(CoordState& st, VisionCoordStats& stats, const vision::CoarsePrepared& prep,
+                          vision::MatchResult& out, bool& one_piece) noexcept {
+  one_piece = false;
+  std::int32_t missing = 0;
+  for (std::uint32_t j = 0; j < st.band_count; ++j) {
+    CoarseBandJob& b = st.bands[j];
+    if (b.done) {
+      continue;
+    }
+    const BandRedo why = b.answered ? b.why : BandRedo::kNoAnswer;
+    fdir::report(fdir::EventId::kCoarseBandRedone, b.tile, static_cast<std::uint32_t>(why),
+                 static_cast<std::uint32_t>(b.row0), st.frame.seq);
+    ++stats.coarse_bands_redone;
+    missing += b.rows;
+  }
+  // Band by band (spatially), or the whole surface by the configured method (the transform)
+  // when that costs less by the cost model: it gives the same surface.
+  const bsp::Cycles bands = bsp::cost_of(vision::ncc_surface_work(prep.tmpl.width, prep.tmpl.height, prep.surface_w, missing));
+  bsp::Work whole = vision::ncc_score_work(prep.surface_w, prep.surface_h);
+  if (st.cfg->coarse.coarse.method == vision::CorrelationMethod::kTransform) {
+    whole += vision::transform_dots_work(prep.tmpl.width, prep.tmpl.height, prep.window.width, prep.window.height);
+  } else {
+    whole = vision::ncc_surface_work(prep.tmpl.width, prep.tmpl.height, prep.surface_w, prep.surface_h);
+  }
+  if (missing > 0 && bsp::cost_of(whole) < bands) {
+    one_piece = true;
+    return coarse_one_piece(st, prep, out);
+  }
+  CoarseBandSlot* own = coarse_band_slot(bsp::current_tile());
+  for (std::uint32_t j = 0; j < st.band_count && own != nullptr; ++j) {
+    CoarseBandJob& b = st.bands[j];
+    if (b.done) {
+      continue;
+    }
+    vision::BandResult r{};
+    bsp::Work work{};
+    const vision::Status s = vision::correlate_band(prep.tmpl, prep.window, b.row0, b.rows, own->buffers(), r, work);
+    bsp::consume(work);
+    report_correlation_checks(r.check_failed, r.recomputes, r.first_check, kCoarseLandmark, st.frame.seq);
+    if (s != vision::Status::kOk) {
+      return s;
+    }
+    if (r.check_failed || !gather_band(st, b, *own, r.digest)) {
+      out = vision::MatchResult{};
+      out.check_failed = true;
+      out.first_check = r.first_check != vision::CorrelationCheck::kNone ? r.first_check : vision::CorrelationCheck::kSurface;
+      out.peak.reason = vision::Reject::kCheckFailed;  // nothing of a band still wrong is used
+      one_piece = true;
+      return vision::Status::kOk;
+    }
+    b.done = true;
+    st.gather.digest += r.digest;
+    st.gather.flat_windows += r.flat_windows;
+    st.gather.recomputes += r.recomputes;
+  }
+  return own == nullptr ? vision::Status::kBadInput : vision::Status::kOk;
+}
+
+/**
+ * The coarse stage's correlation spread over the vision tiles: each computes
+ * and checks a band of the surface's rows in its slot, the coordinator copies
+ * each band it is told is done into the surface and holds the copy to the
+ * band's digest, computes itself what did not come back right in time
+ * (kCoarseBandRedone), and searches the gathered surface (correlate_gathered():
+ * its digest again, the peak's scores again). The match is the one-piece
+ * correlation's bit for bit.
+ */
+vision::Status coarse_in_bands(CoordState& st, VisionCoordStats& stats, const vision::CoarsePrepared& prep,
+                               vision::MatchResult& out) noexcept {
+  vision::CorrelatorBuffers buf = st.coarse_ws->coarse.corr.buffers();
+  st.gather = CoarseGather{vision::ImageF32{buf.surface, prep.surface_w, prep.surface_h, prep.surface_w}, 0U, 0, 0U, 0U};
+  const std::uint32_t per_tile = deal_coarse_bands(st, stats, prep);
+  if (per_tile == 0U) {
+    ++stats.coarse_one_piece;
+    return coarse_one_piece(st, prep, out);
+  }
+  std::int32_t largest = 0;
+  for (std::uint32_t j = 0; j < st.band_count; ++j) {
+    largest = st.bands[j].rows > largest ? st.bands[j].rows : largest;
+  }
+  const k::Ticks until = k::now_ticks() + band_wait_ticks(prep, largest, per_tile);
+  udn::FtMessage m{};
+  while (st.gather.pending > 0U && k::now_ticks() < until) {
+    for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanResult, m) == udn::FtError::kOk; ++i) {
+      CoarseBandDone d{};
+      if (unpack_coarse_band_done(std::span<const std::uint32_t>(m.data.data(), m.data_words), d)) {
+        take_band_done(st, stats, m.source, d);
+      } else {
+        take_result(st, stats, m);  // a unit's answer from an earlier frame: late
+      }
+    }
+    drain_nav(st);
+    k::checkin();
+    if (st.gather.pending > 0U) {
+      k::sleep(1);
+    }
+  }
+  bool one_piece = false;
+  const vision::Status s = redo_bands(st, stats, prep, out, one_piece);
+  if (s != vision::Status::kOk || one_piece) {
+    stats.coarse_one_piece += one_piece ? 1U : 0U;
+    return s;
+  }
+  bsp::Work work{};
+  const vision::Status g =
+      vision::correlate_gathered(prep.tmpl, prep.window, st.cfg->coarse.coarse.quality, st.gather.surface.as_const(),
+                                 st.gather.digest, st.gather.flat_windows, st.gather.recomputes, buf, out, work);
+  bsp::consume(work);
+  report_correlation_checks(out.check_failed, 0U, out.first_check, kCoarseLandmark, st.frame.seq);
+  return g;
+}
+
 /** Runs the coarse stage when the prior is too uncertain; false when the frame cannot go on. */
 bool coarse_if_needed(CoordState& st, VisionCoordStats& stats, const vision::ConstImageU8& image,
                       vision::PosePrior& prior) noexcept {
@@ -383,14 +674,27 @@ bool coarse_if_needed(CoordState& st, VisionCoordStats& stats, const vision::Con
     return true;
   }
   ++stats.coarse_runs;
+  const bsp::Cycles start = bsp::now();
   bsp::Work work{};
   vision::CoarseFrameResult res{};
-  const vision::Status s =
-      vision::coarse_frame(image, st.cfg->camera, prior, st.coarse_map, st.cfg->coarse, *st.coarse_ws, res, work);
+  vision::CoarseFrameStage stage{};
+  vision::Status s = vision::coarse_frame_prepare(image, st.cfg->camera, prior, st.coarse_map, st.cfg->coarse,
+                                                  *st.coarse_ws, stage, res, work);
   bsp::consume(work);
-  const vision::MatchResult& cm = res.coarse.match;
-  report_correlation_checks(cm.check_failed, cm.recomputes, cm.first_check, kCoarseLandmark, st.frame.seq);
-  if (s != vision::Status::kOk || !res.accepted) {
+  if (s != vision::Status::kOk || !stage.search) {
+    return false;
+  }
+  vision::MatchResult cm{};
+  s = coarse_in_bands(st, stats, stage.prep, cm);
+  if (s != vision::Status::kOk) {
+    return false;
+  }
+  bsp::Work finish{};
+  vision::coarse_frame_finish(st.cfg->camera, st.coarse_map, st.cfg->coarse, stage, cm, res, finish);
+  bsp::consume(finish);
+  const bsp::Cycles took = bsp::now() - start;
+  stats.max_coarse_cycles = took > stats.max_coarse_cycles ? took : stats.max_coarse_cycles;
+  if (!res.accepted) {
     return false;
   }
   ++stats.coarse_accepted;

@@ -9,7 +9,10 @@
  * the coarse stage searches; keeps the filter's
  * recent solutions (kChanNav); on each frame notice from the I/O tile
  * (kChanControl) takes the solution at the capture time as the prior, runs
- * the coarse stage itself when the horizontal position sigma is large, plans
+ * the coarse stage when the horizontal position sigma is large (the
+ * footprint warped and decimated here, the correlation surface dealt in bands
+ * to the vision tiles, gathered and checked here; a band not back right in
+ * time computed here: kCoarseBandRedone), plans
  * the frame's landmarks, and sends each vision tile a work unit of up to
  * kMaxLandmarksPerUnit of them (round robin, so each tile's share is spread
  * over the image). Results (kChanResult) are gathered until every unit has
@@ -109,6 +112,10 @@ struct VisionCoordStats {
   std::uint32_t frames_skipped;       ///< no prior, bad notice, or busy with another frame
   std::uint32_t coarse_runs;
   std::uint32_t coarse_accepted;
+  std::uint32_t coarse_bands_sent;    ///< bands of the coarse surface sent to vision tiles
+  std::uint32_t coarse_bands_redone;  ///< ... computed by the coordinator instead (kCoarseBandRedone)
+  std::uint32_t coarse_one_piece;     ///< coarse correlations the coordinator ran whole (no tile to deal to, or too much missing)
+  bsp::Cycles max_coarse_cycles;      ///< the coarse stage (warp, decimation, bands dealt and gathered, match), longest
   std::uint32_t units_sent;
   std::uint32_t units_answered;
   std::uint32_t units_lost;           ///< not answered by the deadline

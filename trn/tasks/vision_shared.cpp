@@ -72,6 +72,26 @@ std::uint8_t* ddr_carve_named(const char* what, std::size_t bytes, std::size_t a
                                        : nullptr;
 }
 
+CoarseBandSlot* coarse_band_slot(bsp::TileId tile) noexcept {
+  auto* slots = reinterpret_cast<CoarseBandSlots*>(  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
+      const_cast<std::uint8_t*>(ddr_find(kCoarseBandCarveName)));  // NOLINT(cppcoreguidelines-pro-type-const-cast): shared DDR slots
+  return slots == nullptr || tile >= bsp::kMaxTiles ? nullptr : &slots->slot[tile];
+}
+
+std::int32_t coarse_band_rows_max(const vision::CoarsePrepared& prep) noexcept {
+  const std::int32_t sw = prep.surface_w;
+  const std::int32_t ww = prep.window.width;
+  const std::int32_t th = prep.tmpl.height;
+  if (sw < 1 || ww < 1 || th < 1) {
+    return 0;
+  }
+  // A band of r rows needs (ww + 1) (r + th) integral entries and sw r surface values.
+  const std::int64_t by_integral = kCoarseBandEntries / (ww + 1) - th;
+  const std::int64_t by_surface = kCoarseBandValues / sw;
+  const std::int64_t r = by_integral < by_surface ? by_integral : by_surface;
+  return r < 1 ? 0 : static_cast<std::int32_t>(r < kCoarseBandMaxRows ? r : kCoarseBandMaxRows);
+}
+
 const vision::LandmarkTable* landmark_table_find() noexcept {
   return reinterpret_cast<const vision::LandmarkTable*>(ddr_find(kLandmarkCarveName));  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
 }

@@ -5,7 +5,10 @@
  */
 #pragma once
 
+#include "bsp_tile64/memory.hpp"
 #include "kernel/kernel.hpp"
+#include "trn/vision/coarse.hpp"
+#include "trn/vision/correlator.hpp"
 #include "trn/vision/frame.hpp"
 #include "trn/vision/landmarks.hpp"
 
@@ -22,6 +25,45 @@ inline constexpr const char* kRelitCarveName = "coarse_relit";
 inline constexpr const char* kCoarseWsCarveName = "coarse_ws";
 /** DDR carve of the coordinator's plan scratch (vision::PlanScratch: each frame's predictions, kept between its two passes). */
 inline constexpr const char* kPlanScratchCarveName = "plan_scratch";
+/** DDR carve of the coarse stage's band slots (CoarseBandSlots: one per tile). */
+inline constexpr const char* kCoarseBandCarveName = "coarse_bands";
+/** Rows of the coarse surface a band slot holds. */
+inline constexpr std::int32_t kCoarseBandMaxRows = 16;
+/** The template height a slot's integral image is sized for (the coordinator's coarse template). */
+inline constexpr std::int32_t kCoarseBandTemplatePx = 64;
+/** Integral-image entries of a slot: kCoarseBandMaxRows rows of offsets over a kCoarseMaxPx wide window. */
+inline constexpr std::int64_t kCoarseBandEntries =
+    std::int64_t{vision::kCoarseMaxPx + 1} * (kCoarseBandMaxRows + kCoarseBandTemplatePx);
+/** Surface values of a slot. */
+inline constexpr std::int64_t kCoarseBandValues = std::int64_t{vision::kCoarseMaxPx} * kCoarseBandMaxRows;
+
+/**
+ * Where a tile computes a band of the coarse stage's surface (vision::correlate_band())
+ * and leaves it for the coordinator: the band window's integral image, the band's rows
+ * and flags (~250 KiB; in DDR, as a vision tile's own RAM has no room for it).
+ */
+struct CoarseBandSlot {
+  std::uint32_t sum[static_cast<std::size_t>(kCoarseBandEntries)];
+  std::uint64_t sum_sq[static_cast<std::size_t>(kCoarseBandEntries)];
+  float surface[static_cast<std::size_t>(kCoarseBandValues)];
+  std::uint8_t flags[static_cast<std::size_t>(kCoarseBandValues)];
+
+  vision::BandBuffers buffers() noexcept {
+    return vision::BandBuffers{sum, sum_sq, kCoarseBandEntries, surface, flags, kCoarseBandValues};
+  }
+};
+
+/** The slots, by tile id (a tile computes its bands one at a time). */
+struct CoarseBandSlots {
+  CoarseBandSlot slot[bsp::kMaxTiles];
+};
+
+/** Tile @p tile's band slot, or nullptr before the coordinator carved them. [task] */
+CoarseBandSlot* coarse_band_slot(bsp::TileId tile) noexcept;
+
+/** The most rows of @p prep's surface one slot holds (0: not even one). */
+std::int32_t coarse_band_rows_max(const vision::CoarsePrepared& prep) noexcept;
+
 /** Ticks a unit, a result or a batch part may wait for the network before it is counted as failed. */
 inline constexpr std::uint32_t kVisionSendTicks = 20;
 

@@ -128,6 +128,59 @@ void relight_request(WorkerState& st, VisionWorkerStats& stats, bsp::TileId from
   }
 }
 
+/** Why a band request could not be computed (CoarseBandDone::status beyond vision::Status). */
+constexpr std::uint32_t kBandNoSlot = 0xF0U;       ///< no slot or no coarse workspace in DDR
+constexpr std::uint32_t kBandBadLayout = 0xF1U;    ///< the request does not describe the workspace's images
+
+/**
+ * A band of the coarse stage's surface: the decimated template over the
+ * decimated map region, both in the coordinator's coarse workspace (DDR),
+ * computed and checked into this tile's slot; answered with what the checks found.
+ */
+void coarse_band_request(VisionWorkerStats& stats, bsp::TileId from, const CoarseBand& b) noexcept {
+  const bsp::TileId self = bsp::current_tile();
+  CoarseBandSlot* slot = coarse_band_slot(self);
+  const auto* ws = reinterpret_cast<const vision::CoarseFrameWorkspace*>(  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
+      ddr_find(kCoarseWsCarveName));
+  CoarseBandDone done{};
+  done.frame = b.frame;
+  done.row0 = b.row0;
+  done.rows = b.rows;
+  if (slot == nullptr || ws == nullptr) {
+    done.status = kBandNoSlot;
+  } else {
+    const vision::ConstImageU8 window = ws->coarse.map_small.cview();
+    const vision::ConstImageU8 small = ws->coarse.image_small.cview();
+    const vision::ConstImageU8 tmpl = small.sub(b.tmpl_x, b.tmpl_y, b.tmpl_w, b.tmpl_h);
+    if (window.width != b.window_w || window.height != b.window_h || !tmpl.valid()) {
+      done.status = kBandBadLayout;
+    } else {
+      vision::BandResult r{};
+      bsp::Work work{};
+      const vision::Status s = vision::correlate_band(tmpl, window, b.row0, b.rows, slot->buffers(), r, work);
+      bsp::consume(work);
+      report_correlation_checks(r.check_failed, r.recomputes, r.first_check, kCoarseLandmark, b.frame);
+      done.status = static_cast<std::uint32_t>(s);
+      done.flat_windows = r.flat_windows;
+      done.digest = r.digest;
+      done.recomputes = r.recomputes;
+      done.check_failed = r.check_failed;
+      done.first_check = static_cast<std::uint32_t>(r.first_check);
+      if (s == vision::Status::kOk) {
+        // The band as it leaves, after its checks: where a corrupted output is injected.
+        (void)bsp::publish_filter(kCoarseBandChannel, slot->surface,
+                                  static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.rows) * sizeof(float));
+      }
+    }
+  }
+  ++stats.coarse_bands;
+  std::array<std::uint32_t, kCoarseBandDoneWords> w{};
+  pack_coarse_band_done(done, w);
+  if (udn::endpoint_send(from, kChanResult, w, kVisionSendTicks) != udn::FtError::kOk) {
+    ++stats.send_failed;
+  }
+}
+
 }  // namespace
 
 void vision_worker_main(void* arg) noexcept {
@@ -150,6 +203,11 @@ void vision_worker_main(void* arg) noexcept {
     k::checkin();
     if (udn::endpoint_receive(kChanControl, m) != udn::FtError::kOk) {
       k::sleep(kWorkerIdleTicks);
+      continue;
+    }
+    CoarseBand coarse{};
+    if (unpack_coarse_band(std::span<const std::uint32_t>(m.data.data(), m.data_words), coarse)) {
+      coarse_band_request(stats, m.source, coarse);
       continue;
     }
     RelightBand band{};

@@ -5,7 +5,9 @@
  * Waits for units (kChanControl), matches each landmark (trn/vision/frame.hpp)
  * in the frame in shared DDR, charges the work, and answers with the matches
  * (kChanResult). At the coordinator's start it also relights the bands of the
- * coarse layer it is asked for (kMsgRelight) and answers when done.
+ * coarse layer it is asked for (kMsgRelight) and answers when done; in a
+ * coarse frame it computes the bands of the coarse surface it is sent
+ * (kMsgCoarseBand) into its slot in DDR and answers with their digests.
  */
 #pragma once
 
@@ -26,6 +28,7 @@ struct VisionWorkerStats {
   std::uint32_t units;
   std::uint32_t landmarks;
   std::uint32_t matches;
+  std::uint32_t coarse_bands;  ///< bands of the coarse stage's surface computed (kMsgCoarseBand)
   std::uint32_t bad_units;
   std::uint32_t send_failed;
 };

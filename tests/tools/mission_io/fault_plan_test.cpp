@@ -393,7 +393,7 @@ TEST(FaultPlanErrors, AnSdcNobodyWouldDeliverIsRefused) {
   e = error_for("tile = 18\nchannel = 99\n");
   EXPECT_NE(e.find("channel: no flight code publishes on channel 99 (name a point instead: nav_output, filter_state, "
                    "vision_matches, coordinator_batch, filter_product, filter_update_product, match_position, "
-                   "self_test, correlation_surface, correlation_dot)"),
+                   "self_test, correlation_surface, correlation_dot, coarse_band)"),
             std::string::npos)
       << e;
   e = error_for("tile = 2\n");

@@ -744,8 +744,8 @@ TEST_F(TrnMissionBinary, ARestartedCoordinatorKeepsTheReplacement) {
 }
 
 // FDIR-CC-05: corrupted correlations on vision tiles (two dot products, one surface value) and
-// one in the coordinator's coarse stage (a dot product from the transform) are found by the
-// tiles' checks while the landmark (the stage) is matched, computed again, credited to the
+// one in a band of the coarse stage (a dot product on the vision tile computing it) are found by
+// the tiles' checks while the landmark (the band) is matched, computed again, credited to the
 // injections by the join, and the navigation output stays the clean flight's, bit for bit.
 TEST_F(TrnMissionBinary, CorruptedCorrelationsOnVisionTilesAreCorrectedAndTheOutputUnchanged) {
   ASSERT_EQ(run(binary() + " --quiet --duration 8 --out " + (dir_ / "clean").string()), 0);
@@ -762,7 +762,7 @@ TEST_F(TrnMissionBinary, CorruptedCorrelationsOnVisionTilesAreCorrectedAndTheOut
                           "recomputation(s)"),
             3U)
       << log;
-  EXPECT_EQ(count_of(log, "tile  1  correlation_corrected: the coarse stage at frame"), 1U) << log;
+  EXPECT_EQ(count_of(log, "tile 26  correlation_corrected: the coarse stage at frame"), 1U) << log;
   EXPECT_EQ(count_of(log, "correlation wrong (its surface changed before the peak search ended), right after 1 "
                           "recomputation(s)"),
             1U);
@@ -770,6 +770,37 @@ TEST_F(TrnMissionBinary, CorruptedCorrelationsOnVisionTilesAreCorrectedAndTheOut
   EXPECT_EQ(count_of(log, "correlation_failed"), 0U);
   EXPECT_EQ(count_of(read_text(dir_ / "clean" / "events.log"), "correlation_"), 0U) << "no false alarm";
   EXPECT_EQ(s["filter_output_crc"], clean["filter_output_crc"]) << "the corrected surfaces change nothing";
+}
+
+// FDIR-CC-08: the coarse stage's bands on the vision tiles, wrong three ways in the first coarse
+// frame (a band corrupted after its tile's checks, a dot product inside a band, a tile hung with
+// its band under way): the coordinator holds each copy to its band's digest and computes itself
+// what came back wrong or not at all (coarse_band_redone, naming the tile and why), the tile's
+// own check corrects the dot product, and the navigation output is the clean flight's bit for bit.
+TEST_F(TrnMissionBinary, WrongOrMissingCoarseBandsAreComputedAgainAndTheOutputUnchanged) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 8 --out " + (dir_ / "clean").string()), 0);
+  ASSERT_EQ(run(binary() + " --quiet --duration 8 --faults " + fixture("coarse_bands.toml") + " --out " +
+                (dir_ / "cb").string()),
+            0);
+  const nlohmann::json clean = read_json(dir_ / "clean" / "summary.json");
+  const nlohmann::json s = read_json(dir_ / "cb" / "summary.json");
+  const std::string log = read_text(dir_ / "cb" / "events.log");
+  EXPECT_EQ(s["faults_injected"], 3);
+  EXPECT_EQ(s["faults_detected"], 3) << log;
+  EXPECT_EQ(s["faults_recovered"], 3);
+  EXPECT_EQ(count_of(log, "dealt to tile 28: its copy differs from its digest; computed by the coordinator"), 1U) << log;
+  EXPECT_EQ(count_of(log, "dealt to tile 31: no answer in time; computed by the coordinator"), 1U) << log;
+  EXPECT_EQ(count_of(log, "DETECT   tile  1  coarse_band_redone"), 2U);
+  EXPECT_EQ(count_of(log, "tile 33  correlation_corrected: the coarse stage at frame"), 1U) << log;
+  EXPECT_NE(log.find("sdc at coarse_band (channel 11) value bit 30 (planned) -> detected by tile 1 (coarse_band_redone)"),
+            std::string::npos);
+  EXPECT_EQ(count_of(read_text(dir_ / "clean" / "events.log"), "coarse_band_redone"), 0U) << "no false alarm";
+  EXPECT_EQ(s["coarse_accepted"], clean["coarse_accepted"]);
+  EXPECT_EQ(s["coarse_bands_redone"], 2);
+  EXPECT_EQ(clean["coarse_bands_redone"], 0);
+  EXPECT_EQ(clean["coarse_bands_sent"], 39) << "the 193 rows in bands of 5 over the 40 vision tiles";
+  EXPECT_EQ(clean["coarse_one_piece"], 0);
+  EXPECT_EQ(s["filter_output_crc"], clean["filter_output_crc"]) << "the gathered surface is the clean one";
 }
 
 // FDIR-AB-08: corrupted products inside the flown filter's Joseph update (one element of P H^T,

@@ -135,4 +135,55 @@ TEST(TrnMessages, TheNavMessageCarriesTheMapRelativeAndTheWorldVariances) {
       << "the message before the world variances (42 words) is refused";
 }
 
+TEST(TrnMessages, CoarseBandsRoundTripAndRefuseMalformedWords) {
+  const tt::CoarseBand b{7U, 40, 5, 256, 256, 96, 96, 64, 64};
+  std::array<std::uint32_t, tt::kCoarseBandWords> w{};
+  tt::pack_coarse_band(b, w);
+  tt::CoarseBand got{};
+  ASSERT_TRUE(tt::unpack_coarse_band(w, got));
+  EXPECT_EQ(got.frame, 7U);
+  EXPECT_EQ(got.row0, 40);
+  EXPECT_EQ(got.rows, 5);
+  EXPECT_EQ(got.window_w, 256);
+  EXPECT_EQ(got.window_h, 256);
+  EXPECT_EQ(got.tmpl_x, 96);
+  EXPECT_EQ(got.tmpl_y, 96);
+  EXPECT_EQ(got.tmpl_w, 64);
+  EXPECT_EQ(got.tmpl_h, 64);
+  std::array<std::uint32_t, tt::kCoarseBandWords> bad = w;
+  bad[6] = 64U;  // a template of height 0
+  EXPECT_FALSE(tt::unpack_coarse_band(bad, got));
+  EXPECT_FALSE(tt::unpack_coarse_band(std::span<const std::uint32_t>(w.data(), w.size() - 1U), got));
+
+  tt::CoarseBandDone d{};
+  d.frame = 9U;
+  d.row0 = 188;
+  d.rows = 5;
+  d.flat_windows = 3;
+  d.digest = 0x123456789ABCDEF0ULL;
+  d.recomputes = 2U;
+  d.status = 4U;
+  d.check_failed = true;
+  d.first_check = 3U;
+  std::array<std::uint32_t, tt::kCoarseBandDoneWords> dw{};
+  tt::pack_coarse_band_done(d, dw);
+  tt::CoarseBandDone dg{};
+  ASSERT_TRUE(tt::unpack_coarse_band_done(dw, dg));
+  EXPECT_EQ(dg.frame, 9U);
+  EXPECT_EQ(dg.row0, 188);
+  EXPECT_EQ(dg.rows, 5);
+  EXPECT_EQ(dg.flat_windows, 3);
+  EXPECT_EQ(dg.digest, d.digest);
+  EXPECT_EQ(dg.recomputes, 2U);
+  EXPECT_EQ(dg.status, 4U);
+  EXPECT_TRUE(dg.check_failed);
+  EXPECT_EQ(dg.first_check, 3U);
+  std::array<std::uint32_t, tt::kCoarseBandDoneWords> dbad = dw;
+  dbad[8] |= 2U << 8U;  // "failed" is one bit
+  EXPECT_FALSE(tt::unpack_coarse_band_done(dbad, dg));
+  dbad = dw;
+  dbad[0] = tt::kMsgCoarseBand;
+  EXPECT_FALSE(tt::unpack_coarse_band_done(dbad, dg));
+}
+
 }  // namespace
