@@ -113,6 +113,7 @@ void pack_coarse_band(const CoarseBand& b, std::span<std::uint32_t, kCoarseBandW
   w[4] = u(b.window_w) | (u(b.window_h) << 16U);
   w[5] = u(b.tmpl_x) | (u(b.tmpl_y) << 16U);
   w[6] = u(b.tmpl_w) | (u(b.tmpl_h) << 16U);
+  w[7] = b.slot;
 }
 
 bool unpack_coarse_band(std::span<const std::uint32_t> w, CoarseBand& out) noexcept {
@@ -122,7 +123,7 @@ bool unpack_coarse_band(std::span<const std::uint32_t> w, CoarseBand& out) noexc
   const auto lo = [](std::uint32_t v) { return static_cast<std::int32_t>(v & 0xFFFFU); };
   const auto hi = [](std::uint32_t v) { return static_cast<std::int32_t>(v >> 16U); };
   CoarseBand b{w[1], static_cast<std::int32_t>(w[2]), static_cast<std::int32_t>(w[3]), lo(w[4]), hi(w[4]),
-               lo(w[5]),  hi(w[5]), lo(w[6]), hi(w[6])};
+               lo(w[5]),  hi(w[5]), lo(w[6]), hi(w[6]), w[7]};
   if (b.window_w == 0 || b.window_h == 0 || b.tmpl_w == 0 || b.tmpl_h == 0) {
     return false;
   }

@@ -56,9 +56,9 @@ inline constexpr std::uint32_t kMsgRelight = 0x524C5431U;  ///< "RLT1" relight a
 inline constexpr std::uint32_t kMsgRelightDone = 0x524C4431U;  ///< "RLD1" the band is done: [1] row0 [2] rows
 inline constexpr std::uint32_t kRelightWords = 3;
 /// "CBD1" compute a band of the coarse surface (CoarseBand): [1] frame [2] row0 [3] rows [4] window width | height << 16
-/// [5] template x | y << 16 in the decimated image [6] template width | height << 16
+/// [5] template x | y << 16 in the decimated image [6] template width | height << 16 [7] slot
 inline constexpr std::uint32_t kMsgCoarseBand = 0x43424431U;
-inline constexpr std::uint32_t kCoarseBandWords = 7;
+inline constexpr std::uint32_t kCoarseBandWords = 8;
 /// "CBR1" the band is in the tile's slot (CoarseBandDone): [1] frame [2] row0 [3] rows [4] flat windows
 /// [5..6] digest (low, high) [7] recomputes [8] status | check failed << 8 | first check << 16
 inline constexpr std::uint32_t kMsgCoarseBandDone = 0x43425231U;
@@ -397,6 +397,7 @@ struct CoarseBand {
   std::int32_t tmpl_y = 0;
   std::int32_t tmpl_w = 0;    ///< 1 .. 65535
   std::int32_t tmpl_h = 0;
+  std::uint32_t slot = 0U;    ///< the DDR band slot to compute it in (the receiver checks its range)
 };
 void pack_coarse_band(const CoarseBand& b, std::span<std::uint32_t, kCoarseBandWords> w) noexcept;
 [[nodiscard]] bool unpack_coarse_band(std::span<const std::uint32_t> w, CoarseBand& out) noexcept;

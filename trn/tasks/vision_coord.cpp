@@ -52,9 +52,6 @@ struct TileListRecord {
 constexpr std::uint32_t kTileListMagic = 0x564C5354U;  // "VLST"
 constexpr const char* kTileListCarveName = "vision_tile_list";
 
-/** Bands of the coarse surface at most: one per vision tile, more when a slot cannot hold a tile's share. */
-constexpr std::uint32_t kMaxCoarseBands = 64;
-
 /** Why the coordinator computes a band itself (kCoarseBandRedone's cause). */
 enum class BandRedo : std::uint32_t { kNone = 0, kNotSent = 1, kNoAnswer = 2, kFailed = 3, kCopyWrong = 4 };
 
@@ -156,7 +153,7 @@ bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
       ddr_carve_named(kCoarseWsCarveName, sizeof(vision::CoarseFrameWorkspace), alignof(vision::CoarseFrameWorkspace)));
   st.plan_scratch = reinterpret_cast<vision::PlanScratch*>(  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
       ddr_carve_named(kPlanScratchCarveName, sizeof(vision::PlanScratch), alignof(vision::PlanScratch)));
-  // Every tile's band slot (CoarseBandSlots, ~16 MB): the vision tiles find it by name.
+  // The band slots (CoarseBandSlots, ~16 MB): the vision tiles find them by name.
   const std::uint8_t* band_slots = ddr_carve_named(kCoarseBandCarveName, sizeof(CoarseBandSlots), alignof(CoarseBandSlots));
   const vision::ConstImageU8 orbital = st.coarse_map.image;
   std::uint8_t* relit =
@@ -445,7 +442,7 @@ void take_band_done(CoordState& st, VisionCoordStats& stats, bsp::TileId from, c
   CoarseBandJob& b = st.bands[j];
   b.answered = true;
   --st.gather.pending;
-  const CoarseBandSlot* slot = coarse_band_slot(from);
+  const CoarseBandSlot* slot = coarse_band_slot(j);
   if (d.status != 0U || d.check_failed || slot == nullptr) {
     b.why = BandRedo::kFailed;
     return;
@@ -458,6 +455,21 @@ void take_band_done(CoordState& st, VisionCoordStats& stats, bsp::TileId from, c
   st.gather.digest += d.digest;
   st.gather.flat_windows += d.flat_windows;
   st.gather.recomputes += d.recomputes;
+}
+
+/** Cycles of @p rows rows of @p prep's surface computed spatially (a band's work) by the cost model. */
+bsp::Cycles band_cycles(const vision::CoarsePrepared& prep, std::int32_t rows) noexcept {
+  return bsp::cost_of(vision::ncc_surface_work(prep.tmpl.width, prep.tmpl.height, prep.surface_w, rows));
+}
+
+/** Cycles of @p prep's whole surface by the coordinator's configured method, by the cost model. */
+bsp::Cycles one_piece_cycles(const CoordState& st, const vision::CoarsePrepared& prep) noexcept {
+  if (st.cfg->coarse.coarse.method != vision::CorrelationMethod::kTransform) {
+    return band_cycles(prep, prep.surface_h);
+  }
+  bsp::Work whole = vision::ncc_score_work(prep.surface_w, prep.surface_h);
+  whole += vision::transform_dots_work(prep.tmpl.width, prep.tmpl.height, prep.window.width, prep.window.height);
+  return bsp::cost_of(whole);
 }
 
 /** The vision tiles that answer and are trusted, as indices into the tile list; @return how many. */
@@ -493,7 +505,9 @@ std::uint32_t send_band(const CoordState& st, const std::array<std::uint32_t, kM
  * Deals the rows of @p prep's surface in bands over the vision tiles that
  * answer and are trusted (one band each, more when a slot cannot hold a
  * tile's share) and sends them. @return the bands a tile got at most;
- * 0 when nothing was dealt (no such tile, or bands too many for a slot).
+ * 0 when nothing was dealt: no such tile, bands too many for the slots, or
+ * so few tiles that their bands in turn cost more than the whole surface
+ * on this tile (by the cost model: below about 8 tiles).
  */
 std::uint32_t deal_coarse_bands(CoordState& st, VisionCoordStats& stats, const vision::CoarsePrepared& prep) noexcept {
   st.band_count = 0U;
@@ -506,7 +520,10 @@ std::uint32_t deal_coarse_bands(CoordState& st, VisionCoordStats& stats, const v
   }
   const auto need = static_cast<std::uint32_t>((sh + rows_max - 1) / rows_max);
   const std::uint32_t n = need > n_working ? need : n_working;
-  if (n > kMaxCoarseBands) {
+  // Too few tiles (their bands in turn would take longer than the whole here), or too many bands.
+  const auto rows = static_cast<std::int32_t>((static_cast<std::uint32_t>(sh) + n - 1U) / n);
+  const bsp::Cycles per_tile_cycles = band_cycles(prep, rows) * ((n + n_working - 1U) / n_working);
+  if (n > kMaxCoarseBands || per_tile_cycles >= one_piece_cycles(st, prep)) {
     return 0U;
   }
   st.band_count = n;
@@ -522,7 +539,7 @@ std::uint32_t deal_coarse_bands(CoordState& st, VisionCoordStats& stats, const v
       continue;
     }
     pack_coarse_band(CoarseBand{st.frame.seq, b.row0, b.rows, prep.window.width, prep.window.height, prep.tx0, prep.ty0,
-                                prep.tmpl.width, prep.tmpl.height},
+                                prep.tmpl.width, prep.tmpl.height, i},
                      w);
     k::checkin();
     const std::uint32_t at = send_band(st, working, n_working, i % n_working, w);
@@ -571,18 +588,11 @@ vision::Status redo_bands(CoordState& st, VisionCoordStats& stats, const vision:
   }
   // Band by band (spatially), or the whole surface by the configured method (the transform)
   // when that costs less by the cost model: it gives the same surface.
-  const bsp::Cycles bands = bsp::cost_of(vision::ncc_surface_work(prep.tmpl.width, prep.tmpl.height, prep.surface_w, missing));
-  bsp::Work whole = vision::ncc_score_work(prep.surface_w, prep.surface_h);
-  if (st.cfg->coarse.coarse.method == vision::CorrelationMethod::kTransform) {
-    whole += vision::transform_dots_work(prep.tmpl.width, prep.tmpl.height, prep.window.width, prep.window.height);
-  } else {
-    whole = vision::ncc_surface_work(prep.tmpl.width, prep.tmpl.height, prep.surface_w, prep.surface_h);
-  }
-  if (missing > 0 && bsp::cost_of(whole) < bands) {
+  if (missing > 0 && one_piece_cycles(st, prep) < band_cycles(prep, missing)) {
     one_piece = true;
     return coarse_one_piece(st, prep, out);
   }
-  CoarseBandSlot* own = coarse_band_slot(bsp::current_tile());
+  CoarseBandSlot* own = coarse_band_slot(kCoordinatorBandSlot);
   for (std::uint32_t j = 0; j < st.band_count && own != nullptr; ++j) {
     CoarseBandJob& b = st.bands[j];
     if (b.done) {

@@ -72,10 +72,10 @@ std::uint8_t* ddr_carve_named(const char* what, std::size_t bytes, std::size_t a
                                        : nullptr;
 }
 
-CoarseBandSlot* coarse_band_slot(bsp::TileId tile) noexcept {
+CoarseBandSlot* coarse_band_slot(std::uint32_t index) noexcept {
   auto* slots = reinterpret_cast<CoarseBandSlots*>(  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
       const_cast<std::uint8_t*>(ddr_find(kCoarseBandCarveName)));  // NOLINT(cppcoreguidelines-pro-type-const-cast): shared DDR slots
-  return slots == nullptr || tile >= bsp::kMaxTiles ? nullptr : &slots->slot[tile];
+  return slots == nullptr || index > kCoordinatorBandSlot ? nullptr : &slots->slot[index];
 }
 
 std::int32_t coarse_band_rows_max(const vision::CoarsePrepared& prep) noexcept {

@@ -53,13 +53,22 @@ struct CoarseBandSlot {
   }
 };
 
-/** The slots, by tile id (a tile computes its bands one at a time). */
+/** Bands of the coarse surface at most in a frame: one per vision tile, more when a slot cannot hold a tile's share. */
+inline constexpr std::uint32_t kMaxCoarseBands = 64;
+/** The slot of a band the coordinator computes itself (no tile writes there). */
+inline constexpr std::uint32_t kCoordinatorBandSlot = kMaxCoarseBands;
+
+/**
+ * The slots, by band (band j of a frame is computed in slot j, by the one tile
+ * it is dealt to: a tile given two bands never overwrites the first before
+ * the coordinator has copied it), and the coordinator's own.
+ */
 struct CoarseBandSlots {
-  CoarseBandSlot slot[bsp::kMaxTiles];
+  CoarseBandSlot slot[kMaxCoarseBands + 1U];
 };
 
-/** Tile @p tile's band slot, or nullptr before the coordinator carved them. [task] */
-CoarseBandSlot* coarse_band_slot(bsp::TileId tile) noexcept;
+/** Band slot @p index (0 .. kCoordinatorBandSlot), or nullptr before the coordinator carved them or out of range. [task] */
+CoarseBandSlot* coarse_band_slot(std::uint32_t index) noexcept;
 
 /** The most rows of @p prep's surface one slot holds (0: not even one). */
 std::int32_t coarse_band_rows_max(const vision::CoarsePrepared& prep) noexcept;

@@ -135,11 +135,10 @@ constexpr std::uint32_t kBandBadLayout = 0xF1U;    ///< the request does not des
 /**
  * A band of the coarse stage's surface: the decimated template over the
  * decimated map region, both in the coordinator's coarse workspace (DDR),
- * computed and checked into this tile's slot; answered with what the checks found.
+ * computed and checked into the band's slot; answered with what the checks found.
  */
 void coarse_band_request(VisionWorkerStats& stats, bsp::TileId from, const CoarseBand& b) noexcept {
-  const bsp::TileId self = bsp::current_tile();
-  CoarseBandSlot* slot = coarse_band_slot(self);
+  CoarseBandSlot* slot = b.slot < kMaxCoarseBands ? coarse_band_slot(b.slot) : nullptr;
   const auto* ws = reinterpret_cast<const vision::CoarseFrameWorkspace*>(  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
       ddr_find(kCoarseWsCarveName));
   CoarseBandDone done{};

@@ -657,6 +657,13 @@ TEST_F(TrnMissionBinary, VisionTilesChoosesHowManyTheCoordinatorUses) {
   ASSERT_EQ(run(binary() + " --quiet --duration 3 --vision-tiles 10 --out " + (dir_ / "v10").string()), 0);
   const nlohmann::json s = read_json(dir_ / "v10" / "summary.json");
   EXPECT_EQ(s["vision_tiles_used"], 10);
+  // The coarse stage's 193 rows in 13 bands of 15 (a slot holds 16): three tiles take two each,
+  // and each band has its own slot, so none is overwritten before it is gathered (with one slot
+  // per tile the second band overwrote the first and the copies failed their digests).
+  EXPECT_EQ(s["coarse_bands_sent"], 13);
+  EXPECT_EQ(s["coarse_bands_redone"], 0);
+  EXPECT_EQ(s["coarse_one_piece"], 0);
+  EXPECT_EQ(s["coarse_accepted"], 1);
   EXPECT_EQ(run(binary() + " --quiet --vision-tiles 0 --out " + (dir_ / "v0").string()), 2);
   EXPECT_EQ(run(binary() + " --quiet --vision-tiles 41 --out " + (dir_ / "v41").string()), 2);
 }
@@ -671,6 +678,10 @@ TEST_F(TrnMissionBinary, FiveVisionTilesRelightTheCoarseLayerWithoutBeingReset) 
   EXPECT_EQ(count_of(log, "task_overdue"), 0U) << log;
   EXPECT_EQ(count_of(log, "tile_reset"), 0U);
   EXPECT_EQ(s["coarse_accepted"], 1) << "the coarse fix within the first frames";
+  // Five tiles would take three bands each, longer than the whole surface by the transform on
+  // the coordinator: it correlates in one piece.
+  EXPECT_EQ(s["coarse_one_piece"], 1);
+  EXPECT_EQ(s["coarse_bands_sent"], 0);
 }
 
 // FDIR-AB-04: a corrupted product inside the flown filter (an exponent bit of one element of F P,

@@ -136,7 +136,7 @@ TEST(TrnMessages, TheNavMessageCarriesTheMapRelativeAndTheWorldVariances) {
 }
 
 TEST(TrnMessages, CoarseBandsRoundTripAndRefuseMalformedWords) {
-  const tt::CoarseBand b{7U, 40, 5, 256, 256, 96, 96, 64, 64};
+  const tt::CoarseBand b{7U, 40, 5, 256, 256, 96, 96, 64, 64, 12U};
   std::array<std::uint32_t, tt::kCoarseBandWords> w{};
   tt::pack_coarse_band(b, w);
   tt::CoarseBand got{};
@@ -150,6 +150,7 @@ TEST(TrnMessages, CoarseBandsRoundTripAndRefuseMalformedWords) {
   EXPECT_EQ(got.tmpl_y, 96);
   EXPECT_EQ(got.tmpl_w, 64);
   EXPECT_EQ(got.tmpl_h, 64);
+  EXPECT_EQ(got.slot, 12U);
   std::array<std::uint32_t, tt::kCoarseBandWords> bad = w;
   bad[6] = 64U;  // a template of height 0
   EXPECT_FALSE(tt::unpack_coarse_band(bad, got));
