@@ -14,6 +14,15 @@ static_assert(kCorrelationMaxRecompute == fdir::kAbftMaxRecompute, "one recomput
 
 namespace {
 
+/** Records one computation's checks (@p bad) in the outcome; @return whether it passed. */
+bool attempt_passed(CorrelationCheck bad, bool& check_failed, CorrelationCheck& first_check) noexcept {
+  check_failed = bad != CorrelationCheck::kNone;
+  if (check_failed && first_check == CorrelationCheck::kNone) {
+    first_check = bad;
+  }
+  return !check_failed;
+}
+
 /** One correlation's inputs and outputs, for its computations and checks. */
 struct SurfaceJob {
   ConstImageU8 tmpl;
@@ -123,12 +132,8 @@ Status checked_surface(const SurfaceJob& j, const QualityParams& q, MatchResult&
       out.peak = find_peak(j.surface.as_const(), q, work);
       bad = verify_peak(j, integral, check, out.peak, work);
     }
-    out.check_failed = bad != CorrelationCheck::kNone;
-    if (!out.check_failed) {
+    if (attempt_passed(bad, out.check_failed, out.first_check)) {
       break;
-    }
-    if (out.first_check == CorrelationCheck::kNone) {
-      out.first_check = bad;
     }
   }
   return Status::kOk;
@@ -278,12 +283,8 @@ Status correlate_band(ConstImageU8 tmpl, ConstImageU8 window, std::int32_t row0,
       bad = CorrelationCheck::kSurface;
     }
     out.digest = check.surface_sum;
-    out.check_failed = bad != CorrelationCheck::kNone;
-    if (!out.check_failed) {
+    if (attempt_passed(bad, out.check_failed, out.first_check)) {
       break;
-    }
-    if (out.first_check == CorrelationCheck::kNone) {
-      out.first_check = bad;
     }
   }
   return Status::kOk;
