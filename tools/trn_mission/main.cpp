@@ -503,6 +503,7 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("integrity_bad_sigma", static_cast<double>(ni.bad_sigma));
   s.extra.emplace_back("landmarks_selected", c.landmarks_selected);
   s.extra.emplace_back("coarse_accepted", c.coarse_accepted);
+  s.extra.emplace_back("vision_frames_before_ready", c.frames_before_ready);
   // The coarse stage's bands: dealt to the vision tiles, computed by the coordinator instead.
   s.extra.emplace_back("coarse_bands_sent", c.coarse_bands_sent);
   s.extra.emplace_back("coarse_bands_redone", c.coarse_bands_redone);

@@ -111,6 +111,7 @@ struct CoordState {
   std::array<std::uint16_t, kMaxMatchesPerFrame + 1U> order;  ///< order_matches(): the match each place takes
   std::array<bool, kMaxMatchesPerFrame + 1U> placed;          ///< order_matches(): places filled
   std::uint32_t rate_div;       ///< the vision supervisor's image rate: a frame whose seq it does not divide is left out
+  double ready_s;               ///< when the set-up ended: a frame captured before is not processed
 };
 
 /** Idle poll period of the coordinator (results, notices and solutions are drained each time). */
@@ -129,6 +130,14 @@ k::Ticks seconds_to_ticks(double s) noexcept {
 }
 
 // ------------------------------------------------------------------ coordinator: set-up
+
+void drain_nav(CoordState& st) noexcept;
+
+/**
+ * Grid cells the landmark selection searches between two drains of the
+ * filter's solutions (~15 ms of this tile; 16 cells of 32 px).
+ */
+constexpr std::int32_t kSelectCellsPerStep = 16;
 
 /** Set-up steps as kVisionSetUpFailed names them (its subject). */
 enum class SetUpStep : std::uint32_t { kLists = 1, kMapProduct = 2, kCarves = 3, kSelection = 4, kRelight = 5 };
@@ -172,11 +181,25 @@ bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
   // The product's elevation is int16 counts, the selection's optional view is
   // metres as float: the selection runs on the image alone and each chosen
   // landmark's 3D position is then read from the product.
+  // The selection takes ~0.9 s of this tile: in steps, the filter's solutions taken between
+  // them. In one block the filter's stream to this tile filled, and the filter gave up ~45
+  // packets at every start (packet_gave_up, packet_settled in a fault-free flight).
   bsp::Work work{};
-  const vision::Status selected =
-      vision::select_landmarks(st.fine.image, vision::ConstImageF32{}, st.fine.geo, st.cfg->select, *st.table, work);
-  if (selected != vision::Status::kOk) {
-    return set_up_failed(SetUpStep::kSelection, static_cast<std::uint32_t>(selected));
+  vision::SelectProgress progress{};
+  for (std::uint32_t step = 0; step <= vision::kMaxLandmarks && !progress.done; ++step) {
+    const vision::Status selected = vision::select_landmarks_step(
+        st.fine.image, vision::ConstImageF32{}, st.fine.geo, st.cfg->select, *st.table, progress, kSelectCellsPerStep,
+        work);
+    if (selected != vision::Status::kOk) {
+      return set_up_failed(SetUpStep::kSelection, static_cast<std::uint32_t>(selected));
+    }
+    bsp::consume(work);
+    work = bsp::Work{};
+    k::checkin();
+    drain_nav(st);
+  }
+  if (!progress.done) {
+    return set_up_failed(SetUpStep::kSelection, static_cast<std::uint32_t>(vision::Status::kTooLarge));
   }
   for (std::uint32_t i = 0; i < st.table->count; ++i) {
     vision::Landmark& lm = st.table->items[i];
@@ -226,6 +249,7 @@ bool relight_coarse(CoordState& st) noexcept {
   const k::Ticks until = k::now_ticks() + kRelightWaitTicks * (n != 0U && n < kRelightSharers ? kRelightSharers / n : 1U);
   udn::FtMessage m{};
   while (done < n && k::now_ticks() < until) {
+    drain_nav(st);
     while (udn::endpoint_receive(kChanResult, m) == udn::FtError::kOk) {
       RelightBand band{};
       if (!unpack_relight(kMsgRelightDone, std::span<const std::uint32_t>(m.data.data(), m.data_words), band)) {
@@ -800,6 +824,10 @@ void start_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   vision::PosePrior prior{};
   const std::uint64_t bytes = static_cast<std::uint64_t>(st.frame.width_px) * st.frame.height_px;
   const std::uint8_t* pixels = ddr_at(st.frame.ddr_offset, bytes);
+  if (st.frame.t_s < st.ready_s) {
+    ++stats.frames_before_ready;  // see frames_before_ready
+    return;
+  }
   if (st.frame.status != 0U || pixels == nullptr || !prior_at(st, st.frame.t_s, prior)) {
     ++stats.frames_skipped;
     return;
@@ -1064,6 +1092,7 @@ void vision_coord_main(void* arg) noexcept {
     (void)set_up_failed(SetUpStep::kRelight, 0U);
     return;
   }
+  st->ready_s = static_cast<double>(bsp::now()) / static_cast<double>(bsp::tick_cycles()) * 1e-3;
   for (;;) {
     drain_nav(*st);
     drain_notices(*st, stats);

@@ -110,6 +110,10 @@ struct VisionCoordStats {
   std::uint32_t frames_seen;
   std::uint32_t frames_processed;     ///< planned and sent out
   std::uint32_t frames_skipped;       ///< no prior, bad notice, or busy with another frame
+  /// Frames captured before the coordinator's set-up ended (the frame at 1 s): not processed.
+  /// Processed, the first frame's batch comes with the attitude still ~1 deg off and, in
+  /// `make integrity`, put one output of seed 38 beyond 5-sigma (docs/VISION.md, "Coarse stage in bands").
+  std::uint32_t frames_before_ready;
   std::uint32_t coarse_runs;
   std::uint32_t coarse_accepted;
   std::uint32_t coarse_bands_sent;    ///< bands of the coarse surface sent to vision tiles

@@ -119,10 +119,13 @@ bool params_ok(ConstImageU8 map, ConstImageF32 elev, const SelectParams& p) noex
 }  // namespace
 }  // namespace detail
 
-Status select_landmarks(ConstImageU8 map, ConstImageF32 elevation_m, const MapGeometry& geo,
-                        const SelectParams& p, LandmarkTable& table, bsp::Work& work) noexcept {
-  table.count = 0;
-  if (!detail::params_ok(map, elevation_m, p)) {
+Status select_landmarks_step(ConstImageU8 map, ConstImageF32 elevation_m, const MapGeometry& geo,
+                             const SelectParams& p, LandmarkTable& table, SelectProgress& progress,
+                             std::int32_t max_cells, bsp::Work& work) noexcept {
+  if (progress.next_cell == 0) {
+    table.count = 0;
+  }
+  if (!detail::params_ok(map, elevation_m, p) || max_cells <= 0 || progress.next_cell < 0) {
     return Status::kBadInput;
   }
   const detail::Grid g{(map.width + p.cell_px - 1) / p.cell_px, (map.height + p.cell_px - 1) / p.cell_px};
@@ -130,12 +133,21 @@ Status select_landmarks(ConstImageU8 map, ConstImageF32 elevation_m, const MapGe
   if (static_cast<std::int64_t>(g.cols) * g.rows > static_cast<std::int64_t>(kMaxLandmarks)) {
     return Status::kTooLarge;
   }
-  // Pass 1: one candidate per cell, stored at the cell's index (corner 0 marks an empty cell).
-  for (std::int32_t i = 0; i < cells; ++i) {
+  if (progress.next_cell > cells) {
+    return Status::kBadInput;
+  }
+  // Pass 1, up to max_cells cells of it: one candidate per cell, stored at the cell's index
+  // (corner 0 marks an empty cell).
+  const std::int32_t stop = cells - progress.next_cell > max_cells ? progress.next_cell + max_cells : cells;
+  for (std::int32_t i = progress.next_cell; i < stop; ++i) {
     table.items[i] = Landmark{};
     if (!detail::best_in_cell(map, p, i % g.cols, i / g.cols, table.items[i], work)) {
       table.items[i].corner = 0.0F;
     }
+  }
+  progress.next_cell = stop;
+  if (stop < cells) {
+    return Status::kOk;  // more cells to do: call again
   }
   // Pass 2: decide suppression on the unmodified candidates, then compact in cell order.
   for (std::int32_t i = 0; i < cells; ++i) {
@@ -153,8 +165,16 @@ Status select_landmarks(ConstImageU8 map, ConstImageF32 elevation_m, const MapGe
     }
   }
   table.count = n;
+  progress.done = true;
   work.int_ops += static_cast<std::uint64_t>(cells) * 40U;
   return Status::kOk;
+}
+
+Status select_landmarks(ConstImageU8 map, ConstImageF32 elevation_m, const MapGeometry& geo,
+                        const SelectParams& p, LandmarkTable& table, bsp::Work& work) noexcept {
+  SelectProgress progress{};
+  return select_landmarks_step(map, elevation_m, geo, p, table, progress, static_cast<std::int32_t>(kMaxLandmarks),
+                               work);
 }
 
 }  // namespace trn::vision

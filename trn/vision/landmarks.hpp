@@ -73,6 +73,24 @@ struct SelectParams {
 Status select_landmarks(ConstImageU8 map, ConstImageF32 elevation_m, const MapGeometry& geo,
                         const SelectParams& p, LandmarkTable& table, bsp::Work& work) noexcept;
 
+/** Where a stepwise selection stands: the next grid cell to search; done once the table is final. */
+struct SelectProgress {
+  std::int32_t next_cell = 0;
+  bool done = false;
+};
+
+/**
+ * select_landmarks() in steps, so that a task can do other work between them:
+ * each call searches at most @p max_cells more grid cells, and the call that
+ * searches the last one decides and compacts the table (@p progress done).
+ * Start with a fresh @p progress (the first call clears the table); the table
+ * is the one select_landmarks() gives, whatever the steps. Errors as
+ * select_landmarks(), and kBadInput for max_cells <= 0 or a progress past the grid.
+ */
+Status select_landmarks_step(ConstImageU8 map, ConstImageF32 elevation_m, const MapGeometry& geo,
+                             const SelectParams& p, LandmarkTable& table, SelectProgress& progress,
+                             std::int32_t max_cells, bsp::Work& work) noexcept;
+
 /** Patch statistics used by the selection: corner strength and standard deviation. */
 void patch_strength(ConstImageU8 map, std::int32_t col, std::int32_t row, std::int32_t patch_px, float& corner,
                     float& stddev, bsp::Work& work) noexcept;

@@ -651,6 +651,21 @@ TEST_F(TrnMissionBinary, AnSdcAtEachNamedPointReachesTheValueThere) {
   EXPECT_GT(s["final_position_error_m"].get<double>(), 10.0 * clean["final_position_error_m"].get<double>());
 }
 
+// The coordinator's start (landmark selection, ~0.9 s of its tile) takes the filter's solutions
+// between its steps: a fault-free flight gives up no packet (before, the filter's stream to the
+// coordinator filled and ~45 packets were given up and settled at every start, DETECT lines in a
+// clean events.log). The frame captured before the start ended is not processed, and says so.
+TEST_F(TrnMissionBinary, TheCoordinatorsStartGivesUpNoPacketAndSkipsTheEarlyFrameOnPurpose) {
+  ASSERT_EQ(run(binary() + " --duration 3 --quiet --no-plots --seed 2 --out " + (dir_ / "st").string()), 0);
+  const nlohmann::json s = read_json(dir_ / "st" / "summary.json");
+  const std::string log = read_text(dir_ / "st" / "events.log");
+  EXPECT_EQ(count_of(log, "packet_gave_up"), 0U) << log;
+  EXPECT_EQ(count_of(log, "packet_settled"), 0U);
+  EXPECT_EQ(count_of(log, "DETECT"), 0U) << "a fault-free flight detects nothing";
+  EXPECT_EQ(s["vision_frames_before_ready"], 1) << "the frame captured at 1 s";
+  EXPECT_EQ(s["coarse_accepted"], 1);
+}
+
 // --vision-tiles gives the coordinator N of the 40 vision tiles; the summary says how many; a
 // count outside 1..40 is refused before anything is built.
 TEST_F(TrnMissionBinary, VisionTilesChoosesHowManyTheCoordinatorUses) {

@@ -155,4 +155,44 @@ TEST(Landmarks, SelectionMakesNoHeapAllocation) {
   EXPECT_EQ(allocs, 0U);
 }
 
+// The coordinator selects in steps and takes the filter's solutions between them: any step size gives the
+// table select_landmarks() gives, bit for bit, and the same counted work; bad steps are refused.
+TEST(Landmarks, SelectionInStepsGivesTheSameTableAndWork) {
+  const std::uint64_t seed = 83;
+  const Image map = vision_test::smooth_texture(700, 520, 2, seed);
+  const tv::MapGeometry geo{6.0, 100.0, 900.0};
+  static tv::LandmarkTable whole;
+  static tv::LandmarkTable stepped;
+  bsp::Work w_whole;
+  ASSERT_EQ(tv::select_landmarks(map.view(), {}, geo, tv::SelectParams{}, whole, w_whole), tv::Status::kOk);
+  ASSERT_GT(whole.count, 20U) << "seed " << seed;
+  for (const std::int32_t per_step : {1, 7, 16, 1000}) {
+    tv::SelectProgress progress{};
+    bsp::Work w_steps;
+    std::uint32_t calls = 0;
+    while (!progress.done && calls < 10000U) {
+      ASSERT_EQ(tv::select_landmarks_step(map.view(), {}, geo, tv::SelectParams{}, stepped, progress, per_step, w_steps),
+                tv::Status::kOk);
+      ++calls;
+    }
+    ASSERT_TRUE(progress.done) << per_step;
+    EXPECT_EQ(calls, static_cast<std::uint32_t>((progress.next_cell + per_step - 1) / per_step)) << per_step;
+    ASSERT_EQ(stepped.count, whole.count) << per_step;
+    for (std::uint32_t i = 0; i < whole.count; ++i) {
+      EXPECT_EQ(stepped.items[i].col_px, whole.items[i].col_px) << per_step << " " << i;
+      EXPECT_EQ(stepped.items[i].row_px, whole.items[i].row_px) << per_step << " " << i;
+      EXPECT_EQ(stepped.items[i].corner, whole.items[i].corner) << per_step << " " << i;
+      EXPECT_EQ(stepped.items[i].p_m[0], whole.items[i].p_m[0]) << per_step << " " << i;
+      EXPECT_EQ(stepped.items[i].p_m[1], whole.items[i].p_m[1]) << per_step << " " << i;
+    }
+    EXPECT_EQ(w_steps.int_macs, w_whole.int_macs) << per_step;
+    EXPECT_EQ(w_steps.int_ops, w_whole.int_ops) << per_step;
+  }
+  tv::SelectProgress bad{};
+  bsp::Work w;
+  EXPECT_EQ(tv::select_landmarks_step(map.view(), {}, geo, tv::SelectParams{}, stepped, bad, 0, w), tv::Status::kBadInput);
+  bad.next_cell = 1 << 20;
+  EXPECT_EQ(tv::select_landmarks_step(map.view(), {}, geo, tv::SelectParams{}, stepped, bad, 16, w), tv::Status::kBadInput);
+}
+
 }  // namespace
