@@ -148,6 +148,29 @@ bool set_up_failed(SetUpStep step, std::uint32_t status) noexcept {
   return false;
 }
 
+/**
+ * The landmark selection (~0.9 s of this tile) in steps, the filter's
+ * solutions taken between them. In one block the filter's stream to this
+ * tile filled, and the filter gave up ~45 packets at every start
+ * (packet_gave_up, packet_settled in a fault-free flight).
+ */
+vision::Status select_in_steps(CoordState& st) noexcept {
+  vision::SelectProgress progress{};
+  for (std::uint32_t step = 0; step <= vision::kMaxLandmarks && !progress.done; ++step) {
+    bsp::Work work{};
+    const vision::Status s = vision::select_landmarks_step(st.fine.image, vision::ConstImageF32{}, st.fine.geo,
+                                                           st.cfg->select, *st.table, progress, kSelectCellsPerStep,
+                                                           work);
+    bsp::consume(work);
+    if (s != vision::Status::kOk) {
+      return s;
+    }
+    k::checkin();
+    drain_nav(st);
+  }
+  return progress.done ? vision::Status::kOk : vision::Status::kTooLarge;
+}
+
 bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
   const bsp::MapProductHeader* product = bsp::map_product_find();
   if (product == nullptr || vision::map_view(product, bsp::kMapLayerFine, st.fine) != vision::Status::kOk ||
@@ -181,26 +204,11 @@ bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
   // The product's elevation is int16 counts, the selection's optional view is
   // metres as float: the selection runs on the image alone and each chosen
   // landmark's 3D position is then read from the product.
-  // The selection takes ~0.9 s of this tile: in steps, the filter's solutions taken between
-  // them. In one block the filter's stream to this tile filled, and the filter gave up ~45
-  // packets at every start (packet_gave_up, packet_settled in a fault-free flight).
+  const vision::Status selected = select_in_steps(st);
+  if (selected != vision::Status::kOk) {
+    return set_up_failed(SetUpStep::kSelection, static_cast<std::uint32_t>(selected));
+  }
   bsp::Work work{};
-  vision::SelectProgress progress{};
-  for (std::uint32_t step = 0; step <= vision::kMaxLandmarks && !progress.done; ++step) {
-    const vision::Status selected = vision::select_landmarks_step(
-        st.fine.image, vision::ConstImageF32{}, st.fine.geo, st.cfg->select, *st.table, progress, kSelectCellsPerStep,
-        work);
-    if (selected != vision::Status::kOk) {
-      return set_up_failed(SetUpStep::kSelection, static_cast<std::uint32_t>(selected));
-    }
-    bsp::consume(work);
-    work = bsp::Work{};
-    k::checkin();
-    drain_nav(st);
-  }
-  if (!progress.done) {
-    return set_up_failed(SetUpStep::kSelection, static_cast<std::uint32_t>(vision::Status::kTooLarge));
-  }
   for (std::uint32_t i = 0; i < st.table->count; ++i) {
     vision::Landmark& lm = st.table->items[i];
     bsp::map_pixel_position(product, bsp::kMapLayerFine, static_cast<std::uint32_t>(lm.col_px),
