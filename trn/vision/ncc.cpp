@@ -41,6 +41,66 @@ std::uint32_t dot_at(ConstImageU8 tmpl, ConstImageU8 window, std::int32_t x, std
   return acc;
 }
 
+/** Offsets one pass of dots_along_row() computes: a constant trip count the compiler can vectorise. */
+constexpr std::int32_t kLanes = 16;
+
+/**
+ * The dot products at offsets x0 .. x0 + kLanes - 1 of row @p y, all on the
+ * surface: for each template pixel, its value times kLanes consecutive window
+ * pixels, added lane by lane (no reduction across lanes). The same integers
+ * as dot_at(), in another order of the same exact additions.
+ */
+void dots_along_row(ConstImageU8 tmpl, ConstImageU8 window, std::int32_t x0, std::int32_t y,
+                    std::uint32_t (&out)[kLanes]) noexcept {
+  std::uint32_t acc[kLanes] = {};
+  for (std::int32_t j = 0; j < tmpl.height; ++j) {
+    const std::uint8_t* t = tmpl.row(j);
+    const std::uint8_t* w = window.row(y + j) + x0;
+    for (std::int32_t i = 0; i < tmpl.width; ++i) {
+      const auto tv = static_cast<std::uint32_t>(t[i]);
+      const std::uint8_t* wi = w + i;
+      for (std::int32_t k = 0; k < kLanes; ++k) {
+        acc[k] += tv * static_cast<std::uint32_t>(wi[k]);
+      }
+    }
+  }
+  for (std::int32_t k = 0; k < kLanes; ++k) {
+    out[k] = acc[k];
+  }
+}
+
+/**
+ * dot_at() for a surface visited row by row, left to right: kLanes offsets
+ * computed at once (dots_along_row()) and served from there; a row's last
+ * pass is moved left to end on the surface's last offset. Surfaces narrower
+ * than kLanes go offset by offset.
+ */
+class RowDots {
+ public:
+  RowDots(ConstImageU8 tmpl, ConstImageU8 window, std::int32_t surface_width) noexcept
+      : tmpl_(tmpl), window_(window), width_(surface_width) {}
+
+  std::uint32_t operator()(std::int32_t x, std::int32_t y) noexcept {
+    if (width_ < kLanes) {
+      return dot_at(tmpl_, window_, x, y);
+    }
+    if (y != y_ || x < x0_ || x >= x0_ + kLanes) {
+      x0_ = x <= width_ - kLanes ? x : width_ - kLanes;
+      y_ = y;
+      dots_along_row(tmpl_, window_, x0_, y_, dots_);
+    }
+    return dots_[x - x0_];
+  }
+
+ private:
+  ConstImageU8 tmpl_;
+  ConstImageU8 window_;
+  std::int32_t width_;
+  std::int32_t y_ = -1;
+  std::int32_t x0_ = 0;
+  std::uint32_t dots_[kLanes] = {};
+};
+
 /** One score from exact integer terms; flat windows give 0. */
 float score_of(std::int64_t num, std::int64_t var_t, std::int64_t var_w) noexcept {
   const double den = std::sqrt(static_cast<double>(var_t) * static_cast<double>(var_w));
@@ -197,8 +257,9 @@ Status ncc_surface(ConstImageU8 tmpl, const TemplateStats& stats, ConstImageU8 w
     return Status::kBadInput;
   }
   NccCheck none;
+  detail::RowDots row_dots(tmpl, window, surface.width);
   detail::score_surface(stats, integral, surface, flags, flat_count, check != nullptr ? *check : none,
-                        [&](std::int32_t x, std::int32_t y) { return detail::dot_at(tmpl, window, x, y); });
+                        [&row_dots](std::int32_t x, std::int32_t y) { return row_dots(x, y); });
   work += ncc_surface_work(tmpl.width, tmpl.height, surface.width, surface.height);
   detail::charge_check(check, surface, work);
   return Status::kOk;

@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <cstring>
@@ -117,39 +118,44 @@ void expect_same_match(const tv::MatchResult& a, const std::vector<float>& sa, c
 // template against the window's box sums, and every score computed alone equals the surface's bit
 // for bit (random windows with flat patches, whose dot products enter by their exact value).
 TEST(CheckedCorrelation, TheChecksumIsExactAndEveryScoreAloneEqualsTheSurface) {
-  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
-    Image win = vision_test::random_image(23, 17, seed);
-    for (std::int32_t y = 0; y < 8; ++y)
-      for (std::int32_t x = 0; x < 9; ++x) win.at(x, y) = 77U;  // flat windows at the top left
-    const Image t = vision_test::random_image(7, 5, seed + 100U);
-    static tv::FixedIntegral<32, 32> ii;
-    bsp::Work work;
-    ASSERT_EQ(ii.build(win.view(), work), tv::Status::kOk);
-    tv::TemplateStats stats;
-    ASSERT_EQ(tv::template_stats(t.view(), stats, work), tv::Status::kOk);
-    const std::int32_t sw = 23 - 7 + 1;
-    const std::int32_t sh = 17 - 5 + 1;
-    std::vector<float> surf(static_cast<std::size_t>(sw * sh));
-    std::int32_t flat = 0;
-    tv::NccCheck check;
-    ASSERT_EQ(tv::ncc_surface(t.view(), stats, win.view(), ii.ref(), tv::ImageF32{surf.data(), sw, sh, sw},
-                              tv::ImageU8{}, flat, work, &check),
-              tv::Status::kOk);
-    EXPECT_GT(flat, 0) << "seed " << seed;
-    std::int64_t naive = 0;
-    for (std::int32_t oy = 0; oy < sh; ++oy)
-      for (std::int32_t ox = 0; ox < sw; ++ox)
-        for (std::int32_t y = 0; y < 5; ++y)
-          for (std::int32_t x = 0; x < 7; ++x) naive += std::int64_t{t.at(x, y)} * win.at(ox + x, oy + y);
-    EXPECT_EQ(check.dot_sum, naive) << "seed " << seed;
-    EXPECT_EQ(tv::ncc_dot_checksum(t.view(), ii.ref(), sw, sh, work), naive) << "seed " << seed;
-    const tv::ConstImageF32 s{surf.data(), sw, sh, sw};
-    EXPECT_EQ(tv::surface_digest(s, work), check.surface_sum);
-    for (std::int32_t oy = 0; oy < sh; ++oy)
-      for (std::int32_t ox = 0; ox < sw; ++ox)
-        ASSERT_EQ(std::bit_cast<std::uint32_t>(tv::ncc_score_at(t.view(), stats, win.view(), ii.ref(), ox, oy, work)),
-                  std::bit_cast<std::uint32_t>(s.at(ox, oy)))
-            << "seed " << seed << " offset " << ox << "," << oy;
+  // Window widths give surfaces 1 to 40 wide: below, at and above the 16 offsets the surface
+  // computes at once (a row's last pass moved left to end on its last offset), against each
+  // score computed alone, offset by offset.
+  for (const std::int32_t ww : {7, 12, 22, 23, 31, 46}) {
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+      Image win = vision_test::random_image(ww, 17, seed);
+      for (std::int32_t y = 0; y < 8; ++y)
+        for (std::int32_t x = 0; x < std::min(9, ww); ++x) win.at(x, y) = 77U;  // flat windows at the top left
+      const Image t = vision_test::random_image(7, 5, seed + 100U);
+      static tv::FixedIntegral<64, 32> ii;
+      bsp::Work work;
+      ASSERT_EQ(ii.build(win.view(), work), tv::Status::kOk);
+      tv::TemplateStats stats;
+      ASSERT_EQ(tv::template_stats(t.view(), stats, work), tv::Status::kOk);
+      const std::int32_t sw = ww - 7 + 1;
+      const std::int32_t sh = 17 - 5 + 1;
+      std::vector<float> surf(static_cast<std::size_t>(sw * sh));
+      std::int32_t flat = 0;
+      tv::NccCheck check;
+      ASSERT_EQ(tv::ncc_surface(t.view(), stats, win.view(), ii.ref(), tv::ImageF32{surf.data(), sw, sh, sw},
+                                tv::ImageU8{}, flat, work, &check),
+                tv::Status::kOk);
+      EXPECT_GT(flat, 0) << "seed " << seed;
+      std::int64_t naive = 0;
+      for (std::int32_t oy = 0; oy < sh; ++oy)
+        for (std::int32_t ox = 0; ox < sw; ++ox)
+          for (std::int32_t y = 0; y < 5; ++y)
+            for (std::int32_t x = 0; x < 7; ++x) naive += std::int64_t{t.at(x, y)} * win.at(ox + x, oy + y);
+      EXPECT_EQ(check.dot_sum, naive) << "seed " << seed << " width " << ww;
+      EXPECT_EQ(tv::ncc_dot_checksum(t.view(), ii.ref(), sw, sh, work), naive) << "seed " << seed;
+      const tv::ConstImageF32 s{surf.data(), sw, sh, sw};
+      EXPECT_EQ(tv::surface_digest(s, work), check.surface_sum);
+      for (std::int32_t oy = 0; oy < sh; ++oy)
+        for (std::int32_t ox = 0; ox < sw; ++ox)
+          ASSERT_EQ(std::bit_cast<std::uint32_t>(tv::ncc_score_at(t.view(), stats, win.view(), ii.ref(), ox, oy, work)),
+                    std::bit_cast<std::uint32_t>(s.at(ox, oy)))
+              << "seed " << seed << " width " << ww << " offset " << ox << "," << oy;
+    }
   }
 }
 
