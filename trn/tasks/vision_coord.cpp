@@ -375,6 +375,9 @@ void drain_notices(CoordState& st, VisionCoordStats& stats) noexcept {
 void take_result(CoordState& st, VisionCoordStats& stats, const udn::FtMessage& m) noexcept {
   UnitResult r{};
   if (!unpack_result(std::span<const std::uint32_t>(m.data.data(), m.data_words), r)) {
+    // A coarse band answered after its stage was gathered (its band computed here instead): late.
+    CoarseBandDone d{};
+    stats.results_late += unpack_coarse_band_done(std::span<const std::uint32_t>(m.data.data(), m.data_words), d) ? 1U : 0U;
     return;
   }
   const std::uint32_t unit = r.unit;

@@ -124,7 +124,7 @@ struct VisionCoordStats {
   std::uint32_t units_answered;
   std::uint32_t units_lost;           ///< not answered by the deadline
   std::uint32_t units_send_failed;    ///< the network refused or had no route
-  std::uint32_t results_late;         ///< answers to a frame already closed
+  std::uint32_t results_late;         ///< answers to a frame already closed (units, and coarse bands after their stage)
   std::uint32_t planned_total;
   std::uint32_t matches_total;        ///< fine matches gathered (coarse not included)
   std::uint32_t last_frame_matches;
