@@ -94,7 +94,7 @@ constexpr double kAbftSameJobS = 0.010;
  * takes under 20 ms), reported once the landmark is done.
  */
 constexpr double kCorrelationSameLandmarkS = 0.020;
-/** ... and the coordinator's coarse stage, reported once the stage is done (about 100 ms on one tile). */
+/** ... and a band of the coarse stage, reported by the tile that computed it once the band is done (the coordinator's stage takes 40-100 ms). */
 constexpr double kCorrelationCoarseStageS = 0.300;
 
 /** Whether @p e is a checked correlation's event about the sdc @p r (same tile, a correlation point, soon after). */

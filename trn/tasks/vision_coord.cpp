@@ -599,16 +599,20 @@ std::uint32_t deal_coarse_bands(CoordState& st, VisionCoordStats& stats, const v
  */
 k::Ticks band_wait_ticks(const vision::CoarsePrepared& prep, std::int32_t rows, std::uint32_t per_tile) noexcept {
   constexpr k::Ticks kSlackTicks = 10;
-  const bsp::Cycles band = bsp::cost_of(vision::ncc_surface_work(prep.tmpl.width, prep.tmpl.height, prep.surface_w, rows));
+  const bsp::Cycles band = band_cycles(prep, rows);
   const bsp::Cycles tick = bsp::tick_cycles();
   const auto ticks = static_cast<k::Ticks>(tick == 0U ? 0U : (band + tick - 1U) / tick);
   return k::Ticks{2U} * per_tile * ticks + kSlackTicks;
 }
 
-/** The bands not gathered, computed here: band by band, or in one piece when that costs less. */
+/**
+ * The bands not gathered, computed here: band by band, or in one piece when
+ * that costs less. @p settled: @p out is the stage's result already (the
+ * surface correlated in one piece, or a band still wrong here: rejected).
+ */
 vision::Status redo_bands(CoordState& st, VisionCoordStats& stats, const vision::CoarsePrepared& prep,
-                          vision::MatchResult& out, bool& one_piece) noexcept {
-  one_piece = false;
+                          vision::MatchResult& out, bool& settled) noexcept {
+  settled = false;
   std::int32_t missing = 0;
   for (std::uint32_t j = 0; j < st.band_count; ++j) {
     CoarseBandJob& b = st.bands[j];
@@ -624,7 +628,8 @@ vision::Status redo_bands(CoordState& st, VisionCoordStats& stats, const vision:
   // Band by band (spatially), or the whole surface by the configured method (the transform)
   // when that costs less by the cost model: it gives the same surface.
   if (missing > 0 && one_piece_cycles(st, prep) < band_cycles(prep, missing)) {
-    one_piece = true;
+    settled = true;
+    ++stats.coarse_one_piece;
     return coarse_one_piece(st, prep, out);
   }
   CoarseBandSlot* own = coarse_band_slot(kCoordinatorBandSlot);
@@ -646,7 +651,7 @@ vision::Status redo_bands(CoordState& st, VisionCoordStats& stats, const vision:
       out.check_failed = true;
       out.first_check = r.first_check != vision::CorrelationCheck::kNone ? r.first_check : vision::CorrelationCheck::kSurface;
       out.peak.reason = vision::Reject::kCheckFailed;  // nothing of a band still wrong is used
-      one_piece = true;
+      settled = true;
       return vision::Status::kOk;
     }
     b.done = true;
@@ -696,10 +701,9 @@ vision::Status coarse_in_bands(CoordState& st, VisionCoordStats& stats, const vi
       k::sleep(1);
     }
   }
-  bool one_piece = false;
-  const vision::Status s = redo_bands(st, stats, prep, out, one_piece);
-  if (s != vision::Status::kOk || one_piece) {
-    stats.coarse_one_piece += one_piece ? 1U : 0U;
+  bool settled = false;
+  const vision::Status s = redo_bands(st, stats, prep, out, settled);
+  if (s != vision::Status::kOk || settled) {
     return s;
   }
   bsp::Work work{};
@@ -833,12 +837,12 @@ void start_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   st.match_count = 0;
   st.unit_count = 0;
   vision::PosePrior prior{};
-  const std::uint64_t bytes = static_cast<std::uint64_t>(st.frame.width_px) * st.frame.height_px;
-  const std::uint8_t* pixels = ddr_at(st.frame.ddr_offset, bytes);
   if (st.frame.t_s < st.ready_s) {
     ++stats.frames_before_ready;  // see frames_before_ready
     return;
   }
+  const std::uint64_t bytes = static_cast<std::uint64_t>(st.frame.width_px) * st.frame.height_px;
+  const std::uint8_t* pixels = ddr_at(st.frame.ddr_offset, bytes);
   if (st.frame.status != 0U || pixels == nullptr || !prior_at(st, st.frame.t_s, prior)) {
     ++stats.frames_skipped;
     return;
@@ -1103,6 +1107,7 @@ void vision_coord_main(void* arg) noexcept {
     (void)set_up_failed(SetUpStep::kRelight, 0U);
     return;
   }
+  // Emulated seconds, as the frames' capture times (the tick is 1 ms, as seconds_to_ticks() takes it).
   st->ready_s = static_cast<double>(bsp::now()) / static_cast<double>(bsp::tick_cycles()) * 1e-3;
   for (;;) {
     drain_nav(*st);

@@ -46,9 +46,11 @@ inline constexpr std::uint32_t kSuspectAfterMisses = 2;
 inline constexpr std::uint32_t kProbeEveryFrames = 5;
 
 /**
- * The coordinator's coarse stage: dot products by the exact transform, which
- * gives the spatial search's result bit for bit at about a fifth of its
- * cycles (docs/VISION.md, "Coarse search by an exact transform").
+ * The coordinator's coarse stage. Its correlation runs in bands on the vision
+ * tiles (spatially); when the coordinator correlates in one piece (too few
+ * tiles, or too many bands to redo) it uses the exact transform, which gives
+ * the spatial result bit for bit at about a fifth of its cycles (docs/VISION.md,
+ * "Coarse search by an exact transform", "The coarse stage in bands").
  */
 constexpr vision::CoarseFrameParams coord_coarse_params() noexcept {
   vision::CoarseFrameParams p{};
