@@ -113,6 +113,14 @@ struct AbftSite {
   std::uint32_t id = 0U;           ///< caller's number of the product (events' subject)
   std::uint32_t sdc_channel = 0U;  ///< bsp::publish_filter channel of the result before the check (0: none)
   bool rows_only = false;          ///< check the row sums only (thin products; the column is not located)
+  /**
+   * Check the row sums, and only when a row fails the column sums too, to
+   * locate the element: a clean product costs a rows-only check, a wrong one
+   * is located as by the full check. Detection is the rows' (a wrong element
+   * always fails its row; errors that cancel within one row are missed,
+   * which the column sums could catch).
+   */
+  bool rows_first = false;
 };
 
 
@@ -313,6 +321,11 @@ AbftResult abft_check(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<DB
   return r;
 }
 
+/** Flops of a passing rows-first check (AbftSite::rows_first): those of a rows-only check. */
+constexpr std::uint64_t abft_rows_first_flops(std::uint64_t m, std::uint64_t k, std::uint64_t n) noexcept {
+  return abft_rows_flops(m, k, n);
+}
+
 /** Reports a product found wrong (corrected or failed) as an event. */
 void abft_report(const AbftSite& site, const AbftResult& r) noexcept;
 
@@ -325,7 +338,10 @@ void abft_report(const AbftSite& site, const AbftResult& r) noexcept;
  * (abft_corrected, abft_failed). @p s is the caller's scratch. The result
  * says where the first check found the product wrong: one row and one column
  * locate the element (row, col); otherwise they are the worst row and column.
- * A rows-only site (AbftSite::rows_only) checks and locates rows only.
+ * A rows-only site (AbftSite::rows_only) checks and locates rows only; a
+ * rows-first one (AbftSite::rows_first) checks the rows, and the columns
+ * only once a row failed: the cost of a rows-only check when clean, the
+ * element located when wrong (the recomputations are checked on the rows).
  */
 template <typename DA, typename DB, typename DC, int M, int K, int N, typename Kernel>
 AbftResult abft_product(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<DB>& b, Eigen::MatrixBase<DC>& c,
@@ -335,16 +351,22 @@ AbftResult abft_product(const Eigen::MatrixBase<DA>& a, const Eigen::MatrixBase<
     (void)bsp::publish_filter(site.sdc_channel, c.derived().data(),
                               sizeof(double) * static_cast<std::size_t>(c.rows() * c.cols()));
   }
-  abft_sums(a, b, s, work, site.rows_only);
-  AbftResult first = abft_check(a, b, c, s, work, site.rows_only);
+  const bool rows = site.rows_only || site.rows_first;
+  abft_sums(a, b, s, work, rows);
+  AbftResult first = abft_check(a, b, c, s, work, rows);
   if (first.bad_rows == 0U && first.bad_cols == 0U) {
     return first;
+  }
+  if (site.rows_first && !site.rows_only) {
+    // Wrong: the column references too, and the full check, to locate the element.
+    abft_sums(a, b, s, work, false);
+    first = abft_check(a, b, c, s, work, false);
   }
   first.verdict = AbftVerdict::kFailed;
   for (std::uint32_t n = 0; n < kAbftMaxRecompute; ++n) {
     kernel(a.derived(), b.derived(), c.derived());
     ++first.recomputes;
-    const AbftResult again = abft_check(a, b, c, s, work, site.rows_only);
+    const AbftResult again = abft_check(a, b, c, s, work, rows);
     if (again.bad_rows == 0U && again.bad_cols == 0U) {
       first.verdict = AbftVerdict::kCorrected;
       break;

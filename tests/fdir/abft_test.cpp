@@ -246,6 +246,55 @@ TEST(Abft, ATransientFaultIsRecomputedAndAPersistentOneReportedFailed) {
   EXPECT_EQ(ev[1].cause, (2U << 16U) | 2U);
 }
 
+struct RowsFirstRun {
+  Eigen::Matrix<double, 15, 15> f;
+  Eigen::Matrix<double, 15, 15> p;
+  Eigen::Matrix<double, 15, 15> c;
+  fdir::AbftSums<15, 15, 15> s;
+  fdir::AbftResult clean;
+  fdir::AbftResult once;
+  bsp::Work clean_work{};
+};
+RowsFirstRun g_rf{};
+
+// FDIR-AB-02b: a rows-first site (the filter's propagation) pays a rows-only check on a clean product,
+// and on a wrong one checks the columns too: the element is located as by the full check, and the
+// product computed again, bit for bit the clean one.
+TEST(Abft, RowsFirstCostsTheRowsWhenCleanAndLocatesTheElementWhenWrong) {
+  constexpr std::uint64_t kSeed = 6;
+  SCOPED_TRACE(testing::Message() << "operands drawn with seed " << kSeed);
+  std::mt19937_64 rng(kSeed);
+  g_rf.p = covariance<15>(rng);
+  g_rf.f = transition<15>(rng);
+  const Eigen::Matrix<double, 15, 15> clean = g_rf.f.lazyProduct(g_rf.p);
+  fdir_test::run_on_tile0([] {
+    RowsFirstRun& r = g_rf;
+    const fdir::AbftSite site{9U, 0U, false, true};
+    r.clean = fdir::abft_product(r.f, r.p, r.c, site, fdir::AbftDense{}, r.s, r.clean_work);
+    bsp::Work w{};
+    FaultyKernel k1{1, 4, 12};
+    r.once = fdir::abft_product(r.f, r.p, r.c, site, k1, r.s, w);
+  });
+  EXPECT_EQ(g_rf.clean.verdict, fdir::AbftVerdict::kClean);
+  EXPECT_EQ(g_rf.clean_work.flops, fdir::abft_rows_first_flops(15, 15, 15));
+  EXPECT_LT(fdir::abft_rows_first_flops(15, 15, 15), fdir::abft_clean_flops(15, 15, 15));
+  EXPECT_EQ(g_rf.once.verdict, fdir::AbftVerdict::kCorrected);
+  EXPECT_EQ(g_rf.once.row, 4);
+  EXPECT_EQ(g_rf.once.col, 12) << "the columns are checked once a row failed";
+  EXPECT_EQ(g_rf.once.bad_rows, 1U);
+  EXPECT_EQ(g_rf.once.bad_cols, 1U);
+  EXPECT_EQ(g_rf.once.recomputes, 1U);
+  bool same = true;
+  for (Eigen::Index e = 0; e < clean.size(); ++e) {
+    same = same && std::bit_cast<std::uint64_t>(g_rf.c.data()[e]) == std::bit_cast<std::uint64_t>(clean.data()[e]);
+  }
+  EXPECT_TRUE(same) << "the clean product, bit for bit";
+  const std::vector<fdir::Event> ev = fdir_test::events_of(0);
+  ASSERT_EQ(ev.size(), 1U);
+  EXPECT_EQ(ev[0].id, fdir::EventId::kAbftCorrected);
+  EXPECT_EQ(ev[0].cause, (4U << 16U) | 12U);
+}
+
 // FDIR-AB-03: no false alarm over random products with the filter's conditioning (covariances over
 // 12 orders of magnitude, transitions near identity): F P, (F P) F^T and P H^T. A million of each
 // in an optimised build (make test); the unoptimised coverage build checks fewer.

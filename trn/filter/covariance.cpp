@@ -69,12 +69,14 @@ void right_multiply_transpose(const Mat15& f, const Mat15& fp, Mat15& p) noexcep
 void propagate_covariance(Mat15& p, const Mat15& f, const Vec15& q, CovWork& w, bsp::Work& work) noexcept {
   // Block-sparse products (about a quarter of the dense flops); the dense
   // F P F^T of the reference test checks that the pattern is complete. Each
-  // is checked against the full checksums of the dense product it computes.
+  // is checked against the row checksums of the dense product it computes,
+  // and against its column checksums too once a row failed (rows first: the
+  // wrong element is located, a clean product pays the rows only).
   w.last_fp = fdir::abft_product(
-      f, p, w.fp, fdir::AbftSite{kAbftSiteFp, kFilterProductChannel},
+      f, p, w.fp, fdir::AbftSite{kAbftSiteFp, kFilterProductChannel, false, true},
       [](const Mat15& ff, const Mat15& pp, Mat15& out) noexcept { left_multiply(ff, pp, out); }, w.abft, work);
   w.last_fpft = fdir::abft_product(
-      w.fp, f.transpose(), p, fdir::AbftSite{kAbftSiteFpft, kFilterProductChannel},
+      w.fp, f.transpose(), p, fdir::AbftSite{kAbftSiteFpft, kFilterProductChannel, false, true},
       [&f](const Mat15& fp, const auto& /*ft*/, Mat15& out) noexcept { right_multiply_transpose(f, fp, out); }, w.abft,
       work);
   p.diagonal() += q;
@@ -216,15 +218,15 @@ GateResult kalman_update(Mat15& p, const Meas2& m, double gate_chi2, Vec15& dx, 
   if (!(det > 0.0) || !std::isfinite(det)) {
     return g;  // S not positive definite: the measurement cannot be weighed
   }
+  const double idet = 1.0 / det;
   Mat2 s_inv;
-  s_inv << s(1, 1) / det, -s(0, 1) / det, -s(1, 0) / det, s(0, 0) / det;
+  s_inv << s(1, 1) * idet, -s(0, 1) * idet, -s(1, 0) * idet, s(0, 0) * idet;
   g.d2 = m.r.dot(s_inv * m.r);
   if (!(g.d2 <= gate_chi2)) {
     return g;  // NaN residuals fail here too
   }
   // Charged before the products: a failed check did (at least) this work.
   work.flops += kFlopsUpdate - kFlopsGate;
-  work.fdivs += 4;
   work.mem_words += 4ULL * kErrDim * kErrDim;
   if (!passed(w, kAbftSiteGain,
               fdir::abft_product(w.pht, s_inv, w.k, update_site(w, kAbftSiteGain), fdir::AbftDense{}, w.abft_gain,

@@ -169,8 +169,8 @@ inline constexpr std::uint64_t kFlopsCovPropagate = 2ULL * (7 * 135 * 2 + 2 * 15
  * Flops of one accepted kalman_update, its checks apart (a rejected one costs
  * kFlopsGate and the check of P H^T).
  */
-// Gate: P H^T (15x6 by 6x2), S (2x6 by 6x2, + R), det, S^-1, d2.
-inline constexpr std::uint64_t kFlopsGate = 360 + 2 * 2 * 6 * 2 + 12 + 8;
+// Gate: P H^T (15x6 by 6x2), S (2x6 by 6x2, + R), det, d2, S^-1 as four products with 1 / det (the one division).
+inline constexpr std::uint64_t kFlopsGate = 360 + 2 * 2 * 6 * 2 + 12 + 8 + 4;
 // K (15x2 by 2x2), the upper triangle of K (P H^T)^T (120 entries of 2 MAC),
 // the diagonal's sign test (15), P minus that triangle (120), dx = K r.
 inline constexpr std::uint64_t kFlopsUpdate = kFlopsGate + 120 + 480 + 15 + 120 + 60;

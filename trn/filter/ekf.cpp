@@ -115,6 +115,15 @@ void Ekf::apply_correction(const Vec15& dx) noexcept {
   reset_attitude(s_.p, dx.segment<3>(kIdxTh), work_);
   work_.flops += 60;
   work_.fdivs += 4;
+  pose_valid_ = false;  // the poses of the image times move with the nominal
+}
+
+void Ekf::flush_pending() noexcept {
+  if (pending_) {
+    apply_correction(dx_acc_);
+    dx_acc_.setZero();
+    pending_ = false;
+  }
 }
 
 bool Ekf::position_loose() const noexcept {
@@ -162,37 +171,49 @@ GateResult Ekf::iterated_update(const Match& m) noexcept {
 }
 
 MatchCheck Ekf::measure(const Match& m, Meas2& out) noexcept {
+  pose_valid_ = false;
+  return measure_cached(m, out);
+}
+
+MatchCheck Ekf::image_pose(double t_s) noexcept {
+  if (pose_valid_ && t_s == pose_t_s_) {
+    return MatchCheck::kOk;  // the same image, the same nominal: the same pose
+  }
+  pose_valid_ = false;
+  const HistoryStatus hs = history_pose(s_.hist, t_s, s_.x, cfg_.max_history_gap_s, past_, work_);
+  if (hs == HistoryStatus::kCurrent) {
+    bearing_pose(s_.x.p_m, s_.x.q_mb, nullptr, cam_, pose_, work_);
+    pose_lag_s_ = 0.0;
+    pose_d_ = LagNoise{};
+  } else if (hs == HistoryStatus::kOk) {
+    // dp(t) = dp - lag dv; dtheta(t) = R(q_rel) dtheta (pose_history.hpp): the
+    // velocity columns are -lag Hp (kept as lag_s), the attitude ones rotate (pose_.r_cth).
+    bearing_pose(past_.p_m, past_.q_mb, &past_.q_rel, cam_, pose_, work_);
+    pose_lag_s_ = past_.lag_s;
+    pose_d_ = lag_noise(cfg_.imu, past_.lag_s);
+    work_.flops += kFlopsLagNoise;
+  } else {
+    return MatchCheck::kStale;
+  }
+  pose_t_s_ = t_s;
+  pose_valid_ = true;
+  return MatchCheck::kOk;
+}
+
+MatchCheck Ekf::measure_cached(const Match& m, Meas2& out) noexcept {
   if (!std::isfinite(m.t_s)) {
     return MatchCheck::kInvalid;
   }
-  const HistoryStatus hs = history_pose(s_.hist, m.t_s, s_.x, cfg_.max_history_gap_s, past_, work_);
-  if (hs == HistoryStatus::kCurrent) {
-    if (bearing_measurement(s_.x, cam_, m, cfg_.min_depth, cfg_.pixel_sigma_floor_px, out, work_) !=
-        BearingStatus::kOk) {
-      return MatchCheck::kInvalid;
-    }
-    out.lag_s = 0.0;
-    out.d = LagNoise{};
-    return MatchCheck::kOk;
+  const MatchCheck pc = image_pose(m.t_s);
+  if (pc != MatchCheck::kOk) {
+    return pc;
   }
-  if (hs != HistoryStatus::kOk) {
-    return MatchCheck::kStale;
-  }
-  // Only the pose enters the bearing; velocity and biases of x_img_ are not read.
-  x_img_.p_m = past_.p_m;
-  x_img_.q_mb = past_.q_mb;
-  if (bearing_measurement(x_img_, cam_, m, cfg_.min_depth, cfg_.pixel_sigma_floor_px, out, work_) !=
+  if (bearing_measurement(pose_, cam_, m, cfg_.min_depth, cfg_.pixel_sigma_floor_px, out, work_) !=
       BearingStatus::kOk) {
     return MatchCheck::kInvalid;
   }
-  // dp(t) = dp - lag dv; dtheta(t) = R(q_rel) dtheta (pose_history.hpp): the
-  // velocity columns are -lag Hp (kept as lag_s), the attitude ones rotate.
-  const Mat3 r_rel = past_.q_rel.toRotationMatrix();
-  const Mat23 hth = out.hth;
-  out.hth.noalias() = hth * r_rel;
-  out.lag_s = past_.lag_s;
-  out.d = lag_noise(cfg_.imu, past_.lag_s);
-  work_.flops += kFlopsLagMap + kFlopsLagNoise;
+  out.lag_s = pose_lag_s_;
+  out.d = pose_d_;
   return MatchCheck::kOk;
 }
 
@@ -204,8 +225,15 @@ FilterStatus Ekf::update(const Match* matches, std::uint32_t n, UpdateReport& re
   if ((matches == nullptr && n > 0U) || n > kMaxMatchesPerFrame) {
     return FilterStatus::kBadInput;
   }
+  pose_valid_ = false;
+  dx_acc_.setZero();
+  pending_ = false;
   for (std::uint32_t i = 0; i < n; ++i) {
-    const MatchCheck mc = measure(matches[i], meas_);
+    const bool iterate = matches[i].landmark == kCoarseLandmark || position_loose();
+    if (iterate) {
+      flush_pending();  // an iterated update linearizes at the corrected nominal
+    }
+    const MatchCheck mc = iterate ? measure(matches[i], meas_) : measure_cached(matches[i], meas_);
     if (mc == MatchCheck::kStale) {
       ++rep.rejected_stale;
       continue;
@@ -214,9 +242,14 @@ FilterStatus Ekf::update(const Match* matches, std::uint32_t n, UpdateReport& re
       ++rep.rejected_invalid;
       continue;
     }
-    const GateResult g = matches[i].landmark == kCoarseLandmark || position_loose()
-                             ? iterated_update(matches[i])
-                             : kalman_update(s_.p, meas_, cfg_.gate_chi2, dx_, w_, work_);
+    if (!iterate && pending_) {
+      // The batch's corrections so far are not injected yet: the innovation is r - H dx_acc.
+      meas_.r.noalias() -= meas_.hp * (dx_acc_.segment<3>(kIdxP) - meas_.lag_s * dx_acc_.segment<3>(kIdxV));
+      meas_.r.noalias() -= meas_.hth * dx_acc_.segment<3>(kIdxTh);
+      work_.flops += 36;
+    }
+    const GateResult g =
+        iterate ? iterated_update(matches[i]) : kalman_update(s_.p, meas_, cfg_.gate_chi2, dx_, w_, work_);
     if (g.check_failed) {
       ++rep.rejected_check;  // reported abft_failed by the check; the match is dropped, the state untouched
       continue;
@@ -229,13 +262,20 @@ FilterStatus Ekf::update(const Match* matches, std::uint32_t n, UpdateReport& re
       ++rep.rejected_gate;
       continue;
     }
-    apply_correction(dx_);
+    if (iterate) {
+      apply_correction(dx_);
+    } else {
+      dx_acc_ += dx_;
+      pending_ = true;
+      work_.flops += 15;
+    }
     ++rep.accepted;
     rep.coarse_accepted += matches[i].landmark == kCoarseLandmark ? 1U : 0U;
     if (matches[i].t_s > s_.t_last_update_s) {
       s_.t_last_update_s = matches[i].t_s;
     }
   }
+  flush_pending();  // one injection and one attitude reset for the batch
   if (n > 0U) {
     ++s_.c.batches;
     s_.c.accepted += rep.accepted;

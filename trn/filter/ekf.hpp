@@ -80,18 +80,23 @@ class Ekf {
 
   /**
    * Applies up to kMaxMatchesPerFrame matches one by one, each at its image
-   * time (measure, gate, Kalman update, injection, reset). A coarse-stage match,
+   * time (measure, gate, Kalman update). The batch's corrections are
+   * accumulated on the error state and injected into the nominal once, with
+   * one attitude reset, at the end of the batch (a later match's innovation is
+   * r - H dx_acc: every match of the batch is linearized at the same nominal,
+   * so the poses of its image times are computed once). A coarse-stage match,
    * and any match while the position is loose (position_loose()), is applied as
    * an iterated update (at most kCoarseIterations linearizations, see
-   * iterated_update()). Errors: kNotInitialized, kBadInput (null with n > 0,
-   * n too big).
+   * iterated_update()); the batch's accumulated correction is injected before
+   * it. Errors: kNotInitialized, kBadInput (null with n > 0, n too big).
    */
   FilterStatus update(const Match* matches, std::uint32_t n, UpdateReport& rep) noexcept;
 
   /**
    * Forms residual, noise and Jacobian (on the current error state) of @p m
-   * without applying it: what update() weighs. @p out is written for kOk only.
-   * Pre: initialized.
+   * at the nominal state without applying it: what update() weighs (before
+   * the batch's earlier corrections are taken off the residual). @p out is
+   * written for kOk only. Pre: initialized.
    */
   MatchCheck measure(const Match& m, Meas2& out) noexcept;
 
@@ -126,6 +131,16 @@ class Ekf {
 
  private:
   void apply_correction(const Vec15& dx) noexcept;
+  /** Injects the batch's accumulated correction dx_acc_, if any (apply_correction()), and clears it. */
+  void flush_pending() noexcept;
+  /**
+   * The camera pose of image time @p t_s into pose_ (history, bearing pose,
+   * lag and its noise), kept for the next match of the same time until the
+   * nominal changes (apply_correction()). kStale if the history has no pose there.
+   */
+  MatchCheck image_pose(double t_s) noexcept;
+  /** measure() with the pose of the previous match's image kept when its time is the same. */
+  MatchCheck measure_cached(const Match& m, Meas2& out) noexcept;
   /**
    * The update of coarse match @p m (measured at the current state into meas_)
    * as an iterated EKF: the correction dx_ from the prior x0 is found, the
@@ -150,7 +165,13 @@ class Ekf {
   CovWork w_{};
   Meas2 meas_{};
   PastPose past_{};
-  NominalState x_img_{};
+  BearingPose pose_{};            ///< image_pose(): the pose of image time pose_t_s_
+  LagNoise pose_d_{};
+  double pose_t_s_ = 0.0;
+  double pose_lag_s_ = 0.0;
+  bool pose_valid_ = false;       ///< pose_ is that of the current nominal
+  bool pending_ = false;          ///< dx_acc_ holds corrections not yet injected
+  Vec15 dx_acc_ = Vec15::Zero();  ///< update(): the batch's correction so far
   Vec15 dx_ = Vec15::Zero();
   NominalState x0_{};             ///< iterated_update(): the prior
   Mat15 p0_ = Mat15::Zero();      ///< iterated_update(): the prior covariance
@@ -167,8 +188,8 @@ inline constexpr double kCoarseConvergedM = 0.01;
 inline constexpr double kLooseSigmaM = 5.0;
 
 /** Flops of one propagate() (strapdown, covariance, history); a task budgets its period with these. */
-/** The checks of the propagation's two products, when they pass (fdir/abft.hpp). */
-inline constexpr std::uint64_t kFlopsCovChecks = 2U * fdir::abft_clean_flops(kErrDim, kErrDim, kErrDim);
+/** The checks of the propagation's two products, when they pass (rows first, fdir/abft.hpp). */
+inline constexpr std::uint64_t kFlopsCovChecks = 2U * fdir::abft_rows_first_flops(kErrDim, kErrDim, kErrDim);
 inline constexpr std::uint64_t kFlopsPerPropagation =
     kFlopsStrapdown + kFlopsCovPropagate + kFlopsCovChecks + kFlopsHistoryRecord;
 /** The row check of P H^T when it passes (every measurement that reaches the gate pays it). */
@@ -177,20 +198,30 @@ inline constexpr std::uint64_t kFlopsCheckPht = fdir::abft_rows_flops(kErrDim, k
 inline constexpr std::uint64_t kFlopsUpdateChecks =
     kFlopsCheckPht + fdir::abft_rows_flops(kErrDim, 2, 2) + fdir::abft_upper_flops(kErrDim, 2);
 /**
- * Flops of one accepted match at the state's time: measurement, gate, Kalman
- * update and its checks, injection, reset. A check whose residual passes the
- * free lower bound of its tolerance costs this; one above it (cancellation in
- * a row sum) adds its row's exact tolerance, at most kFlopsUpdateTolerances.
+ * Flops of one accepted match at the state's time, alone in its batch: the
+ * camera pose, measurement, gate, Kalman update and its checks, the
+ * correction's accumulation, injection, reset. A check whose residual passes
+ * the free lower bound of its tolerance costs this; one above it
+ * (cancellation in a row sum) adds its row's exact tolerance, at most
+ * kFlopsUpdateTolerances.
  */
-inline constexpr std::uint64_t kFlopsPerMatch = kFlopsBearing + kFlopsUpdate + kFlopsUpdateChecks + 60 + kFlopsReset;
+inline constexpr std::uint64_t kFlopsPerMatch =
+    kFlopsBearingPose + kFlopsBearing + kFlopsUpdate + kFlopsUpdateChecks + 15 + 60 + kFlopsReset;
+/**
+ * Flops of each further accepted match of the same image in the batch: the
+ * measurement from the kept pose, the batch's correction taken off the
+ * residual, gate, update, checks, accumulation (the injection and the reset
+ * are the batch's, once).
+ */
+inline constexpr std::uint64_t kFlopsPerFurtherMatch = kFlopsBearing + 36 + kFlopsUpdate + kFlopsUpdateChecks + 15;
 /** The most a clean update's checks add to kFlopsPerMatch: every row's exact tolerance, at each site. */
 inline constexpr std::uint64_t kFlopsUpdateTolerances = fdir::abft_rows_tolerance_flops(kErrDim, kHtRows, 2) +
                                                         fdir::abft_rows_tolerance_flops(kErrDim, 2, 2) +
                                                         fdir::abft_upper_tolerance_flops(kErrDim, 2);
-/** Flops of mapping a past image time's attitude columns onto the current error state: H_th R(q_rel). */
-inline constexpr std::uint64_t kFlopsLagMap = 24 + 30;
-/** Flops of one accepted match measured in the past (the usual case in flight). */
+/** Flops of one accepted match measured in the past, alone in its batch. */
 inline constexpr std::uint64_t kFlopsPerLaggedMatch =
-    kFlopsPerMatch + kFlopsHistoryPose + kFlopsLagMap + kFlopsLagNoise + kFlopsLagGate;
+    kFlopsPerMatch + kFlopsHistoryPose + kFlopsBearingPoseLag + kFlopsLagNoise + kFlopsLagGate;
+/** Flops of each further accepted match of the same past image in the batch (the usual case in flight). */
+inline constexpr std::uint64_t kFlopsPerFurtherLaggedMatch = kFlopsPerFurtherMatch + kFlopsLagGate;
 
 }  // namespace trn::filter

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include <cstdio>
 
 namespace {
@@ -137,6 +139,41 @@ TEST(FilterPropagation, CountedWorkEqualsThePublishedBudgetConstants) {
   const std::uint64_t lagged_flops = g_ekf.take_work().flops;
   EXPECT_GE(lagged_flops, trn::filter::kFlopsPerLaggedMatch);
   EXPECT_LE(lagged_flops, trn::filter::kFlopsPerLaggedMatch + trn::filter::kFlopsUpdateTolerances);
+}
+
+// A batch of one image's matches computes the image's pose once and injects its correction once: each
+// match after the first costs kFlopsPerFurtherMatch (kFlopsPerFurtherLaggedMatch from the past).
+TEST(FilterPropagation, FurtherMatchesOfABatchCostThePublishedMarginalBudget) {
+  trn::filter::FilterConfig cfg;
+  const bsp::CameraModel cam{};
+  ASSERT_EQ(g_ekf.configure(cfg, cam), FilterStatus::kOk);
+  TruthSim truth(4, false, cfg.imu);
+  bsp::Rng rng(4, bsp::StreamId::kTest, 11);
+  ASSERT_EQ(g_ekf.init(filter_test::perturbed_estimate(truth, rng, 3.0, 0.1, 1e-3)), FilterStatus::kOk);
+  ASSERT_EQ(g_ekf.propagate(truth.next_imu()), FilterStatus::kOk);
+  constexpr std::uint32_t kN = 5;
+  std::array<trn::Match, kN> m{};
+  truth.make_matches(rng, cam, static_cast<int>(kN), 0.5, m.data());
+  (void)g_ekf.take_work();
+  trn::filter::UpdateReport rep;
+  ASSERT_EQ(g_ekf.update(m.data(), kN, rep), FilterStatus::kOk);
+  ASSERT_EQ(rep.accepted, kN);
+  const std::uint64_t now = g_ekf.take_work().flops;
+  const std::uint64_t now_base = trn::filter::kFlopsPerMatch + (kN - 1U) * trn::filter::kFlopsPerFurtherMatch;
+  EXPECT_GE(now, now_base);
+  EXPECT_LE(now, now_base + kN * trn::filter::kFlopsUpdateTolerances);
+  truth.make_matches(rng, cam, static_cast<int>(kN), 0.5, m.data());
+  for (int k = 0; k < 30; ++k) {
+    ASSERT_EQ(g_ekf.propagate(truth.next_imu()), FilterStatus::kOk);
+  }
+  (void)g_ekf.take_work();
+  ASSERT_EQ(g_ekf.update(m.data(), kN, rep), FilterStatus::kOk);
+  ASSERT_EQ(rep.accepted, kN);
+  const std::uint64_t past = g_ekf.take_work().flops;
+  const std::uint64_t past_base =
+      trn::filter::kFlopsPerLaggedMatch + (kN - 1U) * trn::filter::kFlopsPerFurtherLaggedMatch;
+  EXPECT_GE(past, past_base);
+  EXPECT_LE(past, past_base + kN * trn::filter::kFlopsUpdateTolerances);
 }
 
 // While some position sigma exceeds kLooseSigmaM every match is an iterated update: it is linearized again at
