@@ -217,6 +217,49 @@ MatchCheck Ekf::measure_cached(const Match& m, Meas2& out) noexcept {
   return MatchCheck::kOk;
 }
 
+void Ekf::apply_match(const Match& m, UpdateReport& rep) noexcept {
+  const bool iterate = m.landmark == kCoarseLandmark || position_loose();
+  if (iterate) {
+    flush_pending();  // an iterated update linearizes at the corrected nominal
+  }
+  const MatchCheck mc = iterate ? measure(m, meas_) : measure_cached(m, meas_);
+  if (mc != MatchCheck::kOk) {
+    ++(mc == MatchCheck::kStale ? rep.rejected_stale : rep.rejected_invalid);
+    return;
+  }
+  if (!iterate && pending_) {
+    // The batch's corrections so far are not injected yet: the innovation is r - H dx_acc.
+    meas_.r.noalias() -= meas_.hp * (dx_acc_.segment<3>(kIdxP) - meas_.lag_s * dx_acc_.segment<3>(kIdxV));
+    meas_.r.noalias() -= meas_.hth * dx_acc_.segment<3>(kIdxTh);
+    work_.flops += 36;
+  }
+  const GateResult g = iterate ? iterated_update(m) : kalman_update(s_.p, meas_, cfg_.gate_chi2, dx_, w_, work_);
+  if (g.check_failed) {
+    ++rep.rejected_check;  // reported abft_failed by the check; the match is dropped, the state untouched
+    return;
+  }
+  if (g.variance_lost) {
+    ++rep.rejected_invalid;  // it would leave a variance <= 0: it cannot be applied
+    return;
+  }
+  if (!g.accepted) {
+    ++rep.rejected_gate;
+    return;
+  }
+  if (iterate) {
+    apply_correction(dx_);
+  } else {
+    dx_acc_ += dx_;
+    pending_ = true;
+    work_.flops += 15;
+  }
+  ++rep.accepted;
+  rep.coarse_accepted += m.landmark == kCoarseLandmark ? 1U : 0U;
+  if (m.t_s > s_.t_last_update_s) {
+    s_.t_last_update_s = m.t_s;
+  }
+}
+
 FilterStatus Ekf::update(const Match* matches, std::uint32_t n, UpdateReport& rep) noexcept {
   rep = UpdateReport{};
   if (s_.initialized == 0U) {
@@ -229,51 +272,7 @@ FilterStatus Ekf::update(const Match* matches, std::uint32_t n, UpdateReport& re
   dx_acc_.setZero();
   pending_ = false;
   for (std::uint32_t i = 0; i < n; ++i) {
-    const bool iterate = matches[i].landmark == kCoarseLandmark || position_loose();
-    if (iterate) {
-      flush_pending();  // an iterated update linearizes at the corrected nominal
-    }
-    const MatchCheck mc = iterate ? measure(matches[i], meas_) : measure_cached(matches[i], meas_);
-    if (mc == MatchCheck::kStale) {
-      ++rep.rejected_stale;
-      continue;
-    }
-    if (mc == MatchCheck::kInvalid) {
-      ++rep.rejected_invalid;
-      continue;
-    }
-    if (!iterate && pending_) {
-      // The batch's corrections so far are not injected yet: the innovation is r - H dx_acc.
-      meas_.r.noalias() -= meas_.hp * (dx_acc_.segment<3>(kIdxP) - meas_.lag_s * dx_acc_.segment<3>(kIdxV));
-      meas_.r.noalias() -= meas_.hth * dx_acc_.segment<3>(kIdxTh);
-      work_.flops += 36;
-    }
-    const GateResult g =
-        iterate ? iterated_update(matches[i]) : kalman_update(s_.p, meas_, cfg_.gate_chi2, dx_, w_, work_);
-    if (g.check_failed) {
-      ++rep.rejected_check;  // reported abft_failed by the check; the match is dropped, the state untouched
-      continue;
-    }
-    if (g.variance_lost) {
-      ++rep.rejected_invalid;  // it would leave a variance <= 0: it cannot be applied
-      continue;
-    }
-    if (!g.accepted) {
-      ++rep.rejected_gate;
-      continue;
-    }
-    if (iterate) {
-      apply_correction(dx_);
-    } else {
-      dx_acc_ += dx_;
-      pending_ = true;
-      work_.flops += 15;
-    }
-    ++rep.accepted;
-    rep.coarse_accepted += matches[i].landmark == kCoarseLandmark ? 1U : 0U;
-    if (matches[i].t_s > s_.t_last_update_s) {
-      s_.t_last_update_s = matches[i].t_s;
-    }
+    apply_match(matches[i], rep);
   }
   flush_pending();  // one injection and one attitude reset for the batch
   if (n > 0U) {

@@ -139,6 +139,8 @@ class Ekf {
    * nominal changes (apply_correction()). kStale if the history has no pose there.
    */
   MatchCheck image_pose(double t_s) noexcept;
+  /** One match of update()'s batch: measured, weighed, accumulated (or iterated and injected); counted in @p rep. */
+  void apply_match(const Match& m, UpdateReport& rep) noexcept;
   /** measure() with the pose of the previous match's image kept when its time is the same. */
   MatchCheck measure_cached(const Match& m, Meas2& out) noexcept;
   /**
