@@ -59,6 +59,7 @@ enum class EventId : std::uint16_t {
   kResultsSuspect = 0x0304,    ///< a worker's results fail the consistency check (result_trust.hpp); subject: tile, cause: 0 first time / 1 again after its reset (its replacement is asked), a: failed in the window, b: checked in it
   kResultsConsistent = 0x0305, ///< a suspect worker's results pass again; subject: tile, cause: 0 while suspect / 1 after its reset, a: clean rounds in a row
   kCoarseBandRedone = 0x0307,  ///< the coordinator computed a band of the coarse surface itself; subject: the tile it was dealt to, cause: why (1 not sent, 2 no answer in time, 3 the tile's checks failed or it could not compute it, 4 the copy differs from the tile's digest), a: the band's first row, b: frame
+  kLandmarkProductRefused = 0x0308, ///< the ground's landmark table failed its checks: the coordinator selects the landmarks itself; cause: why (trn::tasks::ProductCheck: 1 too short, 2 header, 3 other settings, 4 other map, 5 records), a: the block's bytes
   kVisionSetUpFailed = 0x0306, ///< the vision coordinator could not start: no frame will be planned; subject: step (1 its lists, 2 map product, 3 DDR carves, 4 landmark selection, 5 relit coarse map), a: the step's status code
   // ---- health table, asserts
   kMonitorWarn = 0x0401,       ///< subject: monitor index, a: value, b: threshold
@@ -122,7 +123,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 69> kEventTable{{
+inline constexpr std::array<EventInfo, 70> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -149,6 +150,7 @@ inline constexpr std::array<EventInfo, 69> kEventTable{{
     {EventId::kResultsConsistent, "results_consistent", Severity::kInfo, kStepRecover},
     {EventId::kVisionSetUpFailed, "vision_set_up_failed", Severity::kFatal, kStepDetect},
     {EventId::kCoarseBandRedone, "coarse_band_redone", Severity::kWarningLo, kStepDetect | kStepRecover},
+    {EventId::kLandmarkProductRefused, "landmark_product_refused", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kMonitorWarn, "monitor_warn", Severity::kWarningLo, kStepDetect},
     {EventId::kMonitorFatal, "monitor_fatal", Severity::kWarningHi, kStepDetect | kStepIsolate},
     {EventId::kActionCapped, "action_capped", Severity::kFatal, kStepNone},

@@ -655,6 +655,14 @@ std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noe
                           "computed by the coordinator", e.a, e.b, s, kWhy[e.cause < kWhy.size() ? e.cause : 0U]);
       break;
     }
+    case EventId::kLandmarkProductRefused: {
+      static constexpr std::array<const char*, 6> kWhy{"?", "the block is too short", "its header is wrong",
+                                                       "it was selected with other settings",
+                                                       "it was selected on another map", "its records are wrong"};
+      (void)std::snprintf(b.data(), b.size(), "the ground's landmark table (%u bytes) refused: %s; the coordinator "
+                          "selects the landmarks itself", e.a, kWhy[e.cause < kWhy.size() ? e.cause : 0U]);
+      break;
+    }
     case EventId::kMonitorWarn:
     case EventId::kMonitorFatal:
       (void)std::snprintf(b.data(), b.size(), "monitor %s %s: value %u against %u", s,

@@ -15,13 +15,16 @@
 #include "fdir/ft_sink.hpp"
 #include "fdir/transit.hpp"
 #include "kernel/kernel.hpp"
+#include "trn/tasks/landmark_product.hpp"
 #include "trn/tasks/tile_map.hpp"
+#include "trn/vision/frame.hpp"
 
 #include <Eigen/Geometry>
 
 #include <array>
 
 #include <cmath>
+#include <memory>
 #include <numbers>
 
 namespace tools {
@@ -155,6 +158,49 @@ void configure_supervisors(const Scenario& s, trn::tasks::SupervisorsConfig& sup
 
 }  // namespace
 
+namespace {
+
+/**
+ * The ground's landmark table (trn/tasks/landmark_product.hpp): the selection
+ * the coordinator would make on the map's fine layer, with its positions,
+ * carved into DDR beside the map.
+ */
+bool carve_landmark_product(const bsp::MapProductHeader* product, const trn::vision::SelectParams& params,
+                            std::string& error) {
+  trn::vision::MapView fine{};
+  if (trn::vision::map_view(product, bsp::kMapLayerFine, fine) != trn::vision::Status::kOk) {
+    error = "the reference map has no fine layer to select landmarks on";
+    return false;
+  }
+  auto table = std::make_unique<trn::vision::LandmarkTable>();
+  bsp::Work work{};
+  const trn::vision::Status st = trn::vision::select_landmarks(fine.image, trn::vision::ConstImageF32{}, fine.geo,
+                                                               params, *table, work);
+  if (st != trn::vision::Status::kOk) {
+    error = "cannot select the ground's landmarks on the map (status " + std::to_string(static_cast<int>(st)) +
+            "; check the selection's cells against the map's size)";
+    return false;
+  }
+  for (std::uint32_t i = 0; i < table->count; ++i) {
+    trn::vision::Landmark& lm = table->items[i];
+    bsp::map_pixel_position(product, bsp::kMapLayerFine, static_cast<std::uint32_t>(lm.col_px),
+                            static_cast<std::uint32_t>(lm.row_px), lm.p_m);
+  }
+  const std::size_t bytes = trn::tasks::landmark_product_bytes(table->count);
+  const bsp::Carve c = bsp::carve(bsp::Region{bsp::Region::kDdr}, bytes, 8U, trn::tasks::kLandmarkProductCarveName);
+  const trn::tasks::ProductLayer layer{fine.image.width, fine.image.height, fine.geo};
+  if (c.error != bsp::MemError::kOk ||
+      !trn::tasks::landmark_product_write(
+          *table, params, layer,
+          std::span<std::uint8_t>(reinterpret_cast<std::uint8_t*>(c.ptr), bytes))) {  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
+    error = "cannot carve the ground's landmark table into DDR";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 bool Mission::boot(std::string& error) {
   using trn::tasks::Role;
   const Scenario& s = setup_.scenario;
@@ -193,8 +239,12 @@ bool Mission::boot(std::string& error) {
   }
   // DDR products after the board: the reference map, then the camera's frame ring.
   bsp::world::WorldError werr = bsp::world::WorldError::kOk;
-  if (world_.map(s.terrain, s.map, werr) == nullptr) {
+  const bsp::MapProductHeader* product = world_.map(s.terrain, s.map, werr);
+  if (product == nullptr) {
     error = "cannot build the reference map (check [map] against the terrain size)";
+    return false;
+  }
+  if (setup_.ground_landmarks && !carve_landmark_product(product, setup_.select, error)) {
     return false;
   }
   // The devices start afresh with every boot (a test may boot several times).

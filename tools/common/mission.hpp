@@ -39,6 +39,12 @@ struct MissionSetup {
   std::string world_cache;
   /** The coordinator's landmark selection (its own settings, trn::tasks::coord_select_params(), by default). */
   trn::vision::SelectParams select = trn::tasks::coord_select_params();
+  /**
+   * The map comes with the ground's landmark table, selected with `select`
+   * (trn/tasks/landmark_product.hpp): the coordinator takes it instead of
+   * selecting on board. False: the map alone, selected on board.
+   */
+  bool ground_landmarks = true;
 };
 
 /** The tiles excluded from the coordinator's list when it is given @p n of the map's vision tiles (0: none). */
@@ -75,6 +81,8 @@ class Mission {
   void set_unpowered(std::uint64_t mask) { setup_.unpowered = mask; }
   /** Changes the coordinator's landmark selection at the next boot(). */
   void set_select(const trn::vision::SelectParams& p) { setup_.select = p; }
+  /** Whether the next boot() carves the ground's landmark table beside the map (MissionSetup::ground_landmarks). */
+  void set_ground_landmarks(bool on) { setup_.ground_landmarks = on; }
 
   [[nodiscard]] const MissionSetup& setup() const { return setup_; }
   [[nodiscard]] const bsp::world::Trajectory& truth() const { return truth_; }

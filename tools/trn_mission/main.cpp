@@ -81,6 +81,7 @@ struct Options {
   bool view = false;
   bool memory_map = false;
   bool no_plots = false;
+  bool onboard_landmarks = false;
   std::string world_cache;
   std::string trace_dump;  ///< empty: no dump
 };
@@ -502,6 +503,8 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("integrity_worst_at_s", ni.worst_at_s);
   s.extra.emplace_back("integrity_bad_sigma", static_cast<double>(ni.bad_sigma));
   s.extra.emplace_back("landmarks_selected", c.landmarks_selected);
+  s.extra.emplace_back("landmarks_from_ground", c.landmarks_from_ground);
+  s.extra.emplace_back("vision_coordinator_ready_s", 1e-3 * c.ready_ms);
   s.extra.emplace_back("coarse_accepted", c.coarse_accepted);
   s.extra.emplace_back("vision_frames_before_ready", c.frames_before_ready);
   // The coarse stage's bands: dealt to the vision tiles, computed by the coordinator instead.
@@ -658,6 +661,8 @@ int run(int argc, char** argv) {
   app.add_flag("--memory-map", o.memory_map, "Print the memory map after the run");
   app.add_option("--world-cache", o.world_cache,
                  "Folder that keeps the built terrain and map product between runs (campaigns; default: none)");
+  app.add_flag("--onboard-landmarks", o.onboard_landmarks,
+               "Fly the map without the ground's landmark table: the coordinator selects its landmarks itself");
   app.add_flag("--no-plots", o.no_plots, "Write the run's data but no plots (campaigns: gnuplot costs time per run)");
   app.add_option("--trace-dump", o.trace_dump,
                  "Write every trace event of the run to this file (compare two runs with trn_trace diff)");
@@ -690,6 +695,7 @@ int run(int argc, char** argv) {
   setup.duration_s = in.duration_s;
   setup.vision_tiles = o.vision_tiles;
   setup.world_cache = o.world_cache;
+  setup.ground_landmarks = !o.onboard_landmarks;
   if (!mission.build(setup, error) || !mission.boot(error)) {
     std::fprintf(stderr, "trn_mission: %s\n", error.c_str());
     return 1;

@@ -4,6 +4,8 @@
  */
 #include "trn/tasks/vision_coord.hpp"
 
+#include "trn/tasks/landmark_product.hpp"
+
 #include "bsp_tile64/devices/map_product.hpp"
 #include "bsp_tile64/memory.hpp"
 #include "fdir/event_log.hpp"
@@ -11,6 +13,7 @@
 #include "fdir/tile_health.hpp"
 #include "kernel/kernel.hpp"
 #include "trn/match.hpp"
+#include "trn/tasks/landmark_product.hpp"
 #include "trn/tasks/match_deal.hpp"
 #include "trn/tasks/messages.hpp"
 #include "trn/tasks/sdc_points.hpp"
@@ -171,6 +174,32 @@ vision::Status select_in_steps(CoordState& st) noexcept {
   return progress.done ? vision::Status::kOk : vision::Status::kTooLarge;
 }
 
+/**
+ * The ground's landmark table (landmark_product.hpp), if the map came with
+ * one and it passes its checks, into st.table. A table that fails them is
+ * reported (landmark_product_refused) and the caller selects on board.
+ */
+bool take_ground_table(CoordState& st) noexcept {
+  std::size_t bytes = 0U;
+  const std::uint8_t* block = ddr_find_sized(kLandmarkProductCarveName, bytes);
+  if (block == nullptr) {
+    return false;  // no table came with the map: selected on board, as designed
+  }
+  const ProductLayer layer{st.fine.image.width, st.fine.image.height, st.fine.geo};
+  bsp::Work work{};
+  const ProductCheck c =
+      landmark_product_load(std::span<const std::uint8_t>(block, bytes), st.cfg->select, layer, *st.table, work);
+  bsp::consume(work);
+  k::checkin();
+  if (c != ProductCheck::kOk) {
+    ::new (st.table) vision::LandmarkTable{};
+    fdir::report(fdir::EventId::kLandmarkProductRefused, 0U, static_cast<std::uint32_t>(c),
+                 static_cast<std::uint32_t>(bytes));
+    return false;
+  }
+  return true;
+}
+
 bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
   const bsp::MapProductHeader* product = bsp::map_product_find();
   if (product == nullptr || vision::map_view(product, bsp::kMapLayerFine, st.fine) != vision::Status::kOk ||
@@ -201,6 +230,11 @@ bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
     st.coarse_map.descent_sun_m[i] = st.cfg->descent_sun_m[i];
   }
   st.relit = vision::ImageU8{relit, orbital.width, orbital.height, orbital.width};
+  if (take_ground_table(st)) {
+    stats.landmarks_selected = st.table->count;
+    stats.landmarks_from_ground = 1U;
+    return true;
+  }
   // The product's elevation is int16 counts, the selection's optional view is
   // metres as float: the selection runs on the image alone and each chosen
   // landmark's 3D position is then read from the product.
@@ -218,6 +252,7 @@ bool coord_set_up(CoordState& st, VisionCoordStats& stats) noexcept {
   bsp::consume(work);
   k::checkin();
   stats.landmarks_selected = st.table->count;
+  stats.landmarks_from_ground = 0U;
   return true;
 }
 
@@ -1109,6 +1144,7 @@ void vision_coord_main(void* arg) noexcept {
   }
   // Emulated seconds, as the frames' capture times (the tick is 1 ms, as seconds_to_ticks() takes it).
   st->ready_s = static_cast<double>(bsp::now()) / static_cast<double>(bsp::tick_cycles()) * 1e-3;
+  stats.ready_ms = static_cast<std::uint32_t>(bsp::now() / bsp::tick_cycles());
   for (;;) {
     drain_nav(*st);
     drain_notices(*st, stats);

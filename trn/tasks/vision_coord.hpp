@@ -109,12 +109,13 @@ struct VisionCoordConfig {
 
 struct VisionCoordStats {
   std::uint32_t landmarks_selected;
+  std::uint32_t landmarks_from_ground;  ///< 1: the table is the ground's (landmark_product.hpp); 0: selected on board
+  std::uint32_t ready_ms;               ///< when the set-up ended (table, relit coarse layer), emulated ms since boot
   std::uint32_t frames_seen;
   std::uint32_t frames_processed;     ///< planned and sent out
   std::uint32_t frames_skipped;       ///< no prior, bad notice, or busy with another frame
-  /// Frames captured before the coordinator's set-up ended (the frame at 1 s): not processed.
-  /// Processed, the first frame's batch comes with the attitude still ~1 deg off and, in
-  /// `make integrity`, put one output of seed 38 beyond 5-sigma (docs/VISION.md, "Coarse stage in bands").
+  /// Frames captured before the coordinator's set-up ended: not processed. With the ground's
+  /// landmark table none (the set-up ends at ~0.1 s); selecting on board (~1 s), the frame at 1 s.
   std::uint32_t frames_before_ready;
   std::uint32_t coarse_runs;
   std::uint32_t coarse_accepted;

@@ -48,14 +48,21 @@ const std::uint8_t* ddr_at(std::uint64_t offset, std::uint64_t bytes) noexcept {
   return reinterpret_cast<const std::uint8_t*>(ddr.data() + offset);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): DDR bytes
 }
 
-const std::uint8_t* ddr_find(const char* what) noexcept {
+const std::uint8_t* ddr_find_sized(const char* what, std::size_t& bytes) noexcept {
   const bsp::Region ddr{bsp::Region::kDdr};
+  bytes = 0U;
   for (const bsp::CarveRecord& r : bsp::region_carves(ddr)) {
     if (r.what != nullptr && std::strcmp(r.what, what) == 0) {
+      bytes = static_cast<std::size_t>(r.bytes);
       return reinterpret_cast<const std::uint8_t*>(bsp::region_span(ddr).data() + r.offset);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
     }
   }
   return nullptr;
+}
+
+const std::uint8_t* ddr_find(const char* what) noexcept {
+  std::size_t bytes = 0U;
+  return ddr_find_sized(what, bytes);
 }
 
 std::uint8_t* ddr_carve_named(const char* what, std::size_t bytes, std::size_t align) noexcept {

@@ -94,6 +94,8 @@ const std::uint8_t* ddr_at(std::uint64_t offset, std::uint64_t bytes) noexcept;
 
 /** The DDR carve named @p what, or nullptr. */
 const std::uint8_t* ddr_find(const char* what) noexcept;
+/** ddr_find(), and the block's size into @p bytes (0 when not found). */
+const std::uint8_t* ddr_find_sized(const char* what, std::size_t& bytes) noexcept;
 
 /**
  * The DDR carve named @p what if one of @p bytes exists (a restarted task

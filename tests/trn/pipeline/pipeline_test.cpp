@@ -12,14 +12,18 @@
 #include "fdir/event_log.hpp"
 #include "tools/common/mission.hpp"
 #include "trn/tasks/filter_task.hpp"
+#include "trn/tasks/landmark_product.hpp"
 #include "trn/tasks/tile_map.hpp"
 #include "trn/tasks/vision_coord.hpp"
+#include "trn/tasks/vision_shared.hpp"
 
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstring>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -128,10 +132,12 @@ TEST_F(PipelineTest, ACoordinatorThatCannotStartSaysWhy) {
   tiny.stride_px = 2;
   mission_->set_unpowered(0);
   mission_->set_select(tiny);
+  mission_->set_ground_landmarks(false);  // the ground could not select with these either: on board
   std::string error;
   ASSERT_TRUE(mission_->boot(error)) << error;
   fly_s(1.5);
   mission_->set_select(trn::tasks::coord_select_params());  // the next tests boot the usual coordinator
+  mission_->set_ground_landmarks(true);
   std::uint32_t said = 0;
   for (std::uint64_t i = 0; i < fdir::event_log_written(kCoordinatorTile); ++i) {
     fdir::Event e{};
@@ -143,6 +149,78 @@ TEST_F(PipelineTest, ACoordinatorThatCannotStartSaysWhy) {
   }
   EXPECT_EQ(said, 1U);
   EXPECT_EQ(trn::tasks::vision_coord_stats(kCoordinatorTile).frames_processed, 0U);
+}
+
+/** The coordinator's table (DDR "landmarks"): its records, count first. */
+std::vector<std::uint8_t> coordinator_table() {
+  const std::uint8_t* t = trn::tasks::ddr_find(trn::tasks::kLandmarkCarveName);
+  if (t == nullptr) {
+    return {};
+  }
+  const auto* table = reinterpret_cast<const trn::vision::LandmarkTable*>(t);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
+  std::vector<std::uint8_t> out(sizeof(std::uint32_t) + table->count * sizeof(trn::vision::Landmark));
+  std::memcpy(out.data(), &table->count, sizeof(std::uint32_t));
+  std::memcpy(out.data() + sizeof(std::uint32_t), table->items, table->count * sizeof(trn::vision::Landmark));
+  return out;
+}
+
+/** The events of @p id the coordinator's tile wrote. */
+std::vector<fdir::Event> coordinator_events(fdir::EventId id) {
+  std::vector<fdir::Event> out;
+  for (std::uint64_t i = 0; i < fdir::event_log_written(kCoordinatorTile); ++i) {
+    fdir::Event e{};
+    if (fdir::event_log_read(kCoordinatorTile, i, &e) && e.id == id) {
+      out.push_back(e);
+    }
+  }
+  return out;
+}
+
+// The ground's landmark table is the table the coordinator selects on board, bit for bit (positions
+// included), and with it the coordinator is ready for the frame captured at 1 s.
+TEST_F(PipelineTest, TheGroundsLandmarkTableIsTheOnboardSelectionAndReadyForTheFirstFrame) {
+  mission_->set_unpowered(0);
+  std::string error;
+  ASSERT_TRUE(mission_->boot(error)) << error;
+  fly_s(1.2);
+  const trn::tasks::VisionCoordStats ground = trn::tasks::vision_coord_stats(kCoordinatorTile);
+  EXPECT_EQ(ground.landmarks_from_ground, 1U);
+  EXPECT_GT(ground.landmarks_selected, 3000U);
+  EXPECT_EQ(ground.frames_before_ready, 0U);
+  EXPECT_GE(ground.frames_processed, 1U) << "the frame captured at 1 s";
+  EXPECT_TRUE(coordinator_events(fdir::EventId::kLandmarkProductRefused).empty());
+  const std::vector<std::uint8_t> from_ground = coordinator_table();
+  mission_->set_ground_landmarks(false);
+  ASSERT_TRUE(mission_->boot(error)) << error;
+  fly_s(2.5);
+  mission_->set_ground_landmarks(true);
+  const trn::tasks::VisionCoordStats board = trn::tasks::vision_coord_stats(kCoordinatorTile);
+  EXPECT_EQ(board.landmarks_from_ground, 0U);
+  EXPECT_EQ(board.frames_before_ready, 1U) << "selected on board, the start takes the frame at 1 s";
+  const std::vector<std::uint8_t> on_board = coordinator_table();
+  ASSERT_FALSE(on_board.empty());
+  EXPECT_TRUE(from_ground == on_board) << "the same records, bit for bit";
+}
+
+// A ground table changed in DDR (one bit of one record) fails its CRC: the coordinator says so
+// (landmark_product_refused, cause 5) and selects the landmarks itself; the frames go on.
+TEST_F(PipelineTest, AGroundTableChangedInMemoryIsRefusedAndTheCoordinatorSelectsItself) {
+  mission_->set_unpowered(0);
+  std::string error;
+  ASSERT_TRUE(mission_->boot(error)) << error;
+  const std::uint8_t* block = trn::tasks::ddr_find(trn::tasks::kLandmarkProductCarveName);
+  ASSERT_NE(block, nullptr);
+  auto* bytes = const_cast<std::uint8_t*>(block);  // NOLINT(cppcoreguidelines-pro-type-const-cast): the test's upset
+  bytes[sizeof(trn::tasks::LandmarkProductHeader) + 1000U * sizeof(trn::vision::Landmark) + 9U] ^= 0x10U;
+  fly_s(3.5);
+  const std::vector<fdir::Event> refused = coordinator_events(fdir::EventId::kLandmarkProductRefused);
+  ASSERT_EQ(refused.size(), 1U);
+  EXPECT_EQ(refused[0].cause, static_cast<std::uint32_t>(trn::tasks::ProductCheck::kBadRecords));
+  const trn::tasks::VisionCoordStats c = trn::tasks::vision_coord_stats(kCoordinatorTile);
+  EXPECT_EQ(c.landmarks_from_ground, 0U);
+  EXPECT_GT(c.landmarks_selected, 3000U);
+  EXPECT_GE(c.frames_processed, 1U);
+  EXPECT_TRUE(coordinator_events(fdir::EventId::kVisionSetUpFailed).empty());
 }
 
 }  // namespace
