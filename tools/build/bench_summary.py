@@ -70,6 +70,11 @@ if os.path.exists(mission):
                  "longest frame %.0f ms; %d deadline misses; final error %.2f m"
                  % (s["seed"], s["emulated_s"], s["realtime_factor"], s["frames"], s["matches_per_frame_mean"],
                     s.get("worst_frame_ms", float("nan")), s["deadline_misses"], s["final_position_error_m"]))
+    if "vision_coordinator_ready_s" in s:
+        lines.append("vision coordinator ready at %.3f s (landmark table %s); frames captured before it %d; fix at %.2f s"
+                     % (s["vision_coordinator_ready_s"],
+                        "from the ground" if s.get("landmarks_from_ground") == 1 else "selected on board",
+                        s.get("vision_frames_before_ready", 0), s.get("fix_at_s", float("nan"))))
     if "coarse_stage_ms" in s:
         lines.append("coarse stage: %.1f ms emulated (warp and decimation, %d bands dealt to the vision tiles, "
                      "computed and gathered, the match); %d bands computed by the coordinator instead"

@@ -196,6 +196,8 @@ TEST_F(PipelineTest, TheGroundsLandmarkTableIsTheOnboardSelectionAndReadyForTheF
   mission_->set_ground_landmarks(true);
   const trn::tasks::VisionCoordStats board = trn::tasks::vision_coord_stats(kCoordinatorTile);
   EXPECT_EQ(board.landmarks_from_ground, 0U);
+  EXPECT_LT(ground.ready_ms, 300U) << "the table checked, the coarse layer relit";
+  EXPECT_GT(board.ready_ms, 1000U) << "the selection on board is most of the start";
   EXPECT_EQ(board.frames_before_ready, 1U) << "selected on board, the start takes the frame at 1 s";
   const std::vector<std::uint8_t> on_board = coordinator_table();
   ASSERT_FALSE(on_board.empty());
