@@ -250,8 +250,9 @@ struct RowsFirstRun {
   Eigen::Matrix<double, 15, 15> f;
   Eigen::Matrix<double, 15, 15> p;
   Eigen::Matrix<double, 15, 15> c;
+  Eigen::Matrix<double, 15, 15> clean;  ///< the same kernel, no fault, into the same matrix
   fdir::AbftSums<15, 15, 15> s;
-  fdir::AbftResult clean;
+  fdir::AbftResult clean_result;
   fdir::AbftResult once;
   bsp::Work clean_work{};
 };
@@ -266,16 +267,17 @@ TEST(Abft, RowsFirstCostsTheRowsWhenCleanAndLocatesTheElementWhenWrong) {
   std::mt19937_64 rng(kSeed);
   g_rf.p = covariance<15>(rng);
   g_rf.f = transition<15>(rng);
-  const Eigen::Matrix<double, 15, 15> clean = g_rf.f.lazyProduct(g_rf.p);
   fdir_test::run_on_tile0([] {
     RowsFirstRun& r = g_rf;
     const fdir::AbftSite site{9U, 0U, false, true};
-    r.clean = fdir::abft_product(r.f, r.p, r.c, site, fdir::AbftDense{}, r.s, r.clean_work);
+    FaultyKernel k0{0, 4, 12};
+    r.clean_result = fdir::abft_product(r.f, r.p, r.c, site, k0, r.s, r.clean_work);
+    r.clean = r.c;
     bsp::Work w{};
     FaultyKernel k1{1, 4, 12};
     r.once = fdir::abft_product(r.f, r.p, r.c, site, k1, r.s, w);
   });
-  EXPECT_EQ(g_rf.clean.verdict, fdir::AbftVerdict::kClean);
+  EXPECT_EQ(g_rf.clean_result.verdict, fdir::AbftVerdict::kClean);
   EXPECT_EQ(g_rf.clean_work.flops, fdir::abft_rows_first_flops(15, 15, 15));
   EXPECT_LT(fdir::abft_rows_first_flops(15, 15, 15), fdir::abft_clean_flops(15, 15, 15));
   EXPECT_EQ(g_rf.once.verdict, fdir::AbftVerdict::kCorrected);
@@ -285,8 +287,8 @@ TEST(Abft, RowsFirstCostsTheRowsWhenCleanAndLocatesTheElementWhenWrong) {
   EXPECT_EQ(g_rf.once.bad_cols, 1U);
   EXPECT_EQ(g_rf.once.recomputes, 1U);
   bool same = true;
-  for (Eigen::Index e = 0; e < clean.size(); ++e) {
-    same = same && std::bit_cast<std::uint64_t>(g_rf.c.data()[e]) == std::bit_cast<std::uint64_t>(clean.data()[e]);
+  for (Eigen::Index e = 0; e < g_rf.clean.size(); ++e) {
+    same = same && std::bit_cast<std::uint64_t>(g_rf.c.data()[e]) == std::bit_cast<std::uint64_t>(g_rf.clean.data()[e]);
   }
   EXPECT_TRUE(same) << "the clean product, bit for bit";
   const std::vector<fdir::Event> ev = fdir_test::events_of(0);

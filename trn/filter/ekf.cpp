@@ -167,6 +167,7 @@ GateResult Ekf::iterated_update(const Match& m) noexcept {
     }
   }
   s_.x = x0_;
+  pose_valid_ = false;  // the iterations measured at x0 + dx_, not at the nominal left here
   return first;
 }
 
