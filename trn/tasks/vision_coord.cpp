@@ -191,8 +191,7 @@ bool take_ground_table(CoordState& st) noexcept {
       landmark_product_load(std::span<const std::uint8_t>(block, bytes), st.cfg->select, layer, *st.table, work);
   bsp::consume(work);
   k::checkin();
-  if (c != ProductCheck::kOk) {
-    ::new (st.table) vision::LandmarkTable{};
+  if (c != ProductCheck::kOk) {  // the table is untouched: still the empty one coord_set_up() made
     fdir::report(fdir::EventId::kLandmarkProductRefused, 0U, static_cast<std::uint32_t>(c),
                  static_cast<std::uint32_t>(bytes));
     return false;

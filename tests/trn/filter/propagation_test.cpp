@@ -144,11 +144,13 @@ TEST(FilterPropagation, CountedWorkEqualsThePublishedBudgetConstants) {
 // A batch of one image's matches computes the image's pose once and injects its correction once: each
 // match after the first costs kFlopsPerFurtherMatch (kFlopsPerFurtherLaggedMatch from the past).
 TEST(FilterPropagation, FurtherMatchesOfABatchCostThePublishedMarginalBudget) {
+  constexpr std::uint64_t kSeed = 4;
+  SCOPED_TRACE(testing::Message() << "seed " << kSeed);
   trn::filter::FilterConfig cfg;
   const bsp::CameraModel cam{};
   ASSERT_EQ(g_ekf.configure(cfg, cam), FilterStatus::kOk);
-  TruthSim truth(4, false, cfg.imu);
-  bsp::Rng rng(4, bsp::StreamId::kTest, 11);
+  TruthSim truth(kSeed, false, cfg.imu);
+  bsp::Rng rng(kSeed, bsp::StreamId::kTest, 11);
   ASSERT_EQ(g_ekf.init(filter_test::perturbed_estimate(truth, rng, 3.0, 0.1, 1e-3)), FilterStatus::kOk);
   ASSERT_EQ(g_ekf.propagate(truth.next_imu()), FilterStatus::kOk);
   constexpr std::uint32_t kN = 5;
