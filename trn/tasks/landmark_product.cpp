@@ -22,7 +22,8 @@ std::uint32_t header_crc_of(const LandmarkProductHeader& h) noexcept {
 bool same_params(const vision::SelectParams& a, const vision::SelectParams& b) noexcept {
   return a.patch_px == b.patch_px && a.cell_px == b.cell_px && a.stride_px == b.stride_px &&
          a.margin_px == b.margin_px && a.cell_inset_px == b.cell_inset_px &&
-         a.min_separation_px == b.min_separation_px && a.min_corner == b.min_corner && a.min_stddev == b.min_stddev;
+         a.min_separation_px == b.min_separation_px && a.min_corner == b.min_corner && a.min_stddev == b.min_stddev &&
+         a.dense_cell_px == b.dense_cell_px && a.dense_cell_inset_px == b.dense_cell_inset_px;
 }
 
 bool same_layer(const LandmarkProductHeader& h, const ProductLayer& l) noexcept {
@@ -57,6 +58,7 @@ bool landmark_product_write(const vision::LandmarkTable& table, const vision::Se
   }
   LandmarkProductHeader h{};
   h.count = n;
+  h.first_tight = table.first_tight < n ? table.first_tight : n;
   h.layer_width = layer.width;
   h.layer_height = layer.height;
   h.geo = layer.geo;
@@ -90,7 +92,7 @@ ProductCheck landmark_product_load(std::span<const std::uint8_t> bytes, const vi
   if (!same_layer(h, layer)) {
     return ProductCheck::kOtherMap;
   }
-  if (h.count > vision::kMaxLandmarks) {
+  if (h.count > vision::kMaxLandmarks || h.first_tight > h.count) {
     return ProductCheck::kBadRecords;
   }
   if (bytes.size() < landmark_product_bytes(h.count)) {
@@ -112,6 +114,7 @@ ProductCheck landmark_product_load(std::span<const std::uint8_t> bytes, const vi
     std::memcpy(table.items, items.data(), item_bytes);
   }
   table.count = h.count;
+  table.first_tight = h.first_tight;
   std::memset(table.keep, 0, sizeof table.keep);
   work.mem_words += item_bytes / 2U;  // read and written, 4-byte words
   return ProductCheck::kOk;

@@ -9,7 +9,7 @@
  * vision::Landmark records (map positions filled). The coordinator takes the
  * table only if the header is intact (its own CRC-32C), it was selected with
  * the coordinator's settings on a layer of the same size and geometry, every
- * landmark lies in that layer, and the records' CRC-32C matches; otherwise it
+ * landmark lies in that layer, the dense set starts within the table, and the records' CRC-32C matches; otherwise it
  * reports why (landmark_product_refused) and selects the landmarks itself.
  *
  * Flight code (the check and the copy): static memory, no exceptions.
@@ -28,7 +28,7 @@ namespace trn::tasks {
 /** Name of the ground's landmark table in DDR. */
 inline constexpr const char* kLandmarkProductCarveName = "landmark_product";
 inline constexpr std::uint32_t kLandmarkProductMagic = 0x504B4D4CU;  // "LMKP" little-endian
-inline constexpr std::uint32_t kLandmarkProductVersion = 1U;
+inline constexpr std::uint32_t kLandmarkProductVersion = 2U;  // 2: the dense set (first_tight, the dense cells in the settings)
 
 /** The block's first bytes (no padding: every field is written). */
 struct LandmarkProductHeader {
@@ -37,13 +37,13 @@ struct LandmarkProductHeader {
   std::uint32_t count = 0U;           ///< landmark records after the header
   std::int32_t layer_width = 0;       ///< the map layer it was selected on, pixels
   std::int32_t layer_height = 0;
-  std::uint32_t reserved = 0U;
+  std::uint32_t first_tight = 0U;     ///< records from this one on are the dense set (LandmarkTable::first_tight)
   vision::MapGeometry geo{};          ///< ... and its geometry
   vision::SelectParams params{};      ///< the selection's settings
   std::uint32_t items_crc = 0U;       ///< CRC-32C of the records
   std::uint32_t header_crc = 0U;      ///< CRC-32C of the header's bytes before this field
 };
-static_assert(sizeof(LandmarkProductHeader) == 88U, "the header has no padding");
+static_assert(sizeof(LandmarkProductHeader) == 96U, "the header has no padding");
 static_assert(sizeof(vision::Landmark) == 40U, "a record has no padding");
 
 /** Bytes of a product of @p count landmarks. */
@@ -58,7 +58,7 @@ enum class ProductCheck : std::uint32_t {
   kBadHeader = 2,     ///< magic, version or the header's CRC
   kOtherSettings = 3, ///< selected with other settings than the coordinator's
   kOtherMap = 4,      ///< selected on a layer of another size or geometry
-  kBadRecords = 5,    ///< the records' CRC, a count above the table, or a landmark outside the layer
+  kBadRecords = 5,    ///< the records' CRC, a count above the table, a dense set past it, or a landmark outside the layer
 };
 
 /** What the ground needs to say about the layer it selected on. */

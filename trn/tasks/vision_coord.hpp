@@ -60,8 +60,9 @@ constexpr vision::CoarseFrameParams coord_coarse_params() noexcept {
 
 /**
  * The coordinator's landmark selection: a landmark per 32 px cell (192 m on
- * the 6 m layer), down to a faint corner strength, so that the frame still
- * holds ~80 landmarks near the end of the descent, where it sees ~2 km of
+ * the 6 m layer), down to a faint corner strength, and a dense set of 26 px
+ * cells (156 m) for frames with a tight prior, so that the frame still holds
+ * 80 landmarks and more near the end of the descent, where it sees ~2 km of
  * ground (docs/VISION.md, "Landmarks by altitude").
  */
 constexpr vision::SelectParams coord_select_params() noexcept {
@@ -71,6 +72,8 @@ constexpr vision::SelectParams coord_select_params() noexcept {
   p.min_separation_px = 16;
   p.min_corner = 5.0F;
   p.min_stddev = 4.0F;
+  p.dense_cell_px = 26;
+  p.dense_cell_inset_px = 8;
   return p;
 }
 

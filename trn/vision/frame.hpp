@@ -111,7 +111,8 @@ struct FramePlanParams {
   bool footprint_cull = true;  ///< skip landmarks outside the frame's map footprint (same plan, less work)
   /// A landmark whose corner strength (Landmark::corner) is below this is planned only with a search
   /// radius of at most weak_max_radius_px: a faint patch matched over a wide window can lock onto a
-  /// wrong peak that passes the quality checks, so faint landmarks wait for a tight prior.
+  /// wrong peak that passes the quality checks, so faint landmarks wait for a tight prior. The
+  /// table's dense set (LandmarkTable::first_tight on) waits for it too, whatever its strength.
   float strong_corner = 0.0F;
   std::int32_t weak_max_radius_px = kFineMaxSearchPx;
 };

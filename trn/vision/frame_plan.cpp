@@ -128,8 +128,12 @@ std::int32_t search_radius(const PosePrior& prior, const PoseGeometry& pose, con
   return r < static_cast<double>(fp.min_radius_px) ? fp.min_radius_px : static_cast<std::int32_t>(r);
 }
 
-/** Prediction of landmark @p lm: in front, inside the frame less the border, its window inside the frame. */
-bool predict(const Landmark& lm, const bsp::CameraModel& cam, const PoseGeometry& pose, const PosePrior& prior,
+/**
+ * Prediction of landmark @p lm: in front, inside the frame less the border, its window inside the frame.
+ * A faint landmark, or one of the table's dense set (@p tight_only), only with a radius of at most
+ * weak_max_radius_px.
+ */
+bool predict(const Landmark& lm, bool tight_only, const bsp::CameraModel& cam, const PoseGeometry& pose, const PosePrior& prior,
              const MapView& map, const FramePlanParams& fp, PlannedLandmark& out, bsp::Work& work) noexcept {
   double u = 0.0;
   double v = 0.0;
@@ -142,7 +146,7 @@ bool predict(const Landmark& lm, const bsp::CameraModel& cam, const PoseGeometry
     return false;
   }
   const std::int32_t r = search_radius(prior, pose, lm.p_m, map.geo.m_per_px, fp, work);
-  if (r < 0 || (lm.corner < fp.strong_corner && r > fp.weak_max_radius_px)) {
+  if (r < 0 || ((tight_only || lm.corner < fp.strong_corner) && r > fp.weak_max_radius_px)) {
     return false;
   }
   Window win;
@@ -340,7 +344,8 @@ Status plan_frame(const LandmarkTable& table, const MapView& map, const bsp::Cam
   // Pass 1: how many landmarks each cell can offer (each prediction kept when there is a scratch).
   std::uint32_t kept = 0U;
   for (std::uint32_t i = 0U; i < table.count; ++i) {
-    if (in_box(box, table.items[i]) && predict(table.items[i], cam, pose, prior, map, p, pl, work)) {
+    if (in_box(box, table.items[i]) &&
+        predict(table.items[i], i >= table.first_tight, cam, pose, prior, map, p, pl, work)) {
       const std::int32_t c = cell_of(grid, pl.u_px, pl.v_px);
       ++counts[c];
       if (scratch != nullptr) {
@@ -359,7 +364,8 @@ Status plan_frame(const LandmarkTable& table, const MapView& map, const bsp::Cam
   }
   // Pass 2: the first quota[c] landmarks of each cell (table order), written in round-robin order.
   for (std::uint32_t i = 0U; i < table.count && n < total; ++i) {
-    if (!in_box(box, table.items[i]) || !predict(table.items[i], cam, pose, prior, map, p, pl, work)) {
+    if (!in_box(box, table.items[i]) ||
+        !predict(table.items[i], i >= table.first_tight, cam, pose, prior, map, p, pl, work)) {
       continue;
     }
     const std::int32_t c = cell_of(grid, pl.u_px, pl.v_px);

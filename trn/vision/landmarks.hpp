@@ -15,6 +15,16 @@
  * of each cell is kept, then a non-maximum suppression across neighbouring
  * cells drops the weaker of any two landmarks closer than min_separation_px.
  *
+ * Two sets (SelectParams::dense_cell_px > 0): after the loose set above, the
+ * map is cut again into smaller cells and selected the same way; a dense
+ * candidate closer than min_separation_px to a loose landmark is dropped, and
+ * the others are appended after the loose set (LandmarkTable::first_tight).
+ * The loose set is the table one set gives, bit for bit; the dense landmarks
+ * are for frames whose prior is tight (FramePlanParams::weak_max_radius_px):
+ * near the ground the frame sees few loose landmarks, while a frame matched
+ * with a loose prior keeps the loose set's count of matches (a larger batch
+ * applied with a loose prior is overconfident, docs/VISION.md).
+ *
  * Map geometry: pixel (col, row) centre is at x = x0_m + col * m_per_px (east),
  * y = y0_m - row * m_per_px (north; rows grow southward), z = elevation(col, row).
  */
@@ -28,8 +38,8 @@
 
 namespace trn::vision {
 
-/** Capacity of the landmark table (also the most grid cells a selection may use). */
-inline constexpr std::uint32_t kMaxLandmarks = 8192;
+/** Capacity of the landmark table (also the most grid cells a selection may use, both sets together). */
+inline constexpr std::uint32_t kMaxLandmarks = 18432;
 
 struct MapGeometry {
   double m_per_px = 12.0;  ///< ground sample distance
@@ -48,6 +58,9 @@ struct Landmark {
 struct LandmarkTable {
   Landmark items[kMaxLandmarks];
   std::uint32_t count = 0;
+  /// Items from this index on are the dense set (planned only with a tight prior); a table of one
+  /// set has it at or past count.
+  std::uint32_t first_tight = kMaxLandmarks;
   std::uint8_t keep[kMaxLandmarks]{};  ///< selection scratch (non-maximum suppression marks)
 };
 
@@ -60,6 +73,8 @@ struct SelectParams {
   std::int32_t min_separation_px = 32; ///< closest two landmarks may be (<= cell_px)
   float min_corner = 20.0F;            ///< (DN/px)^2: weakest-direction gradient RMS >= ~4.5 DN/px
   float min_stddev = 8.0F;             ///< DN
+  std::int32_t dense_cell_px = 0;      ///< cell side of the dense set (0: one set; else < cell_px)
+  std::int32_t dense_cell_inset_px = 0;  ///< the dense set's cell_inset_px (< dense_cell_px / 2)
 };
 
 /**
@@ -67,13 +82,13 @@ struct SelectParams {
  * @param elevation_m heights of the map pixels (same size as @p map), or an invalid
  *        view for z = 0
  * @return kBadInput for invalid views, mismatched elevation, an even or too small
- *         patch, or separation above the cell size; kTooLarge when the grid has
- *         more cells than kMaxLandmarks.
+ *         patch, separation above a cell size, or a dense cell not smaller than the
+ *         loose one; kTooLarge when the grids have more cells than kMaxLandmarks.
  */
 Status select_landmarks(ConstImageU8 map, ConstImageF32 elevation_m, const MapGeometry& geo,
                         const SelectParams& p, LandmarkTable& table, bsp::Work& work) noexcept;
 
-/** Where a stepwise selection stands: the next grid cell to search; done once the table is final. */
+/** Where a stepwise selection stands: the next grid cell to search (the dense grid's follow the loose grid's); done once the table is final. */
 struct SelectProgress {
   std::int32_t next_cell = 0;
   bool done = false;

@@ -130,6 +130,7 @@ TEST_F(PipelineTest, ACoordinatorThatCannotStartSaysWhy) {
   tiny.cell_inset_px = 2;
   tiny.min_separation_px = 4;
   tiny.stride_px = 2;
+  tiny.dense_cell_px = 0;
   mission_->set_unpowered(0);
   mission_->set_select(tiny);
   mission_->set_ground_landmarks(false);  // the ground could not select with these either: on board
@@ -151,16 +152,17 @@ TEST_F(PipelineTest, ACoordinatorThatCannotStartSaysWhy) {
   EXPECT_EQ(trn::tasks::vision_coord_stats(kCoordinatorTile).frames_processed, 0U);
 }
 
-/** The coordinator's table (DDR "landmarks"): its records, count first. */
+/** The coordinator's table (DDR "landmarks"): its records, count and first_tight first. */
 std::vector<std::uint8_t> coordinator_table() {
   const std::uint8_t* t = trn::tasks::ddr_find(trn::tasks::kLandmarkCarveName);
   if (t == nullptr) {
     return {};
   }
   const auto* table = reinterpret_cast<const trn::vision::LandmarkTable*>(t);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
-  std::vector<std::uint8_t> out(sizeof(std::uint32_t) + table->count * sizeof(trn::vision::Landmark));
+  std::vector<std::uint8_t> out(2U * sizeof(std::uint32_t) + table->count * sizeof(trn::vision::Landmark));
   std::memcpy(out.data(), &table->count, sizeof(std::uint32_t));
-  std::memcpy(out.data() + sizeof(std::uint32_t), table->items, table->count * sizeof(trn::vision::Landmark));
+  std::memcpy(out.data() + sizeof(std::uint32_t), &table->first_tight, sizeof(std::uint32_t));
+  std::memcpy(out.data() + 2U * sizeof(std::uint32_t), table->items, table->count * sizeof(trn::vision::Landmark));
   return out;
 }
 

@@ -5,6 +5,7 @@
  */
 #include "trn/tasks/landmark_product.hpp"
 #include "trn/tasks/vision_coord.hpp"
+#include "udn/crc32c.hpp"
 
 #include <gtest/gtest.h>
 
@@ -24,6 +25,7 @@ struct Fixture {
 
   Fixture() {
     table->count = 300U;
+    table->first_tight = 210U;  // the last 90 are the dense set
     for (std::uint32_t i = 0; i < table->count; ++i) {
       trn::vision::Landmark& lm = table->items[i];
       lm.col_px = static_cast<std::int32_t>(40U + 7U * i);
@@ -50,6 +52,7 @@ TEST(LandmarkProduct, WrittenAndReadBackWholeWithItsWorkCharged) {
   bsp::Work w{};
   ASSERT_EQ(trn::tasks::landmark_product_load(f.bytes, f.params, f.layer, *out, w), ProductCheck::kOk);
   ASSERT_EQ(out->count, f.table->count);
+  EXPECT_EQ(out->first_tight, 210U) << "the dense set comes with it";
   EXPECT_EQ(std::memcmp(out->items, f.table->items, f.table->count * sizeof(trn::vision::Landmark)), 0);
   EXPECT_GT(w.int_ops, 2U * f.table->count * sizeof(trn::vision::Landmark)) << "the CRCs are charged";
   EXPECT_GT(w.mem_words, f.table->count * sizeof(trn::vision::Landmark) / 4U) << "and the copy";
@@ -81,6 +84,22 @@ TEST(LandmarkProduct, EveryMisfitIsRefusedWithItsReasonAndTheTableUntouched) {
     Fixture f;
     f.params.cell_px = 28;
     EXPECT_EQ(f.load(*out), ProductCheck::kOtherSettings);
+  }
+  {
+    Fixture f;
+    f.params.dense_cell_px = 0;  // one set here, two on the ground
+    EXPECT_EQ(f.load(*out), ProductCheck::kOtherSettings);
+  }
+  {
+    Fixture f;  // a dense set starting past the records, under a valid header CRC
+    trn::tasks::LandmarkProductHeader h{};
+    std::memcpy(&h, f.bytes.data(), sizeof h);
+    h.first_tight = h.count + 1U;
+    // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): the header's bytes
+    const auto* b = reinterpret_cast<const std::uint8_t*>(&h);
+    h.header_crc = udn::crc32c_bytes(std::span<const std::uint8_t>(b, offsetof(trn::tasks::LandmarkProductHeader, header_crc)));
+    std::memcpy(f.bytes.data(), &h, sizeof h);
+    EXPECT_EQ(f.load(*out), ProductCheck::kBadRecords);
   }
   {
     Fixture f;

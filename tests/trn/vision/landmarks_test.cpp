@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -132,10 +133,24 @@ TEST(Landmarks, RefusesBadParametersAndTooManyCells) {
   static tv::LandmarkTable table;
   bsp::Work work;
   tv::SelectParams tiny;
-  tiny.cell_px = 4;
-  tiny.min_separation_px = 4;
+  tiny.cell_px = 3;
+  tiny.min_separation_px = 3;
   tiny.cell_inset_px = 1;
   EXPECT_EQ(tv::select_landmarks(map.view(), {}, {}, tiny, table, work), tv::Status::kTooLarge);
+  tv::SelectParams small;  // 103 x 103 cells fit; with a dense set of 128 x 128 more, the grids do not
+  small.cell_px = 5;
+  small.min_separation_px = 4;
+  small.cell_inset_px = 1;
+  EXPECT_EQ(tv::select_landmarks(map.view(), {}, {}, small, table, work), tv::Status::kOk);
+  small.dense_cell_px = 4;
+  small.dense_cell_inset_px = 1;
+  EXPECT_EQ(tv::select_landmarks(map.view(), {}, {}, small, table, work), tv::Status::kTooLarge);
+  for (const auto& [cell, inset] : {std::pair{64, 8}, std::pair{24, 8}, std::pair{40, 20}, std::pair{-8, 0}}) {
+    tv::SelectParams dense;  // not smaller than the loose cell, below the separation, inset too deep, negative
+    dense.dense_cell_px = cell;
+    dense.dense_cell_inset_px = inset;
+    EXPECT_EQ(tv::select_landmarks(map.view(), {}, {}, dense, table, work), tv::Status::kBadInput) << cell;
+  }
   tv::SelectParams even;
   even.patch_px = 20;
   EXPECT_EQ(tv::select_landmarks(map.view(), {}, {}, even, table, work), tv::Status::kBadInput);
@@ -155,38 +170,106 @@ TEST(Landmarks, SelectionMakesNoHeapAllocation) {
   EXPECT_EQ(allocs, 0U);
 }
 
+/** Every field the same, exactly. */
+bool same(const tv::Landmark& a, const tv::Landmark& b) {
+  return a.col_px == b.col_px && a.row_px == b.row_px && a.p_m[0] == b.p_m[0] && a.p_m[1] == b.p_m[1] &&
+         a.p_m[2] == b.p_m[2] && a.corner == b.corner && a.stddev == b.stddev;
+}
+
+/** A two-set selection: the default one with a dense set of 40 px cells. */
+tv::SelectParams two_sets() {
+  tv::SelectParams p;
+  p.dense_cell_px = 40;
+  p.dense_cell_inset_px = 8;
+  return p;
+}
+
+// The dense set adds landmarks where the loose set leaves room: the loose set is the one-set table bit for
+// bit, the dense landmarks follow it (first_tight), one per dense cell at most, and no two landmarks of the
+// whole table are closer than the separation.
+TEST(Landmarks, TwoSetsKeepTheLooseSetAndAddDenseLandmarksAwayFromIt) {
+  const std::uint64_t seed = 82;
+  const Image map = vision_test::smooth_texture(512, 512, 2, seed);
+  const tv::MapGeometry geo{6.0, 100.0, 900.0};
+  static tv::LandmarkTable one;
+  static tv::LandmarkTable two;
+  bsp::Work w1;
+  bsp::Work w2;
+  const tv::SelectParams p = two_sets();
+  ASSERT_EQ(tv::select_landmarks(map.view(), {}, geo, tv::SelectParams{}, one, w1), tv::Status::kOk);
+  ASSERT_EQ(tv::select_landmarks(map.view(), {}, geo, p, two, w2), tv::Status::kOk);
+  EXPECT_EQ(one.first_tight, one.count) << "one set: nothing waits for a tight prior";
+  ASSERT_EQ(two.first_tight, one.count);
+  for (std::uint32_t i = 0; i < one.count; ++i) {
+    ASSERT_TRUE(same(two.items[i], one.items[i])) << i;
+  }
+  const std::uint32_t dense = two.count - two.first_tight;
+  std::printf("two sets: %u loose + %u dense landmarks\n", one.count, dense);
+  EXPECT_GT(dense, one.count / 4U) << "seed " << seed;
+  const std::int32_t per_side = (512 + p.dense_cell_px - 1) / p.dense_cell_px;
+  std::vector<int> per_cell(static_cast<std::size_t>(per_side * per_side), 0);
+  for (std::uint32_t i = two.first_tight; i < two.count; ++i) {
+    const tv::Landmark& a = two.items[i];
+    const std::int32_t in_x = a.col_px % p.dense_cell_px;
+    const std::int32_t in_y = a.row_px % p.dense_cell_px;
+    EXPECT_TRUE(in_x >= p.dense_cell_inset_px && in_x < p.dense_cell_px - p.dense_cell_inset_px) << i;
+    EXPECT_TRUE(in_y >= p.dense_cell_inset_px && in_y < p.dense_cell_px - p.dense_cell_inset_px) << i;
+    EXPECT_GE(a.corner, p.min_corner);
+    EXPECT_DOUBLE_EQ(a.p_m[0], 100.0 + 6.0 * a.col_px);
+    EXPECT_DOUBLE_EQ(a.p_m[1], 900.0 - 6.0 * a.row_px);
+    EXPECT_EQ(++per_cell[vision_test::idx(a.col_px / p.dense_cell_px, a.row_px / p.dense_cell_px, per_side)], 1);
+    if (i > two.first_tight) {
+      const tv::Landmark& b = two.items[i - 1U];
+      EXPECT_LT(b.row_px / p.dense_cell_px * per_side + b.col_px / p.dense_cell_px,
+                a.row_px / p.dense_cell_px * per_side + a.col_px / p.dense_cell_px) << "cell order";
+    }
+  }
+  for (std::uint32_t i = 0; i < two.count; ++i) {
+    for (std::uint32_t j = i + 1; j < two.count; ++j) {
+      const tv::Landmark& a = two.items[i];
+      const tv::Landmark& b = two.items[j];
+      EXPECT_GE(std::hypot(a.col_px - b.col_px, a.row_px - b.row_px), p.min_separation_px) << i << "," << j;
+    }
+  }
+  EXPECT_GT(w2.int_macs, w1.int_macs) << "the dense search is charged";
+}
+
 // The coordinator selects in steps and takes the filter's solutions between them: any step size gives the
-// table select_landmarks() gives, bit for bit, and the same counted work; bad steps are refused.
+// table select_landmarks() gives, bit for bit, and the same counted work, with one set or two; bad steps are
+// refused.
 TEST(Landmarks, SelectionInStepsGivesTheSameTableAndWork) {
   const std::uint64_t seed = 83;
   const Image map = vision_test::smooth_texture(700, 520, 2, seed);
   const tv::MapGeometry geo{6.0, 100.0, 900.0};
   static tv::LandmarkTable whole;
   static tv::LandmarkTable stepped;
-  bsp::Work w_whole;
-  ASSERT_EQ(tv::select_landmarks(map.view(), {}, geo, tv::SelectParams{}, whole, w_whole), tv::Status::kOk);
-  ASSERT_GT(whole.count, 20U) << "seed " << seed;
-  for (const std::int32_t per_step : {1, 7, 16, 1000}) {
-    tv::SelectProgress progress{};
-    bsp::Work w_steps;
-    std::uint32_t calls = 0;
-    while (!progress.done && calls < 10000U) {
-      ASSERT_EQ(tv::select_landmarks_step(map.view(), {}, geo, tv::SelectParams{}, stepped, progress, per_step, w_steps),
-                tv::Status::kOk);
-      ++calls;
+  for (const tv::SelectParams& sp : {tv::SelectParams{}, two_sets()}) {
+    bsp::Work w_whole;
+    ASSERT_EQ(tv::select_landmarks(map.view(), {}, geo, sp, whole, w_whole), tv::Status::kOk);
+    ASSERT_GT(whole.count, 20U) << "seed " << seed;
+    const std::int32_t loose_cells = ((700 + sp.cell_px - 1) / sp.cell_px) * ((520 + sp.cell_px - 1) / sp.cell_px);
+    for (const std::int32_t per_step : {1, 7, 16, 1000}) {
+      tv::SelectProgress progress{};
+      bsp::Work w_steps;
+      std::uint32_t calls = 0;
+      while (!progress.done && calls < 10000U) {
+        ASSERT_EQ(tv::select_landmarks_step(map.view(), {}, geo, sp, stepped, progress, per_step, w_steps),
+                  tv::Status::kOk);
+        ++calls;
+      }
+      ASSERT_TRUE(progress.done) << per_step;
+      const std::int32_t dense_cells = progress.next_cell - loose_cells;
+      EXPECT_EQ(calls, static_cast<std::uint32_t>((loose_cells + per_step - 1) / per_step +
+                                                  (dense_cells + per_step - 1) / per_step))
+          << per_step;
+      ASSERT_EQ(stepped.count, whole.count) << per_step;
+      ASSERT_EQ(stepped.first_tight, whole.first_tight) << per_step;
+      for (std::uint32_t i = 0; i < whole.count; ++i) {
+        EXPECT_TRUE(same(stepped.items[i], whole.items[i])) << per_step << " " << i;
+      }
+      EXPECT_EQ(w_steps.int_macs, w_whole.int_macs) << per_step;
+      EXPECT_EQ(w_steps.int_ops, w_whole.int_ops) << per_step;
     }
-    ASSERT_TRUE(progress.done) << per_step;
-    EXPECT_EQ(calls, static_cast<std::uint32_t>((progress.next_cell + per_step - 1) / per_step)) << per_step;
-    ASSERT_EQ(stepped.count, whole.count) << per_step;
-    for (std::uint32_t i = 0; i < whole.count; ++i) {
-      EXPECT_EQ(stepped.items[i].col_px, whole.items[i].col_px) << per_step << " " << i;
-      EXPECT_EQ(stepped.items[i].row_px, whole.items[i].row_px) << per_step << " " << i;
-      EXPECT_EQ(stepped.items[i].corner, whole.items[i].corner) << per_step << " " << i;
-      EXPECT_EQ(stepped.items[i].p_m[0], whole.items[i].p_m[0]) << per_step << " " << i;
-      EXPECT_EQ(stepped.items[i].p_m[1], whole.items[i].p_m[1]) << per_step << " " << i;
-    }
-    EXPECT_EQ(w_steps.int_macs, w_whole.int_macs) << per_step;
-    EXPECT_EQ(w_steps.int_ops, w_whole.int_ops) << per_step;
   }
   tv::SelectProgress bad{};
   bsp::Work w;

@@ -387,4 +387,45 @@ TEST_F(Plan, FaintLandmarksWaitForATightPrior) {
   }
 }
 
+TEST_F(Plan, TheTablesDenseSetWaitsForATightPriorWhateverItsStrength) {
+  // The table's second half is its dense set; every landmark strong, so only the set decides.
+  static tv::LandmarkTable two;
+  two = table_;
+  two.first_tight = two.count / 2U;
+  for (std::uint32_t i = 0; i < two.count; ++i) {
+    two.items[i].corner = 30.0F;
+  }
+  tv::FramePlanParams p;
+  p.strong_corner = 20.0F;
+  p.weak_max_radius_px = 8;
+  const auto plan_of = [&](const tv::LandmarkTable& t, double sigma_m) {
+    tv::PosePrior pr = prior(pose_);
+    pr.sigma_p_m[0] = pr.sigma_p_m[1] = pr.sigma_p_m[2] = sigma_m;
+    std::vector<tv::PlannedLandmark> out(400);
+    std::uint32_t n = 0;
+    EXPECT_EQ(tv::plan_frame(t, map_, cam_, pr, p, out.data(), 400, n, work_), tv::Status::kOk);
+    out.resize(n);
+    return out;
+  };
+  const auto dense = [&](const std::vector<tv::PlannedLandmark>& v) {
+    return std::count_if(v.begin(), v.end(), [&](const tv::PlannedLandmark& pl) { return pl.landmark >= two.first_tight; });
+  };
+  const std::vector<tv::PlannedLandmark> tight = plan_of(two, 1.0);
+  const std::vector<tv::PlannedLandmark> loose = plan_of(two, 40.0);
+  ASSERT_EQ(tight.size(), 150U);
+  ASSERT_FALSE(loose.empty());
+  EXPECT_GT(dense(tight), 20);
+  EXPECT_EQ(dense(loose), 0);
+  // With a loose prior the plan is the loose set's own: the table cut at first_tight plans the same.
+  static tv::LandmarkTable cut;
+  cut = two;
+  cut.count = two.first_tight;
+  const std::vector<tv::PlannedLandmark> alone = plan_of(cut, 40.0);
+  ASSERT_EQ(alone.size(), loose.size());
+  for (std::size_t k = 0; k < alone.size(); ++k) {
+    EXPECT_EQ(alone[k].landmark, loose[k].landmark) << k;
+    EXPECT_EQ(alone[k].radius_px, loose[k].radius_px) << k;
+  }
+}
+
 }  // namespace
