@@ -67,6 +67,18 @@ class Plan : public ::testing::Test {
     return pr;
   }
 
+  /** The plan of @p t at the test pose with every position sigma @p sigma_m (up to 400). */
+  std::vector<tv::PlannedLandmark> plan_at_sigma(const tv::LandmarkTable& t, const tv::FramePlanParams& p,
+                                                 double sigma_m) {
+    tv::PosePrior pr = prior(pose_);
+    pr.sigma_p_m[0] = pr.sigma_p_m[1] = pr.sigma_p_m[2] = sigma_m;
+    std::vector<tv::PlannedLandmark> out(400);
+    std::uint32_t n = 0;
+    EXPECT_EQ(tv::plan_frame(t, map_, cam_, pr, p, out.data(), 400, n, work_), tv::Status::kOk);
+    out.resize(n);
+    return out;
+  }
+
   std::vector<tv::PlannedLandmark> plan(const tv::PosePrior& pr, const tv::FramePlanParams& p,
                                         std::uint32_t cap = 400) {
     std::vector<tv::PlannedLandmark> out(cap);
@@ -359,15 +371,7 @@ TEST_F(Plan, FaintLandmarksWaitForATightPrior) {
   tv::FramePlanParams p;
   p.strong_corner = 20.0F;
   p.weak_max_radius_px = 8;
-  const auto plan_of = [&](double sigma_m) {
-    tv::PosePrior pr = prior(pose_);
-    pr.sigma_p_m[0] = pr.sigma_p_m[1] = pr.sigma_p_m[2] = sigma_m;
-    std::vector<tv::PlannedLandmark> out(400);
-    std::uint32_t n = 0;
-    EXPECT_EQ(tv::plan_frame(mixed, map_, cam_, pr, p, out.data(), 400, n, work_), tv::Status::kOk);
-    out.resize(n);
-    return out;
-  };
+  const auto plan_of = [&](double sigma_m) { return plan_at_sigma(mixed, p, sigma_m); };
   const auto faint = [&](const std::vector<tv::PlannedLandmark>& v) {
     return std::count_if(v.begin(), v.end(), [&](const tv::PlannedLandmark& pl) {
       return mixed.items[pl.landmark].corner < p.strong_corner;
@@ -398,15 +402,7 @@ TEST_F(Plan, TheTablesDenseSetWaitsForATightPriorWhateverItsStrength) {
   tv::FramePlanParams p;
   p.strong_corner = 20.0F;
   p.weak_max_radius_px = 8;
-  const auto plan_of = [&](const tv::LandmarkTable& t, double sigma_m) {
-    tv::PosePrior pr = prior(pose_);
-    pr.sigma_p_m[0] = pr.sigma_p_m[1] = pr.sigma_p_m[2] = sigma_m;
-    std::vector<tv::PlannedLandmark> out(400);
-    std::uint32_t n = 0;
-    EXPECT_EQ(tv::plan_frame(t, map_, cam_, pr, p, out.data(), 400, n, work_), tv::Status::kOk);
-    out.resize(n);
-    return out;
-  };
+  const auto plan_of = [&](const tv::LandmarkTable& t, double sigma_m) { return plan_at_sigma(t, p, sigma_m); };
   const auto dense = [&](const std::vector<tv::PlannedLandmark>& v) {
     return std::count_if(v.begin(), v.end(), [&](const tv::PlannedLandmark& pl) { return pl.landmark >= two.first_tight; });
   };
