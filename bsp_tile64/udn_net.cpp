@@ -143,6 +143,9 @@ std::uint32_t collect(Slot state, Cycles barrier) noexcept {
   const std::uint32_t tiles = g_net.cols * g_net.rows;
   for (std::uint32_t t = 0; t < tiles; ++t) {
     const TileNet& tn = g_net.tile[t];
+    if (tn.in_flight == 0U) {
+      continue;  // no used slot: nothing to collect (a host shortcut, the same order)
+    }
     for (std::uint32_t s = 0; s < g_net.config.max_in_flight_per_tile; ++s) {
       const Flight& f = tn.pool[s];
       if (f.state == state && (state != Slot::kRouted || f.arrival <= barrier)) {

@@ -23,26 +23,6 @@ bool invert_affine(const Affine2& m, Affine2& inv) noexcept {
   return true;
 }
 
-bool sample_bilinear(ConstImageU8 src, double x, double y, std::uint8_t& value) noexcept {
-  // Exact integer positions on the last row/column need no right/lower neighbour.
-  if (!(x >= 0.0 && y >= 0.0 && x <= src.width - 1 && y <= src.height - 1)) {
-    return false;
-  }
-  const double fx0 = std::floor(x);
-  const double fy0 = std::floor(y);
-  const auto x0 = static_cast<std::int32_t>(fx0);
-  const auto y0 = static_cast<std::int32_t>(fy0);
-  const double fx = x - fx0;
-  const double fy = y - fy0;
-  const std::int32_t x1 = x0 + 1 < src.width ? x0 + 1 : x0;
-  const std::int32_t y1 = y0 + 1 < src.height ? y0 + 1 : y0;
-  const double top = src.at(x0, y0) + fx * (src.at(x1, y0) - src.at(x0, y0));
-  const double bot = src.at(x0, y1) + fx * (src.at(x1, y1) - src.at(x0, y1));
-  const double v = top + fy * (bot - top);
-  value = static_cast<std::uint8_t>(std::lround(v));  // v in [0, 255]: rounding stays in range
-  return true;
-}
-
 Status warp_affine(ConstImageU8 src, const Affine2& dst_to_src, ImageU8 dst, std::uint8_t fill,
                    std::int32_t& outside_px, bsp::Work& work) noexcept {
   outside_px = 0;
