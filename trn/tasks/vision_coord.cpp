@@ -1007,6 +1007,14 @@ void judge_tiles(CoordState& st, VisionCoordStats& stats, std::uint32_t first, b
   bsp::consume(bsp::Work{4ULL * kMaxVisionTiles * (st.match_count + 1U), 0U, 0U, 0U, 0U});
 }
 
+/** Each fine match of the batch (from @p first) weighed by the frame's prior attitude (weighed_sigma_px()). */
+void weigh_by_prior(CoordState& st, std::uint32_t first) noexcept {
+  for (std::uint32_t k = first; k < st.match_count; ++k) {
+    st.matches[k].sigma_px = weighed_sigma_px(st.matches[k].sigma_px, st.prior, st.cfg->sigma_px_per_prior_deg);
+  }
+  bsp::consume(bsp::Work{0U, 0U, 12ULL + 6ULL * st.match_count, 1ULL + st.match_count, 0U});  // the norm once, a root per match
+}
+
 /**
  * Checks the frame's fine matches against the pose they fit together, judges
  * each tile by its share of failed matches, and leaves out of the batch the
@@ -1039,6 +1047,7 @@ void check_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   }
   st.match_count = kept;
   stats.tiles_untrusted = fdir::result_trust_untrusted(st.trust);
+  weigh_by_prior(st, first);  // after the check, which judges the matches by their own sigmas
 }
 
 /** The frame's outcome for the vision supervisor: how many tiles can still take work. */
@@ -1110,6 +1119,17 @@ bool all_answered(const CoordState& st) noexcept {
 }
 
 }  // namespace
+
+double weighed_sigma_px(double sigma_px, const vision::PosePrior& prior, double px_per_deg) noexcept {
+  constexpr double kDegPerRad = 57.29577951308232;
+  const double* sa = prior.sigma_att_rad;
+  const double att_deg = std::sqrt(sa[0] * sa[0] + sa[1] * sa[1] + sa[2] * sa[2]) * kDegPerRad;
+  if (!(px_per_deg > 0.0) || !std::isfinite(att_deg)) {
+    return sigma_px;
+  }
+  const double extra = px_per_deg * att_deg;
+  return std::sqrt(sigma_px * sigma_px + extra * extra);
+}
 
 void vision_coord_main(void* arg) noexcept {
   const bsp::TileId self = bsp::current_tile();

@@ -105,10 +105,24 @@ struct VisionCoordConfig {
   /// it by a spare when they are wrong again after the reset (kNoTile: nobody is asked).
   bsp::TileId health_tile = bsp::kNoTile;
   vision::ConsistencyParams consistency{};  ///< each frame's matches against the pose they fit
+  /// A fine match's sigma grows, in quadrature, by this many image pixels per degree of its frame's
+  /// prior attitude sigma (the norm of its three; weighed_sigma_px()): matched through warps made at
+  /// a wrong attitude, a frame's matches share an error their own sigmas (the correlation's) do not
+  /// carry, and the first fine batch after the coarse fix, applied as independent, made the filter's
+  /// attitude overconfident (docs/FILTER.md, "Over 100 seeds"). 0: the correlation's sigma alone.
+  double sigma_px_per_prior_deg = 0.4;
   fdir::ResultTrustConfig trust{};          ///< when a tile's failed matches make it suspect
   /** Boot tile of the vision supervisor (slot kSlotVisionSupervisor): sent a status after each frame, it sets the image rate (kNoTile: none). */
   bsp::TileId supervisor = bsp::kNoTile;
 };
+
+/**
+ * The sigma the filter gets for a fine match of correlation sigma @p sigma_px
+ * made from @p prior: sqrt(sigma_px^2 + (px_per_deg * |sigma_att| in degrees)^2)
+ * (VisionCoordConfig::sigma_px_per_prior_deg). @p sigma_px itself when the
+ * attitude sigmas are not finite or px_per_deg is not positive.
+ */
+double weighed_sigma_px(double sigma_px, const vision::PosePrior& prior, double px_per_deg) noexcept;
 
 struct VisionCoordStats {
   std::uint32_t landmarks_selected;
