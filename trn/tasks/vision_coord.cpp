@@ -1009,10 +1009,14 @@ void judge_tiles(CoordState& st, VisionCoordStats& stats, std::uint32_t first, b
 
 /** Each fine match of the batch (from @p first) weighed by the frame's prior attitude (weighed_sigma_px()). */
 void weigh_by_prior(CoordState& st, std::uint32_t first) noexcept {
-  for (std::uint32_t k = first; k < st.match_count; ++k) {
-    st.matches[k].sigma_px = weighed_sigma_px(st.matches[k].sigma_px, st.prior, st.cfg->sigma_px_per_prior_deg);
+  const double extra = prior_attitude_px(st.prior, st.cfg->sigma_px_per_prior_deg);
+  if (extra > 0.0) {
+    for (std::uint32_t k = first; k < st.match_count; ++k) {
+      const double s = st.matches[k].sigma_px;
+      st.matches[k].sigma_px = std::sqrt(s * s + extra * extra);
+    }
   }
-  bsp::consume(bsp::Work{0U, 0U, 12ULL + 6ULL * st.match_count, 1ULL + st.match_count, 0U});  // the norm once, a root per match
+  bsp::consume(bsp::Work{0U, 0U, 12ULL + 3ULL * st.match_count, 1ULL + st.match_count, 0U});  // the norm once, a root per match
 }
 
 /**
@@ -1120,15 +1124,16 @@ bool all_answered(const CoordState& st) noexcept {
 
 }  // namespace
 
-double weighed_sigma_px(double sigma_px, const vision::PosePrior& prior, double px_per_deg) noexcept {
+double prior_attitude_px(const vision::PosePrior& prior, double px_per_deg) noexcept {
   constexpr double kDegPerRad = 57.29577951308232;
   const double* sa = prior.sigma_att_rad;
   const double att_deg = std::sqrt(sa[0] * sa[0] + sa[1] * sa[1] + sa[2] * sa[2]) * kDegPerRad;
-  if (!(px_per_deg > 0.0) || !std::isfinite(att_deg)) {
-    return sigma_px;
-  }
-  const double extra = px_per_deg * att_deg;
-  return std::sqrt(sigma_px * sigma_px + extra * extra);
+  return (px_per_deg > 0.0 && std::isfinite(att_deg)) ? px_per_deg * att_deg : 0.0;
+}
+
+double weighed_sigma_px(double sigma_px, const vision::PosePrior& prior, double px_per_deg) noexcept {
+  const double extra = prior_attitude_px(prior, px_per_deg);
+  return extra > 0.0 ? std::sqrt(sigma_px * sigma_px + extra * extra) : sigma_px;
 }
 
 void vision_coord_main(void* arg) noexcept {

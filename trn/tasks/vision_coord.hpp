@@ -124,6 +124,9 @@ struct VisionCoordConfig {
  */
 double weighed_sigma_px(double sigma_px, const vision::PosePrior& prior, double px_per_deg) noexcept;
 
+/** The part weighed_sigma_px() adds in quadrature: px_per_deg times |sigma_att| in degrees (0: nothing added). */
+double prior_attitude_px(const vision::PosePrior& prior, double px_per_deg) noexcept;
+
 struct VisionCoordStats {
   std::uint32_t landmarks_selected;
   std::uint32_t landmarks_from_ground;  ///< 1: the table is the ground's (landmark_product.hpp); 0: selected on board

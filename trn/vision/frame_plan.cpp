@@ -133,8 +133,8 @@ std::int32_t search_radius(const PosePrior& prior, const PoseGeometry& pose, con
  * A faint landmark, or one of the table's dense set (@p tight_only), only with a radius of at most
  * weak_max_radius_px.
  */
-bool predict(const Landmark& lm, bool tight_only, const bsp::CameraModel& cam, const PoseGeometry& pose, const PosePrior& prior,
-             const MapView& map, const FramePlanParams& fp, PlannedLandmark& out, bsp::Work& work) noexcept {
+bool predict(const Landmark& lm, bool tight_only, const bsp::CameraModel& cam, const PoseGeometry& pose,
+             const PosePrior& prior, const MapView& map, const FramePlanParams& fp, PlannedLandmark& out, bsp::Work& work) noexcept {
   double u = 0.0;
   double v = 0.0;
   if (!project_point(cam, pose, lm.p_m, u, v, nullptr, work)) {

@@ -34,6 +34,7 @@ TEST(WeighedSigma, GrowsWithThePriorsAttitudeSigmaInQuadrature) {
   EXPECT_GT(tight, 0.11);
   EXPECT_LT(tight, 0.11 * 1.002);
   EXPECT_DOUBLE_EQ(weighed_sigma_px(0.11, prior_with_attitude_sigma(0.0), k), 0.11);
+  EXPECT_NEAR(trn::tasks::prior_attitude_px(prior_with_attitude_sigma(0.5), k), 0.4 * 0.5 * std::sqrt(3.0), 1e-12);
 }
 
 TEST(WeighedSigma, OffOrWithoutAFiniteAttitudeSigmaTheCorrelationsSigmaStands) {
@@ -45,6 +46,7 @@ TEST(WeighedSigma, OffOrWithoutAFiniteAttitudeSigmaTheCorrelationsSigmaStands) {
   trn::vision::PosePrior inf_prior = prior_with_attitude_sigma(1.0);
   inf_prior.sigma_att_rad[2] = std::numeric_limits<double>::infinity();
   EXPECT_DOUBLE_EQ(weighed_sigma_px(0.2, inf_prior, 0.4), 0.2);
+  EXPECT_EQ(trn::tasks::prior_attitude_px(inf_prior, 0.4), 0.0) << "nothing added";
 }
 
 }  // namespace
