@@ -19,6 +19,7 @@
  */
 #include "bsp_tile64/devices/camera.hpp"
 
+#include "bsp_tile64/host/frame_ahead.hpp"
 #include "bsp_tile64/memory.hpp"
 
 #include <algorithm>
@@ -55,14 +56,14 @@ constexpr float kTolM = 5e-3F;
 /** ...and its hit lies within the cell it read, up to this (cells). */
 constexpr float kEdgeCells = 1e-3F;
 
-/** Scratch for the blur pass (static: no frame-sized stack or heap buffer). */
-std::uint8_t g_blur_scratch[std::size_t{kMaxCameraPx} * kMaxCameraPx];
+// The line buffers are per host thread: the next frame may be rendered on a second host thread
+// (host/frame_ahead.hpp) while the board runs, and each render needs its own.
 /** Hits (depth, metres) of the two lines before, by parity of the line; <= 0 where there is none. */
-alignas(32) float g_hist[2][kLineCap];
-alignas(32) float g_t[kLineCap];             ///< the current line's hits
-alignas(32) float g_shade[kLineCap];         ///< and their shades (0..65535)
-alignas(32) std::int32_t g_noise[kLineCap];  ///< Irwin-Hall sums of the current line's noise draws
-std::uint32_t g_list[kLineCap];              ///< pixels of the line still to solve
+alignas(32) thread_local float g_hist[2][kLineCap];
+alignas(32) thread_local float g_t[kLineCap];             ///< the current line's hits
+alignas(32) thread_local float g_shade[kLineCap];         ///< and their shades (0..65535)
+alignas(32) thread_local std::int32_t g_noise[kLineCap];  ///< Irwin-Hall sums of the current line's noise draws
+thread_local std::uint32_t g_list[kLineCap];              ///< pixels of the line still to solve
 /** Lane width in use: 0 until the first render picks it; tests may cap it. */
 std::uint32_t g_lanes = 0;
 
@@ -227,27 +228,31 @@ std::uint32_t host_lanes() noexcept { return 4U; }
 #endif
 
 /** Vertical 1-2-1 sums of one row of the blur (edges replicate), 0..1020. */
-std::uint16_t g_blur_col[kMaxCameraPx];
+thread_local std::uint16_t g_blur_col[kMaxCameraPx];
+/** The blurred image's rows y - 1 and y as they were before the blur, by parity of y. */
+thread_local std::uint8_t g_blur_rows[2][kMaxCameraPx];
 
 /**
- * 3x3 binomial blur from @p src into @p dst (edges replicate), separably:
- * the vertical 1-2-1 sums of a row, then the horizontal 1-2-1 of those, /16 rounded.
+ * 3x3 binomial blur of @p img in place (edges replicate), separably: the
+ * vertical 1-2-1 sums of a row, then the horizontal 1-2-1 of those, /16
+ * rounded. Row y is kept before it is overwritten, for row y + 1's sums.
  */
-void blur3(const std::uint8_t* src, std::uint8_t* dst, std::uint32_t w, std::uint32_t h) noexcept {
+void blur3(std::uint8_t* img, std::uint32_t w, std::uint32_t h) noexcept {
   for (std::uint32_t y = 0; y < h; ++y) {
-    const std::uint8_t* up = src + std::size_t{y > 0U ? y - 1U : 0U} * w;
-    const std::uint8_t* mid = src + std::size_t{y} * w;
-    const std::uint8_t* dn = src + std::size_t{y + 1U < h ? y + 1U : y} * w;
+    std::uint8_t* row = img + std::size_t{y} * w;
+    std::memcpy(g_blur_rows[y & 1U], row, w);
+    const std::uint8_t* mid = g_blur_rows[y & 1U];
+    const std::uint8_t* up = y > 0U ? g_blur_rows[(y - 1U) & 1U] : mid;
+    const std::uint8_t* dn = y + 1U < h ? row + w : mid;  // row y + 1 is not blurred yet
     for (std::uint32_t x = 0; x < w; ++x) {
       g_blur_col[x] = static_cast<std::uint16_t>(up[x] + 2U * mid[x] + dn[x]);
     }
     const std::uint16_t* c = g_blur_col;
-    std::uint8_t* out = dst + std::size_t{y} * w;
-    out[0] = static_cast<std::uint8_t>((3U * c[0] + c[1] + 8U) / 16U);
+    row[0] = static_cast<std::uint8_t>((3U * c[0] + c[1] + 8U) / 16U);
     for (std::uint32_t x = 1; x + 1U < w; ++x) {
-      out[x] = static_cast<std::uint8_t>((c[x - 1U] + 2U * c[x] + c[x + 1U] + 8U) / 16U);
+      row[x] = static_cast<std::uint8_t>((c[x - 1U] + 2U * c[x] + c[x + 1U] + 8U) / 16U);
     }
-    out[w - 1U] = static_cast<std::uint8_t>((c[w - 2U] + 3U * c[w - 1U] + 8U) / 16U);
+    row[w - 1U] = static_cast<std::uint8_t>((c[w - 2U] + 3U * c[w - 1U] + 8U) / 16U);
   }
 }
 
@@ -330,7 +335,7 @@ CameraError render(const CameraModel& model, const CameraPose& pose, const Rende
     return CameraError::kBadConfig;
   }
   const Frame f = make_frame(model, pose, camera_to_map(model, pose));
-  const LineJob job{&f, &opt, noise, opt.blur ? g_blur_scratch : out};
+  const LineJob job{&f, &opt, noise, out};
   for (float* hist : g_hist) {
     std::fill_n(hist, kLineCap, -1.0F);
   }
@@ -340,7 +345,7 @@ CameraError render(const CameraModel& model, const CameraPose& pose, const Rende
     render_strips_4(job);
   }
   if (opt.blur) {
-    blur3(g_blur_scratch, out, model.width_px, model.height_px);
+    blur3(out, model.width_px, model.height_px);
   }
   return CameraError::kOk;
 }
@@ -356,6 +361,8 @@ CameraError CameraDevice::init(const world::Trajectory* truth, const CameraConfi
   if (!ok) {
     return CameraError::kBadConfig;
   }
+  frame_ahead::forget();  // no render ahead may read the terrain while it is shaded again
+  (void)detail::render_lanes();  // chosen here, before any second thread renders
   if (world::terrain_shade(cfg.sun) != world::WorldError::kOk) {
     return CameraError::kNotReady;
   }
@@ -373,21 +380,38 @@ CameraError CameraDevice::init(const world::Trajectory* truth, const CameraConfi
   return CameraError::kOk;
 }
 
+CameraDevice::~CameraDevice() { frame_ahead::forget(); }
+
+CameraError CameraDevice::render_at(double t_s, std::uint8_t* out, Rng* noise) const noexcept {
+  if (truth_ == nullptr) {
+    return CameraError::kNotReady;
+  }
+  const world::TruthState s = truth_->at(t_s);
+  const CameraPose pose{s.r_m, s.q_mb};
+  const RenderOptions opt{cfg_.exposure_dn, cfg_.read_noise_dn, cfg_.blur};
+  return render(model_, pose, opt, out, noise);
+}
+
 FrameInfo CameraDevice::capture(double t_s) noexcept {
   FrameInfo f{nullptr, seq_, seq_ % kCameraFrameBuffers, t_s, CameraError::kNotReady};
   if (ring_ == nullptr || truth_ == nullptr) {
     return f;
   }
   std::uint8_t* buf = ring_ + std::size_t{f.buffer} * cfg_.width_px * cfg_.height_px;
-  const world::TruthState s = truth_->at(t_s);
-  const CameraPose pose{s.r_m, s.q_mb};
-  const RenderOptions opt{cfg_.exposure_dn, cfg_.read_noise_dn, cfg_.blur};
-  f.error = render(model_, pose, opt, buf, &rng_);
+  if (!frame_ahead::take(*this, seq_, t_s, buf, &f.error, &rng_)) {
+    f.error = render_at(t_s, buf, &rng_);
+  }
   if (f.error == CameraError::kOk) {
     f.pixels = buf;
     ++seq_;
   }
   return f;
+}
+
+void CameraDevice::prepare(double t_next_s) const noexcept {
+  if (ring_ != nullptr && truth_ != nullptr) {
+    frame_ahead::request(*this, seq_, t_next_s, rng_);
+  }
 }
 
 }  // namespace bsp

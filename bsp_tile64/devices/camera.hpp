@@ -107,8 +107,33 @@ class CameraDevice {
    */
   CameraError init(const world::Trajectory* truth, const CameraConfig& cfg, std::uint64_t seed) noexcept;
 
-  /** Renders the truth pose at @p t_s into the next ring buffer. */
+  CameraDevice() = default;
+  CameraDevice(const CameraDevice&) = delete;
+  CameraDevice& operator=(const CameraDevice&) = delete;
+  CameraDevice(CameraDevice&&) = delete;
+  CameraDevice& operator=(CameraDevice&&) = delete;
+  /** Drops any frame rendered ahead (host/frame_ahead.hpp): it may be this camera's. */
+  ~CameraDevice();
+
+  /**
+   * Renders the truth pose at @p t_s into the next ring buffer: copied from
+   * the frame rendered ahead if prepare() asked for this one, else rendered now
+   * (the same bytes and noise state either way).
+   */
   FrameInfo capture(double t_s) noexcept;
+
+  /**
+   * Announces the next capture's time: a host front end that started the
+   * render worker (host/frame_ahead.hpp) has that frame rendered meanwhile.
+   */
+  void prepare(double t_next_s) const noexcept;
+
+  /**
+   * The frame of the truth pose at @p t_s with read noise drawn from @p noise
+   * (advanced past it) into @p out (width * height bytes): what capture() puts
+   * in the ring. Reads only the camera's settings, the truth and the terrain.
+   */
+  CameraError render_at(double t_s, std::uint8_t* out, Rng* noise) const noexcept;
 
   const CameraModel& model() const noexcept { return model_; }
   const CameraConfig& config() const noexcept { return cfg_; }

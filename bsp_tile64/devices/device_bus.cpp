@@ -99,6 +99,10 @@ void render_pending() noexcept {
   const CameraModel& m = g_bus.cfg.camera->model();
   g_bus.pending = FrameRecord{f.pixels, f.seq, m.width_px, m.height_px,
                               f.error == CameraError::kOk ? 0U : 1U, f.t_s};
+  const double next_t = frame_time(g_bus.render_frame + 1U);
+  if (next_t <= g_bus.cfg.last_time_s) {
+    g_bus.cfg.camera->prepare(next_t);  // the next image is fixed already: a host may render it meanwhile
+  }
 }
 
 void on_barrier(Cycles /*barrier*/) noexcept { render_pending(); }
@@ -152,6 +156,9 @@ DeviceBusError attach_devices(const DeviceBusConfig& cfg) noexcept {
       (add_barrier_hook(&on_barrier) != BoardError::kOk ||
        schedule_event(cycle_at(cfg.first_frame_s), cfg.io_tile, Irq::kCount, &on_capture, 0) != BoardError::kOk)) {
     return DeviceBusError::kScheduleFailed;
+  }
+  if (cfg.camera != nullptr && cfg.first_frame_s <= cfg.last_time_s) {
+    cfg.camera->prepare(cfg.first_frame_s);
   }
   return DeviceBusError::kOk;
 }

@@ -6,6 +6,7 @@
 
 #include "bsp_tile64/board.hpp"
 #include "bsp_tile64/devices/device_bus.hpp"
+#include "bsp_tile64/host/frame_ahead.hpp"
 #include "bsp_tile64/memory.hpp"
 #include "bsp_tile64/rng.hpp"
 #include "bsp_tile64/udn_net.hpp"
@@ -201,6 +202,26 @@ bool carve_landmark_product(const bsp::MapProductHeader* product, const trn::vis
 
 }  // namespace
 
+bool Mission::init_devices(std::string& error) {
+  // The devices start afresh with every boot (a test may boot several times).
+  const Scenario& s = setup_.scenario;
+  if (imu_.init(&truth_, s.imu, s.seed) != bsp::ImuError::kOk) {
+    error = "the IMU configuration is not valid";
+    return false;
+  }
+  if (camera_.init(&truth_, s.camera, s.seed) != bsp::CameraError::kOk) {
+    error = "cannot set up the camera";
+    return false;
+  }
+  if (!setup_.render_ahead) {
+    bsp::frame_ahead::stop();
+  } else if (!bsp::frame_ahead::start(std::size_t{s.camera.width_px} * s.camera.height_px)) {
+    error = "cannot start the host thread that renders camera frames ahead";
+    return false;
+  }
+  return true;
+}
+
 bool Mission::boot(std::string& error) {
   using trn::tasks::Role;
   const Scenario& s = setup_.scenario;
@@ -247,13 +268,7 @@ bool Mission::boot(std::string& error) {
   if (setup_.ground_landmarks && !carve_landmark_product(product, setup_.select, error)) {
     return false;
   }
-  // The devices start afresh with every boot (a test may boot several times).
-  if (imu_.init(&truth_, s.imu, s.seed) != bsp::ImuError::kOk) {
-    error = "the IMU configuration is not valid";
-    return false;
-  }
-  if (camera_.init(&truth_, s.camera, s.seed) != bsp::CameraError::kOk) {
-    error = "cannot set up the camera";
+  if (!init_devices(error)) {
     return false;
   }
   // Every role's configuration, given to the image in one step.

@@ -45,6 +45,12 @@ struct MissionSetup {
    * selecting on board. False: the map alone, selected on board.
    */
   bool ground_landmarks = true;
+  /**
+   * A second host thread renders each camera frame while the board runs the
+   * second before it (bsp_tile64/host/frame_ahead.hpp): the same frames and
+   * trace, less host time. False: every frame rendered at its capture, on one host thread.
+   */
+  bool render_ahead = true;
 };
 
 /** The tiles excluded from the coordinator's list when it is given @p n of the map's vision tiles (0: none). */
@@ -93,6 +99,8 @@ class Mission {
 
  private:
   void draw_initial_estimate();
+  /** The IMU and camera afresh, and the host thread that renders frames ahead (MissionSetup::render_ahead). */
+  bool init_devices(std::string& error);
 
   MissionSetup setup_{};
   bsp::world::Trajectory truth_{};

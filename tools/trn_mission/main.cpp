@@ -19,6 +19,7 @@
 #include "bsp_tile64/board.hpp"
 #include "bsp_tile64/energy.hpp"
 #include "bsp_tile64/fault_injector.hpp"
+#include "bsp_tile64/host/frame_ahead.hpp"
 #include "bsp_tile64/host/heap_guard.hpp"
 #include "bsp_tile64/trace.hpp"
 #include "bsp_tile64/udn_net.hpp"
@@ -82,6 +83,7 @@ struct Options {
   bool memory_map = false;
   bool no_plots = false;
   bool onboard_landmarks = false;
+  bool one_host_thread = false;
   std::string world_cache;
   std::string trace_dump;  ///< empty: no dump
 };
@@ -439,6 +441,7 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.emulated_s = in.duration_s;
   s.host_s = host_s;
   s.realtime_factor = host_s > 0.0 ? in.duration_s / host_s : 0.0;
+  s.extra.emplace_back("host_frames_rendered_ahead", static_cast<double>(bsp::frame_ahead::stats().taken));
   const FinalScore end = score_end(m, rec, in.duration_s);
   s.final_position_error_m = end.position_error_m;
   s.max_position_error_after_convergence_m = rec.converged_at_s >= 0.0 ? rec.max_error_after_convergence_m : NAN;
@@ -663,6 +666,9 @@ int run(int argc, char** argv) {
                  "Folder that keeps the built terrain and map product between runs (campaigns; default: none)");
   app.add_flag("--onboard-landmarks", o.onboard_landmarks,
                "Fly the map without the ground's landmark table: the coordinator selects its landmarks itself");
+  app.add_flag("--one-host-thread", o.one_host_thread,
+               "Render each camera frame at its capture instead of on a second host thread meanwhile "
+               "(the same frames and trace hash; more host time)");
   app.add_flag("--no-plots", o.no_plots, "Write the run's data but no plots (campaigns: gnuplot costs time per run)");
   app.add_option("--trace-dump", o.trace_dump,
                  "Write every trace event of the run to this file (compare two runs with trn_trace diff)");
@@ -696,6 +702,7 @@ int run(int argc, char** argv) {
   setup.vision_tiles = o.vision_tiles;
   setup.world_cache = o.world_cache;
   setup.ground_landmarks = !o.onboard_landmarks;
+  setup.render_ahead = !o.one_host_thread;
   if (!mission.build(setup, error) || !mission.boot(error)) {
     std::fprintf(stderr, "trn_mission: %s\n", error.c_str());
     return 1;

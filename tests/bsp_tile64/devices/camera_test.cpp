@@ -1,10 +1,11 @@
 /**
  * @file camera_test.cpp
  * @brief The camera model: pinhole projection, renderer geometry (calibration targets, depth against exact
- *        ray intersections), noise, blur, determinism, DDR ring.
+ *        ray intersections), noise, blur, determinism, DDR ring, frames rendered ahead on a host thread.
  */
 #include "bsp_tile64/devices/camera.hpp"
 #include "bsp_tile64/devices/imu.hpp"
+#include "bsp_tile64/host/frame_ahead.hpp"
 #include "bsp_tile64/memory.hpp"
 #include "tests/support/heap_probe.hpp"
 
@@ -503,6 +504,59 @@ TEST_F(CameraRender, FourAndEightLaneRenderersGiveTheSameBits) {
     EXPECT_EQ(frame_, narrow);
     EXPECT_EQ(0, std::memcmp(depth_wide.data(), depth_narrow.data(), depth_wide.size() * sizeof(float)));
   }
+}
+
+/** The frames a fresh camera (blurred, noisy, seed 4) captures at @p times; prepare() before each at @p announced. */
+std::vector<std::vector<std::uint8_t>> capture_series(const bsp::world::Trajectory& traj,
+                                                      const std::vector<double>& times,
+                                                      const std::vector<double>& announced) {
+  bsp::CameraConfig cc;
+  cc.blur = true;
+  bsp::CameraDevice cam;
+  EXPECT_EQ(cam.init(&traj, cc, 4), bsp::CameraError::kOk);
+  std::vector<std::vector<std::uint8_t>> out;
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    if (k < announced.size()) {
+      cam.prepare(announced[k]);
+    }
+    const bsp::FrameInfo f = cam.capture(times[k]);
+    EXPECT_EQ(f.error, bsp::CameraError::kOk);
+    EXPECT_EQ(f.seq, k);
+    out.emplace_back(f.pixels, f.pixels + std::size_t{cc.width_px} * cc.height_px);
+  }
+  return out;
+}
+
+TEST_F(CameraRender, FramesRenderedAheadOnAHostThreadAreTheCapturesBytesAndNoise) {
+  bsp::world::Trajectory traj;
+  ASSERT_EQ(traj.init(bsp::world::TrajectoryConfig{}), bsp::world::WorldError::kOk);
+  const std::vector<double> times = {1.0, 2.0, 3.0, 4.0};
+  bsp::frame_ahead::stop();
+  const auto at_capture = capture_series(traj, times, times);  // no worker: prepare() does nothing
+  ASSERT_TRUE(bsp::frame_ahead::start(std::size_t{1024U} * 1024U));
+  // The third frame is announced at the wrong time: it is rendered at its capture instead, and
+  // the fourth, rendered ahead again, must start from the noise state the third left.
+  const auto ahead = capture_series(traj, times, {1.0, 2.0, 2.5, 4.0});
+  const bsp::frame_ahead::Stats st = bsp::frame_ahead::stats();
+  EXPECT_EQ(st.taken, 3U);
+  EXPECT_EQ(st.missed, 1U);
+  ASSERT_EQ(ahead.size(), at_capture.size());
+  for (std::size_t k = 0; k < ahead.size(); ++k) {
+    EXPECT_TRUE(ahead[k] == at_capture[k]) << "frame " << k;
+  }
+  // With the worker running, announcing and capturing still never touch the heap.
+  bsp::CameraDevice cam;
+  ASSERT_EQ(cam.init(&traj, bsp::CameraConfig{}, 1), bsp::CameraError::kOk);
+  bsp::CameraError err = bsp::CameraError::kNotReady;
+  const std::uint64_t allocs = test_support::count_allocs([&] {
+    cam.prepare(20.0);
+    err = cam.capture(20.0).error;
+  });
+  EXPECT_EQ(err, bsp::CameraError::kOk);
+  EXPECT_EQ(allocs, 0U);
+  EXPECT_EQ(bsp::frame_ahead::stats().taken, 4U);
+  bsp::frame_ahead::stop();
+  EXPECT_FALSE(bsp::frame_ahead::running());
 }
 
 TEST_F(CameraRender, BadConfigurationsAreRejected) {
