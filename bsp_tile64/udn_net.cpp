@@ -9,6 +9,7 @@
 #include "bsp_tile64/rng.hpp"
 #include "bsp_tile64/trace.hpp"
 
+#include <algorithm>
 #include <array>
 
 namespace bsp {
@@ -108,10 +109,17 @@ bool on_grid(TileId t) noexcept { return t < g_net.cols * g_net.rows; }
 
 // ------------------------------------------------------------------ ordering
 
-/** Orders pool indices by (key cycle, source, sequence): insertion sort, the lists are short and nearly sorted. */
-bool before(const Flight& a, Cycles ka, const Flight& b, Cycles kb) noexcept {
-  if (ka != kb) {
-    return ka < kb;
+/** A pool index with its sort key: (key cycle, source, sequence), unique since sequences are per source. */
+struct Keyed {
+  Cycles key;
+  std::uint64_t seq;
+  std::uint32_t src;
+  std::uint32_t index;
+};
+
+bool before(const Keyed& a, const Keyed& b) noexcept {
+  if (a.key != b.key) {
+    return a.key < b.key;
   }
   if (a.src != b.src) {
     return a.src < b.src;
@@ -119,21 +127,24 @@ bool before(const Flight& a, Cycles ka, const Flight& b, Cycles kb) noexcept {
   return a.seq < b.seq;
 }
 
-Cycles key_of(const Flight& f, bool by_arrival) noexcept { return by_arrival ? f.arrival : f.send; }
+/** Scratch of sort_order() (static: up to every pool slot). */
+std::array<Keyed, kPoolSlots> g_keyed{};
 
+/**
+ * Orders the first @p n pool indices of g_net.order by (key cycle, source,
+ * sequence). The keys are distinct, so any correct sort gives the one order;
+ * std::sort because packets held back by full queues stay in the pool and
+ * the lists reach a few hundred.
+ */
 void sort_order(std::uint32_t n, bool by_arrival) noexcept {
-  for (std::uint32_t i = 1; i < n; ++i) {
+  for (std::uint32_t i = 0; i < n; ++i) {
     const std::uint32_t v = g_net.order[i];
-    const Flight& fv = flight_at(v);
-    std::uint32_t j = i;
-    for (; j > 0U; --j) {
-      const Flight& fj = flight_at(g_net.order[j - 1U]);
-      if (!before(fv, key_of(fv, by_arrival), fj, key_of(fj, by_arrival))) {
-        break;
-      }
-      g_net.order[j] = g_net.order[j - 1U];
-    }
-    g_net.order[j] = v;
+    const Flight& f = flight_at(v);
+    g_keyed[i] = Keyed{by_arrival ? f.arrival : f.send, f.seq, f.src, v};
+  }
+  std::sort(g_keyed.begin(), g_keyed.begin() + n, &before);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    g_net.order[i] = g_keyed[i].index;
   }
 }
 
