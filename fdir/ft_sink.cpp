@@ -19,6 +19,7 @@ void on_ft_event(void* /*ctx*/, bsp::TileId /*tile*/, const udn::FtEvent& e) noe
     case udn::FtCause::kDamaged: report(EventId::kPacketDamaged, peer, e.channel, e.seq); break;
     case udn::FtCause::kResentNack: report(EventId::kPacketResent, peer, 0U, e.channel, e.seq); break;
     case udn::FtCause::kResentTimeout: report(EventId::kPacketResent, peer, 1U, e.channel, e.seq); break;
+    case udn::FtCause::kResentBusy: break;  // flow control: the messaging layer counts it and never emits it
     case udn::FtCause::kRetriesExhausted: report(EventId::kPacketGaveUp, peer, e.word, e.channel, e.seq); break;
     case udn::FtCause::kUnreachable: report(EventId::kRouteUnreachable, peer, e.word, e.channel, e.seq); break;
     case udn::FtCause::kSettled: report(EventId::kPacketSettled, peer, e.word, e.channel, e.seq); break;

@@ -37,6 +37,7 @@ enum class FtCause : std::uint8_t {
   kDamaged,            ///< a packet beyond correction (peer: its source if identified, else kNoTile; seq: 1 if NACKed)
   kResentNack,         ///< a stream resent go-back-N after a NACK (peer: destination)
   kResentTimeout,      ///< a stream resent go-back-N after its timeout (peer: destination)
+  kResentBusy,         ///< ... after its timeout, its receiver having answered BUSY (flow control: counted, never emitted)
   kMapApplied,         ///< routes rebuilt from a newer fault map (peer: tile it came from; word: version)
   kMapPushed,          ///< a neighbour probed with an older map version was sent ours (peer: neighbour; word: version)
   kTransitLost,        ///< a transit probe's target stopped answering (peer: target)

@@ -103,17 +103,55 @@ AnswerWord split_answer(std::uint32_t w) noexcept {
                     static_cast<std::uint8_t>(w >> 24U)};
 }
 
-/** Frees every slot of stream (dest, channel) that @p acked covers (cumulative). */
-void take_ack(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint8_t acked) noexcept {
+/** Largest round trip the estimator takes, ticks (a sample beyond it counts as this). */
+constexpr std::uint32_t kMaxRttTicks = 1000U;
+
+/** One round-trip sample @p rtt (ticks) to @p dest into its smoothed estimate (RFC 6298, integer). */
+void sample_rtt(FtNode& n, bsp::TileId dest, std::uint32_t rtt) noexcept {
+  const std::uint32_t r = rtt < kMaxRttTicks ? rtt : kMaxRttTicks;
+  std::uint32_t srtt8 = n.srtt8[dest];
+  std::uint32_t var4 = n.rttvar4[dest];
+  if (srtt8 == 0U) {
+    srtt8 = 8U * r + 1U;  // + 1: a first sample of 0 ticks still marks the estimate taken
+    var4 = 2U * r;
+  } else {
+    const std::uint32_t srtt = srtt8 / 8U;
+    const std::uint32_t dev = srtt > r ? srtt - r : r - srtt;
+    var4 = var4 - var4 / 4U + dev;  // rttvar = 3/4 rttvar + 1/4 |srtt - r|, x4
+    srtt8 = srtt8 - srtt8 / 8U + r;  // srtt = 7/8 srtt + 1/8 r, x8
+  }
+  n.srtt8[dest] = static_cast<std::uint16_t>(srtt8);
+  n.rttvar4[dest] = static_cast<std::uint16_t>(var4);
+  n.rto_shift[dest] = 0U;
+}
+
+/** The first retransmit timeout towards @p dest, ticks. */
+std::uint32_t rto_ticks(const FtNode& n, bsp::TileId dest) noexcept {
+  if (n.srtt8[dest] == 0U) {
+    return n.config.timeout_ticks;
+  }
+  const std::uint32_t var = n.rttvar4[dest];  // 4 rttvar
+  const std::uint32_t rto = n.srtt8[dest] / 8U + (var > 1U ? var : 1U);
+  return rto > n.config.timeout_ticks ? rto : n.config.timeout_ticks;
+}
+
+/** Frees every slot of stream (dest, channel) that @p acked covers (cumulative); samples the round trip. */
+void take_ack(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint8_t acked, std::uint32_t now) noexcept {
   for (detail::TxSlot& s : n.tx) {
     if (s.used && s.dest == dest && s.channel == channel && seq_ahead(acked, s.seq) < kHalfSeq) {
       s.used = false;
       --n.in_window[dest];
+      if (s.retries == 0U && !s.held) {
+        sample_rtt(n, dest, now - s.sent_tick);  // sent once: its answer times the path (Karn)
+      }
     }
   }
   detail::TxStream& st = n.tx_stream[dest][channel];
   if (st.resync && seq_ahead(acked, st.resync_seq) < kHalfSeq) {
     st.resync = false;
+  }
+  if (st.busy && seq_ahead(acked, st.busy_seq) < kHalfSeq) {
+    st.busy = false;  // the packet that waited for room was taken
   }
   // The receiver expects acked + 1 or more; an answer beyond what was sent is not believed.
   const auto expects = static_cast<std::uint8_t>(acked + 1U);
@@ -122,10 +160,33 @@ void take_ack(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint8_t a
   }
 }
 
-/** Retransmits the stream's outstanding slots in sequence order from @p from; @p why is reported once. */
-void resend_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint8_t from, std::uint32_t now,
+/** Marks stream (dest, channel) held or not, keeping the node's count of held streams. */
+void hold_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, bool held) noexcept {
+  detail::TxStream& st = n.tx_stream[dest][channel];
+  if (st.held != held) {
+    st.held = held;
+    n.held_streams = held ? n.held_streams + 1U : n.held_streams - 1U;
+  }
+}
+
+/** A resend of stream (dest, channel) from @p seq for @p why: flow control is counted, anything else logged. */
+void report_resend(FtNode& n, FtCause why, bsp::TileId dest, std::uint32_t channel, std::uint8_t seq,
+                   std::uint32_t now) noexcept {
+  if (why == FtCause::kResentBusy) {
+    ++n.stats.resent_busy;  // flow control, not a fault: counted, no event
+  } else {
+    log_event(n, why, dest, channel, seq, now);
+  }
+}
+
+/**
+ * Retransmits the stream's outstanding slots in sequence order from @p from; @p why is reported once.
+ * @return whether any left the tile.
+ */
+bool resend_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint8_t from, std::uint32_t now,
                    FtCause why) noexcept {
   bool reported = false;
+  bool refused = false;
   for (std::uint32_t k = 0U; k < kFtTxSlots; ++k) {
     const auto seq = static_cast<std::uint8_t>(from + k);
     for (detail::TxSlot& s : n.tx) {
@@ -133,18 +194,30 @@ void resend_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint
         continue;
       }
       s.sent_tick = now;
-      // A refused resend never left the tile: it waits for the next timeout
-      // without using up a retry. An unroutable one counts (it may never route).
-      if (route_and_send(n, std::span<std::uint32_t>(s.image.data(), s.words), dest) != FtError::kNetFull) {
+      // A refused resend never left the tile: it and the ones after it (sent now, they would
+      // arrive behind a gap) wait for the next timeout without using up a retry. An unroutable
+      // one counts (it may never route).
+      if (refused || route_and_send(n, std::span<std::uint32_t>(s.image.data(), s.words), dest) == FtError::kNetFull) {
+        refused = true;
+        s.held = true;
+        hold_stream(n, dest, channel, true);
+      } else {
+        s.held = false;
         ++s.retries;
         ++n.stats.retransmitted;
         if (!reported) {
           reported = true;
-          log_event(n, why, dest, channel, seq, now);
+          report_resend(n, why, dest, channel, seq, now);
         }
       }
     }
   }
+  if (refused && !reported) {
+    detail::TxStream& st = n.tx_stream[dest][channel];
+    st.held_report = true;  // told when the held packets leave
+    st.held_why = static_cast<std::uint8_t>(why);
+  }
+  return reported;
 }
 
 /** The oldest outstanding slot of a stream (nullptr if none). */
@@ -158,6 +231,51 @@ detail::TxSlot* oldest(FtNode& n, bsp::TileId dest, std::uint32_t channel) noexc
     }
   }
   return best;
+}
+
+/**
+ * Sends the held slots of stream (dest, channel) in sequence order, up to the
+ * first the network refuses (it and those after it stay held). They never
+ * left the tile: no retry is used up and nothing is logged.
+ */
+void send_held(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint32_t now) noexcept {
+  const detail::TxSlot* o = oldest(n, dest, channel);
+  if (o == nullptr) {
+    hold_stream(n, dest, channel, false);
+    return;
+  }
+  const std::uint8_t from = o->seq;
+  for (std::uint32_t k = 0U; k < kFtTxSlots; ++k) {
+    const auto seq = static_cast<std::uint8_t>(from + k);
+    for (detail::TxSlot& s : n.tx) {
+      if (!s.used || !s.held || s.dest != dest || s.channel != channel || s.seq != seq) {
+        continue;
+      }
+      if (route_and_send(n, std::span<std::uint32_t>(s.image.data(), s.words), dest) == FtError::kNetFull) {
+        return;
+      }
+      s.held = false;
+      s.sent_tick = now;
+      detail::TxStream& st = n.tx_stream[dest][channel];
+      if (st.held_report) {
+        st.held_report = false;
+        const auto why = static_cast<FtCause>(st.held_why);
+        st.busy = st.busy && why != FtCause::kResentBusy;  // that resend answered the BUSY
+        report_resend(n, why, dest, channel, seq, now);
+      }
+    }
+  }
+  hold_stream(n, dest, channel, false);
+}
+
+/** Every held stream's slots, in order, as far as the network takes them. */
+void send_all_held(FtNode& n, std::uint32_t now) noexcept {
+  for (std::uint32_t i = 0U; i < kFtTxSlots && n.held_streams > 0U; ++i) {
+    const detail::TxSlot& s = n.tx[i];
+    if (s.used && s.held && n.tx_stream[s.dest][s.channel].held) {
+      send_held(n, s.dest, s.channel, now);
+    }
+  }
 }
 
 /** The cause a give-up towards @p dest is reported with: no route left, or retries used up. */
@@ -262,6 +380,9 @@ void give_up_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uin
     st.settle_from = first->seq;  // pending, the earlier ones and these are one run up to the new point
   }
   (void)drop_stream(n, dest, channel, FtDelivery::kUnknown, now);
+  hold_stream(n, dest, channel, false);
+  st.held_report = false;
+  st.busy = false;
   st.settle_pending = true;
   st.settle_point = st.next_seq;
   if (seq_ahead(st.next_seq, st.confirmed) + 2U * kFtWindow < kHalfSeq) {
@@ -282,6 +403,7 @@ void give_up_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uin
  */
 void sync_failed(FtNode& n, detail::SyncSlot& y, std::uint32_t now) noexcept {
   (void)drop_stream(n, y.dest, y.channel, FtDelivery::kNotDelivered, now);
+  hold_stream(n, y.dest, y.channel, false);
   n.tx_stream[y.dest][y.channel].next_seq = y.start;
   y.used = false;  // the stream stays syncing: its next packet starts another SYNC (which may still settle)
 }
@@ -315,6 +437,7 @@ void restart_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uin
   detail::TxStream& st = n.tx_stream[dest][channel];
   detail::TxSlot* o = oldest(n, dest, channel);
   st.settle_pending = false;  // the receiver lost its state: what it had taken before stays unknown
+  st.busy = false;
   st.confirmed = o != nullptr ? o->seq : st.next_seq;  // it starts where the flagged packet is
   if (o == nullptr) {
     st.resync = true;
@@ -326,19 +449,19 @@ void restart_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uin
     st.resync = true;
     st.resync_seq = o->seq;
   }
-  resend_stream(n, dest, channel, o->seq, now, FtCause::kResentNack);
+  (void)resend_stream(n, dest, channel, o->seq, now, FtCause::kResentNack);
 }
 
 /** Exponential back-off (x2 per retry, at most x16): a congested forwarder gets air instead of a storm of resends. */
-bool due(const FtNode& n, std::uint32_t sent_tick, std::uint32_t retries, std::uint32_t now) noexcept {
-  const std::uint32_t backoff = (retries < 4U) ? retries : 4U;
-  return now - sent_tick >= (n.config.timeout_ticks << backoff);
+bool due(std::uint32_t timeout, std::uint32_t sent_tick, std::uint32_t doublings, std::uint32_t now) noexcept {
+  const std::uint32_t backoff = (doublings < 4U) ? doublings : 4U;
+  return now - sent_tick >= (timeout << backoff);
 }
 
 /** SYNCs: resent on timeout, failed after max_retries; a syncing stream with packets and no SYNC slot starts one. */
 void run_sync_timers(FtNode& n, std::uint32_t now) noexcept {
   for (detail::SyncSlot& y : n.sync) {
-    if (!y.used || !due(n, y.sent_tick, y.retries, now)) {
+    if (!y.used || !due(n.config.timeout_ticks, y.sent_tick, y.retries, now)) {
       continue;
     }
     if (y.retries >= n.config.max_retries) {
@@ -358,7 +481,7 @@ void run_timers(FtNode& n, std::uint32_t now) noexcept {
   run_sync_timers(n, now);
   for (std::uint32_t i = 0U; i < kFtTxSlots; ++i) {
     const detail::TxSlot& s = n.tx[i];
-    if (!s.used || n.tx_stream[s.dest][s.channel].syncing || !due(n, s.sent_tick, s.retries, now)) {
+    if (!s.used || n.tx_stream[s.dest][s.channel].syncing || !due(rto_ticks(n, s.dest), s.sent_tick, s.retries + n.rto_shift[s.dest], now)) {
       continue;  // a syncing stream's packets wait for its SYNC-ACK
     }
     detail::TxSlot* first = oldest(n, s.dest, s.channel);
@@ -370,7 +493,14 @@ void run_timers(FtNode& n, std::uint32_t now) noexcept {
     if (first->retries >= n.config.max_retries) {
       give_up_stream(n, dest, channel, now);
     } else {
-      resend_stream(n, dest, channel, first->seq, now, FtCause::kResentTimeout);
+      detail::TxStream& st = n.tx_stream[dest][channel];
+      const bool busy = st.busy && st.busy_seq == first->seq;
+      if (resend_stream(n, dest, channel, first->seq, now, busy ? FtCause::kResentBusy : FtCause::kResentTimeout)) {
+        st.busy = false;  // a BUSY answers one arrival: if the queue is still full, the resend gets another
+      }
+      if (!busy && n.rto_shift[dest] < 4U) {
+        ++n.rto_shift[dest];  // the round trip may be longer than the estimate: wait longer until it is measured
+      }
     }
   }
 }
@@ -390,13 +520,32 @@ void send_ack(FtNode& n, std::uint32_t source, std::uint32_t channel, std::uint8
   }
 }
 
-/** Resends owed ACKs (the latest in-order sequence of each stream). Bounded: tiles x channels. */
+/**
+ * Tells the sender of stream (source, channel) that its packet `expected`
+ * came with the receive queue full; if the network refuses, the BUSY is owed
+ * to the next polls (while the queue stays full).
+ */
+void send_busy(FtNode& n, std::uint32_t source, std::uint32_t channel) noexcept {
+  detail::RxStream& rs = n.rx_stream[source][channel];
+  const bool sent =
+      send_control(n, source, FtKind::kBusy, rs.expected, answer_word(rs, channel), true, rs.epoch) == FtError::kOk;
+  n.stats.busy_sent += sent ? 1U : 0U;
+  if (sent == rs.busy_owed) {
+    n.busies_owed = sent ? n.busies_owed - 1U : n.busies_owed + 1U;
+    rs.busy_owed = !sent;
+  }
+}
+
+/** Resends owed ACKs (the latest in-order sequence of each stream) and owed BUSYs. Bounded: tiles x channels. */
 void pay_acks(FtNode& n) noexcept {
-  for (std::uint32_t src = 0U; src < n.routes.tiles && n.acks_owed > 0U; ++src) {
+  for (std::uint32_t src = 0U; src < n.routes.tiles && (n.acks_owed > 0U || n.busies_owed > 0U); ++src) {
     for (std::uint32_t ch = 0U; ch < kFtAllChannels; ++ch) {
-      const detail::RxStream& rs = n.rx_stream[src][ch];
+      detail::RxStream& rs = n.rx_stream[src][ch];
       if (rs.ack_owed) {
         send_ack(n, src, ch, static_cast<std::uint8_t>(rs.expected - 1U));
+      }
+      if (rs.busy_owed) {
+        send_busy(n, src, ch);  // even with room now: the packet was dropped for the lack of it
       }
     }
   }
@@ -449,6 +598,7 @@ void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> da
     rs.epoch = cw.epoch;
     rs.expected = cw.seq;
     rs.nack_sent = false;
+    rs.busy = false;
     rs.resync_asked = false;
     rs.rec_valid = false;  // a new stream: nothing it took before is known here
   }
@@ -461,6 +611,9 @@ void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> da
   }
   if (ahead != 0U && !resync) {  // a gap: ask once for the missing one
     ++n.stats.out_of_order_dropped;
+    if (rs.busy) {
+      return;  // behind a packet that waits for room (BUSY): its sender resends them all on its timeout
+    }
     if (!rs.nack_sent || rs.nacked != rs.expected) {
       rs.nack_sent = send_control(n, cw.source, FtKind::kNack, rs.expected, answer_word(rs, cw.channel), true,
                                   rs.epoch) == FtError::kOk;
@@ -470,7 +623,15 @@ void on_data(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> da
     return;
   }
   if (!enqueue(n, cw, data)) {
+    // Flow control, not a fault: the sender learns that this packet waits for room, at each arrival.
+    rs.busy = rs.expected == cw.seq;
+    send_busy(n, cw.source, cw.channel);
     return;
+  }
+  rs.busy = false;
+  if (rs.busy_owed) {
+    rs.busy_owed = false;
+    --n.busies_owed;
   }
   if (cw.resync && running) {
     record_resync(rs, cw.seq);  // the packets from what it expected up to here were given up by the sender
@@ -581,9 +742,13 @@ void on_answer(FtNode& n, const ChannelWord& cw, std::uint32_t word, std::uint32
   if (st.settle_pending && covers_point(st, covered)) {
     settle(n, cw.source, a.channel, a, now);
   }
-  take_ack(n, cw.source, a.channel, covered);
+  take_ack(n, cw.source, a.channel, covered, now);
+  if (cw.kind == FtKind::kBusy) {
+    st.busy = true;  // its timeout resends the stream from cw.seq, as flow control
+    st.busy_seq = cw.seq;
+  }
   if (cw.kind == FtKind::kNack) {
-    resend_stream(n, cw.source, a.channel, cw.seq, now, FtCause::kResentNack);
+    (void)resend_stream(n, cw.source, a.channel, cw.seq, now, FtCause::kResentNack);
   }
 }
 
@@ -600,6 +765,7 @@ void on_control(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t>
     case FtKind::kAck:
     case FtKind::kNack:
     case FtKind::kSyncAck:
+    case FtKind::kBusy:
       on_answer(n, cw, word, now);
       break;
     case FtKind::kSync:
@@ -762,8 +928,12 @@ void reset(FtNode& node) noexcept {
   node.epoch = 0U;
   node.peer_map_version.fill(0U);
   node.in_window.fill(0U);
+  node.srtt8.fill(0U);
+  node.rttvar4.fill(0U);
+  node.rto_shift.fill(0U);
   for (detail::TxSlot& s : node.tx) {
     s.used = false;
+    s.held = false;
   }
   for (auto& per_tile : node.tx_stream) {
     per_tile.fill(detail::TxStream{});
@@ -780,6 +950,8 @@ void reset(FtNode& node) noexcept {
   }
   node.sync.fill(detail::SyncSlot{});
   node.acks_owed = 0U;
+  node.busies_owed = 0U;
+  node.held_streams = 0U;
   node.pong_owed.fill(0U);
   node.pongs_owed = 0U;
   node.pong_nonce.fill(0U);
@@ -849,13 +1021,16 @@ FtError ft_send(FtNode& node, bsp::TileId dest, std::uint32_t channel, std::span
   if (encode_packet(f, data, slot->image, written) != EncodeStatus::kOk) {
     return FtError::kBadArgs;
   }
-  // A resynchronising stream's packet waits in its slot for the SYNC-ACK.
-  const FtError e = st.syncing ? FtError::kOk
-                               : route_and_send(node, std::span<std::uint32_t>(slot->image.data(), written), dest);
+  // A resynchronising stream's packet waits in its slot for the SYNC-ACK; a held stream's
+  // queues behind the held ones (sent now, it would arrive behind a gap).
+  const FtError e = st.syncing || st.held
+                        ? FtError::kOk
+                        : route_and_send(node, std::span<std::uint32_t>(slot->image.data(), written), dest);
   if (e != FtError::kOk) {
     return e;  // nothing queued: the caller retries the same message
   }
   slot->used = true;
+  slot->held = st.held && !st.syncing;
   slot->dest = static_cast<std::uint8_t>(dest);
   slot->channel = static_cast<std::uint8_t>(channel);
   slot->seq = st.next_seq;
@@ -911,6 +1086,7 @@ std::uint32_t ft_poll(FtNode& node, std::uint32_t now_tick, std::uint32_t max_pa
   (void)flush_forwards(node, now_tick);
   pay_acks(node);
   pay_pongs(node);
+  send_all_held(node, now_tick);
   while (handled < max_packets &&
          (receive_one(node, kFtQueue, now_tick) || receive_one(node, bsp::kUdnCatchAll, now_tick))) {
     ++handled;

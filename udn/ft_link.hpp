@@ -21,7 +21,10 @@
  *  - kOk/kCorrected: dispatch by kind; data is accepted only in sequence per
  *    (source, channel) into that channel's bounded receive queue and ACKed
  *    (cumulative); duplicates are dropped and re-ACKed; a gap is dropped and
- *    NACKed once; a full receive queue drops without ACK (the sender retries);
+ *    NACKed once; a full receive queue drops without ACK and answers BUSY
+ *    (the sender resends on its timeout, as flow control, not a recovery:
+ *    no event, counted in resent_busy; the packets behind it are dropped
+ *    without a NACK until it is taken);
  *  - kMisdelivered: forwarded to the next hop of the protected destination
  *    index through this tile's route table (paper Fig. 6 intermediates use the
  *    same path); while the network refuses, up to kFtFwdSlots packets wait in
@@ -116,7 +119,16 @@ inline constexpr std::uint32_t kFtMaxData = static_cast<std::uint32_t>(kFtMaxDat
  * Packet kinds. kSync (sender to receiver, seq R): expect R next on the stream
  * of channel word 0; kSyncAck (receiver to sender, seq R): the receiver took it.
  */
-enum class FtKind : std::uint8_t { kData = 0, kAck = 1, kNack = 2, kPing = 3, kPong = 4, kSync = 5, kSyncAck = 6 };
+enum class FtKind : std::uint8_t {
+  kData = 0,
+  kAck = 1,
+  kNack = 2,
+  kPing = 3,
+  kPong = 4,
+  kSync = 5,
+  kSyncAck = 6,
+  kBusy = 7,  ///< the packet with this seq came in order, and its channel's receive queue was full
+};
 
 enum class FtError : std::uint8_t {
   kOk,
@@ -141,7 +153,7 @@ struct FtPort {
 FtPort ft_task_port() noexcept;
 
 struct FtConfig {
-  std::uint32_t timeout_ticks = 3U;  ///< first retransmit timeout (> a two-leg round trip); doubles per retry, at most x16
+  std::uint32_t timeout_ticks = 3U;  ///< least first retransmit timeout (> a two-leg round trip; FtNode::srtt8); doubles per retry, at most x16
   std::uint32_t max_retries = 8U;    ///< retransmissions before giving up
 };
 
@@ -154,7 +166,9 @@ struct FtStats {
   std::uint64_t uncorrectable_detected = 0U;  ///< kUncorrectable, kCrcMismatch or kMalformed
   std::uint64_t duplicates_dropped = 0U;
   std::uint64_t out_of_order_dropped = 0U;
-  std::uint64_t rx_full_dropped = 0U;
+  std::uint64_t rx_full_dropped = 0U;  ///< in order, but the channel's receive queue was full (a BUSY answered)
+  std::uint64_t busy_sent = 0U;        ///< BUSY answers sent (flow control: the packet waits for room)
+  std::uint64_t resent_busy = 0U;      ///< streams resent after their timeout because the receiver was busy (not logged)
   std::uint64_t forward_failed = 0U;  ///< no route or network refused; the sender's timeout recovers
   std::uint64_t acks_sent = 0U;
   std::uint64_t nacks_sent = 0U;
@@ -186,6 +200,7 @@ constexpr bool is_message(std::span<const std::uint32_t> w, std::uint32_t tag, s
 namespace detail {
 struct TxSlot {
   bool used = false;
+  bool held = false;  ///< not on its way: behind a resend the network refused, it leaves in order with the next polls
   std::uint8_t dest = 0U;
   std::uint8_t channel = 0U;
   std::uint8_t seq = 0U;
@@ -203,6 +218,11 @@ struct TxStream {
   bool settle_pending = false;  ///< packets given up whose delivery the resync point's answer will tell
   std::uint8_t settle_from = 0U;   ///< the first of them
   std::uint8_t settle_point = 0U;  ///< the resync point that follows them
+  bool busy = false;          ///< the receiver answered BUSY for busy_seq: its timeout resend is flow control
+  std::uint8_t busy_seq = 0U;
+  bool held = false;          ///< some of its slots are held (TxSlot::held): new packets queue behind them
+  bool held_report = false;   ///< a resend the network refused whole: reported (held_why) when its first packet leaves
+  std::uint8_t held_why = 0U; ///< the FtCause of that resend
 };
 /** A stream resynchronising after a give-up: its SYNC, resent on timeout like a data packet. */
 struct SyncSlot {
@@ -220,6 +240,8 @@ struct RxStream {
   std::uint8_t expected = 0U;
   std::uint8_t nacked = 0U;
   bool nack_sent = false;
+  bool busy = false;  ///< `expected` came with the receive queue full (answered BUSY): no NACKs for the gap behind it
+  bool busy_owed = false;  ///< the network refused that BUSY: resent by the next poll while the queue is still full
   bool ack_owed = false;  ///< the network refused the last ACK: resent by the next poll
   bool rec_valid = false;  ///< a resync point was taken while the stream ran: its record goes in every answer
   std::uint8_t rec_point = 0U;  ///< that resync point
@@ -249,6 +271,21 @@ struct FtNode {
   std::uint32_t map_version = 0U;    ///< version of the fault map the routes were built from
   std::array<std::uint32_t, kRouteMaxTiles> peer_map_version{};  ///< last version a PING or PONG carried, per tile
   std::array<std::uint8_t, kRouteMaxTiles> in_window{};  ///< unacknowledged packets per destination
+  /**
+   * Round trip to each destination, ticks (RFC 6298 with integer state):
+   * srtt x 8 and rttvar x 4, from the ACKs of packets sent once (Karn); 0: no
+   * sample yet. The first retransmit timeout is srtt + max(1, 4 rttvar), at
+   * least config.timeout_ticks: a destination that answers slowly (its
+   * network interface full, its listener behind) is not resent to in vain.
+   */
+  std::array<std::uint16_t, kRouteMaxTiles> srtt8{};
+  std::array<std::uint16_t, kRouteMaxTiles> rttvar4{};
+  /**
+   * Doublings of that timeout since the destination's last sample (a timeout
+   * resend adds one, at most 4): Karn's rule takes no sample from a resent
+   * packet, so without them a round trip longer than the timeout would never be measured.
+   */
+  std::array<std::uint8_t, kRouteMaxTiles> rto_shift{};
   std::array<detail::TxSlot, kFtTxSlots> tx{};
   std::array<std::array<detail::TxStream, kFtAllChannels>, kRouteMaxTiles> tx_stream{};
   std::array<std::array<detail::RxStream, kFtAllChannels>, kRouteMaxTiles> rx_stream{};
@@ -256,6 +293,8 @@ struct FtNode {
   std::array<detail::FwdSlot, kFtFwdSlots> fwd{};
   std::array<detail::SyncSlot, kFtSyncSlots> sync{};
   std::uint32_t acks_owed = 0U;
+  std::uint32_t busies_owed = 0U;  ///< receive streams with busy_owed
+  std::uint32_t held_streams = 0U;  ///< send streams with TxStream::held
   std::array<std::uint32_t, kRouteMaxTiles> pong_nonce{};  ///< last PONG nonce seen per source tile
   std::array<std::uint32_t, kRouteMaxTiles> pong_owed{};   ///< nonce of a PONG the network refused, per prober (0: none)
   std::uint32_t pongs_owed = 0U;

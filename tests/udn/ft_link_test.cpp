@@ -546,3 +546,169 @@ TEST(FtLinkGiveUp, AReceiverThatRestartedSettlesNothing) {
   EXPECT_TRUE(claims(udn::FtCause::kSettled).empty());
   EXPECT_EQ(g_nodes[10].stats.gave_up_unknown, 1U);
 }
+
+// ------------------------------------------------------------------ flow control
+
+namespace {
+
+/** Sends of tile 9 the network refuses from now on (counted down). */
+std::uint32_t g_refuse_next = 0U;
+bsp::NetError counted_refusal_send(void* ctx, bsp::TileId self, std::span<const std::uint32_t> words) {
+  if (self == 9U && g_refuse_next > 0U) {
+    --g_refuse_next;
+    return bsp::NetError::kFull;
+  }
+  return ft_test::host_send(ctx, self, words);
+}
+
+/** The events of every node that say a packet was resent as a recovery (NACK or timeout). */
+std::size_t recovery_resends() {
+  std::size_t n = 0;
+  for (bsp::TileId t = 0; t < 64U; ++t) {
+    n += ft_test::events_of(t, udn::FtCause::kResentNack).size() +
+         ft_test::events_of(t, udn::FtCause::kResentTimeout).size();
+  }
+  return n;
+}
+
+}  // namespace
+
+// FT-FC-01: a full receive queue is flow control, not a fault. The receiver answers BUSY and
+// NACKs nothing behind the packet that waits; the sender's timeout resend is counted as flow
+// control and logged as no recovery; once the application drains, every message arrives once,
+// in order, intact.
+TEST(FtLinkFlowControl, AFullReceiveQueueAnswersBusyAndItsResendIsNoRecovery) {
+  ft_test::boot(ft_test::grid_map());
+  const bsp::TileId src = 9U;
+  const bsp::TileId dst = 12U;
+  const std::uint32_t total = udn::kFtRxDepth + 6U;
+  std::uint32_t sent = 0;
+  // The receiver's application takes nothing for a while: its channel queue fills.
+  for (std::uint32_t i = 0; i < 60U; ++i) {
+    while (sent < total &&
+           udn::ft_send(g_nodes[src], dst, 1U, message(src, 1U, sent), ft_test::now_tick()) == udn::FtError::kOk) {
+      ++sent;
+    }
+    ft_test::step();
+  }
+  EXPECT_EQ(g_nodes[dst].rxq[1].count, udn::kFtRxDepth);
+  EXPECT_GE(g_nodes[dst].stats.rx_full_dropped, 1U);
+  EXPECT_GE(g_nodes[dst].stats.busy_sent, 1U);
+  EXPECT_EQ(g_nodes[dst].stats.nacks_sent, 0U) << "nothing behind a packet that waits for room is NACKed";
+  EXPECT_GE(g_nodes[src].stats.resent_busy, 1U);
+  EXPECT_EQ(recovery_resends(), 0U) << "flow control is logged as no recovery";
+  // The application drains; the rest comes on the sender's next timeouts.
+  std::vector<udn::FtMessage> got;
+  for (std::uint32_t i = 0; i < 400U && (got.size() < total || ft_test::outstanding() > 0U); ++i) {
+    while (sent < total &&
+           udn::ft_send(g_nodes[src], dst, 1U, message(src, 1U, sent), ft_test::now_tick()) == udn::FtError::kOk) {
+      ++sent;
+    }
+    for (const udn::FtMessage& m : drain(dst, 1U)) got.push_back(m);
+    ft_test::step();
+  }
+  ASSERT_EQ(got.size(), total);
+  for (std::uint32_t s = 0; s < total; ++s) {
+    EXPECT_EQ(got[s].seq, s);
+    EXPECT_TRUE(intact(got[s])) << s;
+  }
+  EXPECT_EQ(g_nodes[src].stats.gave_up, 0U);
+  EXPECT_EQ(recovery_resends(), 0U);
+}
+
+// FT-FC-02: a resend the network refuses holds its stream: the packets after it, and new ones,
+// wait behind it and leave in order, so the receiver never sees a gap to NACK.
+TEST(FtLinkFlowControl, ARefusedResendHoldsItsStreamSoNothingOvertakesIt) {
+  ft_test::boot(ft_test::grid_map());
+  const udn::FtPort port{&counted_refusal_send, &ft_test::host_receive, nullptr};
+  ASSERT_EQ(udn::ft_init(g_nodes[9], 9U, ft_test::grid_map(), port, udn::FtConfig{}), udn::FtError::kOk);
+  udn::ft_set_event_sink(g_nodes[9], udn::FtEventSink{&ft_test::record_event, nullptr});
+  // The stream runs; then a packet is damaged in transit beyond correction (two data bits): the
+  // receiver NACKs it, and the network refuses the resend that answers the NACK.
+  ASSERT_EQ(udn::ft_send(g_nodes[9], 10U, 0U, message(9U, 0U, 0U), ft_test::now_tick()), udn::FtError::kOk);
+  settle();
+  ft_test::g_flip = ft_test::FlipPlan{9U, {{udn::kWordData, 3U}, {udn::kWordData, 17U}}, 1U};
+  ASSERT_EQ(udn::ft_send(g_nodes[9], 10U, 0U, message(9U, 0U, 1U), ft_test::now_tick()), udn::FtError::kOk);
+  g_refuse_next = 1U;
+  for (std::uint32_t i = 0; i < 40U && g_nodes[9].held_streams == 0U; ++i) ft_test::step();
+  ASSERT_EQ(g_nodes[9].held_streams, 1U) << "the refused resend holds the stream";
+  EXPECT_EQ(g_refuse_next, 0U);
+  // A new message of the held stream is queued behind it, not sent ahead of it.
+  ASSERT_EQ(udn::ft_send(g_nodes[9], 10U, 0U, message(9U, 0U, 2U), ft_test::now_tick()), udn::FtError::kOk);
+  settle();
+  EXPECT_EQ(g_nodes[9].held_streams, 0U);
+  const auto got = drain(10U, 0U);
+  ASSERT_EQ(got.size(), 3U);
+  for (std::uint32_t s = 0; s < 3U; ++s) {
+    EXPECT_EQ(got[s].seq, s);
+    EXPECT_TRUE(intact(got[s]));
+  }
+  EXPECT_EQ(g_nodes[10].stats.nacks_sent, 1U) << "the damaged packet's NACK only: no gap behind the held resend";
+  EXPECT_EQ(ft_test::events_of(9U, udn::FtCause::kResentNack).size(), 1U);
+}
+
+// FT-FC-03: the retransmit timeout follows the measured round trip (RFC 6298 on ticks, Karn's
+// rule, the timeout doubled after a timeout resend until a packet sent once is answered): towards
+// a receiver whose answers take 5 ticks to leave it, the fixed three-tick timeout would resend
+// every packet; once the round trip is measured, none is resent, and nothing is lost or doubled.
+namespace {
+struct Delayed {
+  std::uint32_t release_tick;
+  std::vector<std::uint32_t> words;
+};
+std::vector<Delayed> g_delayed;
+constexpr std::uint32_t kAnswerDelayTicks = 5U;
+
+bsp::NetError delaying_send(void* /*ctx*/, bsp::TileId /*self*/, std::span<const std::uint32_t> words) {
+  g_delayed.push_back(Delayed{ft_test::now_tick() + kAnswerDelayTicks, {words.begin(), words.end()}});
+  return bsp::NetError::kOk;
+}
+
+/** Sends the delayed packets of tile @p self whose time has come, in order. */
+void release_delayed(bsp::TileId self) {
+  std::size_t k = 0;
+  for (; k < g_delayed.size() && g_delayed[k].release_tick <= ft_test::now_tick(); ++k) {
+    ASSERT_EQ(ft_test::host_send(nullptr, self, g_delayed[k].words), bsp::NetError::kOk);
+  }
+  g_delayed.erase(g_delayed.begin(), g_delayed.begin() + static_cast<std::ptrdiff_t>(k));
+}
+}  // namespace
+
+TEST(FtLinkFlowControl, TheRetransmitTimeoutFollowsTheMeasuredRoundTrip) {
+  ft_test::boot(ft_test::grid_map());
+  const bsp::TileId src = 9U;
+  const bsp::TileId dst = 12U;
+  g_delayed.clear();
+  const udn::FtPort port{&delaying_send, &ft_test::host_receive, nullptr};
+  ASSERT_EQ(udn::ft_init(g_nodes[dst], dst, ft_test::grid_map(), port, udn::FtConfig{}), udn::FtError::kOk);
+  std::uint32_t sent = 0;
+  std::vector<udn::FtMessage> got;
+  std::uint64_t resent_at_half = 0;
+  constexpr std::uint32_t kTicks = 200U;
+  for (std::uint32_t q = 0; q < kTicks * 4U; ++q) {
+    if (q % 4U == 0U &&
+        udn::ft_send(g_nodes[src], dst, 2U, message(src, 2U, sent), ft_test::now_tick()) == udn::FtError::kOk) {
+      ++sent;
+    }
+    release_delayed(dst);
+    ft_test::step();
+    for (const udn::FtMessage& m : drain(dst, 2U)) got.push_back(m);
+    if (q == kTicks * 2U) {
+      resent_at_half = g_nodes[src].stats.retransmitted;
+    }
+  }
+  for (std::uint32_t q = 0; q < 400U && ft_test::outstanding() > 0U; ++q) {
+    release_delayed(dst);
+    ft_test::step();
+  }
+  for (const udn::FtMessage& m : drain(dst, 2U)) got.push_back(m);
+  ASSERT_EQ(got.size(), sent);
+  for (std::uint32_t s = 0; s < sent; ++s) {
+    EXPECT_EQ(got[s].seq, s % 256U);
+  }
+  EXPECT_GT(sent, 100U);
+  EXPECT_GT(resent_at_half, 0U) << "the first packets are resent before any round trip is measured";
+  EXPECT_GE(g_nodes[src].srtt8[dst] / 8U, kAnswerDelayTicks) << "the measured round trip";
+  EXPECT_EQ(g_nodes[src].stats.retransmitted, resent_at_half) << "no resend in the second half";
+  EXPECT_EQ(g_nodes[src].stats.gave_up, 0U);
+}
