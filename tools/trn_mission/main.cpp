@@ -37,6 +37,7 @@
 #include "trn/tasks/filter_task.hpp"
 #include "trn/tasks/tile_map.hpp"
 #include "trn/tasks/vision_coord.hpp"
+#include "udn/endpoint.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -431,6 +432,24 @@ void add_matches_by_altitude(const tools::FlightEventCollector& flight, const Fl
   }
 }
 
+/**
+ * The messaging layer's flow control, from the tiles' own counters (since each tile's last boot):
+ * BUSY answers to packets that found a full receive queue, and the resends that followed them,
+ * which are not recovery events (docs/FT_MESSAGING.md, "Flow control").
+ */
+void add_flow_control(tools::Summary& s) {
+  std::uint64_t busy = 0;
+  std::uint64_t resent_busy = 0;
+  for (bsp::TileId t = 0; t < bsp::kTile64.tiles(); ++t) {
+    if (const udn::FtNode* node = udn::endpoint_node(t); node != nullptr) {
+      busy += node->stats.busy_sent;
+      resent_busy += node->stats.resent_busy;
+    }
+  }
+  s.extra.emplace_back("udn_busy_answers", static_cast<double>(busy));
+  s.extra.emplace_back("udn_flow_control_resends", static_cast<double>(resent_busy));
+}
+
 tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const tools::FlightEventCollector& flight,
                             const tools::FaultAccount& faults, const FlightRecord& rec, double host_s,
                             std::uint64_t allocs, const tools::PhaseEnergy& energy) {
@@ -442,6 +461,7 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.host_s = host_s;
   s.realtime_factor = host_s > 0.0 ? in.duration_s / host_s : 0.0;
   s.extra.emplace_back("host_frames_rendered_ahead", static_cast<double>(bsp::frame_ahead::stats().taken));
+  add_flow_control(s);
   const FinalScore end = score_end(m, rec, in.duration_s);
   s.final_position_error_m = end.position_error_m;
   s.max_position_error_after_convergence_m = rec.converged_at_s >= 0.0 ? rec.max_error_after_convergence_m : NAN;

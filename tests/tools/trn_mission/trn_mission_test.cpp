@@ -97,6 +97,11 @@ TEST_F(TrnMissionBinary, SameInputsGiveTheSameTraceHashAndAFullRunFolderOnOneHos
   EXPECT_EQ(a["seed"], 4);
   EXPECT_GE(a["host_frames_rendered_ahead"], 2) << "frames at 1 s and 2 s, rendered on the second host thread";
   EXPECT_EQ(b["host_frames_rendered_ahead"], 0);
+  // Full receive queues at the start (every tile's boot report to the supervisor) are flow control,
+  // counted from the tiles' own counters, each resend after a BUSY answer and none as an event.
+  EXPECT_GE(a["udn_busy_answers"], 1);
+  EXPECT_GE(a["udn_flow_control_resends"], 1);
+  EXPECT_LE(a["udn_flow_control_resends"], a["udn_busy_answers"]);
   for (const char* key : {"scenario", "emulated_s", "host_s", "realtime_factor", "max_position_error_after_convergence_m",
                           "final_velocity_error_mps", "final_attitude_error_deg", "frames", "matches_per_frame_mean",
                           "faults_injected", "faults_detected", "faults_recovered"}) {
