@@ -212,8 +212,13 @@ bool resend_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint
       }
     }
   }
-  if (refused && !reported) {
-    detail::TxStream& st = n.tx_stream[dest][channel];
+  detail::TxStream& st = n.tx_stream[dest][channel];
+  if (!refused) {
+    hold_stream(n, dest, channel, false);  // every outstanding packet left, in order
+  }
+  if (reported) {
+    st.held_report = false;  // an earlier resend refused whole is reported by this one
+  } else if (refused) {
     st.held_report = true;  // told when the held packets leave
     st.held_why = static_cast<std::uint8_t>(why);
   }
