@@ -97,6 +97,8 @@ void naive_surface(const Case& c, std::vector<double>& out) {
 
 void run_hand(benchmark::State& state, const Case& c) {
   static tv::FixedIntegral<256, 256> integral;
+  // The flight's fine workspace gives its correlations room for the 16-bit copies (CorrelatorWorkspace).
+  static std::vector<std::int16_t> wide(static_cast<std::size_t>(tv::ncc_wide_entries(256)));
   const std::int32_t s = c.win - c.tw + 1;
   std::vector<float> surf(static_cast<std::size_t>(s * s));
   const tv::ConstImageU8 t{c.t.data(), c.tw, c.tw, c.tw};
@@ -106,7 +108,8 @@ void run_hand(benchmark::State& state, const Case& c) {
     tv::TemplateStats st;
     std::int32_t flat = 0;
     if (tv::template_stats(t, st, work) != tv::Status::kOk || integral.build(w, work) != tv::Status::kOk ||
-        tv::ncc_surface(t, st, w, integral.ref(), {surf.data(), s, s, s}, {}, flat, work) != tv::Status::kOk) {
+        tv::ncc_surface(t, st, w, integral.ref(), {surf.data(), s, s, s}, {}, flat, work, nullptr,
+                        {wide.data(), static_cast<std::int64_t>(wide.size())}) != tv::Status::kOk) {
       state.SkipWithError("hand-coded NCC failed");
       break;
     }

@@ -39,7 +39,7 @@ struct SurfaceJob {
 Status surface_of(const SurfaceJob& j, const IntegralRef& integral, NccCheck& check, std::int32_t& flat_windows,
                   bsp::Work& work) noexcept {
   if (j.method == CorrelationMethod::kSpatial) {
-    return ncc_surface(j.tmpl, j.stats, j.window, integral, j.surface, j.flags, flat_windows, work, &check);
+    return ncc_surface(j.tmpl, j.stats, j.window, integral, j.surface, j.flags, flat_windows, work, &check, j.buf.wide);
   }
   ImageView<const std::uint32_t> dots;
   const Status st = transform_dots(j.tmpl, j.window, j.buf.transform, dots, work);

@@ -46,6 +46,7 @@
 #include "trn/vision/peak.hpp"
 #include "trn/vision/transform_dots.hpp"
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
@@ -88,21 +89,31 @@ struct CorrelatorBuffers {
   std::uint8_t* flags = nullptr;
   std::int32_t max_window_px = 0;     ///< window (and surface) side capacity
   TransformBuffers transform{};       ///< planes of CorrelationMethod::kTransform (none: spatial only)
+  NccWideBuffer wide{};               ///< ncc_surface()'s 16-bit copies (none: dot products from the bytes)
 };
 
-/** Buffers for windows up to MaxWindow x MaxWindow pixels. */
-template <std::int32_t MaxWindow>
+/**
+ * Buffers for windows up to MaxWindow x MaxWindow pixels; with @p Wide, room
+ * for ncc_surface()'s 16-bit copies too (templates up to kNccWideMaxTemplatePx
+ * wide: the fine stage's), about 2 * MaxWindow^2 bytes more.
+ */
+template <std::int32_t MaxWindow, bool Wide = false>
 struct CorrelatorWorkspace {
   static_assert(MaxWindow > 0 && MaxWindow <= 4096, "window capacity out of range");
   static constexpr std::int64_t kEntries = static_cast<std::int64_t>(MaxWindow + 1) * (MaxWindow + 1);
   static constexpr std::int64_t kPixels = static_cast<std::int64_t>(MaxWindow) * MaxWindow;
+  static constexpr std::int64_t kWideEntries = Wide ? ncc_wide_entries(MaxWindow) : 0;
 
   std::uint32_t sum[static_cast<std::size_t>(kEntries)]{};
   std::uint64_t sum_sq[static_cast<std::size_t>(kEntries)]{};
   float surface[static_cast<std::size_t>(kPixels)]{};
   std::uint8_t flags[static_cast<std::size_t>(kPixels)]{};
+  std::array<std::int16_t, static_cast<std::size_t>(kWideEntries)> wide{};
 
-  CorrelatorBuffers buffers() noexcept { return CorrelatorBuffers{sum, sum_sq, kEntries, surface, flags, MaxWindow}; }
+  CorrelatorBuffers buffers() noexcept {
+    return CorrelatorBuffers{sum,      sum_sq, kEntries, surface, flags, MaxWindow, TransformBuffers{},
+                             NccWideBuffer{Wide ? wide.data() : nullptr, kWideEntries}};
+  }
 };
 
 /** Outcome of one template match. */

@@ -23,7 +23,7 @@ inline constexpr std::int32_t kFineMaxSearchPx = 24;    ///< largest search radi
 inline constexpr std::int32_t kFineMaxWindowPx = kFineMaxTemplatePx + 2 * kFineMaxSearchPx;
 static_assert(kFineMaxWindowPx <= 80, "fine workspace stays inside its tile RAM share");
 
-using FineWorkspace = CorrelatorWorkspace<kFineMaxWindowPx>;
+using FineWorkspace = CorrelatorWorkspace<kFineMaxWindowPx, true>;
 
 /**
  * Fine-stage checks. min_peak 0.8: of 500 unrelated pairs of smooth 21x21 / 49x49

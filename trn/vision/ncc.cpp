@@ -6,6 +6,7 @@
 
 #include <bit>
 #include <cmath>
+#include <cstddef>
 
 namespace trn::vision {
 
@@ -101,6 +102,78 @@ class RowDots {
   std::uint32_t dots_[kLanes] = {};
 };
 
+/** Columns of a template's 16-bit copy: its width rounded up to a vector of eight 16-bit lanes. */
+constexpr std::int32_t wide_columns(std::int32_t tmpl_width) noexcept { return (tmpl_width + 7) / 8 * 8; }
+
+/**
+ * dot_at() from 16-bit copies (widen()): the template's rows padded with zeros
+ * to P columns, the window's to @p stride = window width - template width + P,
+ * so every offset of the surface reads P columns of each row inside the copy.
+ * A row is a sum of P products of 16-bit integers with a constant trip count,
+ * which compilers turn into multiply-add-pairs vector instructions. The
+ * integers are dot_at()'s: the padding multiplies zeros, and the sum is at
+ * most 255^2 * 32 * 32 (kNccWideMaxTemplatePx), far inside int32.
+ */
+template <std::int32_t P>
+class WideDots {
+ public:
+  WideDots(const std::int16_t* tmpl, std::int32_t tmpl_height, const std::int16_t* window,
+           std::int32_t stride) noexcept
+      : tmpl_(tmpl), height_(tmpl_height), window_(window), stride_(stride) {}
+
+  std::uint32_t operator()(std::int32_t x, std::int32_t y) const noexcept {
+    std::int32_t acc = 0;
+    const std::int16_t* t = tmpl_;
+    const std::int16_t* w = window_ + static_cast<std::ptrdiff_t>(y) * stride_ + x;
+    for (std::int32_t j = 0; j < height_; ++j) {
+      std::int32_t row = 0;
+      for (std::int32_t i = 0; i < P; ++i) {
+        row += static_cast<std::int32_t>(t[i]) * static_cast<std::int32_t>(w[i]);
+      }
+      acc += row;
+      t += P;
+      w += stride_;
+    }
+    return static_cast<std::uint32_t>(acc);
+  }
+
+ private:
+  const std::int16_t* tmpl_;
+  std::int32_t height_;
+  const std::int16_t* window_;
+  std::int32_t stride_;
+};
+
+/**
+ * Fills @p buf with the 16-bit copies WideDots<wide_columns(tmpl.width)> reads:
+ * the template first, then the window. @return false (nothing written) when
+ * the template is too wide or @p buf too small.
+ */
+bool widen(ConstImageU8 tmpl, ConstImageU8 window, NccWideBuffer buf, std::int32_t& stride) noexcept {
+  const std::int32_t cols = wide_columns(tmpl.width);
+  stride = window.width - tmpl.width + cols;
+  const std::int64_t need = std::int64_t{tmpl.height} * cols + std::int64_t{window.height} * stride;
+  if (buf.data == nullptr || tmpl.width > kNccWideMaxTemplatePx || need > buf.entries) {
+    return false;
+  }
+  std::int16_t* out = buf.data;
+  for (std::int32_t j = 0; j < tmpl.height; ++j) {
+    const std::uint8_t* t = tmpl.row(j);
+    for (std::int32_t i = 0; i < cols; ++i) {
+      out[i] = i < tmpl.width ? static_cast<std::int16_t>(t[i]) : std::int16_t{0};
+    }
+    out += cols;
+  }
+  for (std::int32_t j = 0; j < window.height; ++j) {
+    const std::uint8_t* w = window.row(j);
+    for (std::int32_t i = 0; i < stride; ++i) {
+      out[i] = i < window.width ? static_cast<std::int16_t>(w[i]) : std::int16_t{0};
+    }
+    out += stride;
+  }
+  return true;
+}
+
 /** One score from exact integer terms; flat windows give 0. */
 float score_of(std::int64_t num, std::int64_t var_t, std::int64_t var_w) noexcept {
   const double den = std::sqrt(static_cast<double>(var_t) * static_cast<double>(var_w));
@@ -186,6 +259,43 @@ void score_surface(const TemplateStats& stats, const IntegralRef& integral, Imag
   }
 }
 
+/** score_surface() with its dot products from the 16-bit copies in @p buf (widen()), P columns a row. */
+template <std::int32_t P>
+void score_wide(const TemplateStats& stats, const IntegralRef& integral, ImageF32 surface, ImageU8 flags,
+                std::int32_t& flat_count, NccCheck& c, const std::int16_t* buf, std::int32_t stride) noexcept {
+  const WideDots<P> dots(buf, stats.height, buf + static_cast<std::ptrdiff_t>(stats.height) * P, stride);
+  score_surface(stats, integral, surface, flags, flat_count, c, [&dots](std::int32_t x, std::int32_t y) { return dots(x, y); });
+}
+
+/**
+ * The surface with its dot products from 16-bit copies when @p wide has room
+ * for them (@return true), else nothing done (@return false).
+ */
+bool score_surface_wide(ConstImageU8 tmpl, const TemplateStats& stats, ConstImageU8 window,
+                        const IntegralRef& integral, ImageF32 surface, ImageU8 flags, std::int32_t& flat_count,
+                        NccCheck& c, NccWideBuffer wide) noexcept {
+  std::int32_t stride = 0;
+  if (!widen(tmpl, window, wide, stride)) {
+    return false;
+  }
+  switch (wide_columns(tmpl.width)) {
+    case 8:
+      score_wide<8>(stats, integral, surface, flags, flat_count, c, wide.data, stride);
+      return true;
+    case 16:
+      score_wide<16>(stats, integral, surface, flags, flat_count, c, wide.data, stride);
+      return true;
+    case 24:
+      score_wide<24>(stats, integral, surface, flags, flat_count, c, wide.data, stride);
+      return true;
+    case 32:
+      score_wide<32>(stats, integral, surface, flags, flat_count, c, wide.data, stride);
+      return true;
+    default:
+      return false;
+  }
+}
+
 /** The two sums of a checked surface, when asked for. */
 void charge_check(const NccCheck* check, ImageF32 surface, bsp::Work& work) noexcept {
   if (check != nullptr) {
@@ -251,15 +361,18 @@ bsp::Work ncc_surface_work(std::int32_t tmpl_w, std::int32_t tmpl_h, std::int32_
 
 Status ncc_surface(ConstImageU8 tmpl, const TemplateStats& stats, ConstImageU8 window, const IntegralRef& integral,
                    ImageF32 surface, ImageU8 flags, std::int32_t& flat_count, bsp::Work& work,
-                   NccCheck* check) noexcept {
+                   NccCheck* check, NccWideBuffer wide) noexcept {
   flat_count = 0;
   if (!detail::surface_args_ok(tmpl, stats, window, integral, surface, flags)) {
     return Status::kBadInput;
   }
   NccCheck none;
-  detail::RowDots row_dots(tmpl, window, surface.width);
-  detail::score_surface(stats, integral, surface, flags, flat_count, check != nullptr ? *check : none,
-                        [&row_dots](std::int32_t x, std::int32_t y) { return row_dots(x, y); });
+  NccCheck& c = check != nullptr ? *check : none;
+  if (!detail::score_surface_wide(tmpl, stats, window, integral, surface, flags, flat_count, c, wide)) {
+    detail::RowDots row_dots(tmpl, window, surface.width);
+    detail::score_surface(stats, integral, surface, flags, flat_count, c,
+                          [&row_dots](std::int32_t x, std::int32_t y) { return row_dots(x, y); });
+  }
   work += ncc_surface_work(tmpl.width, tmpl.height, surface.width, surface.height);
   detail::charge_check(check, surface, work);
   return Status::kOk;

@@ -58,6 +58,27 @@ struct NccCheck {
   std::uint64_t surface_sum = 0; ///< out: the sum of the surface's bit patterns as written (surface_digest)
 };
 
+/** Widest template whose dot products ncc_surface() takes from 16-bit copies (NccWideBuffer). */
+inline constexpr std::int32_t kNccWideMaxTemplatePx = 32;
+
+/**
+ * Room for ncc_surface()'s 16-bit copies of a template and its window: the
+ * template's rows padded with zeros to its width rounded up to 8, the window's
+ * rows to (window width - template width + that). Host speed only: the same
+ * integers, the same emulated work. Entries for windows up to @p max_window_px
+ * and templates up to kNccWideMaxTemplatePx.
+ */
+constexpr std::int64_t ncc_wide_entries(std::int32_t max_window_px) noexcept {
+  return std::int64_t{kNccWideMaxTemplatePx} * kNccWideMaxTemplatePx +
+         std::int64_t{max_window_px} * (std::int64_t{max_window_px} + 7);
+}
+
+/** Scratch for ncc_surface()'s 16-bit copies (none: the dot products come from the bytes). */
+struct NccWideBuffer {
+  std::int16_t* data = nullptr;
+  std::int64_t entries = 0;  ///< capacity of data
+};
+
 /** Template statistics, computed once per template. */
 struct TemplateStats {
   std::int32_t width = 0;
@@ -85,11 +106,15 @@ Status template_stats(ConstImageU8 tmpl, TemplateStats& out, bsp::Work& work) no
  * @param flat_count number of flat windows
  * @param check optional: each dot product is published there before it is used, and the
  *        sums of the dot products and of the surface's bits are returned (charged to @p work)
+ * @param wide optional scratch: with room for the copies (ncc_wide_entries) and a template
+ *        at most kNccWideMaxTemplatePx wide, the dot products are taken from 16-bit copies,
+ *        which the host's vector units multiply and add in pairs. Same integers, same
+ *        scores, same charge to @p work either way.
  * @return kBadInput when sizes disagree or the template is flat (surface untouched).
  */
 Status ncc_surface(ConstImageU8 tmpl, const TemplateStats& stats, ConstImageU8 window, const IntegralRef& integral,
                    ImageF32 surface, ImageU8 flags, std::int32_t& flat_count, bsp::Work& work,
-                   NccCheck* check = nullptr) noexcept;
+                   NccCheck* check = nullptr, NccWideBuffer wide = {}) noexcept;
 
 /**
  * The correlation surface from dot products computed elsewhere (transform_dots.hpp):

@@ -4,6 +4,7 @@
  *        integral images give exact window sums; flat windows and templates are handled.
  */
 #include "trn/vision/correlator.hpp"
+#include "trn/vision/fine.hpp"
 #include "trn/vision/integral.hpp"
 #include "trn/vision/ncc.hpp"
 
@@ -12,7 +13,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -187,6 +191,107 @@ TEST(Ncc, WorkIsNonZeroAndScalesWithTemplateSizeTimesPositions) {
   ASSERT_EQ(tv::correlate(t.view(), win.view(), {}, ws.buffers(), r, work), tv::Status::kOk);
   EXPECT_GE(work.int_macs, a.int_macs);
   EXPECT_GT(work.mem_words, a.mem_words);
+}
+
+/** One surface of @p t over @p win: scores, flags, flat count, check sums and work. */
+struct SurfaceRun {
+  std::vector<float> surface;
+  std::vector<std::uint8_t> flags;
+  std::int32_t flat = 0;
+  tv::NccCheck check;
+  bsp::Work work;
+};
+
+SurfaceRun surface_run(const Image& t, const Image& win, tv::NccWideBuffer wide) {
+  static tv::FixedIntegral<64, 64> ii;
+  SurfaceRun r;
+  tv::TemplateStats stats;
+  bsp::Work setup;
+  EXPECT_EQ(ii.build(win.view(), setup), tv::Status::kOk);
+  EXPECT_EQ(tv::template_stats(t.view(), stats, setup), tv::Status::kOk);
+  const std::int32_t sw = win.w - t.w + 1;
+  const std::int32_t sh = win.h - t.h + 1;
+  const auto positions = static_cast<std::size_t>(sw) * static_cast<std::size_t>(sh);
+  r.surface.assign(positions, -2.0F);
+  r.flags.assign(positions, 9U);
+  EXPECT_EQ(tv::ncc_surface(t.view(), stats, win.view(), ii.ref(), {r.surface.data(), sw, sh, sw},
+                            {r.flags.data(), sw, sh, sw}, r.flat, r.work, &r.check, wide),
+            tv::Status::kOk);
+  return r;
+}
+
+// Host speed only: the dot products taken from 16-bit copies (templates up to 32 wide, padded to
+// 8, 16, 24 or 32 columns) give every score, flag, check sum and charge of the byte path, bit for
+// bit; the copies are made only when the scratch holds them, and a template wider than 32 or a
+// scratch one entry short takes the byte path without writing the scratch.
+TEST(Ncc, DotProductsFromSixteenBitCopiesGiveTheByteSurfaceBitForBit) {
+  std::vector<std::int16_t> scratch(static_cast<std::size_t>(tv::ncc_wide_entries(64)));
+  std::int32_t cases = 0;
+  for (const std::int32_t tw : {1, 5, 8, 9, 16, 17, 21, 24, 25, 31, 32, 33}) {
+    for (const std::int32_t extra : {0, 1, 15, 16, 30}) {
+      const std::uint64_t seed = (static_cast<std::uint64_t>(tw) * 100U) + static_cast<std::uint64_t>(extra);
+      const std::int32_t th = 1 + tw % 7 + extra % 5;
+      Image win = vision_test::random_image(tw + extra, th + 6, seed);
+      for (std::int32_t y = 0; y < th + 2 && y < win.h; ++y)
+        for (std::int32_t x = 0; x < tw + 1 && x < win.w; ++x) win.at(x, y) = 77U;  // flat windows at the top left
+      Image t = vision_test::random_image(tw, th, seed + 7U);
+      t.at(0, 0) = 0U;
+      t.at(tw - 1, th - 1) = 255U;  // the extremes, and never flat
+      const SurfaceRun bytes = surface_run(t, win, {});
+      std::fill(scratch.begin(), scratch.end(), std::int16_t{-7});
+      const std::int32_t cols = (tw + 7) / 8 * 8;
+      const std::int64_t need = std::int64_t{th} * cols + std::int64_t{win.h} * (win.w - tw + cols);
+      const bool fits = tw <= tv::kNccWideMaxTemplatePx;
+      const SurfaceRun wide = surface_run(t, win, {scratch.data(), need});
+      const bool written = std::any_of(scratch.begin(), scratch.end(), [](std::int16_t v) { return v != -7; });
+      EXPECT_EQ(written, fits) << "template width " << tw;
+      EXPECT_EQ(std::memcmp(wide.surface.data(), bytes.surface.data(), bytes.surface.size() * sizeof(float)), 0)
+          << "template " << tw << "x" << th << ", window " << win.w << "x" << win.h;
+      EXPECT_EQ(wide.flags, bytes.flags) << "template width " << tw;
+      EXPECT_EQ(wide.flat, bytes.flat);
+      EXPECT_GT(wide.flat, 0) << "template width " << tw << ": the flat windows are taken";
+      EXPECT_EQ(wide.check.dot_sum, bytes.check.dot_sum) << "template width " << tw;
+      EXPECT_EQ(wide.check.surface_sum, bytes.check.surface_sum);
+      EXPECT_EQ(wide.work.int_macs, bytes.work.int_macs);
+      EXPECT_EQ(wide.work.int_ops, bytes.work.int_ops);
+      EXPECT_EQ(wide.work.mem_words, bytes.work.mem_words);
+      // One entry short: the byte path, the scratch untouched.
+      std::fill(scratch.begin(), scratch.end(), std::int16_t{-7});
+      const SurfaceRun short_of = surface_run(t, win, {scratch.data(), need - 1});
+      EXPECT_TRUE(std::all_of(scratch.begin(), scratch.end(), [](std::int16_t v) { return v == -7; }));
+      EXPECT_EQ(std::memcmp(short_of.surface.data(), bytes.surface.data(), bytes.surface.size() * sizeof(float)), 0);
+      ++cases;
+    }
+  }
+  EXPECT_EQ(cases, 60);
+}
+
+// The fine stage's workspace gives correlate() the 16-bit copies, with the same match as without.
+TEST(Ncc, TheFineWorkspaceCorrelatesFromSixteenBitCopiesWithTheSameMatch) {
+  static tv::FineWorkspace fine;
+  static tv::CorrelatorWorkspace<tv::kFineMaxWindowPx> plain;
+  EXPECT_NE(fine.buffers().wide.data, nullptr);
+  EXPECT_GE(fine.buffers().wide.entries, tv::ncc_wide_entries(tv::kFineMaxWindowPx));
+  EXPECT_EQ(plain.buffers().wide.data, nullptr);
+  const Image win = vision_test::smooth_texture(tv::kFineMaxWindowPx, tv::kFineMaxWindowPx, 2, 61);
+  Image t(tv::kFineTemplatePx, tv::kFineTemplatePx);
+  for (std::int32_t y = 0; y < t.h; ++y)
+    for (std::int32_t x = 0; x < t.w; ++x) t.at(x, y) = win.at(x + 23, y + 31);
+  fine.wide.fill(std::int16_t{-7});
+  tv::MatchResult a;
+  tv::MatchResult b;
+  bsp::Work wa;
+  bsp::Work wb;
+  ASSERT_EQ(tv::correlate(t.view(), win.view(), tv::kFineQuality, fine.buffers(), a, wa), tv::Status::kOk);
+  ASSERT_EQ(tv::correlate(t.view(), win.view(), tv::kFineQuality, plain.buffers(), b, wb), tv::Status::kOk);
+  EXPECT_NE(fine.wide[0], std::int16_t{-7});
+  EXPECT_EQ(a.peak.ix, 23);
+  EXPECT_EQ(a.peak.iy, 31);
+  EXPECT_EQ(a.peak.ix, b.peak.ix);
+  EXPECT_EQ(a.peak.iy, b.peak.iy);
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(a.x_px), std::bit_cast<std::uint64_t>(b.x_px));
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(a.y_px), std::bit_cast<std::uint64_t>(b.y_px));
+  EXPECT_EQ(wa.int_macs, wb.int_macs);
 }
 
 TEST(Ncc, CorrelateMakesNoHeapAllocation) {
