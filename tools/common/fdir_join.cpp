@@ -120,6 +120,21 @@ bool coarse_band_check_of(const bsp::FaultRecord& r, const fdir::Event& e, doubl
 /** How long after a replica's output was corrupted its vote reports it at most: the job's vote waits for its last output. */
 constexpr double kTmrSameVoteS = 0.030;
 
+/**
+ * Longest wait from a damaged packet to the resend that brings it again: the
+ * sender's first resend comes one retransmit timeout after the packet left,
+ * at most 16 times the measured round trip (docs/FT_MESSAGING.md), tens of
+ * milliseconds in the flights measured.
+ */
+constexpr double kDamagedResendS = 0.250;
+
+/**
+ * Longest wait from a flipped packet's send to its decoding: the tile it
+ * reaches decodes it at its next poll (every tick), milliseconds later even
+ * behind a full receive queue.
+ */
+constexpr double kPacketDecodeS = 0.100;
+
 /** Replica @p i's tile named in a tmr_no_majority event (b: missing | tile of replica i << 8 (i + 1)). */
 bsp::TileId no_majority_tile(const fdir::Event& e, std::uint32_t i) {
   return static_cast<bsp::TileId>((e.b >> (8U * (i + 1U))) & 0xFFU);
@@ -155,13 +170,17 @@ bool no_majority_of(const bsp::FaultRecord& r, const fdir::Event& e, double cloc
 bool detects(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
   const bsp::TileId t = r.spec.tile;
   switch (r.spec.kind) {
-    case bsp::FaultKind::kPacketBitFlip:
-      // The receiver (or a forwarder) decodes the packet from source t; a packet too damaged to
-      // name its source is any flip's; a resend by t after a timeout recovers a lost one.
+    case bsp::FaultKind::kPacketBitFlip: {
+      // The receiver (or a forwarder) decodes the packet from source t as it arrives; a packet too
+      // damaged to name its source is any flip's, but only then: a later one is another flip's (a flip
+      // nobody saw took the next flip's detection before, and that one went unseen in turn). A resend
+      // by t after a timeout, within one retransmit timeout, recovers a lost one.
+      const double after = seconds(e.cycle - r.applied_cycle, clock_hz);
       if (e.id == EventId::kPacketCorrected || e.id == EventId::kPacketForwarded || e.id == EventId::kPacketDamaged) {
-        return e.subject == t || e.subject == fdir::kUnknown;
+        return (e.subject == t || e.subject == fdir::kUnknown) && after <= kPacketDecodeS;
       }
-      return e.id == EventId::kPacketResent && e.tile == t && e.cause == 1U;
+      return e.id == EventId::kPacketResent && e.tile == t && e.cause == 1U && after <= kDamagedResendS;
+    }
     case bsp::FaultKind::kSwitchFail:
       return (e.id == EventId::kSwitchFailed || e.id == EventId::kTransitFailed) && e.subject == t;
     case bsp::FaultKind::kLinkFail: {
@@ -192,15 +211,39 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
   }
 }
 
-/** Whether @p e recovers a fault detected by @p d. */
-bool recovers(const fdir::Event& d, const fdir::Event& e) {
+/**
+ * Whether resend @p e brings again what damaged packet @p d lost, the packet
+ * being one tile @p source sent (the injection's tile). A data packet comes
+ * again by its source's resend (after the receiver's NACK, or a timeout); a
+ * lost ACK by the data's sender resending to the ACK's source. When the packet
+ * still named its source (d.subject: the receiver NACKed it), only the
+ * source's resend to the tile that dropped it; when the damage hid the source
+ * (the drop may have been at a forwarder), a resend by or to @p source. Either
+ * must follow within kDamagedResendS: a later one, or one between other
+ * tiles, is another packet's (before, any resend anywhere was credited to a
+ * damaged packet of unknown source, seconds later). A probe, a BUSY answer or
+ * an ACK a later one covers is resent by nobody: the damage stays detected and
+ * not recovered, for nothing in the flight said more.
+ */
+bool resend_of_damaged(const fdir::Event& d, const fdir::Event& e, bsp::TileId source, double clock_hz) {
+  if (e.id != EventId::kPacketResent || e.cycle < d.cycle || seconds(e.cycle - d.cycle, clock_hz) > kDamagedResendS) {
+    return false;
+  }
+  if (d.subject != fdir::kUnknown) {
+    return e.tile == d.subject && e.subject == d.tile;
+  }
+  return e.tile == source || e.subject == source;
+}
+
+/** Whether @p e recovers a fault of tile @p t detected by @p d. */
+bool recovers(const fdir::Event& d, const fdir::Event& e, bsp::TileId t, double clock_hz) {
   switch (d.id) {
     case EventId::kPacketCorrected:
     case EventId::kPacketForwarded:
     case EventId::kPacketResent:
       return false;  // recovered by the detecting event itself
     case EventId::kPacketDamaged:
-      return e.id == EventId::kPacketResent && (d.subject == fdir::kUnknown || e.tile == d.subject);
+      return resend_of_damaged(d, e, t, clock_hz);
     case EventId::kSwitchFailed:
     case EventId::kTransitFailed:
     case EventId::kLinkFailed:
@@ -827,7 +870,7 @@ FaultAccount join_faults(std::span<const bsp::FaultRecord> records, std::span<co
       if (seconds(events[k].cycle, clock_hz) - o.detected_s > kRecoverWindowS) {
         break;
       }
-      if (recovers(d, events[k])) {
+      if (recovers(d, events[k], r.spec.tile, clock_hz)) {
         // A map publication or a complete frame closes every fault it covers: not claimed.
         if (events[k].id == EventId::kPacketResent) {
           claims_left[k] = 0U;

@@ -124,4 +124,56 @@ TEST(FdirJoin, ADetectionOutsideTheWindowIsNotTheFaults) {
   EXPECT_EQ(tools::join_faults(faults, events, kHz).detected, 0U);
 }
 
+/** The outcome of one bit flip on tile 30's packet, dropped damaged by tile 1, against @p after. */
+tools::FaultOutcome damaged_then(std::uint32_t named_source, const std::vector<fdir::Event>& after) {
+  const std::array<bsp::FaultRecord, 1> faults{record(bsp::FaultKind::kPacketBitFlip, 30U, 1'000'000U)};
+  std::vector<fdir::Event> events{event(fdir::EventId::kPacketDamaged, 1U, named_source, 1'000'100U)};
+  events.insert(events.end(), after.begin(), after.end());
+  const tools::FaultAccount a = tools::join_faults(faults, events, kHz);
+  EXPECT_EQ(a.detected, 1U);
+  return a.outcomes.at(0);
+}
+
+// FDIR-JN-03: a damaged packet is recovered only by a resend that brings it again, soon. Named source
+// (the receiver NACKed it): that source's resend to the tile that dropped it. Source hidden by the
+// damage (dropped at the receiver or at a forwarder): a resend by the flipped tile (its data), or to
+// it (its lost ACK). A resend between other tiles, or seconds later, is another packet's.
+TEST(FdirJoin, ADamagedPacketIsRecoveredOnlyByAResendThatBringsItAgain) {
+  using fdir::EventId;
+  const std::uint32_t unknown = fdir::kUnknown;
+  tools::FaultOutcome o = damaged_then(unknown, {event(EventId::kPacketResent, 5U, 7U, 1'010'000U, 1U),
+                                                 event(EventId::kPacketResent, 1U, 9U, 1'011'000U, 1U),
+                                                 event(EventId::kPacketResent, 30U, 1U, 4'000'000U, 1U)});
+  EXPECT_FALSE(o.recovered) << "nothing resent by or to tile 30 in time";
+  o = damaged_then(unknown, {event(EventId::kPacketResent, 5U, 7U, 1'010'000U, 1U),
+                             event(EventId::kPacketResent, 30U, 2U, 1'020'000U, 1U)});
+  EXPECT_TRUE(o.recovered);
+  EXPECT_NEAR(o.recovered_s, 1.020, 1e-9) << "tile 30's timeout resend (dropped on the way to tile 2)";
+  o = damaged_then(unknown, {event(EventId::kPacketResent, 9U, 30U, 1'030'000U, 1U)});
+  EXPECT_TRUE(o.recovered) << "tile 30's ACK lost: tile 9 resends its data to tile 30";
+  o = damaged_then(30U, {event(EventId::kPacketResent, 30U, 4U, 1'005'000U, 0U),
+                         event(EventId::kPacketResent, 1U, 30U, 1'006'000U, 1U)});
+  EXPECT_FALSE(o.recovered) << "named source: its resend to another tile, or tile 1's own, is not this packet";
+  o = damaged_then(30U, {event(EventId::kPacketResent, 30U, 1U, 1'002'000U, 0U)});
+  EXPECT_TRUE(o.recovered);
+  EXPECT_NEAR(o.recovered_s, 1.002, 1e-9);
+}
+
+// FDIR-JN-04: a damaged packet whose source the damage hid is credited only to a flip just before it.
+// Flips at 3 s (seen by nobody) and 5 s (its packet dropped damaged at once): before, the first took
+// the second's detection and the second went unseen; a late timeout resend is no detection either.
+TEST(FdirJoin, ADamagedPacketOfHiddenSourceIsCreditedOnlyToAFlipJustBeforeIt) {
+  using fdir::EventId;
+  const std::array<bsp::FaultRecord, 2> faults{record(bsp::FaultKind::kPacketBitFlip, 1U, 3'002'000U),
+                                               record(bsp::FaultKind::kPacketBitFlip, 18U, 5'002'000U)};
+  const std::vector<fdir::Event> events{event(EventId::kPacketResent, 1U, 9U, 3'900'000U, 1U),
+                                        event(EventId::kPacketDamaged, 19U, fdir::kUnknown, 5'002'000U)};
+  const tools::FaultAccount a = tools::join_faults(faults, events, kHz);
+  ASSERT_EQ(a.outcomes.size(), 2U);
+  EXPECT_FALSE(a.outcomes[0].detected) << "nothing saw the first flip";
+  EXPECT_TRUE(a.outcomes[1].detected);
+  EXPECT_EQ(a.outcomes[1].detector, 19U);
+  EXPECT_NEAR(a.outcomes[1].detected_s, 5.002, 1e-9);
+}
+
 }  // namespace
