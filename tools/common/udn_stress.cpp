@@ -7,6 +7,7 @@
 #include "bsp_tile64/board.hpp"
 #include "bsp_tile64/rng.hpp"
 #include "kernel/kernel.hpp"
+#include "tools/common/cli_checks.hpp"
 #include "tools/common/udn_stress_payload.hpp"
 #include "tools/common/udn_stress_plan.hpp"
 #include "udn/ft_link.hpp"
@@ -204,11 +205,12 @@ void add_stress_options(CLI::App& app, StressOptions& opts) {
   app.add_option("--packets", opts.packets, "Total packets over all tiles")->check(CLI::Range(1, 10'000'000));
   app.add_option("--words", opts.words, "Data words per packet (1..128; 1..124 with --ft on)")
       ->check(CLI::Range(1U, udn::kMaxDataWords));
-  app.add_option("--seed", opts.seed, "Run seed (traffic, faults)");
+  app.add_option("--seed", opts.seed, "Run seed (traffic, faults)")->check(kWholeNumber);
   app.add_option("--failed-switches", opts.failed_switches,
                  "Tile indices whose switch fails at t=0, comma-separated (both modes; with --ft on those tiles "
                  "also run nothing)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(kWholeNumber);
   app.add_option("--profile", opts.profile, "Chip profile: tile64 (8x8) or maestro (7x7)")
       ->check(CLI::IsMember({"tile64", "maestro"}));
   app.add_option("--max-ms", opts.max_ms,
@@ -224,7 +226,8 @@ void add_stress_options(CLI::App& app, StressOptions& opts) {
       ->check(CLI::Range(0.0, 0.1));
   app.add_option("--failed-tiles", opts.failed_tiles,
                  "Tiles that run nothing, are sent nothing and whose switch fails at t=0 (both modes)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(kWholeNumber);
   app.add_option("--failed-links", opts.failed_links,
                  "Failed links at t=0: 12E (leaving tile 12 eastwards; E W N S) or 12-13; both directions")
       ->delimiter(',');

@@ -18,6 +18,7 @@
 #include "bsp_tile64/world/trajectory.hpp"
 #include "tools/common/campaign.hpp"
 #include "tools/common/campaign_stats.hpp"
+#include "tools/common/cli_checks.hpp"
 #include "tools/common/scenario.hpp"
 #include "tools/common/text.hpp"
 #include "tools/common/toml_input.hpp"
@@ -877,7 +878,8 @@ int run_main(int argc, char** argv) {
   mg->add_option("--margin", margin, "Half-width of the interval, as a fraction (default 0.01)")->check(CLI::Range(1e-6, 0.5));
   mg->add_option("--confidence", confidence, "Confidence (default 0.95)")->check(CLI::Range(0.5, 0.999999));
   mg->add_option("--p", expected, "Expected fraction (default 0.5, the worst case)")->check(CLI::Range(0.0, 1.0));
-  mg->add_option("--population", population, "Faults in the whole fault space (default: infinite)");
+  mg->add_option("--population", population, "Faults in the whole fault space (default: infinite)")
+      ->check(tools::kWholeNumber);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -24,6 +24,7 @@
 #include "bsp_tile64/trace.hpp"
 #include "bsp_tile64/udn_net.hpp"
 #include "kernel/kernel.hpp"
+#include "tools/common/cli_checks.hpp"
 #include "tools/common/fault_plan.hpp"
 #include "tools/common/fdir_join.hpp"
 #include "tools/common/memory_report.hpp"
@@ -672,7 +673,8 @@ int run(int argc, char** argv) {
   app.add_option("--scenario", o.scenario_path, "Scenario file (TOML); default: the built-in scenario");
   app.add_option("--faults", o.faults_path, "Fault-plan file (TOML); default: no faults");
   app.add_flag("--demo-faults", o.demo_faults, "Inject the built-in demonstration fault plan");
-  auto* seed_opt = app.add_option("--seed", seed, "Seed of the world, sensors and faults (overrides the scenario's)");
+  auto* seed_opt = app.add_option("--seed", seed, "Seed of the world, sensors and faults (overrides the scenario's)")
+                       ->check(tools::kWholeNumber);
   app.add_option("--out", o.out, "Run folder (default out/<scenario>-seed<N>)");
   app.add_option("--duration", o.duration_s, "Emulated seconds to fly (default: the whole descent)")
       ->check(CLI::Range(1.0, 1000.0));

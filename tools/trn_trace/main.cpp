@@ -10,6 +10,7 @@
  * Exit status: 0 (diff: the same events), 1 (diff: they differ), 2 (bad input).
  */
 #include "bsp_tile64/profile.hpp"
+#include "tools/common/cli_checks.hpp"
 #include "tools/common/run_folder.hpp"
 #include "tools/common/trace_dump.hpp"
 
@@ -98,8 +99,8 @@ int run(int argc, char** argv) {
   std::size_t count = 0U;
   CLI::App* pr = app.add_subcommand("print", "Print a dump's events, one a line");
   pr->add_option("file", file, "Trace dump (trn_mission --trace-dump)")->required();
-  pr->add_option("--from", from, "First event index (default 0)");
-  pr->add_option("--count", count, "Events to print (default: all)");
+  pr->add_option("--from", from, "First event index (default 0)")->check(tools::kWholeNumber);
+  pr->add_option("--count", count, "Events to print (default: all)")->check(tools::kWholeNumber);
   CLI::App* hs = app.add_subcommand("hash", "Count a dump's events and fold them into the trace hash");
   hs->add_option("file", file, "Trace dump")->required();
   std::string a;
@@ -108,7 +109,8 @@ int run(int argc, char** argv) {
   CLI::App* df = app.add_subcommand("diff", "Name the first event where two dumps differ");
   df->add_option("a", a, "First trace dump")->required();
   df->add_option("b", b, "Second trace dump")->required();
-  df->add_option("--context", context, "Events shown before and after the difference (default 5)");
+  df->add_option("--context", context, "Events shown before and after the difference (default 5)")
+      ->check(tools::kWholeNumber);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

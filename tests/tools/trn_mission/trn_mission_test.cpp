@@ -384,6 +384,7 @@ TEST_F(TrnMissionBinary, BadInputsExit2AndWriteNothing) {
             2);
   EXPECT_EQ(run(binary() + " --duration 999" + out), 2);
   EXPECT_EQ(run(binary() + " --no-such-option" + out), 2);
+  EXPECT_EQ(run(binary() + " --seed -3" + out), 2) << "flew seed 2^64 - 3 before";
   EXPECT_EQ(run(binary() + " --out /proc/trn_mission_cannot_write_here"), 2);
   fs::remove(dir_ / "bad_plan.toml");
   fs::remove(dir_ / "bad_scenario.toml");

@@ -53,6 +53,8 @@ TEST(UdnStressArgs, BadArgumentsGiveStatus2AndAMessage) {
       {"--profile", "tile128"},  {"--failed-switches", "3,x"}, {"--failed-switches", "64"},
       {"--no-such-option"},      {"--profile", "maestro", "--failed-switches", "49"},
       {"--quantum-us", "0.5"},   {"--quantum-us", "2000"},
+      // An unsigned option read "-1" as 2^64 - 1 without a word before.
+      {"--seed", "-1"},          {"--failed-switches", "3,-4"}, {"--failed-tiles", "-2"},
   };
   for (const auto& args : bad) {
     tools::StressOptions o;
