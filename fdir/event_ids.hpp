@@ -80,6 +80,7 @@ enum class EventId : std::uint16_t {
   kSelfTestAgree = 0x050B,     ///< an outvoted tile agrees again; subject: tile, cause: round, a: disagreements before
   kSelfTestLate = 0x050C,      ///< a tile had not answered a self-test round at its wait (an answer before the next round still counts); subject: tile, cause: round, a: wait ticks
   kSupervisorSilent = 0x050D,  ///< the watcher missed the supervisor's heartbeat; subject: supervisor tile, cause: watcher, a: ticks since the last, b: resets so far
+  kWatcherCutOff = 0x050E,     ///< the watcher hears none of its neighbours or transits: a missing heartbeat is its own silence, no reset; subject: supervisor tile, cause: watcher, a: ticks since the last heartbeat
   // ---- navigation filter restarts (trn/tasks/filter_task)
   kFilterResumed = 0x0601,     ///< the filter started from a DDR checkpoint; subject: checkpoint number, a: IMU samples to replay, b: last sample it holds
   kCheckpointBad = 0x0602,     ///< a checkpoint slot failed its checks and is not used; subject: slot, a: bad slots
@@ -123,7 +124,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 70> kEventTable{{
+inline constexpr std::array<EventInfo, 71> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -168,6 +169,7 @@ inline constexpr std::array<EventInfo, 70> kEventTable{{
     {EventId::kSelfTestAgree, "self_test_agree", Severity::kInfo, kStepRecover},
     {EventId::kSelfTestLate, "self_test_late", Severity::kWarningLo, kStepNone},
     {EventId::kSupervisorSilent, "supervisor_silent", Severity::kWarningHi, kStepDetect},
+    {EventId::kWatcherCutOff, "watcher_cut_off", Severity::kWarningLo, kStepNone},
     {EventId::kFilterResumed, "filter_resumed", Severity::kInfo, kStepRecover},
     {EventId::kCheckpointBad, "checkpoint_bad", Severity::kWarningHi, kStepDetect},
     {EventId::kImuGap, "imu_gap", Severity::kWarningHi, kStepDetect},

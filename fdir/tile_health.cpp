@@ -85,6 +85,7 @@ struct Watch {
   std::uint32_t resets = 0U;
   bool pending = false;  ///< reset by the watcher, not heard since
   bool silent = false;   ///< named silent, not heard since
+  bool cut_off = false;  ///< the watcher heard nobody at its last check (reported once per spell)
 };
 
 /** A heartbeat of the supervisor's tile: a reset the watcher commanded is closed by it. */
@@ -96,6 +97,7 @@ void take_alive(Watch& w, const TileBootReport& alive, bsp::TileId supervisor) n
   }
   w.pending = false;
   w.silent = false;
+  w.cut_off = false;
   w.last_alive = now;
 }
 
@@ -138,6 +140,18 @@ void watch_supervisor(Watch& w, const HealthAgentConfig& cfg, bsp::TileId self) 
   if (since <= cfg.watcher_timeout_ticks || w.silent) {
     return;
   }
+  // A watcher that hears nobody (its own switch failed) misses the heartbeat for its own reason:
+  // resetting a healthy supervisor would wipe the network-health votes that are to name this very
+  // switch. It waits; once it hears its neighbours again the timeout runs afresh.
+  if (udn::endpoint_cut_off()) {
+    if (!w.cut_off) {
+      report(EventId::kWatcherCutOff, cfg.supervisor, self, static_cast<std::uint32_t>(since));
+    }
+    w.cut_off = true;
+    w.last_alive = now;
+    return;
+  }
+  w.cut_off = false;
   w.silent = true;
   report(EventId::kSupervisorSilent, cfg.supervisor, self, static_cast<std::uint32_t>(since), w.resets);
   if (w.resets >= cfg.max_watcher_resets) {

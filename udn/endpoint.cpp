@@ -382,6 +382,30 @@ void endpoint_task_main(void* arg) noexcept {
 
 bool endpoint_ready() noexcept { return current() != nullptr; }
 
+bool endpoint_cut_off() noexcept {
+  Endpoint* ep = current();
+  if (ep == nullptr || !ep->probing) {
+    return false;
+  }
+  const IrqGuard guard;
+  std::uint32_t probed = 0U;
+  std::uint32_t silent = 0U;
+  for (std::size_t d = 0; d < ep->probe.neighbour.size(); ++d) {
+    if (ep->probe.neighbour[d] < kRouteMaxTiles) {
+      ++probed;
+      silent += ep->probe.reported[d] ? 1U : 0U;
+    }
+  }
+  for (std::uint32_t i = 0; i < ep->transit_count; ++i) {
+    const TransitProbe& t = ep->transit[i];
+    if (((ep->parked >> t.target) & 1ULL) == 0ULL) {
+      ++probed;
+      silent += t.lost ? 1U : 0U;
+    }
+  }
+  return probed > 0U && silent == probed;
+}
+
 bool endpoint_wait_ready(std::uint32_t max_ticks) noexcept {
   for (std::uint32_t i = 0; i <= max_ticks; ++i) {
     if (endpoint_ready()) {

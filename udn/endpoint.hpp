@@ -209,6 +209,15 @@ bool endpoint_move_role(std::uint32_t slot, bsp::TileId tile, std::uint32_t vers
 /** The role directory of @p tile's endpoint (empty when closed). [host] */
 RoleDirectory endpoint_roles_of(bsp::TileId tile) noexcept;
 
+/**
+ * Whether the current tile hears nobody: it probes at least one neighbour or
+ * transit target, and every neighbour it probes is reported silent and every
+ * transit it pings lost. A tile whose own switch failed sees exactly this; a
+ * tile whose one probed neighbour hung still hears its transits. False when
+ * the endpoint is closed or not probing. [task]
+ */
+[[nodiscard]] bool endpoint_cut_off() noexcept;
+
 /** The current tile's copy of the fault map (the boot map before the endpoint opens). [task] */
 [[nodiscard]] FaultMap endpoint_fault_map() noexcept;
 

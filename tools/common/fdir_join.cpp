@@ -551,6 +551,11 @@ void describe_health_event(const fdir::Event& e, const char* s, std::span<char> 
       (void)std::snprintf(b.data(), b.size(), "no heartbeat from the supervisor's tile %s for %u ticks (ms): its watcher "
                           "(tile %u) takes it as hung (%u resets so far)", s, e.a, e.cause, e.b);
       break;
+    case EventId::kWatcherCutOff:
+      (void)std::snprintf(b.data(), b.size(), "no heartbeat from the supervisor's tile %s for %u ticks (ms), but its "
+                          "watcher (tile %u) hears none of its neighbours or transits: its own silence, no reset", s,
+                          e.a, e.cause);
+      break;
     case EventId::kSelfTestLate:
       (void)std::snprintf(b.data(), b.size(), "tile %s had not answered self-test round %u after %u ticks (voted "
                           "if it answers before the next round)", s, e.cause, e.a);
