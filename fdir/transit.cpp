@@ -84,15 +84,6 @@ std::uint64_t through(const TransitPlan& p, std::uint32_t tile) noexcept {
   return m;
 }
 
-/** Transits a failed switch of @p tile kills: every one whose round trip crosses it, its own included. */
-std::uint64_t touching(const TransitPlan& p, std::uint32_t tile) noexcept {
-  std::uint64_t m = 0U;
-  for (std::uint32_t i = 0; i < p.count; ++i) {
-    m |= has(p.t[i].path, tile) ? bit(i) : 0U;
-  }
-  return m;
-}
-
 /**
  * The transits @p mask can vote a switch failed: kTransitsPerSpare of them at
  * least, two with no end in common, and no link all of them cross. Then one
@@ -104,14 +95,27 @@ bool can_vote(const TransitPlan& p, std::uint64_t mask) noexcept {
          empty(common_links(p, mask));
 }
 
-/** Subject @p x is crossed by a transit and the transits touching it can vote it failed. */
-bool voted(const TransitPlan& p, std::uint32_t x) noexcept {
-  return through(p, x) != 0U && can_vote(p, touching(p, x));
+/**
+ * The transits touching @p tile that the health tile hears of when its switch
+ * fails: not those it pings itself (a dead switch reports nothing, so they are
+ * never reported lost).
+ */
+std::uint64_t heard(const TransitPlan& p, std::uint32_t tile) noexcept {
+  std::uint64_t m = 0U;
+  for (std::uint32_t i = 0; i < p.count; ++i) {
+    m |= has(p.t[i].path, tile) && p.t[i].prober != tile ? bit(i) : 0U;
+  }
+  return m;
 }
 
-/** Subject @p s is told apart from subject @p x: their failed switches kill different transits. */
+/** Subject @p x is crossed by a transit and the transits heard of it can vote it failed. */
+bool voted(const TransitPlan& p, std::uint32_t x) noexcept {
+  return through(p, x) != 0U && can_vote(p, heard(p, x));
+}
+
+/** Subject @p s is told apart from subject @p x: their failed switches lose different heard transits. */
 bool apart(const TransitPlan& p, std::uint32_t s, std::uint32_t x) noexcept {
-  return through(p, s) != 0U && touching(p, s) != touching(p, x);
+  return through(p, s) != 0U && heard(p, s) != heard(p, x);
 }
 
 struct Search {
@@ -137,6 +141,7 @@ struct Want {
   bool need_inside;              ///< through @p need (else touching it: an end may be @p need)
   std::uint32_t avoid;           ///< a tile it must not touch (64: none)
   std::uint64_t avoid_ends;      ///< tiles that must be neither its prober nor its target
+  std::uint32_t not_prober;      ///< a tile that must not ping it (64: none): the subject, whose reports die with its switch
   udn::LinkSet shrink;           ///< links all transits of the subject cross so far: it must miss one at least
 };
 
@@ -175,7 +180,7 @@ bool add_best(TransitPlan& p, Search& s, const Want& w) noexcept {
   int best_subjects = 65;
   int best_len = 129;
   for (std::uint32_t a = 0; a < s.tiles; ++a) {
-    if (!has(s.probers, a) || s.load[a] >= kTransitsPerProber || has(w.avoid_ends, a)) {
+    if (!has(s.probers, a) || s.load[a] >= kTransitsPerProber || has(w.avoid_ends, a) || a == w.not_prober) {
       continue;
     }
     for (std::uint32_t b = 0; b < s.tiles; ++b) {
@@ -236,8 +241,8 @@ TransitError plan_transits(const udn::FaultMap& map, std::uint64_t probers, std:
   constexpr std::uint32_t kTries = 3U * kTransitsPerSpare;
   for (std::uint32_t x = 0; x < tiles; ++x) {
     for (std::uint32_t k = 0; k < kTries && has(want, x) && !voted(out, x); ++k) {
-      const std::uint64_t m = touching(out, x);
-      const Want w{x, through(out, x) == 0U, 64U, independent(out, m) ? 0U : first_ends(out, through(out, x)),
+      const std::uint64_t m = heard(out, x);
+      const Want w{x, through(out, x) == 0U, 64U, independent(out, m) ? 0U : first_ends(out, through(out, x)), x,
                    common_links(out, m)};
       if (!add_best(out, s, w)) {
         break;
@@ -253,7 +258,7 @@ TransitError plan_transits(const udn::FaultMap& map, std::uint64_t probers, std:
     for (std::uint32_t x = 0; x < tiles; ++x) {
       for (std::uint32_t y = 0; y < tiles && has(want, x); ++y) {
         if (y != x && has(subjects, y) && !apart(out, x, y) && through(out, x) != 0U &&
-            add_best(out, s, Want{x, true, y, 0U, {}})) {
+            add_best(out, s, Want{x, true, y, 0U, x, {}})) {
           added = true;
         }
       }
@@ -336,7 +341,10 @@ bsp::TileId transit_verdict(const TransitPlan& plan, std::uint64_t lost, std::ui
     }
     for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
       const Transit& t = plan.t[i];
-      const bool tells = has(t.path, x) && (t.path & known_failed) == 0U && !has(mute, i);
+      // A transit the subject itself pings tells nothing of its switch: a failed switch silences its
+      // own reports too, so such a transit is never reported lost (the I/O tile's switch, tile 9, was
+      // never named: four of its nine transits were its own, lost with nobody told).
+      const bool tells = has(t.path, x) && t.prober != x && (t.path & known_failed) == 0U && !has(mute, i);
       counted[x] |= tells ? bit(i) : 0U;
     }
     // Voted: two of the lost transits have no end in common and no link is

@@ -901,7 +901,10 @@ TEST_F(TrnMissionBinary, ACorruptedUpdateProductInTheFilterIsCorrectedAndTheOutp
 // probe) fails mid-run: transit probes across it are lost, the health tile names it, the map goes
 // out by message and traffic routes around. Upsets on the I/O tile's packets are corrected by the
 // filter tile: the IMU travels over the fault-tolerant UDN like every other message.
-TEST_F(TrnMissionBinary, ASparesSwitchIsFoundByTransitsAndTheImuStreamIsProtected) {
+// The flips hit the I/O tile's next packets after 3 s and 4 s: with the transit plan that counts no
+// subject's own pings (FDIR-TR-10) those are its transit pings and reports, sent first in each tick,
+// no longer the IMU stream to the filter; each is corrected by its receiver.
+TEST_F(TrnMissionBinary, ASparesSwitchIsFoundByTransitsAndTheIoTilesPacketsAreCorrected) {
   ASSERT_EQ(run(binary() + " --quiet --duration 10 --faults " + fixture("spare_switch_imu_flips.toml") + " --out " +
                 (dir_ / "s").string()),
             0);
@@ -914,9 +917,31 @@ TEST_F(TrnMissionBinary, ASparesSwitchIsFoundByTransitsAndTheImuStreamIsProtecte
   EXPECT_NE(log.find("switch of tile 11 declared failed (all"), std::string::npos);
   EXPECT_NE(log.find("map_published: fault map version 1"), std::string::npos);
   EXPECT_EQ(count_of(log, "tile  9  packet_bit_flip"), 2U);
-  EXPECT_EQ(count_of(log, "detected by tile 18 (packet_corrected)"), 2U) << "the filter tile corrects the IMU packets";
+  EXPECT_EQ(count_of(log, "packet_bit_flip word"), 2U);
+  EXPECT_EQ(count_of(log, "(packet_corrected) 0.0 ms later, recovered 0.0 ms after detection"), 2U)
+      << "each receiver corrects the I/O tile's packet";
   EXPECT_EQ(count_of(log, "declared failed"), 1U) << "no other switch is blamed";
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+}
+
+// FDIR-TR-10: the I/O tile's switch, which no vote can name (one live neighbour), is named by the
+// transits through it that others ping, and its watcher, cut off, does not reset the healthy
+// supervisor (before: the supervisor was reset, its votes lost, and the switch never named).
+TEST_F(TrnMissionBinary, TheIoTilesSwitchIsNamedByTransitsAndItsCutOffWatcherResetsNobody) {
+  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 4 --faults " + fixture("io_switch_fail.toml") + " --out " +
+                (dir_ / "io").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "io" / "summary.json");
+  const std::string log = read_text(dir_ / "io" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 1) << log;
+  EXPECT_NE(log.find("switch_fail (planned) -> detected by tile 0 (transit_failed)"), std::string::npos) << log;
+  EXPECT_NE(log.find("switch of tile 9 declared failed"), std::string::npos);
+  EXPECT_EQ(count_of(log, "declared failed (all"), 1U) << "no other switch is blamed";
+  EXPECT_NE(log.find("watcher_cut_off"), std::string::npos);
+  EXPECT_EQ(count_of(log, "supervisor_silent"), 0U);
+  EXPECT_EQ(count_of(log, "tile_reset: tile 0"), 0U) << "the healthy supervisor is not reset";
+  EXPECT_NE(log.find("no_spare: role slot 1 of tile 9"), std::string::npos)
+      << "the I/O role has no spare (its devices are on tile 9): the flight says so";
 }
 
 // Every injection is counted, random ones too (it said 1 of 718 before); a failed link is voted
