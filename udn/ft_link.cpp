@@ -364,6 +364,7 @@ void start_sync(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint32_
   for (detail::SyncSlot& y : n.sync) {
     if (!y.used) {
       y = detail::SyncSlot{true, static_cast<std::uint8_t>(dest), static_cast<std::uint8_t>(channel), start, 0U, now};
+      n.sync_hint = true;
       send_sync(n, y, now, true);
       return;
     }
@@ -465,7 +466,11 @@ bool due(std::uint32_t timeout, std::uint32_t sent_tick, std::uint32_t doublings
 
 /** SYNCs: resent on timeout, failed after max_retries; a syncing stream with packets and no SYNC slot starts one. */
 void run_sync_timers(FtNode& n, std::uint32_t now) noexcept {
-  for (detail::SyncSlot& y : n.sync) {
+  const bool sync_scan = n.sync_hint;
+  n.sync_hint = false;  // set again by every used slot the scan meets (and by a SYNC started meanwhile)
+  for (std::uint32_t i = 0U; i < kFtSyncSlots && sync_scan; ++i) {
+    detail::SyncSlot& y = n.sync[i];
+    n.sync_hint = n.sync_hint || y.used;
     if (!y.used || !due(n.config.timeout_ticks, y.sent_tick, y.retries, now)) {
       continue;
     }
@@ -475,7 +480,8 @@ void run_sync_timers(FtNode& n, std::uint32_t now) noexcept {
       send_sync(n, y, now, false);
     }
   }
-  for (const detail::TxSlot& s : n.tx) {
+  for (std::uint32_t i = 0U; i < kFtTxSlots && n.tx_hint; ++i) {
+    const detail::TxSlot& s = n.tx[i];
     if (s.used && n.tx_stream[s.dest][s.channel].syncing) {
       start_sync(n, s.dest, s.channel, now);
     }
@@ -484,8 +490,11 @@ void run_sync_timers(FtNode& n, std::uint32_t now) noexcept {
 
 void run_timers(FtNode& n, std::uint32_t now) noexcept {
   run_sync_timers(n, now);
-  for (std::uint32_t i = 0U; i < kFtTxSlots; ++i) {
+  const bool tx_scan = n.tx_hint;
+  n.tx_hint = false;  // set again by every used slot the scan meets (slots are taken only by ft_send)
+  for (std::uint32_t i = 0U; i < kFtTxSlots && tx_scan; ++i) {
     const detail::TxSlot& s = n.tx[i];
+    n.tx_hint = n.tx_hint || s.used;
     if (!s.used || n.tx_stream[s.dest][s.channel].syncing || !due(rto_ticks(n, s.dest), s.sent_tick, s.retries + n.rto_shift[s.dest], now)) {
       continue;  // a syncing stream's packets wait for its SYNC-ACK
     }
@@ -572,6 +581,7 @@ bool enqueue(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> da
     m.data[i] = data[i];
   }
   ++q.count;
+  n.rx_ready = static_cast<std::uint8_t>(n.rx_ready | (1U << cw.channel));
   ++n.stats.delivered;
   return true;
 }
@@ -828,6 +838,7 @@ void forward(FtNode& n, std::span<std::uint32_t> image, std::uint16_t dest, std:
     for (detail::FwdSlot& f : n.fwd) {
       if (!f.used) {
         f.used = true;
+        n.fwd_hint = true;
         f.dest = dest;
         f.words = static_cast<std::uint32_t>(image.size());
         for (std::size_t i = 0U; i < image.size(); ++i) {
@@ -845,6 +856,9 @@ void forward(FtNode& n, std::span<std::uint32_t> image, std::uint16_t dest, std:
 
 /** Retries held forwards in order. @return true if every slot is free again. */
 bool flush_forwards(FtNode& n, std::uint32_t now) noexcept {
+  if (!n.fwd_hint) {
+    return true;
+  }
   bool all_free = true;
   for (detail::FwdSlot& f : n.fwd) {
     if (!f.used) {
@@ -863,6 +877,7 @@ bool flush_forwards(FtNode& n, std::uint32_t now) noexcept {
       log_event(n, FtCause::kForwardUnreachable, f.dest, 0U, 0U, now);
     }
   }
+  n.fwd_hint = !all_free;  // nothing here takes a slot: the scan saw every one
   return all_free;
 }
 
@@ -928,6 +943,10 @@ void take_image(FtNode& n, std::uint32_t payload_words, std::uint32_t now, bool 
 /** Clears a node member by member: a whole FtNode temporary would not fit a task's stack. */
 void reset(FtNode& node) noexcept {
   node.stats = FtStats{};
+  node.tx_hint = false;  // every slot is freed below
+  node.fwd_hint = false;
+  node.sync_hint = false;
+  node.rx_ready = 0U;
   node.sink = FtEventSink{};
   node.map_version = 0U;
   node.epoch = 0U;
@@ -1035,6 +1054,7 @@ FtError ft_send(FtNode& node, bsp::TileId dest, std::uint32_t channel, std::span
     return e;  // nothing queued: the caller retries the same message
   }
   slot->used = true;
+  node.tx_hint = true;
   slot->held = st.held && !st.syncing;
   slot->dest = static_cast<std::uint8_t>(dest);
   slot->channel = static_cast<std::uint8_t>(channel);
@@ -1115,13 +1135,21 @@ FtError ft_receive(FtNode& node, std::uint32_t channel, FtMessage& out) noexcept
   if (channel >= kFtAllChannels) {
     return FtError::kBadArgs;
   }
+  if (((node.rx_ready >> channel) & 1U) == 0U) {
+    return FtError::kEmpty;  // the queue's count is 0: its line need not be read
+  }
   detail::RxQueue& q = node.rxq[channel];
+  const auto ready = static_cast<std::uint8_t>(node.rx_ready & ~(1U << channel));
   if (q.count == 0U) {
+    node.rx_ready = ready;  // cannot happen: a message sets the bit, the last one taken clears it
     return FtError::kEmpty;
   }
   out = q.msg[q.head];
   q.head = (q.head + 1U) % kFtRxDepth;
   --q.count;
+  if (q.count == 0U) {
+    node.rx_ready = ready;
+  }
   return FtError::kOk;
 }
 

@@ -262,6 +262,18 @@ struct RxQueue {
 
 struct FtNode {
   bsp::TileId self = bsp::kNoTile;
+  /**
+   * Where ft_poll has work, in the padding after `self` (the members after
+   * it keep their offsets). A hint is true whenever a slot of its kind is
+   * used: it is set where a slot is taken and cleared by the poll's scan
+   * when that finds none, so an idle poll reads this word instead of every
+   * slot. It may stay true a poll longer than a slot (the next scan clears it).
+   */
+  bool tx_hint = false;    ///< some TxSlot may be used
+  bool fwd_hint = false;   ///< some FwdSlot may be used
+  bool sync_hint = false;  ///< some SyncSlot may be used
+  std::uint8_t rx_ready = 0U;  ///< bit c: rxq[c] holds a message (exact)
+  static_assert(kFtAllChannels <= 8U, "rx_ready has a bit per channel");
   FtPort port{};
   FtConfig config{};
   RouteTable routes{};
