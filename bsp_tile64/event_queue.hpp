@@ -65,47 +65,42 @@ class EventHeap {
       return false;
     }
     std::size_t i = size_++;
-    items_[i] = e;
+    // The new event rises through a hole: each parent it passes moves down once, and it is written once.
     while (i > 0U) {  // bounded: i halves every step
       const std::size_t parent = (i - 1U) / 2U;
-      if (!event_before(items_[i], items_[parent])) {
+      if (!event_before(e, items_[parent])) {
         break;
       }
-      swap_items(i, parent);
+      items_[i] = items_[parent];
       i = parent;
     }
+    items_[i] = e;
     return true;
   }
 
   /** Removes the earliest event. Precondition: !empty(). */
   void pop() noexcept {
     --size_;
-    items_[0] = items_[size_];
+    // The last event sinks from the root through a hole: the earlier child moves up, and it is written once.
+    const Event last = items_[size_];
     std::size_t i = 0U;
     while (true) {  // bounded: i at least doubles every step and stops at size_
       const std::size_t l = 2U * i + 1U;
-      const std::size_t r = l + 1U;
-      std::size_t m = i;
-      if (l < size_ && event_before(items_[l], items_[m])) {
-        m = l;
-      }
-      if (r < size_ && event_before(items_[r], items_[m])) {
-        m = r;
-      }
-      if (m == i) {
+      if (l >= size_) {
         break;
       }
-      swap_items(i, m);
-      i = m;
+      const std::size_t r = l + 1U;
+      const std::size_t c = (r < size_ && event_before(items_[r], items_[l])) ? r : l;
+      if (!event_before(items_[c], last)) {
+        break;
+      }
+      items_[i] = items_[c];
+      i = c;
     }
+    items_[i] = last;
   }
 
  private:
-  void swap_items(std::size_t a, std::size_t b) noexcept {
-    const Event t = items_[a];
-    items_[a] = items_[b];
-    items_[b] = t;
-  }
   std::array<Event, N> items_{};
   std::size_t size_ = 0U;
 };
