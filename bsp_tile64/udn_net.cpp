@@ -142,7 +142,8 @@ void sort_order(std::uint32_t n, bool by_arrival) noexcept {
     const Flight& f = flight_at(v);
     g_keyed[i] = Keyed{by_arrival ? f.arrival : f.send, f.seq, f.src, v};
   }
-  std::sort(g_keyed.begin(), g_keyed.begin() + n, &before);
+  // A lambda, not &before: std::sort inlines it (a function pointer costs an indirect call per compare).
+  std::sort(g_keyed.begin(), g_keyed.begin() + n, [](const Keyed& a, const Keyed& b) noexcept { return before(a, b); });
   for (std::uint32_t i = 0; i < n; ++i) {
     g_net.order[i] = g_keyed[i].index;
   }
@@ -329,8 +330,13 @@ void enqueue(Queue& q, const Flight& f, Cycles barrier) noexcept {
   const std::uint32_t payload = f.words - 2U;
   Desc& d = q.desc[(q.desc_head + q.desc_count) % kQueueDescs];
   d = Desc{f.src, f.w[1], payload, q.word_tail, f.send, f.arrival, barrier};
-  for (std::uint32_t i = 0; i < payload; ++i) {
-    q.ring[(q.word_tail + i) % cap] = f.w[2U + i];
+  // The ring wraps at most once (payload <= cap, word_tail < cap): two straight copies, no division per word.
+  const std::uint32_t before_wrap = payload < cap - q.word_tail ? payload : cap - q.word_tail;
+  for (std::uint32_t i = 0; i < before_wrap; ++i) {
+    q.ring[q.word_tail + i] = f.w[2U + i];
+  }
+  for (std::uint32_t i = before_wrap; i < payload; ++i) {
+    q.ring[i - before_wrap] = f.w[2U + i];
   }
   q.word_tail = (q.word_tail + payload) % cap;
   q.words_used += payload + 1U;
@@ -498,8 +504,13 @@ NetError pop(TileId tile, std::uint32_t queue, RxPacket& out, std::span<std::uin
   }
   const Desc& d = q.desc[q.desc_head];
   const std::uint32_t cap = g_net.config.queue_words;
-  for (std::uint32_t i = 0; i < d.payload && i < payload.size(); ++i) {
-    payload[i] = q.ring[(d.start + i) % cap];
+  const std::uint32_t n = d.payload < payload.size() ? d.payload : static_cast<std::uint32_t>(payload.size());
+  const std::uint32_t before_wrap = n < cap - d.start ? n : cap - d.start;  // wraps at most once, as in enqueue()
+  for (std::uint32_t i = 0; i < before_wrap; ++i) {
+    payload[i] = q.ring[d.start + i];
+  }
+  for (std::uint32_t i = before_wrap; i < n; ++i) {
+    payload[i] = q.ring[i - before_wrap];
   }
   out = RxPacket{d.src, d.tag, d.payload, d.send, d.arrival, d.delivered};
   q.words_used -= d.payload + 1U;
