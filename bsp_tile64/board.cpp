@@ -15,9 +15,10 @@
 
 namespace bsp {
 namespace detail {
-namespace {
 
 Board g_board{};
+
+namespace {
 
 /** Events that did not fit a tile's list at a barrier wait here to be queued again. */
 std::array<Event, kEventCapacity> g_overflow{};
@@ -320,19 +321,6 @@ bool config_ok(const BoardConfig& c) noexcept {
 }
 
 }  // namespace
-
-Board& board() noexcept { return g_board; }
-
-Tile* running_tile() noexcept {
-  return g_board.running == kNoTile ? nullptr : &g_board.tile[g_board.running];
-}
-
-bool valid_tile(TileId tile) noexcept { return tile < g_board.tiles; }
-
-Cycles current_time() noexcept {
-  const Tile* t = running_tile();
-  return t != nullptr ? t->time : g_board.now;
-}
 
 void board_trace(Cycles time, TileId tile, BoardEvent kind, std::uint64_t a, std::uint64_t b) noexcept {
   trace_record(time, tile, static_cast<std::uint16_t>(kind), a, b);

@@ -96,17 +96,26 @@ struct Board {
   std::array<Tile, kMaxTiles> tile;
 };
 
+/**
+ * The one board, defined in board.cpp. Declared here so the accessors below
+ * inline: the tile runtime asks for the running tile at every kernel call.
+ */
+extern Board g_board;
+
 /** The one board. */
-Board& board() noexcept;
+inline Board& board() noexcept { return g_board; }
 
 /** The running tile, or nullptr on the host. */
-Tile* running_tile() noexcept;
+inline Tile* running_tile() noexcept { return g_board.running == kNoTile ? nullptr : &g_board.tile[g_board.running]; }
 
 /** True if @p tile is inside the profile's grid. */
-bool valid_tile(TileId tile) noexcept;
+inline bool valid_tile(TileId tile) noexcept { return tile < g_board.tiles; }
 
 /** Time for trace events and now(): the running tile's time, else board time. */
-Cycles current_time() noexcept;
+inline Cycles current_time() noexcept {
+  const Tile* t = running_tile();
+  return t != nullptr ? t->time : g_board.now;
+}
 
 /** Board trace helper. */
 void board_trace(Cycles time, TileId tile, BoardEvent kind, std::uint64_t a, std::uint64_t b) noexcept;
