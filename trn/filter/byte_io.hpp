@@ -12,14 +12,15 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 namespace trn::filter {
 
 namespace detail {
 
-using CrcTables = std::array<std::array<std::uint32_t, 256>, 4>;
+using CrcTables = std::array<std::array<std::uint32_t, 256>, 8>;
 
-/** [0]: the byte table; [k]: the CRC of byte i followed by k zero bytes (slicing by 4). */
+/** [0]: the byte table; [k]: the CRC of byte i followed by k zero bytes (slicing by 8). */
 constexpr CrcTables make_crc_tables() noexcept {
   CrcTables t{};
   for (std::uint32_t i = 0; i < 256U; ++i) {
@@ -29,7 +30,7 @@ constexpr CrcTables make_crc_tables() noexcept {
     }
     t[0][i] = c;
   }
-  for (std::size_t k = 1; k < 4U; ++k) {
+  for (std::size_t k = 1; k < 8U; ++k) {
     for (std::size_t i = 0; i < 256U; ++i) {
       t[k][i] = (t[k - 1U][i] >> 8U) ^ t[0][t[k - 1U][i] & 0xFFU];
     }
@@ -41,18 +42,26 @@ inline constexpr CrcTables kCrcTables = make_crc_tables();
 
 }  // namespace detail
 
+/** Bytes @p p[0..3] as a little-endian word. */
+constexpr std::uint32_t le32(const std::uint8_t* p) noexcept {
+  return static_cast<std::uint32_t>(p[0]) | (static_cast<std::uint32_t>(p[1]) << 8U) |
+         (static_cast<std::uint32_t>(p[2]) << 16U) | (static_cast<std::uint32_t>(p[3]) << 24U);
+}
+
 /**
  * CRC-32 (IEEE 802.3, reflected, init and final xor 0xFFFFFFFF) of @p n
- * bytes: four bytes at a time through the four tables, then the last singly.
+ * bytes: eight bytes at a time through the eight tables (the same CRC as
+ * byte by byte, two independent lookup chains), then the last singly.
  */
 constexpr std::uint32_t crc32(const std::uint8_t* data, std::uint32_t n) noexcept {
   const auto& t = detail::kCrcTables;
   std::uint32_t c = 0xFFFFFFFFU;
-  const std::uint32_t whole = n & ~3U;
-  for (std::uint32_t i = 0; i < whole; i += 4U) {
-    c ^= static_cast<std::uint32_t>(data[i]) | (static_cast<std::uint32_t>(data[i + 1U]) << 8U) |
-         (static_cast<std::uint32_t>(data[i + 2U]) << 16U) | (static_cast<std::uint32_t>(data[i + 3U]) << 24U);
-    c = t[3][c & 0xFFU] ^ t[2][(c >> 8U) & 0xFFU] ^ t[1][(c >> 16U) & 0xFFU] ^ t[0][c >> 24U];
+  const std::uint32_t whole = n & ~7U;
+  for (std::uint32_t i = 0; i < whole; i += 8U) {
+    const std::uint32_t lo = c ^ le32(data + i);
+    const std::uint32_t hi = le32(data + i + 4U);
+    c = t[7][lo & 0xFFU] ^ t[6][(lo >> 8U) & 0xFFU] ^ t[5][(lo >> 16U) & 0xFFU] ^ t[4][lo >> 24U] ^
+        t[3][hi & 0xFFU] ^ t[2][(hi >> 8U) & 0xFFU] ^ t[1][(hi >> 16U) & 0xFFU] ^ t[0][hi >> 24U];
   }
   for (std::uint32_t i = whole; i < n; ++i) {
     c = t[0][(c ^ data[i]) & 0xFFU] ^ (c >> 8U);
@@ -76,8 +85,12 @@ class ByteWriter {
       ok_ = false;
       return;
     }
-    for (std::uint32_t i = 0; i < n; ++i) {
-      buf_[pos_ + i] = static_cast<std::uint8_t>(v >> (8U * i));
+    if constexpr (std::endian::native == std::endian::little) {
+      std::memcpy(buf_ + pos_, &v, n);  // the low n bytes in memory order: the same bytes as the loop below
+    } else {
+      for (std::uint32_t i = 0; i < n; ++i) {
+        buf_[pos_ + i] = static_cast<std::uint8_t>(v >> (8U * i));
+      }
     }
     pos_ += n;
   }
