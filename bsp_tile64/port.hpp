@@ -54,8 +54,18 @@ using ContextEntry = void (*)(void* arg);
 /** A saved execution context. Plain data, so the kernel can embed it in static TCBs. */
 struct Context {
   ucontext_t uc;            ///< how a fresh context is entered the first time (and the sanitizer builds' switch)
-  jmp_buf jb;               ///< where a context that switched away resumes (no signal-mask syscall)
-  bool has_jb;              ///< jb is valid: the context has switched away at least once
+  /**
+   * Where a context that switched away resumes (no signal-mask syscall). On
+   * x86-64 its stack pointer, with the callee-saved registers pushed below
+   * it; elsewhere a jmp_buf. One member's room either way, so a Context (and
+   * the kernel blocks that embed it in the tiles' RAM) has the same size on
+   * every host build.
+   */
+  union {
+    jmp_buf jb;
+    void* sp;
+  };
+  bool has_jb;              ///< jb or sp is valid: the context has switched away at least once, or starts there
   void* stack_base;         ///< lowest address of the stack
   std::size_t stack_bytes;  ///< stack size
   void* asan_fake_stack;    ///< AddressSanitizer fiber bookkeeping (unused without ASan)
