@@ -51,8 +51,12 @@ Verdict take_report(Votes& v, udn::FaultMap& map, bsp::TileId reporter, bsp::Til
     return Verdict::kIgnored;  // off on purpose (it answers no ping), already failed, or nonsense
   }
   std::uint64_t& who = v.reporters[suspect];
+  const bool again = (who & (1ULL << reporter)) != 0ULL;
   who |= 1ULL << reporter;
   votes_out = static_cast<std::uint32_t>(std::popcount(who));
+  if (again && votes_out < v.votes_to_fail) {
+    return Verdict::kIgnored;  // a suspicion sent again (udn/endpoint.cpp): nothing new
+  }
   if (votes_out >= v.votes_to_fail) {
     if (udn::fault_map_fail_tile(map, suspect) != udn::RouteError::kOk) {
       return Verdict::kCounted;
@@ -140,6 +144,9 @@ void take_transit(State& s, const NetHealthConfig& cfg, const udn::TransitReport
     return;  // not a planned transit: nothing to judge it against
   }
   const std::uint64_t bit = std::uint64_t{1} << i;
+  if (((s.lost & bit) != 0U) == t.lost) {
+    return;  // sent again while it still holds (udn/endpoint.cpp): the settle time and its loss time stay
+  }
   s.lost = t.lost ? (s.lost | bit) : (s.lost & ~bit);
   s.transit_change = k::now_ticks();
   if (t.lost) {

@@ -17,6 +17,15 @@ namespace {
 /** Suspect reports waiting to be sent. */
 constexpr std::uint32_t kPendingReports = 4U;
 
+/**
+ * Probe rounds between two sendings of a suspicion or a lost transit that
+ * still holds. The health tile's votes live in its RAM: a reset of that tile
+ * (its watchdog, its watcher) starts them afresh, and a report sent once
+ * before it would never count again. The health tile takes a repeated report
+ * as nothing new.
+ */
+constexpr std::uint32_t kReReportRounds = 20U;
+
 /** One transit probe of this tile: a straight ping to a distant tile across switches nobody else probes. */
 struct TransitProbe {
   bsp::TileId target;
@@ -223,6 +232,28 @@ bool send_now(Endpoint& ep, bsp::TileId to, std::uint32_t channel, std::span<con
   return e != FtError::kWindowFull && e != FtError::kNetFull;  // sent, or no route: nothing more to do
 }
 
+/** Queues again every suspicion and lost transit that still holds (see kReReportRounds). */
+void report_again(Endpoint& ep) noexcept {
+  for (std::size_t d = 0; d < ep.probe.neighbour.size(); ++d) {
+    const bsp::TileId nb = ep.probe.neighbour[d];
+    if (nb >= kRouteMaxTiles || !ep.probe.reported[d]) {
+      continue;
+    }
+    bool queued = false;
+    for (std::uint32_t i = 0; i < ep.pending_count; ++i) {
+      queued = queued || ep.pending[i] == nb;
+    }
+    if (!queued && ep.pending_count < kPendingReports) {
+      ep.pending[ep.pending_count] = nb;
+      ++ep.pending_count;
+    }
+  }
+  for (std::uint32_t i = 0; i < ep.transit_count; ++i) {
+    TransitProbe& t = ep.transit[i];
+    t.report_owed = t.report_owed || t.lost;
+  }
+}
+
 void send_reports(Endpoint& ep) noexcept {
   const bsp::TileId to = ep.cfg->report_to;
   while (ep.pending_count > 0U && to != bsp::kNoTile) {
@@ -362,6 +393,9 @@ void endpoint_task_main(void* arg) noexcept {
       const IrqGuard guard;
       if (probe_now) {
         (void)ft_probe_round(ep.probe, ep.node, tick32());
+        if (ep.probe.round % kReReportRounds == 0U) {
+          report_again(ep);
+        }
       }
       // Transit i on its own tick of the period: after the neighbour pings, offset by the tile.
       const std::uint32_t slot = (tick + period - (self % period)) % period;

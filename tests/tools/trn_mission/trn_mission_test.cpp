@@ -944,6 +944,22 @@ TEST_F(TrnMissionBinary, TheIoTilesSwitchIsNamedByTransitsAndItsCutOffWatcherRes
       << "the I/O role has no spare (its devices are on tile 9): the flight says so";
 }
 
+// FDIR-TR-11: the health tile reset while a failed switch's reports wait to be judged: the reports
+// that still hold come again, and the switch is named all the same (before: never).
+TEST_F(TrnMissionBinary, ReportsThatStillHoldComeAgainAfterTheHealthTileIsReset) {
+  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 4 --faults " + fixture("io_switch_supervisor_reset.toml") +
+                " --out " + (dir_ / "r").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "r" / "summary.json");
+  const std::string log = read_text(dir_ / "r" / "events.log");
+  EXPECT_EQ(s["faults_injected"], 2);
+  EXPECT_EQ(s["faults_detected"], 2) << log;
+  EXPECT_NE(log.find("switch_fail (planned) -> detected by tile 0 (transit_failed)"), std::string::npos) << log;
+  EXPECT_NE(log.find("tile_rebooted: tile 0"), std::string::npos);
+  EXPECT_EQ(count_of(log, "suspect_vote: tile 1 reports tile 9"), 2U)
+      << "once before the reset, once after: a report sent again is no new vote";
+}
+
 // Every injection is counted, random ones too (it said 1 of 718 before); a failed link is voted
 // from both ends' reports and enters the map.
 TEST_F(TrnMissionBinary, EveryInjectionIsCountedAndAFailedLinkEntersTheMap) {
