@@ -581,7 +581,7 @@ bool enqueue(FtNode& n, const ChannelWord& cw, std::span<const std::uint32_t> da
     m.data[i] = data[i];
   }
   ++q.count;
-  n.rx_ready = static_cast<std::uint8_t>(n.rx_ready | (1U << cw.channel));
+  n.rx_ready = static_cast<std::uint8_t>(static_cast<std::uint32_t>(n.rx_ready) | (1U << cw.channel));
   ++n.stats.delivered;
   return true;
 }
@@ -1135,11 +1135,11 @@ FtError ft_receive(FtNode& node, std::uint32_t channel, FtMessage& out) noexcept
   if (channel >= kFtAllChannels) {
     return FtError::kBadArgs;
   }
-  if (((node.rx_ready >> channel) & 1U) == 0U) {
+  if (((static_cast<std::uint32_t>(node.rx_ready) >> channel) & 1U) == 0U) {
     return FtError::kEmpty;  // the queue's count is 0: its line need not be read
   }
   detail::RxQueue& q = node.rxq[channel];
-  const auto ready = static_cast<std::uint8_t>(node.rx_ready & ~(1U << channel));
+  const auto ready = static_cast<std::uint8_t>(static_cast<std::uint32_t>(node.rx_ready) & ~(1U << channel));
   if (q.count == 0U) {
     node.rx_ready = ready;  // cannot happen: a message sets the bit, the last one taken clears it
     return FtError::kEmpty;
