@@ -48,10 +48,11 @@ enum class EventId : std::uint16_t {
   // ---- network health (fdir/net_health)
   kSuspectVote = 0x0201,       ///< subject: suspect tile, cause: reporter, a: distinct reporters so far
   kSwitchFailed = 0x0202,      ///< subject: tile, a: votes, b: map version
-  kLinkFailed = 0x0203,        ///< subject: tile, cause: neighbour across the link, b: map version
+  kLinkFailed = 0x0203,        ///< subject: tile, cause: neighbour across the link, a: transits lost (0: its ends voted), b: map version
   kMapPublished = 0x0204,      ///< every live tile was sent the map; subject: version, a: tiles sent to
   kCoreSuspect = 0x0205,       ///< the probes see a silent core behind a switch that still routes; subject: tile, a: transits through it that answer
   kTransitFailed = 0x0206,     ///< every transit probe through a switch lost: declared failed; subject: tile, a: transits, b: map version
+  kLinkOrSwitchFailed = 0x0207,///< the transits lost across a link are all that is heard through a spare's switch at its end: the link or that switch failed, which cannot be told apart from the health tile; the switch is taken out of the routes (that covers both); subject: the spare, cause: the link's other end, a: transits, b: map version
   // ---- vision (trn, through fdir/liveness)
   kWorkerSilent = 0x0301,      ///< subject: worker tile, a: frames missed in a row; its work goes to the others
   kWorkerBack = 0x0302,        ///< subject: worker tile; it answered again and gets work
@@ -124,7 +125,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 71> kEventTable{{
+inline constexpr std::array<EventInfo, 72> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -144,6 +145,7 @@ inline constexpr std::array<EventInfo, 71> kEventTable{{
     {EventId::kMapPublished, "map_published", Severity::kInfo, kStepRecover},
     {EventId::kCoreSuspect, "core_suspect", Severity::kWarningHi, kStepDetect},
     {EventId::kTransitFailed, "transit_failed", Severity::kWarningHi, kStepDetect | kStepIsolate},
+    {EventId::kLinkOrSwitchFailed, "link_or_switch_failed", Severity::kWarningHi, kStepDetect | kStepIsolate},
     {EventId::kWorkerSilent, "worker_silent", Severity::kWarningHi, kStepDetect | kStepIsolate},
     {EventId::kWorkerBack, "worker_back", Severity::kInfo, kStepRecover},
     {EventId::kFrameDone, "frame_done", Severity::kInfo, kStepNone},

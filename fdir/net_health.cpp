@@ -181,7 +181,36 @@ std::uint64_t lost_near(const State& s, const NetHealthConfig& cfg, k::Ticks whe
   return m;
 }
 
-/** Judges the transits once the reports are quiet: a switch failed, or a silent core behind a switch that routes. */
+/**
+ * No switch explains the lost transits: a link no neighbour vote can name (a
+ * spare, or a tile that does not probe, at one end) may. @p mute: transits
+ * that tell nothing (across a failed link, to or from a parked tile).
+ * @return true on a decision.
+ */
+bool judge_link(State& s, const NetHealthConfig& cfg, bsp::TileId self, std::uint64_t mute) noexcept {
+  const LinkVerdict l = transit_link_verdict(cfg.transits, s.map, self, s.lost, s.votes.failed, mute);
+  // A spare's switch at an end that nothing heard crosses but over the link may have failed instead:
+  // from here the two look the same, and taking the switch out of the routes covers both (the
+  // link alone would leave the cut-off tiles' traffic, and their reports, crossing a dead switch).
+  const std::uint64_t unsure = l.unsure & s.votes.not_voted & ~s.votes.failed;
+  const bsp::TileId spare = unsure == 0U ? bsp::kNoTile : static_cast<bsp::TileId>(std::countr_zero(unsure));
+  if (spare != bsp::kNoTile && udn::fault_map_fail_tile(s.map, spare) == udn::RouteError::kOk) {
+    s.votes.failed |= std::uint64_t{1} << spare;
+    report(EventId::kLinkOrSwitchFailed, spare, spare == l.a ? l.b : l.a, l.transits, s.map.version);
+    decided(s, self);
+    return true;
+  }
+  const bsp::UdnDir dir = l.b == l.a + 1U ? bsp::UdnDir::kEast : bsp::UdnDir::kSouth;
+  if (l.a != bsp::kNoTile && udn::fault_map_fail_link(s.map, l.a, dir, true) == udn::RouteError::kOk) {
+    ++s.votes.links;
+    report(EventId::kLinkFailed, l.a, l.b, l.transits, s.map.version);
+    decided(s, self);
+    return true;
+  }
+  return false;
+}
+
+/** Judges the transits once the reports are quiet: a switch or a link failed, or a silent core behind a switch that routes. */
 void judge_transits(State& s, const NetHealthConfig& cfg, bsp::TileId self) noexcept {
   const k::Ticks now = k::now_ticks();
   if (cfg.transits.count == 0U || now - s.transit_change < cfg.settle_ticks) {
@@ -197,7 +226,8 @@ void judge_transits(State& s, const NetHealthConfig& cfg, bsp::TileId self) noex
   }
   s.lost &= ~off_ends;
   if (s.lost != 0U) {
-    // A transit across a link the map says failed (voted by its two ends) tells nothing of a switch.
+    // A transit across a link the map says failed (voted by its two ends, or named by the transits)
+    // tells nothing of a switch.
     const std::uint64_t mute = transits_across(cfg.transits, udn::failed_link_set(s.map));
     const bsp::TileId x = transit_verdict(cfg.transits, s.lost, cfg.transit_subjects, s.votes.failed, mute);
     if (x != bsp::kNoTile && udn::fault_map_fail_tile(s.map, x) == udn::RouteError::kOk) {
@@ -205,6 +235,9 @@ void judge_transits(State& s, const NetHealthConfig& cfg, bsp::TileId self) noex
       const std::uint64_t through = transits_through(cfg.transits, x);
       report(EventId::kTransitFailed, x, 0U, static_cast<std::uint32_t>(std::popcount(through)), s.map.version);
       decided(s, self);
+      return;
+    }
+    if (judge_link(s, cfg, self, mute | off_ends)) {
       return;
     }
   }

@@ -16,6 +16,12 @@
  *   when every planned transit through it is reported lost and the reports
  *   have been quiet for settle_ticks (so neighbour votes on live switches,
  *   which explain lost transits too, come first).
+ * - Links by transits: when no switch explains the lost transits, a link no
+ *   neighbour vote can name (a spare or a tile that does not probe at one end)
+ *   whose heard transits are exactly the lost ones is declared failed; where
+ *   nothing heard crosses a spare's switch at its end but over the link, the
+ *   two look the same from here and the spare's switch is taken out instead
+ *   (fdir::transit_link_verdict, kLinkOrSwitchFailed).
  * - Core or switch: a tile reported by a neighbour whose transits keep
  *   answering for settle_ticks has a switch that routes: its core is silent
  *   (kCoreSuspect), which is what the evidence can tell.

@@ -99,4 +99,36 @@ std::uint64_t transits_across(const TransitPlan& plan, const udn::LinkSet& links
 bsp::TileId transit_verdict(const TransitPlan& plan, std::uint64_t lost, std::uint64_t subjects,
                             std::uint64_t known_failed, std::uint64_t mute = 0U) noexcept;
 
+/** A mesh link named by lost transits. */
+struct LinkVerdict {
+  bsp::TileId a = bsp::kNoTile;  ///< the link's west or north tile (kNoTile: no link named)
+  bsp::TileId b = bsp::kNoTile;  ///< its east or south neighbour
+  std::uint32_t transits = 0U;   ///< transits across it that count, all lost
+  /**
+   * Its ends (bit per tile) whose switch nothing heard crosses but over the
+   * link: that switch failing would look the same from here.
+   */
+  std::uint64_t unsure = 0U;
+};
+
+/**
+ * The mesh link whose failure explains the lost transits, for a link no
+ * neighbour vote can name (an end is a spare, or runs no probe), judged on
+ * the health tile @p health with fault map @p map. A report whose direct
+ * route here crosses the link never comes, so only the transits the health
+ * tile can hear of are weighed. Those that count (nothing on the way in
+ * @p known_failed, not in @p mute) and are lost must be exactly those across
+ * the link that can be heard: at least kTransitsPerSpare, two with no end in
+ * common (one faulty prober or target cannot lose them all), and no third
+ * switch on all of them (its failure would lose the same ones). So every
+ * other transit heard through the link's two switches answers: they route.
+ * Another lost transit, or two links that lose the same ones, names nothing.
+ * The verdict on switches (transit_verdict) goes first. Where nothing heard
+ * crosses an end's switch but over the link (the reports of the tiles behind
+ * the link cannot come), that switch failing would look the same from here:
+ * the end is marked unsure.
+ */
+LinkVerdict transit_link_verdict(const TransitPlan& plan, const udn::FaultMap& map, bsp::TileId health,
+                                 std::uint64_t lost, std::uint64_t known_failed, std::uint64_t mute) noexcept;
+
 }  // namespace fdir

@@ -274,3 +274,123 @@ TEST(Transit, AVotedLinkAndOneFaultyTileFailNoSwitch) {
   }
   EXPECT_GT(voted_links, 0U);
 }
+
+namespace {
+
+/** The link verdict on the health tile 0 as (west or north tile, east or south tile), (64, 64) for none. */
+std::pair<std::uint32_t, std::uint32_t> named_link(const fdir::TransitPlan& p, std::uint64_t lost,
+                                                   std::uint64_t known_failed = 0U, std::uint64_t mute = 0U) {
+  const fdir::LinkVerdict v = fdir::transit_link_verdict(p, grid(), 0U, lost, known_failed, mute);
+  if (v.a == bsp::kNoTile) {
+    EXPECT_EQ(v.b, bsp::kNoTile);
+    EXPECT_EQ(v.transits, 0U);
+    return {64U, 64U};
+  }
+  EXPECT_EQ(v.transits, static_cast<std::uint32_t>(std::popcount(lost))) << "every lost one is across it";
+  return {v.a, v.b};
+}
+
+/** The transits whose prober's report to the health tile 0 crosses the link @p u - @p w: never heard. */
+std::uint64_t cut_off(const fdir::TransitPlan& p, std::uint32_t u, std::uint32_t w) {
+  std::uint64_t m = 0;
+  for (std::uint32_t i = 0; i < p.count; ++i) {
+    const std::vector<std::uint32_t> v = leg(p.t[i].prober, 0U);
+    for (std::size_t k = 1; k < v.size(); ++k) {
+      m |= ((v[k - 1] == u && v[k] == w) || (v[k - 1] == w && v[k] == u)) ? bit(i) : 0U;
+    }
+  }
+  return m;
+}
+
+/** What the health tile 0 hears of a failed link @p u - @p w: its transits, but those whose reports it cuts off. */
+std::uint64_t heard_across(const fdir::TransitPlan& p, std::uint32_t u, std::uint32_t w) {
+  return across(p, u, w) & ~cut_off(p, u, w);
+}
+
+}  // namespace
+
+// FDIR-TR-12: a failed link no neighbour vote can name (a spare at one end, or an end that does not
+// probe) is named by the transits across it when they can vote it, and never is another link or a
+// switch named. The coordinator's east link to spare 2 was silent: its traffic to the vision tiles
+// given up for the rest of the flight, and the coordinator's frames lost.
+TEST(Transit, EverySingleFailedLinkIsNamedOrNothingIs) {
+  std::uint64_t subjects = 0;
+  const fdir::TransitPlan p = mission_plan(subjects);
+  std::uint32_t crossed = 0;
+  std::uint32_t named = 0;
+  std::uint32_t unvoted_named = 0;
+  for (std::uint32_t u = 0; u < 64U; ++u) {
+    for (const std::uint32_t w : {u + 1U, u + 8U}) {
+      if (w >= 64U || (w == u + 1U && u % 8U == 7U) || across(p, u, w) == 0U) {
+        continue;
+      }
+      ++crossed;
+      const auto v = named_link(p, heard_across(p, u, w));
+      if (v.first != 64U) {
+        EXPECT_EQ(v, std::make_pair(u, w)) << "link " << u << "-" << w << " names another";
+        const std::uint64_t unsure =
+            fdir::transit_link_verdict(p, grid(), 0U, heard_across(p, u, w), 0U, 0U).unsure;
+        // Only an end whose switch nothing else heard crosses is unsure: a spare behind the link.
+        EXPECT_EQ(unsure & ~(bit(u) | bit(w)), 0U) << "link " << u << "-" << w;
+        ++named;
+        const bool voted = (kProbers & bit(u)) != 0U && (kProbers & bit(w)) != 0U;
+        unvoted_named += voted ? 0U : 1U;
+      }
+    }
+  }
+  std::printf("links crossed by transits %u, named when they fail %u (%u that no neighbour vote names)\n", crossed,
+              named, unvoted_named);
+  // The coordinator's east link: the reports of tiles 6 and 7 cross it on their way to tile 0.
+  EXPECT_NE(cut_off(p, 1U, 2U), 0U);
+  EXPECT_EQ(named_link(p, heard_across(p, 1U, 2U)), std::make_pair(1U, 2U)) << "the coordinator's east link";
+  EXPECT_EQ(fdir::transit_link_verdict(p, grid(), 0U, heard_across(p, 1U, 2U), 0U, 0U).unsure, bit(2))
+      << "nothing heard crosses spare 2 but over the link: its switch failing looks the same";
+  EXPECT_EQ(named_link(p, across(p, 1U, 2U)).first, 64U) << "a report that crosses the link cannot come";
+  EXPECT_EQ(named, 14U);
+  EXPECT_EQ(unvoted_named, 10U);
+}
+
+// FDIR-TR-13: a failed switch loses every transit through it, and the reports that would cross it
+// never come; a live switch with two live neighbours is voted first. What the health tile hears then
+// names no link, or one of the switch's own links with the switch marked unsure (from here they look
+// the same: the health tile takes a spare's switch out, fdir/net_health.cpp). A hung core, whose
+// transits are lost where it is their end, names no link.
+TEST(Transit, NoFailedSwitchOrHungCoreNamesALink) {
+  std::uint64_t subjects = 0;
+  const fdir::TransitPlan p = mission_plan(subjects);
+  const udn::FaultMap m = grid();
+  std::uint32_t unsure = 0;
+  for (bsp::TileId x = 0; x < 64; ++x) {
+    std::uint64_t cut = 0;  // reports whose way to tile 0 crosses x's switch
+    for (std::uint32_t i = 0; i < p.count; ++i) {
+      cut |= x != 0U && (udn::path_tiles(m, p.t[i].prober, 0U) & bit(x)) != 0U ? bit(i) : 0U;
+    }
+    const std::uint64_t lost = killed_by(p, x) & ~pinged_by(p, x) & ~cut;
+    const std::uint64_t voted = (subjects & bit(x)) == 0U ? bit(x) : 0U;
+    if (voted == 0U && fdir::transit_verdict(p, lost, subjects, 0U) == x) {
+      continue;  // named as a switch: the link verdict is not asked
+    }
+    const fdir::LinkVerdict v = fdir::transit_link_verdict(p, m, 0U, lost, voted, 0U);
+    if (v.a != bsp::kNoTile) {
+      EXPECT_TRUE(v.a == x || v.b == x) << "switch " << x << " names link " << v.a << "-" << v.b;
+      EXPECT_NE(v.unsure & bit(x), 0U) << "switch " << x;
+      EXPECT_NE(kSpares & bit(x), 0U) << "switch " << x << ": a live tile's switch is only ever unsure for a spare";
+      ++unsure;
+    }
+    EXPECT_EQ(named_link(p, (killed_by(p, x) & ~fdir::transits_through(p, x)) & ~pinged_by(p, x)).first, 64U)
+        << "core " << x;
+  }
+  std::printf("failed switches that look like one of their links from the health tile: %u\n", unsure);
+}
+
+// FDIR-TR-14: one faulty tile, whatever it does to the transits it is an end of, names no link.
+TEST(Transit, NoOneFaultyTileNamesALink) {
+  std::uint64_t subjects = 0;
+  const fdir::TransitPlan p = mission_plan(subjects);
+  for (bsp::TileId t = 0; t < 64; ++t) {
+    const std::uint64_t mine = ended_by(p, t);
+    for (std::uint64_t part = mine; part != 0U; part = (part - 1U) & mine) {
+      EXPECT_EQ(named_link(p, part).first, 64U) << "tile " << t << " alone, lost " << part;
+    }
+  }
+}

@@ -182,10 +182,14 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
       return e.id == EventId::kPacketResent && e.tile == t && e.cause == 1U && after <= kDamagedResendS;
     }
     case bsp::FaultKind::kSwitchFail:
-      return (e.id == EventId::kSwitchFailed || e.id == EventId::kTransitFailed) && e.subject == t;
+      // A spare's switch whose other transits cannot be heard looks like its link from the health
+      // tile: the flight says "this link or this switch" and takes the switch out.
+      return (e.id == EventId::kSwitchFailed || e.id == EventId::kTransitFailed ||
+              e.id == EventId::kLinkOrSwitchFailed) && e.subject == t;
     case bsp::FaultKind::kLinkFail: {
       const bsp::TileId n = neighbour_of(t, r.spec.param, bsp::kTile64.cols, bsp::kTile64.rows);
-      return e.id == EventId::kLinkFailed && ((e.subject == t && e.cause == n) || (e.subject == n && e.cause == t));
+      const bool pair = (e.subject == t && e.cause == n) || (e.subject == n && e.cause == t);
+      return (e.id == EventId::kLinkFailed || e.id == EventId::kLinkOrSwitchFailed) && pair;
     }
     case bsp::FaultKind::kSeu:
       if (r.crashed) {
@@ -247,6 +251,7 @@ bool recovers(const fdir::Event& d, const fdir::Event& e, bsp::TileId t, double 
     case EventId::kSwitchFailed:
     case EventId::kTransitFailed:
     case EventId::kLinkFailed:
+    case EventId::kLinkOrSwitchFailed:
       return e.id == EventId::kMapPublished && e.subject >= d.b;
     case EventId::kWorkerSilent:
       return (e.id == EventId::kFrameDone && e.cause == 0U) || (e.id == EventId::kWorkerBack && e.subject == d.subject);
@@ -489,6 +494,49 @@ bool describe_supervisor_event(const fdir::Event& e, std::span<char> b) noexcept
   }
 }
 
+/** The text of the network-health events (after the name), into @p b. @return false for another event. */
+bool describe_net_health_event(const fdir::Event& e, const char* s, std::span<char> b) noexcept {
+  switch (e.id) {
+    case EventId::kSuspectVote:
+      (void)std::snprintf(b.data(), b.size(), "tile %u reports tile %s (vote %u of %u)", e.cause, s, e.a, e.b);
+      break;
+    case EventId::kSwitchFailed:
+      (void)std::snprintf(b.data(), b.size(), "switch of tile %s declared failed (%u neighbours agree): map version %u",
+                          s, e.a, e.b);
+      break;
+    case EventId::kLinkFailed:
+      if (e.a == 0U) {
+        (void)std::snprintf(b.data(), b.size(), "link between tiles %s and %u declared failed (both ends report each "
+                            "other only): map version %u", s, e.cause, e.b);
+      } else {
+        (void)std::snprintf(b.data(), b.size(), "link between tiles %s and %u declared failed (the %u transit probes "
+                            "heard across it lost, and no other): map version %u", s, e.cause, e.a, e.b);
+      }
+      break;
+    case EventId::kMapPublished:
+      (void)std::snprintf(b.data(), b.size(), "fault map version %u sent to %u of %u live tiles: traffic routes around",
+                          e.subject, e.a, e.b);
+      break;
+    case EventId::kCoreSuspect:
+      (void)std::snprintf(b.data(), b.size(), "core of tile %s silent behind a switch that routes (%u transits "
+                          "through it answer)", s, e.a);
+      break;
+    case EventId::kTransitFailed:
+      (void)std::snprintf(b.data(), b.size(), "switch of tile %s declared failed (all %u transit probes through it "
+                          "lost): map version %u", s, e.a, e.b);
+      break;
+    case EventId::kLinkOrSwitchFailed:
+      (void)std::snprintf(b.data(), b.size(), "link between tiles %u and %s or the switch of spare %s failed (the "
+                          "%u transit probes heard across the link lost, none heard through the switch but over it: "
+                          "they look the same from here): the switch taken out, map version %u", e.cause, s, s, e.a,
+                          e.b);
+      break;
+    default:
+      return false;
+  }
+  return true;
+}
+
 /** The text of the core-health and filter-restart events (after the name), into @p b. */
 void describe_health_event(const fdir::Event& e, const char* s, std::span<char> b) noexcept {
   switch (e.id) {
@@ -647,29 +695,6 @@ std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noe
     case EventId::kTransitBack:
       (void)std::snprintf(b.data(), b.size(), "transit probe to tile %s answers again: reported", s);
       break;
-    case EventId::kSuspectVote:
-      (void)std::snprintf(b.data(), b.size(), "tile %u reports tile %s (vote %u of %u)", e.cause, s, e.a, e.b);
-      break;
-    case EventId::kSwitchFailed:
-      (void)std::snprintf(b.data(), b.size(), "switch of tile %s declared failed (%u neighbours agree): map version %u",
-                          s, e.a, e.b);
-      break;
-    case EventId::kLinkFailed:
-      (void)std::snprintf(b.data(), b.size(), "link between tiles %s and %u declared failed (both ends report each "
-                          "other only): map version %u", s, e.cause, e.b);
-      break;
-    case EventId::kMapPublished:
-      (void)std::snprintf(b.data(), b.size(), "fault map version %u sent to %u of %u live tiles: traffic routes around",
-                          e.subject, e.a, e.b);
-      break;
-    case EventId::kCoreSuspect:
-      (void)std::snprintf(b.data(), b.size(), "core of tile %s silent behind a switch that routes (%u transits "
-                          "through it answer)", s, e.a);
-      break;
-    case EventId::kTransitFailed:
-      (void)std::snprintf(b.data(), b.size(), "switch of tile %s declared failed (all %u transit probes through it "
-                          "lost): map version %u", s, e.a, e.b);
-      break;
     case EventId::kWorkerSilent:
       (void)std::snprintf(b.data(), b.size(), "worker tile %s silent for %u frames: isolated, its work goes to the others",
                           s, e.a);
@@ -723,7 +748,9 @@ std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noe
       (void)std::snprintf(b.data(), b.size(), "assertion %s failed (line %u): recovery requested", s, e.cause);
       break;
     default:
-      describe_health_event(e, s, b);
+      if (!describe_net_health_event(e, s, b)) {
+        describe_health_event(e, s, b);
+      }
       break;
   }
   return used + std::char_traits<char>::length(b.data());
@@ -740,7 +767,8 @@ FlightEventCollector::FlightEventCollector(std::size_t capacity) { events_.reser
 void FlightEventCollector::take(const fdir::Event& e) noexcept {
   switch (e.id) {
     case EventId::kSwitchFailed:
-    case EventId::kTransitFailed: health_[e.subject % bsp::kMaxTiles] = TileHealth::kFailed; break;
+    case EventId::kTransitFailed:
+    case EventId::kLinkOrSwitchFailed: health_[e.subject % bsp::kMaxTiles] = TileHealth::kFailed; break;
     case EventId::kWorkerSilent:
     case EventId::kCoreSuspect:
     case EventId::kNeighbourSuspect:

@@ -960,6 +960,27 @@ TEST_F(TrnMissionBinary, ReportsThatStillHoldComeAgainAfterTheHealthTileIsReset)
       << "once before the reset, once after: a report sent again is no new vote";
 }
 
+// FDIR-TR-12: the coordinator's east link, which no neighbour vote can name, is named by the transits
+// the health tile can hear across it (those of the tiles behind it cannot come); from there spare 2's
+// switch failing looks the same, so the spare's switch is taken out, and nothing more is given up.
+TEST_F(TrnMissionBinary, TheCoordinatorsEastLinkIsNamedByTheTransitsTheHealthTileCanHear) {
+  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 5 --faults " + fixture("coordinator_east_link.toml") +
+                " --out " + (dir_ / "c").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "c" / "summary.json");
+  const std::string log = read_text(dir_ / "c" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 1) << log;
+  EXPECT_EQ(s["faults_recovered"], 1) << log;
+  EXPECT_NE(log.find("link_fail east link (planned) -> detected by tile 0 (link_or_switch_failed)"), std::string::npos)
+      << log;
+  EXPECT_NE(log.find("link between tiles 1 and 2 or the switch of spare 2 failed"), std::string::npos) << log;
+  EXPECT_EQ(count_of(log, "declared failed"), 0U) << "no other switch or link is blamed";
+  EXPECT_EQ(count_of(log, "supervisor_silent"), 0U) << "the supervisor's traffic east routes around";
+  EXPECT_EQ(count_of(log, "packet_gave_up"), 0U) << log;
+  EXPECT_EQ(s["deadline_misses"], 0);
+  EXPECT_EQ(s["frames"], 4) << "no frame lost: the coordinator's units route around";
+}
+
 // Every injection is counted, random ones too (it said 1 of 718 before); a failed link is voted
 // from both ends' reports and enters the map.
 TEST_F(TrnMissionBinary, EveryInjectionIsCountedAndAFailedLinkEntersTheMap) {
