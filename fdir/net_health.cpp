@@ -94,6 +94,7 @@ struct State {
   std::uint64_t parked;         ///< tiles the power policy switched off
   k::Ticks transit_change;     ///< when the last transit report arrived
   std::uint64_t core_told;     ///< tiles already reported kCoreSuspect
+  ReportWays ways;             ///< how each prober's reports come here (for the link verdict)
   std::array<k::Ticks, udn::kRouteMaxTiles> suspected_at;  ///< first neighbour report of each tile (0: none)
   std::uint64_t targets;      ///< tiles a map goes to (neither off by design nor failed, not this one)
   std::uint64_t to_send;      ///< targets not yet sent the current version
@@ -188,7 +189,12 @@ std::uint64_t lost_near(const State& s, const NetHealthConfig& cfg, k::Ticks whe
  * @return true on a decision.
  */
 bool judge_link(State& s, const NetHealthConfig& cfg, bsp::TileId self, std::uint64_t mute) noexcept {
-  const LinkVerdict l = transit_link_verdict(cfg.transits, s.map, self, s.lost, s.votes.failed, mute);
+  if (s.ways.version != s.map.version || s.ways.parked != s.parked) {
+    bsp::Work work{};
+    report_ways(cfg.transits, s.map, self, s.parked, s.ways, work);
+    bsp::consume(work);
+  }
+  const LinkVerdict l = transit_link_verdict(cfg.transits, s.map.cols, s.map.rows, s.ways, s.lost, s.votes.failed, mute);
   // A spare's switch at an end that nothing heard crosses but over the link may have failed instead:
   // from here the two look the same, and taking the switch out of the routes covers both (the
   // link alone would leave the cut-off tiles' traffic, and their reports, crossing a dead switch).

@@ -372,45 +372,70 @@ bsp::TileId transit_verdict(const TransitPlan& plan, std::uint64_t lost, std::ui
   return found;
 }
 
-LinkVerdict transit_link_verdict(const TransitPlan& plan, const udn::FaultMap& map, bsp::TileId health,
-                                 std::uint64_t lost, std::uint64_t known_failed, std::uint64_t mute) noexcept {
+void report_ways(const TransitPlan& plan, const udn::FaultMap& map, bsp::TileId health, std::uint64_t parked,
+                 ReportWays& out, bsp::Work& work) noexcept {
+  out = ReportWays{};
+  out.version = map.version;
+  out.parked = parked;
+  if (map.cols == 0U || map.cols * map.rows > 64U) {
+    return;
+  }
+  for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
+    const Transit& t = plan.t[i];
+    if (t.prober == health || !udn::path_clear(map, t.prober, health)) {
+      continue;  // routed through intermediates: taken as heard
+    }
+    out.route[i] = udn::path_links(map, t.prober, health);
+    const bsp::TileId m =
+        udn::route_twin_via(map, t.prober, health, udn::path_tiles(map, t.prober, health), out.route[i], parked, work);
+    if (m == bsp::kNoTile) {
+      out.twin[i] = out.route[i];
+      continue;
+    }
+    const udn::LinkSet l1 = udn::path_links(map, t.prober, m);
+    const udn::LinkSet l2 = udn::path_links(map, m, health);
+    out.twin[i] = udn::LinkSet{{l1.w[0] | l2.w[0], l1.w[1] | l2.w[1]}};
+  }
+}
+
+LinkVerdict transit_link_verdict(const TransitPlan& plan, std::uint32_t cols, std::uint32_t rows,
+                                 const ReportWays& ways, std::uint64_t lost, std::uint64_t known_failed,
+                                 std::uint64_t mute) noexcept {
   constexpr std::uint32_t kLinkBits = 128U;  // udn::LinkSet: two links per tile
-  const std::uint32_t cols = map.cols;
-  if (cols == 0U || cols * map.rows > 64U) {
+  if (cols == 0U || cols * rows > 64U) {
     return LinkVerdict{};
   }
   std::uint64_t counts = 0U;  // transits whose answer tells about the switches and links they cross
-  std::array<udn::LinkSet, kMaxTransits> report{};  // the links each prober's report crosses on its way here
   for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
-    const Transit& t = plan.t[i];
-    counts |= (t.path & known_failed) == 0U && !has(mute, i) ? bit(i) : 0U;
-    // A report routed through intermediates is taken as heard: then every one is required.
-    const bool direct = t.prober != health && udn::path_clear(map, t.prober, health);
-    report[i] = direct ? udn::path_links(map, t.prober, health) : udn::LinkSet{};
+    counts |= (plan.t[i].path & known_failed) == 0U && !has(mute, i) ? bit(i) : 0U;
   }
   const std::uint64_t lost_counted = lost & counts;
   LinkVerdict found{};
   for (std::uint32_t l = 0; l < kLinkBits && lost_counted != 0U; ++l) {
     const std::uint32_t a = l / 2U;
     const std::uint32_t b = (l % 2U) == 0U ? a + 1U : a + cols;
-    if (b >= cols * map.rows || ((l % 2U) == 0U && b % cols == 0U)) {
+    if (b >= cols * rows || ((l % 2U) == 0U && b % cols == 0U)) {
       continue;  // off the grid's east or south edge
     }
+    const std::uint32_t w = l / 64U;
     const std::uint64_t word = std::uint64_t{1} << (l % 64U);
-    std::uint64_t across = 0U;
-    std::uint64_t on_all = ~std::uint64_t{0};  // switches every heard transit across it passes
+    std::uint64_t across = 0U;  // transits across it that count
+    std::uint64_t cut = 0U;     // transits whose reports both cross it: they never come
     for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
-      const bool crosses = has(counts, i) && (plan.t[i].links.w[l / 64U] & word) != 0U;
-      const bool cut = (report[i].w[l / 64U] & word) != 0U;  // its report never comes
-      across |= crosses && !cut ? bit(i) : 0U;
-      on_all &= crosses && !cut ? plan.t[i].path : ~std::uint64_t{0};
+      across |= has(counts, i) && (plan.t[i].links.w[w] & word) != 0U ? bit(i) : 0U;
+      cut |= (ways.route[i].w[w] & word) != 0U && (ways.twin[i].w[w] & word) != 0U ? bit(i) : 0U;
     }
-    // It explains every lost transit that counts, as far as the reports can come here (so every
-    // other transit heard through its two switches answers: they route); those it loses can vote
-    // (two with no end in common), and no third switch is on all of them (its failure would lose
-    // the same ones).
-    if (across != lost_counted || std::popcount(across) < static_cast<int>(kTransitsPerSpare) ||
-        !independent(plan, across) || (on_all & ~bit(a) & ~bit(b)) != 0U) {
+    std::uint64_t on_all = ~std::uint64_t{0};  // switches every lost transit passes
+    for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
+      on_all &= has(lost_counted, i) ? plan.t[i].path : ~std::uint64_t{0};
+    }
+    // It explains every lost transit that counts, and every one across it that can be heard is lost
+    // (so every other transit heard through its two switches answers: they route); the lost ones
+    // can vote (two with no end in common), and no third switch is on all of them (its failure
+    // would lose the same ones).
+    if ((lost_counted & ~across) != 0U || (across & ~cut & ~lost_counted) != 0U ||
+        std::popcount(lost_counted) < static_cast<int>(kTransitsPerSpare) || !independent(plan, lost_counted) ||
+        (on_all & ~bit(a) & ~bit(b)) != 0U) {
       continue;
     }
     if (found.a != bsp::kNoTile) {
@@ -418,12 +443,10 @@ LinkVerdict transit_link_verdict(const TransitPlan& plan, const udn::FaultMap& m
     }
     std::uint64_t elsewhere = 0U;  // switches on heard transits that do not cross the link
     for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
-      const bool heard_apart = has(counts, i) && (plan.t[i].links.w[l / 64U] & word) == 0U &&
-                               (report[i].w[l / 64U] & word) == 0U;
-      elsewhere |= heard_apart ? plan.t[i].path : 0U;
+      elsewhere |= has(counts, i) && !has(across, i) && !has(cut, i) ? plan.t[i].path : 0U;
     }
     found = LinkVerdict{static_cast<bsp::TileId>(a), static_cast<bsp::TileId>(b),
-                        static_cast<std::uint32_t>(std::popcount(across)), (bit(a) | bit(b)) & ~elsewhere};
+                        static_cast<std::uint32_t>(std::popcount(lost_counted)), (bit(a) | bit(b)) & ~elsewhere};
   }
   return found;
 }

@@ -27,6 +27,7 @@
 #pragma once
 
 #include "bsp_tile64/port.hpp"
+#include "bsp_tile64/work.hpp"
 #include "udn/route.hpp"
 
 #include <array>
@@ -112,23 +113,39 @@ struct LinkVerdict {
 };
 
 /**
- * The mesh link whose failure explains the lost transits, for a link no
- * neighbour vote can name (an end is a spare, or runs no probe), judged on
- * the health tile @p health with fault map @p map. A report whose direct
- * route here crosses the link never comes, so only the transits the health
- * tile can hear of are weighed. Those that count (nothing on the way in
- * @p known_failed, not in @p mute) and are lost must be exactly those across
- * the link that can be heard: at least kTransitsPerSpare, two with no end in
- * common (one faulty prober or target cannot lose them all), and no third
- * switch on all of them (its failure would lose the same ones). So every
- * other transit heard through the link's two switches answers: they route.
- * Another lost transit, or two links that lose the same ones, names nothing.
- * The verdict on switches (transit_verdict) goes first. Where nothing heard
- * crosses an end's switch but over the link (the reports of the tiles behind
- * the link cannot come), that switch failing would look the same from here:
- * the end is marked unsure.
+ * The two ways each prober's reports take to the health tile
+ * (udn/endpoint.cpp): their route, if direct, and its twin
+ * (udn::route_twin_via), as links. A prober whose route goes through
+ * intermediates has neither: its reports are taken as heard.
  */
-LinkVerdict transit_link_verdict(const TransitPlan& plan, const udn::FaultMap& map, bsp::TileId health,
-                                 std::uint64_t lost, std::uint64_t known_failed, std::uint64_t mute) noexcept;
+struct ReportWays {
+  std::uint32_t version = 0xFFFF'FFFFU;  ///< map version they were found for
+  std::uint64_t parked = 0U;             ///< and the tiles that were parked then
+  std::array<udn::LinkSet, kMaxTransits> route{};
+  std::array<udn::LinkSet, kMaxTransits> twin{};  ///< the route's again when there is no twin
+};
+
+/** The ways of the reports of @p plan's probers to @p health on @p map (@p parked forward nothing); counted in @p work. */
+void report_ways(const TransitPlan& plan, const udn::FaultMap& map, bsp::TileId health, std::uint64_t parked,
+                 ReportWays& out, bsp::Work& work) noexcept;
+
+/**
+ * The mesh link whose failure explains the lost transits, for a link no
+ * neighbour vote can name (an end is a spare, or runs no probe), on a
+ * @p cols x @p rows grid. A report both of whose @p ways cross the link never
+ * comes, and is not waited for. The transits that count (nothing on the way
+ * in @p known_failed, not in @p mute) and are lost must all be across the
+ * link, and every one across it that can be heard must be lost: at least
+ * kTransitsPerSpare, two with no end in common (one faulty prober or target
+ * cannot lose them all), and no third switch on all of them (its failure
+ * would lose the same ones). So every other transit heard through the link's
+ * two switches answers: they route. Two links that lose the same transits
+ * name neither. The verdict on switches (transit_verdict) goes first. Where
+ * nothing heard crosses an end's switch but over the link, that switch
+ * failing would look the same from here: the end is marked unsure.
+ */
+LinkVerdict transit_link_verdict(const TransitPlan& plan, std::uint32_t cols, std::uint32_t rows,
+                                 const ReportWays& ways, std::uint64_t lost, std::uint64_t known_failed,
+                                 std::uint64_t mute) noexcept;
 
 }  // namespace fdir

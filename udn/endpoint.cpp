@@ -54,6 +54,8 @@ struct Endpoint {
   RoleDirectory roles;  ///< the tile's copy of the role directory
   std::uint64_t parked;         ///< tiles the power policy switched off (not probed, no transit to them)
   std::uint32_t parked_serial;  ///< serial of that set
+  bsp::TileId twin;             ///< the second way of the reports (route_twin_via), once twin_known
+  bool twin_known;              ///< false: to be found again (the routes changed)
 };
 
 /** Per-tile pointer to the carve (a tile's base register); reset with the tile by its service start. */
@@ -94,8 +96,34 @@ bool build_routes(Endpoint& ep, const FaultMap& map) noexcept {
   bsp::Work work{};
   const bool ok = ft_set_fault_map(ep.node, local, work) == FtError::kOk;
   ep.node.map_version = map.version;  // probes carry the published version, not the local additions
+  ep.twin_known = false;
   bsp::consume(work);
   return ok;
+}
+
+/**
+ * The intermediate the reports to @p to also go through, as copies: a second
+ * way that shares no switch and no link with their route, so one failed
+ * switch or link on either way cannot keep a report from the health tile
+ * (one on the route did: the tiles behind the coordinator's failed east link
+ * could not report it, and those behind a failed spare switch could not
+ * report that). Found once per route table, when there is a report to send.
+ */
+bsp::TileId report_twin(Endpoint& ep, bsp::TileId to) noexcept {
+  if (!ep.twin_known) {
+    FaultMap local = ep.map;
+    const bsp::TileId self = ep.node.self;
+    if (self < kRouteMaxTiles) {
+      local.failed_links[self] = static_cast<std::uint8_t>(local.failed_links[self] | ep.local_links);
+    }
+    const RoutePath path = route_path(local, ep.node.routes, to);
+    bsp::Work work{};
+    ep.twin = path.tiles == 0U ? bsp::kNoTile
+                               : route_twin_via(local, self, to, path.tiles, path.links, ep.parked, work);
+    ep.twin_known = true;
+    bsp::consume(work);
+  }
+  return ep.twin;
 }
 
 /** Probe hook (inside the guarded section): avoids the silent neighbour here; the report is sent after. */
@@ -223,11 +251,12 @@ void transit_probe(Endpoint& ep, std::uint32_t i) noexcept {
 }
 
 /** Sends a waiting item without blocking; @return false if the network or window refused (retry next tick). */
-bool send_now(Endpoint& ep, bsp::TileId to, std::uint32_t channel, std::span<const std::uint32_t> w) noexcept {
+bool send_now(Endpoint& ep, bsp::TileId to, std::uint32_t channel, std::span<const std::uint32_t> w,
+              bsp::TileId twin = bsp::kNoTile) noexcept {
   FtError e = FtError::kOk;
   {
     const IrqGuard guard;
-    e = ft_send(ep.node, to, channel, w, tick32());
+    e = ft_send(ep.node, to, channel, w, tick32(), twin);
   }
   return e != FtError::kWindowFull && e != FtError::kNetFull;  // sent, or no route: nothing more to do
 }
@@ -254,12 +283,24 @@ void report_again(Endpoint& ep) noexcept {
   }
 }
 
+bool owes_transit_report(const Endpoint& ep) noexcept {
+  bool owed = false;
+  for (std::uint32_t i = 0; i < ep.transit_count; ++i) {
+    owed = owed || ep.transit[i].report_owed;
+  }
+  return owed;
+}
+
 void send_reports(Endpoint& ep) noexcept {
   const bsp::TileId to = ep.cfg->report_to;
+  if (to == bsp::kNoTile || (ep.pending_count == 0U && !owes_transit_report(ep))) {
+    return;
+  }
+  const bsp::TileId twin = report_twin(ep, to);
   while (ep.pending_count > 0U && to != bsp::kNoTile) {
     std::array<std::uint32_t, kSuspectWords> w{};
     pack_suspect(SuspectReport{ep.node.self, ep.pending[ep.pending_count - 1U]}, w);
-    if (!send_now(ep, to, kFtChanFdir, w)) {
+    if (!send_now(ep, to, kFtChanFdir, w, twin)) {
       return;
     }
     --ep.pending_count;
@@ -271,7 +312,7 @@ void send_reports(Endpoint& ep) noexcept {
     }
     std::array<std::uint32_t, kTransitWords> w{};
     pack_transit(TransitReport{ep.node.self, p.target, p.lost}, w);
-    if (!send_now(ep, to, kFtChanFdir, w)) {
+    if (!send_now(ep, to, kFtChanFdir, w, twin)) {
       return;
     }
     p.report_owed = false;
@@ -328,6 +369,7 @@ bool set_parked(Endpoint& ep, std::uint64_t parked, std::uint32_t serial) noexce
   const std::uint64_t woken = ep.parked & ~parked;
   ep.parked = parked;
   ep.parked_serial = serial;
+  ep.twin_known = false;  // a parked tile forwards nothing
   if (!ep.probing) {
     return true;
   }

@@ -27,8 +27,11 @@
  *
  * Reports: the probe's suspects go to config.report_to on kFtChanFdir
  * (kMsgSuspect), and so do the transit probes' targets lost or back
- * (kMsgTransit); events (corrections, resends, suspects, maps applied) go to
- * config.sink. The endpoint never includes the layers above it.
+ * (kMsgTransit), each by its route and, as a copy, through a twin whose way
+ * shares no switch and no link with it (route_twin_via): one failed switch
+ * or link cannot keep them from the health tile. Events (corrections,
+ * resends, suspects, maps applied) go to config.sink. The endpoint never
+ * includes the layers above it.
  */
 #pragma once
 

@@ -74,6 +74,25 @@ FtError route_and_send(FtNode& n, std::span<std::uint32_t> image, bsp::TileId de
   return (n.port.send(n.port.ctx, n.self, image) == bsp::NetError::kOk) ? FtError::kOk : FtError::kNetFull;
 }
 
+/**
+ * Sends slot @p s's packet to @p dest by the route and, if it has a twin, a
+ * copy through the twin (ft_send). @return the route's send.
+ */
+FtError send_slot(FtNode& n, detail::TxSlot& s, bsp::TileId dest) noexcept {
+  const std::span<std::uint32_t> image(s.image.data(), s.words);
+  const FtError e = route_and_send(n, image, dest);
+  if (e == FtError::kOk && s.twin < n.routes.tiles && room_beyond_reserve(n)) {
+    const auto x = static_cast<std::uint8_t>(s.twin % n.routes.cols);
+    const auto y = static_cast<std::uint8_t>(s.twin / n.routes.cols);
+    if (readdress_packet(image, x, y, kFtHwTag) == ReaddressStatus::kOk) {
+      if (n.port.send(n.port.ctx, n.self, image) == bsp::NetError::kOk) {
+        ++n.stats.twin_copies;
+      }  // refused: the route's packet is on its way
+    }
+  }
+  return e;
+}
+
 void log_event(FtNode& n, FtCause cause, bsp::TileId peer, std::uint32_t channel, std::uint8_t seq,
                std::uint32_t now, FtDelivery delivery = FtDelivery::kUnknown) noexcept {
   ft_event_emit(n.sink, n.self,
@@ -197,7 +216,7 @@ bool resend_stream(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint
       // A refused resend never left the tile: it and the ones after it (sent now, they would
       // arrive behind a gap) wait for the next timeout without using up a retry. An unroutable
       // one counts (it may never route).
-      if (refused || route_and_send(n, std::span<std::uint32_t>(s.image.data(), s.words), dest) == FtError::kNetFull) {
+      if (refused || send_slot(n, s, dest) == FtError::kNetFull) {
         refused = true;
         s.held = true;
         hold_stream(n, dest, channel, true);
@@ -256,7 +275,7 @@ void send_held(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint32_t
       if (!s.used || !s.held || s.dest != dest || s.channel != channel || s.seq != seq) {
         continue;
       }
-      if (route_and_send(n, std::span<std::uint32_t>(s.image.data(), s.words), dest) == FtError::kNetFull) {
+      if (send_slot(n, s, dest) == FtError::kNetFull) {
         return;
       }
       s.held = false;
@@ -704,7 +723,7 @@ void on_sync_ack(FtNode& n, bsp::TileId dest, const AnswerWord& a, std::uint8_t 
     for (detail::TxSlot& s : n.tx) {
       if (s.used && s.dest == dest && s.channel == channel && s.seq == seq) {
         s.sent_tick = now;  // refused here: its timeout resends it
-        (void)route_and_send(n, std::span<std::uint32_t>(s.image.data(), s.words), dest);
+        (void)send_slot(n, s, dest);
       }
     }
   }
@@ -1018,7 +1037,7 @@ FtError ft_set_fault_map(FtNode& node, const FaultMap& map, bsp::Work& work) noe
 }
 
 FtError ft_send(FtNode& node, bsp::TileId dest, std::uint32_t channel, std::span<const std::uint32_t> data,
-                std::uint32_t now_tick) noexcept {
+                std::uint32_t now_tick, bsp::TileId twin) noexcept {
   if (node.self == bsp::kNoTile || channel >= kFtAllChannels || dest >= node.routes.tiles || data.empty() ||
       data.size() > kFtMaxDataWords) {
     return FtError::kBadArgs;
@@ -1047,9 +1066,9 @@ FtError ft_send(FtNode& node, bsp::TileId dest, std::uint32_t channel, std::span
   }
   // A resynchronising stream's packet waits in its slot for the SYNC-ACK; a held stream's
   // queues behind the held ones (sent now, it would arrive behind a gap).
-  const FtError e = st.syncing || st.held
-                        ? FtError::kOk
-                        : route_and_send(node, std::span<std::uint32_t>(slot->image.data(), written), dest);
+  slot->words = static_cast<std::uint32_t>(written);
+  slot->twin = twin < node.routes.tiles && twin != dest && twin != node.self ? static_cast<std::uint8_t>(twin) : 0xFFU;
+  const FtError e = st.syncing || st.held ? FtError::kOk : send_slot(node, *slot, dest);
   if (e != FtError::kOk) {
     return e;  // nothing queued: the caller retries the same message
   }
@@ -1061,7 +1080,6 @@ FtError ft_send(FtNode& node, bsp::TileId dest, std::uint32_t channel, std::span
   slot->seq = st.next_seq;
   slot->retries = 0U;
   slot->sent_tick = now_tick;
-  slot->words = static_cast<std::uint32_t>(written);
   ++st.next_seq;
   ++node.in_window[dest];
   ++node.stats.sent;

@@ -163,6 +163,7 @@ struct FtStats {
   std::uint64_t corrected = 0U;       ///< packets with 1+ corrected bit (any status that decoded)
   std::uint64_t forwarded = 0U;       ///< packets re-sent towards their destination index
   std::uint64_t retransmitted = 0U;
+  std::uint64_t twin_copies = 0U;     ///< copies of packets sent through their twin intermediate (ft_send)
   std::uint64_t uncorrectable_detected = 0U;  ///< kUncorrectable, kCrcMismatch or kMalformed
   std::uint64_t duplicates_dropped = 0U;
   std::uint64_t out_of_order_dropped = 0U;
@@ -207,6 +208,7 @@ struct TxSlot {
   std::uint32_t retries = 0U;
   std::uint32_t sent_tick = 0U;
   std::uint32_t words = 0U;
+  std::uint8_t twin = 0xFFU;  ///< intermediate every transmission also goes through as a copy (0xFF: none)
   std::array<std::uint32_t, kFtMaxPacketWords> image{};
 };
 struct TxStream {
@@ -251,6 +253,7 @@ struct FwdSlot {
   bool used = false;
   std::uint16_t dest = 0U;
   std::uint32_t words = 0U;
+  std::uint8_t twin = 0xFFU;  ///< intermediate every transmission also goes through as a copy (0xFF: none)
   std::array<std::uint32_t, kFtMaxPacketWords> image{};
 };
 struct RxQueue {
@@ -339,10 +342,16 @@ FtError ft_set_fault_map(FtNode& node, const FaultMap& map, bsp::Work& work) noe
 
 /**
  * Sends @p data (1..kFtMaxData words) reliably on @p channel to @p dest.
+ * With @p twin a tile (route_twin_via), every transmission of the packet
+ * (first, resends) also goes as a copy through that intermediate, which
+ * forwards it: the receiver takes the first to arrive and drops the other as
+ * a duplicate, so one fault on either way loses nothing (as IEC 62439-3 PRP
+ * sends every frame over two networks). A copy the network refuses is not
+ * waited for.
  * @return kOk (queued and sent), kWindowFull, kUnreachable, kNetFull, kBadArgs.
  */
 FtError ft_send(FtNode& node, bsp::TileId dest, std::uint32_t channel, std::span<const std::uint32_t> data,
-                std::uint32_t now_tick) noexcept;
+                std::uint32_t now_tick, bsp::TileId twin = bsp::kNoTile) noexcept;
 
 /**
  * Sends one unreliable control packet (kind, seq, data word 0 = @p word; PING and PONG add the

@@ -270,6 +270,35 @@ LinkSet failed_link_set(const FaultMap& map) noexcept {
   return set;
 }
 
+bsp::TileId route_twin_via(const FaultMap& map, bsp::TileId s, bsp::TileId d, std::uint64_t avoid_tiles,
+                           const LinkSet& avoid_links, std::uint64_t off, bsp::Work& work) noexcept {
+  const std::uint32_t tiles = map.cols * map.rows;
+  if (!on_grid(map, s) || !on_grid(map, d) || s == d || tiles > kRouteMaxTiles) {
+    return bsp::kNoTile;
+  }
+  const std::uint64_t avoid = avoid_tiles & ~bit_of(s) & ~bit_of(d);
+  const std::uint64_t cannot = map.failed_tiles | map.no_forward | off | bit_of(s) | bit_of(d);
+  bsp::TileId best = bsp::kNoTile;
+  std::uint32_t best_hops = 0U;
+  for (std::uint32_t m = 0U; m < tiles; ++m) {
+    work.int_ops += std::uint64_t{4U} * (map.cols + map.rows);
+    if ((cannot & bit_of(m)) != 0U) {
+      continue;
+    }
+    const auto tm = static_cast<bsp::TileId>(m);
+    const LinkSet l1 = path_links(map, s, tm);
+    const LinkSet l2 = path_links(map, tm, d);
+    const bool apart = ((path_tiles(map, s, tm) | path_tiles(map, tm, d)) & avoid) == 0U &&
+                       ((l1.w[0] | l2.w[0]) & avoid_links.w[0]) == 0U && ((l1.w[1] | l2.w[1]) & avoid_links.w[1]) == 0U;
+    const std::uint32_t hops = path_hops(map.cols, s, tm) + path_hops(map.cols, tm, d);
+    if (apart && path_clear(map, s, tm) && path_clear(map, tm, d) && (best == bsp::kNoTile || hops < best_hops)) {
+      best = tm;
+      best_hops = hops;
+    }
+  }
+  return best;
+}
+
 RouteError route_table_build(const FaultMap& map, bsp::TileId self, RouteTable& table, bsp::Work& work) noexcept {
   const std::uint32_t tiles = map.cols * map.rows;
   if (tiles == 0U || tiles > kRouteMaxTiles) {
@@ -309,6 +338,28 @@ RouteError route_next_hop(const RouteTable& table, bsp::TileId dest, bsp::TileId
   }
   next = (r.via_count == 0U) ? dest : static_cast<bsp::TileId>(r.via[0]);
   return RouteError::kOk;
+}
+
+RoutePath route_path(const FaultMap& map, const RouteTable& table, bsp::TileId dest) noexcept {
+  RoutePath p{};
+  if (dest >= table.tiles || table.self >= table.tiles || table.to[dest].status != RouteError::kOk) {
+    return p;
+  }
+  const Route& r = table.to[dest];
+  std::array<bsp::TileId, kRouteMaxVias + 2U> stop{};
+  std::uint32_t n = 0U;
+  stop[n++] = table.self;
+  for (std::uint32_t v = 0U; v < r.via_count && v < kRouteMaxVias; ++v) {
+    stop[n++] = r.via[v];
+  }
+  stop[n++] = dest;
+  for (std::uint32_t k = 1U; k < n; ++k) {
+    p.tiles |= path_tiles(map, stop[k - 1U], stop[k]);
+    const LinkSet l = path_links(map, stop[k - 1U], stop[k]);
+    p.links.w[0] |= l.w[0];
+    p.links.w[1] |= l.w[1];
+  }
+  return p;
 }
 
 }  // namespace udn

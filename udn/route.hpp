@@ -87,6 +87,26 @@ LinkSet path_links(const FaultMap& map, bsp::TileId s, bsp::TileId d) noexcept;
 /** Links @p map says failed, in either direction. */
 LinkSet failed_link_set(const FaultMap& map) noexcept;
 
+/**
+ * A second way from @p s to @p d, for copies of a packet sent as well as its
+ * route, never instead (a report that must survive one fault on its way): an
+ * intermediate m that can forward (not failed, not in the map's no_forward
+ * nor @p off), whose two X-then-Y legs are clear in @p map and touch none of
+ * the switches in @p avoid_tiles (the route's, its ends left out) and none of
+ * the links in @p avoid_links. Fewest hops, then the lowest index. Bounded:
+ * one pass over the tiles. [flight: udn/endpoint.cpp; the health tile's
+ * verdicts (fdir/transit.cpp) compute the same]
+ * @return m, or bsp::kNoTile when there is none.
+ */
+bsp::TileId route_twin_via(const FaultMap& map, bsp::TileId s, bsp::TileId d, std::uint64_t avoid_tiles,
+                           const LinkSet& avoid_links, std::uint64_t off, bsp::Work& work) noexcept;
+
+/** Switches (bit per tile) and links the route of @p t to @p d crosses, leg by leg; 0 and empty if it has none. */
+struct RoutePath {
+  std::uint64_t tiles = 0U;
+  LinkSet links{};
+};
+
 /** The route from a table's tile to one destination. */
 struct Route {
   RouteError status = RouteError::kUnreachable;
@@ -122,5 +142,8 @@ RouteError route_table_build(const FaultMap& map, bsp::TileId self, RouteTable& 
  * or the destination itself. @return kUnreachable (next = kNoTile) or kBadTile.
  */
 RouteError route_next_hop(const RouteTable& table, bsp::TileId dest, bsp::TileId& next) noexcept;
+
+/** The switches and links of @p table's route to @p dest (the legs through its intermediates). */
+RoutePath route_path(const FaultMap& map, const RouteTable& table, bsp::TileId dest) noexcept;
 
 }  // namespace udn

@@ -162,6 +162,50 @@ TEST(FtLink, Figure6TrafficIsForwardedByTheIntermediateTile) {
   EXPECT_TRUE(ft_test::events_of(18U, udn::FtCause::kForwarded).empty());
 }
 
+// FDIR-TR-15: a packet sent with a twin goes by its route and, as a copy, through the twin, which
+// forwards it: the receiver takes one and drops the other. A failed link on the route the map does not
+// know of (it is silent) loses nothing: the copy arrives, in order.
+TEST(FtLink, ATwinCopyArrivesWhenTheRouteIsCutAndIsADuplicateWhenItIsNot) {
+  udn::FaultMap map = ft_test::grid_map();
+  ft_test::boot(map);
+  // Tile 6 to tile 0 goes along row 0; twin 19's legs (6-5-4-3-11-19, 19-18-17-16-8-0) avoid it.
+  bsp::Work work{};
+  const bsp::TileId twin =
+      udn::route_twin_via(map, 6U, 0U, udn::path_tiles(map, 6U, 0U), udn::path_links(map, 6U, 0U), 0U, work);
+  ASSERT_NE(twin, bsp::kNoTile);
+  EXPECT_EQ(udn::path_tiles(map, 6U, twin) & udn::path_tiles(map, twin, 0U) & udn::path_tiles(map, 6U, 0U) &
+                ~std::uint64_t{(1U << 6U) | 1U},
+            0U);
+  EXPECT_GT(work.int_ops, 0U) << "the search is counted";
+  for (std::uint32_t s = 0; s < 3U; ++s) {
+    ASSERT_EQ(udn::ft_send(g_nodes[6], 0U, 2U, message(6U, 2U, s), ft_test::now_tick(), twin), udn::FtError::kOk);
+  }
+  settle();
+  auto got = drain(0U, 2U);
+  ASSERT_EQ(got.size(), 3U);
+  EXPECT_EQ(g_nodes[6].stats.twin_copies, 3U);
+  EXPECT_EQ(g_nodes[twin].stats.forwarded, 3U);
+  EXPECT_EQ(g_nodes[0].stats.duplicates_dropped + g_nodes[0].stats.out_of_order_dropped, 3U) << "one of each pair";
+  // Link 1-2 fails, and nobody tells the map: the route's packets die there, the copies arrive.
+  ASSERT_EQ(bsp::udn_net_fail_link(1U, bsp::UdnDir::kEast), bsp::NetError::kOk);
+  for (std::uint32_t s = 3U; s < 6U; ++s) {
+    ASSERT_EQ(udn::ft_send(g_nodes[6], 0U, 2U, message(6U, 2U, s), ft_test::now_tick(), twin), udn::FtError::kOk);
+  }
+  settle();
+  got = drain(0U, 2U);
+  ASSERT_EQ(got.size(), 3U);
+  for (std::uint32_t s = 0; s < 3U; ++s) {
+    EXPECT_EQ(got[s].seq, s + 3U);
+    EXPECT_TRUE(intact(got[s]));
+  }
+  // Without a twin, the same packets are lost on the route.
+  for (std::uint32_t s = 6U; s < 8U; ++s) {
+    ASSERT_EQ(udn::ft_send(g_nodes[6], 0U, 2U, message(6U, 2U, s), ft_test::now_tick()), udn::FtError::kOk);
+  }
+  settle();
+  EXPECT_TRUE(drain(0U, 2U).empty());
+}
+
 TEST(FtLink, UnreachableAndGiveUpAreLoggedEvents) {
   udn::FaultMap map = ft_test::grid_map();
   ASSERT_EQ(udn::fault_map_fail_tile(map, 1U), udn::RouteError::kOk);

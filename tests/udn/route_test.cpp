@@ -212,3 +212,48 @@ TEST(Route, RandomFaultMapsMatchBruteForceAndAvoidEveryFailure) {
 }
 
 }  // namespace
+
+// FDIR-TR-15: the twin of a route is a second way that shares none of its switches (but the two ends)
+// and none of its links, clear of failed tiles and links, through a tile that can forward; the
+// fewest hops of those. On an 8 x 8 grid with nothing failed every pair has one; a failed tile is
+// never the twin nor on its legs.
+TEST(RouteTwin, ASecondWayThatSharesNoSwitchAndNoLinkWithTheRoute) {
+  udn::FaultMap map{};
+  ASSERT_EQ(udn::fault_map_init(map, 8U, 8U), udn::RouteError::kOk);
+  udn::FaultMap failed = map;
+  ASSERT_EQ(udn::fault_map_fail_tile(failed, 27U), udn::RouteError::kOk);
+  failed.no_forward = std::uint64_t{1} << 19U;
+  std::uint32_t pairs = 0;
+  std::uint32_t with_twin = 0;
+  for (const udn::FaultMap* m : {&map, &failed}) {
+    for (bsp::TileId s = 0; s < 64U; ++s) {
+      for (bsp::TileId d = 0; d < 64U; ++d) {
+        if (s == d || !udn::path_clear(*m, s, d)) {
+          continue;
+        }
+        ++pairs;
+        const std::uint64_t tiles = udn::path_tiles(*m, s, d);
+        const udn::LinkSet links = udn::path_links(*m, s, d);
+        bsp::Work work{};
+        const bsp::TileId v = udn::route_twin_via(*m, s, d, tiles, links, std::uint64_t{1} << 20U, work);
+        if (v == bsp::kNoTile) {
+          EXPECT_NE(m, &map) << s << " -> " << d << ": nothing failed, a twin exists";
+          continue;
+        }
+        ++with_twin;
+        const std::uint64_t ends = (std::uint64_t{1} << s) | (std::uint64_t{1} << d);
+        const std::uint64_t way = udn::path_tiles(*m, s, v) | udn::path_tiles(*m, v, d);
+        const udn::LinkSet l1 = udn::path_links(*m, s, v);
+        const udn::LinkSet l2 = udn::path_links(*m, v, d);
+        EXPECT_EQ(way & tiles & ~ends, 0U) << s << " -> " << d << " via " << v;
+        EXPECT_EQ((l1.w[0] | l2.w[0]) & links.w[0], 0U) << s << " -> " << d << " via " << v;
+        EXPECT_EQ((l1.w[1] | l2.w[1]) & links.w[1], 0U) << s << " -> " << d << " via " << v;
+        EXPECT_TRUE(udn::path_clear(*m, s, v) && udn::path_clear(*m, v, d));
+        EXPECT_TRUE(m != &failed || v != 19U) << "no_forward";
+        EXPECT_NE(v, 20U) << "off";
+        EXPECT_EQ(way & m->failed_tiles, 0U);
+      }
+    }
+  }
+  EXPECT_GT(with_twin, pairs * 9U / 10U);
+}

@@ -961,9 +961,9 @@ TEST_F(TrnMissionBinary, ReportsThatStillHoldComeAgainAfterTheHealthTileIsReset)
 }
 
 // FDIR-TR-12: the coordinator's east link, which no neighbour vote can name, is named by the transits
-// the health tile can hear across it (those of the tiles behind it cannot come); from there spare 2's
-// switch failing looks the same, so the spare's switch is taken out, and nothing more is given up.
-TEST_F(TrnMissionBinary, TheCoordinatorsEastLinkIsNamedByTheTransitsTheHealthTileCanHear) {
+// across it; the reports of tiles 6 and 7, whose route to the health tile crosses it, come through their
+// twins (FDIR-TR-15). No spare is taken out, and nothing more is given up.
+TEST_F(TrnMissionBinary, TheCoordinatorsEastLinkIsNamedByTheTransitsAcrossIt) {
   ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 5 --faults " + fixture("coordinator_east_link.toml") +
                 " --out " + (dir_ / "c").string()),
             0);
@@ -971,14 +971,33 @@ TEST_F(TrnMissionBinary, TheCoordinatorsEastLinkIsNamedByTheTransitsTheHealthTil
   const std::string log = read_text(dir_ / "c" / "events.log");
   EXPECT_EQ(s["faults_detected"], 1) << log;
   EXPECT_EQ(s["faults_recovered"], 1) << log;
-  EXPECT_NE(log.find("link_fail east link (planned) -> detected by tile 0 (link_or_switch_failed)"), std::string::npos)
+  EXPECT_NE(log.find("link_fail east link (planned) -> detected by tile 0 (link_failed)"), std::string::npos) << log;
+  EXPECT_NE(log.find("link between tiles 1 and 2 declared failed (the 9 transit probes heard across it lost"),
+            std::string::npos)
       << log;
-  EXPECT_NE(log.find("link between tiles 1 and 2 or the switch of spare 2 failed"), std::string::npos) << log;
-  EXPECT_EQ(count_of(log, "declared failed"), 0U) << "no other switch or link is blamed";
+  EXPECT_EQ(count_of(log, "declared failed"), 1U) << "no other switch or link is blamed";
+  EXPECT_EQ(count_of(log, "link_or_switch_failed"), 0U) << "spare 2's other transits are heard: it routes";
   EXPECT_EQ(count_of(log, "supervisor_silent"), 0U) << "the supervisor's traffic east routes around";
   EXPECT_EQ(count_of(log, "packet_gave_up"), 0U) << log;
   EXPECT_EQ(s["deadline_misses"], 0);
   EXPECT_EQ(s["frames"], 4) << "no frame lost: the coordinator's units route around";
+}
+
+// FDIR-TR-15: a spare's switch whose failure cuts the route of other tiles' reports (spare 2: those of
+// tiles 6 and 7) is named all the same: their reports come through their twins. It was silent before.
+TEST_F(TrnMissionBinary, ASpareSwitchOnTheReportsRouteIsNamedFromTheirTwins) {
+  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 5 --faults " + fixture("spare_on_report_route.toml") +
+                " --out " + (dir_ / "s").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "s" / "summary.json");
+  const std::string log = read_text(dir_ / "s" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 1) << log;
+  EXPECT_NE(log.find("switch_fail (planned) -> detected by tile 0 (transit_failed)"), std::string::npos) << log;
+  EXPECT_NE(log.find("switch of tile 2 declared failed (all 10 transit probes through it lost)"), std::string::npos)
+      << log;
+  EXPECT_EQ(count_of(log, "declared failed"), 1U) << "no other switch or link is blamed";
+  EXPECT_EQ(count_of(log, "packet_gave_up"), 0U) << log;
+  EXPECT_EQ(s["frames"], 4);
 }
 
 // Every injection is counted, random ones too (it said 1 of 718 before); a failed link is voted
