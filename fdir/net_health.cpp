@@ -206,14 +206,26 @@ bool judge_link(State& s, const NetHealthConfig& cfg, bsp::TileId self, std::uin
     decided(s, self);
     return true;
   }
-  const bsp::UdnDir dir = l.b == l.a + 1U ? bsp::UdnDir::kEast : bsp::UdnDir::kSouth;
-  if (l.a != bsp::kNoTile && udn::fault_map_fail_link(s.map, l.a, dir, true) == udn::RouteError::kOk) {
-    ++s.votes.links;
-    report(EventId::kLinkFailed, l.a, l.b, l.transits, s.map.version);
-    decided(s, self);
-    return true;
+  // Every link named (a chain the transits cannot tell apart is taken out whole), one event each.
+  bool any = false;
+  for (std::uint32_t k = 0; k < 128U && l.count != 0U; ++k) {
+    if ((l.links.w[k / 64U] >> (k % 64U) & 1U) == 0U) {
+      continue;
+    }
+    const auto a = static_cast<bsp::TileId>(k / 2U);
+    const bool east = (k % 2U) == 0U;
+    const auto b = static_cast<bsp::TileId>(east ? a + 1U : a + s.map.cols);
+    if (udn::fault_map_fail_link(s.map, a, east ? bsp::UdnDir::kEast : bsp::UdnDir::kSouth, true) ==
+        udn::RouteError::kOk) {
+      ++s.votes.links;
+      report(EventId::kLinkFailed, a, b, l.transits, s.map.version);
+      any = true;
+    }
   }
-  return false;
+  if (any) {
+    decided(s, self);
+  }
+  return any;
 }
 
 /** Judges the transits once the reports are quiet: a switch or a link failed, or a silent core behind a switch that routes. */

@@ -224,6 +224,160 @@ std::uint64_t reachable(const Search& s) noexcept {
   return m & s.subjects;
 }
 
+/** The tiles at the two ends of link bit @p l (udn::LinkSet: 2t east of t, 2t + 1 south); false off the grid. */
+bool link_ends(std::uint32_t cols, std::uint32_t tiles, std::uint32_t l, std::uint32_t& a, std::uint32_t& b) noexcept {
+  a = l / 2U;
+  b = (l % 2U) == 0U ? a + 1U : a + cols;
+  return cols != 0U && b < tiles && !((l % 2U) == 0U && b % cols == 0U);
+}
+
+bool crosses(const Transit& t, std::uint32_t l) noexcept { return (t.links.w[l / 64U] >> (l % 64U) & 1U) != 0U; }
+
+/** Transits of @p p across link bit @p l. */
+std::uint64_t across_link(const TransitPlan& p, std::uint32_t l) noexcept {
+  std::uint64_t m = 0U;
+  for (std::uint32_t i = 0; i < p.count && i < kMaxTransits; ++i) {
+    m |= crosses(p.t[i], l) ? bit(i) : 0U;
+  }
+  return m;
+}
+
+/** Switches every transit of @p mask passes (all for an empty mask). */
+std::uint64_t common_switches(const TransitPlan& p, std::uint64_t mask) noexcept {
+  std::uint64_t c = ~std::uint64_t{0};
+  for (std::uint32_t i = 0; i < p.count && i < kMaxTransits; ++i) {
+    c &= has(mask, i) ? p.t[i].path : ~std::uint64_t{0};
+  }
+  return c;
+}
+
+/** What a transit added for a link must do (plan_transits, links). */
+struct LinkWant {
+  std::uint32_t link;         ///< it crosses this link...
+  std::uint32_t not_link;     ///< ...and not this one (128: no such)
+  std::uint64_t avoid_ends;   ///< tiles that must be neither its prober nor its target
+  std::uint64_t miss_one_of;  ///< switches of which it must miss one at least (0: none)
+};
+
+/** Adds the shortest transit @p w accepts (then the first in (prober, target) order); false if none or full. */
+bool add_link_transit(TransitPlan& p, Search& s, const LinkWant& w) noexcept {
+  if (p.count >= kMaxTransits) {
+    return false;
+  }
+  Transit best{};
+  int best_len = 129;
+  for (std::uint32_t a = 0; a < s.tiles; ++a) {
+    if (!has(s.probers, a) || s.load[a] >= kTransitsPerProber || has(w.avoid_ends, a)) {
+      continue;
+    }
+    for (std::uint32_t b = 0; b < s.tiles; ++b) {
+      if (a == b || !has(s.probers, b) || has(w.avoid_ends, b) || neighbours(s.map->cols, a, b) || chosen(p, a, b)) {
+        continue;
+      }
+      Transit t{};
+      // Any transit through a tile tests it: the subject is not the point here.
+      if (!acceptable(s, Want{a, false, 64U, 0U, 64U, {}}, a, b, t) || !crosses(t, w.link) ||
+          (w.not_link < 128U && crosses(t, w.not_link)) || (w.miss_one_of != 0U && (w.miss_one_of & ~t.path) == 0U)) {
+        continue;
+      }
+      const int len = std::popcount(t.path);
+      if (len < best_len) {
+        best = t;
+        best_len = len;
+      }
+    }
+  }
+  if (best.prober == bsp::kNoTile) {
+    return false;
+  }
+  p.t[p.count] = best;
+  ++p.count;
+  ++s.load[best.prober];
+  return true;
+}
+
+/**
+ * Links no neighbour vote can name (an end that does not probe) that some
+ * leg between probers crosses: the ones the transits are to name.
+ */
+udn::LinkSet links_to_name(const Search& s) noexcept {
+  udn::LinkSet m{};
+  for (std::uint32_t a = 0; a < s.tiles; ++a) {
+    for (std::uint32_t b = 0; b < s.tiles && has(s.probers, a); ++b) {
+      if (a != b && has(s.probers, b)) {
+        const udn::LinkSet l = udn::path_links(*s.map, static_cast<bsp::TileId>(a), static_cast<bsp::TileId>(b));
+        m.w[0] |= l.w[0];
+        m.w[1] |= l.w[1];
+      }
+    }
+  }
+  for (std::uint32_t l = 0; l < 128U; ++l) {
+    std::uint32_t a = 0U;
+    std::uint32_t b = 0U;
+    if (!link_ends(s.map->cols, s.tiles, l, a, b) || (has(s.probers, a) && has(s.probers, b))) {
+      m.w[l / 64U] &= ~(std::uint64_t{1} << (l % 64U));
+    }
+  }
+  return m;
+}
+
+/**
+ * Plans transits for the links to name: each crossed by two with no end in
+ * common and no third switch on all of them, and no two such links lost by
+ * the same transits. Adds at most one transit per need and pass, within the
+ * probers' loads. @return the links told apart so.
+ */
+udn::LinkSet plan_links(TransitPlan& p, Search& s) noexcept {
+  const udn::LinkSet want = links_to_name(s);
+  constexpr std::uint32_t kPasses = 3U;
+  for (std::uint32_t pass = 0; pass < kPasses; ++pass) {
+    bool added = false;
+    for (std::uint32_t l = 0; l < 128U; ++l) {
+      std::uint32_t a = 0U;
+      std::uint32_t b = 0U;
+      if ((want.w[l / 64U] >> (l % 64U) & 1U) == 0U || !link_ends(s.map->cols, s.tiles, l, a, b)) {
+        continue;
+      }
+      const std::uint64_t m = across_link(p, l);
+      const std::uint64_t third = common_switches(p, m) & ~bit(a) & ~bit(b);
+      if (std::popcount(m) < static_cast<int>(kTransitsPerSpare) || !independent(p, m) || (m != 0U && third != 0U)) {
+        const LinkWant w{l, 128U, independent(p, m) ? 0U : first_ends(p, m), m == 0U ? 0U : third};
+        added = add_link_transit(p, s, w) || added;
+        continue;
+      }
+      for (std::uint32_t o = 0; o < 128U; ++o) {
+        std::uint32_t oa = 0U;
+        std::uint32_t ob = 0U;
+        if (o != l && link_ends(s.map->cols, s.tiles, o, oa, ob) && across_link(p, o) == m) {
+          added = add_link_transit(p, s, LinkWant{l, o, 0U, 0U}) || add_link_transit(p, s, LinkWant{o, l, 0U, 0U}) ||
+                  added;
+        }
+      }
+    }
+    if (!added) {
+      break;
+    }
+  }
+  udn::LinkSet named{};
+  for (std::uint32_t l = 0; l < 128U; ++l) {
+    std::uint32_t a = 0U;
+    std::uint32_t b = 0U;
+    if ((want.w[l / 64U] >> (l % 64U) & 1U) == 0U || !link_ends(s.map->cols, s.tiles, l, a, b)) {
+      continue;
+    }
+    const std::uint64_t m = across_link(p, l);
+    bool ok = std::popcount(m) >= static_cast<int>(kTransitsPerSpare) && independent(p, m) &&
+              (common_switches(p, m) & ~bit(a) & ~bit(b)) == 0U;
+    for (std::uint32_t o = 0; o < 128U && ok; ++o) {
+      std::uint32_t oa = 0U;
+      std::uint32_t ob = 0U;
+      ok = o == l || !link_ends(s.map->cols, s.tiles, o, oa, ob) || across_link(p, o) != m;
+    }
+    named.w[l / 64U] |= ok ? std::uint64_t{1} << (l % 64U) : 0U;
+  }
+  return named;
+}
+
 }  // namespace
 
 TransitError plan_transits(const udn::FaultMap& map, std::uint64_t probers, std::uint64_t subjects,
@@ -278,6 +432,7 @@ TransitError plan_transits(const udn::FaultMap& map, std::uint64_t probers, std:
     out.tested |= ok ? bit(x) : 0U;
   }
   out.untested = want & ~out.tested;
+  out.links_named = plan_links(out, s);
   return TransitError::kOk;
 }
 
@@ -411,6 +566,7 @@ LinkVerdict transit_link_verdict(const TransitPlan& plan, std::uint32_t cols, st
   }
   const std::uint64_t lost_counted = lost & counts;
   LinkVerdict found{};
+  std::uint64_t found_across = 0U;
   for (std::uint32_t l = 0; l < kLinkBits && lost_counted != 0U; ++l) {
     const std::uint32_t a = l / 2U;
     const std::uint32_t b = (l % 2U) == 0U ? a + 1U : a + cols;
@@ -426,27 +582,39 @@ LinkVerdict transit_link_verdict(const TransitPlan& plan, std::uint32_t cols, st
       cut |= (ways.route[i].w[w] & word) != 0U && (ways.twin[i].w[w] & word) != 0U ? bit(i) : 0U;
     }
     std::uint64_t on_all = ~std::uint64_t{0};  // switches every lost transit passes
+    std::uint64_t routes = 0U;                 // switches on heard transits that answer: they route
     for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
       on_all &= has(lost_counted, i) ? plan.t[i].path : ~std::uint64_t{0};
+      routes |= has(counts, i) && !has(lost, i) && !has(cut, i) ? plan.t[i].path : 0U;
     }
     // It explains every lost transit that counts, and every one across it that can be heard is lost
     // (so every other transit heard through its two switches answers: they route); the lost ones
-    // can vote (two with no end in common), and no third switch is on all of them (its failure
-    // would lose the same ones).
+    // can vote (two with no end in common), and no third switch is on all of them unless a heard
+    // transit through it answers (else its failure would lose the same ones).
     if ((lost_counted & ~across) != 0U || (across & ~cut & ~lost_counted) != 0U ||
         std::popcount(lost_counted) < static_cast<int>(kTransitsPerSpare) || !independent(plan, lost_counted) ||
-        (on_all & ~bit(a) & ~bit(b)) != 0U) {
+        (on_all & ~bit(a) & ~bit(b) & ~routes) != 0U) {
       continue;
     }
-    if (found.a != bsp::kNoTile) {
-      return LinkVerdict{};  // two links lose the same transits: neither is told apart
+    if (found.count != 0U && across != found_across) {
+      return LinkVerdict{};  // two links explain the losses differently: neither is told apart
     }
-    std::uint64_t elsewhere = 0U;  // switches on heard transits that do not cross the link
-    for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
-      elsewhere |= has(counts, i) && !has(across, i) && !has(cut, i) ? plan.t[i].path : 0U;
+    found.links.w[w] |= word;
+    ++found.count;
+    if (found.count == 1U) {
+      // An end whose switch nothing heard crosses but over the link: its failure would look the same.
+      found_across = across;
+      found.a = static_cast<bsp::TileId>(a);
+      found.b = static_cast<bsp::TileId>(b);
+      found.transits = static_cast<std::uint32_t>(std::popcount(lost_counted));
+      std::uint64_t elsewhere = 0U;  // switches on heard transits that do not cross the link
+      for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
+        elsewhere |= has(counts, i) && !has(across, i) && !has(cut, i) ? plan.t[i].path : 0U;
+      }
+      found.unsure = (bit(a) | bit(b)) & ~elsewhere;
+    } else {
+      found.unsure = 0U;  // a chain: taken out whole
     }
-    found = LinkVerdict{static_cast<bsp::TileId>(a), static_cast<bsp::TileId>(b),
-                        static_cast<std::uint32_t>(std::popcount(lost_counted)), (bit(a) | bit(b)) & ~elsewhere};
   }
   return found;
 }

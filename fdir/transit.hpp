@@ -51,6 +51,13 @@ struct TransitPlan {
   std::array<Transit, kMaxTransits> t{};
   std::uint64_t tested = 0U;      ///< subjects that meet the plan's rule (two independent transits, told apart)
   std::uint64_t untested = 0U;    ///< subjects on some leg between probers the plan could not test so: never failed by transits
+  /**
+   * Links no neighbour vote can name (an end that does not probe) on some leg
+   * between probers that the plan's transits can name (transit_link_verdict):
+   * two across each with no end in common, no third switch on all of them, and
+   * no other link lost with the same transits.
+   */
+  udn::LinkSet links_named{};
 };
 
 enum class TransitError : std::uint8_t { kOk, kBadArgs };
@@ -110,6 +117,14 @@ struct LinkVerdict {
    * link: that switch failing would look the same from here.
    */
   std::uint64_t unsure = 0U;
+  /**
+   * Every link named: more than one when the links are a chain that every
+   * transit crosses whole (through a spare that answers for itself on other
+   * transits), so no transit tells which of them failed; all are taken out.
+   * a and b are the first of them.
+   */
+  udn::LinkSet links{};
+  std::uint32_t count = 0U;  ///< links named
 };
 
 /**
@@ -137,12 +152,15 @@ void report_ways(const TransitPlan& plan, const udn::FaultMap& map, bsp::TileId 
  * in @p known_failed, not in @p mute) and are lost must all be across the
  * link, and every one across it that can be heard must be lost: at least
  * kTransitsPerSpare, two with no end in common (one faulty prober or target
- * cannot lose them all), and no third switch on all of them (its failure
- * would lose the same ones). So every other transit heard through the link's
- * two switches answers: they route. Two links that lose the same transits
- * name neither. The verdict on switches (transit_verdict) goes first. Where
- * nothing heard crosses an end's switch but over the link, that switch
- * failing would look the same from here: the end is marked unsure.
+ * cannot lose them all), and no third switch on all of them, unless a heard
+ * transit through it answers (its failure would lose the same ones). So
+ * every other transit heard through the link's two switches answers: they
+ * route. Links lost by the very same transits (a chain through spares that
+ * every straight leg crosses whole) are named together; two links that
+ * explain the losses differently name neither. The verdict on switches
+ * (transit_verdict) goes first. Where nothing heard crosses an end's switch
+ * but over a single named link, that switch failing would look the same from
+ * here: the end is marked unsure.
  */
 LinkVerdict transit_link_verdict(const TransitPlan& plan, std::uint32_t cols, std::uint32_t rows,
                                  const ReportWays& ways, std::uint64_t lost, std::uint64_t known_failed,
