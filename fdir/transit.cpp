@@ -553,6 +553,47 @@ void report_ways(const TransitPlan& plan, const udn::FaultMap& map, bsp::TileId 
   }
 }
 
+namespace {
+
+/** What the transits say of one link: the ones across it that count, those whose reports it cuts, and whether it fits. */
+struct LinkLoss {
+  std::uint64_t across = 0U;  ///< transits across it that count
+  std::uint64_t cut = 0U;     ///< transits whose reports both cross it: they never come
+  bool fits = false;
+};
+
+/**
+ * Link bit @p l, between tiles @p a and @p b: does its failure explain the
+ * lost transits @p lost (those that count: @p counts)? See transit_link_verdict.
+ */
+LinkLoss link_loss(const TransitPlan& plan, const ReportWays& ways, std::uint32_t l, std::uint32_t a,
+                   std::uint32_t b, std::uint64_t counts, std::uint64_t lost) noexcept {
+  LinkLoss r{};
+  const std::uint32_t w = l / 64U;
+  const std::uint64_t word = std::uint64_t{1} << (l % 64U);
+  const std::uint64_t lost_counted = lost & counts;
+  std::uint64_t on_all = ~std::uint64_t{0};  // switches every lost transit passes
+  for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
+    r.across |= has(counts, i) && (plan.t[i].links.w[w] & word) != 0U ? bit(i) : 0U;
+    r.cut |= (ways.route[i].w[w] & word) != 0U && (ways.twin[i].w[w] & word) != 0U ? bit(i) : 0U;
+    on_all &= has(lost_counted, i) ? plan.t[i].path : ~std::uint64_t{0};
+  }
+  std::uint64_t routes = 0U;  // switches on heard transits that answer: they route
+  for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
+    routes |= has(counts, i) && !has(lost, i) && !has(r.cut, i) ? plan.t[i].path : 0U;
+  }
+  // It explains every lost transit that counts, and every one across it that can be heard is lost
+  // (so every other transit heard through its two switches answers: they route); the lost ones
+  // can vote (two with no end in common), and no third switch is on all of them unless a heard
+  // transit through it answers (else its failure would lose the same ones).
+  r.fits = (lost_counted & ~r.across) == 0U && (r.across & ~r.cut & ~lost_counted) == 0U &&
+           std::popcount(lost_counted) >= static_cast<int>(kTransitsPerSpare) && independent(plan, lost_counted) &&
+           (on_all & ~bit(a) & ~bit(b) & ~routes) == 0U;
+  return r;
+}
+
+}  // namespace
+
 LinkVerdict transit_link_verdict(const TransitPlan& plan, std::uint32_t cols, std::uint32_t rows,
                                  const ReportWays& ways, std::uint64_t lost, std::uint64_t known_failed,
                                  std::uint64_t mute) noexcept {
@@ -564,57 +605,37 @@ LinkVerdict transit_link_verdict(const TransitPlan& plan, std::uint32_t cols, st
   for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
     counts |= (plan.t[i].path & known_failed) == 0U && !has(mute, i) ? bit(i) : 0U;
   }
-  const std::uint64_t lost_counted = lost & counts;
   LinkVerdict found{};
   std::uint64_t found_across = 0U;
-  for (std::uint32_t l = 0; l < kLinkBits && lost_counted != 0U; ++l) {
-    const std::uint32_t a = l / 2U;
-    const std::uint32_t b = (l % 2U) == 0U ? a + 1U : a + cols;
-    if (b >= cols * rows || ((l % 2U) == 0U && b % cols == 0U)) {
+  for (std::uint32_t l = 0; l < kLinkBits && (lost & counts) != 0U; ++l) {
+    std::uint32_t a = 0U;
+    std::uint32_t b = 0U;
+    if (!link_ends(cols, cols * rows, l, a, b)) {
       continue;  // off the grid's east or south edge
     }
-    const std::uint32_t w = l / 64U;
-    const std::uint64_t word = std::uint64_t{1} << (l % 64U);
-    std::uint64_t across = 0U;  // transits across it that count
-    std::uint64_t cut = 0U;     // transits whose reports both cross it: they never come
-    for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
-      across |= has(counts, i) && (plan.t[i].links.w[w] & word) != 0U ? bit(i) : 0U;
-      cut |= (ways.route[i].w[w] & word) != 0U && (ways.twin[i].w[w] & word) != 0U ? bit(i) : 0U;
-    }
-    std::uint64_t on_all = ~std::uint64_t{0};  // switches every lost transit passes
-    std::uint64_t routes = 0U;                 // switches on heard transits that answer: they route
-    for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
-      on_all &= has(lost_counted, i) ? plan.t[i].path : ~std::uint64_t{0};
-      routes |= has(counts, i) && !has(lost, i) && !has(cut, i) ? plan.t[i].path : 0U;
-    }
-    // It explains every lost transit that counts, and every one across it that can be heard is lost
-    // (so every other transit heard through its two switches answers: they route); the lost ones
-    // can vote (two with no end in common), and no third switch is on all of them unless a heard
-    // transit through it answers (else its failure would lose the same ones).
-    if ((lost_counted & ~across) != 0U || (across & ~cut & ~lost_counted) != 0U ||
-        std::popcount(lost_counted) < static_cast<int>(kTransitsPerSpare) || !independent(plan, lost_counted) ||
-        (on_all & ~bit(a) & ~bit(b) & ~routes) != 0U) {
+    const LinkLoss r = link_loss(plan, ways, l, a, b, counts, lost);
+    if (!r.fits) {
       continue;
     }
-    if (found.count != 0U && across != found_across) {
+    if (found.count != 0U && r.across != found_across) {
       return LinkVerdict{};  // two links explain the losses differently: neither is told apart
     }
-    found.links.w[w] |= word;
+    found.links.w[l / 64U] |= std::uint64_t{1} << (l % 64U);
     ++found.count;
-    if (found.count == 1U) {
-      // An end whose switch nothing heard crosses but over the link: its failure would look the same.
-      found_across = across;
-      found.a = static_cast<bsp::TileId>(a);
-      found.b = static_cast<bsp::TileId>(b);
-      found.transits = static_cast<std::uint32_t>(std::popcount(lost_counted));
-      std::uint64_t elsewhere = 0U;  // switches on heard transits that do not cross the link
-      for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
-        elsewhere |= has(counts, i) && !has(across, i) && !has(cut, i) ? plan.t[i].path : 0U;
-      }
-      found.unsure = (bit(a) | bit(b)) & ~elsewhere;
-    } else {
+    if (found.count > 1U) {
       found.unsure = 0U;  // a chain: taken out whole
+      continue;
     }
+    found_across = r.across;
+    found.a = static_cast<bsp::TileId>(a);
+    found.b = static_cast<bsp::TileId>(b);
+    found.transits = static_cast<std::uint32_t>(std::popcount(lost & counts));
+    // An end whose switch nothing heard crosses but over the link: its failure would look the same.
+    std::uint64_t elsewhere = 0U;
+    for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
+      elsewhere |= has(counts, i) && !has(r.across, i) && !has(r.cut, i) ? plan.t[i].path : 0U;
+    }
+    found.unsure = (bit(a) | bit(b)) & ~elsewhere;
   }
   return found;
 }
