@@ -7,6 +7,7 @@
 #include "bsp_tile64/memory.hpp"
 #include "bsp_tile64/power.hpp"
 #include "bsp_tile64/udn_driver.hpp"
+#include "fdir/assert.hpp"
 #include "fdir/event_log.hpp"
 #include "fdir/health_table.hpp"
 #include "fdir/net_health.hpp"
@@ -766,16 +767,18 @@ void health_agent_main(void* arg) noexcept {
   Watch watch{};
   watch.last_alive = k::now_ticks();
   pattern_init(self);
+  recovery_clear(self);  // a request from before this boot was the one the restart answered
   for (;;) {
     const Overdue o = find_overdue(self, k::now_ticks());
-    if (o.task == k::kNoTask) {
+    // A failed flight check asked for the tile's recovery: no more kicks, the watchdog restarts it.
+    if (o.task == k::kNoTask && recovery_requested(self) == 0U) {
       bsp::watchdog_kick();
       overdue_written = false;
       // The remote kick: the watcher hears it only while the supervisor's tasks are within budget.
       if (sends_alive && udn::endpoint_ready()) {
         (void)udn::endpoint_send(cfg->watcher, udn::kFtChanHealth, alive, 0U);  // a lost one is a late one
       }
-    } else if (!overdue_written) {
+    } else if (o.task != k::kNoTask && !overdue_written) {
       report(EventId::kTaskOverdue, o.task, self, o.late, o.budget);
       overdue_written = true;
     }
