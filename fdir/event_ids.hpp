@@ -87,6 +87,7 @@ enum class EventId : std::uint16_t {
   kCheckpointBad = 0x0602,     ///< a checkpoint slot failed its checks and is not used; subject: slot, a: bad slots
   kImuGap = 0x0603,            ///< IMU samples neither received nor still recorded; subject: first missing, a: samples
   kCommandTaken = 0x0604,      ///< a telecommand reached the filter; subject: code, cause: its sequence number, a: job
+  kFilterStateBad = 0x0605,    ///< the simplex filter's state after a job failed its plausibility check (trn/filter/state_check.hpp) and was not delivered; subject: job, cause: the check (1 not finite, 2 attitude norm, 3 speed, 4 range, 5 IMU bias, 6-9 position, velocity, attitude, bias step), a: value, b: limit (thousandths of the check's unit, the attitude norm's distance from 1 in millionths; saturated); kFilterResumed follows when it went back to a checkpoint
   // ---- TMR of the filter (trn/tasks/filter_task, fdir/tmr)
   kTmrStarting = 0x0701,       ///< replicas seeded with the filter's state; subject: job, cause: epoch
   kTmrEstablished = 0x0702,    ///< three replicas agree with the filter: the voter delivers; subject: job, cause: epoch, a: jobs it took
@@ -125,7 +126,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 72> kEventTable{{
+inline constexpr std::array<EventInfo, 73> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -176,6 +177,7 @@ inline constexpr std::array<EventInfo, 72> kEventTable{{
     {EventId::kCheckpointBad, "checkpoint_bad", Severity::kWarningHi, kStepDetect},
     {EventId::kImuGap, "imu_gap", Severity::kWarningHi, kStepDetect},
     {EventId::kCommandTaken, "command_taken", Severity::kInfo, kStepNone},
+    {EventId::kFilterStateBad, "filter_state_bad", Severity::kWarningHi, kStepDetect | kStepIsolate},
     {EventId::kTmrStarting, "tmr_starting", Severity::kInfo, kStepNone},
     {EventId::kTmrEstablished, "tmr_established", Severity::kInfo, kStepNone},
     {EventId::kTmrSimplex, "tmr_simplex", Severity::kInfo, kStepNone},

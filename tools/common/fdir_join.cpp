@@ -8,6 +8,7 @@
 #include "tools/common/fault_plan.hpp"
 #include "fdir/supervisor.hpp"
 #include "fdir/tile_health.hpp"
+#include "trn/filter/state_check.hpp"
 #include "trn/match.hpp"
 #include "trn/tasks/messages.hpp"
 #include "trn/tasks/sdc_points.hpp"
@@ -96,6 +97,18 @@ constexpr double kAbftSameJobS = 0.010;
 constexpr double kCorrelationSameLandmarkS = 0.020;
 /** ... and a band of the coarse stage, reported by the tile that computed it once the band is done (the coordinator's stage takes 40-100 ms). */
 constexpr double kCorrelationCoarseStageS = 0.300;
+
+/**
+ * Whether @p e is the simplex filter's plausibility check refusing its state
+ * after fault @p r on its tile: for a corrupted update (sdc), in the job it
+ * hit; for an upset (seu), at any later job.
+ */
+bool filter_state_check_of(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
+  if (e.id != EventId::kFilterStateBad || e.tile != r.spec.tile || e.cycle < r.applied_cycle) {
+    return false;
+  }
+  return r.spec.kind == bsp::FaultKind::kSeu || seconds(e.cycle - r.applied_cycle, clock_hz) <= kAbftSameJobS;
+}
 
 /** Whether @p e is a checked correlation's event about the sdc @p r (same tile, a correlation point, soon after). */
 bool correlation_check_of(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
@@ -195,7 +208,7 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
       if (r.crashed) {
         return detects_core(t, e);  // it landed in control data: the tile crashed
       }
-      return detects_wrong_data(t, e);
+      return detects_wrong_data(t, e) || filter_state_check_of(r, e, clock_hz);
     case bsp::FaultKind::kSdc:
       // A corrupted product is also found by the tile itself, by its checksums, in the same job: a
       // check of a later product is about that product (a flip below the round-off is never seen).
@@ -203,6 +216,7 @@ bool detects(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
       // corrupted correlation by its tile's checks while the landmark is matched.
       // Two replicas' outputs corrupted in one job leave no majority: the vote names the different ones.
       return detects_wrong_data(t, e) || (e.id == EventId::kResultsSuspect && e.subject == t) ||
+             filter_state_check_of(r, e, clock_hz) ||
              correlation_check_of(r, e, clock_hz) || coarse_band_check_of(r, e, clock_hz) || no_majority_of(r, e, clock_hz) ||
              ((e.id == EventId::kAbftCorrected || e.id == EventId::kAbftFailed) && e.tile == t &&
               seconds(e.cycle - r.applied_cycle, clock_hz) <= kAbftSameJobS);
@@ -287,6 +301,10 @@ bool recovers(const fdir::Event& d, const fdir::Event& e, bsp::TileId t, double 
         return false;
       }
       return e.id == EventId::kTmrStarting || e.id == EventId::kTmrSimplex;
+    case EventId::kFilterStateBad:
+      // Back to its last checkpoint: in the job that refused the state, or after the tile's restart
+      // when the state was refused again (join_faults() skips a resume refused again).
+      return e.id == EventId::kFilterResumed && e.tile == d.tile && e.cycle >= d.cycle;
     case EventId::kTaskOverdue:
       return (e.id == EventId::kTileRecovered && e.subject == d.tile) ||
              (e.id == EventId::kRoleRestored && e.cause == d.tile);
@@ -310,6 +328,22 @@ const char* tile_health_name(TileHealth h) noexcept {
 }
 
 namespace {
+
+/** A refused filter state: which check, what it measured against its limit (fields in thousandths). */
+void describe_filter_state_bad(const fdir::Event& e, const char* s, std::span<char> b) noexcept {
+  static constexpr std::array<const char*, 10> kUnit{"", "", "", "m/s", "m", "", "m", "m/s", "rad", ""};
+  const auto check = static_cast<trn::filter::StateCheck>(e.cause);
+  const char* unit = e.cause < kUnit.size() ? kUnit[e.cause] : "";
+  if (check == trn::filter::StateCheck::kNotFinite) {
+    (void)std::snprintf(b.data(), b.size(), "the filter's state after job %s is not finite: not delivered", s);
+    return;
+  }
+  const double per = check == trn::filter::StateCheck::kAttitudeNorm ? 1e6 : 1e3;
+  const char* sep = unit[0] != '\0' ? " " : "";
+  (void)std::snprintf(b.data(), b.size(), "the filter's state after job %s fails its %s check (%.*f%s%s, limit "
+                      "%.*f%s%s): not delivered", s, trn::filter::state_check_name(check), per > 1e3 ? 6 : 3,
+                      e.a / per, sep, unit, per > 1e3 ? 6 : 3, e.b / per, sep, unit);
+}
 
 /** The text of the filter's TMR events (after the name), into @p b; false for another event. */
 bool describe_tmr_event(const fdir::Event& e, const char* s, std::span<char> b) noexcept {
@@ -612,6 +646,9 @@ void describe_health_event(const fdir::Event& e, const char* s, std::span<char> 
       (void)std::snprintf(b.data(), b.size(), "filter resumed from checkpoint %s (IMU sample %u), %u samples to "
                           "replay from the I/O record", s, e.b, e.a);
       break;
+    case EventId::kFilterStateBad:
+      describe_filter_state_bad(e, s, b);
+      break;
     case EventId::kCheckpointBad:
       (void)std::snprintf(b.data(), b.size(), "filter checkpoint slot %s failed its checks: not used (%u bad)", s, e.a);
       break;
@@ -829,6 +866,37 @@ void FlightEventCollector::poll(double clock_hz, EventLog& log) noexcept {
   }
 }
 
+namespace {
+
+/** A filter refusing its state again this soon after going back to a checkpoint has not recovered. */
+constexpr double kFilterCleanAfterResumeS = 1.0;
+
+/**
+ * Whether filter_resumed @p events[k], the recovery of filter_state_bad @p d,
+ * was followed by another refusal on its tile within kFilterCleanAfterResumeS
+ * (what was wrong was not in the checkpoint: the recovery is a later resume,
+ * after the tile's restart). False for any other detection.
+ */
+bool refused_again(const fdir::Event& d, std::span<const fdir::Event> events, const std::vector<std::size_t>& order,
+                   std::size_t k, double clock_hz) {
+  if (d.id != EventId::kFilterStateBad) {
+    return false;
+  }
+  const fdir::Event& resumed = events[k];
+  for (const std::size_t j : order) {
+    const fdir::Event& e = events[j];
+    if (e.cycle <= resumed.cycle || e.tile != resumed.tile || e.id != EventId::kFilterStateBad) {
+      continue;
+    }
+    if (seconds(e.cycle - resumed.cycle, clock_hz) <= kFilterCleanAfterResumeS) {
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
 FaultAccount join_faults(std::span<const bsp::FaultRecord> records, std::span<const fdir::Event> events,
                          double clock_hz) {
   FaultAccount acc;
@@ -903,7 +971,7 @@ FaultAccount join_faults(std::span<const bsp::FaultRecord> records, std::span<co
       if (seconds(events[k].cycle, clock_hz) - o.detected_s > kRecoverWindowS) {
         break;
       }
-      if (recovers(d, events[k], r.spec.tile, clock_hz)) {
+      if (recovers(d, events[k], r.spec.tile, clock_hz) && !refused_again(d, events, order, k, clock_hz)) {
         // A map publication or a complete frame closes every fault it covers: not claimed.
         if (events[k].id == EventId::kPacketResent) {
           claims_left[k] = 0U;

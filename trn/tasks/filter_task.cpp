@@ -5,6 +5,7 @@
 #include "trn/tasks/filter_task.hpp"
 
 #include "bsp_tile64/memory.hpp"
+#include "fdir/assert.hpp"
 #include "fdir/event_log.hpp"
 #include "kernel/kernel.hpp"
 #include "fdir/tmr.hpp"
@@ -103,6 +104,8 @@ struct Slot {
   bool rejoin;               ///< restarted while voting: writes the records of its outage first
   std::uint32_t rebuild_from;  ///< the first of them
   std::uint32_t lenient_until; ///< until this job a vote waits for every voting replica's output
+  std::uint32_t rolled_back_to;  ///< the checkpoint the last plausibility failure went back to (0: none)
+  bool recovery_asked;           ///< refused again after going back: the tile asked to be restarted
 };
 
 std::array<Slot, bsp::kMaxTiles> g_slots{};
@@ -362,9 +365,60 @@ void deliver(Slot& slot, std::uint32_t job, std::span<const std::uint32_t, kNavW
   }
 }
 
-/** The front's own solution of record @p rec, as words (and kept while starting, to compare). */
-void run_own(Slot& slot, const JobRecord& rec) noexcept {
+bool resume_from_checkpoint(Slot& slot, std::uint32_t not_seq) noexcept;
+
+/** @p v in units of 1 / @p per, rounded and saturated, for an event field. */
+std::uint32_t scaled(double v, double per) noexcept {
+  const double m = v * per + 0.5;
+  return m >= 4294967295.0 ? 0xFFFF'FFFFU : m > 0.0 ? static_cast<std::uint32_t>(m) : 0U;
+}
+
+/**
+ * Simplex: runs record @p rec and checks the state after it against the one
+ * before. False when it failed: nothing is delivered, and the task goes back
+ * to its last checkpoint (once per checkpoint: a checkpoint that fails again
+ * is not gone back to twice).
+ */
+bool run_checked(Slot& slot, const JobRecord& rec) noexcept {
+  bsp::Work work{};
+  const filter::StateBefore before = filter::state_before(slot.core.ekf->state(), work);
   core_run(slot.core, rec);
+  const filter::StateCheckResult r = filter::check_state(before, slot.core.ekf->state(), slot.cfg->envelope, work);
+  bsp::consume(work);
+  if (r.what == filter::StateCheck::kOk) {
+    return true;
+  }
+  ++slot.stats.states_rejected;
+  // Thousandths of the check's unit; the attitude norm's distance from 1 in millionths.
+  const double per = r.what == filter::StateCheck::kAttitudeNorm ? 1e6 : 1e3;
+  fdir::report(fdir::EventId::kFilterStateBad, record_job(rec), static_cast<std::uint32_t>(r.what),
+               scaled(r.value, per), scaled(r.limit, per));
+  if (resume_from_checkpoint(slot, slot.rolled_back_to)) {
+    slot.rolled_back_to = slot.ckpt_seq;
+    ++slot.stats.rollbacks;
+  } else if (!slot.recovery_asked) {
+    // Refused again from the checkpoint it went back to (or none to go to): what is wrong is not in
+    // the state a checkpoint holds (the filter's settings in its RAM, say). The tile asks to be
+    // restarted: its health agent stops the watchdog's kicks, and the restarted task resumes from
+    // its last good checkpoint with everything else built afresh.
+    slot.recovery_asked = true;
+    fdir::assert_failed(kAssertFilterStateRefused, __LINE__);
+  }
+  return false;
+}
+
+/**
+ * The front's own solution of record @p rec, as words (and kept while starting, to compare).
+ * @return false when its state was refused (simplex): nothing delivered.
+ */
+bool run_own(Slot& slot, const JobRecord& rec) noexcept {
+  if (slot.mode == Mode::kSimplex) {
+    if (!run_checked(slot, rec)) {
+      return false;
+    }
+  } else {
+    core_run(slot.core, rec);
+  }
   std::array<std::uint32_t, kNavWords> w{};
   pack_nav(core_output(slot.core), w);
   if (slot.mode == Mode::kStarting) {
@@ -379,6 +433,7 @@ void run_own(Slot& slot, const JobRecord& rec) noexcept {
     bsp::consume(work);
   }
   deliver(slot, record_job(rec), w);
+  return true;
 }
 
 /** Every checkpoint_every jobs (not while catching up): the whole state to DDR. */
@@ -425,32 +480,47 @@ bool rejoin(Slot& slot, std::uint32_t job) noexcept;
   }
   slot.ckpt = cfg.checkpoint_every != 0U ? checkpoint_area() : nullptr;
   slot.ring = cfg.checkpoint_every != 0U ? imu_ring() : nullptr;
-  if (slot.ckpt != nullptr) {
-    // A checkpoint left by an earlier start (a reset, or the tile this role moved from). Its state
-    // stays in the reader's scratch, restored before any call that may switch tiles.
-    bsp::Work work{};
-    const CheckpointRead r = checkpoint_read(*slot.ckpt, work);
-    const bool restored = r.found && slot.core.ekf->restore(*r.state) == filter::FilterStatus::kOk;
-    bsp::consume(work);
-    if (r.bad != 0U) {
-      fdir::report(fdir::EventId::kCheckpointBad, r.bad_slot, 0U, r.bad);
-    }
-    if (restored) {
-      slot.core.have_imu = true;
-      slot.core.last_imu = r.imu_seq;
-      slot.have_imu = true;
-      slot.last_imu = r.imu_seq;
-      slot.catching_up = true;
-      slot.ckpt_seq = r.seq;
-      slot.ckpt_slot = r.slot;
-      slot.stats.resumed_from = r.seq;
-      const std::uint32_t recorded = slot.ring != nullptr ? slot.ring->written : 0U;
-      fdir::report(fdir::EventId::kFilterResumed, r.seq, 0U, recorded > r.imu_seq + 1U ? recorded - r.imu_seq - 1U : 0U,
-                   r.imu_seq);
-      return true;
-    }
+  // A checkpoint left by an earlier start (a reset, or the tile this role moved from).
+  if (resume_from_checkpoint(slot, 0U)) {
+    slot.stats.resumed_from = slot.ckpt_seq;
+    return true;
   }
   return slot.core.ekf->init(cfg.initial) == filter::FilterStatus::kOk;
+}
+
+/**
+ * The newest good checkpoint into the filter, the IMU samples since it to be
+ * replayed from the I/O tile's record (kFilterResumed). Its state stays in the
+ * reader's scratch, restored before any call that may switch tiles.
+ * @return false when there is none, or it is checkpoint @p not_seq (nothing changed; 0: any will do).
+ */
+bool resume_from_checkpoint(Slot& slot, std::uint32_t not_seq) noexcept {
+  if (slot.ckpt == nullptr) {
+    return false;
+  }
+  bsp::Work work{};
+  const CheckpointRead r = checkpoint_read(*slot.ckpt, work);
+  const bool restored = r.found && (not_seq == 0U || r.seq != not_seq) &&
+                        slot.core.ekf->restore(*r.state) == filter::FilterStatus::kOk;
+  bsp::consume(work);
+  if (r.bad != 0U) {
+    fdir::report(fdir::EventId::kCheckpointBad, r.bad_slot, 0U, r.bad);
+  }
+  if (!restored) {
+    return false;
+  }
+  slot.core.have_imu = true;
+  slot.core.last_imu = r.imu_seq;
+  slot.have_imu = true;
+  slot.last_imu = r.imu_seq;
+  slot.catching_up = true;
+  slot.ckpt_seq = r.seq;
+  slot.ckpt_slot = r.slot;
+  slot.since_ckpt = 0U;
+  const std::uint32_t recorded = slot.ring != nullptr ? slot.ring->written : 0U;
+  fdir::report(fdir::EventId::kFilterResumed, r.seq, 0U, recorded > r.imu_seq + 1U ? recorded - r.imu_seq - 1U : 0U,
+               r.imu_seq);
+  return true;
 }
 
 // ------------------------------------------------------------------ the front: TMR
@@ -935,8 +1005,9 @@ void filter_task_main(void* arg) noexcept {
     consume_imu(slot);
     consume_parts(slot);
     if (slot.mode == Mode::kSimplex) {
-      run_own(slot, slot.record);
-      checkpoint(slot);
+      if (run_own(slot, slot.record)) {
+        checkpoint(slot);  // only a state that passed its check is kept
+      }
       if (slot.command == kCmdFilterTmr || (slot.resume_tmr && !slot.catching_up)) {
         slot.resume_tmr = false;
         start_tmr(slot);

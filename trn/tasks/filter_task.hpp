@@ -27,6 +27,15 @@
  * ones; a live sample already replayed is skipped, and a gap in the live
  * stream is filled from the record too. Samples the record no longer holds
  * are reported (kImuGap).
+ *
+ * Plausibility (trn/filter/state_check.hpp): running alone (simplex), the
+ * task checks the state after every job against the one before it and the
+ * vehicle's envelope. A state that fails is not delivered
+ * (kFilterStateBad); the task goes back to its last checkpoint and replays
+ * the IMU samples since from the record, as after a restart (kFilterResumed).
+ * Refused again from that checkpoint (what is wrong is outside the state a
+ * checkpoint holds), it asks for its tile's restart (kAssertFilterStateRefused:
+ * the health agent stops kicking the watchdog). In TMR the vote does this work.
  */
 #pragma once
 
@@ -36,6 +45,7 @@
 #include "trn/filter/filter_config.hpp"
 #include "trn/filter/nav_output.hpp"
 #include "trn/filter/nav_state.hpp"
+#include "trn/filter/state_check.hpp"
 #include "trn/match.hpp"
 
 #include <array>
@@ -57,6 +67,8 @@ inline constexpr std::uint32_t kDefaultMatchesPerJob = 15;
 inline constexpr std::uint32_t kMaxReplayPerJob = 20;
 /** Jobs between two marks of the delivered stream's CRC (FilterTaskStats::mark_crc). */
 inline constexpr std::uint32_t kOutputMarkJobs = 100;
+/** Assertion id (fdir::assert_failed) of a state refused again after going back to a checkpoint: the tile asks to be restarted. */
+inline constexpr std::uint32_t kAssertFilterStateRefused = 0x0605;
 /** Jobs between two checkpoints by default (100 ms). */
 inline constexpr std::uint32_t kDefaultCheckpointEvery = 10;
 
@@ -71,6 +83,8 @@ struct FilterTaskConfig {
   std::array<bsp::TileId, 3> replica_tiles{bsp::kNoTile, bsp::kNoTile, bsp::kNoTile};
   /** Boot tile of the filter supervisor (slot kSlotFilterSupervisor), sent a status every kFilterStatusJobs jobs (kNoTile: none). */
   bsp::TileId supervisor = bsp::kNoTile;
+  /** What a plausible state is, checked after every simplex job (trn/filter/state_check.hpp). */
+  filter::StateEnvelope envelope{};
 };
 
 struct FilterTaskStats {
@@ -110,6 +124,8 @@ struct FilterTaskStats {
   std::uint32_t tmr_exclusions;
   std::uint32_t tmr_resyncs;       ///< replicas readmitted after a seed
   std::uint32_t commands;          ///< telecommands taken
+  std::uint32_t states_rejected;   ///< simplex jobs whose state failed the plausibility check (not delivered)
+  std::uint32_t rollbacks;         ///< of those, returns to the last checkpoint
 };
 
 /** Task entry (arg: const FilterTaskConfig*). Never returns unless set-up fails (bad config included). */

@@ -655,9 +655,9 @@ TEST_F(TrnMissionBinary, TheRestOfTheRoleMatrixIsDetectedAndRecovered) {
 
 // Silent corruption where the flight code computes: one sdc at each named point (a vision tile's
 // matches, the coordinator's batch, the filter's state, its delivered solution) is delivered there,
-// and the delivered stream differs from the clean run's. Nothing checks these results in simplex
-// (checksums cover the filter's products, not its state): the doubled position coordinate stays in
-// the filter, the final error grows.
+// and the delivered stream differs from the clean run's. The filter's doubled position coordinate is
+// refused by the state check in its job and the filter goes back to its checkpoint (before the check
+// it stayed in the filter: 47.7 m at 10 s); the other three are not checked in simplex.
 TEST_F(TrnMissionBinary, AnSdcAtEachNamedPointReachesTheValueThere) {
   ASSERT_EQ(run(binary() + " --quiet --duration 10 --out " + (dir_ / "clean").string()), 0);
   ASSERT_EQ(run(binary() + " --quiet --duration 10 --faults " + fixture("sdc_points.toml") + " --out " +
@@ -673,7 +673,11 @@ TEST_F(TrnMissionBinary, AnSdcAtEachNamedPointReachesTheValueThere) {
     EXPECT_EQ(count_of(log, std::string("sdc at ") + point + " value bit"), 1U) << point << log;
   }
   EXPECT_NE(s["filter_output_crc"], clean["filter_output_crc"]);
-  EXPECT_GT(s["final_position_error_m"].get<double>(), 10.0 * clean["final_position_error_m"].get<double>());
+  EXPECT_EQ(s["faults_detected"], 1) << log;
+  EXPECT_NE(log.find("filter_state (channel 2) value bit 52 (planned) -> detected by tile 18 (filter_state_bad)"),
+            std::string::npos)
+      << log;
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0 * clean["final_position_error_m"].get<double>());
 }
 
 // The coordinator's start with the ground's landmark table (the default) is over before the first
@@ -998,6 +1002,55 @@ TEST_F(TrnMissionBinary, ASpareSwitchOnTheReportsRouteIsNamedFromTheirTwins) {
   EXPECT_EQ(count_of(log, "declared failed"), 1U) << "no other switch or link is blamed";
   EXPECT_EQ(count_of(log, "packet_gave_up"), 0U) << log;
   EXPECT_EQ(s["frames"], 4);
+}
+
+// FDIR-FS-02: a corrupted update of the simplex filter (the exponent's top bit of the east
+// position) is refused by its plausibility check in the job it happened and the filter goes back to
+// its last checkpoint. Before, the filter carried it to the end, 79 m off with a small 3-sigma.
+TEST_F(TrnMissionBinary, TheSimplexFiltersCorruptedStateIsRefusedAndItGoesBackToItsCheckpoint) {
+  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 5 --faults " + fixture("filter_state_flipped.toml") +
+                " --out " + (dir_ / "f").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "f" / "summary.json");
+  const std::string log = read_text(dir_ / "f" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 1) << log;
+  EXPECT_EQ(s["faults_recovered"], 1) << log;
+  EXPECT_NE(log.find("sdc at filter_state (channel 2) value bit 62 (planned) -> detected by tile 18 "
+                     "(filter_state_bad) 0.0 ms later"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("filter_state_bad: the filter's state after job 300 fails its position step check"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("filter_resumed: filter resumed from checkpoint 30"), std::string::npos) << log;
+  EXPECT_EQ(count_of(log, "filter_state_bad:"), 1U) << "the state from the checkpoint on passes";
+  EXPECT_EQ(s["filter_outputs_skipped"], 1) << "the refused job's solution alone is not delivered";
+  ASSERT_TRUE(s["final_position_error_m"].is_number()) << log;
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 1.0);
+  EXPECT_EQ(s["deadline_misses"], 0);
+}
+
+// FDIR-FS-03: an upset in the filter's settings (outside the state a checkpoint holds) makes every
+// state after it not finite. Going back once does not help, so the filter asks for its tile's restart
+// (assert_failed: the health agent stops the watchdog's kicks); the restarted task resumes from the
+// checkpoint. The join credits the recovery to that resume, not to the first one refused again.
+TEST_F(TrnMissionBinary, AnUpsetInTheFiltersSettingsRestartsItsTileAndItResumes) {
+  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 5 --faults " + fixture("filter_settings_upset.toml") +
+                " --out " + (dir_ / "u").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "u" / "summary.json");
+  const std::string log = read_text(dir_ / "u" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 1) << log;
+  EXPECT_EQ(s["faults_recovered"], 1) << log;
+  EXPECT_NE(log.find("-> detected by tile 18 (filter_state_bad) 2.3 ms later, recovered 40.8 ms after detection"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("assert_failed: assertion 1541 failed"), std::string::npos) << log;
+  EXPECT_NE(log.find("tile_reset: tile 18 reset by the supervisor"), std::string::npos) << log;
+  EXPECT_EQ(count_of(log, "filter_resumed:"), 2U) << "once in the job, once after the restart";
+  EXPECT_EQ(count_of(log, "filter_state_bad:"), 3U) << "none after the restart: " << log;
+  ASSERT_TRUE(s["final_position_error_m"].is_number()) << log;
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 1.0);
 }
 
 // Every injection is counted, random ones too (it said 1 of 718 before); a failed link is voted
