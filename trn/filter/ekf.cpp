@@ -54,15 +54,11 @@ FilterStatus Ekf::init(const InitialEstimate& est) noexcept {
   return FilterStatus::kOk;
 }
 
-namespace {
-
 bool finite_state(const FilterState& s) noexcept {
   return s.x.p_m.allFinite() && s.x.v_mps.allFinite() && s.x.q_mb.coeffs().allFinite() &&
          s.x.bg_rads.allFinite() && s.x.ba_mps2.allFinite() && s.p.allFinite() && std::isfinite(s.t_s) &&
          std::isfinite(s.t_last_update_s);
 }
-
-}  // namespace
 
 bool Ekf::state_finite() const noexcept { return finite_state(s_); }
 

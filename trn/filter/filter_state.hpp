@@ -45,6 +45,9 @@ struct FilterState {
   PoseHistory hist{};                  ///< past poses, one per propagation (lagged matches)
 };
 
+/** Every number of the nominal state, the covariance and the times of @p s is finite. */
+bool finite_state(const FilterState& s) noexcept;
+
 /** Puts @p s back to its default values field by field (no 18 KB temporary on the stack). */
 inline void clear_state(FilterState& s) noexcept {
   s.initialized = 0;

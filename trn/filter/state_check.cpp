@@ -9,17 +9,13 @@
 namespace trn::filter {
 namespace {
 
-bool finite3(const Vec3& v) noexcept { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
-
+/** finite_state() (the filter's own test) and no variance negative. */
 bool state_finite(const FilterState& s) noexcept {
-  const Quat& q = s.x.q_mb;
-  if (!std::isfinite(s.t_s) || !finite3(s.x.p_m) || !finite3(s.x.v_mps) || !finite3(s.x.bg_rads) ||
-      !finite3(s.x.ba_mps2) || !std::isfinite(q.w()) || !finite3(q.vec())) {
+  if (!finite_state(s)) {
     return false;
   }
   for (int i = 0; i < kErrDim; ++i) {
-    const double d = s.p(i, i);
-    if (!std::isfinite(d) || d < 0.0) {
+    if (s.p(i, i) < 0.0) {
       return false;
     }
   }
