@@ -88,6 +88,7 @@ enum class EventId : std::uint16_t {
   kImuGap = 0x0603,            ///< IMU samples neither received nor still recorded; subject: first missing, a: samples
   kCommandTaken = 0x0604,      ///< a telecommand reached the filter; subject: code, cause: its sequence number, a: job
   kFilterStateBad = 0x0605,    ///< the simplex filter's state after a job failed its plausibility check (trn/filter/state_check.hpp) and was not delivered; subject: job, cause: the check (1 not finite, 2 attitude norm, 3 speed, 4 range, 5 IMU bias, 6-9 position, velocity, attitude, bias step), a: value, b: limit (thousandths of the check's unit, the attitude norm's distance from 1 in millionths; saturated); kFilterResumed follows when it went back to a checkpoint
+  kFilterSettingsBad = 0x0606, ///< the simplex filter's settings in RAM (configuration, camera, process noise) changed since they were built (their CRC-32C, after every job): the job's solution is not delivered, the settings are built again from the image and the filter goes back to its last checkpoint; subject: job, cause: the parts changed (1 configuration, 2 camera, 4 process noise), a: 1 when rebuilt; kFilterResumed follows when it went back to a checkpoint
   // ---- TMR of the filter (trn/tasks/filter_task, fdir/tmr)
   kTmrStarting = 0x0701,       ///< replicas seeded with the filter's state; subject: job, cause: epoch
   kTmrEstablished = 0x0702,    ///< three replicas agree with the filter: the voter delivers; subject: job, cause: epoch, a: jobs it took
@@ -126,7 +127,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 73> kEventTable{{
+inline constexpr std::array<EventInfo, 74> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
     {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
@@ -178,6 +179,7 @@ inline constexpr std::array<EventInfo, 73> kEventTable{{
     {EventId::kImuGap, "imu_gap", Severity::kWarningHi, kStepDetect},
     {EventId::kCommandTaken, "command_taken", Severity::kInfo, kStepNone},
     {EventId::kFilterStateBad, "filter_state_bad", Severity::kWarningHi, kStepDetect | kStepIsolate},
+    {EventId::kFilterSettingsBad, "filter_settings_bad", Severity::kWarningHi, kStepDetect | kStepIsolate},
     {EventId::kTmrStarting, "tmr_starting", Severity::kInfo, kStepNone},
     {EventId::kTmrEstablished, "tmr_established", Severity::kInfo, kStepNone},
     {EventId::kTmrSimplex, "tmr_simplex", Severity::kInfo, kStepNone},

@@ -101,13 +101,18 @@ constexpr double kCorrelationCoarseStageS = 0.300;
 /**
  * Whether @p e is the simplex filter's plausibility check refusing its state
  * after fault @p r on its tile: for a corrupted update (sdc), in the job it
- * hit; for an upset (seu), at any later job.
+ * hit; for an upset (seu), at any later job. Or, for an upset, the filter
+ * finding its settings changed.
  */
 bool filter_state_check_of(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
-  if (e.id != EventId::kFilterStateBad || e.tile != r.spec.tile || e.cycle < r.applied_cycle) {
+  if (e.tile != r.spec.tile || e.cycle < r.applied_cycle) {
     return false;
   }
-  return r.spec.kind == bsp::FaultKind::kSeu || seconds(e.cycle - r.applied_cycle, clock_hz) <= kAbftSameJobS;
+  if (e.id == EventId::kFilterSettingsBad) {
+    return r.spec.kind == bsp::FaultKind::kSeu;  // settings change by an upset in RAM only
+  }
+  return e.id == EventId::kFilterStateBad &&
+         (r.spec.kind == bsp::FaultKind::kSeu || seconds(e.cycle - r.applied_cycle, clock_hz) <= kAbftSameJobS);
 }
 
 /** Whether @p e is a checked correlation's event about the sdc @p r (same tile, a correlation point, soon after). */
@@ -302,8 +307,9 @@ bool recovers(const fdir::Event& d, const fdir::Event& e, bsp::TileId t, double 
       }
       return e.id == EventId::kTmrStarting || e.id == EventId::kTmrSimplex;
     case EventId::kFilterStateBad:
-      // Back to its last checkpoint: in the job that refused the state, or after the tile's restart
-      // when the state was refused again (join_faults() skips a resume refused again).
+    case EventId::kFilterSettingsBad:
+      // Back to its last checkpoint: in the job that refused the state (or rebuilt the settings), or
+      // after the tile's restart when it was refused again (join_faults() skips a resume refused again).
       return e.id == EventId::kFilterResumed && e.tile == d.tile && e.cycle >= d.cycle;
     case EventId::kTaskOverdue:
       return (e.id == EventId::kTileRecovered && e.subject == d.tile) ||
@@ -343,6 +349,21 @@ void describe_filter_state_bad(const fdir::Event& e, const char* s, std::span<ch
   (void)std::snprintf(b.data(), b.size(), "the filter's state after job %s fails its %s check (%.*f%s%s, limit "
                       "%.*f%s%s): not delivered", s, trn::filter::state_check_name(check), per > 1e3 ? 6 : 3,
                       e.a / per, sep, unit, per > 1e3 ? 6 : 3, e.b / per, sep, unit);
+}
+
+/** The filter's settings changed in RAM: which parts, and whether they were built again. */
+void describe_filter_settings_bad(const fdir::Event& e, const char* s, std::span<char> b) noexcept {
+  static constexpr std::array<const char*, 3> kPart{"configuration", "camera", "process noise"};
+  std::array<char, 48> parts{};
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < kPart.size(); ++i) {
+    if (((e.cause >> i) & 1U) != 0U && n < parts.size()) {
+      const int w = std::snprintf(parts.data() + n, parts.size() - n, "%s%s", n > 0U ? ", " : "", kPart[i]);
+      n += w > 0 ? static_cast<std::size_t>(w) : 0U;
+    }
+  }
+  (void)std::snprintf(b.data(), b.size(), "the filter's settings in RAM (%s) changed by the end of job %s: not "
+                      "delivered, %s", parts.data(), s, e.a != 0U ? "built again from the image" : "NOT built again");
 }
 
 /** The text of the filter's TMR events (after the name), into @p b; false for another event. */
@@ -649,6 +670,9 @@ void describe_health_event(const fdir::Event& e, const char* s, std::span<char> 
     case EventId::kFilterStateBad:
       describe_filter_state_bad(e, s, b);
       break;
+    case EventId::kFilterSettingsBad:
+      describe_filter_settings_bad(e, s, b);
+      break;
     case EventId::kCheckpointBad:
       (void)std::snprintf(b.data(), b.size(), "filter checkpoint slot %s failed its checks: not used (%u bad)", s, e.a);
       break;
@@ -868,31 +892,36 @@ void FlightEventCollector::poll(double clock_hz, EventLog& log) noexcept {
 
 namespace {
 
-/** A filter refusing its state again this soon after going back to a checkpoint has not recovered. */
-constexpr double kFilterCleanAfterResumeS = 1.0;
-
 /**
- * Whether filter_resumed @p events[k], the recovery of filter_state_bad @p d,
- * was followed by another refusal on its tile within kFilterCleanAfterResumeS
- * (what was wrong was not in the checkpoint: the recovery is a later resume,
- * after the tile's restart). False for any other detection.
+ * Whether filter_resumed @p events[k], the recovery of filter_state_bad or
+ * filter_settings_bad @p d, did not hold: the filter refused a job again
+ * before it had written a newer checkpoint, so its next resume on that tile
+ * (after the tile's restart) is from the same checkpoint, or none came before
+ * the end. That is the flight's own rule (a checkpoint is not gone back to
+ * twice): what was wrong was not in the checkpoint, and the recovery is the
+ * later resume. False for any other detection.
  */
 bool refused_again(const fdir::Event& d, std::span<const fdir::Event> events, const std::vector<std::size_t>& order,
-                   std::size_t k, double clock_hz) {
-  if (d.id != EventId::kFilterStateBad) {
+                   std::size_t k) {
+  const auto refusal = [](const fdir::Event& e) {
+    return e.id == EventId::kFilterStateBad || e.id == EventId::kFilterSettingsBad;
+  };
+  if (!refusal(d)) {
     return false;
   }
   const fdir::Event& resumed = events[k];
+  bool refused = false;
   for (const std::size_t j : order) {
     const fdir::Event& e = events[j];
-    if (e.cycle <= resumed.cycle || e.tile != resumed.tile || e.id != EventId::kFilterStateBad) {
+    if (e.cycle <= resumed.cycle || e.tile != resumed.tile) {
       continue;
     }
-    if (seconds(e.cycle - resumed.cycle, clock_hz) <= kFilterCleanAfterResumeS) {
-      return true;
+    if (e.id == EventId::kFilterResumed) {
+      return refused && e.subject == resumed.subject;
     }
+    refused = refused || refusal(e);
   }
-  return false;
+  return refused;
 }
 
 }  // namespace
@@ -971,7 +1000,7 @@ FaultAccount join_faults(std::span<const bsp::FaultRecord> records, std::span<co
       if (seconds(events[k].cycle, clock_hz) - o.detected_s > kRecoverWindowS) {
         break;
       }
-      if (recovers(d, events[k], r.spec.tile, clock_hz) && !refused_again(d, events, order, k, clock_hz)) {
+      if (recovers(d, events[k], r.spec.tile, clock_hz) && !refused_again(d, events, order, k)) {
         // A map publication or a complete frame closes every fault it covers: not claimed.
         if (events[k].id == EventId::kPacketResent) {
           claims_left[k] = 0U;

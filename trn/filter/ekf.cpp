@@ -11,6 +11,16 @@
 namespace trn::filter {
 
 FilterStatus Ekf::configure(const FilterConfig& cfg, const bsp::CameraModel& cam) noexcept {
+  const FilterStatus st = reload_settings(cfg, cam);
+  if (st != FilterStatus::kOk) {
+    return st;
+  }
+  clear_state(s_);
+  work_ = bsp::Work{};
+  return FilterStatus::kOk;
+}
+
+FilterStatus Ekf::reload_settings(const FilterConfig& cfg, const bsp::CameraModel& cam) noexcept {
   if (check_config(cfg) != ConfigError::kOk) {
     return FilterStatus::kBadConfig;
   }
@@ -22,8 +32,6 @@ FilterStatus Ekf::configure(const FilterConfig& cfg, const bsp::CameraModel& cam
   cfg_ = cfg;
   cam_ = g;
   q_diag_ = process_noise_diag(cfg.imu, cfg.imu_dt_s);
-  clear_state(s_);
-  work_ = bsp::Work{};
   return FilterStatus::kOk;
 }
 

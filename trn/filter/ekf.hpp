@@ -69,6 +69,13 @@ class Ekf {
   /** Sets configuration and camera; resets the state. Errors: kBadConfig. */
   FilterStatus configure(const FilterConfig& cfg, const bsp::CameraModel& cam) noexcept;
 
+  /**
+   * Sets configuration and camera again and keeps the state: the settings
+   * rebuilt from their source after an upset changed them in RAM (the task's
+   * settings check). Errors: kBadConfig (the settings are left as they were).
+   */
+  FilterStatus reload_settings(const FilterConfig& cfg, const bsp::CameraModel& cam) noexcept;
+
   /** Starts from @p est (covariance diagonal from its sigmas). Errors: kBadInput. */
   FilterStatus init(const InitialEstimate& est) noexcept;
 
@@ -126,6 +133,10 @@ class Ekf {
 
   [[nodiscard]] const FilterState& state() const noexcept { return s_; }
   [[nodiscard]] const FilterConfig& config() const noexcept { return cfg_; }
+  /** The camera as the filter uses it (configure()). */
+  [[nodiscard]] const CameraGeometry& camera() const noexcept { return cam_; }
+  /** The process noise per error state and IMU interval, derived from the configuration. */
+  [[nodiscard]] const Vec15& process_noise() const noexcept { return q_diag_; }
   /** Work counted since the last take_work(); the task charges it. */
   bsp::Work take_work() noexcept;
 

@@ -8,7 +8,9 @@
 #include "trn/tasks/sdc_points.hpp"
 #include "udn/crc32c.hpp"
 
+#include <cstddef>
 #include <new>
+#include <span>
 
 namespace trn::tasks {
 namespace {
@@ -174,6 +176,29 @@ bool record_ok(const JobRecord& r, std::uint32_t job, bsp::Work& work) noexcept 
          r.w[3] == udn::crc32c_words(record_body(r));
 }
 
+namespace {
+
+// The settings are doubles only, so their bytes are their values: no padding enters the digest.
+static_assert(sizeof(filter::FilterConfig) % sizeof(double) == 0U && sizeof(filter::CameraGeometry) == 13U * sizeof(double),
+              "settings without padding");
+constexpr std::size_t kSettingsBytes =
+    sizeof(filter::FilterConfig) + sizeof(filter::CameraGeometry) + sizeof(filter::Vec15);
+
+template <typename T>
+std::span<const std::uint8_t> bytes_of(const T& v) noexcept {
+  return {reinterpret_cast<const std::uint8_t*>(&v), sizeof v};  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): RAM bytes
+}
+
+/** The CRC-32C of each part of the EKF's settings, in the order of their bits (kSettingsConfig...). */
+std::array<std::uint32_t, 3> settings_digests(const FilterCore& c, bsp::Work& work) noexcept {
+  work.int_ops += 8ULL * (kSettingsBytes / 4U);
+  work.mem_words += 2ULL * (kSettingsBytes / 4U);
+  return {udn::crc32c_bytes(bytes_of(c.ekf->config())), udn::crc32c_bytes(bytes_of(c.ekf->camera())),
+          udn::crc32c_bytes(bytes_of(c.ekf->process_noise()))};
+}
+
+}  // namespace
+
 bool core_set_up(FilterCore& c, const FilterTaskConfig& cfg, FilterTaskStats& stats, bsp::Region ram) noexcept {
   c = FilterCore{};
   c.cfg = &cfg;
@@ -197,7 +222,34 @@ bool core_set_up(FilterCore& c, const FilterTaskConfig& cfg, FilterTaskStats& st
   }
   ::new (scratch) filter::StateBlock{};
   c.scratch = scratch;
-  return c.ekf->configure(cfg.filter, cfg.camera) == filter::FilterStatus::kOk;
+  if (c.ekf->configure(cfg.filter, cfg.camera) != filter::FilterStatus::kOk) {
+    return false;
+  }
+  bsp::Work work{};
+  c.settings_crc = settings_digests(c, work);
+  bsp::consume(work);
+  return true;
+}
+
+std::uint32_t core_settings_changed(const FilterCore& c, bsp::Work& work) noexcept {
+  const std::array<std::uint32_t, 3> now = settings_digests(c, work);
+  std::uint32_t changed = 0U;
+  for (std::size_t i = 0; i < now.size(); ++i) {
+    changed |= now[i] != c.settings_crc[i] ? 1U << i : 0U;
+  }
+  return changed;
+}
+
+bool core_reload_settings(FilterCore& c, bsp::Work& work) noexcept {
+  // The checks of configure() (config ranges, the camera rotation's orthonormality) and the
+  // process noise: a few hundred flops.
+  work.flops += 300U;
+  work.fdivs += 20U;
+  if (c.ekf->reload_settings(c.cfg->filter, c.cfg->camera) != filter::FilterStatus::kOk) {
+    return false;
+  }
+  c.settings_crc = settings_digests(c, work);
+  return true;
 }
 
 void core_run(FilterCore& c, const JobRecord& r) noexcept {

@@ -76,6 +76,8 @@ struct FilterCore {
   FilterTaskStats* stats = nullptr;       ///< the owner's counters
   bool have_imu = false;
   std::uint32_t last_imu = 0U;            ///< seq of the last sample integrated
+  /// CRC-32C of each part of the EKF's settings when they were (re)built (core_settings_changed()).
+  std::array<std::uint32_t, 3> settings_crc{};
 };
 
 /** Carves the core in @p ram (the running tile's RAM) and configures the EKF (not initialised). */
@@ -89,6 +91,26 @@ filter::NavOutput core_output(const FilterCore& c) noexcept;
 
 /** CRC-32C of the whole state (state block, queue, last sample); charges @p work. */
 std::uint32_t core_digest(FilterCore& c, bsp::Work& work) noexcept;
+
+/** Parts of the EKF's settings, as bits of core_settings_changed()'s result. */
+inline constexpr std::uint32_t kSettingsConfig = 1U;        ///< the filter's configuration
+inline constexpr std::uint32_t kSettingsCamera = 2U;        ///< the camera's geometry
+inline constexpr std::uint32_t kSettingsProcessNoise = 4U;  ///< the process noise derived from the configuration
+
+/**
+ * The parts of the EKF's settings in RAM whose CRC-32C is not what it was
+ * when they were built: its configuration, its camera and the process noise
+ * (368 bytes that no job writes and no checkpoint holds). 0: unchanged.
+ * Charges @p work.
+ */
+std::uint32_t core_settings_changed(const FilterCore& c, bsp::Work& work) noexcept;
+
+/**
+ * Builds the EKF's settings again from the task's configuration (the image's
+ * copy), keeping its state, and takes their digest anew; charges @p work.
+ * False if the configuration is refused (it was accepted at set-up).
+ */
+bool core_reload_settings(FilterCore& c, bsp::Work& work) noexcept;
 
 /** A saved core: its state block and its queue words. */
 struct CoreImage {

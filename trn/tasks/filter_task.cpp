@@ -374,6 +374,31 @@ std::uint32_t scaled(double v, double per) noexcept {
 }
 
 /**
+ * The tile asks to be restarted (assertion @p id), once: its health agent stops the watchdog's
+ * kicks, and the restarted task resumes from its last good checkpoint with everything else built
+ * afresh.
+ */
+void ask_restart(Slot& slot, std::uint32_t id) noexcept {
+  if (!slot.recovery_asked) {
+    slot.recovery_asked = true;
+    fdir::assert_failed(id, __LINE__);
+  }
+}
+
+/**
+ * Back to the last checkpoint after a failed job. When it is the one the last failure went back to
+ * (or there is none), what is wrong is not in the state a checkpoint holds: ask_restart(@p id).
+ */
+void go_back(Slot& slot, std::uint32_t id) noexcept {
+  if (resume_from_checkpoint(slot, slot.rolled_back_to)) {
+    slot.rolled_back_to = slot.ckpt_seq;
+    ++slot.stats.rollbacks;
+  } else {
+    ask_restart(slot, id);
+  }
+}
+
+/**
  * Simplex: runs record @p rec and checks the state after it against the one
  * before. False when it failed: nothing is delivered, and the task goes back
  * to its last checkpoint (once per checkpoint: a checkpoint that fails again
@@ -383,6 +408,24 @@ bool run_checked(Slot& slot, const JobRecord& rec) noexcept {
   bsp::Work work{};
   const filter::StateBefore before = filter::state_before(slot.core.ekf->state(), work);
   core_run(slot.core, rec);
+  // The settings first: an upset there explains a state that fails, and going back to a checkpoint
+  // with them still wrong would fail again. Checked after the job, so a job that passes ran with
+  // them whole from its start (an upset stays until they are rebuilt).
+  const std::uint32_t changed = core_settings_changed(slot.core, work);
+  if (changed != 0U) {
+    const bool rebuilt = core_reload_settings(slot.core, work);
+    bsp::consume(work);
+    ++slot.stats.settings_rebuilt;
+    fdir::report(fdir::EventId::kFilterSettingsBad, record_job(rec), changed, rebuilt ? 1U : 0U);
+    // Every state since the upset was computed with them: back to the last checkpoint. Changed
+    // again before the next one (a stuck bit, say), or not rebuilt: the tile asks for its restart.
+    if (!rebuilt) {
+      ask_restart(slot, kAssertFilterSettingsChanged);
+    } else if (slot.ckpt != nullptr) {
+      go_back(slot, kAssertFilterSettingsChanged);
+    }
+    return false;
+  }
   const filter::StateCheckResult r = filter::check_state(before, slot.core.ekf->state(), slot.cfg->envelope, work);
   bsp::consume(work);
   if (r.what == filter::StateCheck::kOk) {
@@ -393,17 +436,7 @@ bool run_checked(Slot& slot, const JobRecord& rec) noexcept {
   const double per = r.what == filter::StateCheck::kAttitudeNorm ? 1e6 : 1e3;
   fdir::report(fdir::EventId::kFilterStateBad, record_job(rec), static_cast<std::uint32_t>(r.what),
                scaled(r.value, per), scaled(r.limit, per));
-  if (resume_from_checkpoint(slot, slot.rolled_back_to)) {
-    slot.rolled_back_to = slot.ckpt_seq;
-    ++slot.stats.rollbacks;
-  } else if (!slot.recovery_asked) {
-    // Refused again from the checkpoint it went back to (or none to go to): what is wrong is not in
-    // the state a checkpoint holds (the filter's settings in its RAM, say). The tile asks to be
-    // restarted: its health agent stops the watchdog's kicks, and the restarted task resumes from
-    // its last good checkpoint with everything else built afresh.
-    slot.recovery_asked = true;
-    fdir::assert_failed(kAssertFilterStateRefused, __LINE__);
-  }
+  go_back(slot, kAssertFilterStateRefused);
   return false;
 }
 

@@ -36,6 +36,16 @@
  * Refused again from that checkpoint (what is wrong is outside the state a
  * checkpoint holds), it asks for its tile's restart (kAssertFilterStateRefused:
  * the health agent stops kicking the watchdog). In TMR the vote does this work.
+ *
+ * Settings: running alone, the task also checks after every job that the
+ * EKF's settings in RAM (configuration, camera, process noise: written at
+ * set-up, never by a job, not in a checkpoint) still have the CRC-32C they
+ * had when built. Changed (an upset), the job's solution is not delivered
+ * (kFilterSettingsBad), the settings are built again from the task's
+ * configuration in the image, and the task goes back to its last checkpoint
+ * (kFilterResumed): the states since the upset were computed with them.
+ * Changed again before a newer checkpoint, the tile asks for its restart
+ * (kAssertFilterSettingsChanged).
  */
 #pragma once
 
@@ -69,6 +79,8 @@ inline constexpr std::uint32_t kMaxReplayPerJob = 20;
 inline constexpr std::uint32_t kOutputMarkJobs = 100;
 /** Assertion id (fdir::assert_failed) of a state refused again after going back to a checkpoint: the tile asks to be restarted. */
 inline constexpr std::uint32_t kAssertFilterStateRefused = 0x0605;
+/** Assertion id of the EKF's settings changed again before a new checkpoint (or not rebuilt): the tile asks to be restarted. */
+inline constexpr std::uint32_t kAssertFilterSettingsChanged = 0x0606;
 /** Jobs between two checkpoints by default (100 ms). */
 inline constexpr std::uint32_t kDefaultCheckpointEvery = 10;
 
@@ -125,7 +137,8 @@ struct FilterTaskStats {
   std::uint32_t tmr_resyncs;       ///< replicas readmitted after a seed
   std::uint32_t commands;          ///< telecommands taken
   std::uint32_t states_rejected;   ///< simplex jobs whose state failed the plausibility check (not delivered)
-  std::uint32_t rollbacks;         ///< of those, returns to the last checkpoint
+  std::uint32_t rollbacks;         ///< returns to the last checkpoint (a refused state, rebuilt settings)
+  std::uint32_t settings_rebuilt;  ///< simplex jobs after which the EKF's settings had changed in RAM and were rebuilt
 };
 
 /** Task entry (arg: const FilterTaskConfig*). Never returns unless set-up fails (bad config included). */

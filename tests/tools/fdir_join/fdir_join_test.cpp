@@ -99,6 +99,49 @@ TEST(FdirJoin, AnUpsetIsCreditedOnlyToASelfTestThatNamesItsTile) {
   EXPECT_NEAR(hit.outcomes[0].detected_s - hit.outcomes[0].injected_s, 0.4, 1e-9);
 }
 
+// FDIR-FS-06: a settings check is credited to an upset of its tile (never to an sdc), and its
+// recovery is the filter's resume. A resume holds unless the filter refuses a job again and resumes
+// from the same checkpoint (its restart): then the recovery is that later resume. An independent
+// refusal a second later, from a newer checkpoint, does not undo the first recovery (it did under a
+// 1 s window before).
+TEST(FdirJoin, AFilterResumeHoldsUnlessTheSameCheckpointIsGoneBackToAgain) {
+  using fdir::EventId;
+  const std::array<bsp::FaultRecord, 2> faults{record(bsp::FaultKind::kSeu, 18U, 3'000'000U),
+                                               record(bsp::FaultKind::kSeu, 18U, 3'900'000U)};
+  const std::vector<fdir::Event> apart{
+      event(EventId::kFilterSettingsBad, 18U, 300U, 3'002'000U, 1U),
+      event(EventId::kFilterResumed, 18U, 30U, 3'002'100U),
+      event(EventId::kFilterSettingsBad, 18U, 390U, 3'901'000U, 2U),
+      event(EventId::kFilterResumed, 18U, 39U, 3'901'100U),
+  };
+  const tools::FaultAccount a = tools::join_faults(faults, apart, kHz);
+  ASSERT_EQ(a.detected, 2U);
+  EXPECT_EQ(a.recovered, 2U);
+  EXPECT_EQ(a.outcomes[0].detected_by, EventId::kFilterSettingsBad);
+  EXPECT_NEAR(a.outcomes[0].recovered_s, 3.0021, 1e-9) << "its own resume: the next one is from checkpoint 39";
+
+  const std::vector<fdir::Event> again{
+      event(EventId::kFilterStateBad, 18U, 300U, 3'002'000U, 6U),
+      event(EventId::kFilterResumed, 18U, 30U, 3'002'100U),
+      event(EventId::kFilterStateBad, 18U, 301U, 3'012'000U, 6U),
+      event(EventId::kAssertFailed, 18U, 0x0605U, 3'012'100U),
+      event(EventId::kFilterResumed, 18U, 30U, 3'030'000U),  // after the tile's restart
+  };
+  const std::array<bsp::FaultRecord, 1> one{record(bsp::FaultKind::kSeu, 18U, 3'000'000U)};
+  const tools::FaultAccount b = tools::join_faults(one, again, kHz);
+  ASSERT_EQ(b.recovered, 1U);
+  EXPECT_NEAR(b.outcomes[0].recovered_s, 3.030, 1e-9) << "the first resume did not hold";
+
+  // No resume after the refusal before the flight ended: not recovered.
+  const std::vector<fdir::Event> cut(again.begin(), again.begin() + 4);
+  EXPECT_EQ(tools::join_faults(one, cut, kHz).recovered, 0U);
+
+  // An sdc is never credited to the settings check.
+  const std::array<bsp::FaultRecord, 1> sdc{record(bsp::FaultKind::kSdc, 18U, 3'000'000U)};
+  const std::vector<fdir::Event> settings{event(EventId::kFilterSettingsBad, 18U, 300U, 3'002'000U, 1U)};
+  EXPECT_EQ(tools::join_faults(sdc, settings, kHz).detected, 0U);
+}
+
 // A hang is still credited to the tile's watchdog and recovered by the tile's return.
 TEST(FdirJoin, AHangIsCreditedToItsWatchdogAndRecoveredByTheTile) {
   const std::array<bsp::FaultRecord, 1> faults{record(bsp::FaultKind::kCoreHang, 18U, 2'000'000U)};

@@ -1030,25 +1030,60 @@ TEST_F(TrnMissionBinary, TheSimplexFiltersCorruptedStateIsRefusedAndItGoesBackTo
   EXPECT_EQ(s["deadline_misses"], 0);
 }
 
-// FDIR-FS-03: an upset in the filter's settings (outside the state a checkpoint holds) makes every
-// state after it not finite. Going back once does not help, so the filter asks for its tile's restart
-// (assert_failed: the health agent stops the watchdog's kicks); the restarted task resumes from the
-// checkpoint. The join credits the recovery to that resume, not to the first one refused again.
-TEST_F(TrnMissionBinary, AnUpsetInTheFiltersSettingsRestartsItsTileAndItResumes) {
+// FDIR-FS-03: upsets in the filter's settings (outside the state a checkpoint holds): one in its
+// configuration that makes every state after it not finite, one in its camera's rotation that leaves
+// the states plausible but wrong (unseen before the settings were checked). Each is found by the
+// settings' CRC at the end of its job; the settings are built again from the image and the filter
+// goes back to its last checkpoint in the same job, without a restart.
+TEST_F(TrnMissionBinary, UpsetsInTheFiltersSettingsAreFoundAndBuiltAgainWithoutARestart) {
   ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 5 --faults " + fixture("filter_settings_upset.toml") +
                 " --out " + (dir_ / "u").string()),
             0);
   const nlohmann::json s = read_json(dir_ / "u" / "summary.json");
   const std::string log = read_text(dir_ / "u" / "events.log");
-  EXPECT_EQ(s["faults_detected"], 1) << log;
-  EXPECT_EQ(s["faults_recovered"], 1) << log;
-  EXPECT_NE(log.find("-> detected by tile 18 (filter_state_bad) 2.3 ms later, recovered 40.8 ms after detection"),
+  EXPECT_EQ(s["faults_detected"], 2) << log;
+  EXPECT_EQ(s["faults_recovered"], 2) << log;
+  EXPECT_NE(log.find("(in carve \"ekf\") (planned) -> detected by tile 18 (filter_settings_bad) 2.3 ms later, "
+                     "recovered 0.1 ms after detection"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("filter_settings_bad: the filter's settings in RAM (configuration) changed by the end of job 300: "
+                     "not delivered, built again from the image"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("filter_settings_bad: the filter's settings in RAM (camera) changed by the end of job 400"),
+            std::string::npos)
+      << log;
+  EXPECT_EQ(count_of(log, "filter_resumed:"), 2U) << "once for each, in its job";
+  EXPECT_EQ(count_of(log, "filter_state_bad:"), 0U) << "the settings are checked first: " << log;
+  EXPECT_EQ(count_of(log, "assert_failed:"), 0U) << log;
+  EXPECT_EQ(count_of(log, "tile_reset:"), 0U) << "no restart: " << log;
+  EXPECT_EQ(s["filter_outputs_skipped"], 2) << "the two jobs' solutions alone are not delivered";
+  ASSERT_TRUE(s["final_position_error_m"].is_number()) << log;
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 1.0);
+}
+
+// FDIR-FS-05: the state refused again from the checkpoint the filter just went back to (two
+// corrupted jobs in a row): what is wrong looks outside that checkpoint, so the filter asks for its
+// tile's restart (assert_failed: the health agent stops the watchdog's kicks); the restarted task
+// resumes from the checkpoint. The join credits the first fault's recovery to that resume, not to
+// the first one, which did not hold.
+TEST_F(TrnMissionBinary, AStateRefusedAgainFromItsCheckpointRestartsTheFiltersTile) {
+  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 5 --faults " + fixture("filter_state_flipped_twice.toml") +
+                " --out " + (dir_ / "t").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "t" / "summary.json");
+  const std::string log = read_text(dir_ / "t" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 2) << log;
+  EXPECT_EQ(s["faults_recovered"], 2) << log;
+  EXPECT_NE(log.find("-> detected by tile 18 (filter_state_bad) 0.0 ms later, recovered 31.6 ms after detection"),
             std::string::npos)
       << log;
   EXPECT_NE(log.find("assert_failed: assertion 1541 failed"), std::string::npos) << log;
   EXPECT_NE(log.find("tile_reset: tile 18 reset by the supervisor"), std::string::npos) << log;
-  EXPECT_EQ(count_of(log, "filter_resumed:"), 2U) << "once in the job, once after the restart";
-  EXPECT_EQ(count_of(log, "filter_state_bad:"), 3U) << "none after the restart: " << log;
+  EXPECT_EQ(count_of(log, "filter_resumed: filter resumed from checkpoint 30"), 2U)
+      << "once in the job, once after the restart: " << log;
+  EXPECT_EQ(count_of(log, "filter_state_bad:"), 2U) << "none after the restart: " << log;
   ASSERT_TRUE(s["final_position_error_m"].is_number()) << log;
   EXPECT_LT(s["final_position_error_m"].get<double>(), 1.0);
 }

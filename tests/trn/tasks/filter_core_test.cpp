@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cstdint>
 #include <vector>
 
 namespace {
@@ -173,6 +175,50 @@ TEST_F(FilterCore2, ASaveOutOfRangeIsRefused) {
   bad.block[40] ^= 0x10U;  // the state block's own CRC refuses it
   EXPECT_FALSE(trn::tasks::core_load(b_, bad, w));
   EXPECT_TRUE(trn::tasks::core_load(b_, image_, w));
+}
+
+// FDIR-FS-04 (unit): one flipped bit in any part of the EKF's settings is named by its part; built
+// again, the settings are what they were and the state is kept: the core then runs the next records
+// to the same bits as a copy that was never upset.
+TEST_F(FilterCore2, AChangedPartOfTheSettingsIsNamedAndBuiltAgainWithTheStateKept) {
+  for (const JobRecord& r : records(0, 40)) {
+    trn::tasks::core_run(a_, r);
+  }
+  bsp::Work w{};
+  EXPECT_EQ(trn::tasks::core_settings_changed(a_, w), 0U);
+  EXPECT_GT(w.int_ops, 0U) << "the check is charged";
+  trn::tasks::core_save(a_, image_, w);
+  ASSERT_TRUE(trn::tasks::core_load(b_, image_, w));
+  // The test plays the upset: a bit of each part in turn, in the EKF's RAM.
+  auto* config = const_cast<trn::filter::FilterConfig*>(&a_.ekf->config());  // NOLINT(cppcoreguidelines-pro-type-const-cast)
+  auto* camera = const_cast<trn::filter::CameraGeometry*>(&a_.ekf->camera());  // NOLINT(cppcoreguidelines-pro-type-const-cast)
+  auto* noise = const_cast<trn::filter::Vec15*>(&a_.ekf->process_noise());  // NOLINT(cppcoreguidelines-pro-type-const-cast)
+  const std::uint32_t before = digest(a_);
+  const struct {
+    double* value;
+    unsigned bit;
+    std::uint32_t part;
+  } hits[] = {{&config->gate_chi2, 26U, trn::tasks::kSettingsConfig},
+              {&camera->fy_px, 62U, trn::tasks::kSettingsCamera},
+              {noise->data() + 14, 2U, trn::tasks::kSettingsProcessNoise}};
+  for (const auto& h : hits) {
+    *h.value = std::bit_cast<double>(std::bit_cast<std::uint64_t>(*h.value) ^ (std::uint64_t{1} << h.bit));
+    EXPECT_EQ(trn::tasks::core_settings_changed(a_, w), h.part);
+    ASSERT_TRUE(trn::tasks::core_reload_settings(a_, w));
+    EXPECT_EQ(trn::tasks::core_settings_changed(a_, w), 0U) << "built again from the task's configuration";
+    EXPECT_EQ(digest(a_), before) << "the state is kept";
+  }
+  for (const JobRecord& r : records(40, 40)) {
+    trn::tasks::core_run(a_, r);
+    trn::tasks::core_run(b_, r);
+    ASSERT_EQ(digest(a_), digest(b_)) << "job " << trn::tasks::record_job(r);
+  }
+  // A digest taken when the settings were built that no longer matches (the digest itself upset) is
+  // reported too: a rebuild costs one job, never a wrong state.
+  a_.settings_crc[1] ^= 1U;
+  EXPECT_EQ(trn::tasks::core_settings_changed(a_, w), trn::tasks::kSettingsCamera);
+  ASSERT_TRUE(trn::tasks::core_reload_settings(a_, w));
+  EXPECT_EQ(trn::tasks::core_settings_changed(a_, w), 0U);
 }
 
 }  // namespace
