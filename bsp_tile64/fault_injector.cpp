@@ -133,6 +133,7 @@ FaultStatus apply_seu(FaultRecord& r, Rng& rng) noexcept {
   const std::uint32_t bit = r.spec.bit == kRandomBit ? static_cast<std::uint32_t>(rng.below(8U)) : r.spec.bit % 8U;
   const CarveRecord* hit = carve_at(r.spec.tile, offset);
   r.carve = hit != nullptr ? hit->what : nullptr;
+  r.carve_offset = hit != nullptr ? offset - hit->offset : 0U;
   if (hit != nullptr && hit->use != CarveUse::kData) {
     // Host addresses live there: flipping one would crash the emulator. The tile crashes instead.
     r.offset = offset;

@@ -96,6 +96,7 @@ struct FaultRecord {
   std::uint32_t bit;       ///< SEU: bit in that byte; SDC: bit index in the value
   std::uintptr_t address;  ///< SEU/SDC: address of the flipped byte
   const char* carve = nullptr;  ///< SEU: name of the carve it landed in (nullptr: none)
+  std::uint64_t carve_offset = 0U;  ///< SEU: byte offset of the flipped byte in that carve
   /**
    * SEU: it landed in control data or a stack (CarveUse), where the emulator
    * keeps host addresses: nothing is flipped and the tile crashes instead

@@ -10,6 +10,7 @@
 #include "fdir/tile_health.hpp"
 #include "trn/filter/state_check.hpp"
 #include "trn/match.hpp"
+#include "trn/tasks/filter_core.hpp"
 #include "trn/tasks/messages.hpp"
 #include "trn/tasks/sdc_points.hpp"
 #include "trn/tasks/supervisors.hpp"
@@ -18,6 +19,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <cstring>
 
 namespace tools {
 namespace {
@@ -101,15 +103,18 @@ constexpr double kCorrelationCoarseStageS = 0.300;
 /**
  * Whether @p e is the simplex filter's plausibility check refusing its state
  * after fault @p r on its tile: for a corrupted update (sdc), in the job it
- * hit; for an upset (seu), at any later job. Or, for an upset, the filter
- * finding its settings changed.
+ * hit; for an upset (seu), at any later job. Or, for an upset in the
+ * EKF's settings, the filter finding them changed.
  */
 bool filter_state_check_of(const bsp::FaultRecord& r, const fdir::Event& e, double clock_hz) {
   if (e.tile != r.spec.tile || e.cycle < r.applied_cycle) {
     return false;
   }
   if (e.id == EventId::kFilterSettingsBad) {
-    return r.spec.kind == bsp::FaultKind::kSeu;  // settings change by an upset in RAM only
+    // An upset in the settings' bytes only (the EKF carve's first bytes): one elsewhere in the EKF
+    // took the settings check of a later upset that did land there.
+    return r.spec.kind == bsp::FaultKind::kSeu && r.carve != nullptr &&
+           std::strcmp(r.carve, trn::tasks::kEkfCarve) == 0 && r.carve_offset < trn::tasks::kEkfSettingsBytes;
   }
   return e.id == EventId::kFilterStateBad &&
          (r.spec.kind == bsp::FaultKind::kSeu || seconds(e.cycle - r.applied_cycle, clock_hz) <= kAbftSameJobS);

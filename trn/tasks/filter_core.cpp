@@ -181,8 +181,6 @@ namespace {
 // The settings are doubles only, so their bytes are their values: no padding enters the digest.
 static_assert(sizeof(filter::FilterConfig) % sizeof(double) == 0U && sizeof(filter::CameraGeometry) == 13U * sizeof(double),
               "settings without padding");
-constexpr std::size_t kSettingsBytes =
-    sizeof(filter::FilterConfig) + sizeof(filter::CameraGeometry) + sizeof(filter::Vec15);
 
 template <typename T>
 std::span<const std::uint8_t> bytes_of(const T& v) noexcept {
@@ -191,8 +189,8 @@ std::span<const std::uint8_t> bytes_of(const T& v) noexcept {
 
 /** The CRC-32C of each part of the EKF's settings, in the order of their bits (kSettingsConfig...). */
 std::array<std::uint32_t, 3> settings_digests(const FilterCore& c, bsp::Work& work) noexcept {
-  work.int_ops += 8ULL * (kSettingsBytes / 4U);
-  work.mem_words += 2ULL * (kSettingsBytes / 4U);
+  work.int_ops += 8ULL * (kEkfSettingsBytes / 4U);
+  work.mem_words += 2ULL * (kEkfSettingsBytes / 4U);
   return {udn::crc32c_bytes(bytes_of(c.ekf->config())), udn::crc32c_bytes(bytes_of(c.ekf->camera())),
           udn::crc32c_bytes(bytes_of(c.ekf->process_noise()))};
 }
@@ -204,7 +202,7 @@ bool core_set_up(FilterCore& c, const FilterTaskConfig& cfg, FilterTaskStats& st
   c.cfg = &cfg;
   c.stats = &stats;
   bsp::MemError err = bsp::MemError::kOk;
-  auto* ekf = bsp::carve_array<filter::Ekf>(ram, 1, "ekf", &err);
+  auto* ekf = bsp::carve_array<filter::Ekf>(ram, 1, kEkfCarve, &err);
   if (err != bsp::MemError::kOk) {
     return false;
   }

@@ -26,6 +26,7 @@
 #include "trn/tasks/messages.hpp"
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -91,6 +92,15 @@ filter::NavOutput core_output(const FilterCore& c) noexcept;
 
 /** CRC-32C of the whole state (state block, queue, last sample); charges @p work. */
 std::uint32_t core_digest(FilterCore& c, bsp::Work& work) noexcept;
+
+/** Name of the carve that holds a core's EKF (an upset aimed at the filter names it). */
+inline constexpr const char* kEkfCarve = "ekf";
+/**
+ * Bytes of the EKF's settings at the start of its carve: its configuration,
+ * camera and process noise are the Ekf's first members (tests check it).
+ */
+inline constexpr std::size_t kEkfSettingsBytes =
+    sizeof(filter::FilterConfig) + sizeof(filter::CameraGeometry) + sizeof(filter::Vec15);
 
 /** Parts of the EKF's settings, as bits of core_settings_changed()'s result. */
 inline constexpr std::uint32_t kSettingsConfig = 1U;        ///< the filter's configuration

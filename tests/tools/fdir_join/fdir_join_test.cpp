@@ -5,6 +5,8 @@
  */
 #include "tools/common/fdir_join.hpp"
 
+#include "trn/tasks/filter_core.hpp"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -21,6 +23,14 @@ bsp::FaultRecord record(bsp::FaultKind kind, bsp::TileId tile, bsp::Cycles at) {
   r.spec.cycle = at;
   r.status = bsp::FaultStatus::kApplied;
   r.applied_cycle = at;
+  return r;
+}
+
+/** An upset in the EKF's carve of @p tile, @p offset bytes from its start (its settings come first). */
+bsp::FaultRecord settings_upset(bsp::TileId tile, bsp::Cycles at, std::uint64_t offset) {
+  bsp::FaultRecord r = record(bsp::FaultKind::kSeu, tile, at);
+  r.carve = trn::tasks::kEkfCarve;
+  r.carve_offset = offset;
   return r;
 }
 
@@ -106,8 +116,8 @@ TEST(FdirJoin, AnUpsetIsCreditedOnlyToASelfTestThatNamesItsTile) {
 // 1 s window before).
 TEST(FdirJoin, AFilterResumeHoldsUnlessTheSameCheckpointIsGoneBackToAgain) {
   using fdir::EventId;
-  const std::array<bsp::FaultRecord, 2> faults{record(bsp::FaultKind::kSeu, 18U, 3'000'000U),
-                                               record(bsp::FaultKind::kSeu, 18U, 3'900'000U)};
+  const std::array<bsp::FaultRecord, 2> faults{settings_upset(18U, 3'000'000U, 71U),
+                                               settings_upset(18U, 3'900'000U, 151U)};
   const std::vector<fdir::Event> apart{
       event(EventId::kFilterSettingsBad, 18U, 300U, 3'002'000U, 1U),
       event(EventId::kFilterResumed, 18U, 30U, 3'002'100U),
@@ -127,7 +137,7 @@ TEST(FdirJoin, AFilterResumeHoldsUnlessTheSameCheckpointIsGoneBackToAgain) {
       event(EventId::kAssertFailed, 18U, 0x0605U, 3'012'100U),
       event(EventId::kFilterResumed, 18U, 30U, 3'030'000U),  // after the tile's restart
   };
-  const std::array<bsp::FaultRecord, 1> one{record(bsp::FaultKind::kSeu, 18U, 3'000'000U)};
+  const std::array<bsp::FaultRecord, 1> one{settings_upset(18U, 3'000'000U, 71U)};
   const tools::FaultAccount b = tools::join_faults(one, again, kHz);
   ASSERT_EQ(b.recovered, 1U);
   EXPECT_NEAR(b.outcomes[0].recovered_s, 3.030, 1e-9) << "the first resume did not hold";
@@ -140,6 +150,24 @@ TEST(FdirJoin, AFilterResumeHoldsUnlessTheSameCheckpointIsGoneBackToAgain) {
   const std::array<bsp::FaultRecord, 1> sdc{record(bsp::FaultKind::kSdc, 18U, 3'000'000U)};
   const std::vector<fdir::Event> settings{event(EventId::kFilterSettingsBad, 18U, 300U, 3'002'000U, 1U)};
   EXPECT_EQ(tools::join_faults(sdc, settings, kHz).detected, 0U);
+}
+
+// FDIR-FS-07: only an upset in the settings' bytes takes the settings check. An upset deep in the
+// EKF two seconds before one in its camera took that one's detection, and the camera's went unseen.
+TEST(FdirJoin, TheSettingsCheckIsCreditedOnlyToAnUpsetInTheSettings) {
+  using fdir::EventId;
+  const std::array<bsp::FaultRecord, 3> faults{settings_upset(18U, 20'000'000U, 0x5000U),  // the EKF's history
+                                               record(bsp::FaultKind::kSeu, 18U, 21'000'000U),  // uncarved RAM
+                                               settings_upset(18U, 22'000'000U, 200U)};
+  const std::vector<fdir::Event> events{event(EventId::kFilterSettingsBad, 18U, 2200U, 22'001'500U, 2U),
+                                        event(EventId::kFilterResumed, 18U, 220U, 22'001'600U)};
+  const tools::FaultAccount a = tools::join_faults(faults, events, kHz);
+  ASSERT_EQ(a.detected, 1U);
+  EXPECT_FALSE(a.outcomes[0].detected) << "outside the settings";
+  EXPECT_FALSE(a.outcomes[1].detected) << "in no carve";
+  ASSERT_TRUE(a.outcomes[2].detected);
+  EXPECT_NEAR(a.outcomes[2].detected_s - a.outcomes[2].injected_s, 0.0015, 1e-9);
+  EXPECT_TRUE(a.outcomes[2].recovered);
 }
 
 // A hang is still credited to the tile's watchdog and recovered by the tile's return.

@@ -193,6 +193,11 @@ TEST_F(FilterCore2, AChangedPartOfTheSettingsIsNamedAndBuiltAgainWithTheStateKep
   auto* config = const_cast<trn::filter::FilterConfig*>(&a_.ekf->config());  // NOLINT(cppcoreguidelines-pro-type-const-cast)
   auto* camera = const_cast<trn::filter::CameraGeometry*>(&a_.ekf->camera());  // NOLINT(cppcoreguidelines-pro-type-const-cast)
   auto* noise = const_cast<trn::filter::Vec15*>(&a_.ekf->process_noise());  // NOLINT(cppcoreguidelines-pro-type-const-cast)
+  // The settings are the first kEkfSettingsBytes of the EKF's carve (the join credits upsets there).
+  const auto* base = static_cast<const unsigned char*>(static_cast<const void*>(a_.ekf));
+  EXPECT_EQ(static_cast<const void*>(config), static_cast<const void*>(base));
+  EXPECT_EQ(static_cast<const void*>(noise->data() + noise->size()),
+            static_cast<const void*>(base + trn::tasks::kEkfSettingsBytes));
   const std::uint32_t before = digest(a_);
   const struct {
     double* value;
