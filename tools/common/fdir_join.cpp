@@ -311,8 +311,13 @@ bool recovers(const fdir::Event& d, const fdir::Event& e, bsp::TileId t, double 
         return false;
       }
       return e.id == EventId::kTmrStarting || e.id == EventId::kTmrSimplex;
-    case EventId::kFilterStateBad:
     case EventId::kFilterSettingsBad:
+      // A TMR replica that rebuilt its settings drops its state: re-seeded, it votes again.
+      if ((e.id == EventId::kTmrResynced || e.id == EventId::kTmrAgrees) && e.subject == d.tile) {
+        return true;
+      }
+      [[fallthrough]];
+    case EventId::kFilterStateBad:
       // Back to its last checkpoint: in the job that refused the state (or rebuilt the settings), or
       // after the tile's restart when it was refused again (join_faults() skips a resume refused again).
       return e.id == EventId::kFilterResumed && e.tile == d.tile && e.cycle >= d.cycle;

@@ -125,6 +125,19 @@ void run_records(Replica& r, TmrArea& a) noexcept {
     }
     core_run(r.core, rec);
     bsp::Work dw{};
+    // Its settings in RAM changed (an upset): this job's state was computed with them. They are
+    // built again from the image and the replica drops its state and waits for a seed, as after a
+    // restart: its output goes missing, the front excludes and re-seeds it. Before, its settings
+    // stayed wrong: re-seeded, it never agreed again, and a second such replica left no majority.
+    const std::uint32_t changed = core_settings_changed(r.core, dw);
+    if (changed != 0U) {
+      const bool rebuilt = core_reload_settings(r.core, dw);
+      bsp::consume(dw);
+      ++r.stats.settings_rebuilt;
+      fdir::report(fdir::EventId::kFilterSettingsBad, r.next_job, changed, rebuilt ? 1U : 0U);
+      r.seeded = false;
+      return;
+    }
     const std::uint32_t digest = core_digest(r.core, dw);
     bsp::consume(dw);
     send_output(r, a, r.next_job, digest);

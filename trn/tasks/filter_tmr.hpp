@@ -17,7 +17,10 @@
  * core's whole state after a job, with its digest and a CRC over its header;
  * a replica loads the newest seed meant for it and runs on from the record
  * after it. A replica that is not seeded, or lost its place in the ring,
- * says so to the front (kMsgReplicaHello) every kHelloEvery releases.
+ * says so to the front (kMsgReplicaHello) every kHelloEvery releases. A
+ * replica whose EKF settings in RAM changed (their CRC after each job:
+ * core_settings_changed) reports it (kFilterSettingsBad), builds them again,
+ * sends nothing for that job and drops its state, to be re-seeded.
  *
  * The voter's place in the stream is in DDR too, so that a voter restarted
  * (reset, or its role moved to a spare) goes on where it stopped: after each

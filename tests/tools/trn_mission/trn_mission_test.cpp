@@ -1231,6 +1231,31 @@ TEST_F(TrnMissionBinary, AnUpsetInAReplicasStateIsCaughtByItsDigestAndReseeded) 
   EXPECT_EQ(s["filter_output_mark_crc"], p["filter_output_mark_crc"]) << "nothing of the upsets was delivered";
 }
 
+// FDIR-FS-08: upsets in the settings of two TMR replicas in turn. Each replica finds its settings
+// changed at the end of its job, builds them again and drops its state; the front excludes it (no
+// output) and re-seeds it, and it votes again. Before, the first stayed out (its settings still
+// wrong after the seed), the second left no majority, and nothing was delivered from 9.17 s on.
+TEST_F(TrnMissionBinary, AReplicaWhoseSettingsWereUpsetBuildsThemAgainAndIsReseeded) {
+  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 12 --faults " + fixture("filter_tmr_settings_upset.toml") +
+                " --out " + (dir_ / "ts").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "ts" / "summary.json");
+  const std::string log = read_text(dir_ / "ts" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 2) << log;
+  EXPECT_EQ(s["faults_recovered"], 2) << log;
+  EXPECT_EQ(count_of(log, "(in carve \"ekf\") (planned) -> detected by tile 2"), 2U) << "by the replica itself: " << log;
+  EXPECT_NE(log.find("tile 20  filter_settings_bad: the filter's settings in RAM (camera) changed by the end of job 700"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("tmr_resynced: replica 1 on tile 20 seeded with the voted state"), std::string::npos) << log;
+  EXPECT_NE(log.find("tmr_resynced: replica 2 on tile 21 seeded with the voted state"), std::string::npos) << log;
+  EXPECT_EQ(s["tmr_no_majority"], 0.0) << log;
+  EXPECT_EQ(s["mission_lost"], 0.0);
+  EXPECT_LT(s["nav_longest_gap_s"].get<double>(), 0.2);
+  ASSERT_TRUE(s["final_position_error_m"].is_number()) << log;
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 1.0);
+}
+
 // FDIR-TMR-05: the voter is no more a single point of failure than any role: hung four times, it
 // is reset three times and then moved to a spare, and each time the restarted voter goes on from
 // its place in DDR: it votes the outputs the replicas kept for it, writes the records of its outage
