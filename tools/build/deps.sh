@@ -12,8 +12,9 @@ base_pkgs=(
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
   libboost-dev
   cppcheck clang-tidy clang gcovr gnuplot-nox
+  python3  # the test counts (tools/build/count_tests.py) and the bench summary
 )
-bench_pkgs=(libopencv-dev python3)  # python3: the closing summary, tools/build/bench_summary.py
+bench_pkgs=(libopencv-dev)
 fuzz_pkgs=(clang libclang-rt-dev)
 study_pkgs=(jq)
 # A single-node Slurm cluster for campaigns (tools/slurm/): the controller, the
