@@ -33,7 +33,7 @@
 
 #include <ucontext.h>
 
-#if defined(__SANITIZE_ADDRESS__)
+#if BSP_ASAN
 #include <sanitizer/asan_interface.h>
 #include <sanitizer/common_interface_defs.h>
 #endif
@@ -53,7 +53,7 @@ Context* g_switch_from = nullptr;  // context that made the last switch
 Context* g_switch_to = nullptr;    // context the last switch resumed
 
 void asan_start(void** fake_save, const void* bottom, std::size_t size) noexcept {
-#if defined(__SANITIZE_ADDRESS__)
+#if BSP_ASAN
   __sanitizer_start_switch_fiber(fake_save, bottom, size);
 #else
   static_cast<void>(fake_save);
@@ -69,7 +69,7 @@ void asan_start(void** fake_save, const void* bottom, std::size_t size) noexcept
  * from ASan on every switch rather than trusted.
  */
 void asan_finish(void* fake_save) noexcept {
-#if defined(__SANITIZE_ADDRESS__)
+#if BSP_ASAN
   const void* bottom = nullptr;
   std::size_t size = 0U;
   __sanitizer_finish_switch_fiber(fake_save, &bottom, &size);
@@ -94,7 +94,7 @@ void trampoline() {
 
 }  // namespace
 
-#if defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
+#if defined(__x86_64__) && !BSP_ASAN
 #define BSP_FIBER_SWAP 1  // NOLINT(cppcoreguidelines-macro-usage): selects the switch below at compile time
 
 extern "C" {
@@ -173,7 +173,7 @@ void switch_raw(Context& from, Context& to) noexcept {
   g_switch_from = &from;
   g_switch_to = &to;
   asan_start(&from.asan_fake_stack, to.stack_base, to.stack_bytes);
-#if defined(__SANITIZE_ADDRESS__)
+#if BSP_ASAN
   if (swapcontext(&from.uc, &to.uc) != 0) {
     __builtin_trap();  // cannot happen with a context made by context_init: nothing sane to continue with
   }
@@ -201,7 +201,7 @@ void switch_abandon(Context& to) noexcept {
 #if defined(BSP_FIBER_SWAP)
   bsp_fiber_swap(&board().scratch_ctx.sp, to.sp);  // the scratch context is never resumed
   __builtin_trap();
-#elif !defined(__SANITIZE_ADDRESS__)
+#elif !BSP_ASAN
   if (to.has_jb) {
     _longjmp(to.jb, 1);  // NOLINT(cert-err52-cpp): fiber switch, see the file comment
   }
@@ -211,7 +211,7 @@ void switch_abandon(Context& to) noexcept {
 }
 
 void unpoison(std::byte* p, std::size_t bytes) noexcept {
-#if defined(__SANITIZE_ADDRESS__)
+#if BSP_ASAN
   __asan_unpoison_memory_region(p, bytes);
 #else
   static_cast<void>(p);

@@ -111,17 +111,7 @@ constexpr TaskSpec kIdleSpec{"idle", &idle_main, nullptr, config::kNumPriorities
  * release image keeps the table's budgets (check_table), and the canary and
  * high-water checks watch the scaled stacks the same way.
  */
-#if defined(__SANITIZE_ADDRESS__)
-constexpr std::uint32_t kStackScale = 3U;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr std::uint32_t kStackScale = 3U;
-#else
-constexpr std::uint32_t kStackScale = 1U;
-#endif
-#else
-constexpr std::uint32_t kStackScale = 1U;
-#endif
+constexpr std::uint32_t kStackScale = bsp::kAddressSanitizer ? 3U : 1U;
 
 Status make_task(KernelState& ks, const TaskSpec& spec, TaskId id) noexcept {
   const std::uint32_t stack_bytes = spec.stack_bytes * kStackScale;

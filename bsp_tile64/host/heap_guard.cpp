@@ -8,6 +8,8 @@
  */
 #include "bsp_tile64/host/heap_guard.hpp"
 
+#include "bsp_tile64/port.hpp"  // BSP_ASAN
+
 #include <atomic>
 #include <cstddef>
 #include <cstdio>
@@ -16,7 +18,7 @@
 #include <new>
 #include <unistd.h>
 
-#if defined(__SANITIZE_ADDRESS__)
+#if BSP_ASAN
 #define HEAP_GUARD_COUNTS_MALLOC 0
 #else
 #define HEAP_GUARD_COUNTS_MALLOC 1
