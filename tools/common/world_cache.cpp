@@ -4,13 +4,17 @@
  */
 #include "tools/common/world_cache.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <array>
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -97,6 +101,39 @@ void prune(const fs::path& dir, const std::string& stamp_tag) {
 /** The file-name prefix of this image build's files. */
 std::string stamp_tag() { return hex_key(image_stamp()).substr(0, 8) + "-"; }
 
+/**
+ * An exclusive lock on one product's key, held while it is looked up, built and written: runs that
+ * start together (test shards, parallel flights) build a product once, and the others wait and read
+ * it, instead of each building the same seconds of work. Without a lock file (a folder that cannot be
+ * written) every run builds for itself, as without a cache.
+ */
+class KeyLock {
+ public:
+  explicit KeyLock(const fs::path& file) {
+    std::error_code ec;
+    fs::create_directories(file.parent_path(), ec);
+    fd_ = ::open((file.string() + ".lock").c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+    while (fd_ >= 0 && ::flock(fd_, LOCK_EX) != 0) {
+      if (errno != EINTR) {
+        (void)::close(fd_);
+        fd_ = -1;
+      }
+    }
+  }
+  ~KeyLock() {
+    if (fd_ >= 0) {
+      (void)::close(fd_);  // closing releases the lock
+    }
+  }
+  KeyLock(const KeyLock&) = delete;
+  KeyLock& operator=(const KeyLock&) = delete;
+  KeyLock(KeyLock&&) = delete;
+  KeyLock& operator=(KeyLock&&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
 struct TerrainHead {
   std::array<char, 8> magic;
   std::uint64_t cells;
@@ -117,7 +154,9 @@ std::string WorldCache::map_key(const w::TerrainConfig& cfg, const w::MapConfig&
 
 bool WorldCache::terrain(const w::TerrainConfig& cfg, std::string& error) {
   const fs::path file = fs::path(dir_) / (stamp_tag() + "terrain-" + terrain_key(cfg) + ".bin");
+  std::optional<KeyLock> lock;
   if (enabled()) {
+    lock.emplace(file);
     std::ifstream in(file, std::ios::binary);
     TerrainHead h{};
     const std::uint64_t want = std::uint64_t{cfg.size_px} * cfg.size_px;
@@ -148,7 +187,9 @@ bool WorldCache::terrain(const w::TerrainConfig& cfg, std::string& error) {
 
 const bsp::MapProductHeader* WorldCache::map(const w::TerrainConfig& cfg, const w::MapConfig& m, w::WorldError& err) {
   const fs::path file = fs::path(dir_) / (stamp_tag() + "map-" + map_key(cfg, m) + ".bin");
+  std::optional<KeyLock> lock;
   if (enabled()) {
+    lock.emplace(file);
     std::error_code ec;
     const std::uintmax_t size = fs::file_size(file, ec);
     std::ifstream in(file, std::ios::binary);
