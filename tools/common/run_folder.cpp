@@ -296,7 +296,9 @@ std::optional<RunFolder> RunFolder::open(const std::string& dir_in, std::string&
       return std::nullopt;
     }
   }
-  if (::access(parent.c_str(), W_OK | X_OK) != 0) {
+  // The effective permissions (AT_EACCESS), as the mkdir below meets them: access() would answer for the
+  // real user, and for root with the permitted capabilities rather than the effective ones.
+  if (::faccessat(AT_FDCWD, parent.c_str(), W_OK | X_OK, AT_EACCESS) != 0) {
     error = dir + ": the folder " + parent.string() + " is not writable: " + errno_text(errno);
     return std::nullopt;
   }
