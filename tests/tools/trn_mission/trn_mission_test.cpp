@@ -47,9 +47,7 @@ int run(const std::string& cmd) {
 class TrnMissionBinary : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (!fs::exists(image())) {
-      GTEST_SKIP() << image() << " is not built (make test builds it)";
-    }
+    ASSERT_TRUE(fs::exists(image())) << image() << " is not built (make test builds it)";
     dir_ = fs::temp_directory_path() / ("trn_mission_test_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
@@ -282,14 +280,17 @@ TEST_F(TrnMissionBinary, TheCoarseFramesFineMatchesAreIteratedWhileThePositionIs
     EXPECT_EQ(s[std::string("integrity_beyond_5sigma_") + axis].get<double>(), 0.0) << axis;
   }
   const std::vector<std::vector<std::string>> rows = csv_rows(dir_ / "l" / "nav.csv");
+  ASSERT_GT(rows.size(), 30U) << "nav.csv samples the 100 Hz outputs of 4 s";
   const std::vector<std::string>& head = rows[0];
   const auto t = static_cast<std::size_t>(std::find(head.begin(), head.end(), "t_s") - head.begin());
+  ASSERT_LT(t, head.size());
   const auto att = static_cast<std::size_t>(std::find(head.begin(), head.end(), "att_err_deg") - head.begin());
   ASSERT_LT(att, head.size());
   const auto err = static_cast<std::size_t>(std::find(head.begin(), head.end(), "pos_err_m") - head.begin());
   ASSERT_LT(err, head.size());
   const double fix = s["fix_at_s"].get<double>();
   double worst_from_fix = 0.0;
+  std::size_t attitude_rows = 0;
   for (std::size_t r = 1; r < rows.size(); ++r) {
     const double at = std::stod(rows[r][t]);
     if (at >= fix - 1e-9) {
@@ -298,8 +299,10 @@ TEST_F(TrnMissionBinary, TheCoarseFramesFineMatchesAreIteratedWhileThePositionIs
     // From the output after the one that caught the batch halfway.
     if (at >= fix + 0.1 - 1e-9) {
       EXPECT_LT(std::stod(rows[r][att]), 0.1) << "attitude error at " << rows[r][t] << " s, deg (was 0.75)";
+      ++attitude_rows;
     }
   }
+  EXPECT_GT(attitude_rows, 20U) << "the rows from the fix on (at " << fix << " s) were checked";
   EXPECT_LT(worst_from_fix, 15.0) << "was 60.8 m";
 }
 
@@ -1416,23 +1419,34 @@ TEST_F(TrnMissionBinary, AReliabilityTelecommandGoesDownTheTree) {
 // A world cache gives the same flight, bit for bit: built and kept, read back, and a damaged file
 // ignored and built again; without a cache, the same trace hash too.
 TEST_F(TrnMissionBinary, WorldCacheFliesTheSameBits) {
+  // The cold flight builds the world and keeps it; the warm one reads it back; the damaged one finds
+  // files cut short, builds again and writes them whole. All three fly the same bits.
   const fs::path cache = dir_ / "world";
   const std::string args = " --quiet --no-plots --duration 2 --seed 3 --out ";
-  ASSERT_EQ(run(image() + args + (dir_ / "none").string()), 0);
   ASSERT_EQ(run(image() + " --world-cache " + cache.string() + args + (dir_ / "cold").string()), 0);
   std::vector<fs::path> files;
   for (const fs::directory_entry& e : fs::directory_iterator(cache)) {
-    files.push_back(e.path());
+    if (e.path().extension() == ".bin") {
+      files.push_back(e.path());
+    }
   }
   ASSERT_EQ(files.size(), 2U) << "the terrain and the map product";
+  std::vector<fs::file_time_type> written;
+  for (const fs::path& f : files) {
+    written.push_back(fs::last_write_time(f));
+  }
   ASSERT_EQ(run(image() + " --world-cache " + cache.string() + args + (dir_ / "warm").string()), 0);
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    EXPECT_EQ(fs::last_write_time(files[i]), written[i]) << "the warm flight read, and did not build: " << files[i];
+  }
   for (const fs::path& f : files) {
     fs::resize_file(f, fs::file_size(f) / 2U);  // a damaged file: not a whole product
   }
   ASSERT_EQ(run(image() + " --world-cache " + cache.string() + args + (dir_ / "damaged").string()), 0);
-  const nlohmann::json none = read_json(dir_ / "none" / "summary.json");
-  for (const char* r : {"cold", "warm", "damaged"}) {
-    EXPECT_EQ(read_json(dir_ / r / "summary.json")["trace_hash"], none["trace_hash"]) << r;
+  const nlohmann::json cold = read_json(dir_ / "cold" / "summary.json");
+  EXPECT_EQ(cold["frames"], 1) << "a frame of the world: the hash depends on it";
+  for (const char* r : {"warm", "damaged"}) {
+    EXPECT_EQ(read_json(dir_ / r / "summary.json")["trace_hash"], cold["trace_hash"]) << r;
   }
   for (const fs::path& f : files) {
     EXPECT_GT(fs::file_size(f), 1000000U) << "written whole again after the damaged read: " << f;
@@ -1598,6 +1612,8 @@ TEST_F(TrnMissionBinary, IdleReplicasAreSwitchedOffAndWokenBeforeTheTerminalPhas
   EXPECT_EQ(s["sup_replicas_woken"], 3.0);
   EXPECT_EQ(s["deadline_misses"], 0);
   EXPECT_EQ(s["filter_outputs_skipped"], 0.0);
+  EXPECT_EQ(f["filter_output_mark_job"], 599.0) << "the last 100-job mark of 7 s";
+  EXPECT_EQ(s["filter_output_mark_job"], f["filter_output_mark_job"]);
   EXPECT_EQ(s["filter_output_mark_crc"], f["filter_output_mark_crc"]) << "the same delivered stream";
   const double saved = f["energy_j_by_role"]["filter_replica"].get<double>() - s["energy_j_by_role"]["filter_replica"].get<double>();
   EXPECT_GT(saved, 0.5) << "three idle tiles off for about 4.6 s of 7";
