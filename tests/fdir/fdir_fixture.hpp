@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <vector>
 
 namespace fdir_test {
@@ -19,11 +20,14 @@ inline constexpr bsp::Cycles kTick = bsp::kTile64.cycles_per_ms();
 
 /** The body the task runs once (a plain function: it runs on the tile's stack). */
 inline void (*g_body)() = nullptr;
+/** Set when the body has returned: a body that blocks or hangs never sets it. */
+inline bool g_body_returned = false;
 
 inline void body_task(void* /*arg*/) {
   if (g_body != nullptr) {
     g_body();
   }
+  g_body_returned = true;
   for (;;) {
     k::sleep(1000);
   }
@@ -33,9 +37,14 @@ inline constexpr k::TaskSpec kBodyTable[] = {
     {"body", &body_task, nullptr, 1, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
 };
 
-/** Boots tile 0 alone, carves the event log, runs @p body on the tile. */
-inline void run_on_tile0(void (*body)()) {
+/**
+ * Boots tile 0 alone, carves the event log, runs @p body on the tile for @p ticks emulated ticks, and
+ * fails the test unless the body returned within them: assertions that sit inside a body that never ran
+ * to its end would otherwise pass unseen.
+ */
+inline void run_on_tile0(void (*body)(), std::uint32_t ticks = 10U) {
   g_body = body;
+  g_body_returned = false;
   bsp::BoardConfig cfg = bsp::default_config(bsp::kTile64);
   cfg.powered_at_start = 1U;
   cfg.monitor_tile = bsp::kNoTile;
@@ -44,7 +53,8 @@ inline void run_on_tile0(void (*body)()) {
   ASSERT_EQ(bsp::region_reset(bsp::Region{bsp::Region::kDdr}), bsp::MemError::kOk);
   ASSERT_EQ(bsp::board_init(cfg), bsp::BoardError::kOk);
   ASSERT_EQ(fdir::event_log_init(), fdir::LogError::kOk);
-  (void)bsp::run_for(10U * kTick);
+  (void)bsp::run_for(ticks * kTick);
+  EXPECT_TRUE(g_body_returned) << "the test's body did not run to its end within " << ticks << " ticks on tile 0";
 }
 
 /** The events tile @p tile still holds, oldest first. */

@@ -168,8 +168,7 @@ void expect_every_element_corrected(std::uint32_t site, int elements, std::uint3
   bsp::Work work{};
   s.p_clean = s.p0;
   ASSERT_TRUE(trn::filter::kalman_update(s.p_clean, s.m, kOpenGate, s.dx_clean, s.w, work).accepted);
-  fdir_test::run_on_tile0(&sweep_body);
-  (void)bsp::run_for(static_cast<bsp::Cycles>(elements + 10) * fdir_test::kTick);
+  fdir_test::run_on_tile0(&sweep_body, static_cast<std::uint32_t>(elements + 10));
   for (int n = 0; n < s.elements; ++n) {
     const Outcome& o = s.out[static_cast<std::size_t>(n)];
     const int e = s.index[static_cast<std::size_t>(n)];
