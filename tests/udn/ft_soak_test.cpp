@@ -29,6 +29,7 @@ struct SoakResult {
   std::uint64_t forwarded = 0;
   std::uint64_t gave_up = 0;
   std::uint64_t unreachable = 0;
+  std::uint64_t bit_flips = 0;  ///< words the network corrupted in transit (its own count)
 };
 
 constexpr std::uint32_t kChannels = udn::kFtChannels;
@@ -85,11 +86,12 @@ void offer_traffic(const std::vector<bsp::TileId>& live, bsp::Rng& rng, SoakResu
 void report(double ber, const SoakResult& r) {
   const auto sum = [](auto f) { return static_cast<unsigned long long>(ft_test::total(f)); };
   std::printf("ber %.0e: sent %llu delivered %llu corrected %llu uncorrectable %llu retransmitted %llu "
-              "forwarded %llu gave_up %llu bad %llu\n",
+              "forwarded %llu gave_up %llu bad %llu bit_flips %llu\n",
               ber, static_cast<unsigned long long>(r.sent), static_cast<unsigned long long>(r.delivered),
               static_cast<unsigned long long>(r.corrected), static_cast<unsigned long long>(r.uncorrectable),
               static_cast<unsigned long long>(r.retransmitted), static_cast<unsigned long long>(r.forwarded),
-              static_cast<unsigned long long>(r.gave_up), static_cast<unsigned long long>(r.bad));
+              static_cast<unsigned long long>(r.gave_up), static_cast<unsigned long long>(r.bad),
+              static_cast<unsigned long long>(r.bit_flips));
   std::printf("  duplicates dropped %llu out of order %llu acks %llu nacks %llu net lost %llu\n",
               sum([](const udn::FtStats& s) { return s.duplicates_dropped; }),
               sum([](const udn::FtStats& s) { return s.out_of_order_dropped; }),
@@ -143,6 +145,7 @@ SoakResult soak(double ber, std::uint64_t seed, std::uint64_t packets, const std
   r.uncorrectable = ft_test::total([](const udn::FtStats& s) { return s.uncorrectable_detected; });
   r.forwarded = ft_test::total([](const udn::FtStats& s) { return s.forwarded; });
   r.gave_up = ft_test::total([](const udn::FtStats& s) { return s.gave_up; });
+  r.bit_flips = bsp::udn_net_stats().bit_flips;
   report(ber, r);
   return r;
 }
@@ -163,18 +166,22 @@ void expect_perfect(const SoakResult& r, std::uint64_t seed) {
 TEST(FtSoak, BitErrorRate1e5WithFailedSwitchesLosesNothing) {
   const auto r = soak(1e-5, 11U, 100000U, {8U, 9U, 45U}, bsp::kNoTile);
   expect_perfect(r, 11U);
+  EXPECT_GT(r.bit_flips, 0U) << "the soak must flip bits to test their correction";
+  EXPECT_GT(r.corrected, 0U);
   EXPECT_GT(r.forwarded, 0U);
 }
 
 TEST(FtSoak, BitErrorRate1e4WithASwitchFailingMidRunLosesNothing) {
   const auto r = soak(1e-4, 12U, 100000U, {20U}, 36U);
   expect_perfect(r, 12U);
+  EXPECT_GT(r.bit_flips, 0U);
   EXPECT_GT(r.corrected, 0U);
 }
 
 TEST(FtSoak, BitErrorRate1e3WithFailedSwitchesLosesNothing) {
   const auto r = soak(1e-3, 13U, 100000U, {8U, 9U, 27U}, bsp::kNoTile);
   expect_perfect(r, 13U);
+  EXPECT_GT(r.bit_flips, 100U);
   EXPECT_GT(r.corrected, 100U);
   EXPECT_GT(r.retransmitted, 0U);
 }

@@ -63,12 +63,17 @@ TEST(FilterNoAlloc, PropagateUpdateSerializeAndOutputNeverAllocate) {
   EXPECT_GE(g_ekf.state().c.rejected_gate, 1U);
 }
 
-TEST(FilterNoAlloc, EigenCheckIsArmedInThisBinary) {
-  // The check is live: a dynamic matrix would trip it (asserted without tripping).
-  Eigen::internal::set_is_malloc_allowed(false);
-  const bool armed = !Eigen::internal::is_malloc_allowed();
-  Eigen::internal::set_is_malloc_allowed(true);
-  EXPECT_TRUE(armed);
+// The check is live in this binary (EIGEN_RUNTIME_NO_MALLOC, assertions on): a dynamic matrix made while
+// allocation is forbidden stops the program, so the zero counts above cannot come from a check compiled out.
+TEST(FilterNoAllocDeathTest, EigenCheckIsArmedInThisBinary) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_DEATH(
+      {
+        Eigen::internal::set_is_malloc_allowed(false);
+        Eigen::MatrixXd m(3, 3);
+        test_support::escape(m.data());
+      },
+      "heap allocation is forbidden");
 }
 
 }  // namespace

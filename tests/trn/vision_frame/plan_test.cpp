@@ -231,6 +231,11 @@ TEST_F(Plan, IsDeterministic) {
   pr.sigma_p_m[0] = 30.0;
   pr.sigma_att_rad[1] = 2e-3;
   const std::vector<tv::PlannedLandmark> a = plan(pr, tv::FramePlanParams{});
+  ASSERT_GT(a.size(), 20U) << "a plan to compare";
+  // Another plan in between: scratch state a plan left behind would show in the next.
+  tv::PosePrior other = prior(pose_);
+  other.sigma_p_m[0] = 200.0;
+  (void)plan(other, tv::FramePlanParams{});
   const std::vector<tv::PlannedLandmark> b = plan(pr, tv::FramePlanParams{});
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t i = 0; i < a.size(); ++i) {
