@@ -8,7 +8,7 @@
 # Tests: tests/<dir>/*.cpp link into one GoogleTest binary per folder.
 # Benchmarks: tests/bench/*.cpp, one Google Benchmark binary per file.
 #
-# Options: BUILD=release|debug, SAN=address,undefined (sanitizer build),
+# Options: BUILD=release|debug, SAN=address,undefined (sanitizer build), FLIGHTS=all|subset (make test),
 #          CXX=clang++ (the Clang build, beside the GCC one: objects under build/obj/clang-<variant>,
 #          programs under build/clang/ for release, build/clang-<variant>/ otherwise).
 
@@ -106,7 +106,7 @@ flags_for = $(if $(call is_flight,$(1)),$(FLIGHT_CXXFLAGS),$(HOST_CXXFLAGS)) $(E
 help: ## List the targets and options
 	@echo "Targets:"
 	@grep -hE '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/^([a-z-]+):.*## (.*)/  \1\t\2/' | expand -t 14
-	@echo "Options: BUILD=release|debug  SAN=address,undefined  CXX=clang++  ARGS='...' (for run)"
+	@echo "Options: BUILD=release|debug  SAN=address,undefined  CXX=clang++  FLIGHTS=all|subset (for test)  ARGS='...' (for run)"
 
 # ---------------------------------------------------------------- deps
 .PHONY: deps
@@ -195,11 +195,11 @@ run: deps ## Build and fly the default descent with the demonstration faults (RU
 	@$(MAKE) --no-print-directory $(BIN)/trn_mission
 	$(BIN)/trn_mission $(RUN_ARGS) $(ARGS)
 
-test: deps ## Build and run every GoogleTest binary (the GCC release build checks the stack budget first); ends with "tests: N passed, N failed"
+test: deps ## Build and run every GoogleTest binary (FLIGHTS=subset: the flights of mk/flight_subset.mk only); ends with "tests: N passed, N failed, N skipped"
 	@$(MAKE) --no-print-directory $(TEST_BINS) $(foreach p,$(PROGRAMS),$(BIN)/$(p))
 	@# The frame budget holds for the GCC release objects (-fstack-usage); sanitizers and -O0 grow frames.
 	$(if $(filter release,$(VARIANT)),@tools/build/stack_report.sh $(OBJ) $(FLIGHT_SRC))
-	@tools/build/run_tests.sh $(BIN)/test-results $(TEST_BINS)
+	@TEST_FILTERS='$(TEST_FILTERS_ARG)' tools/build/run_tests.sh $(BIN)/test-results $(TEST_BINS)
 
 compdb: $(BIN)/compile_commands.json ## Write the compilation database for tools and editors
 $(BIN)/compile_commands.json: Makefile $(ALL_SRC)
