@@ -52,7 +52,11 @@ WARN := -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wsign-conversion \
         -Wimplicit-fallthrough -Wundef -Wmissing-declarations -Werror
 # -ffp-contract=off everywhere: a fused multiply-add would change results
 # between builds and break bit-identical replay.
-COMMON := -std=c++20 -I. -isystem /usr/include/eigen3 -ffp-contract=off -MMD -MP
+# EIGEN_RUNTIME_NO_MALLOC everywhere: Eigen's allocation check is an inline function whose body
+# depends on the macro, so a macro set in some translation units only gives two definitions of one
+# function, and the linker keeps either (the Clang sanitizer build kept the one without the check).
+# The check does nothing until a test calls Eigen::internal::set_is_malloc_allowed(false).
+COMMON := -std=c++20 -I. -isystem /usr/include/eigen3 -DEIGEN_RUNTIME_NO_MALLOC -ffp-contract=off -MMD -MP
 OPT_release := -O2 -g
 OPT_debug := -O0 -g3 -D_GLIBCXX_ASSERTIONS
 OPT_cov := -O0 -g --coverage

@@ -25,7 +25,7 @@ FUZZ_RUNS ?=
 FUZZ_TIMEOUT ?= 10
 FUZZ_MAX_LEN ?= 4096
 FUZZ_CXX := clang++
-FUZZ_BASE_FLAGS := -std=c++20 -I. -isystem /usr/include/eigen3 -ffp-contract=off -O1 -g -fno-omit-frame-pointer \
+FUZZ_BASE_FLAGS := -std=c++20 -I. -isystem /usr/include/eigen3 -DEIGEN_RUNTIME_NO_MALLOC -ffp-contract=off -O1 -g -fno-omit-frame-pointer \
                    -fno-sanitize-recover=all -MMD -MP
 FUZZ_LIB_FLAGS := $(FUZZ_BASE_FLAGS) -fsanitize=fuzzer-no-link,address,undefined
 FUZZ_LINK_FLAGS := -fsanitize=fuzzer,address,undefined

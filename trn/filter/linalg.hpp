@@ -2,16 +2,13 @@
  * @file linalg.hpp
  * @brief Fixed-size Eigen types, error-state indices and small rotation helpers of the filter.
  *
- * EIGEN_RUNTIME_NO_MALLOC is switched on here so that every filter translation
- * unit carries Eigen's allocation check: a test that calls
- * Eigen::internal::set_is_malloc_allowed(false) then trips on any allocation
- * made inside the filter code itself, not only in the test's own code.
+ * Every translation unit is built with EIGEN_RUNTIME_NO_MALLOC (the Makefile's
+ * flags), so the filter's code carries Eigen's allocation check: a test that
+ * calls Eigen::internal::set_is_malloc_allowed(false) then trips on any
+ * allocation made inside the filter code itself, not only in its own code.
  */
 #pragma once
 
-#ifndef EIGEN_RUNTIME_NO_MALLOC
-#define EIGEN_RUNTIME_NO_MALLOC
-#endif
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
