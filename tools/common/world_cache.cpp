@@ -212,4 +212,34 @@ const bsp::MapProductHeader* WorldCache::map(const w::TerrainConfig& cfg, const 
   return p;
 }
 
+bool WorldCache::landmarks(const w::TerrainConfig& cfg, const w::MapConfig& m, const trn::vision::SelectParams& p,
+                           trn::vision::LandmarkTable& table,
+                           const std::function<bool(trn::vision::LandmarkTable&)>& select) {
+  std::ostringstream o;
+  o << map_key(cfg, m) << " landmarks " << sizeof(trn::vision::LandmarkTable) << " patch " << p.patch_px << " cell "
+    << p.cell_px << " stride " << p.stride_px << " margin " << p.margin_px << " inset " << p.cell_inset_px << " sep "
+    << p.min_separation_px << " corner " << p.min_corner << " sd " << p.min_stddev << " dense " << p.dense_cell_px
+    << " " << p.dense_cell_inset_px;
+  const fs::path file = fs::path(dir_) / (stamp_tag() + "landmarks-" + hex_key(o.str()) + ".bin");
+  std::optional<KeyLock> lock;
+  if (enabled()) {
+    lock.emplace(file);
+    std::error_code ec;
+    std::ifstream in(file, std::ios::binary);
+    if (fs::file_size(file, ec) == sizeof table && !ec && in &&
+        in.read(reinterpret_cast<char*>(&table), sizeof table)) {  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): raw file bytes
+      ++hits_;
+      return true;
+    }
+  }
+  if (!select(table)) {
+    return false;
+  }
+  if (enabled()) {
+    ++misses_;
+    (void)write_atomic(file, &table, 0U, &table, sizeof table);
+  }
+  return true;
+}
+
 }  // namespace tools

@@ -1,6 +1,7 @@
 /**
  * @file world_cache.hpp
- * @brief A folder of built world products (terrain grid, reference-map product) kept between runs.
+ * @brief A folder of built world products (terrain grid, reference-map product, the ground's
+ *        landmark table) kept between runs.
  *
  * Building the terrain and rendering the map product cost seconds per run;
  * a campaign of thousands of runs of one scenario builds them once. Each file
@@ -21,8 +22,10 @@
 #include "bsp_tile64/devices/map_product.hpp"
 #include "bsp_tile64/world/refmap.hpp"
 #include "bsp_tile64/world/terrain.hpp"
+#include "trn/vision/landmarks.hpp"
 
 #include <cstdint>
+#include <functional>
 #include <string>
 
 namespace tools {
@@ -40,6 +43,15 @@ class WorldCache {
   /** The map product of @p map over terrain @p cfg, carved into DDR: restored, or built and kept. */
   const bsp::MapProductHeader* map(const bsp::world::TerrainConfig& cfg, const bsp::world::MapConfig& map,
                                    bsp::world::WorldError& err);
+
+  /**
+   * The ground's landmark table of the map @p map over terrain @p cfg selected with @p params: read
+   * into @p table, or made by @p select (which fills @p table, false on failure) and then kept. The
+   * table read back is the bytes @p select wrote. False when @p select fails.
+   */
+  bool landmarks(const bsp::world::TerrainConfig& cfg, const bsp::world::MapConfig& map,
+                 const trn::vision::SelectParams& params, trn::vision::LandmarkTable& table,
+                 const std::function<bool(trn::vision::LandmarkTable&)>& select);
 
   /** Products read from the folder / built and written to it since this object was made. */
   [[nodiscard]] std::uint32_t hits() const { return hits_; }
