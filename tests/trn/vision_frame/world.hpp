@@ -11,6 +11,8 @@
  */
 #pragma once
 
+#include "build_dirs.hpp"
+
 #include "bsp_tile64/devices/camera.hpp"
 #include "bsp_tile64/memory.hpp"
 #include "bsp_tile64/rng.hpp"
@@ -19,6 +21,7 @@
 #include "bsp_tile64/world/trajectory.hpp"
 #include "trn/vision/frame.hpp"
 #include "trn/vision/ortho.hpp"
+#include "tools/common/world_cache.hpp"
 
 #include <gtest/gtest.h>
 
@@ -28,6 +31,7 @@
 #include <cmath>
 #include <map>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace frame_test {
@@ -113,10 +117,13 @@ struct World {
   void build(std::uint64_t s) {
     bsp::world::TerrainConfig tc;
     tc.seed = s;
-    ASSERT_EQ(bsp::world::terrain_build(tc), bsp::world::WorldError::kOk);
+    // Built once, then read from a cache of this program's own (the cache keys a world by the program).
+    tools::WorldCache cache(std::string(build_info::kBinDir) + "/test-world-cache-vision-frame");
+    std::string why;
+    ASSERT_TRUE(cache.terrain(tc, why)) << why;
     ASSERT_EQ(bsp::region_reset(bsp::Region{bsp::Region::kDdr}), bsp::MemError::kOk);
     bsp::world::WorldError err = bsp::world::WorldError::kNotBuilt;
-    product = bsp::world::refmap_build(bsp::world::MapConfig{}, &err);
+    product = cache.map(tc, bsp::world::MapConfig{}, err);
     ASSERT_EQ(err, bsp::world::WorldError::kOk);
     ASSERT_NE(product, nullptr);
     ASSERT_EQ(bsp::world::terrain_shade(bsp::CameraConfig{}.sun), bsp::world::WorldError::kOk);
