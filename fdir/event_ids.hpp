@@ -119,89 +119,120 @@ enum class EventId : std::uint16_t {
 /** Column field of an abft event whose product was checked on its rows only (no column checked). */
 inline constexpr std::uint32_t kAbftColNotChecked = 0xFFFEU;
 
+/**
+ * What an event accuses: the class of fault it diagnoses. The join (host) credits a
+ * detection only to an accusation of the fault's tile with a class the fault's kind
+ * allows, counts one of the wrong tile or class as a wrong diagnosis and one no
+ * injected fault explains as a false alarm (docs/FDIR.md, "The join").
+ */
+enum class Diagnosis : std::uint8_t {
+  kNone = 0,     ///< not an accusation: an action, a recovery, a notice
+  kSuspicion,    ///< one observer's suspicion, not a diagnosis: a probe missed, a vote cast, an answer late
+  kCoreSilent,   ///< the core does not answer (hung, or crashed and not back yet), seen from outside
+  kCoreCrashed,  ///< the tile booted again without a command (it says so itself)
+  kWrongResult,  ///< the tile computed, stored or sent something wrong
+  kMemoryUpset,  ///< data in RAM changed since it was written (its checksum)
+  kSwitch,       ///< the tile's switch routes nothing
+  kLink,         ///< the link between two tiles carries nothing
+  kSwitchOrLink, ///< a link or the switch at one of its ends, not told apart
+  kPacket,       ///< a packet damaged or lost on its way (about the data, no tile accused)
+};
+
+/** Which fields of an event name the tiles it accuses. */
+enum class Accused : std::uint8_t {
+  kNobody = 0,       ///< no tile: a packet, a DDR block, a product
+  kSubject,          ///< the subject
+  kCause,            ///< the cause
+  kWriter,           ///< the tile that wrote it, about itself
+  kSubjectAndCause,  ///< a link: both its ends
+  kReplicas,         ///< tmr_no_majority: each replica its mask names as different (tiles in b)
+};
+
 struct EventInfo {
   EventId id;
   const char* name;
   Severity severity;
   std::uint8_t steps;  ///< Step bits
+  Diagnosis diagnosis;  ///< what it accuses (fdir/accusation.hpp refines it by the event's fields)
+  Accused accused;      ///< whom
 };
 
 /** The table: every id once. */
 inline constexpr std::array<EventInfo, 74> kEventTable{{
-    {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
-    {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover},
-    {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect},
-    {EventId::kPacketResent, "packet_resent", Severity::kWarningLo, kStepRecover},
-    {EventId::kPacketGaveUp, "packet_gave_up", Severity::kWarningHi, kStepDetect},
-    {EventId::kRouteUnreachable, "route_unreachable", Severity::kWarningHi, kStepDetect},
-    {EventId::kForwardUnreachable, "forward_unreachable", Severity::kWarningHi, kStepDetect},
-    {EventId::kNeighbourSuspect, "neighbour_suspect", Severity::kWarningHi, kStepDetect},
-    {EventId::kMapApplied, "map_applied", Severity::kInfo, kStepRecover},
-    {EventId::kMapPushed, "map_pushed", Severity::kInfo, kStepNone},
-    {EventId::kTransitLost, "transit_lost", Severity::kWarningLo, kStepNone},
-    {EventId::kTransitBack, "transit_back", Severity::kInfo, kStepNone},
-    {EventId::kPacketSettled, "packet_settled", Severity::kWarningLo, kStepDetect},
-    {EventId::kSuspectVote, "suspect_vote", Severity::kWarningLo, kStepDetect},
-    {EventId::kSwitchFailed, "switch_failed", Severity::kWarningHi, kStepDetect | kStepIsolate},
-    {EventId::kLinkFailed, "link_failed", Severity::kWarningHi, kStepDetect | kStepIsolate},
-    {EventId::kMapPublished, "map_published", Severity::kInfo, kStepRecover},
-    {EventId::kCoreSuspect, "core_suspect", Severity::kWarningHi, kStepDetect},
-    {EventId::kTransitFailed, "transit_failed", Severity::kWarningHi, kStepDetect | kStepIsolate},
-    {EventId::kLinkOrSwitchFailed, "link_or_switch_failed", Severity::kWarningHi, kStepDetect | kStepIsolate},
-    {EventId::kWorkerSilent, "worker_silent", Severity::kWarningHi, kStepDetect | kStepIsolate},
-    {EventId::kWorkerBack, "worker_back", Severity::kInfo, kStepRecover},
-    {EventId::kFrameDone, "frame_done", Severity::kInfo, kStepNone},
-    {EventId::kResultsSuspect, "results_suspect", Severity::kWarningHi, kStepDetect | kStepIsolate},
-    {EventId::kResultsConsistent, "results_consistent", Severity::kInfo, kStepRecover},
-    {EventId::kVisionSetUpFailed, "vision_set_up_failed", Severity::kFatal, kStepDetect},
-    {EventId::kCoarseBandRedone, "coarse_band_redone", Severity::kWarningLo, kStepDetect | kStepRecover},
-    {EventId::kLandmarkProductRefused, "landmark_product_refused", Severity::kWarningLo, kStepDetect | kStepRecover},
-    {EventId::kMonitorWarn, "monitor_warn", Severity::kWarningLo, kStepDetect},
-    {EventId::kMonitorFatal, "monitor_fatal", Severity::kWarningHi, kStepDetect | kStepIsolate},
-    {EventId::kActionCapped, "action_capped", Severity::kFatal, kStepNone},
-    {EventId::kAssertFailed, "assert_failed", Severity::kFatal, kStepDetect},
-    {EventId::kTaskOverdue, "task_overdue", Severity::kWarningHi, kStepDetect},
-    {EventId::kWatchdogExpired, "watchdog_expired", Severity::kWarningHi, kStepDetect},
-    {EventId::kTileReset, "tile_reset", Severity::kWarningHi, kStepIsolate},
-    {EventId::kTileRecovered, "tile_recovered", Severity::kInfo, kStepRecover},
-    {EventId::kTileRebooted, "tile_rebooted", Severity::kWarningHi, kStepDetect | kStepRecover},
-    {EventId::kTileLost, "tile_lost", Severity::kFatal, kStepDetect},
-    {EventId::kRoleMoved, "role_moved", Severity::kWarningHi, kStepIsolate},
-    {EventId::kRoleRestored, "role_restored", Severity::kInfo, kStepRecover},
-    {EventId::kNoSpare, "no_spare", Severity::kFatal, kStepNone},
-    {EventId::kSelfTestMismatch, "self_test_mismatch", Severity::kWarningHi, kStepDetect},
-    {EventId::kSelfTestAgree, "self_test_agree", Severity::kInfo, kStepRecover},
-    {EventId::kSelfTestLate, "self_test_late", Severity::kWarningLo, kStepNone},
-    {EventId::kSupervisorSilent, "supervisor_silent", Severity::kWarningHi, kStepDetect},
-    {EventId::kWatcherCutOff, "watcher_cut_off", Severity::kWarningLo, kStepNone},
-    {EventId::kFilterResumed, "filter_resumed", Severity::kInfo, kStepRecover},
-    {EventId::kCheckpointBad, "checkpoint_bad", Severity::kWarningHi, kStepDetect},
-    {EventId::kImuGap, "imu_gap", Severity::kWarningHi, kStepDetect},
-    {EventId::kCommandTaken, "command_taken", Severity::kInfo, kStepNone},
-    {EventId::kFilterStateBad, "filter_state_bad", Severity::kWarningHi, kStepDetect | kStepIsolate},
-    {EventId::kFilterSettingsBad, "filter_settings_bad", Severity::kWarningHi, kStepDetect | kStepIsolate},
-    {EventId::kTmrStarting, "tmr_starting", Severity::kInfo, kStepNone},
-    {EventId::kTmrEstablished, "tmr_established", Severity::kInfo, kStepNone},
-    {EventId::kTmrSimplex, "tmr_simplex", Severity::kInfo, kStepNone},
-    {EventId::kTmrOutvoted, "tmr_outvoted", Severity::kWarningHi, kStepDetect},
-    {EventId::kTmrAgrees, "tmr_agrees", Severity::kInfo, kStepRecover},
-    {EventId::kTmrExcluded, "tmr_excluded", Severity::kWarningHi, kStepIsolate},
-    {EventId::kTmrResynced, "tmr_resynced", Severity::kInfo, kStepRecover},
-    {EventId::kTmrNoMajority, "tmr_no_majority", Severity::kFatal, kStepDetect},
-    {EventId::kTmrVoterResumed, "tmr_voter_resumed", Severity::kInfo, kStepRecover},
-    {EventId::kAbftCorrected, "abft_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
-    {EventId::kAbftFailed, "abft_failed", Severity::kWarningHi, kStepDetect},
-    {EventId::kCorrelationCorrected, "correlation_corrected", Severity::kWarningLo, kStepDetect | kStepRecover},
-    {EventId::kCorrelationFailed, "correlation_failed", Severity::kWarningHi, kStepDetect},
-    {EventId::kSupPolicy, "sup_policy", Severity::kInfo, kStepNone},
-    {EventId::kSupApply, "sup_apply", Severity::kInfo, kStepNone},
-    {EventId::kSupNotMet, "sup_not_met", Severity::kWarningHi, kStepDetect},
-    {EventId::kSupEscalated, "sup_escalated", Severity::kWarningLo, kStepNone},
-    {EventId::kSupMet, "sup_met", Severity::kInfo, kStepNone},
-    {EventId::kPhaseBegin, "phase_begin", Severity::kInfo, kStepNone},
-    {EventId::kTileParked, "tile_parked", Severity::kInfo, kStepNone},
-    {EventId::kTileWoken, "tile_woken", Severity::kInfo, kStepNone},
-    {EventId::kSafeMode, "safe_mode", Severity::kFatal, kStepNone},
+    {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kPacket, Accused::kNobody},
+    {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kPacket, Accused::kNobody},
+    {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect, Diagnosis::kPacket, Accused::kNobody},
+    {EventId::kPacketResent, "packet_resent", Severity::kWarningLo, kStepRecover, Diagnosis::kPacket, Accused::kNobody},
+    {EventId::kPacketGaveUp, "packet_gave_up", Severity::kWarningHi, kStepDetect, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kRouteUnreachable, "route_unreachable", Severity::kWarningHi, kStepDetect, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kForwardUnreachable, "forward_unreachable", Severity::kWarningHi, kStepDetect, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kNeighbourSuspect, "neighbour_suspect", Severity::kWarningHi, kStepDetect, Diagnosis::kSuspicion, Accused::kSubject},
+    {EventId::kMapApplied, "map_applied", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kMapPushed, "map_pushed", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kTransitLost, "transit_lost", Severity::kWarningLo, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kTransitBack, "transit_back", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kPacketSettled, "packet_settled", Severity::kWarningLo, kStepDetect, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kSuspectVote, "suspect_vote", Severity::kWarningLo, kStepDetect, Diagnosis::kSuspicion, Accused::kSubject},
+    {EventId::kSwitchFailed, "switch_failed", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kSwitch, Accused::kSubject},
+    {EventId::kLinkFailed, "link_failed", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kLink, Accused::kSubjectAndCause},
+    {EventId::kMapPublished, "map_published", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kCoreSuspect, "core_suspect", Severity::kWarningHi, kStepDetect, Diagnosis::kCoreSilent, Accused::kSubject},
+    {EventId::kTransitFailed, "transit_failed", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kSwitch, Accused::kSubject},
+    {EventId::kLinkOrSwitchFailed, "link_or_switch_failed", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kSwitchOrLink, Accused::kSubjectAndCause},
+    {EventId::kWorkerSilent, "worker_silent", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kCoreSilent, Accused::kSubject},
+    {EventId::kWorkerBack, "worker_back", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kFrameDone, "frame_done", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kResultsSuspect, "results_suspect", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kWrongResult, Accused::kSubject},
+    {EventId::kResultsConsistent, "results_consistent", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kVisionSetUpFailed, "vision_set_up_failed", Severity::kFatal, kStepDetect, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kCoarseBandRedone, "coarse_band_redone", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kWrongResult, Accused::kSubject},
+    {EventId::kLandmarkProductRefused, "landmark_product_refused", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kMonitorWarn, "monitor_warn", Severity::kWarningLo, kStepDetect, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kMonitorFatal, "monitor_fatal", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kActionCapped, "action_capped", Severity::kFatal, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kAssertFailed, "assert_failed", Severity::kFatal, kStepDetect, Diagnosis::kWrongResult, Accused::kWriter},
+    {EventId::kTaskOverdue, "task_overdue", Severity::kWarningHi, kStepDetect, Diagnosis::kCoreSilent, Accused::kCause},
+    {EventId::kWatchdogExpired, "watchdog_expired", Severity::kWarningHi, kStepDetect, Diagnosis::kCoreSilent, Accused::kSubject},
+    {EventId::kTileReset, "tile_reset", Severity::kWarningHi, kStepIsolate, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kTileRecovered, "tile_recovered", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kTileRebooted, "tile_rebooted", Severity::kWarningHi, kStepDetect | kStepRecover, Diagnosis::kCoreCrashed, Accused::kSubject},
+    {EventId::kTileLost, "tile_lost", Severity::kFatal, kStepDetect, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kRoleMoved, "role_moved", Severity::kWarningHi, kStepIsolate, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kRoleRestored, "role_restored", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kNoSpare, "no_spare", Severity::kFatal, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kSelfTestMismatch, "self_test_mismatch", Severity::kWarningHi, kStepDetect, Diagnosis::kWrongResult, Accused::kSubject},
+    {EventId::kSelfTestAgree, "self_test_agree", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kSelfTestLate, "self_test_late", Severity::kWarningLo, kStepNone, Diagnosis::kSuspicion, Accused::kSubject},
+    {EventId::kSupervisorSilent, "supervisor_silent", Severity::kWarningHi, kStepDetect, Diagnosis::kCoreSilent, Accused::kSubject},
+    {EventId::kWatcherCutOff, "watcher_cut_off", Severity::kWarningLo, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kFilterResumed, "filter_resumed", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kCheckpointBad, "checkpoint_bad", Severity::kWarningHi, kStepDetect, Diagnosis::kMemoryUpset, Accused::kNobody},
+    {EventId::kImuGap, "imu_gap", Severity::kWarningHi, kStepDetect, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kCommandTaken, "command_taken", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kFilterStateBad, "filter_state_bad", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kWrongResult, Accused::kWriter},
+    {EventId::kFilterSettingsBad, "filter_settings_bad", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kMemoryUpset, Accused::kWriter},
+    {EventId::kTmrStarting, "tmr_starting", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kTmrEstablished, "tmr_established", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kTmrSimplex, "tmr_simplex", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kTmrOutvoted, "tmr_outvoted", Severity::kWarningHi, kStepDetect, Diagnosis::kWrongResult, Accused::kSubject},
+    {EventId::kTmrAgrees, "tmr_agrees", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kTmrExcluded, "tmr_excluded", Severity::kWarningHi, kStepIsolate, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kTmrResynced, "tmr_resynced", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kTmrNoMajority, "tmr_no_majority", Severity::kFatal, kStepDetect, Diagnosis::kWrongResult, Accused::kReplicas},
+    {EventId::kTmrVoterResumed, "tmr_voter_resumed", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kAbftCorrected, "abft_corrected", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kWrongResult, Accused::kWriter},
+    {EventId::kAbftFailed, "abft_failed", Severity::kWarningHi, kStepDetect, Diagnosis::kWrongResult, Accused::kWriter},
+    {EventId::kCorrelationCorrected, "correlation_corrected", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kWrongResult, Accused::kWriter},
+    {EventId::kCorrelationFailed, "correlation_failed", Severity::kWarningHi, kStepDetect, Diagnosis::kWrongResult, Accused::kWriter},
+    {EventId::kSupPolicy, "sup_policy", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kSupApply, "sup_apply", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kSupNotMet, "sup_not_met", Severity::kWarningHi, kStepDetect, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kSupEscalated, "sup_escalated", Severity::kWarningLo, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kSupMet, "sup_met", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kPhaseBegin, "phase_begin", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kTileParked, "tile_parked", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kTileWoken, "tile_woken", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kSafeMode, "safe_mode", Severity::kFatal, kStepNone, Diagnosis::kNone, Accused::kNobody},
 }};
 
 namespace detail {

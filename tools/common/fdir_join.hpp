@@ -1,14 +1,13 @@
 /**
  * @file fdir_join.hpp
  * @brief The host side of fault management: collects the flight event rings into the run's
- *        event log, and joins the flight's detections and recoveries to the injector's ground
- *        truth by the rule of docs/FDIR.md.
+ *        event log and tells each event as text (the join to the injector's ground truth:
+ *        tools/common/fault_account.hpp).
  *
  * The host decides nothing for the flight code: a fault counts as detected or
  * recovered only through an event a flight layer wrote. The collector reads
  * every tile's ring during the run (no allocation: its buffer is taken at
- * construction) and keeps the tile states the live view shows; the join runs
- * after the flight over the whole fault log.
+ * construction) and keeps the tile states the live view shows.
  */
 #pragma once
 
@@ -64,38 +63,5 @@ class FlightEventCollector {
   std::uint32_t frames_ = 0U;
   std::uint64_t matches_ = 0U;
 };
-
-/** What became of one injection. */
-struct FaultOutcome {
-  bool delivered = false;     ///< the injector applied it (else: armed and never hit, skipped, unsupported)
-  bool detected = false;
-  bool recovered = false;
-  double injected_s = 0.0;
-  double detected_s = 0.0;    ///< time of the detecting event
-  double recovered_s = 0.0;
-  fdir::EventId detected_by = fdir::EventId::kAssertFailed;
-  bsp::TileId detector = bsp::kNoTile;
-};
-
-struct FaultAccount {
-  std::uint64_t injected = 0U;       ///< delivered faults, planned and random
-  std::uint64_t not_delivered = 0U;  ///< planned or drawn, never applied (with the reason in events.log)
-  std::uint64_t detected = 0U;
-  std::uint64_t recovered = 0U;
-  double max_detection_latency_s = 0.0;
-  double mean_detection_latency_s = 0.0;
-  std::vector<FaultOutcome> outcomes;  ///< one per fault record, same order
-};
-
-/**
- * Joins the flight events to the injector's records by the rule of docs/FDIR.md;
- * each flight event is claimed by at most one injection.
- */
-FaultAccount join_faults(std::span<const bsp::FaultRecord> records, std::span<const fdir::Event> events,
-                         double clock_hz);
-
-/** Writes one line per injection into @p log: INJECT (or INFO if not delivered) with its outcome. */
-void log_fault_outcomes(std::span<const bsp::FaultRecord> records, const FaultAccount& account, double clock_hz,
-                        EventLog& log);
 
 }  // namespace tools

@@ -47,22 +47,6 @@ bool replaceable(const fs::path& dir, std::string& why) {
   return false;
 }
 
-/** Writes @p text to @p path in one go; the error names the file. */
-bool write_text_file(const std::string& path, const std::string& text, std::string& error) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (f == nullptr) {
-    error = path + ": cannot create: " + errno_text(errno);
-    return false;
-  }
-  const bool wrote = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-  const int write_errno = errno;
-  const bool closed = std::fclose(f) == 0;
-  if (!wrote || !closed) {
-    error = path + ": cannot write: " + errno_text(wrote ? errno : write_errno);
-    return false;
-  }
-  return true;
-}
 
 /** Appends a number in %.Nf, or "nan"/"inf" for non-finite values, and very large ones in %e. */
 void put_number(char*& p, const char* end, double v, int decimals) noexcept {
@@ -264,6 +248,22 @@ std::string tile_map_script(const TileMapShape& shape) {
 }
 
 }  // namespace
+
+bool write_text_file(const std::string& path, const std::string& text, std::string& error) {
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (f == nullptr) {
+    error = path + ": cannot create: " + errno_text(errno);
+    return false;
+  }
+  const bool wrote = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  const int write_errno = errno;
+  const bool closed = std::fclose(f) == 0;
+  if (!wrote || !closed) {
+    error = path + ": cannot write: " + errno_text(wrote ? errno : write_errno);
+    return false;
+  }
+  return true;
+}
 
 // ------------------------------------------------------------------ RunFolder
 

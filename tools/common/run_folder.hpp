@@ -106,6 +106,9 @@ struct Summary {
   std::vector<std::pair<std::string, std::vector<std::pair<std::string, double>>>> objects;
 };
 
+/** Writes @p text to @p path in one go; the error names the file. */
+bool write_text_file(const std::string& path, const std::string& text, std::string& error);
+
 /** 16 lower-case hex digits. */
 std::string trace_hash_hex(std::uint64_t hash);
 
@@ -165,7 +168,7 @@ enum class EventCategory : std::uint8_t { kInject, kDetect, kIsolate, kRecover, 
 const char* event_category_name(EventCategory c) noexcept;
 
 /** Longest text of one event, bytes (longer texts are cut). */
-inline constexpr std::size_t kEventTextBytes = 160U;
+inline constexpr std::size_t kEventTextBytes = 256U;
 
 struct Event {
   double t_s;  ///< emulated time

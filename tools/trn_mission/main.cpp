@@ -23,8 +23,10 @@
 #include "bsp_tile64/host/heap_guard.hpp"
 #include "bsp_tile64/trace.hpp"
 #include "bsp_tile64/udn_net.hpp"
+#include "fdir/tile_health.hpp"
 #include "kernel/kernel.hpp"
 #include "tools/common/cli_checks.hpp"
+#include "tools/common/fault_account.hpp"
 #include "tools/common/fault_plan.hpp"
 #include "tools/common/fdir_join.hpp"
 #include "tools/common/memory_report.hpp"
@@ -36,11 +38,13 @@
 #include "tools/common/tile_view.hpp"
 #include "tools/common/trace_dump.hpp"
 #include "trn/tasks/filter_task.hpp"
+#include "trn/tasks/io_task.hpp"
 #include "trn/tasks/tile_map.hpp"
 #include "trn/tasks/vision_coord.hpp"
 #include "udn/endpoint.hpp"
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
@@ -50,6 +54,7 @@
 #include <deque>
 #include <exception>
 #include <iostream>
+#include <fstream>
 #include <map>
 #include <optional>
 #include <string>
@@ -88,6 +93,7 @@ struct Options {
   bool one_host_thread = false;
   std::string world_cache;
   std::string trace_dump;  ///< empty: no dump
+  std::string golden;      ///< summary.json of the fault-free flight of the same scenario, seed and duration (empty: none)
 };
 
 /** Everything checked before the run: scenario, plan, run folder. */
@@ -97,6 +103,8 @@ struct Inputs {
   double duration_s = 0.0;
   std::optional<tools::RunFolder> folder;
   bool no_plots = false;
+  /** The golden flight's delivered stream (--golden): its CRC, solutions delivered, last job, counts' start. */
+  std::optional<std::array<double, 4>> golden_stream;
 };
 
 /** Lines of events.log for the flight's events (a flood beyond them is counted at its end). */
@@ -145,6 +153,31 @@ int prepare(const Options& o, Inputs& in) {
     in.plan = *r.plan;
   }
   in.no_plots = o.no_plots;
+  if (!o.golden.empty()) {
+    std::ifstream f(o.golden);
+    nlohmann::json g;
+    try {
+      if (!f) {
+        throw std::runtime_error("cannot be read");
+      }
+      f >> g;
+      const auto seed = g.at("seed").get<std::uint64_t>();
+      const auto emulated = g.at("emulated_s").get<double>();
+      if (g.at("faults_injected").get<std::uint64_t>() != 0U || g.value("faults_not_delivered", 0.0) != 0.0) {
+        throw std::runtime_error("is not a fault-free flight");
+      }
+      if (g.at("scenario").get<std::string>() != in.scenario.name || seed != in.scenario.seed ||
+          emulated != in.duration_s) {
+        throw std::runtime_error("flew another scenario, seed or duration (" + g.at("scenario").get<std::string>() +
+                                 ", seed " + std::to_string(seed) + ", " + std::to_string(emulated) + " s)");
+      }
+      in.golden_stream = std::array<double, 4>{
+          g.at("filter_output_crc").get<double>(), g.at("filter_outputs_delivered").get<double>(),
+          g.at("filter_last_job").get<double>(), g.at("filter_counts_since_job").get<double>()};
+    } catch (const std::exception& e) {
+      return bad_input("--golden " + o.golden + ": " + e.what());
+    }
+  }
   const std::string out = o.out.empty() ? "out/" + in.scenario.name + "-seed" + std::to_string(in.scenario.seed)
                                         : o.out;
   std::string error;
@@ -170,6 +203,14 @@ struct FlightRecord {
   double last_checked_s = -1.0;     ///< time of the newest output check() saw
   /** (time, truth altitude) of every output check() saw; reserved before the heap is sealed, never grown. */
   std::vector<std::pair<double, double>> altitude;
+  /** Time of every new output check() saw (the filter role's stream, for the join); reserved like altitude. */
+  std::vector<double> outputs_s;
+  /** Check times at which the I/O role had forwarded more IMU samples than at the check before; reserved. */
+  std::vector<double> io_samples_s;
+  std::uint32_t io_forwarded = 0U;
+  /** Check times at which the tile-health supervisor's count of self-test rounds had changed; reserved. */
+  std::vector<double> health_rounds_s;
+  std::uint32_t health_rounds = 0U;
 };
 
 /** Holds a new output @p n against the record's rules: fix, convergence, maximum error, integrity. */
@@ -180,6 +221,10 @@ void check(const tools::NavSample& n, FlightRecord& rec) {
   rec.last_checked_s = n.t_s;
   if (rec.altitude.size() < rec.altitude.capacity()) {
     rec.altitude.emplace_back(n.t_s, n.altitude_m);
+  }
+  if (rec.outputs_s.size() < rec.outputs_s.capacity()) {
+    // When it was seen (a late job carries its own, older time).
+    rec.outputs_s.push_back(static_cast<double>(bsp::board_time()) / static_cast<double>(bsp::kTile64.clock_hz));
   }
   const double sigma3_h = n.sigma3_p.head<2>().norm();
   if (rec.fix_at_s < 0.0 && sigma3_h < tools::kFixSigma3M) {
@@ -305,6 +350,16 @@ void fly(const Options& o, const tools::Mission& m, double duration_s, tools::Na
     for (std::uint32_t c = 1; c <= kChecksPerStep; ++c) {
       (void)tools::run_with_phases((static_cast<bsp::Cycles>(s - 1U) * kChecksPerStep + c) * check_cycles, energy);
       check(m.nav(), rec);
+      const std::uint32_t io = trn::tasks::io_task_stats().imu_forwarded;
+      if (io != rec.io_forwarded && rec.io_samples_s.size() < rec.io_samples_s.capacity()) {
+        rec.io_samples_s.push_back(static_cast<double>(bsp::board_time()) / clock_hz);
+      }
+      rec.io_forwarded = io;
+      const std::uint32_t rounds = fdir::tile_health_view(trn::tasks::kSupervisorTile).self_tests;
+      if (rounds != rec.health_rounds && rec.health_rounds_s.size() < rec.health_rounds_s.capacity()) {
+        rec.health_rounds_s.push_back(static_cast<double>(bsp::board_time()) / clock_hz);
+      }
+      rec.health_rounds = rounds;
     }
     flight.poll(clock_hz, log);
     const tools::NavSample n = m.nav();
@@ -451,6 +506,19 @@ void add_flow_control(tools::Summary& s) {
   s.extra.emplace_back("udn_flow_control_resends", static_cast<double>(resent_busy));
 }
 
+/** The strict join's figures (docs/FDIR.md, "The join"); faults_no_effect only against a golden flight. */
+void add_strict_accounting(tools::Summary& s, const tools::FaultAccount& faults, bool golden) {
+  s.extra.emplace_back("faults_degraded_accepted", static_cast<double>(faults.degraded_accepted));
+  s.extra.emplace_back("faults_misdiagnosed", static_cast<double>(faults.misdiagnosed));
+  s.extra.emplace_back("false_alarms", static_cast<double>(faults.false_alarms.size()));
+  s.extra.emplace_back("healthy_tiles_disturbed", static_cast<double>(faults.healthy_disturbed.size()));
+  double no_effect = golden ? 0.0 : NAN;
+  for (const tools::FaultOutcome& o : faults.outcomes) {
+    no_effect += o.effect == tools::Effect::kNoEffect ? 1.0 : 0.0;
+  }
+  s.extra.emplace_back("faults_no_effect", no_effect);
+}
+
 tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const tools::FlightEventCollector& flight,
                             const tools::FaultAccount& faults, const FlightRecord& rec, double host_s,
                             std::uint64_t allocs, const tools::PhaseEnergy& energy) {
@@ -505,6 +573,7 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("nav_output_age_at_end_s", end.output_age_s);
   s.extra.emplace_back("nav_longest_gap_s", std::max(rec.longest_gap_s, end.output_age_s));
   s.extra.emplace_back("faults_not_delivered", static_cast<double>(faults.not_delivered));
+  add_strict_accounting(s, faults, in.golden_stream.has_value());
   s.extra.emplace_back("detection_latency_mean_ms", faults.mean_detection_latency_s * 1e3);
   s.extra.emplace_back("detection_latency_max_ms", faults.max_detection_latency_s * 1e3);
   s.extra.emplace_back("flight_events", static_cast<double>(flight.events().size()));
@@ -646,10 +715,21 @@ void print_summary(const tools::Summary& s, const std::string& dir) {
               static_cast<unsigned long long>(s.faults_recovered));
   double energy_j = NAN;
   double mean_power_w = NAN;
+  double degraded = 0.0;
+  double wrong = 0.0;
+  double false_alarms = 0.0;
+  double disturbed = 0.0;
   for (const auto& [key, value] : s.extra) {
     energy_j = key == "energy_j" ? value : energy_j;
     mean_power_w = key == "mean_power_w" ? value : mean_power_w;
+    degraded = key == "faults_degraded_accepted" ? value : degraded;
+    wrong = key == "faults_misdiagnosed" ? value : wrong;
+    false_alarms = key == "false_alarms" ? value : false_alarms;
+    disturbed = key == "healthy_tiles_disturbed" ? value : disturbed;
   }
+  std::printf("  fault management       %.0f degraded (a mode given up), %.0f misdiagnosed, %.0f false alarms, "
+              "%.0f actions on healthy tiles (faults.csv)\n",
+              degraded, wrong, false_alarms, disturbed);
   std::printf("  energy                 %.1f J over the flight, mean power %.2f W (model: docs/BOARD.md)\n", energy_j,
               mean_power_w);
   std::printf("  trace hash             %s\n", s.trace_hash.c_str());
@@ -657,10 +737,11 @@ void print_summary(const tools::Summary& s, const std::string& dir) {
 }
 
 bool write_outputs(Inputs& in, const tools::Summary& s, const tools::EventLog& log,
-                   const std::vector<tools::TileInfo>& tiles, std::string& error) {
+                   const std::vector<tools::TileInfo>& tiles, const tools::FaultAccount& faults, std::string& error) {
   tools::RunFolder& f = *in.folder;
   return tools::write_summary_json(f.staging_path("summary.json"), s, error) &&
          log.write(f.staging_path("events.log"), error) &&
+         tools::write_text_file(f.staging_path("faults.csv"), tools::faults_csv(bsp::fault_log(), faults), error) &&
          tools::write_tile_map_csv(f.staging_path("tile_map.csv"), bsp::kTile64.cols, bsp::kTile64.rows, tiles,
                                    error) &&
          (in.no_plots || tools::write_plots(f.staging_dir(), error)) && f.commit(error);
@@ -692,6 +773,10 @@ int run(int argc, char** argv) {
                "Render each camera frame at its capture instead of on a second host thread meanwhile "
                "(the same frames and trace hash; more host time)");
   app.add_flag("--no-plots", o.no_plots, "Write the run's data but no plots (campaigns: gnuplot costs time per run)");
+  app.add_option("--golden", o.golden,
+                 "summary.json of the fault-free flight of the same scenario, seed and duration: faults not detected "
+                 "count as without effect when the delivered stream is that flight's bit for bit")
+      ->check(CLI::ExistingFile);
   app.add_option("--trace-dump", o.trace_dump,
                  "Write every trace event of the run to this file (compare two runs with trn_trace diff)");
   try {
@@ -752,7 +837,11 @@ int run(int argc, char** argv) {
     return bad_input(error);
   }
   // One entry per output check (kChecksPerStep per step), room taken before the seal.
-  rec.altitude.reserve(static_cast<std::size_t>(std::llround(in.duration_s / kStepS)) * kChecksPerStep + 1U);
+  const std::size_t checks = static_cast<std::size_t>(std::llround(in.duration_s / kStepS)) * kChecksPerStep + 1U;
+  rec.altitude.reserve(checks);
+  rec.outputs_s.reserve(checks);
+  rec.io_samples_s.reserve(checks);
+  rec.health_rounds_s.reserve(checks);
   const auto t0 = std::chrono::steady_clock::now();
   bsp::heap::seal(bsp::heap::SealMode::kFatal);
   fly(o, mission, in.duration_s, csv, log, flight, rec, infos, energy);
@@ -765,11 +854,25 @@ int run(int argc, char** argv) {
   bsp::heap::unseal();
   const double host_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double clock_hz = static_cast<double>(bsp::kTile64.clock_hz);
-  const tools::FaultAccount faults = tools::join_faults(bsp::fault_log(), flight.events(), clock_hz);
-  log.grow(bsp::fault_log().size());  // every injection's line, however many flight events filled the log
-  tools::log_fault_outcomes(bsp::fault_log(), faults, clock_hz, log);
+  tools::ServiceStreams streams;
+  streams.filter_outputs_s = rec.outputs_s;
+  streams.io_samples_s = rec.io_samples_s;
+  streams.health_rounds_s = rec.health_rounds_s;
+  tools::FaultAccount faults = tools::join_faults(bsp::fault_log(), flight.events(), clock_hz, streams);
+  // Without effect: nothing was detected and the delivered stream is the golden flight's bit for bit.
+  if (in.golden_stream.has_value()) {
+    const trn::tasks::FilterTaskStats f =
+        trn::tasks::filter_task_stats(trn::tasks::slot_tile_now(trn::tasks::kSlotFilter));
+    const std::array<double, 4> mine{static_cast<double>(f.output_crc), static_cast<double>(f.outputs_delivered),
+                                     static_cast<double>(f.last_delivered_job), static_cast<double>(f.started_job)};
+    if (mine == *in.golden_stream) {
+      tools::mark_no_effect(faults);
+    }
+  }
+  log.grow(bsp::fault_log().size() + faults.false_alarms.size() + faults.healthy_disturbed.size());
+  tools::log_fault_outcomes(bsp::fault_log(), flight.events(), faults, clock_hz, log);
   const tools::Summary s = make_summary(in, mission, flight, faults, rec, host_s, allocs, energy);
-  if (!csv.close(error) || !write_outputs(in, s, log, tile_infos(mission, flight), error)) {
+  if (!csv.close(error) || !write_outputs(in, s, log, tile_infos(mission, flight), faults, error)) {
     std::fprintf(stderr, "trn_mission: cannot write the run folder: %s\n", error.c_str());
     return 1;
   }

@@ -1,14 +1,19 @@
 /**
  * @file fdir_join_test.cpp
  * @brief The host's join of flight events to the injector's ground truth (docs/FDIR.md, "The join"):
- *        each injection is credited only to an event that names what it did.
+ *        each injection is credited only to an event that accuses its tile of what it did, within its
+ *        kind's bound; recovery is its role's output stream back; every other accusation is a wrong
+ *        diagnosis or a false alarm, and every action on a healthy tile is counted.
  */
+#include "tools/common/fault_account.hpp"
 #include "tools/common/fdir_join.hpp"
 
 #include "trn/tasks/filter_core.hpp"
+#include "trn/vision/correlator.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <vector>
 
@@ -35,16 +40,35 @@ bsp::FaultRecord settings_upset(bsp::TileId tile, bsp::Cycles at, std::uint64_t 
 }
 
 fdir::Event event(fdir::EventId id, bsp::TileId writer, std::uint32_t subject, bsp::Cycles at,
-                  std::uint32_t cause = 0U) {
+                  std::uint32_t cause = 0U, std::uint32_t a = 0U, std::uint32_t b = 0U) {
   fdir::Event e{};
   e.id = id;
   e.tile = writer;
   e.subject = subject;
   e.cause = cause;
+  e.a = a;
+  e.b = b;
   e.cycle = at;
   const fdir::EventInfo* info = fdir::event_info(id);
   e.steps = info != nullptr ? info->steps : 0U;
   return e;
+}
+
+/** Output times every @p step_s from @p from_s to @p to_s (inclusive), as a role's stream. */
+std::vector<double> stream(double from_s, double to_s, double step_s = 0.010) {
+  std::vector<double> v;
+  for (double t = from_s; t <= to_s + 1e-9; t += step_s) {
+    v.push_back(t);
+  }
+  return v;
+}
+
+/** The filter's stream with a hole from @p stop_s to @p back_s (outputs every 10 ms otherwise, 0-10 s). */
+std::vector<double> filter_stream_with_hole(double stop_s, double back_s) {
+  std::vector<double> v = stream(0.010, stop_s);
+  const std::vector<double> rest = stream(back_s, 10.0);
+  v.insert(v.end(), rest.begin(), rest.end());
+  return v;
 }
 
 // FDIR-AB-05: a product's check reports in the job the product was corrupted in; an sdc below the
@@ -99,57 +123,73 @@ TEST(FdirJoin, AnUpsetIsCreditedOnlyToASelfTestThatNamesItsTile) {
   EXPECT_EQ(none.injected, 1U);
   EXPECT_EQ(none.detected, 0U);
 
+  // Neither detects it; the link accusation names its tile with the wrong class, the self-test the
+  // wrong tile within its bound: both are charged to it as wrong diagnoses (the suspicion is none).
+  EXPECT_EQ(none.misdiagnosed, 1U);
+  EXPECT_EQ(none.outcomes[0].wrong_accusations, 2U);
+  EXPECT_EQ(none.outcomes[0].diagnosis, tools::DiagnosisVerdict::kWrong);
+  EXPECT_TRUE(none.false_alarms.empty());
+
   std::vector<fdir::Event> named = unrelated;
   named.push_back(event(fdir::EventId::kSelfTestMismatch, 0U, 35U, 1'400'000U));
   named.push_back(event(fdir::EventId::kSelfTestAgree, 0U, 35U, 1'450'000U));
+  const tools::FaultAccount cleared = tools::join_faults(faults, named, kHz);
+  ASSERT_EQ(cleared.detected, 1U);
+  EXPECT_EQ(cleared.outcomes[0].detected_by, fdir::EventId::kSelfTestMismatch);
+  EXPECT_NEAR(cleared.outcomes[0].detected_s - cleared.outcomes[0].injected_s, 0.4, 1e-9);
+  EXPECT_EQ(cleared.outcomes[0].diagnosis, tools::DiagnosisVerdict::kRightAndWrong);
+  EXPECT_EQ(cleared.recovered, 0U) << "cleared, but no frame of the vision service whole after it";
+  // A vision tile's service: a frame with no unit lost after the tile was cleared.
+  named.push_back(event(fdir::EventId::kFrameDone, 1U, 0U, 1'300'000U, 0U));  // before it was cleared
+  named.push_back(event(fdir::EventId::kFrameDone, 1U, 0U, 1'900'000U, 2U));  // units lost
+  named.push_back(event(fdir::EventId::kFrameDone, 1U, 0U, 2'100'000U, 0U));
   const tools::FaultAccount hit = tools::join_faults(faults, named, kHz);
-  ASSERT_EQ(hit.detected, 1U);
-  EXPECT_EQ(hit.recovered, 1U);
-  EXPECT_EQ(hit.outcomes[0].detected_by, fdir::EventId::kSelfTestMismatch);
-  EXPECT_NEAR(hit.outcomes[0].detected_s - hit.outcomes[0].injected_s, 0.4, 1e-9);
+  ASSERT_EQ(hit.recovered, 1U);
+  EXPECT_NEAR(hit.outcomes[0].recovered_s, 2.1, 1e-9);
+  EXPECT_EQ(hit.outcomes[0].role, trn::tasks::Role::kVision);
 }
 
-// FDIR-FS-06: a settings check is credited to an upset of its tile (never to an sdc), and its
-// recovery is the filter's resume. A resume holds unless the filter refuses a job again and resumes
-// from the same checkpoint (its restart): then the recovery is that later resume. An independent
-// refusal a second later, from a newer checkpoint, does not undo the first recovery (it did under a
-// 1 s window before).
-TEST(FdirJoin, AFilterResumeHoldsUnlessTheSameCheckpointIsGoneBackToAgain) {
+// FDIR-FS-06: a settings check is credited to an upset of its tile (never to an sdc); the filter's
+// recovery is its output stream flowing again steadily after the refusal (half a second with no gap
+// over 100 ms), whatever the flight says of its resume.
+TEST(FdirJoin, TheFilterIsRecoveredWhenItsOutputsFlowAgainSteadily) {
   using fdir::EventId;
-  const std::array<bsp::FaultRecord, 2> faults{settings_upset(18U, 3'000'000U, 71U),
-                                               settings_upset(18U, 3'900'000U, 151U)};
-  const std::vector<fdir::Event> apart{
-      event(EventId::kFilterSettingsBad, 18U, 300U, 3'002'000U, 1U),
-      event(EventId::kFilterResumed, 18U, 30U, 3'002'100U),
-      event(EventId::kFilterSettingsBad, 18U, 390U, 3'901'000U, 2U),
-      event(EventId::kFilterResumed, 18U, 39U, 3'901'100U),
-  };
-  const tools::FaultAccount a = tools::join_faults(faults, apart, kHz);
-  ASSERT_EQ(a.detected, 2U);
-  EXPECT_EQ(a.recovered, 2U);
-  EXPECT_EQ(a.outcomes[0].detected_by, EventId::kFilterSettingsBad);
-  EXPECT_NEAR(a.outcomes[0].recovered_s, 3.0021, 1e-9) << "its own resume: the next one is from checkpoint 39";
-
-  const std::vector<fdir::Event> again{
-      event(EventId::kFilterStateBad, 18U, 300U, 3'002'000U, 6U),
-      event(EventId::kFilterResumed, 18U, 30U, 3'002'100U),
-      event(EventId::kFilterStateBad, 18U, 301U, 3'012'000U, 6U),
-      event(EventId::kAssertFailed, 18U, 0x0605U, 3'012'100U),
-      event(EventId::kFilterResumed, 18U, 30U, 3'030'000U),  // after the tile's restart
-  };
   const std::array<bsp::FaultRecord, 1> one{settings_upset(18U, 3'000'000U, 71U)};
-  const tools::FaultAccount b = tools::join_faults(one, again, kHz);
-  ASSERT_EQ(b.recovered, 1U);
-  EXPECT_NEAR(b.outcomes[0].recovered_s, 3.030, 1e-9) << "the first resume did not hold";
+  const std::vector<fdir::Event> refused{event(EventId::kFilterSettingsBad, 18U, 300U, 3'002'000U, 1U),
+                                         event(EventId::kFilterResumed, 18U, 30U, 3'002'100U)};
+  // One job skipped (3.00 -> 3.02): back at 3.02 with a 20 ms gap.
+  std::vector<double> skipped = filter_stream_with_hole(3.0, 3.02);
+  tools::ServiceStreams streams;
+  streams.filter_outputs_s = skipped;
+  const tools::FaultAccount a = tools::join_faults(one, refused, kHz, streams);
+  ASSERT_EQ(a.detected, 1U);
+  ASSERT_EQ(a.recovered, 1U);
+  EXPECT_EQ(a.outcomes[0].role, trn::tasks::Role::kFilter);
+  EXPECT_NEAR(a.outcomes[0].recovered_s, 3.02, 1e-9);
+  EXPECT_NEAR(a.outcomes[0].service_gap_s, 0.02, 1e-9);
+  EXPECT_STREQ(a.outcomes[0].recovered_by, "filter_outputs");
 
-  // No resume after the refusal before the flight ended: not recovered.
-  const std::vector<fdir::Event> cut(again.begin(), again.begin() + 4);
-  EXPECT_EQ(tools::join_faults(one, cut, kHz).recovered, 0U);
+  // Refused again and restarted: outputs at 3.02 and 3.03, then nothing until 3.5. The first outputs
+  // are not steady: the recovery is at 3.5, the gap 470 ms.
+  std::vector<double> restarted = stream(0.010, 3.0);
+  restarted.push_back(3.02);
+  restarted.push_back(3.03);
+  const std::vector<double> rest = stream(3.5, 10.0);
+  restarted.insert(restarted.end(), rest.begin(), rest.end());
+  streams.filter_outputs_s = restarted;
+  const tools::FaultAccount b = tools::join_faults(one, refused, kHz, streams);
+  ASSERT_EQ(b.recovered, 1U);
+  EXPECT_NEAR(b.outcomes[0].recovered_s, 3.5, 1e-9);
+  EXPECT_NEAR(b.outcomes[0].service_gap_s, 0.47, 1e-9);
+
+  // No outputs after the refusal: not recovered, whatever the resume says.
+  std::vector<double> stopped = stream(0.010, 3.0);
+  streams.filter_outputs_s = stopped;
+  EXPECT_EQ(tools::join_faults(one, refused, kHz, streams).recovered, 0U);
 
   // An sdc is never credited to the settings check.
   const std::array<bsp::FaultRecord, 1> sdc{record(bsp::FaultKind::kSdc, 18U, 3'000'000U)};
-  const std::vector<fdir::Event> settings{event(EventId::kFilterSettingsBad, 18U, 300U, 3'002'000U, 1U)};
-  EXPECT_EQ(tools::join_faults(sdc, settings, kHz).detected, 0U);
+  EXPECT_EQ(tools::join_faults(sdc, refused, kHz, streams).detected, 0U);
 }
 
 // FDIR-FS-07: only an upset in the settings' bytes takes the settings check. An upset deep in the
@@ -161,7 +201,10 @@ TEST(FdirJoin, TheSettingsCheckIsCreditedOnlyToAnUpsetInTheSettings) {
                                                settings_upset(18U, 22'000'000U, 200U)};
   const std::vector<fdir::Event> events{event(EventId::kFilterSettingsBad, 18U, 2200U, 22'001'500U, 2U),
                                         event(EventId::kFilterResumed, 18U, 220U, 22'001'600U)};
-  const tools::FaultAccount a = tools::join_faults(faults, events, kHz);
+  const std::vector<double> outputs = stream(0.010, 30.0);
+  tools::ServiceStreams streams;
+  streams.filter_outputs_s = outputs;
+  const tools::FaultAccount a = tools::join_faults(faults, events, kHz, streams);
   ASSERT_EQ(a.detected, 1U);
   EXPECT_FALSE(a.outcomes[0].detected) << "outside the settings";
   EXPECT_FALSE(a.outcomes[1].detected) << "in no carve";
@@ -170,29 +213,45 @@ TEST(FdirJoin, TheSettingsCheckIsCreditedOnlyToAnUpsetInTheSettings) {
   EXPECT_TRUE(a.outcomes[2].recovered);
 }
 
-// A hang is still credited to the tile's watchdog and recovered by the tile's return.
-TEST(FdirJoin, AHangIsCreditedToItsWatchdogAndRecoveredByTheTile) {
+// A hang is credited to its watchdog and recovered when the filter's outputs flow again.
+TEST(FdirJoin, AHangIsCreditedToItsWatchdogAndRecoveredByTheOutputs) {
   const std::array<bsp::FaultRecord, 1> faults{record(bsp::FaultKind::kCoreHang, 18U, 2'000'000U)};
   const std::vector<fdir::Event> events{
       event(fdir::EventId::kWatchdogExpired, 0U, 19U, 2'010'000U),  // another tile: not this one
       event(fdir::EventId::kWatchdogExpired, 0U, 18U, 2'016'000U),
+      event(fdir::EventId::kTileReset, 0U, 18U, 2'016'000U),
       event(fdir::EventId::kTileRecovered, 0U, 18U, 2'030'000U),
   };
-  const tools::FaultAccount a = tools::join_faults(faults, events, kHz);
+  const std::vector<double> outputs = filter_stream_with_hole(2.0, 2.04);
+  tools::ServiceStreams streams;
+  streams.filter_outputs_s = outputs;
+  const tools::FaultAccount a = tools::join_faults(faults, events, kHz, streams);
   ASSERT_EQ(a.detected, 1U);
   EXPECT_EQ(a.recovered, 1U);
   EXPECT_NEAR(a.outcomes[0].detected_s - a.outcomes[0].injected_s, 0.016, 1e-9);
-  EXPECT_NEAR(a.outcomes[0].recovered_s, 2.030, 1e-9);
+  EXPECT_NEAR(a.outcomes[0].recovered_s, 2.04, 1e-9) << "the outputs, not tile_recovered";
+  EXPECT_NEAR(a.outcomes[0].service_gap_s, 0.04, 1e-9);
+  // The watchdog of tile 19 names a tile no fault hit, within the hang's bound: a wrong diagnosis of
+  // the hang, not a false alarm; the reset acts on the hung tile: no healthy tile disturbed.
+  EXPECT_EQ(a.outcomes[0].wrong_accusations, 1U);
+  EXPECT_EQ(a.outcomes[0].first_wrong_tile, 19U);
+  EXPECT_TRUE(a.false_alarms.empty());
+  EXPECT_TRUE(a.healthy_disturbed.empty());
 }
 
-// A detection that comes before the fault, or after the 5 s window, is not the fault's.
-TEST(FdirJoin, ADetectionOutsideTheWindowIsNotTheFaults) {
+// A hang's bound is 3 s: a watchdog before the fault, or 3.5 s after it, is not its detection.
+TEST(FdirJoin, ADetectionOutsideTheKindsBoundIsNotTheFaults) {
   const std::array<bsp::FaultRecord, 1> faults{record(bsp::FaultKind::kCoreHang, 18U, 2'000'000U)};
   const std::vector<fdir::Event> events{
       event(fdir::EventId::kWatchdogExpired, 0U, 18U, 1'900'000U),
-      event(fdir::EventId::kWatchdogExpired, 0U, 18U, 7'100'000U),
+      event(fdir::EventId::kWatchdogExpired, 0U, 18U, 5'500'000U),
   };
-  EXPECT_EQ(tools::join_faults(faults, events, kHz).detected, 0U);
+  const tools::FaultAccount a = tools::join_faults(faults, events, kHz);
+  EXPECT_EQ(a.detected, 0U);
+  ASSERT_EQ(a.false_alarms.size(), 1U) << "the one before the fault";
+  EXPECT_EQ(a.false_alarms[0].event, 0U);
+  EXPECT_EQ(a.outcomes[0].diagnosis, tools::DiagnosisVerdict::kNone) << "the late one: the hung tile, still hung";
+  EXPECT_DOUBLE_EQ(tools::detect_bound_s(bsp::FaultKind::kCoreHang), 3.0);
 }
 
 /** The outcome of one bit flip on tile 30's packet, dropped damaged by tile 1, against @p after. */
@@ -245,6 +304,191 @@ TEST(FdirJoin, ADamagedPacketOfHiddenSourceIsCreditedOnlyToAFlipJustBeforeIt) {
   EXPECT_TRUE(a.outcomes[1].detected);
   EXPECT_EQ(a.outcomes[1].detector, 19U);
   EXPECT_NEAR(a.outcomes[1].detected_s, 5.002, 1e-9);
+}
+
+}  // namespace
+
+namespace {
+
+using fdir::EventId;
+
+// A reboot alone recovers nothing: a crash of a spare is detected by its reboot (a crash) and stays
+// not recovered until the flight says the tile runs its role again; a crash of the filter's tile is
+// recovered only by the filter's outputs.
+TEST(FdirJoinStrict, ARebootAloneRecoversNothing) {
+  const std::array<bsp::FaultRecord, 1> spare{record(bsp::FaultKind::kCoreReset, 12U, 2'000'000U)};
+  std::vector<fdir::Event> events{event(EventId::kTileRebooted, 0U, 12U, 2'050'000U, 3U)};
+  tools::FaultAccount a = tools::join_faults(spare, events, kHz);
+  ASSERT_EQ(a.detected, 1U);
+  EXPECT_EQ(a.outcomes[0].role, trn::tasks::Role::kSpare);
+  EXPECT_EQ(a.recovered, 0U);
+  events.push_back(event(EventId::kTileRecovered, 0U, 12U, 2'060'000U));
+  a = tools::join_faults(spare, events, kHz);
+  EXPECT_EQ(a.recovered, 1U);
+  EXPECT_STREQ(a.outcomes[0].recovered_by, "tile_recovered");
+
+  const std::array<bsp::FaultRecord, 1> filter{record(bsp::FaultKind::kCoreReset, 18U, 2'000'000U)};
+  const std::vector<fdir::Event> rebooted{event(EventId::kTileRebooted, 0U, 18U, 2'050'000U, 3U)};
+  const std::vector<double> stopped = stream(0.010, 2.0);
+  tools::ServiceStreams streams;
+  streams.filter_outputs_s = stopped;
+  EXPECT_EQ(tools::join_faults(filter, rebooted, kHz, streams).recovered, 0U);
+  const std::vector<double> back = filter_stream_with_hole(2.0, 2.2);
+  streams.filter_outputs_s = back;
+  EXPECT_EQ(tools::join_faults(filter, rebooted, kHz, streams).recovered, 1U);
+  // A commanded reboot accuses nobody: it is no detection of a crash.
+  const std::vector<fdir::Event> commanded{event(EventId::kTileRebooted, 0U, 18U, 2'050'000U, 1U)};
+  EXPECT_EQ(tools::join_faults(filter, commanded, kHz, streams).detected, 0U);
+}
+
+// A hung core accused of a failed switch is misdiagnosed, not detected; a neighbour's suspicion is
+// neither a detection nor a wrong diagnosis.
+TEST(FdirJoinStrict, AHangAccusedOfAFailedSwitchIsMisdiagnosed) {
+  const std::array<bsp::FaultRecord, 1> faults{record(bsp::FaultKind::kCoreHang, 30U, 2'000'000U)};
+  const std::vector<fdir::Event> events{event(EventId::kNeighbourSuspect, 31U, 30U, 2'020'000U),
+                                        event(EventId::kSwitchFailed, 0U, 30U, 2'040'000U, 0U, 2U, 1U)};
+  const tools::FaultAccount a = tools::join_faults(faults, events, kHz);
+  EXPECT_EQ(a.detected, 0U);
+  EXPECT_EQ(a.misdiagnosed, 1U);
+  EXPECT_EQ(a.outcomes[0].diagnosis, tools::DiagnosisVerdict::kWrong);
+  EXPECT_EQ(a.outcomes[0].first_wrong, EventId::kSwitchFailed);
+  EXPECT_EQ(a.outcomes[0].wrong_accusations, 1U) << "the suspicion is not counted";
+  EXPECT_TRUE(a.false_alarms.empty());
+  EXPECT_TRUE(a.healthy_disturbed.empty()) << "the switch taken out is the hung tile's";
+}
+
+// An accusation no fault explains is a false alarm, and the action it leads to on a healthy tile is
+// counted; the same accusation within the bound of a fault on another tile is that fault's wrong
+// diagnosis instead.
+TEST(FdirJoinStrict, AnUnexplainedAccusationIsAFalseAlarm) {
+  const std::vector<fdir::Event> events{event(EventId::kWatchdogExpired, 0U, 30U, 8'000'000U),
+                                        event(EventId::kTileReset, 0U, 30U, 8'000'000U)};
+  const std::array<bsp::FaultRecord, 1> far{record(bsp::FaultKind::kCoreHang, 40U, 2'000'000U)};
+  const tools::FaultAccount a = tools::join_faults(far, events, kHz);
+  ASSERT_EQ(a.false_alarms.size(), 1U);
+  EXPECT_EQ(a.false_alarms[0].tile, 30U);
+  ASSERT_EQ(a.healthy_disturbed.size(), 1U);
+  EXPECT_EQ(a.healthy_disturbed[0].tile, 30U);
+  EXPECT_EQ(a.misdiagnosed, 0U);
+
+  const std::array<bsp::FaultRecord, 1> near{record(bsp::FaultKind::kCoreHang, 40U, 7'000'000U)};
+  const tools::FaultAccount b = tools::join_faults(near, events, kHz);
+  EXPECT_TRUE(b.false_alarms.empty());
+  EXPECT_EQ(b.misdiagnosed, 1U);
+  EXPECT_EQ(b.outcomes[0].first_wrong_tile, 30U);
+  EXPECT_EQ(b.healthy_disturbed.size(), 1U) << "the reset of tile 30 is still a healthy tile disturbed";
+
+  // No fault at all: the same two events.
+  const tools::FaultAccount c = tools::join_faults({}, events, kHz);
+  EXPECT_EQ(c.false_alarms.size(), 1U);
+  EXPECT_EQ(c.healthy_disturbed.size(), 1U);
+}
+
+// Two replicas corrupted alike outvote the healthy third: the corruption is not detected, the
+// outvote of the healthy replica is a wrong diagnosis and a healthy tile disturbed, and so is its
+// exclusion.
+TEST(FdirJoinStrict, AHealthyReplicaOutvotedByTwoAlikeIsCountedNotCredited) {
+  std::array<bsp::FaultRecord, 2> faults{record(bsp::FaultKind::kSdc, 19U, 9'001'518U),
+                                         record(bsp::FaultKind::kSdc, 21U, 9'001'518U)};
+  faults[0].spec.channel = 1U;
+  faults[1].spec.channel = 1U;
+  const std::vector<fdir::Event> events{event(EventId::kTmrOutvoted, 18U, 20U, 9'021'000U, 900U, 1U, 1U),
+                                        event(EventId::kTmrExcluded, 18U, 20U, 9'041'000U, 902U, 1U, 2U)};
+  const tools::FaultAccount a = tools::join_faults(faults, events, kHz);
+  EXPECT_EQ(a.detected, 0U);
+  EXPECT_EQ(a.misdiagnosed, 1U);
+  EXPECT_EQ(a.outcomes[1].first_wrong_tile, 20U);
+  EXPECT_EQ(a.healthy_disturbed.size(), 2U);
+  EXPECT_TRUE(a.false_alarms.empty());
+}
+
+// A vote without a majority credits each corrupted replica it names and charges the healthy one it
+// names with them as a wrong diagnosis; a replica's service is back when it votes again, and TMR
+// given up for simplex is a degraded recovery, accepted.
+TEST(FdirJoinStrict, NoMajorityCreditsTheCorruptedAndChargesTheHealthy) {
+  std::array<bsp::FaultRecord, 2> faults{record(bsp::FaultKind::kSdc, 19U, 7'001'500U),
+                                         record(bsp::FaultKind::kSdc, 20U, 7'001'500U)};
+  faults[0].spec.channel = 1U;
+  faults[1].spec.channel = 1U;
+  // Mask 0b111: all three different; tiles 19, 20, 21 in b's bytes 1-3.
+  const std::uint32_t tiles = (19U << 8U) | (20U << 16U) | (21U << 24U);
+  std::vector<fdir::Event> events{event(EventId::kTmrNoMajority, 18U, 700U, 7'020'000U, 0U, 7U, tiles)};
+  events.push_back(event(EventId::kTmrAgrees, 18U, 19U, 7'030'000U, 701U, 0U, 1U));
+  events.push_back(event(EventId::kTmrSimplex, 18U, 705U, 7'070'000U, 2U));
+  const tools::FaultAccount a = tools::join_faults(faults, events, kHz);
+  EXPECT_EQ(a.detected, 2U);
+  EXPECT_EQ(a.misdiagnosed, 1U);
+  EXPECT_EQ(a.outcomes[0].recovery, tools::Recovery::kRecovered) << "replica 19 agrees again";
+  EXPECT_EQ(a.outcomes[1].recovery, tools::Recovery::kDegradedAccepted) << "replica 20 never votes again: simplex";
+  EXPECT_EQ(a.recovered, 1U);
+  EXPECT_EQ(a.degraded_accepted, 1U);
+}
+
+// Corrected correlations are credited and recovered in place; a coarse band found wrong by the
+// coordinator too. A switch is recovered once the map is out and the role's service flows.
+TEST(FdirJoinStrict, InPlaceCorrectionsAndMapsRecover) {
+  std::array<bsp::FaultRecord, 2> faults{record(bsp::FaultKind::kSdc, 27U, 12'037'000U),
+                                         record(bsp::FaultKind::kSwitchFail, 9U, 20'000'000U)};
+  faults[0].spec.channel = trn::vision::kCorrelationDotChannel;
+  const std::vector<fdir::Event> events{
+      event(EventId::kCorrelationCorrected, 27U, 12U, 12'042'000U, 1U, 12U, 1U),
+      event(EventId::kTransitFailed, 0U, 9U, 20'098'000U, 0U, 7U, 1U),
+      event(EventId::kMapPublished, 0U, 1U, 20'110'000U, 0U, 42U),
+  };
+  std::vector<double> io = stream(0.010, 20.0);
+  tools::ServiceStreams streams;
+  streams.io_samples_s = io;
+  tools::FaultAccount a = tools::join_faults(faults, events, kHz, streams);
+  EXPECT_EQ(a.detected, 2U);
+  EXPECT_TRUE(a.outcomes[0].recovered);
+  EXPECT_DOUBLE_EQ(a.outcomes[0].service_gap_s, 0.0);
+  EXPECT_EQ(a.outcomes[1].role, trn::tasks::Role::kIo);
+  EXPECT_FALSE(a.outcomes[1].recovered) << "the map is out, but no IMU sample flows from the I/O role";
+  const std::vector<double> later = stream(20.2, 22.0);
+  io.insert(io.end(), later.begin(), later.end());
+  streams.io_samples_s = io;
+  a = tools::join_faults(faults, events, kHz, streams);
+  EXPECT_TRUE(a.outcomes[1].recovered);
+  EXPECT_NEAR(a.outcomes[1].recovered_s, 20.2, 1e-9);
+  EXPECT_STREQ(a.outcomes[1].recovered_by, "io_samples");
+}
+
+// The role of a tile is the one it held when the fault took effect: a spare that took the filter's
+// role is the filter.
+TEST(FdirJoinStrict, TheRoleFollowsTheDirectory) {
+  const std::array<bsp::FaultRecord, 2> faults{record(bsp::FaultKind::kCoreHang, 10U, 3'000'000U),
+                                               record(bsp::FaultKind::kCoreHang, 10U, 1'000'000U)};
+  const std::vector<fdir::Event> events{event(EventId::kRoleMoved, 0U, 2U, 2'000'000U, 18U, 10U, 1U)};
+  const tools::FaultAccount a = tools::join_faults(faults, events, kHz);
+  EXPECT_EQ(a.outcomes[0].role, trn::tasks::Role::kFilter);
+  EXPECT_EQ(a.outcomes[1].role, trn::tasks::Role::kSpare);
+  ASSERT_EQ(a.healthy_disturbed.size(), 1U) << "the role moved from tile 18, which no fault hit";
+  EXPECT_EQ(a.healthy_disturbed[0].tile, 18U);
+}
+
+// Faults not delivered are counted apart; without effect only when the stream matched the golden
+// run's (mark_no_effect); faults.csv has one row per record.
+TEST(FdirJoinStrict, NoEffectAndTheCsv) {
+  std::array<bsp::FaultRecord, 3> faults{record(bsp::FaultKind::kSeu, 30U, 1'000'000U),
+                                         record(bsp::FaultKind::kSdc, 31U, 2'000'000U),
+                                         record(bsp::FaultKind::kCoreHang, 32U, 3'000'000U)};
+  faults[1].status = bsp::FaultStatus::kArmed;
+  const std::vector<fdir::Event> events{event(EventId::kWatchdogExpired, 0U, 32U, 3'016'000U)};
+  tools::FaultAccount a = tools::join_faults(faults, events, kHz);
+  EXPECT_EQ(a.injected, 2U);
+  EXPECT_EQ(a.not_delivered, 1U);
+  EXPECT_EQ(a.outcomes[0].effect, tools::Effect::kNotDetected);
+  EXPECT_EQ(a.outcomes[1].effect, tools::Effect::kNotDelivered);
+  tools::mark_no_effect(a);
+  EXPECT_EQ(a.outcomes[0].effect, tools::Effect::kNoEffect);
+  EXPECT_EQ(a.outcomes[2].effect, tools::Effect::kDetected);
+  const std::string csv = tools::faults_csv(faults, a);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 4);
+  EXPECT_NE(csv.find("1.000000,seu,30,vision,1,,0,no_effect,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",sdc,31,,0,,0,not_delivered,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("3.000000,core_hang,32,vision,1,,0,detected,watchdog_expired,0,16.000,right,0,,,none,,,"),
+            std::string::npos)
+      << csv;
 }
 
 }  // namespace
