@@ -166,8 +166,8 @@ struct Stream {
 
 constexpr std::array<const char*, 4> kDirections = {"east", "west", "north", "south"};
 
-/** One drawn [[fault]] entry as plan text. */
-std::string draw_fault(const Spec& spec, Stream& r, std::string& kind_out) {
+/** One drawn [[fault]] entry as plan text; its kind and its target's role ("tile_<n>" for a tile) are returned too. */
+std::string draw_fault(const Spec& spec, Stream& r, std::string& kind_out, std::string& role_out) {
   const bsp::FaultKind kind = spec.kinds[r.below(spec.kinds.size())];
   kind_out = fault_kind_name(kind);
   const std::size_t targets = spec.roles.size() + spec.tiles.size();
@@ -179,6 +179,7 @@ std::string draw_fault(const Spec& spec, Stream& r, std::string& kind_out) {
   o << "\n[[fault]]\nt_s = " << format_number(t) << "\nkind = \"" << kind_out << "\"\n";
   if (ti < spec.roles.size()) {
     const std::string& role = spec.roles[ti];
+    role_out = role;
     o << "role = \"" << role << "\"\n";
     if (role == "vision") {
       o << "instance = " << r.below(kVisionInstances) << "\n";
@@ -186,6 +187,7 @@ std::string draw_fault(const Spec& spec, Stream& r, std::string& kind_out) {
       o << "instance = " << r.below(kReplicaInstances) << "\n";
     }
   } else {
+    role_out = "tile_" + std::to_string(spec.tiles[ti - spec.roles.size()]);
     o << "tile = " << spec.tiles[ti - spec.roles.size()] << "\n";
   }
   switch (kind) {
@@ -421,16 +423,20 @@ DrawnPlan draw_plan(const Spec& spec, std::uint32_t index, std::uint32_t tile_co
       o << "\n[[command]]\nt_s = " << format_number(c.t_s) << "\nname = \"" << c.name << "\"\n";
     }
     std::string kind = spec.faults_per_run == 0U ? std::string("none") : std::string{};
+    std::string role = kind;
     for (std::uint32_t f = 0; f < spec.faults_per_run; ++f) {
       std::string k;
-      o << draw_fault(spec, r, k);
+      std::string t;
+      o << draw_fault(spec, r, k, t);
       kind = f == 0U ? k : (k == kind ? kind : std::string("mixed"));
+      role = f == 0U ? t : (t == role ? role : std::string("mixed"));
     }
     const std::string text = o.str();
     const FaultPlanResult check = parse_fault_plan(text, "run " + std::to_string(index), tile_count, run_s);
     if (check.ok()) {
       d.toml = text;
       d.kind = kind;
+      d.role = role;
       return d;
     }
     last_error = check.error;
@@ -444,15 +450,22 @@ Outcome classify(const RunFacts& f, double pass_bound_m, double degraded_bound_m
   if (!f.exited_ok) {
     return Outcome::kCrash;
   }
+  if (f.injected == 0U && f.not_delivered > 0U) {
+    return Outcome::kNotDelivered;  // the image flew, but no fault reached the chip: nothing was tested
+  }
   const bool correct = !f.mission_lost && f.final_error_m <= pass_bound_m;
   const bool kept = !f.mission_lost && f.final_error_m <= degraded_bound_m;
   if (f.detected == 0U) {
+    if (f.output_as_golden) {
+      return Outcome::kNoEffect;
+    }
     return correct ? Outcome::kMasked : Outcome::kSdc;
   }
   if (!kept) {
     return Outcome::kLost;
   }
-  return correct && f.recovered >= f.detected ? Outcome::kRecovered : Outcome::kDegraded;
+  const bool whole = f.recovered == f.detected && f.degraded_accepted == 0U;
+  return correct && whole ? Outcome::kRecovered : Outcome::kDegraded;
 }
 
 }  // namespace tools::campaign

@@ -70,6 +70,7 @@ SpecResult load_spec(const std::string& path, double max_duration_s);
 struct DrawnPlan {
   std::string toml;   ///< the fault-plan file's text
   std::string kind;   ///< the fault kind of the run ("mixed" when its faults differ, "none" in a fault-free campaign)
+  std::string role;   ///< the target drawn: its role, or "tile_<n>" for a tile ("mixed" and "none" as for kind)
   std::string error;  ///< empty when drawn; else why no valid plan could be drawn
 };
 
@@ -82,16 +83,29 @@ struct DrawnPlan {
  */
 DrawnPlan draw_plan(const Spec& spec, std::uint32_t index, std::uint32_t tile_count, double run_s);
 
-/** What a run left behind, as the outcome rules read it. */
+/** What a run left behind, as the outcome rules read it (the keys of its summary.json in docs/CAMPAIGNS.md). */
 struct RunFacts {
   bool exited_ok = false;       ///< the image exited with status 0 and wrote its summary
   bool mission_lost = false;
   double final_error_m = 0.0;
+  std::uint32_t injected = 0U;           ///< faults delivered to the chip
+  std::uint32_t not_delivered = 0U;      ///< faults armed but never delivered
   std::uint32_t detected = 0U;
   std::uint32_t recovered = 0U;
+  std::uint32_t degraded_accepted = 0U;  ///< detected faults whose recovery gave up a mode (e.g. TMR to simplex)
+  bool output_as_golden = false;         ///< the delivered navigation stream is bit for bit the golden run's
+  /// Flags: carried to the run's record and the report; they do not change the class.
+  std::uint32_t misdiagnosed = 0U;       ///< faults for which the flight accused the wrong tile or class
+  std::uint32_t false_alarms = 0U;       ///< accusations no injected fault explains
+  std::uint32_t healthy_disturbed = 0U;  ///< healthy tiles reset, retired, excluded or outvoted
 };
 
-/** The outcome class of a run (docs/CAMPAIGNS.md, "Outcome classes"). */
+/**
+ * The outcome class of a run (docs/CAMPAIGNS.md, "Outcome classes"), in this order: hang_crash without a
+ * summary; not_delivered when no fault reached the chip but one was armed; with nothing detected no_effect
+ * (the stream is the golden one), masked (correct) or sdc; detected: detected_lost (not kept),
+ * detected_recovered (correct, every detection recovered, none by giving up a mode) or detected_degraded.
+ */
 Outcome classify(const RunFacts& f, double pass_bound_m, double degraded_bound_m);
 
 /** splitmix64: the seed of run @p index's stream. */

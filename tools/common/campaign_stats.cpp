@@ -265,6 +265,10 @@ constexpr std::array<const char*, 3> kAxes = {"x", "y", "z"};
 
 const char* outcome_name(Outcome o) noexcept {
   switch (o) {
+    case Outcome::kNotDelivered:
+      return "not_delivered";
+    case Outcome::kNoEffect:
+      return "no_effect";
     case Outcome::kMasked:
       return "masked";
     case Outcome::kRecovered:
@@ -289,6 +293,10 @@ bool outcome_from_name(std::string_view name, Outcome& out) noexcept {
     }
   }
   return false;
+}
+
+bool is_detected(Outcome o) noexcept {
+  return o == Outcome::kRecovered || o == Outcome::kDegraded || o == Outcome::kLost;
 }
 
 // ------------------------------------------------------------------ intervals
@@ -364,6 +372,67 @@ double margin_for_runs(std::uint64_t runs, double conf) {
 
 // ------------------------------------------------------------------ summary
 
+namespace {
+
+/** Counts @p run into @p c: eligible with a delivered fault, unless no_effect or without a summary (hang_crash). */
+void tally_coverage(const RunResult& run, Coverage& c) noexcept {
+  if (run.injected > 0U && run.outcome != Outcome::kNoEffect && run.outcome != Outcome::kCrash) {
+    ++c.eligible;
+    c.detected += is_detected(run.outcome) ? 1U : 0U;
+  }
+}
+
+/** The intervals of a tallied coverage. */
+void close_coverage(Coverage& c, double conf) {
+  c.cp = clopper_pearson(c.detected, c.eligible, conf);
+  c.wilson = wilson(c.detected, c.eligible, conf);
+}
+
+void tally_flags(const RunResult& run, FlagCounts& f) noexcept {
+  f.false_alarm += run.false_alarms > 0U ? 1U : 0U;
+  f.misdiagnosed += run.misdiagnosed > 0U ? 1U : 0U;
+  f.healthy_disturbed += run.healthy_disturbed > 0U ? 1U : 0U;
+}
+
+/** The groups of @p runs by @p key (an empty key: kUnknownKind), sorted by name, with their classes, coverage, flags. */
+template <typename Key>
+std::vector<GroupReport> groups_of(std::span<const RunResult> runs, double conf, Key key) {
+  struct Tally {
+    std::uint64_t runs = 0;
+    std::array<std::uint64_t, kOutcomeCount> counts{};
+    Coverage coverage;
+    FlagCounts flags;
+  };
+  std::map<std::string, Tally> by;  // ordered: the report lists groups sorted by name
+  for (const RunResult& run : runs) {
+    const std::string& k = key(run);
+    Tally& t = by[k.empty() ? std::string(kUnknownKind) : k];
+    ++t.runs;
+    ++t.counts[static_cast<std::size_t>(run.outcome)];
+    tally_coverage(run, t.coverage);
+    tally_flags(run, t.flags);
+  }
+  std::vector<GroupReport> out;
+  out.reserve(by.size());
+  for (auto& [name, t] : by) {
+    close_coverage(t.coverage, conf);
+    out.push_back(GroupReport{name, t.runs, classes_of(t.counts, t.runs, conf), t.coverage, t.flags});
+  }
+  return out;
+}
+
+}  // namespace
+
+Coverage coverage_of(std::span<const RunResult> runs, double conf) {
+  check_conf("coverage_of", conf);
+  Coverage c;
+  for (const RunResult& run : runs) {
+    tally_coverage(run, c);
+  }
+  close_coverage(c, conf);
+  return c;
+}
+
 Report summarize(std::string_view campaign, std::span<const RunResult> runs, double conf) {
   check_conf("summarize", conf);
   Report r;
@@ -371,11 +440,6 @@ Report summarize(std::string_view campaign, std::span<const RunResult> runs, dou
   r.confidence = conf;
   r.runs = runs.size();
   std::array<std::uint64_t, kOutcomeCount> all{};
-  struct Tally {
-    std::uint64_t runs = 0;
-    std::array<std::uint64_t, kOutcomeCount> counts{};
-  };
-  std::map<std::string, Tally> by_kind;  // ordered: the report lists kinds sorted by name
   for (const RunResult& run : runs) {
     const auto cls = static_cast<std::size_t>(run.outcome);
     if (cls >= kOutcomeCount) {
@@ -383,23 +447,22 @@ Report summarize(std::string_view campaign, std::span<const RunResult> runs, dou
                                   std::to_string(cls) + ")");
     }
     ++all[cls];
-    Tally& t = by_kind[run.kind.empty() ? std::string(kUnknownKind) : run.kind];
-    ++t.runs;
-    ++t.counts[cls];
+    tally_flags(run, r.flags);
     r.host_s_total += run.host_s;
   }
   r.classes = classes_of(all, r.runs, conf);
-  r.kinds.reserve(by_kind.size());
-  for (const auto& [kind, t] : by_kind) {
-    r.kinds.push_back(KindReport{kind, t.runs, classes_of(t.counts, t.runs, conf)});
-  }
+  r.coverage = coverage_of(runs, conf);
+  r.kinds = groups_of(runs, conf, [](const RunResult& run) -> const std::string& { return run.kind; });
+  r.roles = groups_of(runs, conf, [](const RunResult& run) -> const std::string& { return run.role; });
   r.margin_at_runs = margin_for_runs(r.runs, conf);
-  for (const RunResult& run : runs) {
+  r.all_runs.assign(runs.begin(), runs.end());
+  std::sort(r.all_runs.begin(), r.all_runs.end(),
+            [](const RunResult& a, const RunResult& b) { return a.index < b.index; });
+  for (const RunResult& run : r.all_runs) {
     if (run.has_integrity) {
       r.per_run.push_back(run);
     }
   }
-  std::sort(r.per_run.begin(), r.per_run.end(), [](const RunResult& a, const RunResult& b) { return a.index < b.index; });
   r.integrity = summarize_integrity(r.per_run);
   return r;
 }
@@ -447,6 +510,40 @@ IntegrityReport summarize_integrity(std::span<const RunResult> runs) {
 
 // ------------------------------------------------------------------ report files
 
+namespace {
+
+/** report.md's coverage section: one row for all runs, then one per kind and one per role. */
+std::string coverage_md(const Report& r) {
+  const std::string cpct = conf_pct(r.confidence);
+  std::string s =
+      "\n## Detection coverage and flags\n\nCoverage: of the runs with a fault delivered to the chip whose class is "
+      "neither no_effect nor hang_crash (the eligible runs), those detected (detected_recovered, detected_degraded, "
+      "detected_lost), with the Clopper-Pearson " + cpct +
+      " % interval. Flags: runs whose flight accused a tile no injected fault explains (false alarm), accused the "
+      "wrong tile or class (misdiagnosed), or reset, retired, excluded or outvoted a healthy tile.\n\n"
+      "| runs of | runs | eligible | detected | coverage | false alarm | misdiagnosed | healthy tile disturbed |\n"
+      "|---|---:|---:|---:|---:|---:|---:|---:|\n";
+  const auto row = [&s](const std::string& name, std::uint64_t runs, const Coverage& c, const FlagCounts& f) {
+    const std::string cov = c.eligible == 0U ? std::string("-")
+                                             : pct(fraction(c.detected, c.eligible)) + " % (CP " + pct(c.cp.lo) + "-" +
+                                                   pct(c.cp.hi) + " %)";
+    s += "| " + md_text(name) + " | " + std::to_string(runs) + " | " + std::to_string(c.eligible) + " | " +
+         std::to_string(c.detected) + " | " + cov + " | " + std::to_string(f.false_alarm) + " | " +
+         std::to_string(f.misdiagnosed) + " | " + std::to_string(f.healthy_disturbed) + " |\n";
+  };
+  row("all", r.runs, r.coverage, r.flags);
+  for (const GroupReport& g : r.kinds) {
+    row("kind " + g.name, g.runs, g.coverage, g.flags);
+  }
+  for (const GroupReport& g : r.roles) {
+    row("role " + g.name, g.runs, g.coverage, g.flags);
+  }
+  return s;
+}
+
+}  // namespace
+
+
 std::string report_json(const Report& r) {
   using Json = nlohmann::ordered_json;
   const auto num = [](double v) { return std::isfinite(v) ? Json(v) : Json(); };
@@ -461,6 +558,29 @@ std::string report_json(const Report& r) {
     }
     return o;
   };
+  const auto coverage = [&num](const Coverage& c) {
+    return Json{{"detected", c.detected},
+                {"eligible", c.eligible},
+                {"fraction", c.eligible == 0U ? Json() : num(fraction(c.detected, c.eligible))},
+                {"cp", {{"lo", num(c.cp.lo)}, {"hi", num(c.cp.hi)}}},
+                {"wilson", {{"lo", num(c.wilson.lo)}, {"hi", num(c.wilson.hi)}}}};
+  };
+  const auto flags = [](const FlagCounts& f) {
+    return Json{{"false_alarm_runs", f.false_alarm},
+                {"misdiagnosed_runs", f.misdiagnosed},
+                {"healthy_disturbed_runs", f.healthy_disturbed}};
+  };
+  const auto groups = [&](const std::vector<GroupReport>& gs, const char* key) {
+    Json a = Json::array();
+    for (const GroupReport& g : gs) {
+      a.push_back(Json{{key, g.name},
+                       {"runs", g.runs},
+                       {"classes", classes(g.classes, g.runs)},
+                       {"coverage", coverage(g.coverage)},
+                       {"flags", flags(g.flags)}});
+    }
+    return a;
+  };
   Json j;
   j["campaign"] = r.campaign;
   j["confidence"] = num(r.confidence);
@@ -468,11 +588,10 @@ std::string report_json(const Report& r) {
   j["margin_at_runs"] = num(r.margin_at_runs);
   j["host_s_total"] = num(r.host_s_total);
   j["classes"] = classes(r.classes, r.runs);
-  Json kinds = Json::array();
-  for (const KindReport& k : r.kinds) {
-    kinds.push_back(Json{{"kind", k.kind}, {"runs", k.runs}, {"classes", classes(k.classes, k.runs)}});
-  }
-  j["kinds"] = kinds;
+  j["coverage"] = coverage(r.coverage);
+  j["flags"] = flags(r.flags);
+  j["kinds"] = groups(r.kinds, "kind");
+  j["roles"] = groups(r.roles, "role");
   const IntegrityReport& ir = r.integrity;
   const auto spread = [&num](const Spread& sp) {
     return Json{{"runs", sp.n}, {"median", num(sp.median)}, {"p90", num(sp.p90)}, {"max", num(sp.max)},
@@ -514,8 +633,8 @@ std::string report_csv(const Report& r) {
     }
   };
   block("all", r.classes, r.runs);
-  for (const KindReport& k : r.kinds) {
-    block(k.kind, k.classes, k.runs);
+  for (const GroupReport& k : r.kinds) {
+    block(k.name, k.classes, k.runs);
   }
   return s;
 }
@@ -528,8 +647,8 @@ std::string report_md(const Report& r) {
                   " s.\n\nA cell: runs in the class (percent of the column's runs, Clopper-Pearson " + cpct +
                   " % interval).\n\n| outcome | all (" + std::to_string(r.runs) + " runs) |";
   std::string rule = "|---|---:|";
-  for (const KindReport& k : r.kinds) {
-    s += " " + md_text(k.kind) + " (" + std::to_string(k.runs) + " runs) |";
+  for (const GroupReport& k : r.kinds) {
+    s += " " + md_text(k.name) + " (" + std::to_string(k.runs) + " runs) |";
     rule += "---:|";
   }
   s += "\n" + rule + "\n";
@@ -540,11 +659,12 @@ std::string report_md(const Report& r) {
   for (const Outcome out : kOutcomes) {
     const auto i = static_cast<std::size_t>(out);
     s += std::string("| ") + outcome_name(out) + " |" + cell(r.classes[i], r.runs);
-    for (const KindReport& k : r.kinds) {
+    for (const GroupReport& k : r.kinds) {
       s += cell(k.classes[i], k.runs);
     }
     s += "\n";
   }
+  s += coverage_md(r);
   const IntegrityReport& ir = r.integrity;
   s += "\n## Navigation integrity\n\n";
   if (ir.runs == 0U) {
@@ -574,6 +694,40 @@ std::string report_md(const Report& r) {
                 100.0 * fraction(ax.beyond_3sigma, ax.outputs), static_cast<unsigned long long>(ax.runs_over_fraction),
                 static_cast<unsigned long long>(ax.beyond_5sigma), static_cast<unsigned long long>(ax.runs_beyond_5sigma),
                 ax.worst_ratio, ax.worst_index, static_cast<unsigned long long>(ax.worst_seed));
+  }
+  return s;
+}
+
+std::string coverage_csv(const Report& r) {
+  std::string s = std::string(kCoverageCsvHeader) + "\n";
+  const auto row = [&s](const char* group, const std::string& name, std::uint64_t runs, const Coverage& c,
+                        const FlagCounts& f) {
+    s += std::string(group) + "," + csv_field(name) + "," + std::to_string(runs) + "," + std::to_string(c.eligible) +
+         "," + std::to_string(c.detected) + "," +
+         (c.eligible == 0U ? std::string{} : format("%.6f", fraction(c.detected, c.eligible))) +
+         format(",%.6f,%.6f,%.6f,%.6f,", c.cp.lo, c.cp.hi, c.wilson.lo, c.wilson.hi) +
+         std::to_string(f.false_alarm) + "," + std::to_string(f.misdiagnosed) + "," +
+         std::to_string(f.healthy_disturbed) + "\n";
+  };
+  row("all", "all", r.runs, r.coverage, r.flags);
+  for (const GroupReport& g : r.kinds) {
+    row("kind", g.name, g.runs, g.coverage, g.flags);
+  }
+  for (const GroupReport& g : r.roles) {
+    row("role", g.name, g.runs, g.coverage, g.flags);
+  }
+  return s;
+}
+
+std::string runs_csv(const Report& r) {
+  std::string s = std::string(kRunsCsvHeader) + "\n";
+  for (const RunResult& run : r.all_runs) {
+    s += std::to_string(run.index) + "," + csv_field(run.kind) + "," + csv_field(run.role) + "," +
+         std::to_string(run.seed) + "," + outcome_name(run.outcome) + "," + csv_number(run.final_error_m) + "," +
+         std::to_string(run.injected) + "," + std::to_string(run.not_delivered) + "," + std::to_string(run.detected) +
+         "," + std::to_string(run.recovered) + "," + std::to_string(run.degraded_accepted) + "," +
+         std::to_string(run.misdiagnosed) + "," + std::to_string(run.false_alarms) + "," +
+         std::to_string(run.healthy_disturbed) + "," + (run.output_as_golden ? "1" : "0") + "\n";
   }
   return s;
 }
@@ -722,9 +876,11 @@ bool write_report(const Report& r, const fs::path& dir, std::string& err, std::s
             (ec ? ec.message() : std::string("exists and is not a folder"));
       return false;
     }
-    const std::array<std::pair<const char*, std::string>, 4> files = {{{"report.json", report_json(r)},
+    const std::array<std::pair<const char*, std::string>, 6> files = {{{"report.json", report_json(r)},
                                                                         {"report.csv", report_csv(r)},
                                                                         {"report.md", report_md(r)},
+                                                                        {"coverage.csv", coverage_csv(r)},
+                                                                        {"runs.csv", runs_csv(r)},
                                                                         {"outcomes.gp", report_gnuplot(r)}}};
     for (const auto& [name, text] : files) {
       if (!write_atomic(dir, name, text, err)) {

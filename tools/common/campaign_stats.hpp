@@ -5,7 +5,9 @@
  * A campaign is many runs of the mission image, each with injected faults and
  * one outcome class. The fraction of runs in a class is a binomial proportion:
  * it is reported with an exact (Clopper-Pearson) and a Wilson score interval,
- * over all runs and per fault kind (docs/CAMPAIGNS.md, "Statistics").
+ * over all runs and per fault kind; so is the detection coverage, also per
+ * target role, beside the runs that raised each flag (docs/CAMPAIGNS.md,
+ * "Statistics").
  *
  * Host code: std containers and exceptions are fine here. The interval and
  * run-count functions throw std::invalid_argument on arguments outside their
@@ -21,6 +23,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -28,20 +31,30 @@
 
 namespace tools::campaign {
 
-/** What a run ended as, from the best to the worst for the mission. */
-enum class Outcome : std::uint8_t { kMasked, kRecovered, kDegraded, kLost, kSdc, kCrash };
-inline constexpr std::size_t kOutcomeCount = 6;
+/**
+ * What a run ended as (docs/CAMPAIGNS.md, "Outcome classes"): first the runs where no fault mattered (none
+ * reached the chip; the delivered navigation stream is the fault-free one), then from the best to the worst
+ * for the mission.
+ */
+enum class Outcome : std::uint8_t { kNotDelivered, kNoEffect, kMasked, kRecovered, kDegraded, kLost, kSdc, kCrash };
+inline constexpr std::size_t kOutcomeCount = 8;
 
 /** Every outcome in report order (the order of the enum). */
-inline constexpr std::array<Outcome, kOutcomeCount> kOutcomes = {Outcome::kMasked, Outcome::kRecovered,
-                                                                 Outcome::kDegraded, Outcome::kLost,
-                                                                 Outcome::kSdc,      Outcome::kCrash};
+inline constexpr std::array<Outcome, kOutcomeCount> kOutcomes = {
+    Outcome::kNotDelivered, Outcome::kNoEffect, Outcome::kMasked, Outcome::kRecovered,
+    Outcome::kDegraded,     Outcome::kLost,     Outcome::kSdc,    Outcome::kCrash};
 
-/** "masked", "detected_recovered", "detected_degraded", "detected_lost", "sdc", "hang_crash"; "?" for a value outside the enum. */
+/**
+ * "not_delivered", "no_effect", "masked", "detected_recovered", "detected_degraded", "detected_lost", "sdc",
+ * "hang_crash"; "?" for a value outside the enum.
+ */
 const char* outcome_name(Outcome o) noexcept;
 
 /** The outcome named @p name (exactly as outcome_name() spells it). @return false, @p out untouched, for any other name. */
 bool outcome_from_name(std::string_view name, Outcome& out) noexcept;
+
+/** Whether @p o is one of the detected classes (detected_recovered, detected_degraded, detected_lost). */
+bool is_detected(Outcome o) noexcept;
 
 /** A closed interval of a proportion, both ends in [0, 1]. */
 struct Interval {
@@ -93,11 +106,20 @@ double margin_for_runs(std::uint64_t runs, double conf = 0.95);
 struct RunResult {
   std::uint32_t index = 0;       ///< run index in the campaign
   std::string kind;              ///< the fault kind of the run ("core_hang", "sdc", ...; "mixed" when several kinds)
+  std::string role;              ///< the target drawn: a role, "tile_<n>" for a tile; "mixed" when the faults' differ
   Outcome outcome = Outcome::kMasked;
   double final_error_m = 0.0;
   double max_error_m = 0.0;      ///< max position error after convergence (NaN: the filter never converged)
   double host_s = 0.0;           ///< host seconds the run took
   std::uint32_t injected = 0, detected = 0, recovered = 0;
+  std::uint32_t not_delivered = 0;      ///< faults armed but never delivered to the chip
+  std::uint32_t degraded_accepted = 0;  ///< detected faults whose recovery gave up a mode (e.g. TMR to simplex)
+  /// Flags (docs/CAMPAIGNS.md, "Flags"): counts from the summary; they do not change the class.
+  std::uint32_t misdiagnosed = 0;       ///< faults for which the flight accused the wrong tile or the wrong class
+  std::uint32_t false_alarms = 0;       ///< accusations no injected fault explains
+  std::uint32_t healthy_disturbed = 0;  ///< healthy tiles reset, retired, excluded or outvoted
+  bool output_as_golden = false;        ///< the delivered navigation stream's CRC is the golden run's (same seed)
+  std::optional<std::uint32_t> output_crc;  ///< the summary's filter_output_crc; none without a summary
   std::uint64_t seed = 0;        ///< the scenario seed the run flew
   /// Navigation integrity from the run's summary (docs/FILTER.md, "Integrity"): set only when the image
   /// exited well and its summary gave the figures.
@@ -156,14 +178,34 @@ struct ClassCount {
   Interval wilson{};  ///< Wilson score
 };
 
-/** The classes of the runs of one fault kind. */
-struct KindReport {
-  std::string kind;
-  std::uint64_t runs = 0;
-  std::array<ClassCount, kOutcomeCount> classes{};  ///< indexed by the Outcome's value
+/**
+ * Detection coverage: of the runs with a fault delivered to the chip (injected > 0) whose class is neither
+ * no_effect nor hang_crash (no summary: delivery and detection unknown), those in a detected class.
+ */
+struct Coverage {
+  std::uint64_t detected = 0;
+  std::uint64_t eligible = 0;  ///< the denominator
+  Interval cp{};               ///< Clopper-Pearson of detected / eligible ([0, 1] when none is eligible)
+  Interval wilson{};
 };
 
-/** Name given to the kind of a run whose kind is empty. */
+/** Runs with each flag raised (a count above zero in the run's summary). */
+struct FlagCounts {
+  std::uint64_t false_alarm = 0;        ///< runs with false_alarms > 0
+  std::uint64_t misdiagnosed = 0;       ///< runs with misdiagnosed > 0
+  std::uint64_t healthy_disturbed = 0;  ///< runs with healthy_tiles_disturbed > 0
+};
+
+/** The runs of one fault kind or one target role. */
+struct GroupReport {
+  std::string name;  ///< the kind or the role
+  std::uint64_t runs = 0;
+  std::array<ClassCount, kOutcomeCount> classes{};  ///< indexed by the Outcome's value
+  Coverage coverage;
+  FlagCounts flags;
+};
+
+/** Name given to the kind or role of a run whose kind or role is empty. */
 inline constexpr const char* kUnknownKind = "unknown";
 
 struct Report {
@@ -171,16 +213,24 @@ struct Report {
   double confidence = 0.95;
   std::uint64_t runs = 0;
   std::array<ClassCount, kOutcomeCount> classes{};   ///< over all runs, indexed by the Outcome's value
-  std::vector<KindReport> kinds;                     ///< per fault kind, sorted by kind name
+  Coverage coverage;                                 ///< over all runs
+  FlagCounts flags;                                  ///< over all runs
+  std::vector<GroupReport> kinds;                    ///< per fault kind, sorted by kind name
+  std::vector<GroupReport> roles;                    ///< per target role, sorted by role name
   double margin_at_runs = 0.0;   ///< margin_for_runs(runs, confidence): worst case p = 0.5, infinite population
   double host_s_total = 0.0;
   IntegrityReport integrity;     ///< navigation integrity of the runs
   std::vector<RunResult> per_run;  ///< the runs with integrity figures, by index (integrity.csv and its plot)
+  std::vector<RunResult> all_runs;  ///< every run, by index (runs.csv)
 };
 
+/** Coverage of @p runs at @p conf (see Coverage). @throws std::invalid_argument if conf is not inside (0, 1). */
+Coverage coverage_of(std::span<const RunResult> runs, double conf = 0.95);
+
 /**
- * Counts the runs per class, over all and per kind (a run with an empty kind
- * counts as kUnknownKind), with both intervals at @p conf.
+ * Counts the runs per class, the coverage and the flags, over all, per kind and
+ * per role (a run with an empty kind or role counts as kUnknownKind), with both
+ * intervals at @p conf.
  * @throws std::invalid_argument if conf is not inside (0, 1).
  */
 Report summarize(std::string_view campaign, std::span<const RunResult> runs, double conf = 0.95);
@@ -192,8 +242,20 @@ inline constexpr const char* kReportCsvHeader = "kind,outcome,count,runs,fractio
 std::string report_json(const Report& r);
 /** report.csv: the header, the "all" block (one row per class), then one block per kind in the report's order. */
 std::string report_csv(const Report& r);
-/** report.md: a heading, the run count, confidence and margin, and the table of classes by kind. */
+/** report.md: a heading, the run count, confidence and margin, the table of classes by kind, coverage and flags. */
 std::string report_md(const Report& r);
+/** The header line of coverage.csv. */
+inline constexpr const char* kCoverageCsvHeader =
+    "group,name,runs,eligible,detected,coverage,cp_lo,cp_hi,wilson_lo,wilson_hi,false_alarm_runs,misdiagnosed_runs,"
+    "healthy_disturbed_runs";
+/** coverage.csv: the "all,all" row, then one row per kind ("kind,<k>") and per role ("role,<r>"). */
+std::string coverage_csv(const Report& r);
+/** The header line of runs.csv. */
+inline constexpr const char* kRunsCsvHeader =
+    "index,kind,role,seed,outcome,final_error_m,injected,not_delivered,detected,recovered,degraded_accepted,"
+    "misdiagnosed,false_alarms,healthy_tiles_disturbed,output_as_golden";
+/** runs.csv: one row per run, by index, with its class and flags. */
+std::string runs_csv(const Report& r);
 /** The header line of integrity.csv. */
 inline constexpr const char* kIntegrityCsvHeader =
     "index,seed,outcome,final_error_m,max_error_m,fix_at_s,converged_at_s,outputs,beyond_3sigma_x,beyond_3sigma_y,"
@@ -207,7 +269,7 @@ std::string integrity_gnuplot(const Report& r);
 std::string report_gnuplot(const Report& r);
 
 /**
- * Writes report.json, report.csv, report.md and outcomes.gp into @p dir
+ * Writes report.json, report.csv, report.md, coverage.csv, runs.csv and outcomes.gp into @p dir
  * (created if missing), each atomically (a temporary name in @p dir, then a
  * rename), and, when gnuplot is on the PATH, runs outcomes.gp to make
  * outcomes.png (also renamed into place). When runs gave integrity figures,

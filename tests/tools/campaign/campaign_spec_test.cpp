@@ -9,8 +9,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <set>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -124,6 +127,45 @@ TEST(CampaignSpec, PlansAreDrawnFromSeedAndIndexAndAreValidPlans) {
   EXPECT_NE(cp::draw_plan(other, 0U, 64U, kRunS).toml, cp::draw_plan(r.spec, 0U, 64U, kRunS).toml);
 }
 
+// Each run records the target it drew, for coverage per role: a single fault's role (or "tile_<n>" for a
+// tile target), the common one of several faults, else "mixed"; "none" without faults. The draws stay
+// those of (campaign_seed, index): the plan text is the same with the role recorded.
+TEST(CampaignSpec, TheTargetOfEachRunIsRecordedWithItsPlan) {
+  const cp::SpecResult one = parse("name = \"t\"\nruns = 40\nkinds = [\"core_hang\"]\nroles = [\"filter\", \"io\"]\n"
+                                   "tiles = [27]\n");
+  ASSERT_TRUE(one.ok()) << one.error;
+  std::set<std::string> roles;
+  for (std::uint32_t i = 0; i < one.spec.runs; ++i) {
+    const cp::DrawnPlan d = cp::draw_plan(one.spec, i, 64U, kRunS);
+    ASSERT_TRUE(d.error.empty()) << d.error;
+    roles.insert(d.role);
+    const std::string named = d.role == "tile_27" ? "tile = 27" : "role = \"" + d.role + "\"";
+    EXPECT_NE(d.toml.find(named), std::string::npos) << d.role << "\n" << d.toml;
+  }
+  EXPECT_EQ(roles, (std::set<std::string>{"filter", "io", "tile_27"}));
+
+  const cp::SpecResult two = parse(kValid);
+  ASSERT_TRUE(two.ok()) << two.error;
+  std::set<std::string> multi;
+  for (std::uint32_t i = 0; i < two.spec.runs; ++i) {
+    const cp::DrawnPlan d = cp::draw_plan(two.spec, i, 64U, kRunS);
+    ASSERT_TRUE(d.error.empty()) << d.error;
+    const tools::FaultPlanResult p = tools::parse_fault_plan(d.toml, "run", 64U, kRunS);
+    ASSERT_TRUE(p.ok()) << p.error;
+    const auto target = [](const tools::FaultPlanItem& it) {
+      return it.role.empty() ? "tile_" + std::to_string(it.tile) : it.role;
+    };
+    const std::string a = target(p.plan->items[0]);
+    const std::string b = target(p.plan->items[1]);
+    EXPECT_EQ(d.role, a == b ? a : std::string("mixed")) << d.toml;
+    multi.insert(d.role);
+  }
+  EXPECT_TRUE(multi.count("mixed") > 0U);
+  const cp::SpecResult sweep = parse("name = \"s\"\nfaults_per_run = 0\nruns = 1\n");
+  ASSERT_TRUE(sweep.ok()) << sweep.error;
+  EXPECT_EQ(cp::draw_plan(sweep.spec, 0U, 64U, kRunS).role, "none");
+}
+
 // A target no draw can hit (an sdc on a spare tile, which publishes nothing) is refused after the
 // draws, naming the run and the parser's reason.
 TEST(CampaignSpec, APlanNoDrawCanMakeValidIsAnError) {
@@ -155,22 +197,157 @@ TEST(CampaignSpec, PointsAndCarvesNarrowTheDraws) {
   EXPECT_NE(bad.error.find("points: element 0: unknown point \"x\""), std::string::npos) << bad.error;
 }
 
-// The outcome rules (docs/CAMPAIGNS.md, "Outcome classes").
+// ------------------------------------------------------------------ CMP-07 outcome classes
+
+constexpr double kPass = 2.0;
+constexpr double kLoose = 20.0;
+
+/** A run that flew one fault to the chip, nothing detected, the stream changed, 0.5 m off: masked. */
+cp::RunFacts delivered() {
+  cp::RunFacts f;
+  f.exited_ok = true;
+  f.final_error_m = 0.5;
+  f.injected = 1U;
+  return f;
+}
+
+/** @p f with @p det faults detected and @p rec recovered. */
+cp::RunFacts detected(cp::RunFacts f, std::uint32_t det, std::uint32_t rec) {
+  f.detected = det;
+  f.recovered = rec;
+  return f;
+}
+
+cp::Outcome cls(const cp::RunFacts& f) { return cp::classify(f, kPass, kLoose); }
+
+// CMP-07: one run per class, each built from the facts the rules read (docs/CAMPAIGNS.md, "Outcome classes").
 TEST(CampaignSpec, OutcomesFollowTheWrittenRules) {
-  const double pass = 2.0;
-  const double loose = 20.0;
-  auto cls = [&](bool ok, bool lost, double e, std::uint32_t det, std::uint32_t rec) {
-    return cp::classify(cp::RunFacts{ok, lost, e, det, rec}, pass, loose);
-  };
-  EXPECT_EQ(cls(false, false, 0.1, 0, 0), cp::Outcome::kCrash) << "no summary: a crash or a hang";
-  EXPECT_EQ(cls(true, false, 0.5, 0, 0), cp::Outcome::kMasked);
-  EXPECT_EQ(cls(true, false, 5.0, 0, 0), cp::Outcome::kSdc) << "wrong beyond the bound, nothing detected";
-  EXPECT_EQ(cls(true, true, 0.5, 0, 0), cp::Outcome::kSdc) << "lost, nothing detected";
-  EXPECT_EQ(cls(true, false, 0.5, 1, 1), cp::Outcome::kRecovered);
-  EXPECT_EQ(cls(true, false, 0.5, 2, 1), cp::Outcome::kDegraded) << "correct, but not every detection recovered";
-  EXPECT_EQ(cls(true, false, 5.0, 1, 1), cp::Outcome::kDegraded) << "within the looser bound";
-  EXPECT_EQ(cls(true, false, 25.0, 1, 1), cp::Outcome::kLost);
-  EXPECT_EQ(cls(true, true, 0.5, 1, 1), cp::Outcome::kLost);
+  cp::RunFacts crash = delivered();
+  crash.exited_ok = false;
+  EXPECT_EQ(cls(crash), cp::Outcome::kCrash) << "no summary: a crash or a hang";
+  cp::RunFacts none = delivered();
+  none.injected = 0U;
+  none.not_delivered = 1U;
+  EXPECT_EQ(cls(none), cp::Outcome::kNotDelivered) << "armed, but no fault reached the chip";
+  cp::RunFacts same = delivered();
+  same.output_as_golden = true;
+  EXPECT_EQ(cls(same), cp::Outcome::kNoEffect) << "the delivered stream is the fault-free one";
+  EXPECT_EQ(cls(delivered()), cp::Outcome::kMasked) << "the stream changed, within the pass bound";
+  cp::RunFacts wrong = delivered();
+  wrong.final_error_m = 5.0;
+  EXPECT_EQ(cls(wrong), cp::Outcome::kSdc) << "wrong beyond the bound, nothing detected";
+  cp::RunFacts lost = delivered();
+  lost.mission_lost = true;
+  EXPECT_EQ(cls(lost), cp::Outcome::kSdc) << "lost, nothing detected";
+  EXPECT_EQ(cls(detected(delivered(), 1, 1)), cp::Outcome::kRecovered);
+  EXPECT_EQ(cls(detected(delivered(), 2, 1)), cp::Outcome::kDegraded) << "correct, but not every detection recovered";
+  EXPECT_EQ(cls(detected(wrong, 1, 1)), cp::Outcome::kDegraded) << "within the looser bound";
+  cp::RunFacts far = delivered();
+  far.final_error_m = 25.0;
+  EXPECT_EQ(cls(detected(far, 1, 1)), cp::Outcome::kLost);
+  EXPECT_EQ(cls(detected(lost, 1, 1)), cp::Outcome::kLost);
+}
+
+// CMP-07: the bounds are inclusive; a final error that is not finite (navigation lost) is beyond both.
+TEST(CampaignSpec, TheBoundsAreInclusive) {
+  cp::RunFacts f = delivered();
+  f.final_error_m = kPass;
+  EXPECT_EQ(cls(f), cp::Outcome::kMasked);
+  EXPECT_EQ(cls(detected(f, 1, 1)), cp::Outcome::kRecovered);
+  f.final_error_m = std::nextafter(kPass, 100.0);
+  EXPECT_EQ(cls(f), cp::Outcome::kSdc);
+  EXPECT_EQ(cls(detected(f, 1, 1)), cp::Outcome::kDegraded);
+  f.final_error_m = kLoose;
+  EXPECT_EQ(cls(detected(f, 1, 1)), cp::Outcome::kDegraded);
+  f.final_error_m = std::nextafter(kLoose, 100.0);
+  EXPECT_EQ(cls(detected(f, 1, 1)), cp::Outcome::kLost);
+  f.final_error_m = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(cls(f), cp::Outcome::kSdc);
+  EXPECT_EQ(cls(detected(f, 1, 1)), cp::Outcome::kLost);
+}
+
+// CMP-07: not_delivered is a run whose image flew but whose faults all stayed armed; it comes before the
+// error and the detections (nothing tested can have caused them), and after a crash (no summary to say so).
+TEST(CampaignSpec, NotDeliveredIsARunNoFaultReached) {
+  cp::RunFacts f = delivered();
+  f.injected = 0U;
+  f.not_delivered = 2U;
+  EXPECT_EQ(cls(f), cp::Outcome::kNotDelivered);
+  f.final_error_m = 50.0;
+  EXPECT_EQ(cls(f), cp::Outcome::kNotDelivered) << "the filter's own error, no fault's";
+  EXPECT_EQ(cls(detected(f, 1, 0)), cp::Outcome::kNotDelivered) << "an accusation without a fault: a false alarm";
+  f.output_as_golden = true;
+  EXPECT_EQ(cls(f), cp::Outcome::kNotDelivered);
+  f.exited_ok = false;
+  EXPECT_EQ(cls(f), cp::Outcome::kCrash);
+  cp::RunFacts some = delivered();
+  some.not_delivered = 1U;
+  EXPECT_EQ(cls(some), cp::Outcome::kMasked) << "one fault of two delivered: judged as any run";
+  cp::RunFacts fault_free = delivered();
+  fault_free.injected = 0U;
+  EXPECT_EQ(cls(fault_free), cp::Outcome::kMasked) << "nothing armed (a fault-free campaign) is not not_delivered";
+  fault_free.output_as_golden = true;
+  EXPECT_EQ(cls(fault_free), cp::Outcome::kNoEffect);
+}
+
+// CMP-07: with nothing detected, the stream's CRC against the golden run's tells no_effect (bit for bit the
+// fault-free stream) from masked (changed, still correct) and sdc (changed, wrong); with a detection the
+// CRC does not matter.
+TEST(CampaignSpec, NoEffectAndMaskedAreToldApartByTheStreamsCrc) {
+  cp::RunFacts f = delivered();
+  f.output_as_golden = true;
+  EXPECT_EQ(cls(f), cp::Outcome::kNoEffect);
+  f.output_as_golden = false;
+  EXPECT_EQ(cls(f), cp::Outcome::kMasked);
+  f.final_error_m = 3.0;
+  EXPECT_EQ(cls(f), cp::Outcome::kSdc);
+  cp::RunFacts d = detected(delivered(), 1, 1);
+  d.output_as_golden = true;
+  EXPECT_EQ(cls(d), cp::Outcome::kRecovered) << "a detection is never no_effect";
+}
+
+// CMP-07: detected_recovered needs every detection recovered, exactly, and none by giving up a mode.
+TEST(CampaignSpec, ARecoveryThatGaveUpAModeIsDegraded) {
+  cp::RunFacts f = detected(delivered(), 2, 2);
+  EXPECT_EQ(cls(f), cp::Outcome::kRecovered);
+  f.degraded_accepted = 1U;
+  EXPECT_EQ(cls(f), cp::Outcome::kDegraded) << "TMR to simplex: the mission goes on with less";
+  EXPECT_EQ(cls(detected(delivered(), 1, 2)), cp::Outcome::kDegraded) << "more recoveries than detections";
+  EXPECT_EQ(cls(detected(delivered(), 2, 0)), cp::Outcome::kDegraded);
+  cp::RunFacts far = detected(delivered(), 1, 1);
+  far.final_error_m = 25.0;
+  far.degraded_accepted = 1U;
+  EXPECT_EQ(cls(far), cp::Outcome::kLost) << "not kept is lost, whatever the recovery";
+}
+
+// CMP-07: the flags (a wrong diagnosis, a false alarm, a healthy tile disturbed) are carried beside the
+// class and never change it, in any class.
+TEST(CampaignSpec, FlagsDoNotChangeTheClass) {
+  std::vector<cp::RunFacts> cases;
+  cp::RunFacts crash = delivered();
+  crash.exited_ok = false;
+  cp::RunFacts none = delivered();
+  none.injected = 0U;
+  none.not_delivered = 1U;
+  cp::RunFacts same = delivered();
+  same.output_as_golden = true;
+  cp::RunFacts wrong = delivered();
+  wrong.final_error_m = 5.0;
+  cp::RunFacts far = delivered();
+  far.final_error_m = 25.0;
+  cases = {crash, none, same, delivered(), wrong, detected(delivered(), 1, 1), detected(wrong, 1, 1),
+           detected(far, 1, 1)};
+  std::set<cp::Outcome> seen;
+  for (const cp::RunFacts& c : cases) {
+    const cp::Outcome plain = cls(c);
+    seen.insert(plain);
+    for (int flag = 0; flag < 3; ++flag) {
+      cp::RunFacts flagged = c;
+      (flag == 0 ? flagged.misdiagnosed : flag == 1 ? flagged.false_alarms : flagged.healthy_disturbed) = 3U;
+      EXPECT_EQ(cls(flagged), plain) << cp::outcome_name(plain) << ", flag " << flag;
+    }
+  }
+  EXPECT_EQ(seen.size(), cp::kOutcomeCount) << "every class was among the cases";
 }
 
 TEST(CampaignSpec, ShardsAreIOverN) {

@@ -137,7 +137,8 @@ std::vector<RunResult> ten_runs() {
 // CST-01: every outcome has its report name, and the name reads back as the same outcome.
 TEST(OutcomeNames, EveryOutcomeRoundTripsThroughItsName) {
   const std::array<const char*, tools::campaign::kOutcomeCount> expected = {
-      "masked", "detected_recovered", "detected_degraded", "detected_lost", "sdc", "hang_crash"};
+      "not_delivered",     "no_effect",     "masked", "detected_recovered",
+      "detected_degraded", "detected_lost", "sdc",    "hang_crash"};
   for (std::size_t i = 0; i < tools::campaign::kOutcomeCount; ++i) {
     const Outcome o = tools::campaign::kOutcomes[i];
     EXPECT_EQ(static_cast<std::size_t>(o), i) << "kOutcomes is in enum order";
@@ -148,9 +149,10 @@ TEST(OutcomeNames, EveryOutcomeRoundTripsThroughItsName) {
   }
 }
 
-// CST-01: a name that is not exactly one of the six is refused and leaves the output alone.
+// CST-01: a name that is not exactly one of the eight is refused and leaves the output alone.
 TEST(OutcomeNames, OtherNamesAreRefused) {
-  for (const char* bad : {"", "Masked", "masked ", "recovered", "hang", "detected", "sdc\n"}) {
+  for (const char* bad : {"", "Masked", "masked ", "recovered", "hang", "detected", "sdc\n", "not delivered",
+                          "noeffect"}) {
     Outcome out = Outcome::kLost;
     EXPECT_FALSE(tools::campaign::outcome_from_name(bad, out)) << "'" << bad << "'";
     EXPECT_EQ(out, Outcome::kLost);
@@ -354,7 +356,7 @@ TEST(Summarize, CountsEachClassOverAllAndPerKind) {
   EXPECT_EQ(r.runs, 10U);
   EXPECT_DOUBLE_EQ(r.host_s_total, 11.5);
   EXPECT_DOUBLE_EQ(r.margin_at_runs, tools::campaign::margin_for_runs(10, 0.9));
-  const std::array<std::uint64_t, tools::campaign::kOutcomeCount> all = {2, 4, 1, 1, 1, 1};
+  const std::array<std::uint64_t, tools::campaign::kOutcomeCount> all = {0, 0, 2, 4, 1, 1, 1, 1};
   for (std::size_t i = 0; i < all.size(); ++i) {
     EXPECT_EQ(r.classes[i].count, all[i]) << tools::campaign::outcome_name(tools::campaign::kOutcomes[i]);
     const Interval cp = tools::campaign::clopper_pearson(all[i], 10, 0.9);
@@ -365,19 +367,19 @@ TEST(Summarize, CountsEachClassOverAllAndPerKind) {
     EXPECT_EQ(r.classes[i].wilson.hi, w.hi);
   }
   ASSERT_EQ(r.kinds.size(), 3U);
-  EXPECT_EQ(r.kinds[0].kind, "core_hang");
-  EXPECT_EQ(r.kinds[1].kind, "sdc");
-  EXPECT_EQ(r.kinds[2].kind, "unknown");
+  EXPECT_EQ(r.kinds[0].name, "core_hang");
+  EXPECT_EQ(r.kinds[1].name, "sdc");
+  EXPECT_EQ(r.kinds[2].name, "unknown");
   const std::array<std::array<std::uint64_t, tools::campaign::kOutcomeCount>, 3> per_kind = {{
-      {0, 3, 0, 1, 0, 1},
-      {2, 1, 0, 0, 1, 0},
-      {0, 0, 1, 0, 0, 0},
+      {0, 0, 0, 3, 0, 1, 0, 1},
+      {0, 0, 2, 1, 0, 0, 1, 0},
+      {0, 0, 0, 0, 1, 0, 0, 0},
   }};
   const std::array<std::uint64_t, 3> kind_runs = {5, 4, 1};
   for (std::size_t k = 0; k < 3U; ++k) {
-    EXPECT_EQ(r.kinds[k].runs, kind_runs[k]) << r.kinds[k].kind;
+    EXPECT_EQ(r.kinds[k].runs, kind_runs[k]) << r.kinds[k].name;
     for (std::size_t i = 0; i < tools::campaign::kOutcomeCount; ++i) {
-      EXPECT_EQ(r.kinds[k].classes[i].count, per_kind[k][i]) << r.kinds[k].kind << " class " << i;
+      EXPECT_EQ(r.kinds[k].classes[i].count, per_kind[k][i]) << r.kinds[k].name << " class " << i;
       const Interval cp = tools::campaign::clopper_pearson(per_kind[k][i], kind_runs[k], 0.9);
       EXPECT_EQ(r.kinds[k].classes[i].cp.lo, cp.lo);
       EXPECT_EQ(r.kinds[k].classes[i].cp.hi, cp.hi);
@@ -401,6 +403,179 @@ TEST(Summarize, NoRunsGivesTheWholeInterval) {
   EXPECT_THROW((void)tools::campaign::summarize("bad", {}, 1.0), std::invalid_argument);
   const std::vector<RunResult> bad = {run(3, "sdc", static_cast<Outcome>(9))};
   EXPECT_THROW((void)tools::campaign::summarize("bad", bad), std::invalid_argument) << "an outcome outside the enum";
+}
+
+// ------------------------------------------------------------------ CST-07 coverage and flags
+
+/** A run of kind @p kind on @p role with @p injected faults delivered. */
+RunResult aimed(std::uint32_t index, const std::string& kind, const std::string& role, Outcome outcome,
+                std::uint32_t injected = 1U) {
+  RunResult r = run(index, kind, outcome);
+  r.role = role;
+  r.injected = injected;
+  return r;
+}
+
+/**
+ * Ten runs of kinds sdc and seu on the roles filter, io and tile_5. Eligible for coverage (a fault
+ * delivered, neither no_effect nor hang_crash): 0, 1, 2, 3, 7, 8, 9, of which 0, 1, 7, 9 detected. Flags:
+ * false alarm in 5 and 8, misdiagnosed in 1 and 8, a healthy tile disturbed in 3.
+ */
+std::vector<RunResult> aimed_runs() {
+  std::vector<RunResult> v = {aimed(0, "sdc", "filter", Outcome::kRecovered),
+                              aimed(1, "sdc", "filter", Outcome::kDegraded),
+                              aimed(2, "sdc", "io", Outcome::kMasked),
+                              aimed(3, "sdc", "io", Outcome::kSdc),
+                              aimed(4, "sdc", "filter", Outcome::kNoEffect),
+                              aimed(5, "seu", "filter", Outcome::kNotDelivered, 0U),
+                              aimed(6, "seu", "io", Outcome::kCrash, 0U),
+                              aimed(7, "seu", "tile_5", Outcome::kLost, 2U),
+                              aimed(8, "seu", "filter", Outcome::kMasked),
+                              aimed(9, "seu", "io", Outcome::kRecovered)};
+  v[1].misdiagnosed = 1U;
+  v[3].healthy_disturbed = 2U;
+  v[5].not_delivered = 1U;
+  v[5].false_alarms = 1U;
+  v[8].false_alarms = 2U;
+  v[8].misdiagnosed = 1U;
+  return v;
+}
+
+/** Expects @p c to be @p detected of @p eligible with the intervals of that count at @p conf. */
+void expect_coverage(const tools::campaign::Coverage& c, std::uint64_t detected, std::uint64_t eligible,
+                     const std::string& what, double conf = 0.95) {
+  EXPECT_EQ(c.detected, detected) << what;
+  EXPECT_EQ(c.eligible, eligible) << what;
+  const Interval cp = tools::campaign::clopper_pearson(detected, eligible, conf);
+  const Interval w = tools::campaign::wilson(detected, eligible, conf);
+  EXPECT_EQ(c.cp.lo, cp.lo) << what;
+  EXPECT_EQ(c.cp.hi, cp.hi) << what;
+  EXPECT_EQ(c.wilson.lo, w.lo) << what;
+  EXPECT_EQ(c.wilson.hi, w.hi) << what;
+}
+
+// CST-07: coverage counts the detected runs among those with a fault delivered whose class is neither
+// no_effect nor hang_crash, over all runs, per kind and per role, each with its own interval; 4 of 7 over
+// all is Clopper-Pearson [18.4, 90.1] % (binom.test(4, 7)).
+TEST(Coverage, IsTheDetectedShareOfTheRunsWhoseFaultReachedTheChipAndChangedSomething) {
+  const std::vector<RunResult> runs = aimed_runs();
+  const tools::campaign::Report r = tools::campaign::summarize("aimed", runs);
+  expect_coverage(r.coverage, 4U, 7U, "all");
+  EXPECT_NEAR(r.coverage.cp.lo, 0.1840516, 1e-6);
+  EXPECT_NEAR(r.coverage.cp.hi, 0.9010117, 1e-6);
+  ASSERT_EQ(r.kinds.size(), 2U);
+  EXPECT_EQ(r.kinds[0].name, "sdc");
+  expect_coverage(r.kinds[0].coverage, 2U, 4U, "kind sdc");
+  EXPECT_EQ(r.kinds[1].name, "seu");
+  expect_coverage(r.kinds[1].coverage, 2U, 3U, "kind seu");
+  ASSERT_EQ(r.roles.size(), 3U);
+  EXPECT_EQ(r.roles[0].name, "filter");
+  EXPECT_EQ(r.roles[0].runs, 5U);
+  expect_coverage(r.roles[0].coverage, 2U, 3U, "role filter");
+  EXPECT_EQ(r.roles[1].name, "io");
+  expect_coverage(r.roles[1].coverage, 1U, 3U, "role io");
+  EXPECT_EQ(r.roles[2].name, "tile_5");
+  expect_coverage(r.roles[2].coverage, 1U, 1U, "role tile_5");
+  EXPECT_EQ(r.roles[2].classes[static_cast<std::size_t>(Outcome::kLost)].count, 1U) << "classes per role too";
+  // The same figures from the run list alone, and at another confidence.
+  expect_coverage(tools::campaign::coverage_of(runs, 0.9), 4U, 7U, "coverage_of at 90 %", 0.9);
+  EXPECT_THROW((void)tools::campaign::coverage_of(runs, 0.0), std::invalid_argument);
+}
+
+// CST-07: the boundaries of eligibility: a run with no fault delivered is out whatever its class, a
+// no_effect or a hang_crash run is out even with a fault delivered, and none eligible is the interval [0, 1].
+TEST(Coverage, LeavesOutRunsWithoutADeliveredFaultNoEffectAndHangs) {
+  const std::vector<RunResult> none = {aimed(0, "sdc", "io", Outcome::kNoEffect),
+                                       aimed(1, "sdc", "io", Outcome::kCrash),
+                                       aimed(2, "sdc", "io", Outcome::kNotDelivered, 0U),
+                                       aimed(3, "none", "none", Outcome::kMasked, 0U),
+                                       aimed(4, "none", "none", Outcome::kRecovered, 0U)};
+  expect_coverage(tools::campaign::coverage_of(none), 0U, 0U, "nothing eligible");
+  const std::vector<RunResult> one = {aimed(0, "sdc", "io", Outcome::kSdc), aimed(1, "sdc", "io", Outcome::kMasked)};
+  expect_coverage(tools::campaign::coverage_of(one), 0U, 2U, "two missed");
+  const std::vector<RunResult> all = {aimed(0, "sdc", "io", Outcome::kDegraded, 3U)};
+  expect_coverage(tools::campaign::coverage_of(all), 1U, 1U, "one detected");
+}
+
+// CST-07: a flag counts the runs that raised it (a count above zero), over all runs, per kind and per role.
+TEST(Coverage, FlagsCountTheRunsThatRaisedThem) {
+  const tools::campaign::Report r = tools::campaign::summarize("aimed", aimed_runs());
+  const auto expect_flags = [](const tools::campaign::FlagCounts& f, std::uint64_t fa, std::uint64_t mis,
+                               std::uint64_t healthy, const std::string& what) {
+    EXPECT_EQ(f.false_alarm, fa) << what;
+    EXPECT_EQ(f.misdiagnosed, mis) << what;
+    EXPECT_EQ(f.healthy_disturbed, healthy) << what;
+  };
+  expect_flags(r.flags, 2U, 2U, 1U, "all");
+  expect_flags(r.kinds[0].flags, 0U, 1U, 1U, "kind sdc");
+  expect_flags(r.kinds[1].flags, 2U, 1U, 0U, "kind seu");
+  expect_flags(r.roles[0].flags, 2U, 2U, 0U, "role filter");
+  expect_flags(r.roles[1].flags, 0U, 0U, 1U, "role io");
+  expect_flags(r.roles[2].flags, 0U, 0U, 0U, "role tile_5");
+}
+
+// CST-06, CST-07: the report files carry the coverage and the flags: report.json per kind and per role,
+// coverage.csv a row for all, each kind and each role, runs.csv a row per run with its class and flags,
+// report.md a table of them.
+TEST(WriteReport, TheCoverageAndTheFlagsAreInTheReport) {
+  TempDir tmp;
+  const PathOverride path("/nonexistent");  // the chart is not what this test is about
+  const tools::campaign::Report r = tools::campaign::summarize("aimed", aimed_runs());
+  std::string err;
+  std::string note;
+  ASSERT_TRUE(tools::campaign::write_report(r, tmp.path(), err, note)) << err;
+  const nlohmann::json j = nlohmann::json::parse(read_file(tmp / "report.json"));
+  EXPECT_EQ(j.at("coverage").at("detected"), 4);
+  EXPECT_EQ(j.at("coverage").at("eligible"), 7);
+  EXPECT_DOUBLE_EQ(j.at("coverage").at("fraction").get<double>(), 4.0 / 7.0);
+  EXPECT_DOUBLE_EQ(j.at("coverage").at("cp").at("lo").get<double>(), r.coverage.cp.lo);
+  EXPECT_EQ(j.at("flags").at("false_alarm_runs"), 2);
+  EXPECT_EQ(j.at("flags").at("misdiagnosed_runs"), 2);
+  EXPECT_EQ(j.at("flags").at("healthy_disturbed_runs"), 1);
+  EXPECT_EQ(j.at("classes").at("not_delivered").at("count"), 1);
+  EXPECT_EQ(j.at("classes").at("no_effect").at("count"), 1);
+  EXPECT_EQ(j.at("kinds")[1].at("kind"), "seu");
+  EXPECT_EQ(j.at("kinds")[1].at("coverage").at("eligible"), 3);
+  EXPECT_EQ(j.at("kinds")[1].at("flags").at("false_alarm_runs"), 2);
+  ASSERT_EQ(j.at("roles").size(), 3U);
+  EXPECT_EQ(j.at("roles")[1].at("role"), "io");
+  EXPECT_EQ(j.at("roles")[1].at("coverage").at("detected"), 1);
+  EXPECT_EQ(j.at("roles")[1].at("classes").at("hang_crash").at("count"), 1);
+
+  const std::vector<std::string> cov = lines_of(read_file(tmp / "coverage.csv"));
+  ASSERT_EQ(cov.size(), 1U + 1U + 2U + 3U) << "header, all, two kinds, three roles";
+  EXPECT_EQ(cov[0], tools::campaign::kCoverageCsvHeader);
+  EXPECT_EQ(cov[1].rfind("all,all,10,7,4,0.571429,0.184052,0.901012,", 0), 0U) << cov[1];
+  EXPECT_EQ(cov[1].substr(cov[1].size() - 6U), ",2,2,1") << cov[1];
+  EXPECT_EQ(cov[2].rfind("kind,sdc,5,4,2,0.500000,0.067586,0.932414,", 0), 0U) << cov[2];
+  EXPECT_EQ(cov[6].rfind("role,tile_5,1,1,1,1.000000,0.025000,1.000000,", 0), 0U) << cov[6];
+
+  const std::vector<std::string> rows = lines_of(read_file(tmp / "runs.csv"));
+  ASSERT_EQ(rows.size(), 11U);
+  EXPECT_EQ(rows[0], tools::campaign::kRunsCsvHeader);
+  EXPECT_EQ(rows[6], "5,seu,filter,0,not_delivered,0,0,1,0,0,0,0,1,0,0") << rows[6];
+  EXPECT_EQ(rows[9], "8,seu,filter,0,masked,0,1,0,0,0,0,1,2,0,0") << rows[9];
+
+  const std::string md = read_file(tmp / "report.md");
+  EXPECT_NE(md.find("| all | 10 | 7 | 4 | 57.1 % (CP 18.4-90.1 %) | 2 | 2 | 1 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| role io | 4 | 3 | 1 | 33.3 % (CP 0.8-90.6 %) | 0 | 0 | 1 |"), std::string::npos) << md;
+}
+
+// CST-07: with no run eligible the coverage has no fraction (null in report.json, empty in coverage.csv, "-"
+// in report.md) and the interval [0, 1].
+TEST(WriteReport, NoEligibleRunIsACoverageOfNothingKnown) {
+  TempDir tmp;
+  const PathOverride path("/nonexistent");
+  const std::vector<RunResult> runs = ten_runs();  // no run has a delivered fault
+  std::string err;
+  std::string note;
+  ASSERT_TRUE(tools::campaign::write_report(tools::campaign::summarize("demo", runs), tmp.path(), err, note)) << err;
+  const nlohmann::json j = nlohmann::json::parse(read_file(tmp / "report.json"));
+  EXPECT_TRUE(j.at("coverage").at("fraction").is_null()) << j.at("coverage").dump();
+  EXPECT_EQ(j.at("coverage").at("cp").at("lo"), 0.0);
+  EXPECT_EQ(j.at("coverage").at("cp").at("hi"), 1.0);
+  EXPECT_EQ(lines_of(read_file(tmp / "coverage.csv"))[1].rfind("all,all,10,0,0,,0.000000,1.000000,", 0), 0U);
+  EXPECT_NE(read_file(tmp / "report.md").find("| all | 10 | 0 | 0 | - | 0 | 0 | 0 |"), std::string::npos);
 }
 
 // ------------------------------------------------------------------ integrity
@@ -519,9 +694,9 @@ TEST(WriteReport, TheIntegrityFilesHoldTheRunsWithFigures) {
 
 // ------------------------------------------------------------------ CST-06 report files
 
-// CST-06: the four files are written, the JSON holds the counts, the CSV one row per class of "all"
+// CST-06: the report files are written, the JSON holds the counts, the CSV one row per class of "all"
 // and of each kind, the Markdown a column per kind; no temporary file is left behind.
-TEST(WriteReport, WritesTheFourFilesWithTheCounts) {
+TEST(WriteReport, WritesTheReportFilesWithTheCounts) {
   TempDir tmp;
   const std::vector<RunResult> runs = ten_runs();
   const tools::campaign::Report r = tools::campaign::summarize("demo", runs);
@@ -529,7 +704,7 @@ TEST(WriteReport, WritesTheFourFilesWithTheCounts) {
   std::string note;
   ASSERT_TRUE(tools::campaign::write_report(r, tmp / "out/report", err, note)) << err;
   const fs::path dir = tmp / "out/report";
-  for (const char* f : {"report.json", "report.csv", "report.md", "outcomes.gp"}) {
+  for (const char* f : {"report.json", "report.csv", "report.md", "coverage.csv", "runs.csv", "outcomes.gp"}) {
     EXPECT_TRUE(fs::is_regular_file(dir / f)) << f;
   }
   EXPECT_TRUE(hidden_entries(dir).empty()) << hidden_entries(dir).front();
@@ -543,8 +718,9 @@ TEST(WriteReport, WritesTheFourFilesWithTheCounts) {
   EXPECT_EQ(j.at("classes").at("masked").at("count"), 2);
   EXPECT_EQ(j.at("classes").at("detected_recovered").at("count"), 4);
   EXPECT_DOUBLE_EQ(j.at("classes").at("detected_recovered").at("fraction").get<double>(), 0.4);
-  EXPECT_DOUBLE_EQ(j.at("classes").at("sdc").at("cp").at("hi").get<double>(), r.classes[4].cp.hi);
-  EXPECT_DOUBLE_EQ(j.at("classes").at("sdc").at("wilson").at("lo").get<double>(), r.classes[4].wilson.lo);
+  const auto sdc = static_cast<std::size_t>(Outcome::kSdc);
+  EXPECT_DOUBLE_EQ(j.at("classes").at("sdc").at("cp").at("hi").get<double>(), r.classes[sdc].cp.hi);
+  EXPECT_DOUBLE_EQ(j.at("classes").at("sdc").at("wilson").at("lo").get<double>(), r.classes[sdc].wilson.lo);
   ASSERT_EQ(j.at("kinds").size(), 3U);
   EXPECT_EQ(j.at("kinds")[0].at("kind"), "core_hang");
   EXPECT_EQ(j.at("kinds")[0].at("runs"), 5);
@@ -552,13 +728,15 @@ TEST(WriteReport, WritesTheFourFilesWithTheCounts) {
   EXPECT_EQ(j.at("kinds")[1].at("classes").at("masked").at("count"), 2);
 
   const std::vector<std::string> csv = lines_of(read_file(dir / "report.csv"));
-  ASSERT_EQ(csv.size(), 1U + 6U * 4U) << "header, the all block and three kinds of six classes";
+  ASSERT_EQ(csv.size(), 1U + 8U * 4U) << "header, the all block and three kinds of eight classes";
   EXPECT_EQ(csv[0], tools::campaign::kReportCsvHeader);
   EXPECT_EQ(csv[0], "kind,outcome,count,runs,fraction,cp_lo,cp_hi,wilson_lo,wilson_hi");
-  EXPECT_EQ(csv[1].rfind("all,masked,2,10,0.200000,", 0), 0U) << csv[1];
-  EXPECT_EQ(csv[7].rfind("core_hang,masked,0,5,0.000000,0.000000,", 0), 0U) << csv[7];
-  EXPECT_EQ(csv[14].rfind("sdc,detected_recovered,1,4,0.250000,", 0), 0U) << csv[14];
-  EXPECT_EQ(csv[21].rfind("unknown,detected_degraded,1,1,1.000000,", 0), 0U) << csv[21];
+  EXPECT_EQ(csv[1].rfind("all,not_delivered,0,10,0.000000,", 0), 0U) << csv[1];
+  EXPECT_EQ(csv[2].rfind("all,no_effect,0,10,0.000000,", 0), 0U) << csv[2];
+  EXPECT_EQ(csv[3].rfind("all,masked,2,10,0.200000,", 0), 0U) << csv[3];
+  EXPECT_EQ(csv[11].rfind("core_hang,masked,0,5,0.000000,0.000000,", 0), 0U) << csv[11];
+  EXPECT_EQ(csv[20].rfind("sdc,detected_recovered,1,4,0.250000,", 0), 0U) << csv[20];
+  EXPECT_EQ(csv[29].rfind("unknown,detected_degraded,1,1,1.000000,", 0), 0U) << csv[29];
 
   const std::string md = read_file(dir / "report.md");
   EXPECT_NE(md.find("| outcome | all (10 runs) | core_hang (5 runs) | sdc (4 runs) | unknown (1 runs) |"),
@@ -568,7 +746,10 @@ TEST(WriteReport, WritesTheFourFilesWithTheCounts) {
   for (const std::string& l : lines_of(md)) {
     table_lines += l.rfind("| ", 0) == 0U || l.rfind("|---", 0) == 0U ? 1U : 0U;
   }
-  EXPECT_EQ(table_lines, 2U + 6U) << "header, rule and one row per class\n" << md;
+  EXPECT_EQ(table_lines, 2U + 8U + 2U + 1U + 3U + 1U)
+      << "classes: header, rule and one row per class; coverage: header, rule, all, three kinds, one role (none "
+         "given: unknown)\n"
+      << md;
   // 4/10 and 3/5: Clopper-Pearson [12.2, 73.8] % and [14.7, 94.7] % (binom.test(4, 10), binom.test(3, 5)).
   EXPECT_NE(md.find("| detected_recovered | 4 (40.0 %, CP 12.2-73.8 %) | 3 (60.0 %, CP 14.7-94.7 %) |"),
             std::string::npos)
@@ -578,7 +759,8 @@ TEST(WriteReport, WritesTheFourFilesWithTheCounts) {
   EXPECT_NE(gp.find("pngcairo"), std::string::npos);
   EXPECT_NE(gp.find("'outcomes.png'"), std::string::npos);
   EXPECT_NE(gp.find("yerrorbars"), std::string::npos);
-  EXPECT_NE(gp.find("1 detected_recovered 40.000000 "), std::string::npos) << gp;
+  EXPECT_NE(gp.find("3 detected_recovered 40.000000 "), std::string::npos) << gp;
+  EXPECT_NE(gp.find("\"not\\ndelivered\" 0"), std::string::npos) << "the first bar\n" << gp;
 }
 
 // CST-06: with gnuplot installed the chart is made and renamed into place.
@@ -652,8 +834,8 @@ TEST(WriteReport, ASecondReportReplacesTheFirstAndQuotesOddNames) {
   EXPECT_EQ(j.at("campaign"), "two");
   EXPECT_EQ(j.at("runs"), 2);
   const std::vector<std::string> csv = lines_of(read_file(tmp / "report.csv"));
-  ASSERT_EQ(csv.size(), 1U + 6U * 3U);
-  EXPECT_EQ(csv[7].rfind("\"a,\"\"b\"\"\",masked,0,1,", 0), 0U) << csv[7];
+  ASSERT_EQ(csv.size(), 1U + 8U * 3U);
+  EXPECT_EQ(csv[11].rfind("\"a,\"\"b\"\"\",masked,0,1,", 0), 0U) << csv[11];
   EXPECT_NE(read_file(tmp / "report.md").find("a\\|b (1 runs)"), std::string::npos);
 }
 

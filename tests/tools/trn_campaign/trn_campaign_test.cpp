@@ -90,8 +90,31 @@ TEST_F(TrnCampaignBinary, RunsInParallelResumesWithoutFlyingAgainAndReplaysARun)
   const nlohmann::json rep = read_json(out / "report.json");
   EXPECT_EQ(rep["runs"], 4) << rep.dump(2);
   EXPECT_NE(log.find("| outcome |"), std::string::npos) << "the Markdown table on stdout\n" << log;
-  for (const char* f : {"report.csv", "report.md", "campaign.toml", "golden/result.json"}) {
+  for (const char* f : {"report.csv", "report.md", "coverage.csv", "runs.csv", "campaign.toml", "golden/result.json"}) {
     EXPECT_TRUE(fs::exists(out / f)) << f;
+  }
+  EXPECT_TRUE(rep.contains("coverage") && rep.contains("flags") && rep.contains("roles")) << rep.dump(2);
+  // Every run's record carries its target, its counts, its flags and its stream against the golden run's.
+  const nlohmann::json golden = read_json(out / "golden" / "result.json");
+  EXPECT_EQ(golden["outcome"], "masked") << "the golden run is judged against no stream";
+  ASSERT_TRUE(golden["filter_output_crc"].is_number()) << golden.dump(2);
+  for (const char* name : {"000000", "000001", "000002", "000003"}) {
+    const nlohmann::json r = read_json(out / "runs" / name / "result.json");
+    const nlohmann::json sum = read_json(out / "runs" / name / "out" / "summary.json");
+    EXPECT_EQ(r["result_format"], 2) << name;
+    const std::string role = r["role"].get<std::string>();
+    EXPECT_TRUE(role == "filter" || role == "vision_coordinator" || role == "vision" || role == "io") << role;
+    for (const char* key : {"not_delivered", "degraded_accepted", "misdiagnosed", "false_alarms",
+                            "healthy_tiles_disturbed"}) {
+      EXPECT_TRUE(r[key].is_number_unsigned()) << name << " " << key << "\n" << r.dump(2);
+    }
+    EXPECT_EQ(r["not_delivered"].get<double>(), sum["faults_not_delivered"].get<double>()) << name;
+    EXPECT_EQ(r["filter_output_crc"].get<double>(), sum["filter_output_crc"].get<double>()) << name;
+    EXPECT_EQ(r["output_as_golden"], r["filter_output_crc"] == golden["filter_output_crc"]) << name;
+    const bool reached = r["injected"] != 0 || r["not_delivered"] == 0;
+    EXPECT_EQ(r["outcome"] == "no_effect", reached && r["output_as_golden"] == true && r["detected"] == 0)
+        << r.dump(2);
+    EXPECT_EQ(r["outcome"] == "not_delivered", !reached) << r.dump(2);
   }
   const fs::path r2 = out / "runs" / "000002";
   const nlohmann::json res = read_json(r2 / "result.json");
@@ -133,7 +156,12 @@ TEST_F(TrnCampaignBinary, ASeedSweepFliesOneSeedPerRunAndReportsItsIntegrity) {
     EXPECT_EQ(res["seed"], 2 + i);
     EXPECT_EQ(sum["seed"], 2 + i) << "the image flew the run's own seed";
     EXPECT_EQ(res["kind"], "none");
+    EXPECT_EQ(res["role"], "none");
     EXPECT_EQ(res["injected"], 0);
+    // Run 0 flies the golden run's seed without faults: bit for bit its stream. Run 1 flies another seed, so
+    // its stream is not compared: a correct fault-free run of its own world is masked.
+    EXPECT_EQ(res["output_as_golden"], i == 0) << res.dump(2);
+    EXPECT_EQ(res["outcome"], i == 0 ? "no_effect" : "masked") << res.dump(2);
     std::ifstream plan(r / "plan.toml");
     std::ostringstream text;
     text << plan.rdbuf();
@@ -190,6 +218,56 @@ TEST_F(TrnCampaignBinary, AFolderFlownByAnotherBuildOfTheImageIsNotResumed) {
   fs::remove(out / "image.stamp");
   EXPECT_EQ(run(cmd, &log), 2);
   EXPECT_NE(log.find("did not record"), std::string::npos) << log;
+}
+
+// CMP-09: a campaign folder whose results an older trn_campaign wrote (no result_format: classes judged
+// without not_delivered and no_effect, no flags) is neither resumed nor merged: the file is named, nothing
+// is flown and no report is written from it. A result that is not JSON at all (torn) is flown again.
+TEST_F(TrnCampaignBinary, ResultsOfAnOlderCampaignAreRefusedByName) {
+  {
+    std::ofstream spec(dir_ / "one.toml");
+    spec << "name = \"one\"\nfaults_per_run = 0\nruns = 2\nduration_s = 2\npass_bound_m = 5000.0\n"
+            "degraded_bound_m = 5000.0\n";
+  }
+  const fs::path out = dir_ / "one";
+  const std::string cmd = bin("trn_campaign") + " run " + (dir_ / "one.toml").string() + " --quiet --world-cache " +
+                          world() + " --out " + out.string();
+  std::string log;
+  ASSERT_EQ(run(cmd, &log), 0) << log;
+  const fs::path r1 = out / "runs" / "000001" / "result.json";
+  nlohmann::json old = read_json(r1);
+  for (const char* key : {"result_format", "role", "not_delivered", "degraded_accepted", "misdiagnosed", "false_alarms",
+                          "healthy_tiles_disturbed", "filter_output_crc", "output_as_golden"}) {
+    old.erase(key);
+  }
+  {
+    std::ofstream(r1) << old.dump(2);
+  }
+  const auto written = fs::last_write_time(r1);
+  fs::remove(out / "report.json");
+  EXPECT_EQ(run(cmd, &log), 2);
+  EXPECT_NE(log.find(r1.string() + ": a result of an older trn_campaign"), std::string::npos) << log;
+  EXPECT_EQ(fs::last_write_time(r1), written) << "the run is not flown again";
+  EXPECT_FALSE(fs::exists(out / "report.json"));
+  EXPECT_EQ(run(bin("trn_campaign") + " merge --out " + (dir_ / "m").string() + " " + out.string(), &log), 2);
+  EXPECT_NE(log.find(r1.string() + ": a result of an older trn_campaign"), std::string::npos) << log;
+  // The golden run's result too: without its stream's CRC no run could be compared with it.
+  {
+    std::ofstream(r1) << "{\"torn";
+  }
+  nlohmann::json golden = read_json(out / "golden" / "result.json");
+  golden.erase("result_format");
+  {
+    std::ofstream(out / "golden" / "result.json") << golden.dump(2);
+  }
+  EXPECT_EQ(run(cmd, &log), 2);
+  EXPECT_NE(log.find((out / "golden" / "result.json").string() + ": a result of an older trn_campaign"),
+            std::string::npos)
+      << log;
+  fs::remove(out / "golden" / "result.json");
+  ASSERT_EQ(run(cmd, &log), 0) << "the golden run and the torn run are flown again\n" << log;
+  EXPECT_EQ(read_json(r1)["result_format"], 2);
+  EXPECT_EQ(read_json(out / "report.json")["runs"], 2);
 }
 
 // CMP-04: shards fly disjoint runs; merged, they give the report a single campaign gives.
@@ -262,8 +340,9 @@ TEST_F(TrnCampaignBinary, ACrashedOrHungImageIsTheRunsOutcome) {
   EXPECT_EQ(r0["signal"], 11);
   EXPECT_EQ(r1["outcome"], "hang_crash");
   EXPECT_EQ(r1["timed_out"], true);
-  EXPECT_NE(r2["outcome"], "hang_crash");
+  EXPECT_EQ(r2["outcome"], "no_effect") << "the fake hands back the golden run's own flight";
   EXPECT_EQ(r2["timed_out"], false);
+  EXPECT_EQ(r0["filter_output_crc"], nullptr) << "no summary, no stream";
   EXPECT_EQ(read_json(dir_ / "c" / "report.json")["classes"]["hang_crash"]["count"], 2);
 }
 
@@ -281,8 +360,10 @@ TEST_F(TrnCampaignBinary, ShrinkFindsTheOneGuiltyFaultAmongMany) {
       plan << "\n[[fault]]\nt_s = " << t << "\nkind = \"packet_bit_flip\"\ntile = 24\nword = 5\nbit = 3\n";
     }
     std::ofstream res(r / "result.json");
-    res << R"({"index": 0, "kind": "packet_bit_flip", "outcome": "hang_crash", "final_error_m": 0, "max_error_m": 0,
-               "host_s": 0, "injected": 0, "detected": 0, "recovered": 0})";
+    res << R"({"result_format": 2, "index": 0, "kind": "packet_bit_flip", "role": "io", "outcome": "hang_crash",
+               "final_error_m": 0, "max_error_m": 0, "host_s": 0, "injected": 0, "not_delivered": 0, "detected": 0,
+               "recovered": 0, "degraded_accepted": 0, "misdiagnosed": 0, "false_alarms": 0,
+               "healthy_tiles_disturbed": 0, "filter_output_crc": null, "output_as_golden": false})";
   }
   const fs::path fake = dir_ / "fake_mission.sh";
   {
@@ -310,11 +391,21 @@ TEST_F(TrnCampaignBinary, ShrinkFindsTheOneGuiltyFaultAmongMany) {
   // A run that ended well has nothing to shrink.
   {
     std::ofstream res(r / "result.json");
-    res << R"({"index": 0, "kind": "x", "outcome": "masked", "final_error_m": 0, "max_error_m": 0, "host_s": 0,
-               "injected": 0, "detected": 0, "recovered": 0})";
+    res << R"({"result_format": 2, "index": 0, "kind": "x", "role": "io", "outcome": "masked", "final_error_m": 0,
+               "max_error_m": 0, "host_s": 0, "injected": 1, "not_delivered": 0, "detected": 0, "recovered": 0,
+               "degraded_accepted": 0, "misdiagnosed": 0, "false_alarms": 0, "healthy_tiles_disturbed": 0,
+               "filter_output_crc": 7, "output_as_golden": false})";
   }
   EXPECT_EQ(run(bin("trn_campaign") + " shrink " + r.string(), &log), 2);
   EXPECT_NE(log.find("nothing failed to shrink"), std::string::npos) << log;
+  // Nor does a result an older trn_campaign wrote: its class is not read as one of today's.
+  {
+    std::ofstream res(r / "result.json");
+    res << R"({"index": 0, "kind": "x", "outcome": "sdc", "final_error_m": 0, "max_error_m": 0, "host_s": 0,
+               "injected": 1, "detected": 0, "recovered": 0})";
+  }
+  EXPECT_EQ(run(bin("trn_campaign") + " shrink " + r.string(), &log), 2);
+  EXPECT_NE(log.find((r / "result.json").string() + ": a result of an older trn_campaign"), std::string::npos) << log;
 }
 
 TEST_F(TrnCampaignBinary, BadInputIsRefusedWithExitStatusTwo) {
