@@ -844,7 +844,8 @@ TEST_F(TrnMissionBinary, CorruptedCorrelationsOnVisionTilesAreCorrectedAndTheOut
   EXPECT_EQ(count_of(log, "correlation wrong (its surface changed before the peak search ended), right after 1 "
                           "recomputation(s)"),
             1U);
-  EXPECT_EQ(count_of(log, "(correlation_corrected)"), 4U) << "each injection credited to its tile's check";
+  EXPECT_EQ(count_of(log, "(correlation_corrected) "), 8U) << "each injection credited to its tile's check: " << log;
+  EXPECT_EQ(count_of(log, "ms after detection (correlation_corrected)"), 4U) << "and recovered by it, in place";
   EXPECT_EQ(count_of(log, "correlation_failed"), 0U);
   EXPECT_EQ(count_of(read_text(dir_ / "clean" / "events.log"), "correlation_"), 0U) << "no false alarm";
   EXPECT_EQ(s["filter_output_crc"], clean["filter_output_crc"]) << "the corrected surfaces change nothing";
