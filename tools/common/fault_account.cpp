@@ -256,6 +256,23 @@ struct Join {
     return t < roles.size() ? roles[t] : Role::kSpare;
   }
 
+  /** Whether the filter ran as a TMR at @p at_s (started or established, not given up since). */
+  [[nodiscard]] bool tmr_active_at(double at_s) const {
+    bool active = false;
+    for (const std::size_t k : order) {
+      if (t_s[k] > at_s) {
+        break;
+      }
+      const EventId id = events[k].id;
+      if (id == EventId::kTmrStarting || id == EventId::kTmrEstablished || id == EventId::kTmrVoterResumed) {
+        active = true;
+      } else if (id == EventId::kTmrSimplex) {
+        active = false;
+      }
+    }
+    return active;
+  }
+
   /** First event index in time order at or after @p from_s (within the window) for which @p pred holds. */
   template <typename Pred>
   [[nodiscard]] std::size_t first_after(double from_s, double until_s, Pred pred) const {
@@ -359,6 +376,11 @@ void recover(const Join& j, const bsp::FaultRecord& r, std::size_t det, FaultOut
   // When the service can be back: the network isolated (the map that routes around it is out), a
   // tile found computing wrong cleared (agrees again, consistent again, its role on a spare), else
   // at once.
+  // Roles whose outputs the host does not measure: the supervisors, the spares, and a replica while
+  // the filter is simplex (it stands by, voting nothing).
+  const bool no_stream = o.role == Role::kSpare || o.role == Role::kFilterSupervisor ||
+                         o.role == Role::kVisionSupervisor ||
+                         (o.role == Role::kFilterReplica && !j.tmr_active_at(o.injected_s));
   double from = det_s;
   const fdir::Diagnosis cls = fdir::accusation_of(d).diagnosis;
   if (cls == Diagnosis::kSwitch || cls == Diagnosis::kLink || cls == Diagnosis::kSwitchOrLink) {
@@ -368,8 +390,7 @@ void recover(const Join& j, const bsp::FaultRecord& r, std::size_t det, FaultOut
       return;
     }
     from = j.t_s[k];
-    if (o.role == Role::kSpare || o.role == Role::kTrnSupervisor || o.role == Role::kFilterSupervisor ||
-        o.role == Role::kVisionSupervisor) {
+    if (no_stream) {
       found(k, Recovery::kRecovered);  // no output stream: routes around it are the service
       return;
     }
@@ -379,8 +400,7 @@ void recover(const Join& j, const bsp::FaultRecord& r, std::size_t det, FaultOut
       return;
     }
     from = j.t_s[k];
-    if (o.role == Role::kSpare || o.role == Role::kTrnSupervisor || o.role == Role::kFilterSupervisor ||
-        o.role == Role::kVisionSupervisor) {
+    if (no_stream) {
       found(k, Recovery::kRecovered);
       return;
     }
@@ -426,24 +446,39 @@ void recover(const Join& j, const bsp::FaultRecord& r, std::size_t det, FaultOut
       return;
     }
     case Role::kFilterReplica: {
-      // Voting with three again (the replica seeded or agreeing again, TMR established), or its role
-      // on a spare; the filter simplex again gives TMR up.
+      if (no_stream) {
+        break;  // standing by: the flight's word that it runs again (below)
+      }
+      // Voting with three again: the replica seeded or agreeing again, any replica seeded with three
+      // voting (the one that took its role on a spare), TMR established; the filter simplex again
+      // gives TMR up.
       const std::size_t k = j.first_after(from, until, [&](const fdir::Event& e) {
         return ((e.id == EventId::kTmrResynced || e.id == EventId::kTmrAgrees) && e.subject == t) ||
-               e.id == EventId::kTmrEstablished || e.id == EventId::kTmrSimplex ||
-               (e.id == EventId::kRoleRestored && e.cause == t);
+               (e.id == EventId::kTmrResynced && e.b >= 3U) || e.id == EventId::kTmrEstablished ||
+               e.id == EventId::kTmrSimplex;
       });
       if (k < j.events.size()) {
         found(k, j.events[k].id == EventId::kTmrSimplex ? Recovery::kDegradedAccepted : Recovery::kRecovered);
       }
       return;
     }
-    default: {
-      const std::size_t k = j.first_after(from, until, [&](const fdir::Event& e) { return runs_again(e, t); });
-      if (k < j.events.size()) {
-        found(k, Recovery::kRecovered);
-      }
-      return;
+    default:
+      break;
+  }
+  // The flight's word that the tile runs its role again (its role restored on a spare included).
+  const std::size_t k = j.first_after(det_s, until, [&](const fdir::Event& e) { return runs_again(e, t); });
+  if (k < j.events.size()) {
+    found(k, Recovery::kRecovered);
+    return;
+  }
+  if (o.role == Role::kFilterReplica) {
+    // A replica standing by is called on when the filter next goes TMR: three voting then, however
+    // late, is its service back (no gap: nothing was asked of it before).
+    const std::size_t est = j.first_after(det_s, kForever, [&](const fdir::Event& e) {
+      return e.id == EventId::kTmrEstablished || (e.id == EventId::kTmrResynced && e.b >= 3U);
+    });
+    if (est < j.events.size()) {
+      found(est, Recovery::kRecovered);
     }
   }
 }

@@ -412,7 +412,8 @@ TEST(FdirJoinStrict, NoMajorityCreditsTheCorruptedAndChargesTheHealthy) {
   faults[1].spec.channel = 1U;
   // Mask 0b111: all three different; tiles 19, 20, 21 in b's bytes 1-3.
   const std::uint32_t tiles = (19U << 8U) | (20U << 16U) | (21U << 24U);
-  std::vector<fdir::Event> events{event(EventId::kTmrNoMajority, 18U, 700U, 7'020'000U, 0U, 7U, tiles)};
+  std::vector<fdir::Event> events{event(EventId::kTmrEstablished, 18U, 500U, 5'000'000U, 1U, 3U),
+                                  event(EventId::kTmrNoMajority, 18U, 700U, 7'020'000U, 0U, 7U, tiles)};
   events.push_back(event(EventId::kTmrAgrees, 18U, 19U, 7'030'000U, 701U, 0U, 1U));
   events.push_back(event(EventId::kTmrSimplex, 18U, 705U, 7'070'000U, 2U));
   const tools::FaultAccount a = tools::join_faults(faults, events, kHz);
@@ -422,6 +423,48 @@ TEST(FdirJoinStrict, NoMajorityCreditsTheCorruptedAndChargesTheHealthy) {
   EXPECT_EQ(a.outcomes[1].recovery, tools::Recovery::kDegradedAccepted) << "replica 20 never votes again: simplex";
   EXPECT_EQ(a.recovered, 1U);
   EXPECT_EQ(a.degraded_accepted, 1U);
+}
+
+// A replica's service is voting: while the filter is simplex it stands by, and the map that routes
+// around its failed link is its recovery; in TMR, its role moved to a spare is back when the spare
+// is seeded with three voting (the spare's outvotes before it was seeded are counted, not hidden).
+TEST(FdirJoinStrict, AReplicaStandsByInSimplexAndVotesAgainInTmr) {
+  std::array<bsp::FaultRecord, 1> link{record(bsp::FaultKind::kLinkFail, 21U, 19'510'000U)};
+  link[0].spec.param = 3U;  // south: tile 29
+  const std::vector<fdir::Event> standby{event(EventId::kLinkFailed, 0U, 21U, 19'545'000U, 29U, 0U, 1U),
+                                         event(EventId::kMapPublished, 0U, 1U, 19'555'000U, 0U, 48U)};
+  tools::FaultAccount a = tools::join_faults(link, standby, kHz);
+  ASSERT_EQ(a.detected, 1U);
+  EXPECT_EQ(a.recovered, 1U) << "standing by: the map is the service";
+  EXPECT_STREQ(a.outcomes[0].recovered_by, "map_published");
+
+  // A standby replica that crashed is back when the filter next goes TMR with three voting, however
+  // late; its reboot alone is nothing.
+  const std::array<bsp::FaultRecord, 1> crash{record(bsp::FaultKind::kCoreReset, 20U, 7'939'000U)};
+  std::vector<fdir::Event> rebooted{event(EventId::kTileRebooted, 0U, 20U, 7'947'000U, 3U)};
+  EXPECT_EQ(tools::join_faults(crash, rebooted, kHz).recovered, 0U);
+  rebooted.push_back(event(EventId::kTmrStarting, 18U, 3003U, 30'031'000U, 1U));
+  rebooted.push_back(event(EventId::kTmrEstablished, 18U, 3004U, 30'061'000U, 1U, 3U));
+  a = tools::join_faults(crash, rebooted, kHz);
+  EXPECT_EQ(a.recovered, 1U);
+  EXPECT_NEAR(a.outcomes[0].recovered_s, 30.061, 1e-9);
+
+  const std::array<bsp::FaultRecord, 1> sw{record(bsp::FaultKind::kSwitchFail, 19U, 41'728'000U)};
+  std::vector<fdir::Event> tmr{event(EventId::kTmrEstablished, 18U, 3004U, 30'061'000U, 1U, 3U),
+                               event(EventId::kSwitchFailed, 0U, 19U, 41'765'000U, 0U, 2U, 1U),
+                               event(EventId::kRoleMoved, 0U, 3U, 41'767'000U, 19U, 11U, 1U),
+                               event(EventId::kRoleRestored, 0U, 3U, 41'775'000U, 19U, 11U, 8U),
+                               event(EventId::kMapPublished, 0U, 1U, 41'776'000U, 0U, 47U),
+                               event(EventId::kTmrOutvoted, 18U, 11U, 41'791'000U, 4177U, 0U, 2U),
+                               event(EventId::kTmrExcluded, 18U, 11U, 41'811'000U, 4179U, 0U, 2U)};
+  a = tools::join_faults(sw, tmr, kHz);
+  EXPECT_EQ(a.recovered, 0U) << "the role restored on the spare votes nothing yet";
+  EXPECT_EQ(a.misdiagnosed, 1U) << "the spare, outvoted for no output";
+  EXPECT_EQ(a.healthy_disturbed.size(), 2U);
+  tmr.push_back(event(EventId::kTmrResynced, 18U, 11U, 41'841'000U, 4182U, 0U, 3U));
+  a = tools::join_faults(sw, tmr, kHz);
+  EXPECT_EQ(a.recovered, 1U);
+  EXPECT_STREQ(a.outcomes[0].recovered_by, "tmr_resynced");
 }
 
 // Corrected correlations are credited and recovered in place; a coarse band found wrong by the
