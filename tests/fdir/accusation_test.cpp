@@ -5,7 +5,17 @@
  */
 #include "fdir/accusation.hpp"
 
+#include "build_info.hpp"
+
 #include <gtest/gtest.h>
+
+#include <cctype>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
 
 namespace {
 
@@ -70,6 +80,73 @@ TEST(Accusation, TheTilesNamed) {
   EXPECT_EQ(fdir::accusation_of(ev(EventId::kWatchdogExpired, 0U, fdir::kUnknown)).count, 0U);
   EXPECT_FALSE(fdir::is_diagnosis(fdir::accusation_of(ev(EventId::kNeighbourSuspect, 31U, 30U)).diagnosis));
   EXPECT_STREQ(fdir::diagnosis_name(Diagnosis::kSwitchOrLink), "switch_or_link");
+}
+
+/** "detect, isolate" for the step bits, "-" for none (as docs/FDIR.md writes them). */
+std::string steps_text(std::uint8_t steps) {
+  std::string t;
+  for (const auto& [bit, name] : {std::pair{fdir::kStepDetect, "detect"}, std::pair{fdir::kStepIsolate, "isolate"},
+                                  std::pair{fdir::kStepRecover, "recover"}}) {
+    if ((steps & bit) != 0U) {
+      t += t.empty() ? name : std::string(", ") + name;
+    }
+  }
+  return t.empty() ? "-" : t;
+}
+
+std::string accuses_text(const fdir::EventInfo& e) {
+  if (e.diagnosis == Diagnosis::kNone) {
+    return "-";
+  }
+  std::string t = fdir::diagnosis_name(e.diagnosis);
+  switch (e.accused) {
+    case fdir::Accused::kNobody: return t;
+    case fdir::Accused::kSubject: return t + " (subject)";
+    case fdir::Accused::kCause: return t + " (cause)";
+    case fdir::Accused::kWriter: return t + " (writer)";
+    case fdir::Accused::kSubjectAndCause: return t + " (subject and cause)";
+    case fdir::Accused::kReplicas: return t + " (replicas named)";
+  }
+  return "?";
+}
+
+std::vector<std::string> cells(const std::string& row) {
+  std::vector<std::string> out;
+  std::stringstream in(row);
+  std::string cell;
+  while (std::getline(in, cell, '|')) {
+    const auto b = cell.find_first_not_of(' ');
+    const auto e = cell.find_last_not_of(' ');
+    out.push_back(b == std::string::npos ? std::string{} : cell.substr(b, e - b + 1U));
+  }
+  return out;
+}
+
+// The event table of docs/FDIR.md is the declaration's, row for row: the same ids, names, steps and
+// accusations, each id once.
+TEST(EventDocs, TheTableInFdirMdIsTheDeclaration) {
+  std::ifstream f(std::string(build_info::kRepoRoot) + "/docs/FDIR.md");
+  ASSERT_TRUE(f) << "docs/FDIR.md";
+  std::map<std::string, std::vector<std::string>> rows;  // id -> cells
+  std::string line;
+  while (std::getline(f, line)) {
+    if (line.rfind("| 0x", 0) != 0) {
+      continue;
+    }
+    const std::vector<std::string> c = cells(line);
+    ASSERT_GE(c.size(), 5U) << line;
+    EXPECT_TRUE(rows.emplace(c[1], c).second) << c[1] << " twice in docs/FDIR.md";
+  }
+  EXPECT_EQ(rows.size(), fdir::kEventTable.size());
+  for (const fdir::EventInfo& e : fdir::kEventTable) {
+    std::array<char, 8> id{};
+    (void)std::snprintf(id.data(), id.size(), "0x%04X", static_cast<unsigned>(e.id));
+    const auto r = rows.find(id.data());
+    ASSERT_NE(r, rows.end()) << e.name << " (" << id.data() << ") is not in docs/FDIR.md";
+    EXPECT_EQ(r->second[2], e.name) << id.data();
+    EXPECT_EQ(r->second[3], steps_text(e.steps)) << e.name;
+    EXPECT_EQ(r->second[4], accuses_text(e)) << e.name;
+  }
 }
 
 }  // namespace
