@@ -76,8 +76,17 @@ const CarveRecord* carve_at(TileId tile, std::uint64_t offset) noexcept {
   return nullptr;
 }
 
-/** A uniformly drawn byte offset among the carves that are SEU targets; false if there are none. */
-bool draw_seu_offset(TileId tile, Rng& rng, std::uint64_t& offset) noexcept {
+/** Index of the byte at fraction @p position of @p bytes (position in [0, 1)). */
+std::uint64_t at_fraction(double position, std::uint64_t bytes) noexcept {
+  const auto i = static_cast<std::uint64_t>(position * static_cast<double>(bytes));
+  return i < bytes ? i : bytes - 1U;
+}
+
+/**
+ * A byte offset among the carves that are SEU targets: at @p position of them (in RAM order) when it
+ * is in [0, 1), else drawn uniformly; false if there are none.
+ */
+bool draw_seu_offset(TileId tile, double position, Rng& rng, std::uint64_t& offset) noexcept {
   const std::span<const CarveRecord> carves = region_carves(Region{tile});
   std::uint64_t total = 0U;
   for (const CarveRecord& c : carves) {
@@ -86,7 +95,7 @@ bool draw_seu_offset(TileId tile, Rng& rng, std::uint64_t& offset) noexcept {
   if (total == 0U) {
     return false;
   }
-  std::uint64_t pick = rng.below(total);
+  std::uint64_t pick = position >= 0.0 ? at_fraction(position, total) : rng.below(total);
   for (const CarveRecord& c : carves) {
     if (!seu_target(c)) {
       continue;
@@ -122,9 +131,11 @@ FaultStatus apply_seu(FaultRecord& r, Rng& rng) noexcept {
         (offset != kRandomOffset && offset >= bytes)) {
       return FaultStatus::kSkipped;
     }
-    offset = start + (offset == kRandomOffset ? rng.below(bytes) : offset);
+    offset = start + (offset != kRandomOffset ? offset
+                      : r.spec.position >= 0.0 ? at_fraction(r.spec.position, bytes)
+                                               : rng.below(bytes));
   } else if (offset == kRandomOffset) {
-    if (!draw_seu_offset(r.spec.tile, rng, offset)) {
+    if (!draw_seu_offset(r.spec.tile, r.spec.position, rng, offset)) {
       return FaultStatus::kSkipped;
     }
   } else if (offset >= ram.size()) {

@@ -76,6 +76,14 @@ struct FaultSpec {
    * Empty: the whole RAM. A carve the tile does not have: skipped.
    */
   std::array<char, kCarveNameMax> carve{};
+  /**
+   * SEU: where in the upset space the byte is, as a fraction in [0, 1): the
+   * byte at that fraction of the tile's carves that are not stacks (in RAM
+   * order), or of the named carve. Negative: drawn by the injector's stream
+   * (which, seeded by the board, draws the same first byte in every run of a
+   * seed: a campaign draws this instead). Not with an explicit offset.
+   */
+  double position = -1.0;
 };
 
 enum class FaultStatus : std::uint8_t {

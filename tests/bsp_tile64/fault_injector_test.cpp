@@ -140,6 +140,45 @@ TEST(FaultInjector, RandomSeusNeverLandInAStack) {
   }
 }
 
+// A random upset's byte comes from the injector's stream, seeded by the board: the first upset of
+// every run of a seed lands on the same byte. A plan (a campaign) says where with position: the byte
+// at that fraction of the upset space (the carves that are not stacks, in RAM order), or of a carve.
+TEST(FaultInjector, APositionPlacesTheUpsetInTheSpace) {
+  const auto first_offset = [](double position, const char* carve) {
+    g_data.fill(nullptr);
+    bsp::BoardConfig c = data_config(1U);
+    c.boot[0] = boot_data_and_stack;
+    EXPECT_EQ(bsp::board_init(c), bsp::BoardError::kOk);
+    bsp::run_for(1000U);
+    FaultSpec s{};
+    s.cycle = 2000U;
+    s.kind = FaultKind::kSeu;
+    s.tile = 0U;
+    s.position = position;
+    if (carve != nullptr) {
+      std::snprintf(s.carve.data(), s.carve.size(), "%s", carve);
+    }
+    EXPECT_EQ(bsp::fault_plan_add(s), bsp::FaultError::kOk);
+    bsp::run_for(5000U);
+    EXPECT_EQ(bsp::fault_log().size(), 1U);
+    return bsp::fault_log().empty() ? ~0ULL : bsp::fault_log()[0].offset;
+  };
+  std::size_t data_start = 0U;
+  const auto drawn_a = first_offset(-1.0, nullptr);
+  const auto drawn_b = first_offset(-1.0, nullptr);
+  EXPECT_EQ(drawn_a, drawn_b) << "the stream draws the same first byte";
+  for (const bsp::CarveRecord& r : bsp::region_carves(bsp::Region{0})) {
+    data_start = std::strcmp(r.what, "data") == 0 ? r.offset : data_start;
+  }
+  // The space is the data carve alone (the stack is not in it): position p is byte p * kDataBytes.
+  EXPECT_EQ(first_offset(0.0, nullptr), data_start);
+  EXPECT_EQ(first_offset(0.5, nullptr), data_start + kDataBytes / 2U);
+  EXPECT_EQ(first_offset(0.999999, nullptr), data_start + kDataBytes - 1U);
+  // In a named carve: its start plus the fraction of its size.
+  EXPECT_EQ(first_offset(0.25, "data"), data_start + kDataBytes / 4U);
+  EXPECT_NE(first_offset(0.25, "data"), first_offset(0.75, "data"));
+}
+
 void boot_data_and_control(TileId tile) {
   const bsp::Carve ctl = bsp::carve_control(bsp::Region{tile}, 256U, 16U, "control");
   if (ctl.ptr != nullptr) {

@@ -40,23 +40,23 @@ constexpr std::array<const char*, bsp::kUdnDirs> kDirNames = {"east", "west", "n
 
 /** The keys of one kind beyond t_s, kind and tile. */
 struct KindKeys {
-  std::array<const char*, 4> keys;
+  std::array<const char*, 5> keys;
 };
 
 // Indexed by bsp::FaultKind; nullptr ends a list.
 constexpr std::array<KindKeys, kFaultKinds> kKindKeys = {{
-    {{nullptr, nullptr, nullptr, nullptr}},      // core_hang
-    {{nullptr, nullptr, nullptr, nullptr}},      // core_reset
-    {{"point", "channel", "bit", "shift"}},      // sdc
-    {{"offset", "bit", "carve", nullptr}},       // seu
-    {{nullptr, nullptr, nullptr, nullptr}},      // watchdog_fail
-    {{"word", "bit", nullptr, nullptr}},         // packet_bit_flip
-    {{nullptr, nullptr, nullptr, nullptr}},      // switch_fail
-    {{"direction", nullptr, nullptr, nullptr}},  // link_fail
+    {{nullptr, nullptr, nullptr, nullptr, nullptr}},      // core_hang
+    {{nullptr, nullptr, nullptr, nullptr, nullptr}},      // core_reset
+    {{"point", "channel", "bit", "shift", nullptr}},      // sdc
+    {{"offset", "bit", "carve", "position", nullptr}},    // seu
+    {{nullptr, nullptr, nullptr, nullptr, nullptr}},      // watchdog_fail
+    {{"word", "bit", nullptr, nullptr, nullptr}},         // packet_bit_flip
+    {{nullptr, nullptr, nullptr, nullptr, nullptr}},      // switch_fail
+    {{"direction", nullptr, nullptr, nullptr, nullptr}},  // link_fail
 }};
 
-constexpr std::array<const char*, 12> kAllFaultKeys = {"t_s",  "kind", "tile",     "channel", "offset", "word",
-                                                       "bit",  "role", "instance", "carve",   "point", "shift"};
+constexpr std::array<const char*, 13> kAllFaultKeys = {"t_s",  "kind", "tile",     "channel", "offset", "word",    "bit",
+                                                       "role", "instance", "carve", "point", "shift", "position"};
 
 /** Roles a plan can name (every role of the tile map but spare). */
 std::vector<trn::tasks::Role> plan_roles() {
@@ -195,6 +195,9 @@ std::string read_fault_key(const std::string& key, const toml::node& node, const
   } else if (key == "offset") {
     e = read_int(node, 0, static_cast<std::int64_t>(bsp::kTileRamBytes) - 1, v);
     item.offset = static_cast<std::uint64_t>(v);
+  } else if (key == "position") {
+    e = read_float(node, 0.0, std::nextafter(1.0, 0.0), " (a fraction of the tile's upset space, or of its carve)",
+                   item.position);
   } else if (key == "word") {
     e = read_int(node, 0, static_cast<std::int64_t>(bsp::kUdnMaxPacketWords) - 1, v);
     item.offset = static_cast<std::uint64_t>(v);
@@ -339,6 +342,9 @@ void parse_fault(const std::string& source, std::size_t index, const toml::table
   }
   if (t.get("tile") != nullptr && t.get("role") != nullptr) {
     errors.push_back(where + " role: a fault names a tile or a role, not both");
+  }
+  if (t.get("position") != nullptr && t.get("offset") != nullptr) {
+    errors.push_back(where + " position: names where the byte is, as offset does: name one of them");
   }
   if (t.get("instance") != nullptr && item.role != "vision" && item.role != "filter_replica") {
     errors.push_back(where + " instance: only with role = \"vision\" or \"filter_replica\" (which of its tiles)");
@@ -739,6 +745,7 @@ bool arm_fault_plan(const FaultPlan& plan, double clock_hz, std::string& error) 
     s.bit = it.bit;
     s.param = it.param;
     s.shift = it.shift;
+    s.position = it.position;
     (void)std::snprintf(s.carve.data(), s.carve.size(), "%s", it.carve.c_str());
     if (!it.role.empty()) {
       const std::optional<trn::tasks::Role> r = role_from_name(it.role);
@@ -810,6 +817,7 @@ std::string format_fault_plan(const FaultPlan& plan) {
       case bsp::FaultKind::kSeu:
         out += it.carve.empty() ? "" : "carve = " + toml_string(it.carve) + "\n";
         out += it.offset != bsp::kRandomOffset ? "offset = " + std::to_string(it.offset) + "\n" : "";
+        out += it.position >= 0.0 ? "position = " + toml_float(it.position) + "\n" : "";
         break;
       case bsp::FaultKind::kPacketBitFlip:
         out += it.offset != bsp::kRandomOffset ? "word = " + std::to_string(it.offset) + "\n" : "";

@@ -40,6 +40,7 @@ struct FaultPlanItem {
   std::uint32_t channel = bsp::kAnyChannel;   ///< sdc: publication channel
   std::uint64_t offset = bsp::kRandomOffset;  ///< seu: byte offset in the tile's RAM (or in its carve); packet_bit_flip: word index
   std::string carve;                          ///< seu: the named carve it hits (empty: anywhere in the RAM)
+  double position = -1.0;                     ///< seu: where in the upset space, [0, 1) (bsp::FaultSpec::position); negative: drawn
   std::uint32_t bit = bsp::kRandomBit;        ///< seu: 0..7; sdc: bit of the value; packet_bit_flip: 0..31
   std::uint64_t param = 0U;                   ///< link_fail: direction (bsp::UdnDir)
   double shift = 0.0;                         ///< sdc: a lasting error added to every value at the point (bsp::FaultSpec::shift)

@@ -181,6 +181,8 @@ TEST(CampaignSpec, PointsAndCarvesNarrowTheDraws) {
   const cp::SpecResult r = parse("name = \"t\"\nruns = 40\nkinds = [\"sdc\", \"seu\"]\nroles = [\"filter\"]\n"
                                  "points = [\"filter_state\", \"nav_output\"]\ncarves = [\"ekf\"]\n");
   ASSERT_TRUE(r.ok()) << r.error;
+  std::set<double> positions;
+  std::size_t upsets = 0U;
   for (std::uint32_t i = 0; i < r.spec.runs; ++i) {
     const cp::DrawnPlan d = cp::draw_plan(r.spec, i, 64U, kRunS);
     ASSERT_TRUE(d.error.empty()) << d.error;
@@ -189,10 +191,15 @@ TEST(CampaignSpec, PointsAndCarvesNarrowTheDraws) {
     const tools::FaultPlanItem& it = p.plan->items[0];
     if (it.kind == bsp::FaultKind::kSeu) {
       EXPECT_EQ(it.carve, "ekf") << d.toml;
+      EXPECT_GE(it.position, 0.0) << "the campaign says where the byte is: " << d.toml;
+      positions.insert(it.position);
+      ++upsets;
     } else {
       EXPECT_TRUE(it.channel == 1U || it.channel == 2U) << "nav_output or filter_state\n" << d.toml;
     }
   }
+  EXPECT_GT(upsets, 5U);
+  EXPECT_EQ(positions.size(), upsets) << "each run's upset at its own place (the injector's stream gives one)";
   const cp::SpecResult bad = parse("name = \"t\"\nruns = 1\nkinds = [\"sdc\"]\nroles = [\"filter\"]\npoints = [\"x\"]\n");
   EXPECT_NE(bad.error.find("points: element 0: unknown point \"x\""), std::string::npos) << bad.error;
 }

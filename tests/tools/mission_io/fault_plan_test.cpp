@@ -57,7 +57,8 @@ bool same_items(const tools::FaultPlan& a, const tools::FaultPlan& b) {
     const tools::FaultPlanItem& x = a.items[i];
     const tools::FaultPlanItem& y = b.items[i];
     if (x.t_s != y.t_s || x.kind != y.kind || x.tile != y.tile || x.channel != y.channel || x.offset != y.offset ||
-        x.bit != y.bit || x.param != y.param || x.role != y.role || x.instance != y.instance || x.carve != y.carve) {
+        x.bit != y.bit || x.param != y.param || x.role != y.role || x.instance != y.instance || x.carve != y.carve ||
+        x.position != y.position) {
       return false;
     }
   }
@@ -138,6 +139,31 @@ TEST(FaultPlan, FormattedPlanParsesBackToTheSamePlan) {
   const tools::FaultPlanResult back = tools::parse_fault_plan(text, "<formatted>", kTiles, kDuration);
   ASSERT_TRUE(back.ok()) << back.error << "\n" << text;
   EXPECT_TRUE(same_items(p, *back.plan)) << text;
+}
+
+// Where in the upset space an seu's byte is: a fraction in [0, 1), written back as read; not with
+// an offset, not for another kind, not 1 or beyond.
+TEST(FaultPlan, AnSeuCanSayWhereInItsSpace) {
+  const std::string text = "[[fault]]\nt_s = 1.0\nkind = \"seu\"\ntile = 3\nposition = 0.8125\nbit = 4\n";
+  const tools::FaultPlanResult r = tools::parse_fault_plan(text, "<position>", kTiles, kDuration);
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_DOUBLE_EQ(r.plan->items[0].position, 0.8125);
+  const tools::FaultPlanResult back =
+      tools::parse_fault_plan(tools::format_fault_plan(*r.plan), "<formatted>", kTiles, kDuration);
+  ASSERT_TRUE(back.ok()) << back.error;
+  EXPECT_TRUE(same_items(*r.plan, *back.plan));
+  EXPECT_TRUE(tools::parse_fault_plan("[[fault]]\nt_s = 1.0\nkind = \"seu\"\ntile = 3\nposition = 0\n", "<zero>",
+                                      kTiles, kDuration)
+                  .ok());
+  for (const char* bad : {"position = 1.0\n", "position = -0.1\n", "position = 0.5\noffset = 12\n",
+                          "position = \"half\"\n"}) {
+    const tools::FaultPlanResult e = tools::parse_fault_plan(
+        std::string("[[fault]]\nt_s = 1.0\nkind = \"seu\"\ntile = 3\n") + bad, "<bad>", kTiles, kDuration);
+    EXPECT_FALSE(e.ok()) << bad;
+  }
+  EXPECT_FALSE(tools::parse_fault_plan("[[fault]]\nt_s = 1.0\nkind = \"sdc\"\ntile = 3\nposition = 0.5\n", "<sdc>",
+                                       kTiles, kDuration)
+                   .ok());
 }
 
 // An upset aimed at a carve of the tile's RAM (the filter's EKF here), offset counted from its start.
