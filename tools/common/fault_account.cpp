@@ -449,6 +449,18 @@ void recover(const Join& j, const bsp::FaultRecord& r, std::size_t det, FaultOut
       if (no_stream) {
         break;  // standing by: the flight's word that it runs again (below)
       }
+      // A replica cleared (a self-test that agrees again) that no vote ever missed or outvoted since
+      // the fault kept voting: its service never stopped.
+      if (from > det_s && j.first_after(o.injected_s, from, [&](const fdir::Event& e) {
+            return (e.id == EventId::kTmrOutvoted || e.id == EventId::kTmrExcluded) && e.subject == t;
+          }) == j.events.size()) {
+        const std::size_t c = j.first_after(from, from, [&](const fdir::Event& e) { return runs_again(e, t); });
+        if (c < j.events.size()) {
+          found(c, Recovery::kRecovered);
+          o.service_gap_s = 0.0;
+          return;
+        }
+      }
       // Voting with three again: the replica seeded or agreeing again, any replica seeded with three
       // voting (the one that took its role on a spare), TMR established; the filter simplex again
       // gives TMR up.

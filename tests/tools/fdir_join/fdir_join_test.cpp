@@ -449,6 +449,19 @@ TEST(FdirJoinStrict, AReplicaStandsByInSimplexAndVotesAgainInTmr) {
   EXPECT_EQ(a.recovered, 1U);
   EXPECT_NEAR(a.outcomes[0].recovered_s, 30.061, 1e-9);
 
+  // In TMR, a replica whose self-test pattern was upset is cleared by its next self-test; no vote
+  // missed or outvoted it, so it kept voting: recovered when cleared.
+  const std::array<bsp::FaultRecord, 1> pattern{record(bsp::FaultKind::kSeu, 21U, 38'796'000U)};
+  std::vector<fdir::Event> selftest{event(EventId::kTmrEstablished, 18U, 3004U, 30'061'000U, 1U, 3U),
+                                    event(EventId::kSelfTestMismatch, 0U, 21U, 39'357'000U, 787U, 1U, 2U),
+                                    event(EventId::kSelfTestAgree, 0U, 21U, 39'607'000U, 792U, 1U)};
+  a = tools::join_faults(pattern, selftest, kHz);
+  EXPECT_EQ(a.recovered, 1U);
+  EXPECT_NEAR(a.outcomes[0].recovered_s, 39.607, 1e-9);
+  // Outvoted meanwhile: it must vote again first.
+  selftest.push_back(event(EventId::kTmrOutvoted, 18U, 21U, 39'000'000U, 3900U, 2U, 1U));
+  EXPECT_EQ(tools::join_faults(pattern, selftest, kHz).recovered, 0U);
+
   const std::array<bsp::FaultRecord, 1> sw{record(bsp::FaultKind::kSwitchFail, 19U, 41'728'000U)};
   std::vector<fdir::Event> tmr{event(EventId::kTmrEstablished, 18U, 3004U, 30'061'000U, 1U, 3U),
                                event(EventId::kSwitchFailed, 0U, 19U, 41'765'000U, 0U, 2U, 1U),
