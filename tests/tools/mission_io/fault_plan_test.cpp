@@ -288,7 +288,7 @@ TEST(FaultPlanErrors, KeysOfOtherKindsAreRejected) {
             std::string::npos)
       << e;
   e = error_of("unknown_fault_key.toml");
-  EXPECT_NE(e.find("address: unknown key (allowed keys for seu: t_s, kind, tile or role (and instance), offset, bit, carve)"),
+  EXPECT_NE(e.find("address: unknown key (allowed keys for seu: t_s, kind, tile or role (and instance), offset, bit, carve, position)"),
             std::string::npos)
       << e;
 }
