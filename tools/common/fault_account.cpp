@@ -339,6 +339,40 @@ bool runs_again(const fdir::Event& e, bsp::TileId t) {
           e.cause == static_cast<std::uint32_t>(bsp::BootCause::kCommand));
 }
 
+/** Sets the outcome's recovery to event @p k of the join. */
+void recovered_at(const Join& j, std::size_t k, Recovery how, FaultOutcome& o) {
+  o.recovery = how;
+  o.recovered_s = j.t_s[k];
+  o.recovered_by = fdir::event_info(j.events[k].id)->name;
+}
+
+/**
+ * A replica of a TMR running when the fault took effect: back when it votes with three again (the
+ * replica seeded or agreeing again, any replica seeded with three voting: the one that took its role
+ * on a spare, TMR established); the filter simplex again gives TMR up. A replica cleared (a self-test
+ * that agrees again) that no vote missed or outvoted since the fault kept voting: never stopped.
+ */
+void replica_votes_again(const Join& j, bsp::TileId t, double det_s, double from, double until, FaultOutcome& o) {
+  if (from > det_s && j.first_after(o.injected_s, from, [&](const fdir::Event& e) {
+        return (e.id == EventId::kTmrOutvoted || e.id == EventId::kTmrExcluded) && e.subject == t;
+      }) == j.events.size()) {
+    const std::size_t c = j.first_after(from, from, [&](const fdir::Event& e) { return runs_again(e, t); });
+    if (c < j.events.size()) {
+      recovered_at(j, c, Recovery::kRecovered, o);
+      o.service_gap_s = 0.0;
+      return;
+    }
+  }
+  const std::size_t k = j.first_after(from, until, [&](const fdir::Event& e) {
+    return ((e.id == EventId::kTmrResynced || e.id == EventId::kTmrAgrees) && e.subject == t) ||
+           (e.id == EventId::kTmrResynced && e.b >= 3U) || e.id == EventId::kTmrEstablished ||
+           e.id == EventId::kTmrSimplex;
+  });
+  if (k < j.events.size()) {
+    recovered_at(j, k, j.events[k].id == EventId::kTmrSimplex ? Recovery::kDegradedAccepted : Recovery::kRecovered, o);
+  }
+}
+
 /** Recovery of detected fault @p r (detected by event @p det): fills the outcome's recovery fields. */
 void recover(const Join& j, const bsp::FaultRecord& r, std::size_t det, FaultOutcome& o) {
   const fdir::Event& d = j.events[det];
@@ -352,11 +386,7 @@ void recover(const Join& j, const bsp::FaultRecord& r, std::size_t det, FaultOut
     return;
   }
   const double until = det_s + kRecoverWindowS;
-  const auto found = [&](std::size_t k, Recovery how) {
-    o.recovery = how;
-    o.recovered_s = j.t_s[k];
-    o.recovered_by = fdir::event_info(j.events[k].id)->name;
-  };
+  const auto found = [&](std::size_t k, Recovery how) { recovered_at(j, k, how, o); };
   if (d.id == EventId::kPacketDamaged) {
     // Its resend: by the named source to the tile that dropped it, or, the source unknown, by or to
     // the flipped tile, within one retransmit timeout. A probe or an ACK a later one covers is resent
@@ -445,35 +475,12 @@ void recover(const Join& j, const bsp::FaultRecord& r, std::size_t det, FaultOut
       }
       return;
     }
-    case Role::kFilterReplica: {
+    case Role::kFilterReplica:
       if (no_stream) {
         break;  // standing by: the flight's word that it runs again (below)
       }
-      // A replica cleared (a self-test that agrees again) that no vote ever missed or outvoted since
-      // the fault kept voting: its service never stopped.
-      if (from > det_s && j.first_after(o.injected_s, from, [&](const fdir::Event& e) {
-            return (e.id == EventId::kTmrOutvoted || e.id == EventId::kTmrExcluded) && e.subject == t;
-          }) == j.events.size()) {
-        const std::size_t c = j.first_after(from, from, [&](const fdir::Event& e) { return runs_again(e, t); });
-        if (c < j.events.size()) {
-          found(c, Recovery::kRecovered);
-          o.service_gap_s = 0.0;
-          return;
-        }
-      }
-      // Voting with three again: the replica seeded or agreeing again, any replica seeded with three
-      // voting (the one that took its role on a spare), TMR established; the filter simplex again
-      // gives TMR up.
-      const std::size_t k = j.first_after(from, until, [&](const fdir::Event& e) {
-        return ((e.id == EventId::kTmrResynced || e.id == EventId::kTmrAgrees) && e.subject == t) ||
-               (e.id == EventId::kTmrResynced && e.b >= 3U) || e.id == EventId::kTmrEstablished ||
-               e.id == EventId::kTmrSimplex;
-      });
-      if (k < j.events.size()) {
-        found(k, j.events[k].id == EventId::kTmrSimplex ? Recovery::kDegradedAccepted : Recovery::kRecovered);
-      }
+      replica_votes_again(j, t, det_s, from, until, o);
       return;
-    }
     default:
       break;
   }
