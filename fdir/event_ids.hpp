@@ -3,11 +3,12 @@
  * @brief The flight event ids: one reviewable table of every detection, isolation and recovery step.
  *
  * Every event a flight layer writes (fdir/event_log.hpp) has an id from this
- * table. The table gives each id its severity and the fault-management steps
- * it stands for (an event can be a detection and a recovery at once, as a
- * packet corrected by its code). The host formats the text of each id and
- * joins the events to the injector's ground truth by the rule of docs/FDIR.md;
- * it never decides a step itself. Ids are grouped by layer: 0x01xx messaging,
+ * table, and the table is the one place an event is declared: its severity,
+ * the fault-management steps it stands for (an event can be a detection and a
+ * recovery at once, as a packet corrected by its code), what it accuses, what
+ * its four fields hold and its text. The host fills the text from the fields
+ * and joins the events to the injector's ground truth by the rule of
+ * docs/FDIR.md; it never decides a step itself. Ids are grouped by layer: 0x01xx messaging,
  * 0x02xx network health, 0x03xx vision, 0x04xx health table and asserts, 0x05xx core
  * health (watchdogs, resets, spares), 0x06xx filter restarts, 0x07xx the filter's TMR, 0x08xx checked
  * computations (matrix products, correlation), 0x09xx supervisors, mission phases and power.
@@ -32,88 +33,88 @@ enum Step : std::uint8_t {
 
 enum class EventId : std::uint16_t {
   // ---- messaging (udn, through the endpoint's event sink)
-  kPacketCorrected = 0x0101,   ///< subject: source tile, cause: channel, a: seq
-  kPacketForwarded = 0x0102,   ///< misdelivered packet forwarded; subject: source tile, cause: destination index
-  kPacketDamaged = 0x0103,     ///< beyond correction; subject: source tile (kUnknown if not identified), a: 1 if NACKed
-  kPacketResent = 0x0104,      ///< go-back-N; subject: destination, cause: 0 NACK / 1 timeout, a: channel, b: seq
-  kPacketGaveUp = 0x0105,      ///< given up; subject: destination, cause: delivery (0 unknown, 1 not delivered), a: channel, b: seq
-  kRouteUnreachable = 0x0106,  ///< no route; subject: destination, cause: delivery (as packet_gave_up), a: channel, b: seq
-  kForwardUnreachable = 0x0107,///< a forwarder had no route; subject: destination
-  kNeighbourSuspect = 0x0108,  ///< the probe missed a neighbour N rounds; subject: neighbour
-  kMapApplied = 0x0109,        ///< routes rebuilt from a fault map; subject: version, cause: tile it came from
-  kMapPushed = 0x010A,         ///< a neighbour was behind: our map sent to it; subject: neighbour, a: version
-  kTransitLost = 0x010B,       ///< a transit probe's target stopped answering; subject: target
-  kTransitBack = 0x010C,       ///< a lost transit answers again; subject: target
-  kPacketSettled = 0x010D,     ///< a give-up of unknown delivery settled by the receiver's record; subject: destination, cause: 2 delivered (its ACKs were lost) / 1 not delivered, a: channel, b: seq
+  kPacketCorrected = 0x0101,
+  kPacketForwarded = 0x0102,
+  kPacketDamaged = 0x0103,
+  kPacketResent = 0x0104,
+  kPacketGaveUp = 0x0105,
+  kRouteUnreachable = 0x0106,
+  kForwardUnreachable = 0x0107,
+  kNeighbourSuspect = 0x0108,
+  kMapApplied = 0x0109,
+  kMapPushed = 0x010A,
+  kTransitLost = 0x010B,
+  kTransitBack = 0x010C,
+  kPacketSettled = 0x010D,
   // ---- network health (fdir/net_health)
-  kSuspectVote = 0x0201,       ///< subject: suspect tile, cause: reporter, a: distinct reporters so far
-  kSwitchFailed = 0x0202,      ///< subject: tile, a: votes, b: map version
-  kLinkFailed = 0x0203,        ///< subject: tile, cause: neighbour across the link, a: transits lost (0: its ends voted), b: map version
-  kMapPublished = 0x0204,      ///< every live tile was sent the map; subject: version, a: tiles sent to
-  kCoreSuspect = 0x0205,       ///< the probes see a silent core behind a switch that still routes; subject: tile, a: transits through it that answer
-  kTransitFailed = 0x0206,     ///< every transit probe through a switch lost: declared failed; subject: tile, a: transits, b: map version
-  kLinkOrSwitchFailed = 0x0207,///< the transits lost across a link are all that is heard through a spare's switch at its end: the link or that switch failed, which cannot be told apart from the health tile; the switch is taken out of the routes (that covers both); subject: the spare, cause: the link's other end, a: transits, b: map version
+  kSuspectVote = 0x0201,
+  kSwitchFailed = 0x0202,
+  kLinkFailed = 0x0203,
+  kMapPublished = 0x0204,
+  kCoreSuspect = 0x0205,
+  kTransitFailed = 0x0206,
+  kLinkOrSwitchFailed = 0x0207,
   // ---- vision (trn, through fdir/liveness)
-  kWorkerSilent = 0x0301,      ///< subject: worker tile, a: frames missed in a row; its work goes to the others
-  kWorkerBack = 0x0302,        ///< subject: worker tile; it answered again and gets work
-  kFrameDone = 0x0303,         ///< a: frame, b: matches, cause: units lost
-  kResultsSuspect = 0x0304,    ///< a worker's results fail the consistency check (result_trust.hpp); subject: tile, cause: 0 first time / 1 again after its reset (its replacement is asked), a: failed in the window, b: checked in it
-  kResultsConsistent = 0x0305, ///< a suspect worker's results pass again; subject: tile, cause: 0 while suspect / 1 after its reset, a: clean rounds in a row
-  kCoarseBandRedone = 0x0307,  ///< the coordinator computed a band of the coarse surface itself; subject: the tile it was dealt to, cause: why (1 not sent, 2 no answer in time, 3 the tile's checks failed or it could not compute it, 4 the copy differs from the tile's digest), a: the band's first row, b: frame
-  kLandmarkProductRefused = 0x0308, ///< the ground's landmark table failed its checks: the coordinator selects the landmarks itself; cause: why (trn::tasks::ProductCheck: 1 too short, 2 header, 3 other settings, 4 other map, 5 records), a: the block's bytes
-  kVisionSetUpFailed = 0x0306, ///< the vision coordinator could not start: no frame will be planned; subject: step (1 its lists, 2 map product, 3 DDR carves, 4 landmark selection, 5 relit coarse map), a: the step's status code
+  kWorkerSilent = 0x0301,
+  kWorkerBack = 0x0302,
+  kFrameDone = 0x0303,
+  kResultsSuspect = 0x0304,
+  kResultsConsistent = 0x0305,
+  kCoarseBandRedone = 0x0307,
+  kLandmarkProductRefused = 0x0308,
+  kVisionSetUpFailed = 0x0306,
   // ---- health table, asserts
-  kMonitorWarn = 0x0401,       ///< subject: monitor index, a: value, b: threshold
-  kMonitorFatal = 0x0402,      ///< subject: monitor index, a: value, b: threshold; the action is taken
-  kActionCapped = 0x0403,      ///< subject: monitor index, a: actions taken; no more (no reset loop)
-  kAssertFailed = 0x0404,      ///< subject: assert id, cause: line; the tile asks for its recovery
+  kMonitorWarn = 0x0401,
+  kMonitorFatal = 0x0402,
+  kActionCapped = 0x0403,
+  kAssertFailed = 0x0404,
   // ---- core health (fdir/tile_health)
-  kTaskOverdue = 0x0501,       ///< a task missed its check-in; subject: task id, cause: tile, a: ticks late, b: budget; the watchdog is no longer kicked
-  kWatchdogExpired = 0x0502,   ///< the supervisor took a tile's watchdog interrupt; subject: tile, a: expiries so far
-  kTileReset = 0x0503,         ///< a silent tile was reset; subject: tile, cause: 0 by the supervisor, 1 by the supervisor's watcher, 2 by the supervisor for wrong results (a coordinator's report), a: resets of it, b: cap
-  kTileRecovered = 0x0504,     ///< a reset tile booted its role again and reported; subject: tile, cause: boot cause, a: ticks since the reset
-  kTileRebooted = 0x0505,      ///< a tile booted again without a command (crash); subject: tile, cause: boot cause
-  kTileLost = 0x0506,          ///< a tile given up: subject: tile, cause: 0 never reported back after its reset (a: ticks waited), 1 its reset refused, the watcher's tile (the supervisor's reset refused), kLostSwitchFailed its switch failed (cut off)
-  kRoleMoved = 0x0507,         ///< a retired tile's role goes to a spare; subject: role slot (or a worker's boot slot), cause: old tile, a: spare, b: directory version (0: a worker replaced for wrong results, not a directory role)
-  kRoleRestored = 0x0508,      ///< the spare booted the role and reported; subject: role slot, cause: retired tile, a: spare, b: ticks since the move
-  kNoSpare = 0x0509,           ///< a role could not move (no spare left, or it would not switch on); subject: slot, cause: old tile
-  kSelfTestMismatch = 0x050A,  ///< a tile was outvoted by two others in a self-test; subject: tile, cause: round, a: disagreements in a row, b: to retire
-  kSelfTestAgree = 0x050B,     ///< an outvoted tile agrees again; subject: tile, cause: round, a: disagreements before
-  kSelfTestLate = 0x050C,      ///< a tile had not answered a self-test round at its wait (an answer before the next round still counts); subject: tile, cause: round, a: wait ticks
-  kSupervisorSilent = 0x050D,  ///< the watcher missed the supervisor's heartbeat; subject: supervisor tile, cause: watcher, a: ticks since the last, b: resets so far
-  kWatcherCutOff = 0x050E,     ///< the watcher hears none of its neighbours or transits: a missing heartbeat is its own silence, no reset; subject: supervisor tile, cause: watcher, a: ticks since the last heartbeat
+  kTaskOverdue = 0x0501,
+  kWatchdogExpired = 0x0502,
+  kTileReset = 0x0503,
+  kTileRecovered = 0x0504,
+  kTileRebooted = 0x0505,
+  kTileLost = 0x0506,
+  kRoleMoved = 0x0507,
+  kRoleRestored = 0x0508,
+  kNoSpare = 0x0509,
+  kSelfTestMismatch = 0x050A,
+  kSelfTestAgree = 0x050B,
+  kSelfTestLate = 0x050C,
+  kSupervisorSilent = 0x050D,
+  kWatcherCutOff = 0x050E,
   // ---- navigation filter restarts (trn/tasks/filter_task)
-  kFilterResumed = 0x0601,     ///< the filter started from a DDR checkpoint; subject: checkpoint number, a: IMU samples to replay, b: last sample it holds
-  kCheckpointBad = 0x0602,     ///< a checkpoint slot failed its checks and is not used; subject: slot, a: bad slots
-  kImuGap = 0x0603,            ///< IMU samples neither received nor still recorded; subject: first missing, a: samples
-  kCommandTaken = 0x0604,      ///< a telecommand reached the filter; subject: code, cause: its sequence number, a: job
-  kFilterStateBad = 0x0605,    ///< the simplex filter's state after a job failed its plausibility check (trn/filter/state_check.hpp) and was not delivered; subject: job, cause: the check (1 not finite, 2 attitude norm, 3 speed, 4 range, 5 IMU bias, 6-9 position, velocity, attitude, bias step), a: value, b: limit (thousandths of the check's unit, the attitude norm's distance from 1 in millionths; saturated); kFilterResumed follows when it went back to a checkpoint
-  kFilterSettingsBad = 0x0606, ///< the settings in RAM (configuration, camera, process noise) of the simplex filter or a TMR replica changed since they were built (their CRC-32C, after every job): the job's solution is not delivered and the settings are built again from the image; the filter goes back to its last checkpoint (kFilterResumed follows), a replica drops its state and waits for a seed (kTmrResynced follows); subject: job, cause: the parts changed (1 configuration, 2 camera, 4 process noise), a: 1 when rebuilt
+  kFilterResumed = 0x0601,
+  kCheckpointBad = 0x0602,
+  kImuGap = 0x0603,
+  kCommandTaken = 0x0604,
+  kFilterStateBad = 0x0605,
+  kFilterSettingsBad = 0x0606,
   // ---- TMR of the filter (trn/tasks/filter_task, fdir/tmr)
-  kTmrStarting = 0x0701,       ///< replicas seeded with the filter's state; subject: job, cause: epoch
-  kTmrEstablished = 0x0702,    ///< three replicas agree with the filter: the voter delivers; subject: job, cause: epoch, a: jobs it took
-  kTmrSimplex = 0x0703,        ///< one filter again; subject: job, cause: 0 command, 2 TMR not established in time, 3 the filter restarted (TMR starts again once it caught up)
-  kTmrOutvoted = 0x0704,       ///< a replica's output was outvoted; subject: its tile, cause: job, a: replica, b: 1 different, 2 missing
-  kTmrAgrees = 0x0705,         ///< an outvoted replica agrees again; subject: its tile, cause: job, a: replica, b: disagreements before
-  kTmrExcluded = 0x0706,       ///< a replica no longer votes and must re-synchronise; subject: its tile, cause: job, a: replica, b: replicas left
-  kTmrResynced = 0x0707,       ///< a replica seeded from the voted state votes again; subject: its tile, cause: job, a: replica, b: replicas voting
-  kTmrNoMajority = 0x0708,     ///< no two replicas agree: nothing delivered; subject: job, cause: voting mask, a: different, b: missing | tile of replica i << 8 (i + 1)
-  kTmrVoterResumed = 0x0709,   ///< a restarted voter goes on from its place in DDR; subject: job, cause: epoch, a: next job to deliver, b: records of the outage it writes
+  kTmrStarting = 0x0701,
+  kTmrEstablished = 0x0702,
+  kTmrSimplex = 0x0703,
+  kTmrOutvoted = 0x0704,
+  kTmrAgrees = 0x0705,
+  kTmrExcluded = 0x0706,
+  kTmrResynced = 0x0707,
+  kTmrNoMajority = 0x0708,
+  kTmrVoterResumed = 0x0709,
   // ---- checked matrix products (fdir/abft) and checked correlation (trn/vision/correlator, logged by the vision tile)
-  kAbftCorrected = 0x0801,     ///< a product failed its checksums and passed when computed again; subject: site, cause: row << 16 | column of the element located (0xFFFF: not one; kAbftColNotChecked: rows only), a: bad rows << 16 | bad columns, b: recomputations
-  kAbftFailed = 0x0802,        ///< a product still failed its checksums after every recomputation; same fields
-  kCorrelationCorrected = 0x0803,  ///< a landmark's correlation failed a check and passed when computed again; subject: landmark, cause: the check that failed first (1 dot-product checksum, 2 surface digest, 3 peak score), a: frame, b: recomputations
-  kCorrelationFailed = 0x0804,     ///< still failing after every recomputation: the match is rejected, nothing sent; same fields
+  kAbftCorrected = 0x0801,
+  kAbftFailed = 0x0802,
+  kCorrelationCorrected = 0x0803,
+  kCorrelationFailed = 0x0804,
   // ---- supervisors (fdir/supervisor), mission phases, power
-  kSupPolicy = 0x0901,     ///< a node took a policy; subject: node, cause: constraint, a: level, b: from (node, kFromPhase, kFromGround)
-  kSupApply = 0x0902,      ///< a node applies an alternative; subject: node, cause: constraint | reason << 8, a: alternative, b: level | child << 8 (an escalation's)
-  kSupNotMet = 0x0903,     ///< the alternative in use does not meet its level (debounced); subject: node, cause: constraint, a: alternative, b: level
-  kSupEscalated = 0x0904,  ///< every alternative failed: the parent is told; subject: node, cause: constraint, a: level, b: parent
-  kSupMet = 0x0905,        ///< the level is met; subject: node, cause: constraint, a: alternative, b: level
-  kPhaseBegin = 0x0906,    ///< the mission phase begins; subject: phase, a: reliability, b: power
-  kTileParked = 0x0907,    ///< a tile not needed is switched off by the power policy; subject: tile, cause: node
-  kTileWoken = 0x0908,     ///< a parked tile is switched on before it is needed; subject: tile, cause: node
-  kSafeMode = 0x0909,      ///< the top node has no alternative left: safe mode reported to the vehicle; subject: constraint, a: level
+  kSupPolicy = 0x0901,
+  kSupApply = 0x0902,
+  kSupNotMet = 0x0903,
+  kSupEscalated = 0x0904,
+  kSupMet = 0x0905,
+  kPhaseBegin = 0x0906,
+  kTileParked = 0x0907,
+  kTileWoken = 0x0908,
+  kSafeMode = 0x0909,
 };
 
 /** Column field of an abft event whose product was checked on its rows only (no column checked). */
@@ -148,6 +149,10 @@ enum class Accused : std::uint8_t {
   kReplicas,         ///< tmr_no_majority: each replica its mask names as different (tiles in b)
 };
 
+/**
+ * One event, declared once: the flight encoder (fdir::report) takes its severity and steps from
+ * here, the host its text and the join its accusation; docs/FDIR.md's table is checked against it.
+ */
 struct EventInfo {
   EventId id;
   const char* name;
@@ -155,84 +160,301 @@ struct EventInfo {
   std::uint8_t steps;  ///< Step bits
   Diagnosis diagnosis;  ///< what it accuses (fdir/accusation.hpp refines it by the event's fields)
   Accused accused;      ///< whom
+  const char* args;     ///< what its fields hold: "subject / cause / a / b" (trailing ones it leaves 0 omitted)
+  /**
+   * Its text, a template the host fills from the fields (tools/common/event_text.hpp):
+   * {s} {c} {a} {b} a field in decimal ("?" for kUnknown); after the letter, .hi .lo (16-bit halves),
+   * .b0 to .b3 (bytes), .top (bit 31) or .rest (bits 0-30) select part of it; then :x prints it in
+   * hex, @type names it by a host type (node, alternative, ...), |p0|p1|... takes phrase p<value>
+   * (the last for any larger value; phrases may hold fields), &w0|w1|... lists the words of its set bits.
+   */
+  const char* text;
 };
 
 /** The table: every id once. */
 inline constexpr std::array<EventInfo, 74> kEventTable{{
-    {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kPacket, Accused::kNobody},
-    {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kPacket, Accused::kNobody},
-    {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect, Diagnosis::kPacket, Accused::kNobody},
-    {EventId::kPacketResent, "packet_resent", Severity::kWarningLo, kStepRecover, Diagnosis::kPacket, Accused::kNobody},
-    {EventId::kPacketGaveUp, "packet_gave_up", Severity::kWarningHi, kStepDetect, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kRouteUnreachable, "route_unreachable", Severity::kWarningHi, kStepDetect, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kForwardUnreachable, "forward_unreachable", Severity::kWarningHi, kStepDetect, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kNeighbourSuspect, "neighbour_suspect", Severity::kWarningHi, kStepDetect, Diagnosis::kSuspicion, Accused::kSubject},
-    {EventId::kMapApplied, "map_applied", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kMapPushed, "map_pushed", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kTransitLost, "transit_lost", Severity::kWarningLo, kStepNone, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kTransitBack, "transit_back", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kPacketSettled, "packet_settled", Severity::kWarningLo, kStepDetect, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kSuspectVote, "suspect_vote", Severity::kWarningLo, kStepDetect, Diagnosis::kSuspicion, Accused::kSubject},
-    {EventId::kSwitchFailed, "switch_failed", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kSwitch, Accused::kSubject},
-    {EventId::kLinkFailed, "link_failed", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kLink, Accused::kSubjectAndCause},
-    {EventId::kMapPublished, "map_published", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kCoreSuspect, "core_suspect", Severity::kWarningHi, kStepDetect, Diagnosis::kCoreSilent, Accused::kSubject},
-    {EventId::kTransitFailed, "transit_failed", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kSwitch, Accused::kSubject},
-    {EventId::kLinkOrSwitchFailed, "link_or_switch_failed", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kSwitchOrLink, Accused::kSubjectAndCause},
-    {EventId::kWorkerSilent, "worker_silent", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kCoreSilent, Accused::kSubject},
-    {EventId::kWorkerBack, "worker_back", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kFrameDone, "frame_done", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kResultsSuspect, "results_suspect", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kWrongResult, Accused::kSubject},
-    {EventId::kResultsConsistent, "results_consistent", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kVisionSetUpFailed, "vision_set_up_failed", Severity::kFatal, kStepDetect, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kCoarseBandRedone, "coarse_band_redone", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kWrongResult, Accused::kSubject},
-    {EventId::kLandmarkProductRefused, "landmark_product_refused", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kMonitorWarn, "monitor_warn", Severity::kWarningLo, kStepDetect, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kMonitorFatal, "monitor_fatal", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kActionCapped, "action_capped", Severity::kFatal, kStepNone, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kAssertFailed, "assert_failed", Severity::kFatal, kStepDetect, Diagnosis::kWrongResult, Accused::kWriter},
-    {EventId::kTaskOverdue, "task_overdue", Severity::kWarningHi, kStepDetect, Diagnosis::kCoreSilent, Accused::kCause},
-    {EventId::kWatchdogExpired, "watchdog_expired", Severity::kWarningHi, kStepDetect, Diagnosis::kCoreSilent, Accused::kSubject},
-    {EventId::kTileReset, "tile_reset", Severity::kWarningHi, kStepIsolate, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kTileRecovered, "tile_recovered", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kTileRebooted, "tile_rebooted", Severity::kWarningHi, kStepDetect | kStepRecover, Diagnosis::kCoreCrashed, Accused::kSubject},
-    {EventId::kTileLost, "tile_lost", Severity::kFatal, kStepDetect, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kRoleMoved, "role_moved", Severity::kWarningHi, kStepIsolate, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kRoleRestored, "role_restored", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kNoSpare, "no_spare", Severity::kFatal, kStepNone, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kSelfTestMismatch, "self_test_mismatch", Severity::kWarningHi, kStepDetect, Diagnosis::kWrongResult, Accused::kSubject},
-    {EventId::kSelfTestAgree, "self_test_agree", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kSelfTestLate, "self_test_late", Severity::kWarningLo, kStepNone, Diagnosis::kSuspicion, Accused::kSubject},
-    {EventId::kSupervisorSilent, "supervisor_silent", Severity::kWarningHi, kStepDetect, Diagnosis::kCoreSilent, Accused::kSubject},
-    {EventId::kWatcherCutOff, "watcher_cut_off", Severity::kWarningLo, kStepNone, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kFilterResumed, "filter_resumed", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kCheckpointBad, "checkpoint_bad", Severity::kWarningHi, kStepDetect, Diagnosis::kMemoryUpset, Accused::kNobody},
-    {EventId::kImuGap, "imu_gap", Severity::kWarningHi, kStepDetect, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kCommandTaken, "command_taken", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kFilterStateBad, "filter_state_bad", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kWrongResult, Accused::kWriter},
-    {EventId::kFilterSettingsBad, "filter_settings_bad", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kMemoryUpset, Accused::kWriter},
-    {EventId::kTmrStarting, "tmr_starting", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kTmrEstablished, "tmr_established", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kTmrSimplex, "tmr_simplex", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kTmrOutvoted, "tmr_outvoted", Severity::kWarningHi, kStepDetect, Diagnosis::kWrongResult, Accused::kSubject},
-    {EventId::kTmrAgrees, "tmr_agrees", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kTmrExcluded, "tmr_excluded", Severity::kWarningHi, kStepIsolate, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kTmrResynced, "tmr_resynced", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kTmrNoMajority, "tmr_no_majority", Severity::kFatal, kStepDetect, Diagnosis::kWrongResult, Accused::kReplicas},
-    {EventId::kTmrVoterResumed, "tmr_voter_resumed", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kAbftCorrected, "abft_corrected", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kWrongResult, Accused::kWriter},
-    {EventId::kAbftFailed, "abft_failed", Severity::kWarningHi, kStepDetect, Diagnosis::kWrongResult, Accused::kWriter},
-    {EventId::kCorrelationCorrected, "correlation_corrected", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kWrongResult, Accused::kWriter},
-    {EventId::kCorrelationFailed, "correlation_failed", Severity::kWarningHi, kStepDetect, Diagnosis::kWrongResult, Accused::kWriter},
-    {EventId::kSupPolicy, "sup_policy", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kSupApply, "sup_apply", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kSupNotMet, "sup_not_met", Severity::kWarningHi, kStepDetect, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kSupEscalated, "sup_escalated", Severity::kWarningLo, kStepNone, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kSupMet, "sup_met", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kPhaseBegin, "phase_begin", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kTileParked, "tile_parked", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kTileWoken, "tile_woken", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody},
-    {EventId::kSafeMode, "safe_mode", Severity::kFatal, kStepNone, Diagnosis::kNone, Accused::kNobody},
+    {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kPacket, Accused::kNobody,
+     "source tile / channel / seq",
+     "packet from tile {s} corrected by its SECDED code (channel {c}, seq {a})"},
+    {EventId::kPacketForwarded, "packet_forwarded", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kPacket, Accused::kNobody,
+     "source / destination (a flipped header brought it; a clean detour leg is not an event)",
+     "packet from tile {s} misdelivered here, forwarded to tile {c}"},
+    {EventId::kPacketDamaged, "packet_damaged", Severity::kWarningHi, kStepDetect, Diagnosis::kPacket, Accused::kNobody,
+     "source or `?` / channel / 1 if NACKed",
+     "packet from tile {s} damaged beyond correction{a|: left to the sender's timeout|: NACK sent}"},
+    {EventId::kPacketResent, "packet_resent", Severity::kWarningLo, kStepRecover, Diagnosis::kPacket, Accused::kNobody,
+     "destination / 0 NACK, 1 timeout / channel / seq (a resend after the receiver answered BUSY, its "
+     "queue full, is flow control: counted in `FtStats::resent_busy`, not an event; docs/FT_MESSAGING.md)",
+     "stream to tile {s} resent go-back-N after a {c|NACK|timeout} (channel {a}, from seq {b})"},
+    {EventId::kPacketGaveUp, "packet_gave_up", Severity::kWarningHi, kStepDetect, Diagnosis::kNone, Accused::kNobody,
+     "destination / 0 delivery unknown (it left, no ACK came back), 1 not delivered (it never left) / "
+     "channel / seq",
+     "packet to tile {s} given up (channel {a}, seq {b}): {c|delivery unknown (no ACK came back)|not "
+     "delivered (it never left)|delivery unknown (no ACK came back)}"},
+    {EventId::kRouteUnreachable, "route_unreachable", Severity::kWarningHi, kStepDetect, Diagnosis::kNone, Accused::kNobody,
+     "destination / as packet_gave_up (a send refused: 1) / channel / seq",
+     "no route to tile {s} (channel {a}, seq {b}): {c|given up, delivery unknown|not delivered|given up, "
+     "delivery unknown}"},
+    {EventId::kForwardUnreachable, "forward_unreachable", Severity::kWarningHi, kStepDetect, Diagnosis::kNone, Accused::kNobody,
+     "destination",
+     "no route to forward a packet to tile {s}"},
+    {EventId::kNeighbourSuspect, "neighbour_suspect", Severity::kWarningHi, kStepDetect, Diagnosis::kSuspicion, Accused::kSubject,
+     "silent neighbour",
+     "neighbour tile {s} does not answer the probe: reported"},
+    {EventId::kMapApplied, "map_applied", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody,
+     "version / tile it came from",
+     "fault map version {s} applied (from tile {c}): routes rebuilt"},
+    {EventId::kMapPushed, "map_pushed", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "neighbour / - / version",
+     "neighbour tile {s} probes with an older map: sent version {a}"},
+    {EventId::kTransitLost, "transit_lost", Severity::kWarningLo, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "target (the prober is the tile)",
+     "transit probe to tile {s} unanswered: reported"},
+    {EventId::kTransitBack, "transit_back", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "target",
+     "transit probe to tile {s} answers again: reported"},
+    {EventId::kPacketSettled, "packet_settled", Severity::kWarningLo, kStepDetect, Diagnosis::kNone, Accused::kNobody,
+     "destination / 2 delivered (only its ACKs were lost), 1 not delivered (skipped at the resync point) "
+     "/ channel / seq: a `packet_gave_up` of unknown delivery, settled by the receiver's record",
+     "packet to tile {s} given up (channel {a}, seq {b}) was {c|not delivered: the receiver skipped "
+     "it|not delivered: the receiver skipped it|delivered: only its ACKs were lost|not delivered: the "
+     "receiver skipped it}"},
+    {EventId::kSuspectVote, "suspect_vote", Severity::kWarningLo, kStepDetect, Diagnosis::kSuspicion, Accused::kSubject,
+     "suspect / reporter / votes / votes needed",
+     "tile {c} reports tile {s} (vote {a} of {b})"},
+    {EventId::kSwitchFailed, "switch_failed", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kSwitch, Accused::kSubject,
+     "tile / deciding reporter / votes / map version",
+     "switch of tile {s} declared failed ({a} neighbours agree): map version {b}"},
+    {EventId::kLinkFailed, "link_failed", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kLink, Accused::kSubjectAndCause,
+     "tile / neighbour / transits heard across it, all lost (0: its two ends voted it) / map version",
+     "link between tiles {s} and {c} declared failed ({a|both ends report each other only|the {a} transit "
+     "probes heard across it lost, and no other}): map version {b}"},
+    {EventId::kMapPublished, "map_published", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody,
+     "version / - / tiles sent to / targets",
+     "fault map version {s} sent to {a} of {b} live tiles: traffic routes around"},
+    {EventId::kCoreSuspect, "core_suspect", Severity::kWarningHi, kStepDetect, Diagnosis::kCoreSilent, Accused::kSubject,
+     "tile / - / transits through it that answer",
+     "core of tile {s} silent behind a switch that routes ({a} transits through it answer)"},
+    {EventId::kTransitFailed, "transit_failed", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kSwitch, Accused::kSubject,
+     "tile / - / transits through it / map version",
+     "switch of tile {s} declared failed (all {a} transit probes through it lost): map version {b}"},
+    {EventId::kLinkOrSwitchFailed, "link_or_switch_failed", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kSwitchOrLink, Accused::kSubjectAndCause,
+     "spare / the link's other end / transits heard across the link / map version: the lost transits are "
+     "all the health tile hears through the spare's switch, so the link or that switch failed (they look "
+     "the same from there); the switch is taken out of the routes, which covers both",
+     "link between tiles {c} and {s} or the switch of spare {s} failed (the {a} transit probes heard "
+     "across the link lost, none heard through the switch but over it: they look the same from here): the "
+     "switch taken out, map version {b}"},
+    {EventId::kWorkerSilent, "worker_silent", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kCoreSilent, Accused::kSubject,
+     "worker / - / misses",
+     "worker tile {s} silent for {a} frames: isolated, its work goes to the others"},
+    {EventId::kWorkerBack, "worker_back", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody,
+     "worker",
+     "worker tile {s} answers again: back in the frame"},
+    {EventId::kFrameDone, "frame_done", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "- / units lost / frame / matches",
+     "frame {a} done: {b} matches, {c} units lost"},
+    {EventId::kResultsSuspect, "results_suspect", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kWrongResult, Accused::kSubject,
+     "worker / 0 first, 1 again after its reset (replacement asked) / failed in the window / checked in it",
+     "worker tile {s}: {a} of its {b} results in the window off the frame's fit: {c|suspect, its results "
+     "not used|wrong again after its reset, replacement asked|suspect, its results not used}"},
+    {EventId::kResultsConsistent, "results_consistent", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody,
+     "worker / 0 while suspect, 1 after its reset / clean frames in a row",
+     "worker tile {s}: results consistent again for {a} frames{c|| after its reset|}: used again"},
+    {EventId::kVisionSetUpFailed, "vision_set_up_failed", Severity::kFatal, kStepDetect, Diagnosis::kNone, Accused::kNobody,
+     "step (1 its lists, 2 map product, 3 DDR carves, 4 landmark selection, 5 relit coarse map) / - / the "
+     "step's status. The coordinator plans no frame; nothing restarts it (a task that returns is not "
+     "watched, and the same set-up would fail again), so this says why vision is gone",
+     "the vision coordinator could not start: {s|?|its tile lists|the map product|its DDR carves|the "
+     "landmark selection|the relit coarse map|?} failed (status {a}); no frame will be planned"},
+    {EventId::kCoarseBandRedone, "coarse_band_redone", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kWrongResult, Accused::kSubject,
+     "the tile the band was dealt to / why: 1 not sent, 2 no answer in time, 3 the tile's checks failed "
+     "(or it could not compute it), 4 the coordinator's copy differs from the band's digest / the band's "
+     "first row / frame. The coordinator computed the band itself: the coarse surface is whole and checked",
+     "coarse band from row {a} of frame {b} dealt to tile {s}: {c|?|it could not be sent|no answer in "
+     "time|its checks failed|its copy differs from its digest|?}; computed by the coordinator"},
+    {EventId::kLandmarkProductRefused, "landmark_product_refused", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kNone, Accused::kNobody,
+     "- / why (trn::tasks::ProductCheck): 1 the block is too short, 2 its header (magic, version, its "
+     "CRC-32C), 3 selected with other settings than the coordinator's, 4 selected on a layer of another "
+     "size or geometry, 5 its records (their CRC-32C, a count above the table, a dense set starting past "
+     "them, a landmark outside the layer) / the block's bytes / -. The ground's landmark table was not "
+     "taken: the coordinator selects the landmarks itself (~1.4 s, so the frame captured at 1 s is "
+     "skipped)",
+     "the ground's landmark table ({a} bytes) refused: {c|?|the block is too short|its header is wrong|it "
+     "was selected with other settings|it was selected on another map|its records are wrong|?}; the "
+     "coordinator selects the landmarks itself"},
+    {EventId::kMonitorWarn, "monitor_warn", Severity::kWarningLo, kStepDetect, Diagnosis::kNone, Accused::kNobody,
+     "monitor / - / value / threshold",
+     "monitor {s} warning: value {a} against {b}"},
+    {EventId::kMonitorFatal, "monitor_fatal", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kNone, Accused::kNobody,
+     "monitor / action / value / threshold",
+     "monitor {s} fatal: value {a} against {b}"},
+    {EventId::kActionCapped, "action_capped", Severity::kFatal, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "monitor / action / actions / cap",
+     "monitor {s}: {a} actions taken, no more (cap)"},
+    {EventId::kAssertFailed, "assert_failed", Severity::kFatal, kStepDetect, Diagnosis::kWrongResult, Accused::kWriter,
+     "check id / line",
+     "assertion {s} failed (line {c}): recovery requested"},
+    {EventId::kTaskOverdue, "task_overdue", Severity::kWarningHi, kStepDetect, Diagnosis::kCoreSilent, Accused::kCause,
+     "task id / tile / ticks late / budget",
+     "task {s} of tile {c} missed its check-in by {a} ticks (budget {b}): the watchdog is no longer kicked"},
+    {EventId::kWatchdogExpired, "watchdog_expired", Severity::kWarningHi, kStepDetect, Diagnosis::kCoreSilent, Accused::kSubject,
+     "tile / - / expiries so far",
+     "watchdog of tile {s} expired ({a} expiries so far)"},
+    {EventId::kTileReset, "tile_reset", Severity::kWarningHi, kStepIsolate, Diagnosis::kNone, Accused::kNobody,
+     "tile / 0 by the supervisor, 1 by its watcher, 2 by the supervisor for wrong results / resets of it "
+     "/ cap",
+     "tile {s} reset by {c|the supervisor (reset {a} of at most {b})|its watcher (reset {a} of at most "
+     "{b})|the supervisor: its results stayed wrong|the supervisor (reset {a} of at most {b})}"},
+    {EventId::kTileRecovered, "tile_recovered", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody,
+     "tile / boot cause / ticks since the reset",
+     "tile {s} booted its role again and reported, {a} ticks (ms) after its reset"},
+    {EventId::kTileRebooted, "tile_rebooted", Severity::kWarningHi, kStepDetect | kStepRecover, Diagnosis::kCoreCrashed, Accused::kSubject,
+     "tile / boot cause (3: crash or external)",
+     "tile {s} booted again {c|without a command (cause power-on)|after a reset command|without a command "
+     "(cause own watchdog)|without a command (cause crash or external reset)}: its role restarts"},
+    {EventId::kTileLost, "tile_lost", Severity::kFatal, kStepDetect, Diagnosis::kNone, Accused::kNobody,
+     "tile / 0 no boot report after its reset, 1 reset refused, the watcher (supervisor not reset), 0x100 "
+     "its switch declared failed: retired, roles to spares / ticks waited",
+     "tile {s} {c.b1|did not report back {a} ticks (ms) after its reset|cut off: its switch is declared "
+     "failed; retired, its roles go to spares|did not report back {a} ticks (ms) after its reset}"},
+    {EventId::kRoleMoved, "role_moved", Severity::kWarningHi, kStepIsolate, Diagnosis::kNone, Accused::kNobody,
+     "role slot (8: a vision tile replaced for wrong results) / retired tile / spare / directory version "
+     "(0 for a replaced vision tile)",
+     "{b|worker slot {s}: tile {c} switched off for wrong results, spare {a} takes its place|role slot "
+     "{s} moves from retired tile {c} to spare {a} (directory version {b})}"},
+    {EventId::kRoleRestored, "role_restored", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody,
+     "role slot / retired tile / spare / ticks since the move",
+     "role slot {s} runs again on tile {a} (was tile {c}), {b} ticks (ms) after the move"},
+    {EventId::kNoSpare, "no_spare", Severity::kFatal, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "role slot / tile",
+     "role slot {s} of tile {c} cannot move: no spare"},
+    {EventId::kSelfTestMismatch, "self_test_mismatch", Severity::kWarningHi, kStepDetect, Diagnosis::kWrongResult, Accused::kSubject,
+     "tile / round / disagreements in a row / to retire",
+     "tile {s} outvoted by two others in self-test round {c} ({a} in a row, retired at {b})"},
+    {EventId::kSelfTestAgree, "self_test_agree", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody,
+     "tile / round / disagreements before",
+     "tile {s} agrees again in self-test round {c}"},
+    {EventId::kSelfTestLate, "self_test_late", Severity::kWarningLo, kStepNone, Diagnosis::kSuspicion, Accused::kSubject,
+     "tile / round / wait ticks",
+     "tile {s} had not answered self-test round {c} after {a} ticks (voted if it answers before the next "
+     "round)"},
+    {EventId::kSupervisorSilent, "supervisor_silent", Severity::kWarningHi, kStepDetect, Diagnosis::kCoreSilent, Accused::kSubject,
+     "supervisor's tile / watcher / ticks since its last heartbeat / resets so far",
+     "no heartbeat from the supervisor's tile {s} for {a} ticks (ms): its watcher (tile {c}) takes it as "
+     "hung ({b} resets so far)"},
+    {EventId::kWatcherCutOff, "watcher_cut_off", Severity::kWarningLo, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "supervisor's tile / watcher / ticks since its last heartbeat (the watcher hears none of its "
+     "neighbours or transits: no reset)",
+     "no heartbeat from the supervisor's tile {s} for {a} ticks (ms), but its watcher (tile {c}) hears "
+     "none of its neighbours or transits: its own silence, no reset"},
+    {EventId::kFilterResumed, "filter_resumed", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody,
+     "checkpoint / - / samples to replay / last sample held",
+     "filter resumed from checkpoint {s} (IMU sample {b}), {a} samples to replay from the I/O record"},
+    {EventId::kCheckpointBad, "checkpoint_bad", Severity::kWarningHi, kStepDetect, Diagnosis::kMemoryUpset, Accused::kNobody,
+     "slot / - / bad slots",
+     "filter checkpoint slot {s} failed its checks: not used ({a} bad)"},
+    {EventId::kImuGap, "imu_gap", Severity::kWarningHi, kStepDetect, Diagnosis::kNone, Accused::kNobody,
+     "first missing sample / - / samples",
+     "{a} IMU samples from sample {s} neither received nor recorded"},
+    {EventId::kCommandTaken, "command_taken", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "code / sequence number / job",
+     "{c.top|telecommand {c} (code {s}) taken by the filter at job {a}|the filter supervisor's command "
+     "{c.rest} (code {s}: {s|simplex|TMR|simplex}) taken by the filter at job {a}}"},
+    {EventId::kFilterStateBad, "filter_state_bad", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kWrongResult, Accused::kWriter,
+     "job / check (1 not finite, 2 attitude norm, 3 speed, 4 range, 5 IMU bias, 6 position step, 7 "
+     "velocity step, 8 attitude step, 9 bias step) / value / limit (thousandths of the check's unit; the "
+     "attitude norm's distance from 1 in millionths)",
+     "the filter's state after job {s} {c|fails its {c@state_check} check ({a@state_value}, limit "
+     "{b@state_value})|is not finite|fails its {c@state_check} check ({a@state_value}, limit "
+     "{b@state_value})}: not delivered"},
+    {EventId::kFilterSettingsBad, "filter_settings_bad", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kMemoryUpset, Accused::kWriter,
+     "job / parts changed (1 configuration, 2 camera, 4 process noise) / 1 when built again / -",
+     "the filter's settings in RAM ({c&configuration|camera|process noise}) changed by the end of job "
+     "{s}: not delivered, {a|NOT built again|built again from the image}"},
+    {EventId::kTmrStarting, "tmr_starting", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "job / epoch",
+     "filter to TMR: replicas seeded with the state after job {s} (epoch {c})"},
+    {EventId::kTmrEstablished, "tmr_established", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "job / epoch / jobs since the command",
+     "TMR established at job {s}: three replicas agree with the filter ({a} jobs after the command); the "
+     "voter delivers"},
+    {EventId::kTmrSimplex, "tmr_simplex", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "job / 0 command, 2 not established in time, 3 the filter restarted",
+     "filter simplex again at job {s} ({c|command|TMR not established in time|TMR not established in "
+     "time|the filter restarted: TMR again once it has caught up|TMR not established in time})"},
+    {EventId::kTmrOutvoted, "tmr_outvoted", Severity::kWarningHi, kStepDetect, Diagnosis::kWrongResult, Accused::kSubject,
+     "replica's tile / job / replica / 1 different, 2 missing",
+     "replica {a} on tile {s} outvoted at job {c} ({b|no output|different output or state|no output})"},
+    {EventId::kTmrAgrees, "tmr_agrees", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody,
+     "replica's tile / job / replica / disagreements before",
+     "replica {a} on tile {s} agrees again at job {c}"},
+    {EventId::kTmrExcluded, "tmr_excluded", Severity::kWarningHi, kStepIsolate, Diagnosis::kNone, Accused::kNobody,
+     "replica's tile / job / replica / replicas voting",
+     "replica {a} on tile {s} excluded at job {c}: it re-synchronises ({b} voting)"},
+    {EventId::kTmrResynced, "tmr_resynced", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody,
+     "replica's tile / job / replica / replicas voting",
+     "replica {a} on tile {s} seeded with the voted state, votes again from job {c} ({b} voting)"},
+    {EventId::kTmrNoMajority, "tmr_no_majority", Severity::kFatal, kStepDetect, Diagnosis::kWrongResult, Accused::kReplicas,
+     "job / voting mask / different / missing | tile of replica i << 8 (i + 1)",
+     "no majority at job {s} (different {a:x}, missing {b.b0:x}; replicas on tiles {b.b1}, {b.b2}, "
+     "{b.b3}): nothing delivered"},
+    {EventId::kTmrVoterResumed, "tmr_voter_resumed", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody,
+     "job / epoch / next job delivered / records of the outage written",
+     "the voter restarted at job {s} goes on voting (epoch {c}): delivers from job {a}; records of its "
+     "outage written: {b}"},
+    {EventId::kAbftCorrected, "abft_corrected", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kWrongResult, Accused::kWriter,
+     "product site (1 F P, 2 (F P) F^T, 3 P H^T, 4 the gain, 5 K (P H^T)^T's upper triangle) / row << 16 "
+     "| column located (0xFFFF: not one; 0xFFFE: rows only checked) / bad rows << 16 | bad columns / "
+     "recomputations",
+     "product {s}: {c@abft_where}, right after {b} recomputation(s)"},
+    {EventId::kAbftFailed, "abft_failed", Severity::kWarningHi, kStepDetect, Diagnosis::kWrongResult, Accused::kWriter,
+     "product site / row << 16 | column located / bad rows << 16 | bad columns / recomputations, as abft_corrected",
+     "product {s}: {c@abft_where}, still wrong after {b} recomputation(s)"},
+    {EventId::kCorrelationCorrected, "correlation_corrected", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kWrongResult, Accused::kWriter,
+     "landmark / check that failed first (1 dot-product checksum, 2 surface digest, 3 peak score) / frame "
+     "/ recomputations",
+     "{s@landmark} at frame {a}: correlation wrong ({c|a score around its peak different when computed "
+     "again|its dot products off the integral image's checksum|its surface changed before the peak search "
+     "ended|a score around its peak different when computed again}), right after {b} recomputation(s)"},
+    {EventId::kCorrelationFailed, "correlation_failed", Severity::kWarningHi, kStepDetect, Diagnosis::kWrongResult, Accused::kWriter,
+     "landmark / check that failed first / frame / recomputations, as correlation_corrected; the match is rejected",
+     "{s@landmark} at frame {a}: correlation wrong ({c|a score around its peak different when computed "
+     "again|its dot products off the integral image's checksum|its surface changed before the peak search "
+     "ended|a score around its peak different when computed again}), still wrong, not matched after {b} "
+     "recomputation(s)"},
+    {EventId::kSupPolicy, "sup_policy", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "node (0 TRN, 1 vision, 2 filter) / constraint (0 reliability, 1 power, 2 capacity) / level / from "
+     "(a node, 256 the phase, 257 a telecommand, 258 its default)",
+     "{s@node} takes {c.b0@constraint} {a@level} from {b@from}"},
+    {EventId::kSupApply, "sup_apply", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "node / constraint | reason << 8 (0 policy, 1 the one before not met, 2 an escalation) / alternative "
+     "(1 hand down, 2 simplex, 3 TMR, 4 TMR from a fresh seed, 5 full rate, 6 half rate, 7 accept "
+     "simplex, 8 replicas powered, 9 replicas off) / level | child << 8",
+     "{s@node}: {a@alternative} for {c.b0@constraint} {b.b0@level} ({c.b1|the policy|the one before did "
+     "not meet it|escalation from {b.b1@node}|})"},
+    {EventId::kSupNotMet, "sup_not_met", Severity::kWarningHi, kStepDetect, Diagnosis::kNone, Accused::kNobody,
+     "node / constraint / alternative / level",
+     "{s@node}: {a@alternative} does not meet {c.b0@constraint} {b@level}"},
+    {EventId::kSupEscalated, "sup_escalated", Severity::kWarningLo, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "node / constraint / level / parent (255: the vehicle)",
+     "{s@node} has no way left to meet {c.b0@constraint} {a@level}: escalated to {b@node}"},
+    {EventId::kSupMet, "sup_met", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "node / constraint / alternative / level",
+     "{s@node} meets {c.b0@constraint} {b@level} ({a@alternative})"},
+    {EventId::kPhaseBegin, "phase_begin", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "phase / - / reliability / power",
+     "mission phase {s} begins: reliability {a|normal|high|?}, power {b|full|save|?}"},
+    {EventId::kTileParked, "tile_parked", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "tile / the tile that asked",
+     "tile {s} switched off by the power policy (asked by tile {c})"},
+    {EventId::kTileWoken, "tile_woken", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "tile / the tile that asked",
+     "tile {s} switched on by the power policy (asked by tile {c})"},
+    {EventId::kSafeMode, "safe_mode", Severity::kFatal, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "constraint / - / level",
+     "trn_supervisor cannot meet {s|reliability {a|normal|high|?}|power {a|full|save|?}|capacity {a|full "
+     "rate|half rate|?}|?}: safe mode reported to the vehicle"},
 }};
 
 namespace detail {
