@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # @file lint.sh
-# @brief The static-analysis gates: flight rules, clang-tidy (golden check list), cppcheck.
+# @brief The static-analysis gates: flight rules, the docs' names (doc_refs.py), clang-tidy (golden check list), cppcheck.
 #
 # Usage: lint.sh BIN_DIR SOURCE...   (BIN_DIR holds flight_rules and compile_commands.json;
 #        run from the repository root; SOURCE... are the files clang-tidy checks)
@@ -19,6 +19,10 @@ if ! "$bin/flight_rules" --tree .; then
 fi
 
 # 2. clang-tidy: first the check list must match the golden list.
+if ! python3 "$here/doc_refs.py" .; then
+  echo "lint: the docs name paths, make targets or options that do not exist (tools/lint/doc_refs.py)"; status=1
+fi
+
 golden="$here/clang_tidy_checks.golden"
 actual=$(clang-tidy --list-checks kernel/x.cpp -- 2>/dev/null | sed -n 's/^ \+//p' | LC_ALL=C sort)
 if ! diff -u "$golden" <(echo "$actual") >/dev/null; then
