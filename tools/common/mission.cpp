@@ -136,15 +136,8 @@ bool Mission::build(const MissionSetup& setup, std::string& error) {
 
 namespace {
 
-/** The supervisor tree's tiles and the scenario's phases, in mission ticks (1 ms). */
+/** The scenario's phases for the supervisor tree, in mission ticks (1 ms). */
 void configure_supervisors(const Scenario& s, trn::tasks::SupervisorsConfig& sup) {
-  sup.trn_tile = trn::tasks::kSupervisorTile;
-  sup.filter_sup_tile = trn::tasks::kFilterSupervisorTile;
-  sup.vision_sup_tile = trn::tasks::kVisionSupervisorTile;
-  sup.io_tile = trn::tasks::kIoTile;
-  sup.coordinator_tile = trn::tasks::kCoordinatorTile;
-  sup.replica_tiles = trn::tasks::kReplicaTiles;
-  sup.health_tile = trn::tasks::kSupervisorTile;
   sup.phase_count = 0U;
   for (const MissionPhase& p : s.phases) {
     if (sup.phase_count >= trn::tasks::kMaxPhases) {
@@ -278,8 +271,10 @@ bool Mission::boot(std::string& error) {
   if (!init_devices(error)) {
     return false;
   }
-  // Every role's configuration, given to the image in one step.
+  // Every role's configuration, given to the image in one step; the tiles the roles name come from
+  // the deployment's wiring (trn/tasks/tile_map.hpp, kWiring).
   trn::tasks::ImageConfig image{};
+  trn::tasks::wire_image(image);
   // The boot fault map every endpoint starts from, and the health tile the probes report to.
   udn::EndpointConfig& ep = image.endpoint;
   if (udn::fault_map_init(ep.boot_map, bsp::kTile64.cols, bsp::kTile64.rows) != udn::RouteError::kOk) {
@@ -294,21 +289,10 @@ bool Mission::boot(std::string& error) {
   // probes find them and the health task votes them out of the fault map.
   // A spare's switch routes but nothing runs there to forward a detour.
   ep.boot_map.no_forward = spares;
-  ep.report_to = trn::tasks::kSupervisorTile;
-  image.agent.supervisor = trn::tasks::kSupervisorTile;
-  // The I/O tile watches the supervisor's tile: it never moves (its devices are wired to it) and is
-  // watched by the supervisor in turn.
-  image.agent.watcher = trn::tasks::kIoTile;
   image.tile_health.watched = powered_;
   image.tile_health.spares = spares;
-  // The coordinator and the filter move to a spare when their tile is given
-  // up; the I/O tile is wired to the devices and is only reset.
-  image.tile_health.movable_slots = (1U << trn::tasks::kSlotCoordinator) | (1U << trn::tasks::kSlotFilter) |
-                                    (7U << trn::tasks::kSlotReplica0) | (1U << trn::tasks::kSlotFilterSupervisor) |
-                                    (1U << trn::tasks::kSlotVisionSupervisor);
-  for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
-    ep.roles.tile[slot] = trn::tasks::slot_boot_tile(slot);
-  }
+  // The roles that move to a spare when their tile is given up (trn/tasks/tile_map.hpp, kRoles).
+  image.tile_health.movable_slots = trn::tasks::movable_slots();
   ep.not_probed = spares;
   ep.sink = fdir::ft_event_sink();
   image.net_health.not_voted = spares;
@@ -327,10 +311,6 @@ bool Mission::boot(std::string& error) {
   for (bsp::TileId t = 0; t < trn::tasks::kMapTiles; ++t) {
     ep.transit_targets[t] = fdir::transit_targets(image.net_health.transits, t);
   }
-  image.io.filter_tile = trn::tasks::kFilterTile;
-  image.io.coordinator_tile = trn::tasks::kCoordinatorTile;
-  image.io.trn_supervisor = trn::tasks::kSupervisorTile;
-  image.io.filter_supervisor = trn::tasks::kFilterSupervisorTile;
   configure_supervisors(s, image.sup);
   trn::tasks::FilterTaskConfig& f = image.filter;
   f.filter.imu = imu_spec(s.imu);
@@ -339,21 +319,14 @@ bool Mission::boot(std::string& error) {
   f.filter.map_tie_sigma_m[2] = s.map_tie.vertical_m;
   f.camera = camera_.model();
   f.initial = initial_;
-  f.nav_sink = trn::tasks::kCoordinatorTile;
-  f.replica_tiles = trn::tasks::kReplicaTiles;
-  f.supervisor = trn::tasks::kFilterSupervisorTile;
   trn::tasks::VisionCoordConfig& c = image.coord;
   c.camera = camera_.model();
-  c.filter_tile = trn::tasks::kFilterTile;
-  c.health_tile = trn::tasks::kSupervisorTile;
-  c.supervisor = trn::tasks::kVisionSupervisorTile;
   c.select = setup_.select;
   // The coordinator learns of lost tiles by their silence; tiles left out on purpose are not in its list.
   trn::tasks::tile_map_vision_tiles(c, vision_exclude_mask(setup_.vision_tiles));
   trn::vision::sun_direction(s.camera.sun.azimuth_deg, s.camera.sun.elevation_deg, c.descent_sun_m);
   image.vision.camera = camera_.model();
   trn::vision::sun_direction(s.camera.sun.azimuth_deg, s.camera.sun.elevation_deg, image.vision.descent_sun_m);
-  image.vision.coordinator = trn::tasks::kCoordinatorTile;
   if (trn::tasks::configure_image(image) != trn::tasks::ImageError::kOk) {
     error = "the image configuration is not valid";
     return false;

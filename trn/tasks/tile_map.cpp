@@ -21,14 +21,10 @@ namespace {
 bool tile_ok(bsp::TileId t) noexcept { return t < kMapTiles || t == bsp::kNoTile; }
 
 ImageError check(const ImageConfig& c) noexcept {
-  if (!tile_ok(c.endpoint.report_to) || !tile_ok(c.io.filter_tile) || !tile_ok(c.io.coordinator_tile) ||
-      !tile_ok(c.filter.nav_sink) || !tile_ok(c.coord.filter_tile) || !tile_ok(c.vision.coordinator) ||
-      !tile_ok(c.agent.supervisor) || !tile_ok(c.agent.watcher) || !tile_ok(c.coord.health_tile) ||
-      !tile_ok(c.sup.trn_tile) || !tile_ok(c.sup.filter_sup_tile) || !tile_ok(c.sup.vision_sup_tile) ||
-      !tile_ok(c.sup.io_tile) || !tile_ok(c.sup.health_tile) || !tile_ok(c.sup.replica_tiles[0]) ||
-      !tile_ok(c.sup.replica_tiles[1]) || !tile_ok(c.sup.replica_tiles[2]) || !tile_ok(c.io.trn_supervisor) || !tile_ok(c.io.filter_supervisor) || !tile_ok(c.sup.coordinator_tile) || !tile_ok(c.filter.supervisor) ||
-      !tile_ok(c.coord.supervisor)) {
-    return ImageError::kBadTile;
+  for (const Wire& w : kWiring) {
+    if (!tile_ok(w.get(c))) {
+      return ImageError::kBadTile;
+    }
   }
   for (const bsp::TileId t : c.endpoint.roles.tile) {
     if (!tile_ok(t)) {
@@ -89,49 +85,17 @@ fdir::TransitError tile_map_transits(const udn::FaultMap& map, std::uint64_t pow
   return fdir::plan_transits(map, probers, subjects_out, plan);
 }
 
-const char* role_name(Role r) noexcept {
-  switch (r) {
-    case Role::kTrnSupervisor: return "trn_supervisor";
-    case Role::kVisionCoordinator: return "vision_coordinator";
-    case Role::kFilterSupervisor: return "filter_supervisor";
-    case Role::kIo: return "io";
-    case Role::kFilter: return "filter";
-    case Role::kFilterReplica: return "filter_replica";
-    case Role::kVision: return "vision";
-    case Role::kVisionSupervisor: return "vision_supervisor";
-    case Role::kSpare: break;
-  }
-  return "spare";
-}
+const char* role_name(Role r) noexcept { return role_decl(r).name; }
 
-char role_code(Role r) noexcept {
-  switch (r) {
-    case Role::kTrnSupervisor: return 'T';
-    case Role::kVisionCoordinator: return 'V';
-    case Role::kFilterSupervisor: return 'F';
-    case Role::kIo: return 'I';
-    case Role::kFilter: return 'N';
-    case Role::kFilterReplica: return 'R';
-    case Role::kVision: return 'v';
-    case Role::kVisionSupervisor: return 'S';
-    case Role::kSpare: break;
-  }
-  return '.';
-}
+char role_code(Role r) noexcept { return role_decl(r).code; }
 
-k::TaskTable role_table(Role r) noexcept {
-  switch (r) {
-    case Role::kIo: return kIoRole;
-    case Role::kFilter: return kFilterRole;
-    case Role::kFilterReplica: return kReplicaRole;
-    case Role::kVisionCoordinator: return kCoordinatorRole;
-    case Role::kVision: return kVisionRole;
-    case Role::kTrnSupervisor: return kSupervisorRole;
-    case Role::kFilterSupervisor: return kFilterSupervisorRole;
-    case Role::kVisionSupervisor: return kVisionSupervisorRole;
-    case Role::kSpare: break;
+void wire_image(ImageConfig& cfg) noexcept {
+  for (const Wire& w : kWiring) {
+    w.set(cfg) = boot_tile(w.to, w.index);
   }
-  return {};
+  for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
+    cfg.endpoint.roles.tile[slot] = slot_boot_tile(slot);
+  }
 }
 
 void tile_map_vision_tiles(VisionCoordConfig& cfg, std::uint64_t exclude_mask) noexcept {
@@ -145,32 +109,30 @@ void tile_map_vision_tiles(VisionCoordConfig& cfg, std::uint64_t exclude_mask) n
 }
 
 Role slot_role(std::uint32_t slot) noexcept {
-  switch (slot) {
-    case kSlotCoordinator: return Role::kVisionCoordinator;
-    case kSlotIo: return Role::kIo;
-    case kSlotFilter: return Role::kFilter;
-    case kSlotReplica0:
-    case kSlotReplica0 + 1U:
-    case kSlotReplica0 + 2U: return Role::kFilterReplica;
-    case kSlotVisionPool: return Role::kVision;
-    case kSlotFilterSupervisor: return Role::kFilterSupervisor;
-    case kSlotVisionSupervisor: return Role::kVisionSupervisor;
-    default: return Role::kSpare;
+  if (slot == kSlotVisionPool) {
+    return Role::kVision;
   }
+  if (slot == kNoSlot) {
+    return Role::kSpare;
+  }
+  for (const Placement& p : kPlacements) {
+    if (p.slot == slot) {
+      return p.role;
+    }
+  }
+  return Role::kSpare;
 }
 
 bsp::TileId slot_boot_tile(std::uint32_t slot) noexcept {
-  switch (slot) {
-    case kSlotCoordinator: return kCoordinatorTile;
-    case kSlotIo: return kIoTile;
-    case kSlotFilter: return kFilterTile;
-    case kSlotReplica0: return kReplicaTiles[0];
-    case kSlotReplica0 + 1U: return kReplicaTiles[1];
-    case kSlotReplica0 + 2U: return kReplicaTiles[2];
-    case kSlotFilterSupervisor: return kFilterSupervisorTile;
-    case kSlotVisionSupervisor: return kVisionSupervisorTile;
-    default: return bsp::kNoTile;
+  if (slot == kNoSlot) {
+    return bsp::kNoTile;
   }
+  for (const Placement& p : kPlacements) {
+    if (p.slot == slot) {
+      return p.tile;
+    }
+  }
+  return bsp::kNoTile;
 }
 
 bsp::TileId slot_tile_now(std::uint32_t slot) noexcept {

@@ -2,9 +2,14 @@
  * @file tile_map.hpp
  * @brief The mission's tile map: which role, and so which task table, each of the 64 tiles runs.
  *
- * One static table (kTileRoles) is the single source: the image powers the
- * tiles whose role is not a spare, registers each role's task table, and
- * configures every role in one step before boot (configure_image). Default 8x8 layout (tile = row * 8 + col):
+ * The deployment is declared once, in three tables: kRoles (each role's
+ * names, task table, and whether it moves to a spare), kPlacements (where each
+ * role instance boots, and its directory slot: the tile map kTileRoles and the
+ * named tiles follow from it) and kWiring (every tile a role's configuration
+ * names, and whose it is: wire_image() fills them, configure_image() checks
+ * them). The image powers the tiles whose role is not a spare, registers each
+ * role's task table, and configures every role in one step before boot
+ * (configure_image). Default 8x8 layout (tile = row * 8 + col):
  *
  *   row 0:  T  V  .  .  .  .  F  S     T TRN supervisor, V vision coordinator,
  *   row 1:  .  I  .  .  .  .  .  .     F filter supervisor, S vision supervisor,
@@ -37,6 +42,7 @@
 
 #include <array>
 #include <cstdint>
+#include <type_traits>
 
 namespace trn::tasks {
 
@@ -59,39 +65,89 @@ const char* role_name(Role r) noexcept;
 /** One-letter codes of the diagram above. */
 char role_code(Role r) noexcept;
 
+/** No directory slot: senders name the role's tile, and the role does not move. */
+inline constexpr std::uint32_t kNoSlot = 0xFFFF'FFFFU;
+
+/** Where one role (or one of a role's instances) boots, and its directory slot. */
+struct Placement {
+  Role role;
+  std::uint32_t slot;  ///< its role-directory slot (kNoSlot: senders name its tile, it does not move)
+  bsp::TileId tile;
+};
+
+/**
+ * The deployment's tiles, one row per role instance; every other tile of rows
+ * 3-7 (kVisionFirstTile..) is a vision tile, the rest are spares.
+ */
+inline constexpr std::array<Placement, 9> kPlacements{{
+    {Role::kTrnSupervisor, kNoSlot, 0},
+    {Role::kVisionCoordinator, kSlotCoordinator, 1},
+    {Role::kFilterSupervisor, kSlotFilterSupervisor, 6},
+    {Role::kVisionSupervisor, kSlotVisionSupervisor, 7},
+    {Role::kIo, kSlotIo, 9},
+    {Role::kFilter, kSlotFilter, 18},
+    {Role::kFilterReplica, kSlotReplica0, 19},
+    {Role::kFilterReplica, kSlotReplica0 + 1U, 20},
+    {Role::kFilterReplica, kSlotReplica0 + 2U, 21},
+}};
+/** The vision tiles: every tile from here to the last (rows 3-7). */
+inline constexpr bsp::TileId kVisionFirstTile = 24;
+
+/** The tile of the @p index-th instance of role @p r in kPlacements; kNoTile if it has none. */
+constexpr bsp::TileId boot_tile(Role r, std::uint32_t index = 0U) noexcept {
+  std::uint32_t seen = 0U;
+  for (const Placement& p : kPlacements) {
+    if (p.role == r && seen++ == index) {
+      return p.tile;
+    }
+  }
+  return bsp::kNoTile;
+}
+
 namespace detail {
 constexpr std::array<Role, kMapTiles> make_roles() noexcept {
   std::array<Role, kMapTiles> r{};
   for (Role& x : r) {
     x = Role::kSpare;
   }
-  r[0] = Role::kTrnSupervisor;
-  r[1] = Role::kVisionCoordinator;
-  r[6] = Role::kFilterSupervisor;
-  r[7] = Role::kVisionSupervisor;
-  r[9] = Role::kIo;
-  r[18] = Role::kFilter;
-  r[21] = Role::kFilterReplica;
-  r[19] = Role::kFilterReplica;
-  r[20] = Role::kFilterReplica;
-  for (std::uint32_t t = 24; t < kMapTiles; ++t) {
+  for (std::uint32_t t = kVisionFirstTile; t < kMapTiles; ++t) {
     r[t] = Role::kVision;
+  }
+  for (const Placement& p : kPlacements) {
+    r[p.tile] = p.role;
   }
   return r;
 }
+constexpr bool placements_ok() noexcept {
+  for (std::size_t i = 0; i < kPlacements.size(); ++i) {
+    if (kPlacements[i].tile >= kVisionFirstTile) {
+      return false;
+    }
+    for (std::size_t j = i + 1U; j < kPlacements.size(); ++j) {
+      if (kPlacements[i].tile == kPlacements[j].tile ||
+          (kPlacements[i].slot == kPlacements[j].slot && kPlacements[i].slot != kNoSlot)) {
+        return false;
+      }
+    }
+  }
+  return true;
+}
 }  // namespace detail
+static_assert(detail::placements_ok(), "each tile and each directory slot placed once, below the vision tiles");
 
 /** The default tile map. */
 inline constexpr std::array<Role, kMapTiles> kTileRoles = detail::make_roles();
 
-constexpr bsp::TileId kSupervisorTile = 0;
-constexpr bsp::TileId kCoordinatorTile = 1;
-constexpr bsp::TileId kIoTile = 9;
-constexpr bsp::TileId kFilterTile = 18;
-constexpr bsp::TileId kFilterSupervisorTile = 6;
-constexpr bsp::TileId kVisionSupervisorTile = 7;
+constexpr bsp::TileId kSupervisorTile = boot_tile(Role::kTrnSupervisor);
+constexpr bsp::TileId kCoordinatorTile = boot_tile(Role::kVisionCoordinator);
+constexpr bsp::TileId kIoTile = boot_tile(Role::kIo);
+constexpr bsp::TileId kFilterTile = boot_tile(Role::kFilter);
+constexpr bsp::TileId kFilterSupervisorTile = boot_tile(Role::kFilterSupervisor);
+constexpr bsp::TileId kVisionSupervisorTile = boot_tile(Role::kVisionSupervisor);
 /** The filter's TMR replicas, by replica index (role slots kSlotReplica0 + i). */
-constexpr std::array<bsp::TileId, 3> kReplicaTiles{19, 20, 21};
+constexpr std::array<bsp::TileId, 3> kReplicaTiles{boot_tile(Role::kFilterReplica, 0U),
+                                                   boot_tile(Role::kFilterReplica, 1U),
+                                                   boot_tile(Role::kFilterReplica, 2U)};
 
 constexpr std::uint32_t count_role(Role r) noexcept {
   std::uint32_t n = 0;
@@ -101,13 +157,7 @@ constexpr std::uint32_t count_role(Role r) noexcept {
   return n;
 }
 static_assert(count_role(Role::kVision) == 40, "40 vision tiles");
-static_assert(kTileRoles[kReplicaTiles[0]] == Role::kFilterReplica && kTileRoles[kReplicaTiles[1]] == Role::kFilterReplica &&
-                  kTileRoles[kReplicaTiles[2]] == Role::kFilterReplica,
-              "replica tiles match the map");
-static_assert(kTileRoles[kCoordinatorTile] == Role::kVisionCoordinator && kTileRoles[kIoTile] == Role::kIo &&
-                  kTileRoles[kFilterTile] == Role::kFilter && kTileRoles[kFilterSupervisorTile] == Role::kFilterSupervisor &&
-                  kTileRoles[kVisionSupervisorTile] == Role::kVisionSupervisor,
-              "named tiles match the map");
+static_assert(count_role(Role::kFilterReplica) == 3, "three replicas");
 
 /** Everything the image's tasks are configured with: one value, given before boot. */
 struct ImageConfig {
@@ -251,8 +301,139 @@ static_assert(k::check_table(kVisionRole) == k::TableError::kOk);
 static_assert(k::check_table(kFilterSupervisorRole) == k::TableError::kOk);
 static_assert(k::check_table(kVisionSupervisorRole) == k::TableError::kOk);
 
-/** Task table of role @p r (empty for spares and roles without tasks yet). */
-k::TaskTable role_table(Role r) noexcept;
+/** One role: its names, its task table and whether it moves to a spare. */
+struct RoleDecl {
+  Role role;
+  const char* name;    ///< for displays and outputs
+  char code;           ///< the diagram's letter
+  k::TaskTable table;  ///< empty: nothing runs there (a spare)
+  /**
+   * Moves to a spare (its directory slot then names the spare) when its tile
+   * is given up. The I/O tile is wired to the devices and is only reset; the
+   * TRN supervisor has no slot; a vision tile is replaced by the coordinator's
+   * pool, not moved.
+   */
+  bool movable;
+};
+
+/** Every role once, in the order of the enum. */
+inline constexpr std::array<RoleDecl, 9> kRoles{{
+    {Role::kSpare, "spare", '.', {}, false},
+    {Role::kTrnSupervisor, "trn_supervisor", 'T', kSupervisorRole, false},
+    {Role::kVisionCoordinator, "vision_coordinator", 'V', kCoordinatorRole, true},
+    {Role::kFilterSupervisor, "filter_supervisor", 'F', kFilterSupervisorRole, true},
+    {Role::kIo, "io", 'I', kIoRole, false},
+    {Role::kFilter, "filter", 'N', kFilterRole, true},
+    {Role::kVision, "vision", 'v', kVisionRole, false},
+    {Role::kFilterReplica, "filter_replica", 'R', kReplicaRole, true},
+    {Role::kVisionSupervisor, "vision_supervisor", 'S', kVisionSupervisorRole, true},
+}};
+
+namespace detail {
+constexpr bool roles_in_order() noexcept {
+  for (std::size_t i = 0; i < kRoles.size(); ++i) {
+    if (static_cast<std::size_t>(kRoles[i].role) != i) {
+      return false;
+    }
+  }
+  return true;
+}
+}  // namespace detail
+static_assert(detail::roles_in_order(), "kRoles[r] declares role r");
+
+/** The declaration of role @p r. */
+constexpr const RoleDecl& role_decl(Role r) noexcept {
+  const auto i = static_cast<std::size_t>(r);
+  return kRoles[i < kRoles.size() ? i : 0U];
+}
+
+/** Directory slots whose role moves to a spare (bit per slot): the tile-health supervisor's movable_slots. */
+constexpr std::uint32_t movable_slots() noexcept {
+  std::uint32_t m = 0U;
+  for (const Placement& p : kPlacements) {
+    m |= role_decl(p.role).movable && p.slot != kNoSlot ? (1U << p.slot) : 0U;
+  }
+  return m;
+}
+
+/** Task table of role @p r (empty for spares). */
+constexpr k::TaskTable role_table(Role r) noexcept { return role_decl(r).table; }
+
+/**
+ * A tile one role's configuration names: the field (its name for errors and
+ * docs) and the role instance whose boot tile it is. kWiring lists them all;
+ * wire_image() fills them and configure_image() checks them from that list.
+ */
+struct Wire {
+  const char* field;
+  Role to;
+  std::uint32_t index;  ///< which of the role's instances (a replica's index)
+  bsp::TileId& (*set)(ImageConfig&) noexcept;
+  bsp::TileId (*get)(const ImageConfig&) noexcept;
+};
+
+namespace detail {
+template <std::size_t I, class T>
+constexpr auto& tile_element(T& v) noexcept {
+  if constexpr (std::is_same_v<std::remove_const_t<T>, bsp::TileId>) {
+    return v;
+  } else {
+    return v[I];
+  }
+}
+template <auto Part, auto Field, std::size_t I>
+struct TileField {
+  static bsp::TileId& set(ImageConfig& c) noexcept { return tile_element<I>((c.*Part).*Field); }
+  static bsp::TileId get(const ImageConfig& c) noexcept { return tile_element<I>((c.*Part).*Field); }
+};
+}  // namespace detail
+
+/** The wire of field @p Field of the part @p Part of the image's configuration (element @p I of an array). */
+template <auto Part, auto Field, std::size_t I = 0U>
+constexpr Wire wire(const char* field, Role to) noexcept {
+  // The pointers are to static member functions, which live as long as the program.
+  // cppcheck-suppress returnDanglingLifetime
+  return {field, to, static_cast<std::uint32_t>(I), &detail::TileField<Part, Field, I>::set,
+          &detail::TileField<Part, Field, I>::get};
+}
+
+/** Every tile a role's configuration names, and whose it is. */
+inline constexpr std::array<Wire, 25> kWiring{{
+    // Suspect reports, boot reports and watchdog interrupts go to the tile-health supervisor.
+    wire<&ImageConfig::endpoint, &udn::EndpointConfig::report_to>("endpoint.report_to", Role::kTrnSupervisor),
+    wire<&ImageConfig::agent, &fdir::HealthAgentConfig::supervisor>("agent.supervisor", Role::kTrnSupervisor),
+    // The I/O tile watches the supervisor's tile: it never moves (its devices are wired to it) and is
+    // watched by the supervisor in turn.
+    wire<&ImageConfig::agent, &fdir::HealthAgentConfig::watcher>("agent.watcher", Role::kIo),
+    wire<&ImageConfig::io, &IoTaskConfig::filter_tile>("io.filter_tile", Role::kFilter),
+    wire<&ImageConfig::io, &IoTaskConfig::coordinator_tile>("io.coordinator_tile", Role::kVisionCoordinator),
+    wire<&ImageConfig::io, &IoTaskConfig::trn_supervisor>("io.trn_supervisor", Role::kTrnSupervisor),
+    wire<&ImageConfig::io, &IoTaskConfig::filter_supervisor>("io.filter_supervisor", Role::kFilterSupervisor),
+    wire<&ImageConfig::sup, &SupervisorsConfig::trn_tile>("sup.trn_tile", Role::kTrnSupervisor),
+    wire<&ImageConfig::sup, &SupervisorsConfig::filter_sup_tile>("sup.filter_sup_tile", Role::kFilterSupervisor),
+    wire<&ImageConfig::sup, &SupervisorsConfig::vision_sup_tile>("sup.vision_sup_tile", Role::kVisionSupervisor),
+    wire<&ImageConfig::sup, &SupervisorsConfig::io_tile>("sup.io_tile", Role::kIo),
+    wire<&ImageConfig::sup, &SupervisorsConfig::coordinator_tile>("sup.coordinator_tile", Role::kVisionCoordinator),
+    wire<&ImageConfig::sup, &SupervisorsConfig::replica_tiles, 0U>("sup.replica_tiles[0]", Role::kFilterReplica),
+    wire<&ImageConfig::sup, &SupervisorsConfig::replica_tiles, 1U>("sup.replica_tiles[1]", Role::kFilterReplica),
+    wire<&ImageConfig::sup, &SupervisorsConfig::replica_tiles, 2U>("sup.replica_tiles[2]", Role::kFilterReplica),
+    wire<&ImageConfig::sup, &SupervisorsConfig::health_tile>("sup.health_tile", Role::kTrnSupervisor),
+    wire<&ImageConfig::filter, &FilterTaskConfig::nav_sink>("filter.nav_sink", Role::kVisionCoordinator),
+    wire<&ImageConfig::filter, &FilterTaskConfig::replica_tiles, 0U>("filter.replica_tiles[0]", Role::kFilterReplica),
+    wire<&ImageConfig::filter, &FilterTaskConfig::replica_tiles, 1U>("filter.replica_tiles[1]", Role::kFilterReplica),
+    wire<&ImageConfig::filter, &FilterTaskConfig::replica_tiles, 2U>("filter.replica_tiles[2]", Role::kFilterReplica),
+    wire<&ImageConfig::filter, &FilterTaskConfig::supervisor>("filter.supervisor", Role::kFilterSupervisor),
+    wire<&ImageConfig::coord, &VisionCoordConfig::filter_tile>("coord.filter_tile", Role::kFilter),
+    wire<&ImageConfig::coord, &VisionCoordConfig::health_tile>("coord.health_tile", Role::kTrnSupervisor),
+    wire<&ImageConfig::coord, &VisionCoordConfig::supervisor>("coord.supervisor", Role::kVisionSupervisor),
+    wire<&ImageConfig::vision, &VisionWorkerConfig::coordinator>("vision.coordinator", Role::kVisionCoordinator),
+}};
+
+/**
+ * Fills every tile of @p cfg that kWiring names with its role's boot tile, and
+ * the role directory's slots with their boot tiles. [host, before boot]
+ */
+void wire_image(ImageConfig& cfg) noexcept;
 
 /** The role behind a role slot of the directory (kSlotFilter -> kFilter, ...); kSpare for none. */
 Role slot_role(std::uint32_t slot) noexcept;

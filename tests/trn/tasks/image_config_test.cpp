@@ -158,4 +158,58 @@ TEST(ImageConfig, TransitPlanOnTheTileMapVotesOnEverySubject) {
   }
 }
 
+// The deployment declared once: every tile a role's configuration names is filled from the wiring
+// table with its role's boot tile, and checked from the same table.
+TEST(Deployment, WiringFillsEveryTileARoleNamesWithThatRolesBootTile) {
+  ImageConfig c{};
+  trn::tasks::wire_image(c);
+  for (const trn::tasks::Wire& w : trn::tasks::kWiring) {
+    EXPECT_EQ(w.get(c), trn::tasks::boot_tile(w.to, w.index)) << w.field;
+    EXPECT_NE(w.get(c), bsp::kNoTile) << w.field << ": every wired role is placed";
+  }
+  EXPECT_EQ(c.io.filter_tile, 18U);
+  EXPECT_EQ(c.agent.watcher, trn::tasks::kIoTile) << "the I/O tile watches the supervisor";
+  EXPECT_EQ(c.filter.replica_tiles, trn::tasks::kReplicaTiles);
+  EXPECT_EQ(c.sup.replica_tiles, trn::tasks::kReplicaTiles);
+  for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
+    EXPECT_EQ(c.endpoint.roles.tile[slot], trn::tasks::slot_boot_tile(slot)) << "slot " << slot;
+  }
+  trn::tasks::tile_map_vision_tiles(c.coord, 0);
+  EXPECT_EQ(configure_image(c), ImageError::kOk);
+}
+
+TEST(Deployment, EveryWiredTileOffTheChipIsRefused) {
+  for (const trn::tasks::Wire& w : trn::tasks::kWiring) {
+    ImageConfig c{};
+    trn::tasks::wire_image(c);
+    trn::tasks::tile_map_vision_tiles(c.coord, 0);
+    w.set(c) = 64U;
+    EXPECT_EQ(configure_image(c), ImageError::kBadTile) << w.field;
+  }
+}
+
+TEST(Deployment, PlacementsRolesAndSlotsAgree) {
+  using trn::tasks::Role;
+  for (const trn::tasks::Placement& p : trn::tasks::kPlacements) {
+    EXPECT_EQ(trn::tasks::kTileRoles[p.tile], p.role);
+    if (p.slot != trn::tasks::kNoSlot) {
+      EXPECT_EQ(trn::tasks::slot_role(p.slot), p.role);
+      EXPECT_EQ(trn::tasks::slot_boot_tile(p.slot), p.tile);
+    }
+  }
+  EXPECT_EQ(trn::tasks::slot_boot_tile(trn::tasks::kNoSlot), bsp::kNoTile);
+  EXPECT_EQ(trn::tasks::slot_role(trn::tasks::kNoSlot), Role::kSpare);
+  EXPECT_EQ(trn::tasks::slot_role(trn::tasks::kSlotVisionPool), Role::kVision);
+  // The coordinator, the filter, its replicas and the two application supervisors move; the I/O
+  // tile (wired to the devices) and the TRN supervisor (no slot) do not.
+  EXPECT_EQ(trn::tasks::movable_slots(), (1U << trn::tasks::kSlotCoordinator) | (1U << trn::tasks::kSlotFilter) |
+                                             (7U << trn::tasks::kSlotReplica0) |
+                                             (1U << trn::tasks::kSlotFilterSupervisor) |
+                                             (1U << trn::tasks::kSlotVisionSupervisor));
+  EXPECT_STREQ(trn::tasks::role_name(Role::kFilterReplica), "filter_replica");
+  EXPECT_EQ(trn::tasks::role_code(Role::kVision), 'v');
+  EXPECT_TRUE(trn::tasks::role_table(Role::kSpare).empty());
+  EXPECT_EQ(trn::tasks::role_table(Role::kIo).data(), trn::tasks::kIoRole);
+}
+
 }  // namespace
