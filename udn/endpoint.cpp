@@ -17,15 +17,6 @@ namespace {
 /** Suspect reports waiting to be sent. */
 constexpr std::uint32_t kPendingReports = 4U;
 
-/**
- * Probe rounds between two sendings of a suspicion or a lost transit that
- * still holds. The health tile's votes live in its RAM: a reset of that tile
- * (its watchdog, its watcher) starts them afresh, and a report sent once
- * before it would never count again. The health tile takes a repeated report
- * as nothing new.
- */
-constexpr std::uint32_t kReReportRounds = 20U;
-
 /** One transit probe of this tile: a straight ping to a distant tile across switches nobody else probes. */
 struct TransitProbe {
   bsp::TileId target;

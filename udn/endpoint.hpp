@@ -160,10 +160,19 @@ bool endpoint_set_parked(std::uint64_t parked, std::uint32_t serial) noexcept;
 /** Service task entry (arg: const EndpointConfig*): opens the node, then serves it every tick. */
 void endpoint_task_main(void* arg) noexcept;
 
-/** The service task's table entry for @p cfg (priority 0, period 1, preemptive). */
 /** The service's check-in budget with the tile's health agent (it checks in every tick). */
 inline constexpr std::uint32_t kCommWatchTicks = 20U;
 
+/**
+ * Probe rounds between two sendings of a suspicion or a lost transit that
+ * still holds. The health tile's votes live in its RAM: a reset of that tile
+ * (its watchdog, its watcher) starts them afresh, and a report sent once
+ * before it would never count again. The health tile takes a repeated report
+ * as nothing new.
+ */
+inline constexpr std::uint32_t kReReportRounds = 20U;
+
+/** The service task's table entry for @p cfg (priority 0, period 1, preemptive). */
 constexpr k::TaskSpec endpoint_task_spec(EndpointConfig* cfg) noexcept {
   return k::TaskSpec{"comm", &endpoint_task_main, cfg, 0, 1, 0, 16U * 1024U, k::Policy::kPreemptive, kCommWatchTicks};
 }

@@ -122,9 +122,6 @@ AnswerWord split_answer(std::uint32_t w) noexcept {
                     static_cast<std::uint8_t>(w >> 24U)};
 }
 
-/** Largest round trip the estimator takes, ticks (a sample beyond it counts as this). */
-constexpr std::uint32_t kMaxRttTicks = 1000U;
-
 /** One round-trip sample @p rtt (ticks) to @p dest into its smoothed estimate (RFC 6298, integer). */
 void sample_rtt(FtNode& n, bsp::TileId dest, std::uint32_t rtt) noexcept {
   const std::uint32_t r = rtt < kMaxRttTicks ? rtt : kMaxRttTicks;

@@ -98,6 +98,8 @@ inline constexpr std::uint32_t kFtChanMap = kFtChannels + 1U;   ///< system: fau
 inline constexpr std::uint32_t kFtChanHealth = kFtChannels + 2U;  ///< system: boot reports to the tile-health supervisor
 inline constexpr std::uint32_t kFtAllChannels = kFtChannels + 3U;  ///< application and system channels
 inline constexpr std::uint32_t kFtControlChannel = 0xFFU;
+/** Largest round trip the estimator takes, ticks (a sample beyond it counts as this). */
+inline constexpr std::uint32_t kMaxRttTicks = 1000U;
 inline constexpr std::uint32_t kFtWindow = 8U;    ///< unacknowledged packets per destination
 inline constexpr std::uint32_t kFtTxSlots = 16U;  ///< retransmit buffers per tile
 inline constexpr std::uint32_t kFtRxDepth = 8U;   ///< messages per channel receive queue

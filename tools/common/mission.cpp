@@ -327,8 +327,9 @@ bool Mission::boot(std::string& error) {
   trn::vision::sun_direction(s.camera.sun.azimuth_deg, s.camera.sun.elevation_deg, c.descent_sun_m);
   image.vision.camera = camera_.model();
   trn::vision::sun_direction(s.camera.sun.azimuth_deg, s.camera.sun.elevation_deg, image.vision.descent_sun_m);
-  if (trn::tasks::configure_image(image) != trn::tasks::ImageError::kOk) {
-    error = "the image configuration is not valid";
+  const char* wrong = nullptr;
+  if (trn::tasks::configure_image(image, &wrong) != trn::tasks::ImageError::kOk) {
+    error = std::string("the image configuration is not valid: ") + (wrong != nullptr ? wrong : "?");
     return false;
   }
   bsp::DeviceBusConfig bus;

@@ -29,6 +29,7 @@
 #include "tools/common/fault_account.hpp"
 #include "tools/common/fault_plan.hpp"
 #include "tools/common/fdir_join.hpp"
+#include "tools/common/fdir_params_doc.hpp"
 #include "tools/common/memory_report.hpp"
 #include "tools/common/mission.hpp"
 #include "tools/common/nav_integrity.hpp"
@@ -777,6 +778,9 @@ int run(int argc, char** argv) {
                  "summary.json of the fault-free flight of the same scenario, seed and duration: faults not detected "
                  "count as without effect when the delivered stream is that flight's bit for bit")
       ->check(CLI::ExistingFile);
+  bool fdir_params = false;
+  app.add_flag("--fdir-params", fdir_params,
+               "Print the FDIR parameter table (docs/FDIR.md, \"Parameters\") as Markdown rows and exit");
   app.add_option("--trace-dump", o.trace_dump,
                  "Write every trace event of the run to this file (compare two runs with trn_trace diff)");
   try {
@@ -784,6 +788,10 @@ int run(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     const int rc = app.exit(e);
     return rc == 0 ? 0 : 2;
+  }
+  if (fdir_params) {
+    std::fputs(tools::fdir_params_markdown().c_str(), stdout);
+    return 0;
   }
   if (seed_opt->count() > 0U) {
     o.seed = seed;

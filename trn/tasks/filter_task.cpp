@@ -35,8 +35,6 @@ enum class Mode : std::uint8_t {
 
 /** Outputs kept per replica (and the front's own while starting), by job. */
 constexpr std::uint32_t kOutRing = 8U;
-/** Jobs a switch to TMR may take before it is given up. */
-constexpr std::uint32_t kStartJobs = 100U;
 /**
  * Job j takes the IMU samples up to seq j - kImuLagJobs: sample s is read at
  * (s + 1) x 10 ms, so the newest one a job takes was read a whole period before
@@ -614,7 +612,7 @@ void start_tmr(Slot& slot) noexcept {
   bsp::Work work{};
   tmr_write_seed(*slot.tmr, slot.core, slot.job, fdir::kTmrAllReplicas, work);
   bsp::consume(work);
-  (void)slot.group.configure(fdir::TmrGroupConfig{});
+  (void)slot.group.configure(slot.cfg->tmr);
   slot.mode = Mode::kStarting;
   slot.start_job = slot.job;
   slot.hello_mask = 0U;
@@ -828,7 +826,7 @@ bool rejoin(Slot& slot, std::uint32_t job) noexcept {
   slot.cmd = f.cmd;
   slot.last_winner = f.last_winner;
   slot.no_majority_mask = 0U;
-  (void)slot.group.configure(fdir::TmrGroupConfig{});
+  (void)slot.group.configure(slot.cfg->tmr);
   for (std::uint32_t i = 0; i < kReplicas; ++i) {
     if ((f.active_mask & (1U << i)) != 0U) {
       slot.group.admit(i);

@@ -51,6 +51,7 @@
 
 #include "bsp_tile64/devices/camera_model.hpp"
 #include "bsp_tile64/port.hpp"
+#include "fdir/tmr.hpp"
 #include "trn/filter/ekf.hpp"
 #include "trn/filter/filter_config.hpp"
 #include "trn/filter/nav_output.hpp"
@@ -83,6 +84,8 @@ inline constexpr std::uint32_t kAssertFilterStateRefused = 0x0605;
 inline constexpr std::uint32_t kAssertFilterSettingsChanged = 0x0606;
 /** Jobs between two checkpoints by default (100 ms). */
 inline constexpr std::uint32_t kDefaultCheckpointEvery = 10;
+/** Jobs a switch to TMR may take before it is given up. */
+inline constexpr std::uint32_t kStartJobs = 100U;
 
 struct FilterTaskConfig {
   filter::FilterConfig filter{};
@@ -95,6 +98,8 @@ struct FilterTaskConfig {
   std::array<bsp::TileId, 3> replica_tiles{bsp::kNoTile, bsp::kNoTile, bsp::kNoTile};
   /** Boot tile of the filter supervisor (slot kSlotFilterSupervisor), sent a status every kFilterStatusJobs jobs (kNoTile: none). */
   bsp::TileId supervisor = bsp::kNoTile;
+  /** When the voter excludes a replica (disagreements or missed jobs in a row). */
+  fdir::TmrGroupConfig tmr{};
   /** What a plausible state is, checked after every simplex job (trn/filter/state_check.hpp). */
   filter::StateEnvelope envelope{};
 };

@@ -23,14 +23,10 @@ IoTaskStats g_stats{};
 
 void device_isr(bsp::TileId /*tile*/) noexcept { (void)g_device_ready.give_from_isr(); }
 
-/** A sample that cannot be sent within this many ticks is counted and dropped. */
-constexpr std::uint32_t kSendTicks = 5;
 /** Samples forwarded per wake-up at most (the FIFO depth). */
 constexpr std::uint32_t kMaxPerWake = bsp::kImuFifoDepth;
-/** Longest wait for a device interrupt between two check-ins with the health agent. */
-constexpr std::uint32_t kIdleCheckinTicks = 20;
-/** Ticks a frame notice may wait for the network. */
-constexpr std::uint32_t kNoticeTicks = 20;
+/** A sample that cannot be sent within this many ticks is counted and dropped. */
+constexpr std::uint32_t kSendTicks = kControlSendTicks;
 
 void forward_frames(const IoTaskConfig& cfg) noexcept {
   bsp::FrameRecord f{};

@@ -10,6 +10,11 @@
 
 namespace trn::tasks {
 
+/** Longest wait for a device interrupt between two check-ins with the health agent (ticks). */
+inline constexpr std::uint32_t kIdleCheckinTicks = 20U;
+/** Ticks a frame notice may wait for the network. */
+inline constexpr std::uint32_t kNoticeTicks = 20U;
+
 struct IoTaskConfig {
   bsp::TileId filter_tile = bsp::kNoTile;
   bsp::TileId coordinator_tile = bsp::kNoTile;  ///< frame notices go here (kNoTile: frames are not forwarded)

@@ -207,6 +207,17 @@ inline constexpr std::uint32_t kMatchHeaderWords = 5;
 /** The filter's period in kernel ticks: its job j is released at tick j x kFilterPeriodTicks. */
 inline constexpr std::uint32_t kFilterPeriodTicks = 10U;
 /**
+ * Mission ticks per second: the kernel tick is 1 ms (the board's default),
+ * and every period, wait and time in ticks of the tasks assumes it.
+ */
+inline constexpr std::uint32_t kTicksPerSecond = 1000U;
+/**
+ * Ticks an IMU sample of the I/O tile or a supervisor's message may wait for
+ * the network before it is dropped (a sample is counted, a policy sent again
+ * at the next refresh).
+ */
+inline constexpr std::uint32_t kControlSendTicks = 5U;
+/**
  * The filter job whose record takes a frame's batch, counted from the job of
  * its capture: after the 20 ms readout, the frame's processing (fine frames
  * 40-85 ms; a frame with the coarse stage 174-228 ms on seeds 1-200, the

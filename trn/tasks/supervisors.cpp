@@ -19,12 +19,10 @@ constexpr auto kRel = static_cast<std::uint8_t>(fdir::Constraint::kReliability);
 constexpr auto kPow = static_cast<std::uint8_t>(fdir::Constraint::kPower);
 constexpr auto kCap = static_cast<std::uint8_t>(fdir::Constraint::kCapacity);
 
-/** Ticks between two passes of a supervisor's loop. */
-constexpr std::uint32_t kSupPeriodTicks = 10U;
 /** Messages taken per pass at most. */
 constexpr std::uint32_t kDrainPerPass = 16U;
 /** Ticks a message to another node may wait for the network. */
-constexpr std::uint32_t kSendTicks = 5U;
+constexpr std::uint32_t kSendTicks = kControlSendTicks;
 
 fdir::AlternativeList alts(std::uint8_t a, std::uint8_t b = 0U) noexcept {
   fdir::AlternativeList l{};
@@ -52,8 +50,6 @@ fdir::SupervisorSpec make_trn() noexcept {
   return s;
 }
 
-/** Status reports (100 ms apart) ignored after a command: TMR takes 3 jobs to establish, a stop 2. */
-constexpr std::uint32_t kFilterSettle = 3U;
 
 fdir::SupervisorSpec make_filter() noexcept {
   fdir::SupervisorSpec s{};
@@ -135,13 +131,6 @@ enum Child : std::uint8_t { kChildFilter = 0U, kChildVision = 1U, kChildren = 2U
 /** No policy handed down yet for a constraint. */
 constexpr std::uint8_t kNoLevel = 0xFFU;
 
-/**
- * Every so often the TRN supervisor hands each child again the policies it
- * holds for it (kMsgPolicyHeld): a child restarted from its image (which
- * starts with no policy, or its default) takes them within this period; a
- * child that holds a policy (the same, or the ground's) changes nothing.
- */
-constexpr std::uint32_t kPolicyRefreshTicks = 1000U;
 
 struct TrnState {
   std::uint32_t phase = 0xFFFF'FFFFU;  ///< index of the phase whose policies went down

@@ -32,6 +32,18 @@
 namespace trn::tasks {
 
 /** Nodes of the tree (the events' subject). */
+/** Ticks between two passes of a supervisor's loop. */
+inline constexpr std::uint32_t kSupPeriodTicks = 10U;
+/** Status reports (100 ms apart) the filter supervisor ignores after a command: TMR takes 3 jobs to establish, a stop 2. */
+inline constexpr std::uint32_t kFilterSettle = 3U;
+/**
+ * Every this many ticks the TRN supervisor hands each child again the
+ * policies it holds for it (kMsgPolicyHeld): a child restarted from its image
+ * (which starts with no policy, or its default) takes them within this
+ * period; a child that holds a policy (the same, or the ground's) changes nothing.
+ */
+inline constexpr std::uint32_t kPolicyRefreshTicks = 1000U;
+
 inline constexpr std::uint8_t kNodeTrn = 0U;
 inline constexpr std::uint8_t kNodeVision = 1U;
 inline constexpr std::uint8_t kNodeFilter = 2U;

@@ -4,6 +4,8 @@
  */
 #include "trn/tasks/tile_map.hpp"
 
+#include "trn/tasks/fdir_params.hpp"
+
 #include "fdir/tile_health.hpp"
 #include "kernel/kernel.hpp"
 #include "trn/tasks/messages.hpp"
@@ -20,17 +22,21 @@ namespace {
 /** A tile a role sends to: on the chip, or kNoTile (none: a role that is not flown). */
 bool tile_ok(bsp::TileId t) noexcept { return t < kMapTiles || t == bsp::kNoTile; }
 
-ImageError check(const ImageConfig& c) noexcept {
+/** The first tile of the configuration that is off the chip, and in @p what its name. */
+ImageError check_tiles(const ImageConfig& c, const char*& what) noexcept {
   for (const Wire& w : kWiring) {
     if (!tile_ok(w.get(c))) {
+      what = w.field;
       return ImageError::kBadTile;
     }
   }
   for (const bsp::TileId t : c.endpoint.roles.tile) {
     if (!tile_ok(t)) {
+      what = "endpoint.roles";
       return ImageError::kBadTile;
     }
   }
+  what = "coord.vision_tiles";
   if (c.coord.vision_count > kMaxVisionTiles) {
     return ImageError::kBadVisionList;
   }
@@ -39,18 +45,36 @@ ImageError check(const ImageConfig& c) noexcept {
       return ImageError::kBadVisionList;
     }
   }
+  what = nullptr;
+  return ImageError::kOk;
+}
+
+/** The first value of the configuration out of its range or its ties to others, and in @p what its name. */
+ImageError check_values(const ImageConfig& c, const char*& what) noexcept {
+  if (const FdirParam* p = fdir_param_out_of_range(c); p != nullptr) {
+    what = p->name;
+    return ImageError::kBadConfig;
+  }
   // The watcher must outwait the supervisor tile's own watchdog and a boot, or both would reset it.
+  what = "agent.watcher";
+  if (c.agent.watcher != bsp::kNoTile && c.agent.watcher == c.agent.supervisor) {
+    return ImageError::kBadConfig;
+  }
+  what = "agent.watcher_timeout_ticks";
   if (c.agent.watcher != bsp::kNoTile &&
-      (c.agent.watcher == c.agent.supervisor ||
-       c.agent.watcher_timeout_ticks <= c.agent.watchdog_ticks + 2U * fdir::kAgentPeriodTicks)) {
+      c.agent.watcher_timeout_ticks <= c.agent.watchdog_ticks + 2U * fdir::kAgentPeriodTicks) {
     return ImageError::kBadConfig;
   }
-  if (c.agent.watchdog_ticks < 2U * fdir::kAgentPeriodTicks || c.tile_health.max_resets == 0U ||
-      c.tile_health.poll_ticks == 0U || c.tile_health.disagreements_to_fail == 0U ||
-      (c.tile_health.self_test_ticks != 0U && c.tile_health.self_test_wait_ticks >= c.tile_health.self_test_ticks)) {
+  what = "tile_health.self_test_wait_ticks";
+  if (c.tile_health.self_test_ticks != 0U && c.tile_health.self_test_wait_ticks >= c.tile_health.self_test_ticks) {
     return ImageError::kBadConfig;
   }
-  if (c.sup.phase_count > kMaxPhases || c.sup.vision_min_half > c.sup.vision_min_full) {
+  what = "sup.vision_min_half";
+  if (c.sup.vision_min_half > c.sup.vision_min_full) {
+    return ImageError::kBadConfig;
+  }
+  what = "sup.phases";
+  if (c.sup.phase_count > kMaxPhases) {
     return ImageError::kBadConfig;
   }
   for (std::uint32_t i = 1U; i < c.sup.phase_count; ++i) {
@@ -58,19 +82,31 @@ ImageError check(const ImageConfig& c) noexcept {
       return ImageError::kBadConfig;  // phases in time order
     }
   }
-  if (c.net_health.votes_to_fail < 2U || c.filter.matches_per_job == 0U ||
-      c.filter.matches_per_job > kMaxMatchesPerFrame || !(c.coord.deadline_s > 0.0)) {
+  what = "filter.matches_per_job";
+  if (c.filter.matches_per_job == 0U || c.filter.matches_per_job > kMaxMatchesPerFrame) {
     return ImageError::kBadConfig;
   }
+  what = "coord.deadline_s";
+  if (!(c.coord.deadline_s > 0.0)) {
+    return ImageError::kBadConfig;
+  }
+  what = nullptr;
   return ImageError::kOk;
 }
 
 }  // namespace
 
-ImageError configure_image(const ImageConfig& cfg) noexcept {
-  const ImageError e = check(cfg);
+ImageError configure_image(const ImageConfig& cfg, const char** what) noexcept {
+  const char* fault = nullptr;
+  ImageError e = check_tiles(cfg, fault);
+  if (e == ImageError::kOk) {
+    e = check_values(cfg, fault);
+  }
   if (e == ImageError::kOk) {
     detail::g_image = cfg;
+  }
+  if (what != nullptr) {
+    *what = fault;
   }
   return e;
 }

@@ -180,12 +180,15 @@ enum class ImageError : std::uint8_t {
 };
 
 /**
- * The image's one configuration step: checks @p cfg and makes it what every
- * role's task reads at its start. Call before the board boots the tiles (a
- * running task keeps the pointer it was given). [host, before boot]
+ * The image's one configuration step: checks @p cfg (every tile of kWiring,
+ * every FDIR parameter of kFdirParams against its range, and the rules that
+ * tie parameters together) and makes it what every role's task reads at its
+ * start. Call before the board boots the tiles (a running task keeps the
+ * pointer it was given). [host, before boot]
+ * @param what if not null: the name of the field that is wrong (nullptr when kOk).
  * @return kOk, or what is wrong (nothing is changed then).
  */
-[[nodiscard]] ImageError configure_image(const ImageConfig& cfg) noexcept;
+[[nodiscard]] ImageError configure_image(const ImageConfig& cfg, const char** what = nullptr) noexcept;
 
 /** The configuration the tasks read (what configure_image last accepted). */
 const ImageConfig& image_config() noexcept;

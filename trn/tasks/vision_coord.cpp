@@ -128,8 +128,8 @@ constexpr std::uint32_t kRelightSharers = 40U;
 std::array<VisionCoordStats, bsp::kMaxTiles> g_coord_stats{};
 
 k::Ticks seconds_to_ticks(double s) noexcept {
-  // The kernel tick is 1 ms (board default); the frame logic works in ticks.
-  return static_cast<k::Ticks>(std::ceil(s * 1000.0));
+  // The frame logic works in ticks.
+  return static_cast<k::Ticks>(std::ceil(s * static_cast<double>(kTicksPerSecond)));
 }
 
 // ------------------------------------------------------------------ coordinator: set-up
@@ -893,9 +893,10 @@ void start_frame(CoordState& st, VisionCoordStats& stats) noexcept {
     ++stats.frames_skipped;
     return;
   }
-  // The job that takes the batch, from the capture (1 ms ticks, like the frame logic).
+  // The job that takes the batch, from the capture (in ticks, like the frame logic).
   st.prior = prior;
-  const auto capture_job = static_cast<std::uint32_t>(std::floor(st.frame.t_s * 1000.0 / kFilterPeriodTicks + 1e-9));
+  const auto capture_job = static_cast<std::uint32_t>(
+      std::floor(st.frame.t_s * static_cast<double>(kTicksPerSecond) / kFilterPeriodTicks + 1e-9));
   st.apply_job = capture_job + (stats.coarse_runs != coarse_before ? kCoarseApplyJobs : kFineApplyJobs);
   bsp::Work work{};
   std::uint32_t planned = 0;
@@ -1152,7 +1153,7 @@ void vision_coord_main(void* arg) noexcept {
   st->rate_div = 1U;
   stats.rate_div = 1U;
   if (!take_tile_list(*st) ||
-      fdir::liveness_init(st->live, fdir::LivenessConfig{kSuspectAfterMisses, kProbeEveryFrames}, st->tiles.data(),
+      fdir::liveness_init(st->live, cfg->liveness, st->tiles.data(),
                           cfg->vision_count) != fdir::LivenessError::kOk ||
       fdir::result_trust_init(st->trust, cfg->trust, st->tiles.data(), cfg->vision_count) != fdir::TrustError::kOk) {
     (void)set_up_failed(SetUpStep::kLists, 3U);
@@ -1166,8 +1167,9 @@ void vision_coord_main(void* arg) noexcept {
     (void)set_up_failed(SetUpStep::kRelight, 0U);
     return;
   }
-  // Emulated seconds, as the frames' capture times (the tick is 1 ms, as seconds_to_ticks() takes it).
-  st->ready_s = static_cast<double>(bsp::now()) / static_cast<double>(bsp::tick_cycles()) * 1e-3;
+  // Emulated seconds, as the frames' capture times (kTicksPerSecond, as seconds_to_ticks() takes it).
+  st->ready_s = static_cast<double>(bsp::now()) / static_cast<double>(bsp::tick_cycles()) *
+                (1.0 / static_cast<double>(kTicksPerSecond));
   stats.ready_ms = static_cast<std::uint32_t>(bsp::now() / bsp::tick_cycles());
   for (;;) {
     drain_nav(*st);

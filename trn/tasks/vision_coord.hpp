@@ -28,6 +28,7 @@
 
 #include "bsp_tile64/devices/camera_model.hpp"
 #include "bsp_tile64/port.hpp"
+#include "fdir/liveness.hpp"
 #include "fdir/result_trust.hpp"
 #include "trn/vision/match_consistency.hpp"
 #include "trn/vision/frame.hpp"
@@ -112,6 +113,8 @@ struct VisionCoordConfig {
   /// attitude overconfident (docs/FILTER.md, "Over 100 seeds"). 0: the correlation's sigma alone.
   double sigma_px_per_prior_deg = 0.4;
   fdir::ResultTrustConfig trust{};          ///< when a tile's failed matches make it suspect
+  /** When a silent tile is left out of the frames, and how often it is tried again. */
+  fdir::LivenessConfig liveness{kSuspectAfterMisses, kProbeEveryFrames};
   /** Boot tile of the vision supervisor (slot kSlotVisionSupervisor): sent a status after each frame, it sets the image rate (kNoTile: none). */
   bsp::TileId supervisor = bsp::kNoTile;
 };

@@ -4,7 +4,14 @@
  */
 #include "trn/tasks/tile_map.hpp"
 
+#include "build_info.hpp"
+#include "tools/common/fdir_params_doc.hpp"
+#include "trn/tasks/fdir_params.hpp"
+
 #include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
 
 namespace {
 
@@ -210,6 +217,79 @@ TEST(Deployment, PlacementsRolesAndSlotsAgree) {
   EXPECT_EQ(trn::tasks::role_code(Role::kVision), 'v');
   EXPECT_TRUE(trn::tasks::role_table(Role::kSpare).empty());
   EXPECT_EQ(trn::tasks::role_table(Role::kIo).data(), trn::tasks::kIoRole);
+}
+
+// Every FDIR threshold in one table: each field's default is in its range, a value out of it is
+// refused with the field's name, and docs/FDIR.md's table is the declaration's.
+ImageConfig wired() {
+  ImageConfig c{};
+  trn::tasks::wire_image(c);
+  trn::tasks::tile_map_vision_tiles(c.coord, 0);
+  return c;
+}
+
+TEST(FdirParams, EveryDefaultIsInItsRange) {
+  const ImageConfig c = wired();
+  EXPECT_EQ(trn::tasks::fdir_param_out_of_range(c), nullptr);
+  const char* what = "x";
+  EXPECT_EQ(configure_image(c, &what), ImageError::kOk);
+  EXPECT_EQ(what, nullptr);
+}
+
+TEST(FdirParams, AFieldOutOfItsRangeIsRefusedByName) {
+  std::size_t fields = 0U;
+  for (const trn::tasks::FdirParam& p : trn::tasks::kFdirParams) {
+    if (p.get == nullptr) {
+      EXPECT_EQ(p.set, nullptr) << p.name;
+      EXPECT_EQ(p.min, p.value) << p.name;
+      continue;
+    }
+    ++fields;
+    for (const std::uint64_t bad : {std::uint64_t{p.min} - 1U, std::uint64_t{p.max} + 1U}) {
+      if (bad > 0xFFFF'FFFFU) {
+        continue;  // min 0: nothing below
+      }
+      ImageConfig c = wired();
+      p.set(c) = static_cast<std::uint32_t>(bad);
+      EXPECT_EQ(p.get(c), bad) << p.name << ": the row reads the field it writes";
+      const char* what = nullptr;
+      EXPECT_EQ(configure_image(c, &what), ImageError::kBadConfig) << p.name << " = " << bad;
+      EXPECT_STREQ(what, p.name);
+    }
+  }
+  EXPECT_GE(fields, 28U);
+}
+
+TEST(FdirParams, ATieBetweenParametersIsRefusedByName) {
+  ImageConfig c = wired();
+  c.tile_health.self_test_wait_ticks = c.tile_health.self_test_ticks;
+  const char* what = nullptr;
+  EXPECT_EQ(configure_image(c, &what), ImageError::kBadConfig);
+  EXPECT_STREQ(what, "tile_health.self_test_wait_ticks");
+  c = wired();
+  c.io.filter_tile = 70U;
+  EXPECT_EQ(configure_image(c, &what), ImageError::kBadTile);
+  EXPECT_STREQ(what, "io.filter_tile");
+}
+
+TEST(FdirParams, TheTableInFdirMdIsTheDeclaration) {
+  std::ifstream f(std::string(build_info::kRepoRoot) + "/docs/FDIR.md");
+  ASSERT_TRUE(f) << "docs/FDIR.md";
+  std::string line;
+  std::string doc;
+  bool in = false;
+  while (std::getline(f, line)) {
+    if (line == "## Parameters") {
+      in = true;
+    } else if (in && line.rfind("## ", 0) == 0) {
+      break;
+    } else if (in && line.rfind("| `", 0) == 0) {
+      doc += line + "\n";
+    }
+  }
+  const std::string want = tools::fdir_params_markdown();
+  EXPECT_EQ(doc, want) << "docs/FDIR.md, \"Parameters\", should hold these rows (make docs-params writes them):\n"
+                       << want;
 }
 
 }  // namespace
