@@ -1,17 +1,21 @@
 /**
  * @file event_ids.hpp
- * @brief The flight event ids: one reviewable table of every detection, isolation and recovery step.
+ * @brief The flight event ids of the lower layers (udn, fdir): one reviewable table of their
+ *        detection, isolation and recovery steps.
  *
- * Every event a flight layer writes (fdir/event_log.hpp) has an id from this
- * table, and the table is the one place an event is declared: its severity,
- * the fault-management steps it stands for (an event can be a detection and a
- * recovery at once, as a packet corrected by its code), what it accuses, what
- * its four fields hold and its text. The host fills the text from the fields
- * and joins the events to the injector's ground truth by the rule of
- * docs/FDIR.md; it never decides a step itself. Ids are grouped by layer: 0x01xx messaging,
- * 0x02xx network health, 0x03xx vision, 0x04xx health table and asserts, 0x05xx core
- * health (watchdogs, resets, spares), 0x06xx filter restarts, 0x07xx the filter's TMR, 0x08xx checked
- * computations (matrix products, correlation), 0x09xx supervisors, mission phases and power.
+ * Every event a flight layer writes (fdir/event_log.hpp) has an id declared
+ * once, with its severity, the fault-management steps it stands for (an event
+ * can be a detection and a recovery at once, as a packet corrected by its
+ * code), what it accuses, what its four fields hold and its text. The events
+ * these layers raise are declared here (kEventTable); the application declares
+ * its own in its layer (trn/events.hpp: vision frames, the filter's restarts
+ * and TMR, checked correlation, mission phases), with ids this table leaves
+ * free, and writes them with trn::report. The host fills the text from the
+ * fields and joins the events to the injector's ground truth by the rule of
+ * docs/FDIR.md; it never decides a step itself. Ids are grouped: 0x01xx
+ * messaging, 0x02xx network health, 0x03xx workers' liveness and results,
+ * 0x04xx health table and asserts, 0x05xx core health (watchdogs, resets,
+ * spares), 0x08xx checked matrix products, 0x09xx supervisors and power.
  */
 #pragma once
 
@@ -54,15 +58,11 @@ enum class EventId : std::uint16_t {
   kCoreSuspect = 0x0205,
   kTransitFailed = 0x0206,
   kLinkOrSwitchFailed = 0x0207,
-  // ---- vision (trn, through fdir/liveness)
+  // ---- workers' liveness and results (fdir/liveness, fdir/result_trust)
   kWorkerSilent = 0x0301,
   kWorkerBack = 0x0302,
-  kFrameDone = 0x0303,
   kResultsSuspect = 0x0304,
   kResultsConsistent = 0x0305,
-  kCoarseBandRedone = 0x0307,
-  kLandmarkProductRefused = 0x0308,
-  kVisionSetUpFailed = 0x0306,
   // ---- health table, asserts
   kMonitorWarn = 0x0401,
   kMonitorFatal = 0x0402,
@@ -83,38 +83,17 @@ enum class EventId : std::uint16_t {
   kSelfTestLate = 0x050C,
   kSupervisorSilent = 0x050D,
   kWatcherCutOff = 0x050E,
-  // ---- navigation filter restarts (trn/tasks/filter_task)
-  kFilterResumed = 0x0601,
-  kCheckpointBad = 0x0602,
-  kImuGap = 0x0603,
-  kCommandTaken = 0x0604,
-  kFilterStateBad = 0x0605,
-  kFilterSettingsBad = 0x0606,
-  // ---- TMR of the filter (trn/tasks/filter_task, fdir/tmr)
-  kTmrStarting = 0x0701,
-  kTmrEstablished = 0x0702,
-  kTmrSimplex = 0x0703,
-  kTmrOutvoted = 0x0704,
-  kTmrAgrees = 0x0705,
-  kTmrExcluded = 0x0706,
-  kTmrResynced = 0x0707,
-  kTmrNoMajority = 0x0708,
-  kTmrVoterResumed = 0x0709,
-  // ---- checked matrix products (fdir/abft) and checked correlation (trn/vision/correlator, logged by the vision tile)
+  // ---- checked matrix products (fdir/abft)
   kAbftCorrected = 0x0801,
   kAbftFailed = 0x0802,
-  kCorrelationCorrected = 0x0803,
-  kCorrelationFailed = 0x0804,
-  // ---- supervisors (fdir/supervisor), mission phases, power
+  // ---- supervisors (fdir/supervisor), power
   kSupPolicy = 0x0901,
   kSupApply = 0x0902,
   kSupNotMet = 0x0903,
   kSupEscalated = 0x0904,
   kSupMet = 0x0905,
-  kPhaseBegin = 0x0906,
   kTileParked = 0x0907,
   kTileWoken = 0x0908,
-  kSafeMode = 0x0909,
 };
 
 /** Column field of an abft event whose product was checked on its rows only (no column checked). */
@@ -158,7 +137,7 @@ struct EventInfo {
   const char* name;
   Severity severity;
   std::uint8_t steps;  ///< Step bits
-  Diagnosis diagnosis;  ///< what it accuses (fdir/accusation.hpp refines it by the event's fields)
+  Diagnosis diagnosis;  ///< what it accuses (the host's tools/common/accusation.hpp refines it by the event's fields)
   Accused accused;      ///< whom
   const char* args;     ///< what its fields hold: "subject / cause / a / b" (trailing ones it leaves 0 omitted)
   /**
@@ -172,7 +151,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 74> kEventTable{{
+inline constexpr std::array<EventInfo, 51> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kPacket, Accused::kNobody,
      "source tile / channel / seq",
      "packet from tile {s} corrected by its SECDED code (channel {c}, seq {a})"},
@@ -251,9 +230,6 @@ inline constexpr std::array<EventInfo, 74> kEventTable{{
     {EventId::kWorkerBack, "worker_back", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody,
      "worker",
      "worker tile {s} answers again: back in the frame"},
-    {EventId::kFrameDone, "frame_done", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
-     "- / units lost / frame / matches",
-     "frame {a} done: {b} matches, {c} units lost"},
     {EventId::kResultsSuspect, "results_suspect", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kWrongResult, Accused::kSubject,
      "worker / 0 first, 1 again after its reset (replacement asked) / failed in the window / checked in it",
      "worker tile {s}: {a} of its {b} results in the window off the frame's fit: {c|suspect, its results "
@@ -261,28 +237,6 @@ inline constexpr std::array<EventInfo, 74> kEventTable{{
     {EventId::kResultsConsistent, "results_consistent", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody,
      "worker / 0 while suspect, 1 after its reset / clean frames in a row",
      "worker tile {s}: results consistent again for {a} frames{c|| after its reset|}: used again"},
-    {EventId::kVisionSetUpFailed, "vision_set_up_failed", Severity::kFatal, kStepDetect, Diagnosis::kNone, Accused::kNobody,
-     "step (1 its lists, 2 map product, 3 DDR carves, 4 landmark selection, 5 relit coarse map) / - / the "
-     "step's status. The coordinator plans no frame; nothing restarts it (a task that returns is not "
-     "watched, and the same set-up would fail again), so this says why vision is gone",
-     "the vision coordinator could not start: {s|?|its tile lists|the map product|its DDR carves|the "
-     "landmark selection|the relit coarse map|?} failed (status {a}); no frame will be planned"},
-    {EventId::kCoarseBandRedone, "coarse_band_redone", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kWrongResult, Accused::kSubject,
-     "the tile the band was dealt to / why: 1 not sent, 2 no answer in time, 3 the tile's checks failed "
-     "(or it could not compute it), 4 the coordinator's copy differs from the band's digest / the band's "
-     "first row / frame. The coordinator computed the band itself: the coarse surface is whole and checked",
-     "coarse band from row {a} of frame {b} dealt to tile {s}: {c|?|it could not be sent|no answer in "
-     "time|its checks failed|its copy differs from its digest|?}; computed by the coordinator"},
-    {EventId::kLandmarkProductRefused, "landmark_product_refused", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kNone, Accused::kNobody,
-     "- / why (trn::tasks::ProductCheck): 1 the block is too short, 2 its header (magic, version, its "
-     "CRC-32C), 3 selected with other settings than the coordinator's, 4 selected on a layer of another "
-     "size or geometry, 5 its records (their CRC-32C, a count above the table, a dense set starting past "
-     "them, a landmark outside the layer) / the block's bytes / -. The ground's landmark table was not "
-     "taken: the coordinator selects the landmarks itself (~1.4 s, so the frame captured at 1 s is "
-     "skipped)",
-     "the ground's landmark table ({a} bytes) refused: {c|?|the block is too short|its header is wrong|it "
-     "was selected with other settings|it was selected on another map|its records are wrong|?}; the "
-     "coordinator selects the landmarks itself"},
     {EventId::kMonitorWarn, "monitor_warn", Severity::kWarningLo, kStepDetect, Diagnosis::kNone, Accused::kNobody,
      "monitor / - / value / threshold",
      "monitor {s} warning: value {a} against {b}"},
@@ -348,61 +302,6 @@ inline constexpr std::array<EventInfo, 74> kEventTable{{
      "neighbours or transits: no reset)",
      "no heartbeat from the supervisor's tile {s} for {a} ticks (ms), but its watcher (tile {c}) hears "
      "none of its neighbours or transits: its own silence, no reset"},
-    {EventId::kFilterResumed, "filter_resumed", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody,
-     "checkpoint / - / samples to replay / last sample held",
-     "filter resumed from checkpoint {s} (IMU sample {b}), {a} samples to replay from the I/O record"},
-    {EventId::kCheckpointBad, "checkpoint_bad", Severity::kWarningHi, kStepDetect, Diagnosis::kMemoryUpset, Accused::kNobody,
-     "slot / - / bad slots",
-     "filter checkpoint slot {s} failed its checks: not used ({a} bad)"},
-    {EventId::kImuGap, "imu_gap", Severity::kWarningHi, kStepDetect, Diagnosis::kNone, Accused::kNobody,
-     "first missing sample / - / samples",
-     "{a} IMU samples from sample {s} neither received nor recorded"},
-    {EventId::kCommandTaken, "command_taken", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
-     "code / sequence number / job",
-     "{c.top|telecommand {c} (code {s}) taken by the filter at job {a}|the filter supervisor's command "
-     "{c.rest} (code {s}: {s|simplex|TMR|simplex}) taken by the filter at job {a}}"},
-    {EventId::kFilterStateBad, "filter_state_bad", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kWrongResult, Accused::kWriter,
-     "job / check (1 not finite, 2 attitude norm, 3 speed, 4 range, 5 IMU bias, 6 position step, 7 "
-     "velocity step, 8 attitude step, 9 bias step) / value / limit (thousandths of the check's unit; the "
-     "attitude norm's distance from 1 in millionths)",
-     "the filter's state after job {s} {c|fails its {c@state_check} check ({a@state_value}, limit "
-     "{b@state_value})|is not finite|fails its {c@state_check} check ({a@state_value}, limit "
-     "{b@state_value})}: not delivered"},
-    {EventId::kFilterSettingsBad, "filter_settings_bad", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kMemoryUpset, Accused::kWriter,
-     "job / parts changed (1 configuration, 2 camera, 4 process noise) / 1 when built again / -",
-     "the filter's settings in RAM ({c&configuration|camera|process noise}) changed by the end of job "
-     "{s}: not delivered, {a|NOT built again|built again from the image}"},
-    {EventId::kTmrStarting, "tmr_starting", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
-     "job / epoch",
-     "filter to TMR: replicas seeded with the state after job {s} (epoch {c})"},
-    {EventId::kTmrEstablished, "tmr_established", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
-     "job / epoch / jobs since the command",
-     "TMR established at job {s}: three replicas agree with the filter ({a} jobs after the command); the "
-     "voter delivers"},
-    {EventId::kTmrSimplex, "tmr_simplex", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
-     "job / 0 command, 2 not established in time, 3 the filter restarted",
-     "filter simplex again at job {s} ({c|command|TMR not established in time|TMR not established in "
-     "time|the filter restarted: TMR again once it has caught up|TMR not established in time})"},
-    {EventId::kTmrOutvoted, "tmr_outvoted", Severity::kWarningHi, kStepDetect, Diagnosis::kWrongResult, Accused::kSubject,
-     "replica's tile / job / replica / 1 different, 2 missing",
-     "replica {a} on tile {s} outvoted at job {c} ({b|no output|different output or state|no output})"},
-    {EventId::kTmrAgrees, "tmr_agrees", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody,
-     "replica's tile / job / replica / disagreements before",
-     "replica {a} on tile {s} agrees again at job {c}"},
-    {EventId::kTmrExcluded, "tmr_excluded", Severity::kWarningHi, kStepIsolate, Diagnosis::kNone, Accused::kNobody,
-     "replica's tile / job / replica / replicas voting",
-     "replica {a} on tile {s} excluded at job {c}: it re-synchronises ({b} voting)"},
-    {EventId::kTmrResynced, "tmr_resynced", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody,
-     "replica's tile / job / replica / replicas voting",
-     "replica {a} on tile {s} seeded with the voted state, votes again from job {c} ({b} voting)"},
-    {EventId::kTmrNoMajority, "tmr_no_majority", Severity::kFatal, kStepDetect, Diagnosis::kWrongResult, Accused::kReplicas,
-     "job / voting mask / different / missing | tile of replica i << 8 (i + 1)",
-     "no majority at job {s} (different {a:x}, missing {b.b0:x}; replicas on tiles {b.b1}, {b.b2}, "
-     "{b.b3}): nothing delivered"},
-    {EventId::kTmrVoterResumed, "tmr_voter_resumed", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody,
-     "job / epoch / next job delivered / records of the outage written",
-     "the voter restarted at job {s} goes on voting (epoch {c}): delivers from job {a}; records of its "
-     "outage written: {b}"},
     {EventId::kAbftCorrected, "abft_corrected", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kWrongResult, Accused::kWriter,
      "product site (1 F P, 2 (F P) F^T, 3 P H^T, 4 the gain, 5 K (P H^T)^T's upper triangle) / row << 16 "
      "| column located (0xFFFF: not one; 0xFFFE: rows only checked) / bad rows << 16 | bad columns / "
@@ -411,18 +310,6 @@ inline constexpr std::array<EventInfo, 74> kEventTable{{
     {EventId::kAbftFailed, "abft_failed", Severity::kWarningHi, kStepDetect, Diagnosis::kWrongResult, Accused::kWriter,
      "product site / row << 16 | column located / bad rows << 16 | bad columns / recomputations, as abft_corrected",
      "product {s}: {c@abft_where}, still wrong after {b} recomputation(s)"},
-    {EventId::kCorrelationCorrected, "correlation_corrected", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kWrongResult, Accused::kWriter,
-     "landmark / check that failed first (1 dot-product checksum, 2 surface digest, 3 peak score) / frame "
-     "/ recomputations",
-     "{s@landmark} at frame {a}: correlation wrong ({c|a score around its peak different when computed "
-     "again|its dot products off the integral image's checksum|its surface changed before the peak search "
-     "ended|a score around its peak different when computed again}), right after {b} recomputation(s)"},
-    {EventId::kCorrelationFailed, "correlation_failed", Severity::kWarningHi, kStepDetect, Diagnosis::kWrongResult, Accused::kWriter,
-     "landmark / check that failed first / frame / recomputations, as correlation_corrected; the match is rejected",
-     "{s@landmark} at frame {a}: correlation wrong ({c|a score around its peak different when computed "
-     "again|its dot products off the integral image's checksum|its surface changed before the peak search "
-     "ended|a score around its peak different when computed again}), still wrong, not matched after {b} "
-     "recomputation(s)"},
     {EventId::kSupPolicy, "sup_policy", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
      "node (0 TRN, 1 vision, 2 filter) / constraint (0 reliability, 1 power, 2 capacity) / level / from "
      "(a node, 256 the phase, 257 a telecommand, 258 its default)",
@@ -442,19 +329,12 @@ inline constexpr std::array<EventInfo, 74> kEventTable{{
     {EventId::kSupMet, "sup_met", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
      "node / constraint / alternative / level",
      "{s@node} meets {c.b0@constraint} {b@level} ({a@alternative})"},
-    {EventId::kPhaseBegin, "phase_begin", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
-     "phase / - / reliability / power",
-     "mission phase {s} begins: reliability {a|normal|high|?}, power {b|full|save|?}"},
     {EventId::kTileParked, "tile_parked", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
      "tile / the tile that asked",
      "tile {s} switched off by the power policy (asked by tile {c})"},
     {EventId::kTileWoken, "tile_woken", Severity::kInfo, kStepNone, Diagnosis::kNone, Accused::kNobody,
      "tile / the tile that asked",
      "tile {s} switched on by the power policy (asked by tile {c})"},
-    {EventId::kSafeMode, "safe_mode", Severity::kFatal, kStepNone, Diagnosis::kNone, Accused::kNobody,
-     "constraint / - / level",
-     "trn_supervisor cannot meet {s|reliability {a|normal|high|?}|power {a|full|save|?}|capacity {a|full "
-     "rate|half rate|?}|?}: safe mode reported to the vehicle"},
 }};
 
 namespace detail {

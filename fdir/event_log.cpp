@@ -56,22 +56,33 @@ LogError event_log_init() noexcept {
   return LogError::kOk;
 }
 
-void report(EventId id, std::uint32_t subject, std::uint32_t cause, std::uint32_t a, std::uint32_t b) noexcept {
-  const EventInfo* info = event_info(id);
-  if (info == nullptr) {  // a programming error reported as one, with the bad id kept
-    cause = static_cast<std::uint32_t>(id);
-    id = EventId::kAssertFailed;
-    info = event_info(id);
-  }
+void report(const EventInfo& info, std::uint32_t subject, std::uint32_t cause, std::uint32_t a,
+            std::uint32_t b) noexcept {
   const bsp::TileId tile = bsp::current_tile();
-  bsp::trace(static_cast<std::uint16_t>(bsp::kTraceFdirBase + (static_cast<std::uint16_t>(id) & 0x0FFFU)),
+  bsp::trace(static_cast<std::uint16_t>(bsp::kTraceFdirBase + (static_cast<std::uint16_t>(info.id) & 0x0FFFU)),
              (static_cast<std::uint64_t>(subject) << 32U) | cause, (static_cast<std::uint64_t>(a) << 32U) | b);
-  if (tile >= g_tiles || info == nullptr || !rings_live()) {
+  if (tile >= g_tiles || !rings_live()) {
     return;  // no log carved (unit tests of a layer): the trace still has it
   }
   Ring& r = g_rings[tile];
-  r.ev[r.written % kRingEvents] = Event{bsp::now(), id, info->severity, info->steps, tile, subject, cause, a, b};
+  r.ev[r.written % kRingEvents] = Event{bsp::now(), info.id, info.severity, info.steps, tile, subject, cause, a, b};
   ++r.written;
+}
+
+void report(EventId id, std::uint32_t subject, std::uint32_t cause, std::uint32_t a, std::uint32_t b) noexcept {
+  const EventInfo* info = event_info(id);
+  if (info == nullptr) {  // a programming error reported as one, with the bad id kept
+    report_unknown(id, subject, a, b);
+    return;
+  }
+  report(*info, subject, cause, a, b);
+}
+
+void report_unknown(EventId id, std::uint32_t subject, std::uint32_t a, std::uint32_t b) noexcept {
+  const EventInfo* info = event_info(EventId::kAssertFailed);
+  if (info != nullptr) {
+    report(*info, subject, static_cast<std::uint32_t>(id), a, b);
+  }
 }
 
 std::uint64_t event_log_written(bsp::TileId tile) noexcept {

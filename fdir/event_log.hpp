@@ -46,6 +46,16 @@ enum class LogError : std::uint8_t { kOk, kNoRoom, kNotInit, kBadTile };
 [[nodiscard]] LogError event_log_init() noexcept;
 
 /**
+ * Writes an event declared by @p info (a layer's own table: fdir's, or the application's,
+ * trn/events.hpp) of the current tile at its current time. [task|isr]
+ */
+void report(const EventInfo& info, std::uint32_t subject, std::uint32_t cause, std::uint32_t a = 0U,
+            std::uint32_t b = 0U) noexcept;
+
+/** An event id no table declares, written as kAssertFailed about that id (cause), never dropped. [task|isr] */
+void report_unknown(EventId id, std::uint32_t subject, std::uint32_t a = 0U, std::uint32_t b = 0U) noexcept;
+
+/**
  * Writes an event of the current tile at its current time. An id missing from
  * the table is written as kAssertFailed about that id (never dropped). [task|isr]
  */

@@ -50,7 +50,7 @@ TEST(HealthTable, TheActionIsCappedSoAFaultCannotCauseAResetLoop) {
       }
       fdir::monitor_clear(s);  // the tile was restarted: its status starts afresh, the count does not
     }
-    fdir::report(fdir::EventId::kFrameDone, acts, 0U);  // hands the count to the test
+    fdir::report(fdir::EventId::kMapPushed, acts, 0U);  // hands the count to the test
   });
   std::uint32_t fatal = 0;
   std::uint32_t capped = 0;
@@ -58,7 +58,7 @@ TEST(HealthTable, TheActionIsCappedSoAFaultCannotCauseAResetLoop) {
   for (const fdir::Event& e : fdir_test::events_of(0)) {
     fatal += e.id == fdir::EventId::kMonitorFatal ? 1U : 0U;
     capped += e.id == fdir::EventId::kActionCapped ? 1U : 0U;
-    acts = e.id == fdir::EventId::kFrameDone ? e.subject : acts;
+    acts = e.id == fdir::EventId::kMapPushed ? e.subject : acts;
   }
   EXPECT_EQ(fatal, 5U) << "every entry into fatal is an event";
   EXPECT_EQ(acts, 2U) << "the action twice, as the table allows";
@@ -70,7 +70,7 @@ TEST(Assert, AFailedCheckIsAnEventAndARecoveryRequestNeverAnAbort) {
   fdir_test::run_on_tile0([] {
     fdir::recovery_clear(0);
     const bool ok = fdir::check(1 + 1 == 3, 0x77U);
-    fdir::report(fdir::EventId::kFrameDone, ok ? 1U : 0U, 0U);
+    fdir::report(fdir::EventId::kMapPushed, ok ? 1U : 0U, 0U);
   });
   const std::vector<fdir::Event> ev = fdir_test::events_of(0);
   ASSERT_EQ(ev.size(), 2U);

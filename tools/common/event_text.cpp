@@ -51,17 +51,25 @@ class Out {
 // ---- the value types a template names with @type
 
 const char* node_name(std::uint32_t n) noexcept {
-  return n == trn::tasks::kNodeTrn      ? "trn_supervisor"
-         : n == trn::tasks::kNodeVision ? "vision_supervisor"
-         : n == trn::tasks::kNodeFilter ? "filter_supervisor"
-         : n == fdir::kNoSupervisor     ? "the vehicle"
-                                        : "?";
+  switch (n) {
+    case trn::tasks::kNodeTrn: return "trn_supervisor";
+    case trn::tasks::kNodeVision: return "vision_supervisor";
+    case trn::tasks::kNodeFilter: return "filter_supervisor";
+    case fdir::kNoSupervisor: return "the vehicle";
+    default: return "?";
+  }
 }
 
 const char* level_name(std::uint32_t constraint, std::uint32_t level) noexcept {
-  static constexpr std::array<std::array<const char*, 2>, 3> kLevels{{
-      {"normal", "high"}, {"full", "save"}, {"full rate", "half rate"}}};
-  return constraint < kLevels.size() && level < 2U ? kLevels[constraint][level] : "?";
+  if (level >= 2U) {
+    return "?";
+  }
+  switch (constraint) {
+    case 0U: return level == 0U ? "normal" : "high";
+    case 1U: return level == 0U ? "full" : "save";
+    case 2U: return level == 0U ? "full rate" : "half rate";
+    default: return "?";
+  }
 }
 
 void type_node(const fdir::Event& /*e*/, std::uint32_t v, Out& o) noexcept { o.put(node_name(v)); }
@@ -184,6 +192,9 @@ const TextType* type_named(std::string_view name) noexcept {
 
 /** Nesting of phrases within phrases the formatter follows. */
 constexpr std::size_t kMaxDepth = 4U;
+/** Segments the formatter holds at once: the text and one per level of phrases. */
+constexpr std::size_t kStackSegments = 5U;
+static_assert(kStackSegments == kMaxDepth + 1U);
 
 /** Where the brace opened at @p s[0] closes; npos if it does not. */
 std::size_t closing_brace(std::string_view s) noexcept {
@@ -305,7 +316,7 @@ void bit_words(std::string_view words, std::uint32_t v, Out& o) noexcept {
 
 std::size_t format_event_text(const fdir::EventInfo& info, const fdir::Event& e, std::span<char> out) noexcept {
   Out o(out);
-  std::array<std::string_view, kMaxDepth + 1U> stack{};
+  std::array<std::string_view, kStackSegments> stack{};
   std::size_t depth = 0U;
   stack[depth++] = info.text != nullptr ? std::string_view(info.text) : std::string_view();
   while (depth > 0U) {
@@ -329,8 +340,9 @@ std::size_t format_event_text(const fdir::EventInfo& info, const fdir::Event& e,
     }
     const std::uint32_t v = field_value(e, f);
     const TextType* type = f.op == '@' ? type_named(f.rest) : nullptr;
-    if (f.op == '|' && depth <= kMaxDepth) {
-      stack[depth++] = part(f.rest, v);
+    if (f.op == '|' && depth < stack.size()) {
+      stack[depth] = part(f.rest, v);
+      ++depth;
     } else if (f.op == '&') {
       bit_words(f.rest, v, o);
     } else if (type != nullptr) {

@@ -4,6 +4,7 @@
  *        disturbed, recovery on the roles' output streams.
  */
 #include "tools/common/fault_account.hpp"
+#include "trn/events.hpp"
 
 #include "bsp_tile64/profile.hpp"
 #include "tools/common/fault_plan.hpp"
@@ -106,13 +107,13 @@ bool filter_check_of(const bsp::FaultRecord& r, const fdir::Event& e, double clo
   if (e.tile != r.spec.tile || e.cycle < r.applied_cycle) {
     return false;
   }
-  if (e.id == EventId::kFilterSettingsBad) {
+  if (e.id == trn::ev::kFilterSettingsBad) {
     // An upset in the settings' bytes only (the EKF carve's first bytes).
     return r.spec.kind == FaultKind::kSeu && r.carve != nullptr && std::strcmp(r.carve, trn::tasks::kEkfCarve) == 0 &&
            r.carve_offset < trn::tasks::kEkfSettingsBytes;
   }
   // A corrupted update (sdc) in the job it hit; an upset at any later job.
-  return e.id == EventId::kFilterStateBad &&
+  return e.id == trn::ev::kFilterStateBad &&
          (r.spec.kind == FaultKind::kSeu || seconds(e.cycle - r.applied_cycle, clock_hz) <= kAbftSameJobS);
 }
 
@@ -130,7 +131,7 @@ bool coarse_band_check_of(const bsp::FaultRecord& r, const fdir::Event& e, doubl
 }
 
 /** Index in @p acc of the tile @p t (the claim slot), or acc.count if not named. */
-std::uint32_t slot_of(const fdir::Accusation& acc, bsp::TileId t) {
+std::uint32_t slot_of(const tools::Accusation& acc, bsp::TileId t) {
   for (std::uint32_t i = 0; i < acc.count; ++i) {
     if (acc.tiles[i] == t) {
       return i;
@@ -144,7 +145,7 @@ std::uint32_t slot_of(const fdir::Accusation& acc, bsp::TileId t) {
  * fault's tile (a link: both ends) within the kind's bound, and the tighter rule of the check that
  * wrote it. Sets @p slot to the claim it takes.
  */
-bool credits(const bsp::FaultRecord& r, const fdir::Event& e, const fdir::Accusation& acc, double clock_hz,
+bool credits(const bsp::FaultRecord& r, const fdir::Event& e, const tools::Accusation& acc, double clock_hz,
              std::uint32_t& slot) {
   if (e.cycle < r.applied_cycle || !class_detects(r.spec.kind, r.crashed, acc.diagnosis) ||
       seconds(e.cycle - r.applied_cycle, clock_hz) > detect_bound_s(r.spec.kind)) {
@@ -165,15 +166,15 @@ bool credits(const bsp::FaultRecord& r, const fdir::Event& e, const fdir::Accusa
       return acc.names(t) && acc.names(far_end(r));
     case FaultKind::kSeu:
     case FaultKind::kSdc:
-      switch (e.id) {
-        case EventId::kFilterStateBad:
-        case EventId::kFilterSettingsBad: return filter_check_of(r, e, clock_hz);
-        case EventId::kCorrelationCorrected:
-        case EventId::kCorrelationFailed: return correlation_check_of(r, e, clock_hz);
-        case EventId::kAbftCorrected:
-        case EventId::kAbftFailed: return e.tile == t && after <= kAbftSameJobS;
-        case EventId::kCoarseBandRedone: return coarse_band_check_of(r, e, clock_hz);
-        case EventId::kTmrNoMajority:
+      switch (event_code(e.id)) {
+        case event_code(trn::ev::kFilterStateBad):
+        case event_code(trn::ev::kFilterSettingsBad): return filter_check_of(r, e, clock_hz);
+        case event_code(trn::ev::kCorrelationCorrected):
+        case event_code(trn::ev::kCorrelationFailed): return correlation_check_of(r, e, clock_hz);
+        case event_code(EventId::kAbftCorrected):
+        case event_code(EventId::kAbftFailed): return e.tile == t && after <= kAbftSameJobS;
+        case event_code(trn::ev::kCoarseBandRedone): return coarse_band_check_of(r, e, clock_hz);
+        case event_code(trn::ev::kTmrNoMajority):
           slot = slot_of(acc, t);
           return slot < acc.count && after <= kTmrSameVoteS;
         default: return acc.names(t);
@@ -184,24 +185,24 @@ bool credits(const bsp::FaultRecord& r, const fdir::Event& e, const fdir::Accusa
 }
 
 /** Whether @p acc names the tile(s) of @p r the way its kind is named (a link: both ends). */
-bool names_fault(const fdir::Accusation& acc, const bsp::FaultRecord& r) {
+bool names_fault(const tools::Accusation& acc, const bsp::FaultRecord& r) {
   return r.spec.kind == FaultKind::kLinkFail ? acc.names(r.spec.tile) && acc.names(far_end(r))
                                              : acc.names(r.spec.tile);
 }
 
 /** The tile an action acts on, for the actions that disturb a tile (kNoTile for any other event). */
 bsp::TileId acted_on(const fdir::Event& e) {
-  switch (e.id) {
-    case EventId::kTileReset:
-    case EventId::kTileLost:
-    case EventId::kTmrExcluded:
-    case EventId::kTmrOutvoted:
-    case EventId::kSelfTestMismatch:
-    case EventId::kResultsSuspect:
-    case EventId::kSwitchFailed:
-    case EventId::kTransitFailed:
-    case EventId::kLinkOrSwitchFailed: return e.subject < bsp::kMaxTiles ? e.subject : bsp::kNoTile;
-    case EventId::kRoleMoved: return e.cause < bsp::kMaxTiles ? e.cause : bsp::kNoTile;
+  switch (event_code(e.id)) {
+    case event_code(EventId::kTileReset):
+    case event_code(EventId::kTileLost):
+    case event_code(trn::ev::kTmrExcluded):
+    case event_code(trn::ev::kTmrOutvoted):
+    case event_code(EventId::kSelfTestMismatch):
+    case event_code(EventId::kResultsSuspect):
+    case event_code(EventId::kSwitchFailed):
+    case event_code(EventId::kTransitFailed):
+    case event_code(EventId::kLinkOrSwitchFailed): return e.subject < bsp::kMaxTiles ? e.subject : bsp::kNoTile;
+    case event_code(EventId::kRoleMoved): return e.cause < bsp::kMaxTiles ? e.cause : bsp::kNoTile;
     default: return bsp::kNoTile;
   }
 }
@@ -264,9 +265,9 @@ struct Join {
         break;
       }
       const EventId id = events[k].id;
-      if (id == EventId::kTmrStarting || id == EventId::kTmrEstablished || id == EventId::kTmrVoterResumed) {
+      if (id == trn::ev::kTmrStarting || id == trn::ev::kTmrEstablished || id == trn::ev::kTmrVoterResumed) {
         active = true;
-      } else if (id == EventId::kTmrSimplex) {
+      } else if (id == trn::ev::kTmrSimplex) {
         active = false;
       }
     }
@@ -326,8 +327,8 @@ bool stream_back(std::span<const double> s, double fault_s, double from_s, doubl
 /** The detection's event does the recovery itself: the data corrected or computed again in place. */
 bool corrects_in_place(const fdir::Event& d) {
   return d.id == EventId::kPacketCorrected || d.id == EventId::kPacketForwarded || d.id == EventId::kPacketResent ||
-         d.id == EventId::kAbftCorrected || d.id == EventId::kCorrelationCorrected ||
-         d.id == EventId::kCoarseBandRedone;
+         d.id == EventId::kAbftCorrected || d.id == trn::ev::kCorrelationCorrected ||
+         d.id == trn::ev::kCoarseBandRedone;
 }
 
 /** A flight report that tile @p t runs its role again (the roles without an output stream the host measures). */
@@ -343,7 +344,7 @@ bool runs_again(const fdir::Event& e, bsp::TileId t) {
 void recovered_at(const Join& j, std::size_t k, Recovery how, FaultOutcome& o) {
   o.recovery = how;
   o.recovered_s = j.t_s[k];
-  o.recovered_by = fdir::event_info(j.events[k].id)->name;
+  o.recovered_by = tools::event_info(j.events[k].id)->name;
 }
 
 /**
@@ -354,7 +355,7 @@ void recovered_at(const Join& j, std::size_t k, Recovery how, FaultOutcome& o) {
  */
 void replica_votes_again(const Join& j, bsp::TileId t, double det_s, double from, double until, FaultOutcome& o) {
   if (from > det_s && j.first_after(o.injected_s, from, [&](const fdir::Event& e) {
-        return (e.id == EventId::kTmrOutvoted || e.id == EventId::kTmrExcluded) && e.subject == t;
+        return (e.id == trn::ev::kTmrOutvoted || e.id == trn::ev::kTmrExcluded) && e.subject == t;
       }) == j.events.size()) {
     const std::size_t c = j.first_after(from, from, [&](const fdir::Event& e) { return runs_again(e, t); });
     if (c < j.events.size()) {
@@ -364,12 +365,12 @@ void replica_votes_again(const Join& j, bsp::TileId t, double det_s, double from
     }
   }
   const std::size_t k = j.first_after(from, until, [&](const fdir::Event& e) {
-    return ((e.id == EventId::kTmrResynced || e.id == EventId::kTmrAgrees) && e.subject == t) ||
-           (e.id == EventId::kTmrResynced && e.b >= 3U) || e.id == EventId::kTmrEstablished ||
-           e.id == EventId::kTmrSimplex;
+    return ((e.id == trn::ev::kTmrResynced || e.id == trn::ev::kTmrAgrees) && e.subject == t) ||
+           (e.id == trn::ev::kTmrResynced && e.b >= 3U) || e.id == trn::ev::kTmrEstablished ||
+           e.id == trn::ev::kTmrSimplex;
   });
   if (k < j.events.size()) {
-    recovered_at(j, k, j.events[k].id == EventId::kTmrSimplex ? Recovery::kDegradedAccepted : Recovery::kRecovered, o);
+    recovered_at(j, k, j.events[k].id == trn::ev::kTmrSimplex ? Recovery::kDegradedAccepted : Recovery::kRecovered, o);
   }
 }
 
@@ -382,7 +383,7 @@ void recover(const Join& j, const bsp::FaultRecord& r, std::size_t det, FaultOut
     o.recovery = Recovery::kRecovered;
     o.recovered_s = det_s;
     o.service_gap_s = 0.0;
-    o.recovered_by = fdir::event_info(d.id)->name;
+    o.recovered_by = tools::event_info(d.id)->name;
     return;
   }
   const double until = det_s + kRecoverWindowS;
@@ -412,7 +413,7 @@ void recover(const Join& j, const bsp::FaultRecord& r, std::size_t det, FaultOut
                          o.role == Role::kVisionSupervisor ||
                          (o.role == Role::kFilterReplica && !j.tmr_active_at(o.injected_s));
   double from = det_s;
-  const fdir::Diagnosis cls = fdir::accusation_of(d).diagnosis;
+  const fdir::Diagnosis cls = tools::accusation_of(d).diagnosis;
   if (cls == Diagnosis::kSwitch || cls == Diagnosis::kLink || cls == Diagnosis::kSwitchOrLink) {
     const std::size_t k =
         j.first_after(det_s, until, [&](const fdir::Event& e) { return e.id == EventId::kMapPublished && e.subject >= d.b; });
@@ -468,7 +469,7 @@ void recover(const Join& j, const bsp::FaultRecord& r, std::size_t det, FaultOut
       // The coordinator's next frame; for a vision tile, one with no unit lost.
       const bool coordinator = o.role == Role::kVisionCoordinator;
       const std::size_t k = j.first_after(from, until, [&](const fdir::Event& e) {
-        return e.id == EventId::kFrameDone && (coordinator || e.cause == 0U);
+        return e.id == trn::ev::kFrameDone && (coordinator || e.cause == 0U);
       });
       if (k < j.events.size()) {
         found(k, Recovery::kRecovered);
@@ -494,7 +495,7 @@ void recover(const Join& j, const bsp::FaultRecord& r, std::size_t det, FaultOut
     // A replica standing by is called on when the filter next goes TMR: three voting then, however
     // late, is its service back (no gap: nothing was asked of it before).
     const std::size_t est = j.first_after(det_s, kForever, [&](const fdir::Event& e) {
-      return e.id == EventId::kTmrEstablished || (e.id == EventId::kTmrResynced && e.b >= 3U);
+      return e.id == trn::ev::kTmrEstablished || (e.id == trn::ev::kTmrResynced && e.b >= 3U);
     });
     if (est < j.events.size()) {
       found(est, Recovery::kRecovered);
@@ -508,24 +509,24 @@ void recover(const Join& j, const bsp::FaultRecord& r, std::size_t det, FaultOut
  * a fault active on a tile it names; else the wrong tile within the bound of the latest fault before
  * it), or a false alarm.
  */
-void charge_accusations(const Join& j, const std::vector<fdir::Accusation>& accusations,
+void charge_accusations(const Join& j, const std::vector<tools::Accusation>& accusations,
                         const std::vector<std::uint8_t>& claimed, const std::vector<std::size_t>& inj,
                         const std::vector<double>& until, FaultAccount& acc) {
   const std::span<const bsp::FaultRecord> records = j.records;
   const std::span<const fdir::Event> events = j.events;
   for (const std::size_t k : j.order) {
-    const fdir::Accusation& a = accusations[k];
-    if (!fdir::is_diagnosis(a.diagnosis) || a.count == 0U) {
+    const tools::Accusation& a = accusations[k];
+    if (!tools::is_diagnosis(a.diagnosis) || a.count == 0U) {
       continue;
     }
     const fdir::Event& e = events[k];
     // A link's accusation names its two ends: one accusation. A vote without a majority: one per replica.
-    const std::uint32_t parts = e.id == EventId::kTmrNoMajority ? a.count : 1U;
+    const std::uint32_t parts = e.id == trn::ev::kTmrNoMajority ? a.count : 1U;
     for (std::uint32_t p = 0; p < parts; ++p) {
       if ((claimed[k] & (1U << p)) != 0U) {
         continue;
       }
-      fdir::Accusation one = a;
+      tools::Accusation one = a;
       if (parts > 1U) {
         one.tiles = {a.tiles[p], bsp::kNoTile, bsp::kNoTile};
         one.count = 1U;
@@ -678,9 +679,9 @@ FaultAccount join_faults(std::span<const bsp::FaultRecord> records, std::span<co
   std::stable_sort(j.order.begin(), j.order.end(), [&](std::size_t a, std::size_t b) {
     return events[a].cycle < events[b].cycle || (events[a].cycle == events[b].cycle && events[a].tile < events[b].tile);
   });
-  std::vector<fdir::Accusation> accusations(events.size());
+  std::vector<tools::Accusation> accusations(events.size());
   for (std::size_t k = 0; k < events.size(); ++k) {
-    accusations[k] = fdir::accusation_of(events[k]);
+    accusations[k] = tools::accusation_of(events[k]);
   }
   std::vector<std::uint8_t> claimed(events.size(), 0U);  // bit per claim slot (a tile named; slot 0 otherwise)
   std::vector<std::size_t> inj;
@@ -774,7 +775,7 @@ void log_fault_outcomes(std::span<const bsp::FaultRecord> records, std::span<con
                           o.effect == Effect::kNoEffect ? " (no effect)" : "");
     } else {
       const int n = std::snprintf(b.data(), b.size(), " -> detected by tile %u (%s) %.1f ms later", o.detector,
-                                  fdir::event_info(o.detected_by)->name, (o.detected_s - o.injected_s) * 1e3);
+                                  tools::event_info(o.detected_by)->name, (o.detected_s - o.injected_s) * 1e3);
       const std::size_t used = n > 0 ? std::min(static_cast<std::size_t>(n), b.size() - 1U) : 0U;
       if (o.recovery == Recovery::kNone) {
         (void)std::snprintf(b.data() + used, b.size() - used, ", not recovered");
@@ -791,7 +792,7 @@ void log_fault_outcomes(std::span<const bsp::FaultRecord> records, std::span<con
     text += b.data();
     if (o.wrong_accusations > 0U) {
       std::array<char, 80> w{};
-      (void)std::snprintf(w.data(), w.size(), "; MISDIAGNOSED: %s of tile %u (%u)", fdir::event_info(o.first_wrong)->name,
+      (void)std::snprintf(w.data(), w.size(), "; MISDIAGNOSED: %s of tile %u (%u)", tools::event_info(o.first_wrong)->name,
                           o.first_wrong_tile, o.wrong_accusations);
       text += w.data();
     }
@@ -804,17 +805,17 @@ void log_fault_outcomes(std::span<const bsp::FaultRecord> records, std::span<con
   }
   for (const Unexplained& u : account.false_alarms) {
     const fdir::Event& e = events[u.event];
-    const fdir::Accusation a = fdir::accusation_of(e);
+    const tools::Accusation a = tools::accusation_of(e);
     std::array<char, 160> b{};
     (void)std::snprintf(b.data(), b.size(), "FALSE ALARM: %s accuses tile %u (%s); no injected fault explains it",
-                        fdir::event_info(e.id)->name, u.tile, fdir::diagnosis_name(a.diagnosis));
+                        tools::event_info(e.id)->name, u.tile, tools::diagnosis_name(a.diagnosis));
     (void)log.add(seconds(e.cycle, clock_hz), EventCategory::kInfo, e.tile, b.data());
   }
   for (const Unexplained& u : account.healthy_disturbed) {
     const fdir::Event& e = events[u.event];
     std::array<char, 160> b{};
     (void)std::snprintf(b.data(), b.size(), "HEALTHY TILE DISTURBED: %s acts on tile %u, which no fault had hit",
-                        fdir::event_info(e.id)->name, u.tile);
+                        tools::event_info(e.id)->name, u.tile);
     (void)log.add(seconds(e.cycle, clock_hz), EventCategory::kInfo, e.tile, b.data());
   }
 }
@@ -837,13 +838,13 @@ std::string faults_csv(std::span<const bsp::FaultRecord> records, const FaultAcc
       << (f.delivered ? trn::tasks::role_name(f.role) : "") << ',' << (f.delivered ? 1 : 0) << ','
       << (r.carve != nullptr ? r.carve : "") << ',' << (r.crashed ? 1 : 0) << ',' << effect_name(f.effect) << ',';
     if (f.detected) {
-      o << fdir::event_info(f.detected_by)->name << ',' << f.detector << ',' << ms(f.detected_s - f.injected_s);
+      o << tools::event_info(f.detected_by)->name << ',' << f.detector << ',' << ms(f.detected_s - f.injected_s);
     } else {
       o << ",,";
     }
     o << ',' << verdict_name(f.diagnosis) << ',' << f.wrong_accusations << ',';
     if (f.wrong_accusations > 0U) {
-      o << fdir::event_info(f.first_wrong)->name << ',' << f.first_wrong_tile;
+      o << tools::event_info(f.first_wrong)->name << ',' << f.first_wrong_tile;
     } else {
       o << ',';
     }

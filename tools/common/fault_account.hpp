@@ -6,7 +6,7 @@
  *
  * The host decides nothing for the flight code: a fault counts as detected
  * only through an event a flight layer wrote that accuses the fault's tile
- * with a class the fault's kind allows (fdir/accusation.hpp), within that
+ * with a class the fault's kind allows (tools/common/accusation.hpp), within that
  * kind's latency bound (kDetectBounds). Recovery is measured on the output
  * stream of the role the tile held (the filter's solutions, the I/O tile's
  * samples, the coordinator's frames, ...): a reboot alone recovers nothing,
@@ -15,8 +15,8 @@
 #pragma once
 
 #include "bsp_tile64/fault_injector.hpp"
-#include "fdir/accusation.hpp"
 #include "fdir/event_log.hpp"
+#include "tools/common/accusation.hpp"
 #include "tools/common/run_folder.hpp"
 #include "trn/tasks/tile_map.hpp"
 

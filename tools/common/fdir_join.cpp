@@ -3,8 +3,10 @@
  * @brief Flight events collected into the run log; detections and recoveries joined to the ground truth.
  */
 #include "tools/common/fdir_join.hpp"
+#include "trn/events.hpp"
 
 #include "bsp_tile64/profile.hpp"
+#include "tools/common/event_tables.hpp"
 #include "tools/common/event_text.hpp"
 
 #include <algorithm>
@@ -48,7 +50,7 @@ std::size_t describe_flight_event(const fdir::Event& e, std::span<char> out) noe
   if (out.empty()) {
     return 0U;
   }
-  const fdir::EventInfo* info = fdir::event_info(e.id);
+  const fdir::EventInfo* info = tools::event_info(e.id);
   if (info == nullptr) {
     const int n = std::snprintf(out.data(), out.size(), "unknown: id 0x%04x, subject %u, cause %u, %u, %u",
                                 static_cast<unsigned>(e.id), e.subject, e.cause, e.a, e.b);
@@ -68,38 +70,38 @@ std::string describe_flight_event(const fdir::Event& e) {
 FlightEventCollector::FlightEventCollector(std::size_t capacity) { events_.reserve(capacity); }
 
 void FlightEventCollector::take(const fdir::Event& e) noexcept {
-  switch (e.id) {
-    case EventId::kSwitchFailed:
-    case EventId::kTransitFailed:
-    case EventId::kLinkOrSwitchFailed: health_[e.subject % bsp::kMaxTiles] = TileHealth::kFailed; break;
-    case EventId::kWorkerSilent:
-    case EventId::kCoreSuspect:
-    case EventId::kNeighbourSuspect:
-    case EventId::kWatchdogExpired:
-    case EventId::kResultsSuspect:
-    case EventId::kTileReset:
+  switch (event_code(e.id)) {
+    case event_code(EventId::kSwitchFailed):
+    case event_code(EventId::kTransitFailed):
+    case event_code(EventId::kLinkOrSwitchFailed): health_[e.subject % bsp::kMaxTiles] = TileHealth::kFailed; break;
+    case event_code(EventId::kWorkerSilent):
+    case event_code(EventId::kCoreSuspect):
+    case event_code(EventId::kNeighbourSuspect):
+    case event_code(EventId::kWatchdogExpired):
+    case event_code(EventId::kResultsSuspect):
+    case event_code(EventId::kTileReset):
       if (e.subject < bsp::kMaxTiles && health_[e.subject] != TileHealth::kFailed) {
         health_[e.subject] = TileHealth::kSuspect;
       }
       break;
-    case EventId::kTileLost:
+    case event_code(EventId::kTileLost):
       health_[e.subject % bsp::kMaxTiles] = TileHealth::kFailed;
       break;
-    case EventId::kRoleMoved:
+    case event_code(EventId::kRoleMoved):
       health_[e.cause % bsp::kMaxTiles] = TileHealth::kFailed;
       break;
-    case EventId::kRoleRestored:
+    case event_code(EventId::kRoleRestored):
       health_[e.a % bsp::kMaxTiles] = TileHealth::kRecovered;
       break;
-    case EventId::kWorkerBack:
-    case EventId::kResultsConsistent:
-    case EventId::kTileRecovered:
-    case EventId::kTileRebooted:
+    case event_code(EventId::kWorkerBack):
+    case event_code(EventId::kResultsConsistent):
+    case event_code(EventId::kTileRecovered):
+    case event_code(EventId::kTileRebooted):
       if (e.subject < bsp::kMaxTiles) {
         health_[e.subject] = TileHealth::kRecovered;
       }
       break;
-    case EventId::kFrameDone:
+    case event_code(trn::ev::kFrameDone):
       ++frames_;
       matches_ += e.b;
       break;
@@ -122,7 +124,7 @@ void FlightEventCollector::poll(double clock_hz, EventLog& log) noexcept {
       } else {
         ++lost_;
       }
-      if (e.id == EventId::kFrameDone) {
+      if (e.id == trn::ev::kFrameDone) {
         continue;  // one a second: the summary counts them, the log stays readable
       }
       std::array<char, kEventTextBytes> text{};

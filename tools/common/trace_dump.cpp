@@ -7,6 +7,7 @@
 #include "bsp_tile64/udn_net.hpp"
 #include "fdir/event_ids.hpp"
 #include "kernel/sched.hpp"
+#include "tools/common/event_tables.hpp"
 
 #include <array>
 #include <cerrno>
@@ -117,9 +118,11 @@ const char* kernel_kind_name(std::uint16_t kind) {
 
 const char* fdir_kind_name(std::uint16_t kind) {
   // fdir/event_log.cpp traces an event as the fdir base plus the id's low 12 bits.
-  for (const fdir::EventInfo& e : fdir::kEventTable) {
-    if ((static_cast<std::uint16_t>(e.id) & 0x0FFFU) == (kind & 0x0FFFU)) {
-      return e.name;
+  for (const std::span<const fdir::EventInfo> table : kEventTables) {
+    for (const fdir::EventInfo& e : table) {
+      if ((static_cast<std::uint16_t>(e.id) & 0x0FFFU) == (kind & 0x0FFFU)) {
+        return e.name;
+      }
     }
   }
   return nullptr;

@@ -17,6 +17,7 @@
  * is measured here, in the front end, never in emulated behaviour.
  */
 #include "bsp_tile64/board.hpp"
+#include "trn/events.hpp"
 #include "bsp_tile64/energy.hpp"
 #include "bsp_tile64/fault_injector.hpp"
 #include "bsp_tile64/host/frame_ahead.hpp"
@@ -467,7 +468,7 @@ void add_matches_by_altitude(const tools::FlightEventCollector& flight, const Fl
   std::map<std::int64_t, std::pair<std::uint64_t, std::uint64_t>> bands;  // lower edge -> frames, matches
   const double clock_hz = static_cast<double>(bsp::kTile64.clock_hz);
   for (const fdir::Event& e : flight.events()) {
-    if (e.id != fdir::EventId::kFrameDone || rec.altitude.empty()) {
+    if (e.id != trn::ev::kFrameDone || rec.altitude.empty()) {
       continue;
     }
     const double t = static_cast<double>(e.cycle) / clock_hz;

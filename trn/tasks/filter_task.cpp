@@ -3,6 +3,7 @@
  * @brief The 100 Hz navigation filter job: IMU, match batches, bounded updates, solution out.
  */
 #include "trn/tasks/filter_task.hpp"
+#include "trn/events.hpp"
 
 #include "bsp_tile64/memory.hpp"
 #include "fdir/assert.hpp"
@@ -140,7 +141,7 @@ bool replay(Slot& slot, std::uint32_t until, std::uint32_t& budget) noexcept {
       const std::uint32_t first = oldest > slot.last_imu + 1U ? oldest : until;
       const std::uint32_t missing = first - (slot.last_imu + 1U);
       slot.stats.imu_lost += missing;
-      fdir::report(fdir::EventId::kImuGap, slot.last_imu + 1U, 0U, missing);
+      trn::report(ev::kImuGap, slot.last_imu + 1U, 0U, missing);
       slot.last_imu = first - 1U;
       continue;
     }
@@ -183,7 +184,7 @@ void take_command(Slot& slot) noexcept {
   slot.cmd_held = false;
   ++slot.stats.commands;
   slot.command = slot.cmd[2];
-  fdir::report(fdir::EventId::kCommandTaken, slot.cmd[2], slot.cmd[1], slot.job);
+  trn::report(ev::kCommandTaken, slot.cmd[2], slot.cmd[1], slot.job);
 }
 
 /** Puts a due sample into the record: duplicates skipped, a gap first replayed from the DDR record. */
@@ -414,7 +415,7 @@ bool run_checked(Slot& slot, const JobRecord& rec) noexcept {
     const bool rebuilt = core_reload_settings(slot.core, work);
     bsp::consume(work);
     ++slot.stats.settings_rebuilt;
-    fdir::report(fdir::EventId::kFilterSettingsBad, record_job(rec), changed, rebuilt ? 1U : 0U);
+    trn::report(ev::kFilterSettingsBad, record_job(rec), changed, rebuilt ? 1U : 0U);
     // Every state since the upset was computed with them: back to the last checkpoint. Changed
     // again before the next one (a stuck bit, say), or not rebuilt: the tile asks for its restart.
     if (!rebuilt) {
@@ -432,7 +433,7 @@ bool run_checked(Slot& slot, const JobRecord& rec) noexcept {
   ++slot.stats.states_rejected;
   // Thousandths of the check's unit; the attitude norm's distance from 1 in millionths.
   const double per = r.what == filter::StateCheck::kAttitudeNorm ? 1e6 : 1e3;
-  fdir::report(fdir::EventId::kFilterStateBad, record_job(rec), static_cast<std::uint32_t>(r.what),
+  trn::report(ev::kFilterStateBad, record_job(rec), static_cast<std::uint32_t>(r.what),
                scaled(r.value, per), scaled(r.limit, per));
   go_back(slot, kAssertFilterStateRefused);
   return false;
@@ -507,7 +508,7 @@ bool rejoin(Slot& slot, std::uint32_t job) noexcept;
     // caught up from its checkpoint, then the TMR starts again from its state.
     slot.tmr->control.mode = 0U;
     slot.resume_tmr = true;
-    fdir::report(fdir::EventId::kTmrSimplex, job, kTmrStopRestart);
+    trn::report(ev::kTmrSimplex, job, kTmrStopRestart);
   }
   slot.ckpt = cfg.checkpoint_every != 0U ? checkpoint_area() : nullptr;
   slot.ring = cfg.checkpoint_every != 0U ? imu_ring() : nullptr;
@@ -535,7 +536,7 @@ bool resume_from_checkpoint(Slot& slot, std::uint32_t not_seq) noexcept {
                         slot.core.ekf->restore(*r.state) == filter::FilterStatus::kOk;
   bsp::consume(work);
   if (r.bad != 0U) {
-    fdir::report(fdir::EventId::kCheckpointBad, r.bad_slot, 0U, r.bad);
+    trn::report(ev::kCheckpointBad, r.bad_slot, 0U, r.bad);
   }
   if (!restored) {
     return false;
@@ -549,7 +550,7 @@ bool resume_from_checkpoint(Slot& slot, std::uint32_t not_seq) noexcept {
   slot.ckpt_slot = r.slot;
   slot.since_ckpt = 0U;
   const std::uint32_t recorded = slot.ring != nullptr ? slot.ring->written : 0U;
-  fdir::report(fdir::EventId::kFilterResumed, r.seq, 0U, recorded > r.imu_seq + 1U ? recorded - r.imu_seq - 1U : 0U,
+  trn::report(ev::kFilterResumed, r.seq, 0U, recorded > r.imu_seq + 1U ? recorded - r.imu_seq - 1U : 0U,
                r.imu_seq);
   return true;
 }
@@ -618,14 +619,14 @@ void start_tmr(Slot& slot) noexcept {
   slot.hello_mask = 0U;
   slot.seed_asked = 0U;
   slot.no_majority_mask = 0U;
-  fdir::report(fdir::EventId::kTmrStarting, slot.job, c.epoch);
+  trn::report(ev::kTmrStarting, slot.job, c.epoch);
 }
 
 /** Back to simplex (the front runs its own state): replicas go idle. */
 void stop_tmr(Slot& slot, std::uint32_t reason) noexcept {
   slot.tmr->control.mode = 0U;
   slot.mode = Mode::kSimplex;
-  fdir::report(fdir::EventId::kTmrSimplex, slot.job, reason);
+  trn::report(ev::kTmrSimplex, slot.job, reason);
 }
 
 /** While starting: a replica whose output equals the front's own joins; all three: TMR runs. */
@@ -644,7 +645,7 @@ void compare_starting(Slot& slot, std::uint32_t v) noexcept {
     slot.mode = Mode::kTmr;
     slot.next_vote = v + 1U;  // delivered already, by the front's own filter
     slot.tmr->control.ckpt_by = 0U;
-    fdir::report(fdir::EventId::kTmrEstablished, v, slot.tmr->control.epoch, slot.job - slot.start_job);
+    trn::report(ev::kTmrEstablished, v, slot.tmr->control.epoch, slot.job - slot.start_job);
   } else if (slot.job - slot.start_job > kStartJobs) {
     stop_tmr(slot, kTmrStopNotEstablished);
   }
@@ -665,15 +666,15 @@ void account_vote(Slot& slot, const fdir::TmrVote& v, std::uint32_t job) noexcep
     }
     if (((v.differ_mask | v.missing_mask) & bit) != 0U) {
       ++slot.stats.tmr_outvoted;
-      fdir::report(fdir::EventId::kTmrOutvoted, replica_tile(slot, i), job, i, (v.differ_mask & bit) != 0U ? 1U : 2U);
+      trn::report(ev::kTmrOutvoted, replica_tile(slot, i), job, i, (v.differ_mask & bit) != 0U ? 1U : 2U);
     } else if (before[i] != 0U || (slot.no_majority_mask & bit) != 0U) {
-      fdir::report(fdir::EventId::kTmrAgrees, replica_tile(slot, i), job, i, before[i]);
+      trn::report(ev::kTmrAgrees, replica_tile(slot, i), job, i, before[i]);
     }
     slot.no_majority_mask &= ~bit;
     if ((out & bit) != 0U) {
       ++slot.stats.tmr_exclusions;
       ++slot.tmr->control.gen[i];  // it drops its state and waits for a seed
-      fdir::report(fdir::EventId::kTmrExcluded, replica_tile(slot, i), job, i, slot.group.active_count());
+      trn::report(ev::kTmrExcluded, replica_tile(slot, i), job, i, slot.group.active_count());
     }
   }
 }
@@ -686,7 +687,7 @@ void readmit(Slot& slot, const fdir::TmrRecord& voted, std::uint32_t job) noexce
       slot.group.admit(i);
       ++slot.stats.tmr_resyncs;
       slot.hello_mask &= ~(1U << i);
-      fdir::report(fdir::EventId::kTmrResynced, replica_tile(slot, i), job, i, slot.group.active_count());
+      trn::report(ev::kTmrResynced, replica_tile(slot, i), job, i, slot.group.active_count());
     }
   }
 }
@@ -707,7 +708,7 @@ void vote(Slot& slot, std::uint32_t v) noexcept {
     for (std::uint32_t i = 0; i < kReplicas; ++i) {
       tiles |= (replica_tile(slot, i) & 0xFFU) << (8U * (i + 1U));
     }
-    fdir::report(fdir::EventId::kTmrNoMajority, v, slot.group.active_mask(), res.differ_mask,
+    trn::report(ev::kTmrNoMajority, v, slot.group.active_mask(), res.differ_mask,
                  (res.missing_mask & 0xFFU) | tiles);
     return;
   }
@@ -857,7 +858,7 @@ bool rejoin(Slot& slot, std::uint32_t job) noexcept {
   slot.rebuild_from = f.record_job + 1U;
   // The replicas run two records a release: they gain one a release on the records of the outage.
   slot.lenient_until = job + (job - f.record_job) + kVoteLag + 4U;
-  fdir::report(fdir::EventId::kTmrVoterResumed, job, a.control.epoch, f.next_deliver, job - f.record_job - 1U);
+  trn::report(ev::kTmrVoterResumed, job, a.control.epoch, f.next_deliver, job - f.record_job - 1U);
   return true;
 }
 

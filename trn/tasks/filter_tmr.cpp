@@ -3,6 +3,7 @@
  * @brief The TMR group's DDR areas and the replica task (see filter_tmr.hpp).
  */
 #include "trn/tasks/filter_tmr.hpp"
+#include "trn/events.hpp"
 
 #include "bsp_tile64/memory.hpp"
 #include "fdir/event_log.hpp"
@@ -134,7 +135,7 @@ void run_records(Replica& r, TmrArea& a) noexcept {
       const bool rebuilt = core_reload_settings(r.core, dw);
       bsp::consume(dw);
       ++r.stats.settings_rebuilt;
-      fdir::report(fdir::EventId::kFilterSettingsBad, r.next_job, changed, rebuilt ? 1U : 0U);
+      trn::report(ev::kFilterSettingsBad, r.next_job, changed, rebuilt ? 1U : 0U);
       r.seeded = false;
       return;
     }

@@ -3,6 +3,7 @@
  * @brief The TRN supervisor tree's three tasks (see supervisors.hpp).
  */
 #include "trn/tasks/supervisors.hpp"
+#include "trn/events.hpp"
 
 #include "fdir/event_log.hpp"
 #include "fdir/tile_health.hpp"
@@ -168,7 +169,7 @@ void trn_act(const SupervisorsConfig& c, const fdir::SupDecision& d) noexcept {
   NodeState& n = g_nodes[kNodeTrn];
   if (d.action == fdir::SupAction::kEscalate) {
     ++n.stats.safe_mode;  // nobody above: the vehicle is told
-    fdir::report(fdir::EventId::kSafeMode, d.constraint, 0U, d.level, 0U);
+    trn::report(ev::kSafeMode, d.constraint, 0U, d.level, 0U);
     return;
   }
   if (d.action != fdir::SupAction::kApply) {
@@ -217,7 +218,7 @@ void trn_phase(const SupervisorsConfig& c, std::uint32_t now) noexcept {
   g_nodes[kNodeTrn].stats.phase = p;
   g_trn.woken_for = 0xFFFF'FFFFU;
   const PhaseSpec& ph = c.phases[p];
-  fdir::report(fdir::EventId::kPhaseBegin, p, 0U, ph.reliability, ph.power);
+  trn::report(ev::kPhaseBegin, p, 0U, ph.reliability, ph.power);
   trn_policy(c, kRel, ph.reliability, fdir::kFromPhase);
   trn_policy(c, kPow, ph.power, fdir::kFromPhase);
 }

@@ -3,6 +3,7 @@
  * @brief Vision coordinator: frame planning, distribution to the vision tiles, gathering.
  */
 #include "trn/tasks/vision_coord.hpp"
+#include "trn/events.hpp"
 
 #include "trn/tasks/landmark_product.hpp"
 
@@ -147,7 +148,7 @@ enum class SetUpStep : std::uint32_t { kLists = 1, kMapProduct = 2, kCarves = 3,
 
 /** Says why the coordinator cannot start; @return false (for the caller's return). */
 bool set_up_failed(SetUpStep step, std::uint32_t status) noexcept {
-  fdir::report(fdir::EventId::kVisionSetUpFailed, static_cast<std::uint32_t>(step), 0U, status);
+  trn::report(ev::kVisionSetUpFailed, static_cast<std::uint32_t>(step), 0U, status);
   return false;
 }
 
@@ -192,7 +193,7 @@ bool take_ground_table(CoordState& st) noexcept {
   bsp::consume(work);
   k::checkin();
   if (c != ProductCheck::kOk) {  // the table is untouched: still the empty one coord_set_up() made
-    fdir::report(fdir::EventId::kLandmarkProductRefused, 0U, static_cast<std::uint32_t>(c),
+    trn::report(ev::kLandmarkProductRefused, 0U, static_cast<std::uint32_t>(c),
                  static_cast<std::uint32_t>(bytes));
     return false;
   }
@@ -654,7 +655,7 @@ vision::Status redo_bands(CoordState& st, VisionCoordStats& stats, const vision:
       continue;
     }
     const BandRedo why = b.answered ? b.why : BandRedo::kNoAnswer;
-    fdir::report(fdir::EventId::kCoarseBandRedone, b.tile, static_cast<std::uint32_t>(why),
+    trn::report(ev::kCoarseBandRedone, b.tile, static_cast<std::uint32_t>(why),
                  static_cast<std::uint32_t>(b.row0), st.frame.seq);
     ++stats.coarse_bands_redone;
     missing += b.rows;
@@ -1105,7 +1106,7 @@ void finish_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   order_matches(st);
   check_frame(st, stats);
   send_batch(st, stats);
-  fdir::report(fdir::EventId::kFrameDone, fdir::kUnknown, lost, st.frame.seq, fine);
+  trn::report(ev::kFrameDone, fdir::kUnknown, lost, st.frame.seq, fine);
   send_status(st, stats, lost);
   st.busy = false;
   stats.last_frame_cycles = bsp::now() - st.frame_start;

@@ -3,6 +3,7 @@
  * @brief The DDR lookups and the band relight the coordinator and the vision tiles share.
  */
 #include "trn/tasks/vision_shared.hpp"
+#include "trn/events.hpp"
 
 #include "bsp_tile64/memory.hpp"
 #include "bsp_tile64/work.hpp"
@@ -108,7 +109,7 @@ void report_correlation_checks(bool failed, std::uint32_t recomputes, vision::Co
   if (!failed && recomputes == 0U) {
     return;
   }
-  fdir::report(failed ? fdir::EventId::kCorrelationFailed : fdir::EventId::kCorrelationCorrected, landmark,
+  trn::report(failed ? ev::kCorrelationFailed : ev::kCorrelationCorrected, landmark,
                static_cast<std::uint32_t>(first), frame, recomputes);
 }
 

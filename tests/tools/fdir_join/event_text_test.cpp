@@ -4,14 +4,26 @@
  *        well formed and names only fields the event declares; the template language itself.
  */
 #include "tools/common/event_text.hpp"
+#include "tools/common/event_tables.hpp"
+#include "trn/events.hpp"
 #include "tools/common/fdir_join.hpp"
 
 #include <gtest/gtest.h>
 
 #include <array>
 #include <string>
+#include <vector>
 
 namespace {
+
+/** Every declared event: fdir's table, then the application's. */
+std::vector<fdir::EventInfo> all_events() {
+  std::vector<fdir::EventInfo> v;
+  for (const std::span<const fdir::EventInfo> t : tools::kEventTables) {
+    v.insert(v.end(), t.begin(), t.end());
+  }
+  return v;
+}
 
 using fdir::EventId;
 
@@ -28,7 +40,7 @@ fdir::Event ev(EventId id, std::uint32_t subject, std::uint32_t cause = 0U, std:
 
 /** An event declared with @p text (for the language's own tests). */
 std::string fill(const char* text, const fdir::Event& e) {
-  fdir::EventInfo info = *fdir::event_info(EventId::kFrameDone);
+  fdir::EventInfo info = *tools::event_info(trn::ev::kFrameDone);
   info.text = text;
   std::array<char, 256> buf{};
   const std::size_t n = tools::format_event_text(info, e, buf);
@@ -59,13 +71,13 @@ int highest_field(const std::string& text) {
 }
 
 TEST(EventText, EveryTemplateIsWellFormed) {
-  for (const fdir::EventInfo& e : fdir::kEventTable) {
+  for (const fdir::EventInfo& e : all_events()) {
     EXPECT_EQ(tools::check_event_text(e.text), "") << e.name;
   }
 }
 
 TEST(EventText, EveryTemplateNamesOnlyTheFieldsItsEventDeclares) {
-  for (const fdir::EventInfo& e : fdir::kEventTable) {
+  for (const fdir::EventInfo& e : all_events()) {
     ASSERT_NE(e.args, nullptr) << e.name;
     EXPECT_LT(highest_field(e.text), static_cast<int>(declared_fields(e.args))) << e.name << ": " << e.args;
   }
@@ -74,7 +86,7 @@ TEST(EventText, EveryTemplateNamesOnlyTheFieldsItsEventDeclares) {
 TEST(EventText, NoEventTextShowsAFaultWhateverItsFields) {
   // Any field values, sane or not, fill every template without a placeholder left or a fault shown.
   constexpr std::array<std::uint32_t, 8> kValues{0U, 1U, 2U, 3U, 0x100U, 0xFFFFU, 0x8000'0002U, fdir::kUnknown};
-  for (const fdir::EventInfo& info : fdir::kEventTable) {
+  for (const fdir::EventInfo& info : all_events()) {
     for (const std::uint32_t v : kValues) {
       const std::string t = tools::describe_flight_event(ev(info.id, v, v, v, v));
       EXPECT_EQ(t.rfind(std::string(info.name) + ": ", 0), 0U) << t;
@@ -91,10 +103,10 @@ TEST(EventText, TextsReadAsTheFlightMeantThem) {
             "tile_reset: tile 18 reset by the supervisor: its results stayed wrong");
   EXPECT_EQ(tools::describe_flight_event(ev(EventId::kTileLost, 5U, 0x100U)),
             "tile_lost: tile 5 cut off: its switch is declared failed; retired, its roles go to spares");
-  EXPECT_EQ(tools::describe_flight_event(ev(EventId::kTmrNoMajority, 700U, 7U, 7U, 0x1514'1300U)),
+  EXPECT_EQ(tools::describe_flight_event(ev(trn::ev::kTmrNoMajority, 700U, 7U, 7U, 0x1514'1300U)),
             "tmr_no_majority: no majority at job 700 (different 0x7, missing 0x0; replicas on tiles 19, 20, 21): "
             "nothing delivered");
-  EXPECT_EQ(tools::describe_flight_event(ev(EventId::kFilterSettingsBad, 700U, 6U, 1U)),
+  EXPECT_EQ(tools::describe_flight_event(ev(trn::ev::kFilterSettingsBad, 700U, 6U, 1U)),
             "filter_settings_bad: the filter's settings in RAM (camera, process noise) changed by the end of job "
             "700: not delivered, built again from the image");
   EXPECT_EQ(tools::describe_flight_event(ev(EventId::kAbftCorrected, 1U, (5U << 16U) | 3U, (1U << 16U) | 1U, 1U)),
@@ -106,26 +118,26 @@ TEST(EventText, TextsReadAsTheFlightMeantThem) {
 }
 
 TEST(EventText, ThePhraseOfAValueAndTheLastForAnyLarger) {
-  EXPECT_EQ(fill("{c|zero|one|more}", ev(EventId::kFrameDone, 0U, 0U)), "zero");
-  EXPECT_EQ(fill("{c|zero|one|more}", ev(EventId::kFrameDone, 0U, 1U)), "one");
-  EXPECT_EQ(fill("{c|zero|one|more}", ev(EventId::kFrameDone, 0U, 9U)), "more");
-  EXPECT_EQ(fill("x{c||y}z", ev(EventId::kFrameDone, 0U, 0U)), "xz") << "an empty phrase";
+  EXPECT_EQ(fill("{c|zero|one|more}", ev(trn::ev::kFrameDone, 0U, 0U)), "zero");
+  EXPECT_EQ(fill("{c|zero|one|more}", ev(trn::ev::kFrameDone, 0U, 1U)), "one");
+  EXPECT_EQ(fill("{c|zero|one|more}", ev(trn::ev::kFrameDone, 0U, 9U)), "more");
+  EXPECT_EQ(fill("x{c||y}z", ev(trn::ev::kFrameDone, 0U, 0U)), "xz") << "an empty phrase";
 }
 
 TEST(EventText, PhrasesHoldFieldsAndPhrases) {
-  EXPECT_EQ(fill("{a|none|{a} of {b|none|{b} {c|x|y}}}", ev(EventId::kFrameDone, 0U, 1U, 2U, 3U)), "2 of 3 y");
+  EXPECT_EQ(fill("{a|none|{a} of {b|none|{b} {c|x|y}}}", ev(trn::ev::kFrameDone, 0U, 1U, 2U, 3U)), "2 of 3 y");
 }
 
 TEST(EventText, SelectorsFormatsAndBitWords) {
-  const fdir::Event e = ev(EventId::kFrameDone, 0x1234'5678U, 0x8000'0005U, 0U, 0x0A0B'0C0DU);
+  const fdir::Event e = ev(trn::ev::kFrameDone, 0x1234'5678U, 0x8000'0005U, 0U, 0x0A0B'0C0DU);
   EXPECT_EQ(fill("{s.hi} {s.lo}", e), "4660 22136");
   EXPECT_EQ(fill("{b.b0} {b.b1} {b.b2} {b.b3}", e), "13 12 11 10");
   EXPECT_EQ(fill("{c.top} {c.rest}", e), "1 5");
   EXPECT_EQ(fill("{s:x}", e), "0x12345678");
   EXPECT_EQ(fill("{c&p|q|r}", e), "p, r");
   EXPECT_EQ(fill("{a&p|q|r}", e), "");
-  EXPECT_EQ(fill("{s}", ev(EventId::kFrameDone, fdir::kUnknown)), "?");
-  EXPECT_EQ(fill("{s@node} {a@alternative}", ev(EventId::kFrameDone, 2U, 0U, 3U)), "filter_supervisor filter in TMR");
+  EXPECT_EQ(fill("{s}", ev(trn::ev::kFrameDone, fdir::kUnknown)), "?");
+  EXPECT_EQ(fill("{s@node} {a@alternative}", ev(trn::ev::kFrameDone, 2U, 0U, 3U)), "filter_supervisor filter in TMR");
 }
 
 TEST(EventText, ABadTemplateIsRefusedByTheCheckAndShownAsSuch) {
@@ -139,15 +151,15 @@ TEST(EventText, ABadTemplateIsRefusedByTheCheckAndShownAsSuch) {
   EXPECT_NE(tools::check_event_text("{s|{c|{a|{b|{s|x}}}}}"), "") << "nested past the formatter's depth";
   EXPECT_NE(tools::check_event_text(""), "");
   EXPECT_EQ(tools::check_event_text("{s|{c|{a|{b|x}}}}"), "");
-  EXPECT_EQ(fill("a {x} b", ev(EventId::kFrameDone, 0U)), "a {?} b");
-  EXPECT_EQ(fill("a {s@nosuchtype} b", ev(EventId::kFrameDone, 0U)), "a {?} b");
+  EXPECT_EQ(fill("a {x} b", ev(trn::ev::kFrameDone, 0U)), "a {?} b");
+  EXPECT_EQ(fill("a {s@nosuchtype} b", ev(trn::ev::kFrameDone, 0U)), "a {?} b");
 }
 
 TEST(EventText, ATextLongerThanItsBufferIsCutAndTerminated) {
-  fdir::EventInfo info = *fdir::event_info(EventId::kFrameDone);
+  fdir::EventInfo info = *tools::event_info(trn::ev::kFrameDone);
   info.text = "0123456789{s}0123456789";
   std::array<char, 8> buf{};
-  const std::size_t n = tools::format_event_text(info, ev(EventId::kFrameDone, 42U), buf);
+  const std::size_t n = tools::format_event_text(info, ev(trn::ev::kFrameDone, 42U), buf);
   EXPECT_EQ(n, 7U);
   EXPECT_EQ(std::string(buf.data()), "0123456");
 }

@@ -6,6 +6,7 @@
  *        diagnosis or a false alarm, and every action on a healthy tile is counted.
  */
 #include "tools/common/fault_account.hpp"
+#include "trn/events.hpp"
 #include "tools/common/fdir_join.hpp"
 
 #include "trn/tasks/filter_core.hpp"
@@ -49,7 +50,7 @@ fdir::Event event(fdir::EventId id, bsp::TileId writer, std::uint32_t subject, b
   e.a = a;
   e.b = b;
   e.cycle = at;
-  const fdir::EventInfo* info = fdir::event_info(id);
+  const fdir::EventInfo* info = tools::event_info(id);
   e.steps = info != nullptr ? info->steps : 0U;
   return e;
 }
@@ -98,8 +99,8 @@ TEST(FdirJoin, ACorrelationCheckIsCreditedOnlyToACorrelationSdcOfItsTile) {
   faults[0].spec.channel = 10U;  // correlation_dot, 1 s before the check: another landmark's
   faults[1].spec.channel = 10U;
   faults[2].spec.channel = 3U;   // vision_matches on another tile: no correlation of it
-  const std::vector<fdir::Event> events{event(fdir::EventId::kCorrelationCorrected, 24U, 12U, 4'006'000U, 1U),
-                                        event(fdir::EventId::kCorrelationCorrected, 25U, 7U, 4'006'000U, 1U)};
+  const std::vector<fdir::Event> events{event(trn::ev::kCorrelationCorrected, 24U, 12U, 4'006'000U, 1U),
+                                        event(trn::ev::kCorrelationCorrected, 25U, 7U, 4'006'000U, 1U)};
   const tools::FaultAccount a = tools::join_faults(faults, events, kHz);
   ASSERT_EQ(a.outcomes.size(), 3U);
   EXPECT_FALSE(a.outcomes[0].detected);
@@ -140,9 +141,9 @@ TEST(FdirJoin, AnUpsetIsCreditedOnlyToASelfTestThatNamesItsTile) {
   EXPECT_EQ(cleared.outcomes[0].diagnosis, tools::DiagnosisVerdict::kRightAndWrong);
   EXPECT_EQ(cleared.recovered, 0U) << "cleared, but no frame of the vision service whole after it";
   // A vision tile's service: a frame with no unit lost after the tile was cleared.
-  named.push_back(event(fdir::EventId::kFrameDone, 1U, 0U, 1'300'000U, 0U));  // before it was cleared
-  named.push_back(event(fdir::EventId::kFrameDone, 1U, 0U, 1'900'000U, 2U));  // units lost
-  named.push_back(event(fdir::EventId::kFrameDone, 1U, 0U, 2'100'000U, 0U));
+  named.push_back(event(trn::ev::kFrameDone, 1U, 0U, 1'300'000U, 0U));  // before it was cleared
+  named.push_back(event(trn::ev::kFrameDone, 1U, 0U, 1'900'000U, 2U));  // units lost
+  named.push_back(event(trn::ev::kFrameDone, 1U, 0U, 2'100'000U, 0U));
   const tools::FaultAccount hit = tools::join_faults(faults, named, kHz);
   ASSERT_EQ(hit.recovered, 1U);
   EXPECT_NEAR(hit.outcomes[0].recovered_s, 2.1, 1e-9);
@@ -155,8 +156,8 @@ TEST(FdirJoin, AnUpsetIsCreditedOnlyToASelfTestThatNamesItsTile) {
 TEST(FdirJoin, TheFilterIsRecoveredWhenItsOutputsFlowAgainSteadily) {
   using fdir::EventId;
   const std::array<bsp::FaultRecord, 1> one{settings_upset(18U, 3'000'000U, 71U)};
-  const std::vector<fdir::Event> refused{event(EventId::kFilterSettingsBad, 18U, 300U, 3'002'000U, 1U),
-                                         event(EventId::kFilterResumed, 18U, 30U, 3'002'100U)};
+  const std::vector<fdir::Event> refused{event(trn::ev::kFilterSettingsBad, 18U, 300U, 3'002'000U, 1U),
+                                         event(trn::ev::kFilterResumed, 18U, 30U, 3'002'100U)};
   // One job skipped (3.00 -> 3.02): back at 3.02 with a 20 ms gap.
   std::vector<double> skipped = filter_stream_with_hole(3.0, 3.02);
   tools::ServiceStreams streams;
@@ -199,8 +200,8 @@ TEST(FdirJoin, TheSettingsCheckIsCreditedOnlyToAnUpsetInTheSettings) {
   const std::array<bsp::FaultRecord, 3> faults{settings_upset(18U, 20'000'000U, 0x5000U),  // the EKF's history
                                                record(bsp::FaultKind::kSeu, 18U, 21'000'000U),  // uncarved RAM
                                                settings_upset(18U, 22'000'000U, 200U)};
-  const std::vector<fdir::Event> events{event(EventId::kFilterSettingsBad, 18U, 2200U, 22'001'500U, 2U),
-                                        event(EventId::kFilterResumed, 18U, 220U, 22'001'600U)};
+  const std::vector<fdir::Event> events{event(trn::ev::kFilterSettingsBad, 18U, 2200U, 22'001'500U, 2U),
+                                        event(trn::ev::kFilterResumed, 18U, 220U, 22'001'600U)};
   const std::vector<double> outputs = stream(0.010, 30.0);
   tools::ServiceStreams streams;
   streams.filter_outputs_s = outputs;
@@ -392,8 +393,8 @@ TEST(FdirJoinStrict, AHealthyReplicaOutvotedByTwoAlikeIsCountedNotCredited) {
                                          record(bsp::FaultKind::kSdc, 21U, 9'001'518U)};
   faults[0].spec.channel = 1U;
   faults[1].spec.channel = 1U;
-  const std::vector<fdir::Event> events{event(EventId::kTmrOutvoted, 18U, 20U, 9'021'000U, 900U, 1U, 1U),
-                                        event(EventId::kTmrExcluded, 18U, 20U, 9'041'000U, 902U, 1U, 2U)};
+  const std::vector<fdir::Event> events{event(trn::ev::kTmrOutvoted, 18U, 20U, 9'021'000U, 900U, 1U, 1U),
+                                        event(trn::ev::kTmrExcluded, 18U, 20U, 9'041'000U, 902U, 1U, 2U)};
   const tools::FaultAccount a = tools::join_faults(faults, events, kHz);
   EXPECT_EQ(a.detected, 0U);
   EXPECT_EQ(a.misdiagnosed, 1U);
@@ -412,10 +413,10 @@ TEST(FdirJoinStrict, NoMajorityCreditsTheCorruptedAndChargesTheHealthy) {
   faults[1].spec.channel = 1U;
   // Mask 0b111: all three different; tiles 19, 20, 21 in b's bytes 1-3.
   const std::uint32_t tiles = (19U << 8U) | (20U << 16U) | (21U << 24U);
-  std::vector<fdir::Event> events{event(EventId::kTmrEstablished, 18U, 500U, 5'000'000U, 1U, 3U),
-                                  event(EventId::kTmrNoMajority, 18U, 700U, 7'020'000U, 0U, 7U, tiles)};
-  events.push_back(event(EventId::kTmrAgrees, 18U, 19U, 7'030'000U, 701U, 0U, 1U));
-  events.push_back(event(EventId::kTmrSimplex, 18U, 705U, 7'070'000U, 2U));
+  std::vector<fdir::Event> events{event(trn::ev::kTmrEstablished, 18U, 500U, 5'000'000U, 1U, 3U),
+                                  event(trn::ev::kTmrNoMajority, 18U, 700U, 7'020'000U, 0U, 7U, tiles)};
+  events.push_back(event(trn::ev::kTmrAgrees, 18U, 19U, 7'030'000U, 701U, 0U, 1U));
+  events.push_back(event(trn::ev::kTmrSimplex, 18U, 705U, 7'070'000U, 2U));
   const tools::FaultAccount a = tools::join_faults(faults, events, kHz);
   EXPECT_EQ(a.detected, 2U);
   EXPECT_EQ(a.misdiagnosed, 1U);
@@ -443,8 +444,8 @@ TEST(FdirJoinStrict, AReplicaStandsByInSimplexAndVotesAgainInTmr) {
   const std::array<bsp::FaultRecord, 1> crash{record(bsp::FaultKind::kCoreReset, 20U, 7'939'000U)};
   std::vector<fdir::Event> rebooted{event(EventId::kTileRebooted, 0U, 20U, 7'947'000U, 3U)};
   EXPECT_EQ(tools::join_faults(crash, rebooted, kHz).recovered, 0U);
-  rebooted.push_back(event(EventId::kTmrStarting, 18U, 3003U, 30'031'000U, 1U));
-  rebooted.push_back(event(EventId::kTmrEstablished, 18U, 3004U, 30'061'000U, 1U, 3U));
+  rebooted.push_back(event(trn::ev::kTmrStarting, 18U, 3003U, 30'031'000U, 1U));
+  rebooted.push_back(event(trn::ev::kTmrEstablished, 18U, 3004U, 30'061'000U, 1U, 3U));
   a = tools::join_faults(crash, rebooted, kHz);
   EXPECT_EQ(a.recovered, 1U);
   EXPECT_NEAR(a.outcomes[0].recovered_s, 30.061, 1e-9);
@@ -452,29 +453,29 @@ TEST(FdirJoinStrict, AReplicaStandsByInSimplexAndVotesAgainInTmr) {
   // In TMR, a replica whose self-test pattern was upset is cleared by its next self-test; no vote
   // missed or outvoted it, so it kept voting: recovered when cleared.
   const std::array<bsp::FaultRecord, 1> pattern{record(bsp::FaultKind::kSeu, 21U, 38'796'000U)};
-  std::vector<fdir::Event> selftest{event(EventId::kTmrEstablished, 18U, 3004U, 30'061'000U, 1U, 3U),
+  std::vector<fdir::Event> selftest{event(trn::ev::kTmrEstablished, 18U, 3004U, 30'061'000U, 1U, 3U),
                                     event(EventId::kSelfTestMismatch, 0U, 21U, 39'357'000U, 787U, 1U, 2U),
                                     event(EventId::kSelfTestAgree, 0U, 21U, 39'607'000U, 792U, 1U)};
   a = tools::join_faults(pattern, selftest, kHz);
   EXPECT_EQ(a.recovered, 1U);
   EXPECT_NEAR(a.outcomes[0].recovered_s, 39.607, 1e-9);
   // Outvoted meanwhile: it must vote again first.
-  selftest.push_back(event(EventId::kTmrOutvoted, 18U, 21U, 39'000'000U, 3900U, 2U, 1U));
+  selftest.push_back(event(trn::ev::kTmrOutvoted, 18U, 21U, 39'000'000U, 3900U, 2U, 1U));
   EXPECT_EQ(tools::join_faults(pattern, selftest, kHz).recovered, 0U);
 
   const std::array<bsp::FaultRecord, 1> sw{record(bsp::FaultKind::kSwitchFail, 19U, 41'728'000U)};
-  std::vector<fdir::Event> tmr{event(EventId::kTmrEstablished, 18U, 3004U, 30'061'000U, 1U, 3U),
+  std::vector<fdir::Event> tmr{event(trn::ev::kTmrEstablished, 18U, 3004U, 30'061'000U, 1U, 3U),
                                event(EventId::kSwitchFailed, 0U, 19U, 41'765'000U, 0U, 2U, 1U),
                                event(EventId::kRoleMoved, 0U, 3U, 41'767'000U, 19U, 11U, 1U),
                                event(EventId::kRoleRestored, 0U, 3U, 41'775'000U, 19U, 11U, 8U),
                                event(EventId::kMapPublished, 0U, 1U, 41'776'000U, 0U, 47U),
-                               event(EventId::kTmrOutvoted, 18U, 11U, 41'791'000U, 4177U, 0U, 2U),
-                               event(EventId::kTmrExcluded, 18U, 11U, 41'811'000U, 4179U, 0U, 2U)};
+                               event(trn::ev::kTmrOutvoted, 18U, 11U, 41'791'000U, 4177U, 0U, 2U),
+                               event(trn::ev::kTmrExcluded, 18U, 11U, 41'811'000U, 4179U, 0U, 2U)};
   a = tools::join_faults(sw, tmr, kHz);
   EXPECT_EQ(a.recovered, 0U) << "the role restored on the spare votes nothing yet";
   EXPECT_EQ(a.misdiagnosed, 1U) << "the spare, outvoted for no output";
   EXPECT_EQ(a.healthy_disturbed.size(), 2U);
-  tmr.push_back(event(EventId::kTmrResynced, 18U, 11U, 41'841'000U, 4182U, 0U, 3U));
+  tmr.push_back(event(trn::ev::kTmrResynced, 18U, 11U, 41'841'000U, 4182U, 0U, 3U));
   a = tools::join_faults(sw, tmr, kHz);
   EXPECT_EQ(a.recovered, 1U);
   EXPECT_STREQ(a.outcomes[0].recovered_by, "tmr_resynced");
@@ -487,7 +488,7 @@ TEST(FdirJoinStrict, InPlaceCorrectionsAndMapsRecover) {
                                          record(bsp::FaultKind::kSwitchFail, 9U, 20'000'000U)};
   faults[0].spec.channel = trn::vision::kCorrelationDotChannel;
   const std::vector<fdir::Event> events{
-      event(EventId::kCorrelationCorrected, 27U, 12U, 12'042'000U, 1U, 12U, 1U),
+      event(trn::ev::kCorrelationCorrected, 27U, 12U, 12'042'000U, 1U, 12U, 1U),
       event(EventId::kTransitFailed, 0U, 9U, 20'098'000U, 0U, 7U, 1U),
       event(EventId::kMapPublished, 0U, 1U, 20'110'000U, 0U, 42U),
   };

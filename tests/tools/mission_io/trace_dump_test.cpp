@@ -4,6 +4,7 @@
  *        allocation while recording; the first difference of two traces is found; kinds have names.
  */
 #include "tools/common/trace_dump.hpp"
+#include "trn/events.hpp"
 
 #include "bsp_tile64/trace.hpp"
 #include "bsp_tile64/udn_net.hpp"
@@ -105,7 +106,7 @@ TEST(TraceDump, KindsAreNamedWithTheirLayer) {
   EXPECT_EQ(tools::trace_kind_name(static_cast<std::uint16_t>(bsp::UdnTrace::kBitFlip)), "board.udn_bit_flip");
   EXPECT_EQ(tools::trace_kind_name(static_cast<std::uint16_t>(k::TraceKind::kSwitch)), "kernel.switch");
   EXPECT_EQ(tools::trace_kind_name(static_cast<std::uint16_t>(
-                bsp::kTraceFdirBase + (static_cast<std::uint16_t>(fdir::EventId::kFrameDone) & 0x0FFFU))),
+                bsp::kTraceFdirBase + (static_cast<std::uint16_t>(trn::ev::kFrameDone) & 0x0FFFU))),
             "fdir.frame_done");
   EXPECT_EQ(tools::trace_kind_name(0x4003U), "trn.0x4003");
   const std::string line = tools::format_trace_event(7U, bsp::TraceEvent{700U, 3U, 0x1001U, 4U, 5U}, 700e6);

@@ -10,6 +10,7 @@
  * the frames still finish, with fewer matches at first.
  */
 #include "build_dirs.hpp"
+#include "trn/events.hpp"
 
 #include "bsp_tile64/board.hpp"
 #include "fdir/event_log.hpp"
@@ -147,7 +148,7 @@ TEST_F(PipelineTest, ACoordinatorThatCannotStartSaysWhy) {
   std::uint32_t said = 0;
   for (std::uint64_t i = 0; i < fdir::event_log_written(kCoordinatorTile); ++i) {
     fdir::Event e{};
-    if (fdir::event_log_read(kCoordinatorTile, i, &e) && e.id == fdir::EventId::kVisionSetUpFailed) {
+    if (fdir::event_log_read(kCoordinatorTile, i, &e) && e.id == trn::ev::kVisionSetUpFailed) {
       EXPECT_EQ(e.subject, 4U) << "the landmark selection";
       EXPECT_EQ(e.a, static_cast<std::uint32_t>(trn::vision::Status::kTooLarge));
       ++said;
@@ -195,7 +196,7 @@ TEST_F(PipelineTest, TheGroundsLandmarkTableIsTheOnboardSelectionAndReadyForTheF
   EXPECT_GT(ground.landmarks_selected, 3000U);
   EXPECT_EQ(ground.frames_before_ready, 0U);
   EXPECT_GE(ground.frames_processed, 1U) << "the frame captured at 1 s";
-  EXPECT_TRUE(coordinator_events(fdir::EventId::kLandmarkProductRefused).empty());
+  EXPECT_TRUE(coordinator_events(trn::ev::kLandmarkProductRefused).empty());
   const std::vector<std::uint8_t> from_ground = coordinator_table();
   mission_->set_ground_landmarks(false);
   ASSERT_TRUE(mission_->boot(error)) << error;
@@ -222,14 +223,14 @@ TEST_F(PipelineTest, AGroundTableChangedInMemoryIsRefusedAndTheCoordinatorSelect
   auto* bytes = const_cast<std::uint8_t*>(block);  // NOLINT(cppcoreguidelines-pro-type-const-cast): the test's upset
   bytes[sizeof(trn::tasks::LandmarkProductHeader) + 1000U * sizeof(trn::vision::Landmark) + 9U] ^= 0x10U;
   fly_s(3.5);
-  const std::vector<fdir::Event> refused = coordinator_events(fdir::EventId::kLandmarkProductRefused);
+  const std::vector<fdir::Event> refused = coordinator_events(trn::ev::kLandmarkProductRefused);
   ASSERT_EQ(refused.size(), 1U);
   EXPECT_EQ(refused[0].cause, static_cast<std::uint32_t>(trn::tasks::ProductCheck::kBadRecords));
   const trn::tasks::VisionCoordStats c = trn::tasks::vision_coord_stats(kCoordinatorTile);
   EXPECT_EQ(c.landmarks_from_ground, 0U);
   EXPECT_GT(c.landmarks_selected, 3000U);
   EXPECT_GE(c.frames_processed, 1U);
-  EXPECT_TRUE(coordinator_events(fdir::EventId::kVisionSetUpFailed).empty());
+  EXPECT_TRUE(coordinator_events(trn::ev::kVisionSetUpFailed).empty());
 }
 
 }  // namespace

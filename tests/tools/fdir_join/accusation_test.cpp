@@ -1,9 +1,11 @@
 /**
  * @file accusation_test.cpp
- * @brief Whom each event accuses and of what (fdir/accusation.hpp): the table's class, refined by the
+ * @brief Whom each event accuses and of what (tools/common/accusation.hpp): the table's class, refined by the
  *        fields where one id says two things.
  */
-#include "fdir/accusation.hpp"
+#include "tools/common/accusation.hpp"
+#include "tools/common/event_tables.hpp"
+#include "trn/events.hpp"
 
 #include "build_info.hpp"
 
@@ -18,6 +20,15 @@
 #include <vector>
 
 namespace {
+
+/** Every declared event: fdir's table, then the application's. */
+std::vector<fdir::EventInfo> all_events() {
+  std::vector<fdir::EventInfo> v;
+  for (const std::span<const fdir::EventInfo> t : tools::kEventTables) {
+    v.insert(v.end(), t.begin(), t.end());
+  }
+  return v;
+}
 
 using fdir::Diagnosis;
 using fdir::EventId;
@@ -37,49 +48,49 @@ fdir::Event ev(EventId id, bsp::TileId writer, std::uint32_t subject, std::uint3
 TEST(Accusation, EveryDetectionOfATileSaysWhatItAccuses) {
   // Every event that is a detection of the table either accuses with a class or is a notice the
   // join reads otherwise (a delivery given up, a level not met): listed here so a new id must choose.
-  for (const fdir::EventInfo& e : fdir::kEventTable) {
+  for (const fdir::EventInfo& e : all_events()) {
     if ((e.steps & fdir::kStepDetect) == 0U || e.diagnosis != Diagnosis::kNone) {
       continue;
     }
     const bool notice = e.id == EventId::kPacketGaveUp || e.id == EventId::kRouteUnreachable ||
                         e.id == EventId::kForwardUnreachable || e.id == EventId::kPacketSettled ||
-                        e.id == EventId::kVisionSetUpFailed || e.id == EventId::kLandmarkProductRefused ||
+                        e.id == trn::ev::kVisionSetUpFailed || e.id == trn::ev::kLandmarkProductRefused ||
                         e.id == EventId::kMonitorWarn || e.id == EventId::kMonitorFatal ||
-                        e.id == EventId::kTileLost || e.id == EventId::kImuGap || e.id == EventId::kSupNotMet;
+                        e.id == EventId::kTileLost || e.id == trn::ev::kImuGap || e.id == EventId::kSupNotMet;
     EXPECT_TRUE(notice) << e.name << " detects, but accuses nothing";
   }
 }
 
 TEST(Accusation, TheFieldsRefineTheClass) {
-  EXPECT_EQ(fdir::accusation_of(ev(EventId::kTmrOutvoted, 18U, 20U, 700U, 1U, 1U)).diagnosis, Diagnosis::kWrongResult);
-  EXPECT_EQ(fdir::accusation_of(ev(EventId::kTmrOutvoted, 18U, 20U, 700U, 1U, 2U)).diagnosis, Diagnosis::kCoreSilent);
-  EXPECT_EQ(fdir::accusation_of(ev(EventId::kTileRebooted, 0U, 12U, 3U)).diagnosis, Diagnosis::kCoreCrashed);
-  EXPECT_EQ(fdir::accusation_of(ev(EventId::kTileRebooted, 0U, 12U, 2U)).diagnosis, Diagnosis::kCoreSilent);
-  EXPECT_EQ(fdir::accusation_of(ev(EventId::kTileRebooted, 0U, 12U, 1U)).diagnosis, Diagnosis::kNone);
-  EXPECT_EQ(fdir::accusation_of(ev(EventId::kCoarseBandRedone, 1U, 30U, 4U)).diagnosis, Diagnosis::kWrongResult);
-  EXPECT_EQ(fdir::accusation_of(ev(EventId::kCoarseBandRedone, 1U, 30U, 2U)).diagnosis, Diagnosis::kSuspicion);
-  EXPECT_EQ(fdir::accusation_of(ev(EventId::kCoarseBandRedone, 1U, 30U, 1U)).diagnosis, Diagnosis::kNone);
+  EXPECT_EQ(tools::accusation_of(ev(trn::ev::kTmrOutvoted, 18U, 20U, 700U, 1U, 1U)).diagnosis, Diagnosis::kWrongResult);
+  EXPECT_EQ(tools::accusation_of(ev(trn::ev::kTmrOutvoted, 18U, 20U, 700U, 1U, 2U)).diagnosis, Diagnosis::kCoreSilent);
+  EXPECT_EQ(tools::accusation_of(ev(EventId::kTileRebooted, 0U, 12U, 3U)).diagnosis, Diagnosis::kCoreCrashed);
+  EXPECT_EQ(tools::accusation_of(ev(EventId::kTileRebooted, 0U, 12U, 2U)).diagnosis, Diagnosis::kCoreSilent);
+  EXPECT_EQ(tools::accusation_of(ev(EventId::kTileRebooted, 0U, 12U, 1U)).diagnosis, Diagnosis::kNone);
+  EXPECT_EQ(tools::accusation_of(ev(trn::ev::kCoarseBandRedone, 1U, 30U, 4U)).diagnosis, Diagnosis::kWrongResult);
+  EXPECT_EQ(tools::accusation_of(ev(trn::ev::kCoarseBandRedone, 1U, 30U, 2U)).diagnosis, Diagnosis::kSuspicion);
+  EXPECT_EQ(tools::accusation_of(ev(trn::ev::kCoarseBandRedone, 1U, 30U, 1U)).diagnosis, Diagnosis::kNone);
 }
 
 TEST(Accusation, TheTilesNamed) {
-  const fdir::Accusation overdue = fdir::accusation_of(ev(EventId::kTaskOverdue, 35U, 2U, 35U));
+  const tools::Accusation overdue = tools::accusation_of(ev(EventId::kTaskOverdue, 35U, 2U, 35U));
   ASSERT_EQ(overdue.count, 1U);
   EXPECT_EQ(overdue.tiles[0], 35U) << "the task's tile (cause), not its id";
-  const fdir::Accusation link = fdir::accusation_of(ev(EventId::kLinkFailed, 0U, 51U, 52U));
+  const tools::Accusation link = tools::accusation_of(ev(EventId::kLinkFailed, 0U, 51U, 52U));
   EXPECT_EQ(link.count, 2U);
   EXPECT_TRUE(link.names(51U) && link.names(52U));
-  const fdir::Accusation own = fdir::accusation_of(ev(EventId::kFilterStateBad, 18U, 300U, 6U));
+  const tools::Accusation own = tools::accusation_of(ev(trn::ev::kFilterStateBad, 18U, 300U, 6U));
   EXPECT_TRUE(own.names(18U) && own.count == 1U) << "the writer, about itself";
   // Replicas 0 and 2 different: tiles 19 and 21 named, 20 not.
   const std::uint32_t tiles = (19U << 8U) | (20U << 16U) | (21U << 24U);
-  const fdir::Accusation vote = fdir::accusation_of(ev(EventId::kTmrNoMajority, 18U, 700U, 0U, 5U, tiles));
+  const tools::Accusation vote = tools::accusation_of(ev(trn::ev::kTmrNoMajority, 18U, 700U, 0U, 5U, tiles));
   EXPECT_EQ(vote.count, 2U);
   EXPECT_TRUE(vote.names(19U) && vote.names(21U) && !vote.names(20U));
-  EXPECT_EQ(fdir::accusation_of(ev(EventId::kPacketDamaged, 1U, fdir::kUnknown)).count, 0U)
+  EXPECT_EQ(tools::accusation_of(ev(EventId::kPacketDamaged, 1U, fdir::kUnknown)).count, 0U)
       << "a packet accuses no tile";
-  EXPECT_EQ(fdir::accusation_of(ev(EventId::kWatchdogExpired, 0U, fdir::kUnknown)).count, 0U);
-  EXPECT_FALSE(fdir::is_diagnosis(fdir::accusation_of(ev(EventId::kNeighbourSuspect, 31U, 30U)).diagnosis));
-  EXPECT_STREQ(fdir::diagnosis_name(Diagnosis::kSwitchOrLink), "switch_or_link");
+  EXPECT_EQ(tools::accusation_of(ev(EventId::kWatchdogExpired, 0U, fdir::kUnknown)).count, 0U);
+  EXPECT_FALSE(tools::is_diagnosis(tools::accusation_of(ev(EventId::kNeighbourSuspect, 31U, 30U)).diagnosis));
+  EXPECT_STREQ(tools::diagnosis_name(Diagnosis::kSwitchOrLink), "switch_or_link");
 }
 
 /** "detect, isolate" for the step bits, "-" for none (as docs/FDIR.md writes them). */
@@ -98,7 +109,7 @@ std::string accuses_text(const fdir::EventInfo& e) {
   if (e.diagnosis == Diagnosis::kNone) {
     return "-";
   }
-  std::string t = fdir::diagnosis_name(e.diagnosis);
+  std::string t = tools::diagnosis_name(e.diagnosis);
   switch (e.accused) {
     case fdir::Accused::kNobody: return t;
     case fdir::Accused::kSubject: return t + " (subject)";
@@ -149,8 +160,8 @@ TEST(EventDocs, TheTableInFdirMdIsTheDeclaration) {
     ASSERT_GE(c.size(), 6U) << line;
     EXPECT_TRUE(rows.emplace(c[1], c).second) << c[1] << " twice in docs/FDIR.md";
   }
-  EXPECT_EQ(rows.size(), fdir::kEventTable.size());
-  for (const fdir::EventInfo& e : fdir::kEventTable) {
+  EXPECT_EQ(rows.size(), tools::event_count());
+  for (const fdir::EventInfo& e : all_events()) {
     std::array<char, 8> id{};
     (void)std::snprintf(id.data(), id.size(), "0x%04X", static_cast<unsigned>(e.id));
     const auto r = rows.find(id.data());

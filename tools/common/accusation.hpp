@@ -1,12 +1,12 @@
 /**
  * @file accusation.hpp
- * @brief Whom a flight event accuses, and of what: the table's class (fdir/event_ids.hpp), refined
- *        by the event's own fields where one id can say two things.
+ * @brief Whom a flight event accuses, and of what: its table's class (fdir/event_ids.hpp,
+ *        trn/events.hpp), refined by the event's own fields where one id can say two things.
  *
  * The host's join reads every event through accusation_of(): a detection is
  * credited only to an accusation of the fault's tile with a class its kind
  * allows (docs/FDIR.md, "The join"). The refinements, each from a field the
- * event's row in event_ids.hpp documents:
+ * event's row documents:
  *   - tmr_outvoted with b = 2 (the replica's output missing) accuses its core of
  *     silence, with b = 1 (different) of a wrong result;
  *   - coarse_band_redone accuses the band's tile of a wrong result for causes 3
@@ -23,15 +23,17 @@
 #include "bsp_tile64/port.hpp"
 #include "fdir/event_ids.hpp"
 #include "fdir/event_log.hpp"
+#include "tools/common/event_tables.hpp"
+#include "trn/events.hpp"
 
 #include <array>
 #include <cstdint>
 
-namespace fdir {
+namespace tools {
 
 /** What an event accuses: a class and up to three tiles. */
 struct Accusation {
-  Diagnosis diagnosis = Diagnosis::kNone;
+  fdir::Diagnosis diagnosis = fdir::Diagnosis::kNone;
   std::array<bsp::TileId, 3> tiles{bsp::kNoTile, bsp::kNoTile, bsp::kNoTile};
   std::uint8_t count = 0U;  ///< tiles named (0: the event accuses nobody)
 
@@ -46,8 +48,8 @@ struct Accusation {
 };
 
 /** Whether @p diagnosis is a diagnosis (an accusation can be credited, wrong, or a false alarm), not a suspicion or nothing. */
-constexpr bool is_diagnosis(Diagnosis diagnosis) noexcept {
-  return diagnosis != Diagnosis::kNone && diagnosis != Diagnosis::kSuspicion;
+constexpr bool is_diagnosis(fdir::Diagnosis diagnosis) noexcept {
+  return diagnosis != fdir::Diagnosis::kNone && diagnosis != fdir::Diagnosis::kSuspicion;
 }
 
 namespace detail {
@@ -58,18 +60,18 @@ constexpr void add_tile(Accusation& acc, std::uint32_t field) noexcept {
   }
 }
 
-constexpr Diagnosis refined(const Event& e, Diagnosis table) noexcept {
-  switch (e.id) {
-    case EventId::kTmrOutvoted:
-      return e.b == 2U ? Diagnosis::kCoreSilent : Diagnosis::kWrongResult;
-    case EventId::kCoarseBandRedone:
-      return e.cause == 3U || e.cause == 4U ? Diagnosis::kWrongResult
-             : e.cause == 2U                ? Diagnosis::kSuspicion
-                                            : Diagnosis::kNone;
-    case EventId::kTileRebooted:
-      return e.cause == static_cast<std::uint32_t>(bsp::BootCause::kCommand)    ? Diagnosis::kNone
-             : e.cause == static_cast<std::uint32_t>(bsp::BootCause::kWatchdog) ? Diagnosis::kCoreSilent
-                                                                                 : Diagnosis::kCoreCrashed;
+constexpr fdir::Diagnosis refined(const fdir::Event& e, fdir::Diagnosis table) noexcept {
+  switch (event_code(e.id)) {
+    case event_code(trn::ev::kTmrOutvoted):
+      return e.b == 2U ? fdir::Diagnosis::kCoreSilent : fdir::Diagnosis::kWrongResult;
+    case event_code(trn::ev::kCoarseBandRedone):
+      return e.cause == 3U || e.cause == 4U ? fdir::Diagnosis::kWrongResult
+             : e.cause == 2U                ? fdir::Diagnosis::kSuspicion
+                                            : fdir::Diagnosis::kNone;
+    case event_code(fdir::EventId::kTileRebooted):
+      return e.cause == static_cast<std::uint32_t>(bsp::BootCause::kCommand)    ? fdir::Diagnosis::kNone
+             : e.cause == static_cast<std::uint32_t>(bsp::BootCause::kWatchdog) ? fdir::Diagnosis::kCoreSilent
+                                                                                 : fdir::Diagnosis::kCoreCrashed;
     default:
       return table;
   }
@@ -77,26 +79,26 @@ constexpr Diagnosis refined(const Event& e, Diagnosis table) noexcept {
 }  // namespace detail
 
 /** Whom @p e accuses, and of what. */
-constexpr Accusation accusation_of(const Event& e) noexcept {
+constexpr Accusation accusation_of(const fdir::Event& e) noexcept {
   Accusation acc;
-  const EventInfo* info = event_info(e.id);
+  const fdir::EventInfo* info = tools::event_info(e.id);
   if (info == nullptr) {
     return acc;
   }
   acc.diagnosis = detail::refined(e, info->diagnosis);
-  if (acc.diagnosis == Diagnosis::kNone) {
+  if (acc.diagnosis == fdir::Diagnosis::kNone) {
     return acc;
   }
   switch (info->accused) {
-    case Accused::kNobody: break;
-    case Accused::kSubject: detail::add_tile(acc, e.subject); break;
-    case Accused::kCause: detail::add_tile(acc, e.cause); break;
-    case Accused::kWriter: detail::add_tile(acc, e.tile); break;
-    case Accused::kSubjectAndCause:
+    case fdir::Accused::kNobody: break;
+    case fdir::Accused::kSubject: detail::add_tile(acc, e.subject); break;
+    case fdir::Accused::kCause: detail::add_tile(acc, e.cause); break;
+    case fdir::Accused::kWriter: detail::add_tile(acc, e.tile); break;
+    case fdir::Accused::kSubjectAndCause:
       detail::add_tile(acc, e.subject);
       detail::add_tile(acc, e.cause);
       break;
-    case Accused::kReplicas:
+    case fdir::Accused::kReplicas:
       for (std::uint32_t i = 0; i < 3U; ++i) {
         if (((e.a >> i) & 1U) != 0U) {
           detail::add_tile(acc, (e.b >> (8U * (i + 1U))) & 0xFFU);
@@ -108,20 +110,20 @@ constexpr Accusation accusation_of(const Event& e) noexcept {
 }
 
 /** "none", "suspicion", "core_silent", "core_crashed", "wrong_result", "memory_upset", "switch", "link", "switch_or_link", "packet". */
-constexpr const char* diagnosis_name(Diagnosis d) noexcept {
+constexpr const char* diagnosis_name(fdir::Diagnosis d) noexcept {
   switch (d) {
-    case Diagnosis::kNone: return "none";
-    case Diagnosis::kSuspicion: return "suspicion";
-    case Diagnosis::kCoreSilent: return "core_silent";
-    case Diagnosis::kCoreCrashed: return "core_crashed";
-    case Diagnosis::kWrongResult: return "wrong_result";
-    case Diagnosis::kMemoryUpset: return "memory_upset";
-    case Diagnosis::kSwitch: return "switch";
-    case Diagnosis::kLink: return "link";
-    case Diagnosis::kSwitchOrLink: return "switch_or_link";
-    case Diagnosis::kPacket: return "packet";
+    case fdir::Diagnosis::kNone: return "none";
+    case fdir::Diagnosis::kSuspicion: return "suspicion";
+    case fdir::Diagnosis::kCoreSilent: return "core_silent";
+    case fdir::Diagnosis::kCoreCrashed: return "core_crashed";
+    case fdir::Diagnosis::kWrongResult: return "wrong_result";
+    case fdir::Diagnosis::kMemoryUpset: return "memory_upset";
+    case fdir::Diagnosis::kSwitch: return "switch";
+    case fdir::Diagnosis::kLink: return "link";
+    case fdir::Diagnosis::kSwitchOrLink: return "switch_or_link";
+    case fdir::Diagnosis::kPacket: return "packet";
   }
   return "?";
 }
 
-}  // namespace fdir
+}  // namespace tools

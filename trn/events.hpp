@@ -1,0 +1,198 @@
+/**
+ * @file events.hpp
+ * @brief The application's flight events: declared here, in the layer that raises them.
+ *
+ * Each event is declared once, as fdir's are (fdir/event_ids.hpp, whose
+ * EventInfo this table uses): its id, severity, fault-management steps, what
+ * it accuses, what its fields hold and its text. The ids are ones fdir's table
+ * leaves free (checked below); trn code writes them with trn::report, which
+ * takes each one's severity and steps from here. The host reads both tables
+ * (tools/common/event_text.hpp).
+ */
+#pragma once
+
+#include "fdir/event_ids.hpp"
+#include "fdir/event_log.hpp"
+
+#include <array>
+#include <cstdint>
+
+namespace trn {
+
+/** The application's event ids. */
+namespace ev {
+// ---- vision frames (trn/tasks/vision_coord)
+inline constexpr fdir::EventId kFrameDone{0x0303};
+inline constexpr fdir::EventId kVisionSetUpFailed{0x0306};
+inline constexpr fdir::EventId kCoarseBandRedone{0x0307};
+inline constexpr fdir::EventId kLandmarkProductRefused{0x0308};
+// ---- navigation filter restarts (trn/tasks/filter_task)
+inline constexpr fdir::EventId kFilterResumed{0x0601};
+inline constexpr fdir::EventId kCheckpointBad{0x0602};
+inline constexpr fdir::EventId kImuGap{0x0603};
+inline constexpr fdir::EventId kCommandTaken{0x0604};
+inline constexpr fdir::EventId kFilterStateBad{0x0605};
+inline constexpr fdir::EventId kFilterSettingsBad{0x0606};
+// ---- TMR of the filter (trn/tasks/filter_task, its voter fdir/tmr)
+inline constexpr fdir::EventId kTmrStarting{0x0701};
+inline constexpr fdir::EventId kTmrEstablished{0x0702};
+inline constexpr fdir::EventId kTmrSimplex{0x0703};
+inline constexpr fdir::EventId kTmrOutvoted{0x0704};
+inline constexpr fdir::EventId kTmrAgrees{0x0705};
+inline constexpr fdir::EventId kTmrExcluded{0x0706};
+inline constexpr fdir::EventId kTmrResynced{0x0707};
+inline constexpr fdir::EventId kTmrNoMajority{0x0708};
+inline constexpr fdir::EventId kTmrVoterResumed{0x0709};
+// ---- checked correlation (trn/vision/correlator, logged by the vision tile)
+inline constexpr fdir::EventId kCorrelationCorrected{0x0803};
+inline constexpr fdir::EventId kCorrelationFailed{0x0804};
+// ---- mission phases and safe mode (trn/tasks/supervisors)
+inline constexpr fdir::EventId kPhaseBegin{0x0906};
+inline constexpr fdir::EventId kSafeMode{0x0909};
+}  // namespace ev
+
+/** The table: every application id once. */
+inline constexpr std::array<fdir::EventInfo, 23> kEventTable{{
+    {ev::kFrameDone, "frame_done", fdir::Severity::kInfo, fdir::kStepNone, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
+     "- / units lost / frame / matches",
+     "frame {a} done: {b} matches, {c} units lost"},
+    {ev::kVisionSetUpFailed, "vision_set_up_failed", fdir::Severity::kFatal, fdir::kStepDetect, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
+     "step (1 its lists, 2 map product, 3 DDR carves, 4 landmark selection, 5 relit coarse map) / - / the "
+     "step's status. The coordinator plans no frame; nothing restarts it (a task that returns is not "
+     "watched, and the same set-up would fail again), so this says why vision is gone",
+     "the vision coordinator could not start: {s|?|its tile lists|the map product|its DDR carves|the "
+     "landmark selection|the relit coarse map|?} failed (status {a}); no frame will be planned"},
+    {ev::kCoarseBandRedone, "coarse_band_redone", fdir::Severity::kWarningLo, fdir::kStepDetect | fdir::kStepRecover, fdir::Diagnosis::kWrongResult, fdir::Accused::kSubject,
+     "the tile the band was dealt to / why: 1 not sent, 2 no answer in time, 3 the tile's checks failed "
+     "(or it could not compute it), 4 the coordinator's copy differs from the band's digest / the band's "
+     "first row / frame. The coordinator computed the band itself: the coarse surface is whole and checked",
+     "coarse band from row {a} of frame {b} dealt to tile {s}: {c|?|it could not be sent|no answer in "
+     "time|its checks failed|its copy differs from its digest|?}; computed by the coordinator"},
+    {ev::kLandmarkProductRefused, "landmark_product_refused", fdir::Severity::kWarningLo, fdir::kStepDetect | fdir::kStepRecover, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
+     "- / why (trn::tasks::ProductCheck): 1 the block is too short, 2 its header (magic, version, its "
+     "CRC-32C), 3 selected with other settings than the coordinator's, 4 selected on a layer of another "
+     "size or geometry, 5 its records (their CRC-32C, a count above the table, a dense set starting past "
+     "them, a landmark outside the layer) / the block's bytes / -. The ground's landmark table was not "
+     "taken: the coordinator selects the landmarks itself (~1.4 s, so the frame captured at 1 s is "
+     "skipped)",
+     "the ground's landmark table ({a} bytes) refused: {c|?|the block is too short|its header is wrong|it "
+     "was selected with other settings|it was selected on another map|its records are wrong|?}; the "
+     "coordinator selects the landmarks itself"},
+    {ev::kFilterResumed, "filter_resumed", fdir::Severity::kInfo, fdir::kStepRecover, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
+     "checkpoint / - / samples to replay / last sample held",
+     "filter resumed from checkpoint {s} (IMU sample {b}), {a} samples to replay from the I/O record"},
+    {ev::kCheckpointBad, "checkpoint_bad", fdir::Severity::kWarningHi, fdir::kStepDetect, fdir::Diagnosis::kMemoryUpset, fdir::Accused::kNobody,
+     "slot / - / bad slots",
+     "filter checkpoint slot {s} failed its checks: not used ({a} bad)"},
+    {ev::kImuGap, "imu_gap", fdir::Severity::kWarningHi, fdir::kStepDetect, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
+     "first missing sample / - / samples",
+     "{a} IMU samples from sample {s} neither received nor recorded"},
+    {ev::kCommandTaken, "command_taken", fdir::Severity::kInfo, fdir::kStepNone, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
+     "code / sequence number / job",
+     "{c.top|telecommand {c} (code {s}) taken by the filter at job {a}|the filter supervisor's command "
+     "{c.rest} (code {s}: {s|simplex|TMR|simplex}) taken by the filter at job {a}}"},
+    {ev::kFilterStateBad, "filter_state_bad", fdir::Severity::kWarningHi, fdir::kStepDetect | fdir::kStepIsolate, fdir::Diagnosis::kWrongResult, fdir::Accused::kWriter,
+     "job / check (1 not finite, 2 attitude norm, 3 speed, 4 range, 5 IMU bias, 6 position step, 7 "
+     "velocity step, 8 attitude step, 9 bias step) / value / limit (thousandths of the check's unit; the "
+     "attitude norm's distance from 1 in millionths)",
+     "the filter's state after job {s} {c|fails its {c@state_check} check ({a@state_value}, limit "
+     "{b@state_value})|is not finite|fails its {c@state_check} check ({a@state_value}, limit "
+     "{b@state_value})}: not delivered"},
+    {ev::kFilterSettingsBad, "filter_settings_bad", fdir::Severity::kWarningHi, fdir::kStepDetect | fdir::kStepIsolate, fdir::Diagnosis::kMemoryUpset, fdir::Accused::kWriter,
+     "job / parts changed (1 configuration, 2 camera, 4 process noise) / 1 when built again / -",
+     "the filter's settings in RAM ({c&configuration|camera|process noise}) changed by the end of job "
+     "{s}: not delivered, {a|NOT built again|built again from the image}"},
+    {ev::kTmrStarting, "tmr_starting", fdir::Severity::kInfo, fdir::kStepNone, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
+     "job / epoch",
+     "filter to TMR: replicas seeded with the state after job {s} (epoch {c})"},
+    {ev::kTmrEstablished, "tmr_established", fdir::Severity::kInfo, fdir::kStepNone, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
+     "job / epoch / jobs since the command",
+     "TMR established at job {s}: three replicas agree with the filter ({a} jobs after the command); the "
+     "voter delivers"},
+    {ev::kTmrSimplex, "tmr_simplex", fdir::Severity::kInfo, fdir::kStepNone, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
+     "job / 0 command, 2 not established in time, 3 the filter restarted",
+     "filter simplex again at job {s} ({c|command|TMR not established in time|TMR not established in "
+     "time|the filter restarted: TMR again once it has caught up|TMR not established in time})"},
+    {ev::kTmrOutvoted, "tmr_outvoted", fdir::Severity::kWarningHi, fdir::kStepDetect, fdir::Diagnosis::kWrongResult, fdir::Accused::kSubject,
+     "replica's tile / job / replica / 1 different, 2 missing",
+     "replica {a} on tile {s} outvoted at job {c} ({b|no output|different output or state|no output})"},
+    {ev::kTmrAgrees, "tmr_agrees", fdir::Severity::kInfo, fdir::kStepRecover, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
+     "replica's tile / job / replica / disagreements before",
+     "replica {a} on tile {s} agrees again at job {c}"},
+    {ev::kTmrExcluded, "tmr_excluded", fdir::Severity::kWarningHi, fdir::kStepIsolate, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
+     "replica's tile / job / replica / replicas voting",
+     "replica {a} on tile {s} excluded at job {c}: it re-synchronises ({b} voting)"},
+    {ev::kTmrResynced, "tmr_resynced", fdir::Severity::kInfo, fdir::kStepRecover, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
+     "replica's tile / job / replica / replicas voting",
+     "replica {a} on tile {s} seeded with the voted state, votes again from job {c} ({b} voting)"},
+    {ev::kTmrNoMajority, "tmr_no_majority", fdir::Severity::kFatal, fdir::kStepDetect, fdir::Diagnosis::kWrongResult, fdir::Accused::kReplicas,
+     "job / voting mask / different / missing | tile of replica i << 8 (i + 1)",
+     "no majority at job {s} (different {a:x}, missing {b.b0:x}; replicas on tiles {b.b1}, {b.b2}, "
+     "{b.b3}): nothing delivered"},
+    {ev::kTmrVoterResumed, "tmr_voter_resumed", fdir::Severity::kInfo, fdir::kStepRecover, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
+     "job / epoch / next job delivered / records of the outage written",
+     "the voter restarted at job {s} goes on voting (epoch {c}): delivers from job {a}; records of its "
+     "outage written: {b}"},
+    {ev::kCorrelationCorrected, "correlation_corrected", fdir::Severity::kWarningLo, fdir::kStepDetect | fdir::kStepRecover, fdir::Diagnosis::kWrongResult, fdir::Accused::kWriter,
+     "landmark / check that failed first (1 dot-product checksum, 2 surface digest, 3 peak score) / frame "
+     "/ recomputations",
+     "{s@landmark} at frame {a}: correlation wrong ({c|a score around its peak different when computed "
+     "again|its dot products off the integral image's checksum|its surface changed before the peak search "
+     "ended|a score around its peak different when computed again}), right after {b} recomputation(s)"},
+    {ev::kCorrelationFailed, "correlation_failed", fdir::Severity::kWarningHi, fdir::kStepDetect, fdir::Diagnosis::kWrongResult, fdir::Accused::kWriter,
+     "landmark / check that failed first / frame / recomputations, as correlation_corrected; the match is rejected",
+     "{s@landmark} at frame {a}: correlation wrong ({c|a score around its peak different when computed "
+     "again|its dot products off the integral image's checksum|its surface changed before the peak search "
+     "ended|a score around its peak different when computed again}), still wrong, not matched after {b} "
+     "recomputation(s)"},
+    {ev::kPhaseBegin, "phase_begin", fdir::Severity::kInfo, fdir::kStepNone, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
+     "phase / - / reliability / power",
+     "mission phase {s} begins: reliability {a|normal|high|?}, power {b|full|save|?}"},
+    {ev::kSafeMode, "safe_mode", fdir::Severity::kFatal, fdir::kStepNone, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
+     "constraint / - / level",
+     "trn_supervisor cannot meet {s|reliability {a|normal|high|?}|power {a|full|save|?}|capacity {a|full "
+     "rate|half rate|?}|?}: safe mode reported to the vehicle"},
+}};
+
+namespace detail {
+constexpr bool app_ids_free() noexcept {
+  for (std::size_t i = 0; i < kEventTable.size(); ++i) {
+    if (fdir::event_info(kEventTable[i].id) != nullptr || static_cast<std::uint16_t>(kEventTable[i].id) == 0U) {
+      return false;
+    }
+    for (std::size_t j = i + 1U; j < kEventTable.size(); ++j) {
+      if (kEventTable[i].id == kEventTable[j].id) {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+}  // namespace detail
+static_assert(detail::app_ids_free(), "every application id once, and none that fdir's table declares");
+
+/** The table row of @p id, or nullptr for an id not in the application's table. */
+constexpr const fdir::EventInfo* event_info(fdir::EventId id) noexcept {
+  for (const fdir::EventInfo& e : kEventTable) {
+    if (e.id == id) {
+      return &e;
+    }
+  }
+  return nullptr;
+}
+
+/**
+ * Writes event @p id of the current tile: an application event with its row
+ * here, any other with fdir's (fdir::report). [task|isr]
+ */
+inline void report(fdir::EventId id, std::uint32_t subject, std::uint32_t cause, std::uint32_t a = 0U,
+                   std::uint32_t b = 0U) noexcept {
+  const fdir::EventInfo* info = trn::event_info(id);
+  if (info != nullptr) {
+    fdir::report(*info, subject, cause, a, b);
+  } else {
+    fdir::report(id, subject, cause, a, b);
+  }
+}
+
+}  // namespace trn
