@@ -109,16 +109,41 @@ bool draw_seu_offset(TileId tile, double position, Rng& rng, std::uint64_t& offs
   return false;
 }
 
-/** The carve of @p tile named @p name: its start and size; false if the tile has none by that name. */
+/**
+ * The carve of @p tile named @p name: its start and size; false if the tile has none by that name.
+ * A task's stack is carved under the task's name, and a task may name its state carve the same
+ * (`tile_health`, `net_health`, `vision_coord`): the state is meant, the stack only when it is
+ * the one carve of that name.
+ */
 bool find_carve(TileId tile, const std::array<char, kCarveNameMax>& name, std::size_t& start, std::size_t& bytes) noexcept {
+  const CarveRecord* found = nullptr;
   for (const CarveRecord& c : region_carves(Region{tile})) {
-    if (c.what != nullptr && std::strncmp(c.what, name.data(), kCarveNameMax) == 0) {
-      start = c.offset;
-      bytes = c.bytes;
-      return true;
+    if (c.what != nullptr && std::strncmp(c.what, name.data(), kCarveNameMax) == 0 &&
+        (found == nullptr || found->use == CarveUse::kStack)) {
+      found = &c;
     }
   }
-  return false;
+  if (found == nullptr) {
+    return false;
+  }
+  start = found->offset;
+  bytes = found->bytes;
+  return true;
+}
+
+/** How an upset of bit @p bit of byte @p at of carve @p hit (nullptr: uncarved RAM) is modelled. */
+UpsetModel upset_model(const CarveRecord* hit, std::uint64_t at, std::uint32_t bit) noexcept {
+  if (hit == nullptr || hit->use == CarveUse::kData) {
+    return UpsetModel::kFlipped;
+  }
+  if (hit->use == CarveUse::kStack) {
+    return UpsetModel::kStackCrash;
+  }
+  if (hit->layout == nullptr) {
+    return UpsetModel::kControlCrash;
+  }
+  return control_bit_is_host(hit->layout, static_cast<std::size_t>(at), bit) ? UpsetModel::kHostCrash
+                                                                             : UpsetModel::kFlipped;
 }
 
 FaultStatus apply_seu(FaultRecord& r, Rng& rng) noexcept {
@@ -145,7 +170,8 @@ FaultStatus apply_seu(FaultRecord& r, Rng& rng) noexcept {
   const CarveRecord* hit = carve_at(r.spec.tile, offset);
   r.carve = hit != nullptr ? hit->what : nullptr;
   r.carve_offset = hit != nullptr ? offset - hit->offset : 0U;
-  if (hit != nullptr && hit->use != CarveUse::kData) {
+  r.upset = upset_model(hit, r.carve_offset, bit);
+  if (r.upset != UpsetModel::kFlipped) {
     // Host addresses live there: flipping one would crash the emulator. The tile crashes instead.
     r.offset = offset;
     r.bit = bit;
@@ -153,6 +179,8 @@ FaultStatus apply_seu(FaultRecord& r, Rng& rng) noexcept {
     return reset_tile_for(r.spec.tile, ResetReason::kFault) == BoardError::kOk ? FaultStatus::kApplied
                                                                                 : FaultStatus::kSkipped;
   }
+  // Data, or emulated state in control data (a counter, an index, a flag): flipped for real, the
+  // flight code finds it or lives with it.
   std::byte& target = ram[static_cast<std::size_t>(offset)];
   target ^= static_cast<std::byte>(1U << bit);
   r.offset = offset;

@@ -94,6 +94,15 @@ enum class FaultStatus : std::uint8_t {
   kUnsupported,  ///< no handler registered for the kind
 };
 
+/** How an SEU was applied: the bit flipped, or the tile crashed, and why (ground truth). */
+enum class UpsetModel : std::uint8_t {
+  kNone,          ///< not an SEU, or not applied
+  kFlipped,       ///< the bit flipped: data, or emulated state in control data (CarveUse, ControlLayout)
+  kHostCrash,     ///< a host member of a control struct (a pointer, a host context): the tile crashed
+  kControlCrash,  ///< control data whose layout is not declared: the tile crashed
+  kStackCrash,    ///< a context's stack (aimed there, random upsets avoid them): the tile crashed
+};
+
 /** One injection and its ground truth. */
 struct FaultRecord {
   FaultSpec spec;          ///< as planned, or as drawn for a random fault
@@ -106,12 +115,15 @@ struct FaultRecord {
   const char* carve = nullptr;  ///< SEU: name of the carve it landed in (nullptr: none)
   std::uint64_t carve_offset = 0U;  ///< SEU: byte offset of the flipped byte in that carve
   /**
-   * SEU: it landed in control data or a stack (CarveUse), where the emulator
-   * keeps host addresses: nothing is flipped and the tile crashes instead
-   * (reset as by a core_reset), the likely fate of a tile whose control
-   * blocks took an upset.
+   * SEU: it landed on host state (a host member of control data, control
+   * data with no declared layout, a stack: `upset` says which), where the
+   * emulator keeps host addresses: nothing is flipped and the tile crashes
+   * instead (reset as by a core_reset), the likely fate of a tile whose
+   * control blocks took an upset. An upset of the emulated state in control
+   * data flips the bit (not crashed).
    */
   bool crashed = false;
+  UpsetModel upset = UpsetModel::kNone;  ///< SEU: how it was applied
   std::uint32_t hits = 0U;  ///< SDC with a shift: values it changed so far (applied_cycle: the first)
 };
 

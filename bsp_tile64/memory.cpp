@@ -63,7 +63,8 @@ std::size_t region_used(Region r) noexcept {
 
 namespace {
 
-Carve carve_as(Region r, std::size_t bytes, std::size_t align, const char* what, CarveUse use) noexcept {
+Carve carve_as(Region r, std::size_t bytes, std::size_t align, const char* what, CarveUse use,
+               const ControlLayout* layout) noexcept {
   RegionState* s = state_of(r);
   if (s == nullptr) {
     return {nullptr, MemError::kBadRegion};
@@ -82,7 +83,7 @@ Carve carve_as(Region r, std::size_t bytes, std::size_t align, const char* what,
   }
   std::byte* p = whole.data() + offset;
   std::memset(p, 0, bytes);
-  s->records[s->carves] = CarveRecord{what, offset, bytes, use};
+  s->records[s->carves] = CarveRecord{what, offset, bytes, use, layout};
   ++s->carves;
   s->used = offset + bytes;
   return {p, MemError::kOk};
@@ -91,15 +92,16 @@ Carve carve_as(Region r, std::size_t bytes, std::size_t align, const char* what,
 }  // namespace
 
 Carve carve(Region r, std::size_t bytes, std::size_t align, const char* what) noexcept {
-  return carve_as(r, bytes, align, what, CarveUse::kData);
+  return carve_as(r, bytes, align, what, CarveUse::kData, nullptr);
 }
 
 Carve carve_stack(Region r, std::size_t bytes, std::size_t align, const char* what) noexcept {
-  return carve_as(r, bytes, align, what, CarveUse::kStack);
+  return carve_as(r, bytes, align, what, CarveUse::kStack, nullptr);
 }
 
-Carve carve_control(Region r, std::size_t bytes, std::size_t align, const char* what) noexcept {
-  return carve_as(r, bytes, align, what, CarveUse::kControl);
+Carve carve_control(Region r, std::size_t bytes, std::size_t align, const char* what,
+                    const ControlLayout* layout) noexcept {
+  return carve_as(r, bytes, align, what, CarveUse::kControl, layout);
 }
 
 MemError region_reset(Region r) noexcept {

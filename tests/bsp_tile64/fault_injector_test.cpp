@@ -14,6 +14,7 @@
 
 #include <array>
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -210,10 +211,144 @@ TEST(FaultInjector, AnUpsetOfControlDataIsACrashOfTheTile) {
   const bsp::FaultRecord& r = bsp::fault_log()[0];
   EXPECT_EQ(r.status, FaultStatus::kApplied);
   EXPECT_TRUE(r.crashed);
+  EXPECT_EQ(r.upset, bsp::UpsetModel::kControlCrash) << "no layout declared: the whole carve is host state";
   ASSERT_NE(r.carve, nullptr);
   EXPECT_STREQ(r.carve, "control");
   EXPECT_EQ(r.address, 0U) << "nothing was flipped";
   EXPECT_EQ(bsp::tile_stats(0).boots, boots + 1U) << "the tile crashed and booted again";
+}
+
+// A control struct of the kind the flight code carves: a host pointer, a counter, a flag, an index.
+struct Ctl {
+  const void* host;
+  std::uint32_t seq;
+  bool open;
+  std::uint8_t index;
+  std::array<std::uint16_t, 3> ring;
+};
+constexpr std::array kCtlFields{BSP_CONTROL_HOST(Ctl, host), BSP_CONTROL_STATE(Ctl, seq), BSP_CONTROL_STATE(Ctl, open),
+                                BSP_CONTROL_STATE(Ctl, index), BSP_CONTROL_STATE(Ctl, ring)};
+constexpr bsp::ControlLayout kCtlLayout{kCtlFields, sizeof(Ctl), alignof(Ctl)};
+static_assert(bsp::control_layout_ok(kCtlLayout));
+std::array<Ctl*, bsp::kMaxTiles> g_ctl{};
+
+void boot_data_and_declared_control(TileId tile) {
+  bsp::MemError err = bsp::MemError::kOk;
+  Ctl* c = bsp::carve_control_array<Ctl>(bsp::Region{tile}, 2U, "ctl", &err, &kCtlLayout);
+  g_ctl[tile] = c;
+  if (c != nullptr) {
+    for (std::size_t i = 0; i < 2U; ++i) {
+      c[i] = Ctl{&g_ctl, 0x1234U, true, 7U, {1U, 2U, 3U}};
+    }
+  }
+  boot_data(tile);
+}
+
+/** Flies one planned upset of bit @p bit of byte @p offset of carve "ctl" on tile 0; returns its record. */
+bsp::FaultRecord upset_ctl(std::uint64_t offset, std::uint32_t bit, std::uint64_t& boots_after) {
+  g_data.fill(nullptr);
+  g_ctl.fill(nullptr);
+  bsp::BoardConfig c = data_config(1U);
+  c.boot[0] = boot_data_and_declared_control;
+  EXPECT_EQ(bsp::board_init(c), bsp::BoardError::kOk);
+  bsp::run_for(1000U);
+  FaultSpec s{};
+  s.cycle = 2000U;
+  s.kind = FaultKind::kSeu;
+  s.tile = 0U;
+  s.offset = offset;
+  s.bit = bit;
+  std::snprintf(s.carve.data(), s.carve.size(), "%s", "ctl");
+  EXPECT_EQ(bsp::fault_plan_add(s), bsp::FaultError::kOk);
+  bsp::run_for(100000U);
+  boots_after = bsp::tile_stats(0).boots;
+  EXPECT_EQ(bsp::fault_log().size(), 1U);
+  return bsp::fault_log().empty() ? bsp::FaultRecord{} : bsp::fault_log()[0];
+}
+
+// Issue 54 item 6: an upset of emulated state in control data (a sequence number, a flag, an index)
+// is made for real and left to the software: the value changes, the tile is not reset.
+TEST(FaultInjector, AnUpsetOfEmulatedStateInControlDataFlipsTheBit) {
+  std::uint64_t boots = 0U;
+  const bsp::FaultRecord r = upset_ctl(sizeof(Ctl) + offsetof(Ctl, seq), 4U, boots);
+  EXPECT_EQ(r.status, FaultStatus::kApplied);
+  EXPECT_FALSE(r.crashed);
+  EXPECT_EQ(r.upset, bsp::UpsetModel::kFlipped);
+  ASSERT_NE(g_ctl[0], nullptr);
+  EXPECT_EQ(g_ctl[0][1].seq, 0x1234U ^ 0x10U) << "the second element's sequence number took the flip";
+  EXPECT_EQ(g_ctl[0][0].seq, 0x1234U);
+  EXPECT_EQ(boots, 1U) << "no reset";
+  EXPECT_NE(r.address, 0U);
+  // A bool's low bit is its value: true becomes false, nothing else moves.
+  const bsp::FaultRecord b = upset_ctl(offsetof(Ctl, open), 0U, boots);
+  EXPECT_EQ(b.upset, bsp::UpsetModel::kFlipped);
+  EXPECT_FALSE(g_ctl[0][0].open);
+  EXPECT_EQ(boots, 1U);
+  const bsp::FaultRecord i = upset_ctl(offsetof(Ctl, ring) + 2U, 1U, boots);
+  EXPECT_EQ(i.upset, bsp::UpsetModel::kFlipped);
+  EXPECT_EQ(g_ctl[0][0].ring[1], 2U ^ 2U);
+}
+
+// A byte that stands for host state (a pointer) stays the crash model, and so do a bool's bits 1-7
+// (a bool that is neither 0 nor 1 is undefined behaviour of the emulator, not a value of the tile's).
+TEST(FaultInjector, AnUpsetOfHostStateInControlDataIsStillACrash) {
+  std::uint64_t boots = 0U;
+  for (std::uint64_t at : {offsetof(Ctl, host), offsetof(Ctl, host) + sizeof(void*) - 1U, sizeof(Ctl) + offsetof(Ctl, host)}) {
+    const bsp::FaultRecord r = upset_ctl(at, 3U, boots);
+    EXPECT_EQ(r.status, FaultStatus::kApplied) << at;
+    EXPECT_TRUE(r.crashed) << at;
+    EXPECT_EQ(r.upset, bsp::UpsetModel::kHostCrash) << at;
+    EXPECT_EQ(r.address, 0U) << "nothing was flipped";
+    EXPECT_EQ(boots, 2U) << "the tile crashed and booted again";
+  }
+  const bsp::FaultRecord b = upset_ctl(offsetof(Ctl, open), 1U, boots);
+  EXPECT_EQ(b.upset, bsp::UpsetModel::kHostCrash);
+  EXPECT_TRUE(b.crashed);
+}
+
+// The layout check refuses a member left out, two members out of order, a pointer declared as
+// emulated state; the live bits follow a nested layout and count padding as emulated RAM.
+TEST(ControlLayout, TheCheckRefusesAnIncompleteOrWrongDeclaration) {
+  constexpr std::array missing{BSP_CONTROL_HOST(Ctl, host), BSP_CONTROL_STATE(Ctl, open), BSP_CONTROL_STATE(Ctl, index),
+                               BSP_CONTROL_STATE(Ctl, ring)};
+  static_assert(!bsp::control_layout_ok(bsp::ControlLayout{missing, sizeof(Ctl), alignof(Ctl)}));
+  constexpr std::array swapped{BSP_CONTROL_HOST(Ctl, host), BSP_CONTROL_STATE(Ctl, open), BSP_CONTROL_STATE(Ctl, seq),
+                               BSP_CONTROL_STATE(Ctl, index), BSP_CONTROL_STATE(Ctl, ring)};
+  static_assert(!bsp::control_layout_ok(bsp::ControlLayout{swapped, sizeof(Ctl), alignof(Ctl)}));
+  constexpr std::array pointer_as_state{BSP_CONTROL_STATE(Ctl, host), BSP_CONTROL_STATE(Ctl, seq),
+                                        BSP_CONTROL_STATE(Ctl, open), BSP_CONTROL_STATE(Ctl, index),
+                                        BSP_CONTROL_STATE(Ctl, ring)};
+  static_assert(!bsp::control_layout_ok(bsp::ControlLayout{pointer_as_state, sizeof(Ctl), alignof(Ctl)}));
+  struct Outer {
+    std::uint64_t n;
+    std::array<Ctl, 2> inner;
+  };
+  static constexpr std::array outer{BSP_CONTROL_STATE(Outer, n), BSP_CONTROL_NESTED(Outer, inner, kCtlLayout)};
+  static constexpr bsp::ControlLayout outer_layout{outer, sizeof(Outer), alignof(Outer)};
+  static_assert(bsp::control_layout_ok(outer_layout));
+  const std::size_t second = offsetof(Outer, inner) + sizeof(Ctl);
+  EXPECT_EQ(bsp::control_live_bits(&outer_layout, 0U), 0xFFU);
+  EXPECT_EQ(bsp::control_live_bits(&outer_layout, second + offsetof(Ctl, host)), 0U);
+  EXPECT_EQ(bsp::control_live_bits(&outer_layout, second + offsetof(Ctl, open)), 0x01U);
+  EXPECT_EQ(bsp::control_live_bits(&outer_layout, second + offsetof(Ctl, seq) + 3U), 0xFFU);
+  EXPECT_EQ(bsp::control_live_bits(&outer_layout, second + offsetof(Ctl, index) + 1U), 0xFFU) << "padding";
+  EXPECT_EQ(bsp::control_live_bits(nullptr, 5U), 0U) << "no layout: the whole carve is host state";
+  EXPECT_TRUE(bsp::control_bit_is_host(&outer_layout, second + offsetof(Ctl, open), 7U));
+  EXPECT_FALSE(bsp::control_bit_is_host(&outer_layout, second + offsetof(Ctl, open), 0U));
+}
+
+// A layout that is not the carved type's is refused at the carve.
+TEST(ControlLayout, ACarveWithAnotherTypesLayoutIsRefused) {
+  bsp::MemError err = bsp::MemError::kOk;
+  EXPECT_EQ(bsp::region_reset(bsp::Region{0}), bsp::MemError::kOk);
+  EXPECT_EQ(bsp::carve_control_array<std::uint64_t>(bsp::Region{0}, 1U, "x", &err, &kCtlLayout), nullptr);
+  EXPECT_EQ(err, bsp::MemError::kBadLayout);
+  EXPECT_TRUE(bsp::region_carves(bsp::Region{0}).empty());
+  EXPECT_NE(bsp::carve_control_array<Ctl>(bsp::Region{0}, 1U, "ctl", &err, &kCtlLayout), nullptr);
+  EXPECT_EQ(err, bsp::MemError::kOk);
+  ASSERT_EQ(bsp::region_carves(bsp::Region{0}).size(), 1U);
+  EXPECT_EQ(bsp::region_carves(bsp::Region{0})[0].layout, &kCtlLayout);
+  EXPECT_EQ(bsp::region_reset(bsp::Region{0}), bsp::MemError::kOk);
 }
 
 TEST(FaultInjector, PlannedSeuFlipsTheChosenBitForEveryBitPosition) {

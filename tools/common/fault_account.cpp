@@ -820,10 +820,26 @@ void log_fault_outcomes(std::span<const bsp::FaultRecord> records, std::span<con
   }
 }
 
+const char* upset_model_name(bsp::UpsetModel m) noexcept {
+  switch (m) {
+    case bsp::UpsetModel::kFlipped:
+      return "flipped";
+    case bsp::UpsetModel::kHostCrash:
+      return "host_crash";
+    case bsp::UpsetModel::kControlCrash:
+      return "control_crash";
+    case bsp::UpsetModel::kStackCrash:
+      return "stack_crash";
+    case bsp::UpsetModel::kNone:
+      break;
+  }
+  return "";
+}
+
 std::string faults_csv(std::span<const bsp::FaultRecord> records, const FaultAccount& account) {
   std::ostringstream o;
   o << "t_s,kind,tile,role,delivered,carve,crashed,effect,accusing_event,accusing_tile,latency_ms,diagnosis,"
-       "wrong_accusations,first_wrong_event,first_wrong_tile,recovery,recovery_by,recovery_ms,service_gap_ms\n";
+       "wrong_accusations,first_wrong_event,first_wrong_tile,recovery,recovery_by,recovery_ms,service_gap_ms,upset\n";
   const auto ms = [](double s) {
     std::array<char, 32> b{};
     (void)std::snprintf(b.data(), b.size(), "%.3f", s * 1e3);
@@ -850,7 +866,7 @@ std::string faults_csv(std::span<const bsp::FaultRecord> records, const FaultAcc
     }
     o << ',' << recovery_name(f.recovery) << ',' << f.recovered_by << ',';
     o << (f.recovery != Recovery::kNone ? ms(f.recovered_s - f.detected_s) : std::string{}) << ',';
-    o << (f.service_gap_s >= 0.0 ? ms(f.service_gap_s) : std::string{}) << '\n';
+    o << (f.service_gap_s >= 0.0 ? ms(f.service_gap_s) : std::string{}) << ',' << upset_model_name(r.upset) << '\n';
   }
   return o.str();
 }

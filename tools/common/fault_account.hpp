@@ -122,6 +122,9 @@ void mark_no_effect(FaultAccount& account);
 void log_fault_outcomes(std::span<const bsp::FaultRecord> records, std::span<const fdir::Event> events,
                         const FaultAccount& account, double clock_hz, EventLog& log);
 
+/** faults.csv's name of an upset's model ("flipped", "host_crash", "control_crash", "stack_crash"; "": none). */
+const char* upset_model_name(bsp::UpsetModel m) noexcept;
+
 /** faults.csv: one row per injection (docs/RUN_FOLDER.md or docs/FDIR.md lists the columns). */
 std::string faults_csv(std::span<const bsp::FaultRecord> records, const FaultAccount& account);
 

@@ -863,7 +863,9 @@ std::string describe_fault(const bsp::FaultRecord& r) {
       } else if (applied && r.carve != nullptr) {
         s += " (in \"" + std::string(r.carve) + "\")";
       }
-      s += r.crashed ? ": control data, modelled as a crash of the tile" : "";
+      s += r.upset == bsp::UpsetModel::kHostCrash ? ": host state in control data, modelled as a crash of the tile"
+           : r.crashed                              ? ": control data, modelled as a crash of the tile"
+                                                    : "";
       break;
     case bsp::FaultKind::kSdc:
       if (const trn::tasks::SdcPoint* p = trn::tasks::sdc_point_of_channel(r.spec.channel); p != nullptr) {

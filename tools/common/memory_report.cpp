@@ -6,10 +6,28 @@
 
 #include "bsp_tile64/memory.hpp"
 
+#include <bit>
 #include <iomanip>
 
 namespace tools {
 namespace {
+
+/**
+ * The host state of a control carve (bsp::ControlLayout), as "host N bits" of
+ * its whole size in bits (bsp::control_live_bits over every byte), or "whole
+ * carve host state" when its layout is not declared. Closes the parenthesis.
+ */
+void write_host_share(std::ostream& out, const bsp::CarveRecord& c) {
+  if (c.layout == nullptr) {
+    out << ": whole carve host state)";
+    return;
+  }
+  std::size_t host_bits = 0U;
+  for (std::size_t i = 0; i < c.bytes; ++i) {
+    host_bits += 8U - static_cast<std::size_t>(std::popcount(bsp::control_live_bits(c.layout, i)));
+  }
+  out << ": host " << host_bits << " of " << c.bytes * 8U << " bits)";
+}
 
 void write_region(std::ostream& out, const char* label, bsp::Region r) {
   const std::size_t size = bsp::region_span(r).size();
@@ -18,7 +36,11 @@ void write_region(std::ostream& out, const char* label, bsp::Region r) {
       << (size - used) << std::setw(12) << size << "\n";
   for (const bsp::CarveRecord& c : bsp::region_carves(r)) {
     out << "            " << std::setw(10) << c.bytes << "  " << c.what
-        << (c.use == bsp::CarveUse::kStack ? " (stack)" : c.use == bsp::CarveUse::kControl ? " (control)" : "") << "\n";
+        << (c.use == bsp::CarveUse::kStack ? " (stack)" : c.use == bsp::CarveUse::kControl ? " (control" : "");
+    if (c.use == bsp::CarveUse::kControl) {
+      write_host_share(out, c);
+    }
+    out << "\n";
   }
 }
 
