@@ -199,11 +199,28 @@ void trace_event(std::uint16_t kind, TaskId a, TaskId b) noexcept {
 
 namespace {
 
+/**
+ * True if @p link, read from wait list @p wl, is a task blocked on it (or the
+ * end). The head lives in the object's memory, which is the tasks' RAM and can
+ * take an upset: a link that names no such task ends the list there (traced);
+ * the waiters behind it wake by their timeout, or their task's watchdog finds them.
+ */
+bool link_ok(KernelState& ks, const WaitList& wl, TaskId& link) noexcept {
+  if (link == kNoTask ||
+      (link < ks.task_count && link < config::kMaxTasks && ks.tcbs[link].wait_object == &wl &&
+       ks.tcbs[link].state == TaskState::kBlocked)) {
+    return true;
+  }
+  trace_event(static_cast<std::uint16_t>(TraceKind::kWaitListCut), link, ks.current);
+  link = kNoTask;
+  return false;
+}
+
 void wait_insert(WaitList& wl, KernelState& ks, TaskId id) noexcept {
   Tcb& t = ks.tcbs[id];
   TaskId* link = &wl.head;
   // Behind every waiter of equal or more urgent priority: FIFO among equals.
-  for (std::uint32_t n = 0; *link != kNoTask && n < config::kMaxTasks; ++n) {
+  for (std::uint32_t n = 0; link_ok(ks, wl, *link) && *link != kNoTask && n < config::kMaxTasks; ++n) {
     if (ks.tcbs[*link].priority > t.priority) {
       break;
     }
@@ -215,7 +232,7 @@ void wait_insert(WaitList& wl, KernelState& ks, TaskId id) noexcept {
 
 void wait_remove_in(KernelState& ks, WaitList& wl, TaskId id) noexcept {
   TaskId* link = &wl.head;
-  for (std::uint32_t n = 0; *link != kNoTask && n < config::kMaxTasks; ++n) {
+  for (std::uint32_t n = 0; link_ok(ks, wl, *link) && *link != kNoTask && n < config::kMaxTasks; ++n) {
     if (*link == id) {
       *link = ks.tcbs[id].next_waiter;
       ks.tcbs[id].next_waiter = kNoTask;
@@ -262,10 +279,10 @@ WakeReason block_current(WaitList* wl, Timeout to, std::uint32_t arg) noexcept {
 
 TaskId wake_one(WaitList& wl, std::uint32_t result) noexcept {
   KernelState* ks = current_kernel();
-  const TaskId id = wl.head;
-  if (ks == nullptr || id == kNoTask) {
+  if (ks == nullptr || !link_ok(*ks, wl, wl.head) || wl.head == kNoTask) {
     return kNoTask;
   }
+  const TaskId id = wl.head;
   make_ready(*ks, id, WakeReason::kSignalled, result);
   return id;
 }

@@ -37,6 +37,7 @@ enum class TraceKind : std::uint16_t {
   kOverrun,       ///< a: task
   kStackOverflow, ///< a: task
   kTaskExit,      ///< a: task
+  kWaitListCut,   ///< a: the link that named no waiter (an upset wait list), b: the running task
 };
 
 /** Registers the task table and tick of a tile, used by boot_entry(). [host] */

@@ -10,6 +10,8 @@
 #include "kernel/detail/core.hpp"
 #include "kernel/types.hpp"
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 
 namespace k {
@@ -34,6 +36,18 @@ class Semaphore {
   std::uint32_t count_;
   std::uint32_t max_;
   detail::WaitList waiters_{};
+  friend struct SemaphoreLayout;
+};
+
+/**
+ * A semaphore in a control struct is emulated state (bsp::ControlLayout): its
+ * counts are numbers, its wait list is checked by the kernel at every link.
+ */
+struct SemaphoreLayout {
+  static constexpr std::array kFields{BSP_CONTROL_STATE(Semaphore, count_), BSP_CONTROL_STATE(Semaphore, max_),
+                                      BSP_CONTROL_NESTED(Semaphore, waiters_, detail::kWaitListLayout)};
+  static constexpr bsp::ControlLayout kLayout{kFields, sizeof(Semaphore), alignof(Semaphore)};
+  static_assert(bsp::control_layout_ok(kLayout), "every member of Semaphore");
 };
 
 }  // namespace k

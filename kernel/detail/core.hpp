@@ -4,8 +4,12 @@
  */
 #pragma once
 
+#include "bsp_tile64/memory.hpp"
 #include "kernel/detail/tcb.hpp"
 #include "kernel/types.hpp"
+
+#include <array>
+#include <cstddef>
 
 namespace k::detail {
 
@@ -13,6 +17,11 @@ namespace k::detail {
 struct WaitList {
   TaskId head = kNoTask;
 };
+
+/** A wait list is emulated state (bsp::ControlLayout): the kernel checks every link it follows. */
+inline constexpr std::array kWaitListFields{BSP_CONTROL_STATE(WaitList, head)};
+inline constexpr bsp::ControlLayout kWaitListLayout{kWaitListFields, sizeof(WaitList), alignof(WaitList)};
+static_assert(bsp::control_layout_ok(kWaitListLayout), "every member of WaitList");
 
 /** Kernel state of the current tile (nullptr if its kernel is not running). */
 KernelState* current_kernel() noexcept;
