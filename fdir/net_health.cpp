@@ -83,6 +83,8 @@ namespace {
 
 /** Check id: the health tile could not apply its own decision (its endpoint is closed). */
 constexpr std::uint32_t kAssertOwnMap = 0x0201U;
+/** Check id: the task's copy of the fault map has a grid no map has (an upset of its state); taken again from the endpoint. */
+constexpr std::uint32_t kAssertStateCorrupt = 0x0202U;
 
 /** The health task's state, carved in its tile's RAM. */
 struct State {
@@ -101,6 +103,30 @@ struct State {
   std::uint32_t sent_count;
   std::uint32_t published;    ///< latest version sent to every target
 };
+
+/**
+ * What an upset of the health task's state does (bsp::ControlLayout): it is
+ * all the tile's own state (votes, the map, bit sets, ticks), flipped for
+ * real. The map's grid is checked before each round (kAssertStateCorrupt).
+ */
+constexpr std::array kStateFields{
+    BSP_CONTROL_NESTED(State, votes, detail::kVotesLayout),
+    BSP_CONTROL_NESTED(State, map, udn::kFaultMapLayout),
+    BSP_CONTROL_STATE(State, lost),
+    BSP_CONTROL_STATE(State, lost_at),
+    BSP_CONTROL_STATE(State, cfg_not_voted),
+    BSP_CONTROL_STATE(State, parked),
+    BSP_CONTROL_STATE(State, transit_change),
+    BSP_CONTROL_STATE(State, core_told),
+    BSP_CONTROL_NESTED(State, ways, kReportWaysLayout),
+    BSP_CONTROL_STATE(State, suspected_at),
+    BSP_CONTROL_STATE(State, targets),
+    BSP_CONTROL_STATE(State, to_send),
+    BSP_CONTROL_STATE(State, sent_count),
+    BSP_CONTROL_STATE(State, published),
+};
+constexpr bsp::ControlLayout kStateLayout{kStateFields, sizeof(State), alignof(State)};
+static_assert(bsp::control_layout_ok(kStateLayout), "every member of the net-health State");
 
 std::array<State*, bsp::kMaxTiles> g_state{};
 
@@ -318,7 +344,7 @@ void net_health_task_main(void* arg) noexcept {
   }
   g_state[self] = nullptr;
   bsp::MemError err = bsp::MemError::kOk;
-  auto* s = bsp::carve_control_array<State>(bsp::Region{self}, 1, "net_health", &err);
+  auto* s = bsp::carve_control_array<State>(bsp::Region{self}, 1, kNetHealthCarve, &err, &kStateLayout);
   if (err != bsp::MemError::kOk || s == nullptr) {
     return;
   }
@@ -332,6 +358,11 @@ void net_health_task_main(void* arg) noexcept {
   g_state[self] = s;
   udn::FtMessage m{};
   for (;;) {
+    if (!check(udn::fault_map_valid(s->map), kAssertStateCorrupt)) {
+      // Its votes since the last decision are lost with it; the reporters send their suspicions again.
+      s->map = udn::endpoint_fault_map();
+      s->votes.failed = s->map.failed_tiles;
+    }
     for (std::uint32_t i = 0; i < udn::kFtRxDepth && udn::endpoint_receive(udn::kFtChanFdir, m) == udn::FtError::kOk;
          ++i) {
       const std::span<const std::uint32_t> w(m.data.data(), m.data_words);
@@ -361,5 +392,7 @@ NetHealthView net_health_view(bsp::TileId tile) noexcept {
   const State& s = *g_state[tile];
   return NetHealthView{s.votes.failed, s.votes.links, s.map.version, s.published};
 }
+
+const bsp::ControlLayout& net_health_state_layout() noexcept { return kStateLayout; }
 
 }  // namespace fdir

@@ -35,6 +35,7 @@
  */
 #pragma once
 
+#include "bsp_tile64/memory.hpp"
 #include "bsp_tile64/port.hpp"
 #include "fdir/transit.hpp"
 #include "udn/route.hpp"
@@ -75,6 +76,10 @@ struct NetHealthView {
 /** The decisions of the health task on @p tile (all zero if it does not run there). [host] */
 NetHealthView net_health_view(bsp::TileId tile) noexcept;
 
+/** Name of the network-health task's state carve, and its layout (bsp::ControlLayout). [host] */
+inline constexpr const char* kNetHealthCarve = "net_health";
+const bsp::ControlLayout& net_health_state_layout() noexcept;
+
 /** Pure vote step, for tests: see net_health.cpp. */
 namespace detail {
 
@@ -85,6 +90,14 @@ struct Votes {
   std::uint32_t links = 0U;                          ///< links declared failed
   std::array<std::uint64_t, udn::kRouteMaxTiles> reporters{};  ///< per suspect: bit r = tile r reported it
 };
+
+/** Votes are emulated state through and through (bsp::ControlLayout). */
+inline constexpr std::array kVotesFields{
+    BSP_CONTROL_STATE(Votes, not_voted), BSP_CONTROL_STATE(Votes, votes_to_fail), BSP_CONTROL_STATE(Votes, failed),
+    BSP_CONTROL_STATE(Votes, links),     BSP_CONTROL_STATE(Votes, reporters),
+};
+inline constexpr bsp::ControlLayout kVotesLayout{kVotesFields, sizeof(Votes), alignof(Votes)};
+static_assert(bsp::control_layout_ok(kVotesLayout), "every member of Votes");
 
 enum class Verdict : std::uint8_t { kIgnored, kCounted, kSwitchFailed, kLinkFailed };
 

@@ -26,6 +26,7 @@
  */
 #pragma once
 
+#include "bsp_tile64/memory.hpp"
 #include "bsp_tile64/port.hpp"
 #include "bsp_tile64/work.hpp"
 #include "udn/route.hpp"
@@ -139,6 +140,16 @@ struct ReportWays {
   std::array<udn::LinkSet, kMaxTransits> route{};
   std::array<udn::LinkSet, kMaxTransits> twin{};  ///< the route's again when there is no twin
 };
+
+/** The ways are emulated state through and through (bsp::ControlLayout). */
+inline constexpr std::array kReportWaysFields{
+    BSP_CONTROL_STATE(ReportWays, version),
+    BSP_CONTROL_STATE(ReportWays, parked),
+    BSP_CONTROL_NESTED(ReportWays, route, udn::kLinkSetLayout),
+    BSP_CONTROL_NESTED(ReportWays, twin, udn::kLinkSetLayout),
+};
+inline constexpr bsp::ControlLayout kReportWaysLayout{kReportWaysFields, sizeof(ReportWays), alignof(ReportWays)};
+static_assert(bsp::control_layout_ok(kReportWaysLayout), "every member of ReportWays");
 
 /** The ways of the reports of @p plan's probers to @p health on @p map (@p parked forward nothing); counted in @p work. */
 void report_ways(const TransitPlan& plan, const udn::FaultMap& map, bsp::TileId health, std::uint64_t parked,

@@ -9,7 +9,15 @@ namespace {
 
 constexpr std::uint64_t bit_of(std::uint32_t t) noexcept { return std::uint64_t{1} << t; }
 
-bool on_grid(const FaultMap& map, bsp::TileId t) noexcept { return t < map.cols * map.rows; }
+constexpr bool grid_ok(std::uint32_t cols, std::uint32_t rows) noexcept {
+  // Each side checked first: the product of two upset sides could wrap to a small number.
+  return cols != 0U && rows != 0U && cols <= 0xFFU && rows <= 0xFFU && cols * rows <= kRouteMaxTiles;
+}
+
+/** On the grid of a valid map (an upset grid has no tile: nothing is indexed by it, nothing divides by 0). */
+bool on_grid(const FaultMap& map, bsp::TileId t) noexcept {
+  return grid_ok(map.cols, map.rows) && t < map.cols * map.rows;
+}
 
 bool link_failed(const FaultMap& map, bsp::TileId from, bsp::UdnDir dir) noexcept {
   return (map.failed_links[from] & (1U << static_cast<unsigned>(dir))) != 0U;
@@ -128,8 +136,10 @@ Route route_to(const RouteTable& t, bsp::TileId d, bsp::Work& work) noexcept {
 
 }  // namespace
 
+bool fault_map_valid(const FaultMap& map) noexcept { return grid_ok(map.cols, map.rows); }
+
 RouteError fault_map_init(FaultMap& map, std::uint32_t cols, std::uint32_t rows) noexcept {
-  if (cols == 0U || rows == 0U || cols * rows > kRouteMaxTiles || cols > 0xFFU || rows > 0xFFU) {
+  if (!grid_ok(cols, rows)) {
     return RouteError::kBadGrid;
   }
   map = FaultMap{};
@@ -301,7 +311,7 @@ bsp::TileId route_twin_via(const FaultMap& map, bsp::TileId s, bsp::TileId d, st
 
 RouteError route_table_build(const FaultMap& map, bsp::TileId self, RouteTable& table, bsp::Work& work) noexcept {
   const std::uint32_t tiles = map.cols * map.rows;
-  if (tiles == 0U || tiles > kRouteMaxTiles) {
+  if (!grid_ok(map.cols, map.rows)) {
     return RouteError::kBadGrid;
   }
   if (self >= tiles) {

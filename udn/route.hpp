@@ -19,6 +19,7 @@
  */
 #pragma once
 
+#include "bsp_tile64/memory.hpp"
 #include "bsp_tile64/port.hpp"
 #include "bsp_tile64/udn_hw.hpp"
 #include "bsp_tile64/work.hpp"
@@ -52,6 +53,22 @@ struct FaultMap {
   std::uint32_t version = 0U;                               ///< incremented by every change
 };
 
+/** A fault map is emulated state through and through (bsp::ControlLayout); fault_map_valid() checks its grid. */
+inline constexpr std::array kFaultMapFields{
+    BSP_CONTROL_STATE(FaultMap, cols),         BSP_CONTROL_STATE(FaultMap, rows),
+    BSP_CONTROL_STATE(FaultMap, failed_tiles), BSP_CONTROL_STATE(FaultMap, failed_links),
+    BSP_CONTROL_STATE(FaultMap, no_forward),   BSP_CONTROL_STATE(FaultMap, version),
+};
+inline constexpr bsp::ControlLayout kFaultMapLayout{kFaultMapFields, sizeof(FaultMap), alignof(FaultMap)};
+static_assert(bsp::control_layout_ok(kFaultMapLayout), "every member of FaultMap");
+
+/**
+ * True if @p map's grid is one fault_map_init() accepts (not empty, at most
+ * kRouteMaxTiles tiles). A map in a tile's RAM can take an upset: the route
+ * functions treat a map that is not valid as having no tile on its grid.
+ */
+bool fault_map_valid(const FaultMap& map) noexcept;
+
 /** Empty map for a cols x rows grid. @return kBadGrid for an empty or too large grid. */
 RouteError fault_map_init(FaultMap& map, std::uint32_t cols, std::uint32_t rows) noexcept;
 
@@ -80,6 +97,11 @@ std::uint32_t path_hops(std::uint32_t cols, bsp::TileId s, bsp::TileId d) noexce
 struct LinkSet {
   std::array<std::uint64_t, 2> w{};
 };
+
+/** LinkSet is emulated state through and through (bsp::ControlLayout). */
+inline constexpr std::array kLinkSetFields{BSP_CONTROL_STATE(LinkSet, w)};
+inline constexpr bsp::ControlLayout kLinkSetLayout{kLinkSetFields, sizeof(LinkSet), alignof(LinkSet)};
+static_assert(bsp::control_layout_ok(kLinkSetLayout), "every member of LinkSet");
 
 /** Links the X-then-Y path from @p s to @p d crosses (empty off the grid). */
 LinkSet path_links(const FaultMap& map, bsp::TileId s, bsp::TileId d) noexcept;
