@@ -227,6 +227,74 @@ struct State {
   std::array<std::uint32_t, bsp::kMaxTiles> park_chan{};  ///< on this channel
 };
 
+/** Health views and monitor states are emulated state through and through (bsp::ControlLayout). */
+constexpr std::array kViewFields{
+    BSP_CONTROL_STATE(TileHealthView, expiries),   BSP_CONTROL_STATE(TileHealthView, resets),
+    BSP_CONTROL_STATE(TileHealthView, recovered),  BSP_CONTROL_STATE(TileHealthView, rebooted),
+    BSP_CONTROL_STATE(TileHealthView, lost),       BSP_CONTROL_STATE(TileHealthView, moves),
+    BSP_CONTROL_STATE(TileHealthView, restored),   BSP_CONTROL_STATE(TileHealthView, pending),
+    BSP_CONTROL_STATE(TileHealthView, retired),    BSP_CONTROL_STATE(TileHealthView, self_tests),
+    BSP_CONTROL_STATE(TileHealthView, self_tests_late), BSP_CONTROL_STATE(TileHealthView, mismatches),
+    BSP_CONTROL_STATE(TileHealthView, spares),     BSP_CONTROL_STATE(TileHealthView, parked),
+    BSP_CONTROL_STATE(TileHealthView, parks),      BSP_CONTROL_STATE(TileHealthView, wakes),
+};
+constexpr bsp::ControlLayout kViewLayout{kViewFields, sizeof(TileHealthView), alignof(TileHealthView)};
+static_assert(bsp::control_layout_ok(kViewLayout), "every member of TileHealthView");
+constexpr std::array kMonitorFields{
+    BSP_CONTROL_STATE(MonitorState, status), BSP_CONTROL_STATE(MonitorState, candidate),
+    BSP_CONTROL_STATE(MonitorState, same),   BSP_CONTROL_STATE(MonitorState, actions),
+    BSP_CONTROL_STATE(MonitorState, capped),
+};
+constexpr bsp::ControlLayout kMonitorLayout{kMonitorFields, sizeof(MonitorState), alignof(MonitorState)};
+static_assert(bsp::control_layout_ok(kMonitorLayout), "every member of MonitorState");
+
+/**
+ * What an upset of the supervisor's state does (bsp::ControlLayout): the
+ * monitor spec holds its name's host address and is host state; the rest is
+ * the tile's own (bit sets, counters, the round, tile ids and slots, ticks,
+ * the watchdog semaphore), flipped for real. A tile id read from it is
+ * checked before it indexes (kAssertStateCorrupt).
+ */
+constexpr std::array kStateFields{
+    BSP_CONTROL_NESTED(State, expired, k::SemaphoreLayout::kLayout),
+    BSP_CONTROL_STATE(State, watched),
+    BSP_CONTROL_STATE(State, suspects),
+    BSP_CONTROL_STATE(State, round),
+    BSP_CONTROL_STATE(State, round_open),
+    BSP_CONTROL_STATE(State, round_at),
+    BSP_CONTROL_STATE(State, next_target),
+    BSP_CONTROL_STATE(State, tested),
+    BSP_CONTROL_STATE(State, digest),
+    BSP_CONTROL_STATE(State, answered),
+    BSP_CONTROL_STATE(State, late_ok),
+    BSP_CONTROL_STATE(State, disagreements),
+    BSP_CONTROL_STATE(State, to_tell),
+    BSP_CONTROL_STATE(State, map_to_tell),
+    BSP_CONTROL_STATE(State, adopted),
+    BSP_CONTROL_STATE(State, cut_off),
+    BSP_CONTROL_STATE(State, map_sent),
+    BSP_CONTROL_STATE(State, arriving),
+    BSP_CONTROL_STATE(State, arriving_from),
+    BSP_CONTROL_STATE(State, moved_at),
+    BSP_CONTROL_HOST(State, spec),
+    BSP_CONTROL_NESTED(State, wd, kMonitorLayout),
+    BSP_CONTROL_STATE(State, reset_at),
+    BSP_CONTROL_STATE(State, booted),
+    BSP_CONTROL_NESTED(State, view, kViewLayout),
+    BSP_CONTROL_STATE(State, off_due),
+    BSP_CONTROL_STATE(State, waking),
+    BSP_CONTROL_STATE(State, park_to_tell),
+    BSP_CONTROL_STATE(State, park_serial),
+    BSP_CONTROL_STATE(State, off_at),
+    BSP_CONTROL_STATE(State, park_by),
+    BSP_CONTROL_STATE(State, park_chan),
+};
+constexpr bsp::ControlLayout kStateLayout{kStateFields, sizeof(State), alignof(State)};
+static_assert(bsp::control_layout_ok(kStateLayout), "every member of the tile-health State");
+
+/** Check id: a tile id in the supervisor's state is off the chip (an upset of it); that use is skipped. */
+constexpr std::uint32_t kAssertStateCorrupt = 0x0301U;
+
 std::array<State*, bsp::kMaxTiles> g_state{};
 
 /** Boot assignments in DDR (survive the spare's switch-on); nullptr before boot_slots_init. */
@@ -555,6 +623,9 @@ void vote_round(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexcep
     const std::uint32_t j = (i + 1U) % 3U;
     const std::uint32_t k = (i + 2U) % 3U;
     const bsp::TileId t = s.tested[i];
+    if (!check(t < bsp::kMaxTiles, kAssertStateCorrupt)) {
+      continue;
+    }
     const bool outvoted = s.digest[j] == s.digest[k] && s.digest[i] != s.digest[j];
     if (outvoted) {
       ++s.view.mismatches;
@@ -805,7 +876,7 @@ void tile_health_task_main(void* arg) noexcept {
   }
   g_state[self] = nullptr;
   bsp::MemError err = bsp::MemError::kOk;
-  auto* s = bsp::carve_control_array<State>(bsp::Region{self}, 1, "tile_health", &err);
+  auto* s = bsp::carve_control_array<State>(bsp::Region{self}, 1, kTileHealthCarve, &err, &kStateLayout);
   if (err != bsp::MemError::kOk || s == nullptr) {
     return;
   }
@@ -933,5 +1004,7 @@ TileHealthView tile_health_view(bsp::TileId tile) noexcept {
   }
   return g_state[tile]->view;
 }
+
+const bsp::ControlLayout& tile_health_state_layout() noexcept { return kStateLayout; }
 
 }  // namespace fdir

@@ -76,6 +76,10 @@
 #include <cstdint>
 #include <span>
 
+namespace bsp {
+struct ControlLayout;
+}  // namespace bsp
+
 namespace fdir {
 
 /** Boot report (udn::kFtChanHealth): [0] kMsgBooted [1] tile [2] bsp::BootCause. */
@@ -280,5 +284,9 @@ std::uint32_t boot_slot(bsp::TileId tile) noexcept;
 
 /** The view of the supervisor on @p tile (all zero when none runs there). [host] */
 TileHealthView tile_health_view(bsp::TileId tile) noexcept;
+
+/** Name of the supervisor's state carve, and its layout (bsp::ControlLayout: what an upset of it does). [host] */
+inline constexpr const char* kTileHealthCarve = "tile_health";
+const bsp::ControlLayout& tile_health_state_layout() noexcept;
 
 }  // namespace fdir
