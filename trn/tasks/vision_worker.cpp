@@ -33,6 +33,20 @@ struct WorkerState {
   std::array<std::uint32_t, kResultHeaderWords + kMaxLandmarksPerUnit * kMatchWords> out;
 };
 
+/**
+ * What an upset of the worker's state does (bsp::ControlLayout): its
+ * configuration and workspace pointers, and the views of the map product
+ * (host pointers with their extents and the geometry that maps onto them),
+ * are host state; the result being built is the tile's own (written whole
+ * for each unit before it is sent).
+ */
+constexpr std::array kWorkerFields{
+    BSP_CONTROL_HOST(WorkerState, cfg), BSP_CONTROL_HOST(WorkerState, fine), BSP_CONTROL_HOST(WorkerState, coarse),
+    BSP_CONTROL_HOST(WorkerState, ws),  BSP_CONTROL_STATE(WorkerState, out),
+};
+constexpr bsp::ControlLayout kWorkerLayout{kWorkerFields, sizeof(WorkerState), alignof(WorkerState)};
+static_assert(bsp::control_layout_ok(kWorkerLayout), "every member of WorkerState, pointers as host state");
+
 bool worker_set_up(WorkerState& st) noexcept {
   const bsp::MapProductHeader* product = bsp::map_product_find();
   if (product == nullptr || vision::map_view(product, bsp::kMapLayerFine, st.fine) != vision::Status::kOk) {
@@ -188,7 +202,7 @@ void vision_worker_main(void* arg) noexcept {
   stats = VisionWorkerStats{};
   const auto* cfg = static_cast<const VisionWorkerConfig*>(arg);
   bsp::MemError err = bsp::MemError::kOk;
-  auto* st = bsp::carve_control_array<WorkerState>(bsp::Region{self}, 1, "vision_task", &err);
+  auto* st = bsp::carve_control_array<WorkerState>(bsp::Region{self}, 1, kVisionWorkerCarve, &err, &kWorkerLayout);
   if (cfg == nullptr || err != bsp::MemError::kOk || !udn::endpoint_wait_ready(100)) {
     return;
   }
@@ -232,5 +246,7 @@ void vision_worker_main(void* arg) noexcept {
 VisionWorkerStats vision_worker_stats(bsp::TileId tile) noexcept {
   return tile < bsp::kMaxTiles ? g_worker_stats[tile] : VisionWorkerStats{};
 }
+
+const bsp::ControlLayout& vision_worker_state_layout() noexcept { return kWorkerLayout; }
 
 }  // namespace trn::tasks

@@ -12,6 +12,7 @@
 #pragma once
 
 #include "bsp_tile64/devices/camera_model.hpp"
+#include "bsp_tile64/memory.hpp"
 #include "bsp_tile64/port.hpp"
 
 #include <cstdint>
@@ -35,6 +36,10 @@ struct VisionWorkerStats {
 
 /** Vision tile entry (arg: const VisionWorkerConfig*). */
 void vision_worker_main(void* arg) noexcept;
+
+/** Name of a vision tile's task state carve, and its layout (bsp::ControlLayout: what an upset of it does). [host] */
+inline constexpr const char* kVisionWorkerCarve = "vision_task";
+const bsp::ControlLayout& vision_worker_state_layout() noexcept;
 
 /** Counters of the vision task on @p tile. [host] */
 VisionWorkerStats vision_worker_stats(bsp::TileId tile) noexcept;
