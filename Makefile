@@ -190,7 +190,7 @@ $(foreach f,$(call src_of,tests),$(eval EXTRA_CXXFLAGS_$(f) += -I$(GEN) -I$(OBJ)
 -include $(wildcard mk/*.mk)
 
 # ---------------------------------------------------------------- main targets
-.PHONY: all run test lint size stack cov bench clean compdb
+.PHONY: all run test lint size stack cov bench clean compdb control-sweep
 all: $(foreach p,$(PROGRAMS),$(BIN)/$(p)) $(TEST_BINS) $(BIN)/compile_commands.json ## Build libraries, images and tests
 
 ARGS ?=
@@ -221,6 +221,10 @@ size: $(BIN)/trn_mission ## Memory budget: per region and per tile, used and fre
 
 stack: all ## Stack budget: worst frame per flight function, checked against the budget
 	@tools/build/stack_report.sh $(OBJ) $(FLIGHT_SRC)
+
+control-sweep: deps ## Upsets of every emulated member of the declared control structs, both ends (SAN=address,undefined to fly it instrumented)
+	@$(MAKE) --no-print-directory $(BIN)/tests/tools_trn_mission_tests $(BIN)/trn_mission
+	CONTROL_SWEEP_FULL=1 $(BIN)/tests/tools_trn_mission_tests --gtest_filter='ControlUpsets.*'
 
 cov: deps ## Coverage of the tests over the flight code (gcovr report under build/cov/)
 	@# Counts add up across runs: a run starts from none, or it would count an earlier run's lines.
