@@ -79,10 +79,6 @@ struct ControlField {
 };
 
 namespace detail {
-template <class X>
-struct is_std_array : std::false_type {};
-template <class X, std::size_t N>
-struct is_std_array<std::array<X, N>> : std::true_type {};
 /** The element type under any nesting of std::array and built-in arrays. */
 template <class X>
 struct element_of {
