@@ -410,7 +410,8 @@ TEST(CampaignSpec, AFaultFreeSeedSweepFliesSeedPlusIndexAndRefusesKeysOfDraws) {
 TEST(CampaignSpec, TheShippedCampaignsAreValid) {
   for (const char* f : {"campaigns/single_faults.toml", "campaigns/slurm_small.toml", "campaigns/ft_single_1000.toml",
                         "campaigns/integrity_100.toml",
-                        "campaigns/ft_five_300.toml", "campaigns/ft_seu_240.toml", "tests/fixtures/campaigns/small.toml",
+                        "campaigns/ft_five_300.toml", "campaigns/ft_seu_240.toml", "campaigns/ft_seu_control_40.toml",
+                        "tests/fixtures/campaigns/small.toml",
                         "tests/fixtures/campaigns/crash.toml"}) {
     const cp::SpecResult r = cp::load_spec(std::string(build_info::kRepoRoot) + "/" + f, kRunS);
     EXPECT_TRUE(r.ok()) << f << ": " << r.error;
