@@ -31,6 +31,8 @@
 #   TheSimplexFiltersCorruptedStateIsRefused...             the state check and the way back
 #   ATileWhoseSwitchFailedIsRetiredAndItsRoleMoves          neighbour probes, the fault map, detours
 #   TheIoTilesSwitchIsNamedByTransits...                    transit probes, the cut-off watcher
+#   ControlUpsets.EveryEmulatedMember...                    upsets of control structs' own state, flipped
+#                                                           for real: the bounds the flight code keeps
 #
 # Of the campaign runner's suite: a campaign in parallel with its resume and replay, a crashed and a
 # hung image, shrinking, and the bad-input and script tests (no flight): the host code the
@@ -57,7 +59,7 @@ SUBSET_CAMPAIGN := RunsInParallelResumesWithoutFlyingAgainAndReplaysARun ACrashe
 
 space := $(subst ,, )
 subset_filter = $(subst $(space),:,$(addprefix $(1).,$(2)))
-SUBSET_TEST_FILTERS := tools_trn_mission_tests=$(call subset_filter,TrnMissionBinary,$(SUBSET_FLIGHTS)) \
+SUBSET_TEST_FILTERS := tools_trn_mission_tests=$(call subset_filter,TrnMissionBinary,$(SUBSET_FLIGHTS)):ControlUpsets.EveryEmulatedMemberOfTheDeclaredControlStructsSurvivesAnUpset \
   tools_trn_campaign_tests=$(call subset_filter,TrnCampaignBinary,$(SUBSET_CAMPAIGN))
 
 FLIGHTS ?= all
