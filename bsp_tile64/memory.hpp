@@ -92,6 +92,9 @@ template <class X>
 using element_t = typename element_of<std::remove_cv_t<X>>::type;
 template <class X>
 inline constexpr bool kPlain = std::is_arithmetic_v<element_t<X>> || std::is_enum_v<element_t<X>>;
+/** A member's size by its type: a pointer member's too (sizeof of a pointer expression reads as a mistake). */
+template <class X>
+inline constexpr std::size_t kSizeOf = sizeof(X);
 template <class X>
 inline constexpr std::uint8_t kLiveBits = std::is_same_v<element_t<X>, bool> ? 0x01U : 0xFFU;
 }  // namespace detail
@@ -109,7 +112,7 @@ inline constexpr std::uint8_t kLiveBits = std::is_same_v<element_t<X>, bool> ? 0
   }
 /** Declares member @p m of control struct @p T as host state (any type). */
 #define BSP_CONTROL_HOST(T, m) \
-  ::bsp::ControlField { offsetof(T, m), sizeof(T::m), alignof(decltype(T::m)), 0U, false, nullptr }
+  ::bsp::ControlField { offsetof(T, m), ::bsp::detail::kSizeOf<decltype(T::m)>, alignof(decltype(T::m)), 0U, false, nullptr }
 /** Declares member @p m of @p T, a struct or an array of structs, as laid out by @p layout (a ControlLayout). */
 #define BSP_CONTROL_NESTED(T, m, layout) \
   ::bsp::ControlField { offsetof(T, m), sizeof(T::m), alignof(decltype(T::m)), 0xFFU, false, &(layout) }
