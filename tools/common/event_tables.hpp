@@ -11,6 +11,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 namespace tools {
 
@@ -29,6 +30,15 @@ inline constexpr std::array<std::span<const fdir::EventInfo>, 2> kEventTables{
  * list the application's ids, so a switch over the enum would take them for strays).
  */
 constexpr std::uint16_t event_code(fdir::EventId id) noexcept { return static_cast<std::uint16_t>(id); }
+
+/** Every declared event, fdir's table then the application's, in one list. */
+inline std::vector<fdir::EventInfo> all_events() {
+  std::vector<fdir::EventInfo> v;
+  for (const std::span<const fdir::EventInfo> t : kEventTables) {
+    v.insert(v.end(), t.begin(), t.end());
+  }
+  return v;
+}
 
 /** How many events the two tables declare. */
 constexpr std::size_t event_count() noexcept { return fdir::kEventTable.size() + trn::kEventTable.size(); }

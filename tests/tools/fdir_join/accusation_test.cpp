@@ -21,15 +21,6 @@
 
 namespace {
 
-/** Every declared event: fdir's table, then the application's. */
-std::vector<fdir::EventInfo> all_events() {
-  std::vector<fdir::EventInfo> v;
-  for (const std::span<const fdir::EventInfo> t : tools::kEventTables) {
-    v.insert(v.end(), t.begin(), t.end());
-  }
-  return v;
-}
-
 using fdir::Diagnosis;
 using fdir::EventId;
 
@@ -48,7 +39,7 @@ fdir::Event ev(EventId id, bsp::TileId writer, std::uint32_t subject, std::uint3
 TEST(Accusation, EveryDetectionOfATileSaysWhatItAccuses) {
   // Every event that is a detection of the table either accuses with a class or is a notice the
   // join reads otherwise (a delivery given up, a level not met): listed here so a new id must choose.
-  for (const fdir::EventInfo& e : all_events()) {
+  for (const fdir::EventInfo& e : tools::all_events()) {
     if ((e.steps & fdir::kStepDetect) == 0U || e.diagnosis != Diagnosis::kNone) {
       continue;
     }
@@ -161,7 +152,7 @@ TEST(EventDocs, TheTableInFdirMdIsTheDeclaration) {
     EXPECT_TRUE(rows.emplace(c[1], c).second) << c[1] << " twice in docs/FDIR.md";
   }
   EXPECT_EQ(rows.size(), tools::event_count());
-  for (const fdir::EventInfo& e : all_events()) {
+  for (const fdir::EventInfo& e : tools::all_events()) {
     std::array<char, 8> id{};
     (void)std::snprintf(id.data(), id.size(), "0x%04X", static_cast<unsigned>(e.id));
     const auto r = rows.find(id.data());

@@ -16,15 +16,6 @@
 
 namespace {
 
-/** Every declared event: fdir's table, then the application's. */
-std::vector<fdir::EventInfo> all_events() {
-  std::vector<fdir::EventInfo> v;
-  for (const std::span<const fdir::EventInfo> t : tools::kEventTables) {
-    v.insert(v.end(), t.begin(), t.end());
-  }
-  return v;
-}
-
 using fdir::EventId;
 
 fdir::Event ev(EventId id, std::uint32_t subject, std::uint32_t cause = 0U, std::uint32_t a = 0U,
@@ -71,13 +62,13 @@ int highest_field(const std::string& text) {
 }
 
 TEST(EventText, EveryTemplateIsWellFormed) {
-  for (const fdir::EventInfo& e : all_events()) {
+  for (const fdir::EventInfo& e : tools::all_events()) {
     EXPECT_EQ(tools::check_event_text(e.text), "") << e.name;
   }
 }
 
 TEST(EventText, EveryTemplateNamesOnlyTheFieldsItsEventDeclares) {
-  for (const fdir::EventInfo& e : all_events()) {
+  for (const fdir::EventInfo& e : tools::all_events()) {
     ASSERT_NE(e.args, nullptr) << e.name;
     EXPECT_LT(highest_field(e.text), static_cast<int>(declared_fields(e.args))) << e.name << ": " << e.args;
   }
@@ -86,7 +77,7 @@ TEST(EventText, EveryTemplateNamesOnlyTheFieldsItsEventDeclares) {
 TEST(EventText, NoEventTextShowsAFaultWhateverItsFields) {
   // Any field values, sane or not, fill every template without a placeholder left or a fault shown.
   constexpr std::array<std::uint32_t, 8> kValues{0U, 1U, 2U, 3U, 0x100U, 0xFFFFU, 0x8000'0002U, fdir::kUnknown};
-  for (const fdir::EventInfo& info : all_events()) {
+  for (const fdir::EventInfo& info : tools::all_events()) {
     for (const std::uint32_t v : kValues) {
       const std::string t = tools::describe_flight_event(ev(info.id, v, v, v, v));
       EXPECT_EQ(t.rfind(std::string(info.name) + ": ", 0), 0U) << t;
