@@ -1,6 +1,6 @@
 /**
  * @file tile_health_messages_test.cpp
- * @brief The tile-health and supervisor message layouts (fdir/tile_health_messages.cpp,
+ * @brief The tile-health and supervisor message layouts (fdir/health_messages.cpp,
  *        fdir/supervisor.cpp): round trips, and fields out of range refused untouched.
  */
 #include "fdir/supervisor.hpp"

@@ -1,9 +1,9 @@
 /**
- * @file tile_health_messages.cpp
+ * @file health_messages.cpp
  * @brief Word layouts of the tile-health messages (boot, heartbeat, self-test, results bad,
  *        park, replacement): pack, and unpack with every field checked.
  */
-#include "fdir/tile_health.hpp"
+#include "fdir/health_messages.hpp"
 
 #include "udn/ft_link.hpp"
 
