@@ -143,7 +143,7 @@ $(OBJ)/lib/libtestsupport.a: $(call obj_of,$(TEST_SUPPORT_SRC))
 
 # The heap guard must be linked as an object, not pulled from an archive,
 # so that every program counts every allocation.
-HEAP_GUARD_OBJ := $(OBJ)/bsp_tile64/host/heap_guard.o
+HEAP_GUARD_OBJ := $(OBJ)/bsp_tile64/emu/host/heap_guard.o
 LINK_DEPS := $(HEAP_GUARD_OBJ) $(TOOLS_COMMON_LIB) $(FLIGHT_LIBS) $(GEN)/host_memory.ld
 LINK_LIBS := $(HEAP_GUARD_OBJ) $(TOOLS_COMMON_LIB) $(FLIGHT_LIBS)
 

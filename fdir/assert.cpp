@@ -4,7 +4,7 @@
  */
 #include "fdir/assert.hpp"
 
-#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/api/memory.hpp"
 #include "fdir/event_log.hpp"
 
 #include <array>

@@ -137,11 +137,11 @@ struct EventInfo {
   const char* name;
   Severity severity;
   std::uint8_t steps;  ///< Step bits
-  Diagnosis diagnosis;  ///< what it accuses (the host's tools/common/accusation.hpp refines it by the event's fields)
+  Diagnosis diagnosis;  ///< what it accuses (the host's tools/common/accounting/accusation.hpp refines it by the event's fields)
   Accused accused;      ///< whom
   const char* args;     ///< what its fields hold: "subject / cause / a / b" (trailing ones it leaves 0 omitted)
   /**
-   * Its text, a template the host fills from the fields (tools/common/event_text.hpp):
+   * Its text, a template the host fills from the fields (tools/common/accounting/event_text.hpp):
    * {s} {c} {a} {b} a field in decimal ("?" for kUnknown); after the letter, .hi .lo (16-bit halves),
    * .b0 to .b3 (bytes), .top (bit 31) or .rest (bits 0-30) select part of it; then :x prints it in
    * hex, @type names it by a host type (node, alternative, ...), |p0|p1|... takes phrase p<value>

@@ -4,7 +4,7 @@
  */
 #include "fdir/event_log.hpp"
 
-#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/api/memory.hpp"
 
 #include <array>
 #include <new>

@@ -17,7 +17,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/api/port.hpp"
 #include "fdir/event_ids.hpp"
 
 #include <cstdint>

@@ -4,9 +4,9 @@
  */
 #include "fdir/health_agent.hpp"
 
-#include "bsp_tile64/memory.hpp"
-#include "bsp_tile64/power.hpp"
-#include "bsp_tile64/udn_driver.hpp"
+#include "bsp_tile64/api/memory.hpp"
+#include "bsp_tile64/api/power.hpp"
+#include "bsp_tile64/api/udn_driver.hpp"
 #include "fdir/assert.hpp"
 #include "fdir/event_log.hpp"
 #include "fdir/health_messages.hpp"

@@ -17,8 +17,8 @@
  */
 #pragma once
 
-#include "bsp_tile64/port.hpp"
-#include "bsp_tile64/work.hpp"
+#include "bsp_tile64/api/port.hpp"
+#include "bsp_tile64/api/work.hpp"
 #include "kernel/task_table.hpp"
 
 #include <cstddef>

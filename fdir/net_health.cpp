@@ -6,7 +6,7 @@
 
 #include "fdir/tile_health.hpp"
 
-#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/api/memory.hpp"
 #include "fdir/assert.hpp"
 #include "fdir/event_log.hpp"
 #include "kernel/kernel.hpp"

@@ -35,8 +35,8 @@
  */
 #pragma once
 
-#include "bsp_tile64/memory.hpp"
-#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/api/memory.hpp"
+#include "bsp_tile64/api/port.hpp"
 #include "fdir/transit.hpp"
 #include "udn/route.hpp"
 

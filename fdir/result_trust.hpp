@@ -35,7 +35,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/api/port.hpp"
 
 #include <array>
 #include <cstdint>

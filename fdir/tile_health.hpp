@@ -62,7 +62,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/api/port.hpp"
 #include "fdir/health_agent.hpp"
 #include "fdir/health_messages.hpp"
 #include "kernel/task_table.hpp"

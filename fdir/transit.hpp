@@ -26,9 +26,9 @@
  */
 #pragma once
 
-#include "bsp_tile64/memory.hpp"
-#include "bsp_tile64/port.hpp"
-#include "bsp_tile64/work.hpp"
+#include "bsp_tile64/api/memory.hpp"
+#include "bsp_tile64/api/port.hpp"
+#include "bsp_tile64/api/work.hpp"
 #include "udn/route.hpp"
 
 #include <array>

@@ -7,7 +7,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/api/port.hpp"
 #include "kernel/config.hpp"
 
 static_assert(k::config::kMaxTasks >= 2 && k::config::kMaxTasks <= 64, "kMaxTasks: 2..64 (idle + one task)");

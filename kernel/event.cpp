@@ -8,7 +8,7 @@
  */
 #include "kernel/event.hpp"
 
-#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/api/port.hpp"
 #include "kernel/detail/tcb.hpp"
 
 namespace k {

@@ -4,7 +4,7 @@
  */
 #include "kernel/pool.hpp"
 
-#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/api/port.hpp"
 
 namespace k {
 

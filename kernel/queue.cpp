@@ -10,7 +10,7 @@
  */
 #include "kernel/queue.hpp"
 
-#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/api/port.hpp"
 
 #include <cstring>
 

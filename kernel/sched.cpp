@@ -9,7 +9,7 @@
  */
 #include "kernel/sched.hpp"
 
-#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/api/memory.hpp"
 #include "kernel/detail/core.hpp"
 #include "kernel/detail/ready_queue.hpp"
 #include "kernel/detail/stack.hpp"

@@ -19,7 +19,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/api/port.hpp"
 #include "kernel/task_table.hpp"
 #include "kernel/types.hpp"
 

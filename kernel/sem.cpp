@@ -4,7 +4,7 @@
  */
 #include "kernel/sem.hpp"
 
-#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/api/port.hpp"
 
 namespace k {
 

@@ -13,8 +13,8 @@
  */
 #pragma once
 
-#include "bsp_tile64/memory.hpp"
-#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/api/memory.hpp"
+#include "bsp_tile64/api/port.hpp"
 #include "kernel/config.hpp"
 
 #include <cstddef>

@@ -3,7 +3,7 @@
  * @brief The memory map of host images: per-tile RAM and shared DDR budgets.
  *
  * One source of truth for both the linker fragment (preprocessed into
- * build/gen/host_memory.ld) and the C++ code (bsp_tile64/memory.hpp), so the
+ * build/gen/host_memory.ld) and the C++ code (bsp_tile64/api/memory.hpp), so the
  * link-time assertions and the compile-time checks can never drift apart.
  * Plain preprocessor constants only: this file is also read as a linker script.
  */

@@ -38,7 +38,7 @@ FUZZ_BINS := $(addprefix build/fuzz/,$(FUZZ_TARGETS))
 
 # The archives in link order (highest layer first), as the main build links them.
 FUZZ_LIB_SRC_tools := $(TOOLS_COMMON_SRC)
-$(foreach l,$(LAYERS),$(eval FUZZ_LIB_SRC_$(l) := $(filter-out bsp_tile64/host/heap_guard.cpp,$(SRC_$(l)))))
+$(foreach l,$(LAYERS),$(eval FUZZ_LIB_SRC_$(l) := $(filter-out bsp_tile64/emu/host/heap_guard.cpp,$(SRC_$(l)))))
 FUZZ_LIB_NAMES := tools $(LINK_LAYERS)
 FUZZ_LIBS := $(foreach l,$(FUZZ_LIB_NAMES),$(FUZZ_OBJ)/lib/lib$(l).a)
 

@@ -7,7 +7,7 @@
  * it accuses, what its fields hold and its text. The ids are ones fdir's table
  * leaves free (checked below); trn code writes them with trn::report, which
  * takes each one's severity and steps from here. The host reads both tables
- * (tools/common/event_text.hpp).
+ * (tools/common/accounting/event_text.hpp).
  */
 #pragma once
 

@@ -4,7 +4,7 @@
  */
 #include "udn/endpoint.hpp"
 
-#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/api/memory.hpp"
 #include "kernel/kernel.hpp"
 #include "udn/ft_probe.hpp"
 

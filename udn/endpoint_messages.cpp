@@ -5,7 +5,7 @@
  */
 #include "udn/endpoint.hpp"
 
-#include "bsp_tile64/udn_hw.hpp"
+#include "bsp_tile64/api/udn_hw.hpp"
 
 namespace udn {
 

@@ -11,7 +11,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/api/port.hpp"
 
 #include <cstdint>
 

@@ -79,7 +79,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/udn_driver.hpp"
+#include "bsp_tile64/api/udn_driver.hpp"
 #include "udn/ft_event.hpp"
 #include "udn/ft_packet.hpp"
 #include "udn/route.hpp"

@@ -37,7 +37,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/work.hpp"
+#include "bsp_tile64/api/work.hpp"
 
 #include <array>
 #include <cstddef>

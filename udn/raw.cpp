@@ -4,8 +4,8 @@
  */
 #include "udn/raw.hpp"
 
-#include "bsp_tile64/memory.hpp"
-#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/api/memory.hpp"
+#include "bsp_tile64/api/port.hpp"
 #include "kernel/kernel.hpp"
 
 #include <array>

@@ -9,12 +9,12 @@
  * instead of polling. One receiving task per queue is assumed (a second one
  * would only see spurious wake-ups, never lose a packet).
  *
- * The network model is bsp_tile64/udn_net.hpp; see docs/NETWORK.md.
+ * The network model is bsp_tile64/emu/udn_net.hpp; see docs/NETWORK.md.
  */
 #pragma once
 
-#include "bsp_tile64/udn_hw.hpp"
-#include "bsp_tile64/udn_driver.hpp"
+#include "bsp_tile64/api/udn_hw.hpp"
+#include "bsp_tile64/api/udn_driver.hpp"
 #include "kernel/types.hpp"
 
 #include <cstdint>

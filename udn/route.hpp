@@ -19,10 +19,10 @@
  */
 #pragma once
 
-#include "bsp_tile64/memory.hpp"
-#include "bsp_tile64/port.hpp"
-#include "bsp_tile64/udn_hw.hpp"
-#include "bsp_tile64/work.hpp"
+#include "bsp_tile64/api/memory.hpp"
+#include "bsp_tile64/api/port.hpp"
+#include "bsp_tile64/api/udn_hw.hpp"
+#include "bsp_tile64/api/work.hpp"
 
 #include <array>
 #include <cstdint>

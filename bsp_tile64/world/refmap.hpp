@@ -9,7 +9,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/devices/map_product.hpp"
+#include "bsp_tile64/api/map_product.hpp"
 #include "bsp_tile64/world/terrain.hpp"
 
 #include <cstddef>

@@ -4,7 +4,7 @@
  */
 #include "bsp_tile64/world/terrain.hpp"
 
-#include "bsp_tile64/rng.hpp"
+#include "bsp_tile64/emu/rng.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -4,7 +4,7 @@
  */
 #include "bsp_tile64/world/trajectory.hpp"
 
-#include "bsp_tile64/devices/frames.hpp"
+#include "bsp_tile64/api/frames.hpp"
 
 #include <cmath>
 

@@ -4,7 +4,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/api/memory.hpp"
 #include "kernel/detail/tcb.hpp"
 #include "kernel/types.hpp"
 

@@ -4,7 +4,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/api/port.hpp"
 #include "kernel/config.hpp"
 #include "kernel/config_check.hpp"
 #include "kernel/task_table.hpp"

@@ -22,8 +22,8 @@
  * unarmed publication per dot product and per surface). 21/49: a fine search
  * of radius 14; 21/27: the refinement (radius 3); 64/256: the coarse stage.
  */
-#include "bsp_tile64/cost_model.hpp"
-#include "bsp_tile64/profile.hpp"
+#include "bsp_tile64/emu/cost_model.hpp"
+#include "bsp_tile64/emu/profile.hpp"
 #include "fdir/abft.hpp"
 #include "trn/vision/correlator.hpp"
 

@@ -6,8 +6,8 @@
  * "host_s_per_emu_s") and nanoseconds per context switch. swapcontext saves and
  * restores the signal mask with a syscall; BM_SignalMaskSyscall shows that part.
  */
-#include "bsp_tile64/board.hpp"
-#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/api/port.hpp"
 
 #include <benchmark/benchmark.h>
 

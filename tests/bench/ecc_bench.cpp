@@ -6,7 +6,7 @@
  * Run: make build/bench/ecc_bench && build/bench/ecc_bench
  * Bytes counted are payload bytes (4 per data word) per encode+decode round.
  */
-#include "bsp_tile64/rng.hpp"
+#include "bsp_tile64/emu/rng.hpp"
 #include "udn/ecc.hpp"
 #include "udn/ft_packet.hpp"
 

@@ -7,14 +7,14 @@
  * Run: make build/bench/filter_bench && build/bench/filter_bench
  * Counters: flops, fdivs per iteration as counted by the filter (bsp::Work);
  * tile64_cycles = bsp::cost_of(bsp::kTile64, work) (48 cycles per soft-float
- * add/mul, 200 per divide/sqrt, 2 per memory word: bsp_tile64/profile.hpp);
+ * add/mul, 200 per divide/sqrt, 2 per memory word: bsp_tile64/emu/profile.hpp);
  * tile64_ms = those cycles at 700 MHz. The update benchmarks restore the
  * pre-update state each iteration (an 18 KB copy with the pose history,
  * BM_FilterRestore, whose time is included) so every iteration sees the same
  * covariance.
  */
-#include "bsp_tile64/cost_model.hpp"
-#include "bsp_tile64/profile.hpp"
+#include "bsp_tile64/emu/cost_model.hpp"
+#include "bsp_tile64/emu/profile.hpp"
 #include "tests/trn/filter/truth_sim.hpp"
 #include "trn/filter/ekf.hpp"
 #include "trn/filter/nav_output.hpp"

@@ -3,7 +3,7 @@
  * @brief Host cost of the kernel: a context switch, an idle tile tick, and 64 tiles
  *        running a typical periodic load (emulated seconds per host second).
  */
-#include "bsp_tile64/board.hpp"
+#include "bsp_tile64/emu/board.hpp"
 #include "kernel/kernel.hpp"
 
 #include <benchmark/benchmark.h>

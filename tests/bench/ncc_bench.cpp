@@ -13,9 +13,9 @@
  * version is faster), the TILE64 cycles the cost model charges for each coarse
  * variant, and whether the transform surface equals the spatial one bit for bit.
  */
-#include "bsp_tile64/cost_model.hpp"
-#include "bsp_tile64/profile.hpp"
-#include "bsp_tile64/rng.hpp"
+#include "bsp_tile64/emu/cost_model.hpp"
+#include "bsp_tile64/emu/profile.hpp"
+#include "bsp_tile64/emu/rng.hpp"
 #include "trn/vision/correlator.hpp"
 #include "trn/vision/integral.hpp"
 #include "trn/vision/ncc.hpp"

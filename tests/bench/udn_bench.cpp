@@ -3,10 +3,10 @@
  * @brief Host cost of the UDN: packets per host second for uniform random traffic on 64 tiles,
  *        for the network model alone and for the whole stack (kernels, raw API, udn_stress run).
  */
-#include "bsp_tile64/board.hpp"
-#include "bsp_tile64/rng.hpp"
-#include "bsp_tile64/udn_net.hpp"
-#include "tools/common/udn_stress.hpp"
+#include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/emu/rng.hpp"
+#include "bsp_tile64/emu/udn_net.hpp"
+#include "tools/common/udn_stress/udn_stress.hpp"
 
 #include <benchmark/benchmark.h>
 

@@ -8,8 +8,8 @@
  * receiver holds them all; the fault-tolerant case also waits for the ACKs, as
  * a sender must before its window frees. items_per_second = messages.
  */
-#include "bsp_tile64/board.hpp"
-#include "bsp_tile64/udn_net.hpp"
+#include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/emu/udn_net.hpp"
 #include "udn/ft_link.hpp"
 #include "udn/ft_packet.hpp"
 

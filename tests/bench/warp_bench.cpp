@@ -8,9 +8,9 @@
  * variant, then the TILE64 cycles the cost model charges for each and the
  * largest pixel difference of the grid warp from the exact one.
  */
-#include "bsp_tile64/cost_model.hpp"
-#include "bsp_tile64/profile.hpp"
-#include "bsp_tile64/rng.hpp"
+#include "bsp_tile64/emu/cost_model.hpp"
+#include "bsp_tile64/emu/profile.hpp"
+#include "bsp_tile64/emu/rng.hpp"
 #include "trn/vision/warp.hpp"
 #include "trn/vision/warp_grid.hpp"
 

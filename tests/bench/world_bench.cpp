@@ -6,8 +6,8 @@
  * 1024 x 1024 frame in 20 ms or less at every altitude of the descent, since
  * one is rendered per emulated second.
  */
-#include "bsp_tile64/devices/camera.hpp"
-#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/emu/devices/camera.hpp"
+#include "bsp_tile64/api/memory.hpp"
 #include "bsp_tile64/world/refmap.hpp"
 
 #include <benchmark/benchmark.h>

@@ -4,9 +4,9 @@
  */
 #pragma once
 
-#include "bsp_tile64/board.hpp"
-#include "bsp_tile64/port.hpp"
-#include "bsp_tile64/trace.hpp"
+#include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/api/port.hpp"
+#include "bsp_tile64/emu/trace.hpp"
 
 #include <gtest/gtest.h>
 

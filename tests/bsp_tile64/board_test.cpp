@@ -2,14 +2,14 @@
  * @file board_test.cpp
  * @brief The deterministic driver: boot delay, timers, watchdog, power, barriers, events, determinism.
  */
-#include "bsp_tile64/board.hpp"
+#include "bsp_tile64/emu/board.hpp"
 
 #include "board_fixture.hpp"
-#include "bsp_tile64/fault_injector.hpp"
-#include "bsp_tile64/memory.hpp"
-#include "bsp_tile64/port.hpp"
-#include "bsp_tile64/stack_paint.hpp"
-#include "bsp_tile64/trace.hpp"
+#include "bsp_tile64/faults/fault_injector.hpp"
+#include "bsp_tile64/api/memory.hpp"
+#include "bsp_tile64/api/port.hpp"
+#include "bsp_tile64/emu/stack_paint.hpp"
+#include "bsp_tile64/emu/trace.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,12 +2,12 @@
  * @file cost_model_test.cpp
  * @brief The cost model: exact cycles per kind of work per profile, rounding, saturation, consume(Work).
  */
-#include "bsp_tile64/cost_model.hpp"
+#include "bsp_tile64/emu/cost_model.hpp"
 
 #include "board_fixture.hpp"
-#include "bsp_tile64/board.hpp"
-#include "bsp_tile64/profile.hpp"
-#include "bsp_tile64/rng.hpp"
+#include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/emu/profile.hpp"
+#include "bsp_tile64/emu/rng.hpp"
 
 #include <gtest/gtest.h>
 

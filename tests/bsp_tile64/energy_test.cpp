@@ -3,13 +3,13 @@
  * @brief The energy meter (BSP-EN-01..06): per-state cycles are exact and add up to the tile's time,
  *        joules follow the documented power model, power-off stops the core's share, a reset boots again.
  */
-#include "bsp_tile64/energy.hpp"
+#include "bsp_tile64/emu/energy.hpp"
 
 #include "board_fixture.hpp"
-#include "bsp_tile64/board.hpp"
-#include "bsp_tile64/memory.hpp"
-#include "bsp_tile64/port.hpp"
-#include "bsp_tile64/power.hpp"
+#include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/api/memory.hpp"
+#include "bsp_tile64/api/port.hpp"
+#include "bsp_tile64/api/power.hpp"
 
 #include <gtest/gtest.h>
 

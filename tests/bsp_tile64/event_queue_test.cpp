@@ -2,10 +2,10 @@
  * @file event_queue_test.cpp
  * @brief The ordered event queue and per-tile lists against a sorted reference; the trace ring and hash.
  */
-#include "bsp_tile64/event_queue.hpp"
+#include "bsp_tile64/emu/event_queue.hpp"
 
-#include "bsp_tile64/rng.hpp"
-#include "bsp_tile64/trace.hpp"
+#include "bsp_tile64/emu/rng.hpp"
+#include "bsp_tile64/emu/trace.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,13 +2,13 @@
  * @file fault_injector_test.cpp
  * @brief The fault injector: planned and random faults, ground truth, SEU, SDC, hang, reset, watchdog failure.
  */
-#include "bsp_tile64/fault_injector.hpp"
+#include "bsp_tile64/faults/fault_injector.hpp"
 
 #include "board_fixture.hpp"
-#include "bsp_tile64/board.hpp"
-#include "bsp_tile64/memory.hpp"
-#include "bsp_tile64/port.hpp"
-#include "bsp_tile64/trace.hpp"
+#include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/api/memory.hpp"
+#include "bsp_tile64/api/port.hpp"
+#include "bsp_tile64/emu/trace.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
  * @brief The heap seal: allocations before the seal are free, after it they are counted
  *        (tests) or fatal (images).
  */
-#include "bsp_tile64/host/heap_guard.hpp"
+#include "bsp_tile64/emu/host/heap_guard.hpp"
 #include "tests/support/heap_probe.hpp"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
  * @file memory_test.cpp
  * @brief Carving of the tile RAM and DDR regions: alignment, exhaustion, reset, records.
  */
-#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/api/memory.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,13 +2,13 @@
  * @file port_test.cpp
  * @brief The context-switch port and interrupt semantics of port.hpp: switches, preemption, masking, halts.
  */
-#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/api/port.hpp"
 
 #include "board_fixture.hpp"
-#include "bsp_tile64/board.hpp"
-#include "bsp_tile64/memory.hpp"
-#include "bsp_tile64/stack_paint.hpp"
-#include "bsp_tile64/trace.hpp"
+#include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/api/memory.hpp"
+#include "bsp_tile64/emu/stack_paint.hpp"
+#include "bsp_tile64/emu/trace.hpp"
 
 #include <gtest/gtest.h>
 

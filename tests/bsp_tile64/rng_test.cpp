@@ -2,7 +2,7 @@
  * @file rng_test.cpp
  * @brief Random streams are reproducible, independent, and have the right moments.
  */
-#include "bsp_tile64/rng.hpp"
+#include "bsp_tile64/emu/rng.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,11 +3,11 @@
  * @brief UDN mesh model: X-then-Y paths, exact latency and contention, delivery order, back-pressure,
  *        header bit flips, failed switches and links, deterministic statistics.
  */
-#include "bsp_tile64/board.hpp"
-#include "bsp_tile64/fault_injector.hpp"
-#include "bsp_tile64/rng.hpp"
-#include "bsp_tile64/trace.hpp"
-#include "bsp_tile64/udn_net.hpp"
+#include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/faults/fault_injector.hpp"
+#include "bsp_tile64/emu/rng.hpp"
+#include "bsp_tile64/emu/trace.hpp"
+#include "bsp_tile64/emu/udn_net.hpp"
 
 #include <gtest/gtest.h>
 

@@ -7,7 +7,7 @@
  */
 #include "fdir/abft.hpp"
 
-#include "bsp_tile64/port.hpp"  // BSP_ASAN
+#include "bsp_tile64/api/port.hpp"  // BSP_ASAN
 
 #include "fdir/event_log.hpp"
 #include "tests/fdir/fdir_fixture.hpp"

@@ -4,8 +4,8 @@
  */
 #pragma once
 
-#include "bsp_tile64/board.hpp"
-#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/api/memory.hpp"
 #include "fdir/event_log.hpp"
 #include "kernel/kernel.hpp"
 

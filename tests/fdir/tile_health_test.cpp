@@ -5,9 +5,9 @@
  */
 #include "fdir/tile_health.hpp"
 
-#include "bsp_tile64/board.hpp"
-#include "bsp_tile64/fault_injector.hpp"
-#include "bsp_tile64/udn_net.hpp"
+#include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/faults/fault_injector.hpp"
+#include "bsp_tile64/emu/udn_net.hpp"
 #include "fdir/event_log.hpp"
 #include "fdir/ft_sink.hpp"
 #include "kernel/kernel.hpp"

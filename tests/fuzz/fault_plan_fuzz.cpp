@@ -9,7 +9,7 @@
  * formatting: format -> parse gives a plan that formats to the same text.
  */
 #include "tests/fuzz/fuzz_check.hpp"
-#include "tools/common/fault_plan.hpp"
+#include "tools/common/mission/fault_plan.hpp"
 
 #include <cmath>
 #include <string>

@@ -14,7 +14,7 @@
 #include "fdir/supervisor.hpp"
 #include "fdir/tile_health.hpp"
 #include "tests/fuzz/fuzz_check.hpp"
-#include "trn/tasks/filter_tmr.hpp"
+#include "trn/tasks/filter/filter_tmr.hpp"
 #include "trn/tasks/messages.hpp"
 #include "udn/endpoint.hpp"
 

@@ -9,7 +9,7 @@
  * not escape it.
  */
 #include "tests/fuzz/fuzz_check.hpp"
-#include "tools/common/scenario.hpp"
+#include "tools/common/mission/scenario.hpp"
 
 #include <cmath>
 #include <string>

@@ -4,8 +4,8 @@
  */
 #pragma once
 
-#include "bsp_tile64/board.hpp"
-#include "bsp_tile64/trace.hpp"
+#include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/emu/trace.hpp"
 #include "kernel/kernel.hpp"
 
 #include <gtest/gtest.h>

@@ -3,7 +3,7 @@
  * @brief Stack painting shows real use, an overflow is detected and reported, and a tile
  *        restarts from its task table after a reset.
  */
-#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/api/memory.hpp"
 #include "tests/kernel/kernel_fixture.hpp"
 
 #include <cstring>

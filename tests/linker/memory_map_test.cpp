@@ -3,7 +3,7 @@
  * @brief The linker fragment places the tile RAM and DDR regions with their configured sizes,
  *        and a region over its budget fails the link.
  */
-#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/api/memory.hpp"
 #include "build_info.hpp"
 
 #include <gtest/gtest.h>

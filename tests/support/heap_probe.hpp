@@ -4,7 +4,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/host/heap_guard.hpp"
+#include "bsp_tile64/emu/host/heap_guard.hpp"
 
 #include <cstdint>
 

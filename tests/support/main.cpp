@@ -5,7 +5,7 @@
  * Adds a listener that fails any test which leaves the heap sealed, so one
  * test's seal cannot leak into the next and hide or invent allocations.
  */
-#include "bsp_tile64/host/heap_guard.hpp"
+#include "bsp_tile64/emu/host/heap_guard.hpp"
 
 #include <gtest/gtest.h>
 

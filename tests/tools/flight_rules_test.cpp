@@ -4,7 +4,7 @@
  *        outside the board's interface and include cycles, accepts clean code (fixtures under
  *        tests/fixtures/flight_rules/), and finds nothing in the real tree.
  */
-#include "tools/common/flight_rules.hpp"
+#include "tools/common/rules/flight_rules.hpp"
 #include "build_info.hpp"
 
 #include <gtest/gtest.h>
@@ -99,11 +99,11 @@ TEST(FlightRules, EachRuleTriggersOnItsConstruct) {
       {"auto& t = typeid(x);", "rtti"},
       {"int r = rand();", "host-time"},
       {"auto t = std::chrono::steady_clock::now();", "host-time"},
-      {"#include \"tools/common/flight_rules.hpp\"", "layering"},
+      {"#include \"tools/common/rules/flight_rules.hpp\"", "layering"},
       {"#include \"bsp_tile64/world/terrain.hpp\"", "truth"},
-      {"#include \"bsp_tile64/devices/camera.hpp\"", "truth"},
-      {"#include \"bsp_tile64/udn_net.hpp\"", "truth"},
-      {"#include <bsp_tile64/board.hpp>", "truth"},
+      {"#include \"bsp_tile64/emu/devices/camera.hpp\"", "truth"},
+      {"#include \"bsp_tile64/emu/udn_net.hpp\"", "truth"},
+      {"#include <bsp_tile64/emu/board.hpp>", "truth"},
   };
   for (const Case& c : cases) {
     const auto f = fr::check_source("case.cpp", c.code, "udn", false);
@@ -157,7 +157,7 @@ TEST(FlightRules, EveryUpwardIncludeIsRejectedAndEveryDownwardOneAccepted) {
   const std::vector<std::string> layers = {"bsp_tile64", "kernel", "udn", "fdir", "trn", "tools", "tests"};
   for (const std::string& from : layers) {
     for (const std::string& to : layers) {
-      const std::string header = to == "bsp_tile64" ? "bsp_tile64/port.hpp" : to + "/x.hpp";
+      const std::string header = to == "bsp_tile64" ? "bsp_tile64/api/port.hpp" : to + "/x.hpp";
       const auto f = fr::check_source("f.cpp", "#include \"" + header + "\"\n", from, false);
       if (fr::layer_rank(to) > fr::layer_rank(from)) {
         ASSERT_EQ(f.size(), 1U) << from << " -> " << to;
@@ -175,7 +175,7 @@ TEST(FlightRules, RejectsTrnIncludingTheCamerasSimulation) {
   const auto f = check_fixture("trn_includes_camera.cpp", "trn");
   ASSERT_EQ(f.size(), 1U);
   EXPECT_TRUE(has_rule(f, "truth", 3));  // camera.hpp; camera_model.hpp on line 2 is interface
-  EXPECT_NE(f[0].message.find("bsp_tile64/devices/camera.hpp"), std::string::npos);
+  EXPECT_NE(f[0].message.find("bsp_tile64/emu/devices/camera.hpp"), std::string::npos);
 }
 
 TEST(FlightRules, RejectsFlightCodeIncludingTheNetworkModel) {
@@ -191,12 +191,23 @@ TEST(FlightRules, TheBoardMayIncludeItsOwnModel) {
   EXPECT_TRUE(check_fixture("flight_includes_udn_net.cpp", "bsp_tile64").empty());
 }
 
-TEST(FlightRules, BoardInterfaceNamesHeadersOfTheBoardThatExist) {
-  for (const std::string_view h : fr::kBoardInterface) {
-    EXPECT_EQ(h.rfind("bsp_tile64/", 0), 0U) << h;
-    EXPECT_TRUE(std::filesystem::is_regular_file(std::string(build_info::kRepoRoot) + "/" + std::string(h))) << h;
-    EXPECT_TRUE(fr::is_board_interface(h)) << h;
+TEST(FlightRules, TheBoardInterfaceIsItsFolder) {
+  // The folder holds the interface headers and nothing else; each passes, and
+  // nothing below it or beside it does.
+  std::size_t headers = 0;
+  for (const auto& e : std::filesystem::directory_iterator(std::string(build_info::kRepoRoot) + "/" +
+                                                           std::string(fr::kBoardInterfaceDir))) {
+    ASSERT_TRUE(e.is_regular_file()) << e.path();
+    EXPECT_EQ(e.path().extension(), ".hpp") << e.path();
+    EXPECT_TRUE(fr::is_board_interface(std::string(fr::kBoardInterfaceDir) + e.path().filename().string()));
+    ++headers;
   }
+  EXPECT_EQ(headers, 11U);
+  EXPECT_FALSE(fr::is_board_interface("bsp_tile64/api/../emu/board.hpp"));
+  EXPECT_FALSE(fr::is_board_interface("bsp_tile64/api/detail/x.hpp"));
+  EXPECT_FALSE(fr::is_board_interface("bsp_tile64/api/"));
+  EXPECT_FALSE(fr::is_board_interface("bsp_tile64/emu/board.hpp"));
+  EXPECT_FALSE(fr::is_board_interface("bsp_tile64/port.hpp"));
 }
 
 TEST(FlightRules, AboveTheBoardOnlyTheInterfaceOfTheBoardIsIncluded) {
@@ -255,7 +266,7 @@ TEST(FlightRules, IncludeGraphsWithoutCyclesPass) {
       {"kernel/top.hpp", "#include \"kernel/left.hpp\"\n#include \"kernel/right.hpp\"\n"},
       {"kernel/left.hpp", "#include \"kernel/base.hpp\"\n"},
       {"kernel/right.hpp", "#include \"base.hpp\"\n#include <cstdint>\n"},
-      {"kernel/base.hpp", "#include \"bsp_tile64/port.hpp\"\n"},
+      {"kernel/base.hpp", "#include \"bsp_tile64/api/port.hpp\"\n"},
   };
   EXPECT_TRUE(fr::find_include_cycles(diamond).empty());
 }
@@ -284,7 +295,7 @@ TEST(FlightRules, TheRealTreeIsClean) {
   const std::vector<std::string> files = fr::project_files(root);
   auto has = [&](const std::string& p) { return std::find(files.begin(), files.end(), p) != files.end(); };
   ASSERT_TRUE(has("kernel/sched.cpp"));
-  ASSERT_TRUE(has("bsp_tile64/udn_driver.hpp"));
+  ASSERT_TRUE(has("bsp_tile64/api/udn_driver.hpp"));
   ASSERT_TRUE(has("tests/tools/flight_rules_test.cpp"));
   for (const std::string& p : files) {
     EXPECT_NE(p.rfind("tests/fixtures/", 0), 0U) << p;

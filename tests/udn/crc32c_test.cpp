@@ -4,7 +4,7 @@
  */
 #include "udn/crc32c.hpp"
 
-#include "bsp_tile64/rng.hpp"
+#include "bsp_tile64/emu/rng.hpp"
 
 #include <gtest/gtest.h>
 

@@ -5,8 +5,8 @@
  */
 #pragma once
 
-#include "bsp_tile64/board.hpp"
-#include "bsp_tile64/udn_net.hpp"
+#include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/emu/udn_net.hpp"
 #include "udn/ft_link.hpp"
 
 #include <gtest/gtest.h>

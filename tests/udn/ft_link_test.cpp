@@ -6,7 +6,7 @@
  */
 #include "tests/udn/ft_link_fixture.hpp"
 
-#include "bsp_tile64/fault_injector.hpp"
+#include "bsp_tile64/faults/fault_injector.hpp"
 
 #include <gtest/gtest.h>
 

@@ -5,7 +5,7 @@
  */
 #include "udn/ft_packet.hpp"
 
-#include "bsp_tile64/rng.hpp"
+#include "bsp_tile64/emu/rng.hpp"
 #include "udn/crc32c.hpp"
 #include "udn/ecc.hpp"
 

@@ -6,7 +6,7 @@
  */
 #include "tests/udn/ft_link_fixture.hpp"
 
-#include "bsp_tile64/rng.hpp"
+#include "bsp_tile64/emu/rng.hpp"
 
 #include <gtest/gtest.h>
 

@@ -7,8 +7,8 @@
 
 #include "udn/ft_packet.hpp"
 
-#include "bsp_tile64/board.hpp"
-#include "bsp_tile64/udn_net.hpp"
+#include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/emu/udn_net.hpp"
 #include "kernel/kernel.hpp"
 
 #include <gtest/gtest.h>

@@ -7,7 +7,7 @@
  * FILE... checks the named files (paths relative to the repository root, run
  * from there) and the include cycles among them only.
  */
-#include "tools/common/flight_rules.hpp"
+#include "tools/common/rules/flight_rules.hpp"
 
 #include <iostream>
 #include <string>

@@ -14,12 +14,12 @@
  * not the campaign's end. Every run's result is written atomically into its
  * folder, so an interrupted campaign resumes where it stopped.
  */
-#include "bsp_tile64/board.hpp"
+#include "bsp_tile64/emu/board.hpp"
 #include "bsp_tile64/world/trajectory.hpp"
-#include "tools/common/campaign.hpp"
-#include "tools/common/campaign_stats.hpp"
+#include "tools/common/campaign/campaign.hpp"
+#include "tools/common/campaign/campaign_stats.hpp"
 #include "tools/common/cli_checks.hpp"
-#include "tools/common/scenario.hpp"
+#include "tools/common/mission/scenario.hpp"
 #include "tools/common/text.hpp"
 #include "tools/common/toml_input.hpp"
 

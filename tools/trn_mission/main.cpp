@@ -10,39 +10,39 @@
  * navigation against the truth and collecting the flight event log (every
  * detection, isolation and recovery the flight code reports) into events.log;
  * a step that crosses a phase boundary stops there first, so the board's
- * energy meter is snapshotted at the boundary's cycle (tools/common/phase_energy.hpp);
+ * energy meter is snapshotted at the boundary's cycle (tools/common/mission/phase_energy.hpp);
  * then the heap is unsealed, the flight's events are joined to the injector's
- * ground truth (tools/common/fdir_join.hpp, docs/FDIR.md) and the outputs
+ * ground truth (tools/common/accounting/fdir_join.hpp, docs/FDIR.md) and the outputs
  * written. The final error is scored against the truth at the end of the run. Host time
  * is measured here, in the front end, never in emulated behaviour.
  */
-#include "bsp_tile64/board.hpp"
+#include "bsp_tile64/emu/board.hpp"
 #include "trn/events.hpp"
-#include "bsp_tile64/energy.hpp"
-#include "bsp_tile64/fault_injector.hpp"
-#include "bsp_tile64/host/frame_ahead.hpp"
-#include "bsp_tile64/host/heap_guard.hpp"
-#include "bsp_tile64/trace.hpp"
-#include "bsp_tile64/udn_net.hpp"
+#include "bsp_tile64/emu/energy.hpp"
+#include "bsp_tile64/faults/fault_injector.hpp"
+#include "bsp_tile64/emu/host/frame_ahead.hpp"
+#include "bsp_tile64/emu/host/heap_guard.hpp"
+#include "bsp_tile64/emu/trace.hpp"
+#include "bsp_tile64/emu/udn_net.hpp"
 #include "fdir/tile_health.hpp"
 #include "kernel/kernel.hpp"
 #include "tools/common/cli_checks.hpp"
-#include "tools/common/fault_account.hpp"
-#include "tools/common/fault_plan.hpp"
-#include "tools/common/fdir_join.hpp"
-#include "tools/common/fdir_params_doc.hpp"
-#include "tools/common/memory_report.hpp"
-#include "tools/common/mission.hpp"
-#include "tools/common/nav_integrity.hpp"
-#include "tools/common/phase_energy.hpp"
-#include "tools/common/run_folder.hpp"
-#include "tools/common/scenario.hpp"
-#include "tools/common/tile_view.hpp"
-#include "tools/common/trace_dump.hpp"
-#include "trn/tasks/filter_task.hpp"
-#include "trn/tasks/io_task.hpp"
+#include "tools/common/accounting/fault_account.hpp"
+#include "tools/common/mission/fault_plan.hpp"
+#include "tools/common/accounting/fdir_join.hpp"
+#include "tools/common/mission/fdir_params_doc.hpp"
+#include "tools/common/mission/memory_report.hpp"
+#include "tools/common/mission/mission.hpp"
+#include "tools/common/mission/nav_integrity.hpp"
+#include "tools/common/mission/phase_energy.hpp"
+#include "tools/common/mission/run_folder.hpp"
+#include "tools/common/mission/scenario.hpp"
+#include "tools/common/mission/tile_view.hpp"
+#include "tools/common/mission/trace_dump.hpp"
+#include "trn/tasks/filter/filter_task.hpp"
+#include "trn/tasks/io/io_task.hpp"
 #include "trn/tasks/tile_map.hpp"
-#include "trn/tasks/vision_coord.hpp"
+#include "trn/tasks/vision/vision_coord.hpp"
 #include "udn/endpoint.hpp"
 
 #include <CLI/CLI.hpp>
@@ -434,7 +434,7 @@ FinalScore score_end(const tools::Mission& m, const FlightRecord& rec, double en
   f.lost = f.output_age_s > kLostOutputAgeS;
   return f;
 }
-/** What the supervisor tree did: the flight's own counters (trn/tasks/supervisors.hpp). */
+/** What the supervisor tree did: the flight's own counters (trn/tasks/supervisors/supervisors.hpp). */
 void add_supervisor_keys(tools::Summary& s, const trn::tasks::VisionCoordStats& c) {
   using trn::tasks::supervisor_stats;
   const trn::tasks::SupervisorStats top = supervisor_stats(trn::tasks::kNodeTrn);

@@ -9,10 +9,10 @@
  *                                                 with N events before it and after it on each side
  * Exit status: 0 (diff: the same events), 1 (diff: they differ), 2 (bad input).
  */
-#include "bsp_tile64/profile.hpp"
+#include "bsp_tile64/emu/profile.hpp"
 #include "tools/common/cli_checks.hpp"
-#include "tools/common/run_folder.hpp"
-#include "tools/common/trace_dump.hpp"
+#include "tools/common/mission/run_folder.hpp"
+#include "tools/common/mission/trace_dump.hpp"
 
 #include <CLI/CLI.hpp>
 

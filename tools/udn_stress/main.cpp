@@ -4,7 +4,7 @@
  *
  * Exit statuses: tools::kExitCompleted, kExitInternal, kExitBadArguments, kExitBound (see --help).
  */
-#include "tools/common/udn_stress.hpp"
+#include "tools/common/udn_stress/udn_stress.hpp"
 
 #include <cstdio>
 #include <exception>

@@ -8,11 +8,11 @@
  * (pnmtopng or ImageMagick's convert) is on the PATH. Bad arguments or a bad
  * scenario: a message on stderr and exit status 2.
  */
-#include "bsp_tile64/devices/camera.hpp"
-#include "bsp_tile64/devices/map_product.hpp"
-#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/emu/devices/camera.hpp"
+#include "bsp_tile64/api/map_product.hpp"
+#include "bsp_tile64/api/memory.hpp"
 #include "bsp_tile64/world/refmap.hpp"
-#include "tools/common/scenario.hpp"
+#include "tools/common/mission/scenario.hpp"
 
 #include <CLI/CLI.hpp>
 

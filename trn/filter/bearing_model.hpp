@@ -21,8 +21,8 @@
  */
 #pragma once
 
-#include "bsp_tile64/devices/camera_model.hpp"
-#include "bsp_tile64/work.hpp"
+#include "bsp_tile64/api/camera_model.hpp"
+#include "bsp_tile64/api/work.hpp"
 #include "trn/filter/covariance.hpp"
 #include "trn/filter/linalg.hpp"
 #include "trn/filter/nav_state.hpp"

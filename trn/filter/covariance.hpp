@@ -8,7 +8,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/work.hpp"
+#include "bsp_tile64/api/work.hpp"
 #include "fdir/abft.hpp"
 #include "trn/filter/filter_config.hpp"
 #include "trn/filter/linalg.hpp"

@@ -16,9 +16,9 @@
  */
 #pragma once
 
-#include "bsp_tile64/devices/camera_model.hpp"
-#include "bsp_tile64/devices/imu_sample.hpp"
-#include "bsp_tile64/work.hpp"
+#include "bsp_tile64/api/camera_model.hpp"
+#include "bsp_tile64/api/imu_sample.hpp"
+#include "bsp_tile64/api/work.hpp"
 #include "trn/filter/bearing_model.hpp"
 #include "trn/filter/covariance.hpp"
 #include "trn/filter/filter_config.hpp"

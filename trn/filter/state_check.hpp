@@ -23,7 +23,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/work.hpp"
+#include "bsp_tile64/api/work.hpp"
 #include "trn/filter/filter_state.hpp"
 
 #include <cstdint>

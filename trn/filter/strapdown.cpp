@@ -4,7 +4,7 @@
  */
 #include "trn/filter/strapdown.hpp"
 
-#include "bsp_tile64/devices/frames.hpp"
+#include "bsp_tile64/api/frames.hpp"
 
 namespace trn::filter {
 

@@ -18,7 +18,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/work.hpp"
+#include "bsp_tile64/api/work.hpp"
 #include "trn/filter/linalg.hpp"
 #include "trn/filter/nav_state.hpp"
 

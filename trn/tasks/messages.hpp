@@ -7,7 +7,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/devices/imu_sample.hpp"
+#include "bsp_tile64/api/imu_sample.hpp"
 #include "trn/filter/nav_output.hpp"
 #include "trn/match.hpp"
 
@@ -41,7 +41,7 @@ inline constexpr std::uint32_t kSlotReplica0 = 3U;
  * to it by slot; the coordinator learns the spare's tile from the supervisor.
  */
 inline constexpr std::uint32_t kSlotVisionPool = 8U;
-/** The filter and vision supervisors (trn/tasks/supervisors.hpp). */
+/** The filter and vision supervisors (trn/tasks/supervisors/supervisors.hpp). */
 inline constexpr std::uint32_t kSlotFilterSupervisor = 6U;
 inline constexpr std::uint32_t kSlotVisionSupervisor = 7U;
 inline constexpr std::uint32_t kChanImu = 4U;      ///< I/O -> filter IMU samples, one per message
@@ -79,7 +79,7 @@ inline constexpr std::uint32_t kCmdFilterTmr = 1U;      ///< run the filter as T
 inline constexpr std::uint32_t kCmdFilterSimplex = 2U;  ///< back to one filter
 /**
  * Policy telecommands: the I/O tile hands them to the TRN supervisor (not the
- * filter), which hands the policy down its tree (trn/tasks/supervisors.hpp).
+ * filter), which hands the policy down its tree (trn/tasks/supervisors/supervisors.hpp).
  */
 inline constexpr std::uint32_t kCmdReliabilityNormal = 16U;
 inline constexpr std::uint32_t kCmdReliabilityHigh = 17U;

@@ -13,7 +13,7 @@
 
 #include "fdir/tile_health.hpp"
 #include "trn/filter/covariance.hpp"
-#include "trn/tasks/filter_task.hpp"
+#include "trn/tasks/filter/filter_task.hpp"
 #include "trn/tasks/tile_map.hpp"
 #include "trn/vision/correlator.hpp"
 #include "trn/vision/frame.hpp"

@@ -18,7 +18,7 @@
  *                                      v vision tile, . spare (powered off)
  *
  * The TRN supervisor's tile runs the top of the supervisor tree
- * (trn/tasks/supervisors.hpp: mission phases, policies, escalations) beside
+ * (trn/tasks/supervisors/supervisors.hpp: mission phases, policies, escalations) beside
  * the network-health task (switch and link voting, fault-map publication:
  * fdir/net_health.hpp) and the tile-health supervisor (watchdog interrupts,
  * resets, spares: fdir/tile_health.hpp). The filter and vision supervisors sit
@@ -31,13 +31,13 @@
 #include "fdir/net_health.hpp"
 #include "fdir/tile_health.hpp"
 #include "kernel/task_table.hpp"
-#include "trn/tasks/filter_task.hpp"
-#include "trn/tasks/filter_tmr.hpp"
-#include "trn/tasks/io_task.hpp"
+#include "trn/tasks/filter/filter_task.hpp"
+#include "trn/tasks/filter/filter_tmr.hpp"
+#include "trn/tasks/io/io_task.hpp"
 #include "trn/tasks/messages.hpp"
-#include "trn/tasks/supervisors.hpp"
-#include "trn/tasks/vision_coord.hpp"
-#include "trn/tasks/vision_worker.hpp"
+#include "trn/tasks/supervisors/supervisors.hpp"
+#include "trn/tasks/vision/vision_coord.hpp"
+#include "trn/tasks/vision/vision_worker.hpp"
 #include "udn/endpoint.hpp"
 
 #include <array>

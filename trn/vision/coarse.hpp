@@ -15,7 +15,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/work.hpp"
+#include "bsp_tile64/api/work.hpp"
 #include "trn/vision/correlator.hpp"
 #include "trn/vision/image.hpp"
 

@@ -38,8 +38,8 @@
  */
 #pragma once
 
-#include "bsp_tile64/port.hpp"
-#include "bsp_tile64/work.hpp"
+#include "bsp_tile64/api/port.hpp"
+#include "bsp_tile64/api/work.hpp"
 #include "trn/vision/image.hpp"
 #include "trn/vision/integral.hpp"
 #include "trn/vision/ncc.hpp"

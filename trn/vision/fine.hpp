@@ -10,7 +10,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/work.hpp"
+#include "bsp_tile64/api/work.hpp"
 #include "trn/vision/correlator.hpp"
 
 #include <cstdint>

@@ -27,9 +27,9 @@
  */
 #pragma once
 
-#include "bsp_tile64/devices/camera_model.hpp"
-#include "bsp_tile64/devices/map_product.hpp"
-#include "bsp_tile64/work.hpp"
+#include "bsp_tile64/api/camera_model.hpp"
+#include "bsp_tile64/api/map_product.hpp"
+#include "bsp_tile64/api/work.hpp"
 #include "trn/match.hpp"
 #include "trn/vision/coarse.hpp"
 #include "trn/vision/fine.hpp"

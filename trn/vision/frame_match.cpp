@@ -19,7 +19,7 @@
  */
 #include "trn/vision/frame.hpp"
 
-#include "bsp_tile64/port.hpp"
+#include "bsp_tile64/api/port.hpp"
 #include "trn/vision/frame_window.hpp"
 #include "trn/vision/ortho.hpp"
 #include "trn/vision/pose_geometry.hpp"

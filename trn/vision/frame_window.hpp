@@ -18,8 +18,8 @@
  */
 #pragma once
 
-#include "bsp_tile64/devices/camera_model.hpp"
-#include "bsp_tile64/work.hpp"
+#include "bsp_tile64/api/camera_model.hpp"
+#include "bsp_tile64/api/work.hpp"
 #include "trn/vision/frame.hpp"
 #include "trn/vision/pose_geometry.hpp"
 #include "trn/vision/warp.hpp"

@@ -34,8 +34,8 @@
  */
 #pragma once
 
-#include "bsp_tile64/devices/camera_model.hpp"
-#include "bsp_tile64/work.hpp"
+#include "bsp_tile64/api/camera_model.hpp"
+#include "bsp_tile64/api/work.hpp"
 #include "trn/match.hpp"
 #include "trn/vision/frame.hpp"
 

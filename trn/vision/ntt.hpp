@@ -38,7 +38,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/work.hpp"
+#include "bsp_tile64/api/work.hpp"
 #include "trn/vision/status.hpp"
 
 #include <cstdint>

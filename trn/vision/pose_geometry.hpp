@@ -2,7 +2,7 @@
  * @file pose_geometry.hpp
  * @brief Pinhole projection at a pose, and the homography from a map-plane pixel grid to the image.
  *
- * Frames (bsp_tile64/devices/frames.hpp, camera_model.hpp):
+ * Frames (bsp_tile64/api/frames.hpp, camera_model.hpp):
  * - map M: x east, y north, z up, metres;
  * - body B: x forward, y right, z down; R_MB (from q_mb, w x y z) maps body vectors to map;
  * - camera C: z along the optical axis, x along image columns, y along rows;
@@ -26,8 +26,8 @@
  */
 #pragma once
 
-#include "bsp_tile64/devices/camera_model.hpp"
-#include "bsp_tile64/work.hpp"
+#include "bsp_tile64/api/camera_model.hpp"
+#include "bsp_tile64/api/work.hpp"
 #include "trn/vision/warp.hpp"
 
 #include <cstdint>

@@ -3,10 +3,10 @@
  * @brief The camera model: pinhole projection, renderer geometry (calibration targets, depth against exact
  *        ray intersections), noise, blur, determinism, DDR ring, frames rendered ahead on a host thread.
  */
-#include "bsp_tile64/devices/camera.hpp"
-#include "bsp_tile64/devices/imu.hpp"
-#include "bsp_tile64/host/frame_ahead.hpp"
-#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/emu/devices/camera.hpp"
+#include "bsp_tile64/emu/devices/imu.hpp"
+#include "bsp_tile64/emu/host/frame_ahead.hpp"
+#include "bsp_tile64/api/memory.hpp"
 #include "tests/support/heap_probe.hpp"
 
 #include <gtest/gtest.h>

@@ -3,8 +3,8 @@
  * @brief The devices deliver through the I/O tile's FIFOs at exact cycles: IMU samples every
  *        10 ms, frames at capture time plus readout, each with Irq::kDevice, read by a kernel task.
  */
-#include "bsp_tile64/board.hpp"
-#include "bsp_tile64/devices/device_bus.hpp"
+#include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/emu/devices/device_bus.hpp"
 #include "bsp_tile64/world/terrain.hpp"
 #include "bsp_tile64/world/trajectory.hpp"
 #include "kernel/kernel.hpp"

@@ -2,7 +2,7 @@
  * @file imu_test.cpp
  * @brief The IMU model: noise-free increments integrate back to the truth; errors have the LN-200 statistics.
  */
-#include "bsp_tile64/devices/imu.hpp"
+#include "bsp_tile64/emu/devices/imu.hpp"
 
 #include <gtest/gtest.h>
 

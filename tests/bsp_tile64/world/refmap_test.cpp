@@ -4,7 +4,7 @@
  */
 #include "bsp_tile64/world/refmap.hpp"
 
-#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/api/memory.hpp"
 #include "tests/support/heap_probe.hpp"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
  * @file terrain_test.cpp
  * @brief The terrain: determinism per seed, bilinear queries, crater size-frequency law, shading.
  */
-#include "bsp_tile64/rng.hpp"
+#include "bsp_tile64/emu/rng.hpp"
 #include "bsp_tile64/world/terrain.hpp"
 
 #include <gtest/gtest.h>

@@ -4,8 +4,8 @@
  *        fault-plan parser, the outcome rules, and shard names (docs/CAMPAIGNS.md).
  */
 #include "build_info.hpp"
-#include "tools/common/campaign.hpp"
-#include "tools/common/fault_plan.hpp"
+#include "tools/common/campaign/campaign.hpp"
+#include "tools/common/mission/fault_plan.hpp"
 
 #include <gtest/gtest.h>
 

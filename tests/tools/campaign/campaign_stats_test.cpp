@@ -4,7 +4,7 @@
  *        intervals against published values, runs for a margin against published tables, per-kind summaries and
  *        the report files.
  */
-#include "tools/common/campaign_stats.hpp"
+#include "tools/common/campaign/campaign_stats.hpp"
 
 #include "tests/support/folder_permissions.hpp"
 

@@ -1,10 +1,10 @@
 /**
  * @file accusation_test.cpp
- * @brief Whom each event accuses and of what (tools/common/accusation.hpp): the table's class, refined by the
+ * @brief Whom each event accuses and of what (tools/common/accounting/accusation.hpp): the table's class, refined by the
  *        fields where one id says two things.
  */
-#include "tools/common/accusation.hpp"
-#include "tools/common/event_tables.hpp"
+#include "tools/common/accounting/accusation.hpp"
+#include "tools/common/accounting/event_tables.hpp"
 #include "trn/events.hpp"
 
 #include "build_info.hpp"

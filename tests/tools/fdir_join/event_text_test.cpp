@@ -3,10 +3,10 @@
  * @brief An event's text comes from the template its declaration carries: every template is
  *        well formed and names only fields the event declares; the template language itself.
  */
-#include "tools/common/event_text.hpp"
-#include "tools/common/event_tables.hpp"
+#include "tools/common/accounting/event_text.hpp"
+#include "tools/common/accounting/event_tables.hpp"
 #include "trn/events.hpp"
-#include "tools/common/fdir_join.hpp"
+#include "tools/common/accounting/fdir_join.hpp"
 
 #include <gtest/gtest.h>
 

@@ -5,11 +5,11 @@
  *        kind's bound; recovery is its role's output stream back; every other accusation is a wrong
  *        diagnosis or a false alarm, and every action on a healthy tile is counted.
  */
-#include "tools/common/fault_account.hpp"
+#include "tools/common/accounting/fault_account.hpp"
 #include "trn/events.hpp"
-#include "tools/common/fdir_join.hpp"
+#include "tools/common/accounting/fdir_join.hpp"
 
-#include "trn/tasks/filter_core.hpp"
+#include "trn/filter/filter_core.hpp"
 #include "trn/vision/correlator.hpp"
 
 #include <gtest/gtest.h>

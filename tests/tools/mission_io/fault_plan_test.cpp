@@ -3,13 +3,13 @@
  * @brief Fault-plan files: every kind parsed, clear errors (file, entry, key, range) for bad plans, the demo
  *        plan, and plans armed on a real board whose fault log shows the injections.
  */
-#include "tools/common/fault_plan.hpp"
+#include "tools/common/mission/fault_plan.hpp"
 
-#include "bsp_tile64/board.hpp"
-#include "bsp_tile64/memory.hpp"
-#include "bsp_tile64/udn_hw.hpp"
-#include "bsp_tile64/udn_net.hpp"
-#include "tools/common/run_folder.hpp"
+#include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/api/memory.hpp"
+#include "bsp_tile64/api/udn_hw.hpp"
+#include "bsp_tile64/emu/udn_net.hpp"
+#include "tools/common/mission/run_folder.hpp"
 #include "trn/tasks/messages.hpp"
 #include "trn/tasks/sdc_points.hpp"
 

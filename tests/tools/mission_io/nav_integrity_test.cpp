@@ -2,7 +2,7 @@
  * @file nav_integrity_test.cpp
  * @brief The integrity measure: per-axis error against the reported 3-sigma, counted and its worst ratio kept.
  */
-#include "tools/common/nav_integrity.hpp"
+#include "tools/common/mission/nav_integrity.hpp"
 
 #include <gtest/gtest.h>
 

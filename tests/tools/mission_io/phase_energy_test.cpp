@@ -1,18 +1,18 @@
 /**
  * @file phase_energy_test.cpp
- * @brief Energy per phase (tools/common/phase_energy.*): boundaries snapshotted at their cycle, phases that
+ * @brief Energy per phase (tools/common/mission/phase_energy.*): boundaries snapshotted at their cycle, phases that
  *        add up to the flight exactly, runs cut at boundaries that emulate as one, bad windows refused,
  *        and the summary's energy figures.
  */
-#include "tools/common/phase_energy.hpp"
+#include "tools/common/mission/phase_energy.hpp"
 
-#include "bsp_tile64/board.hpp"
-#include "bsp_tile64/energy.hpp"
-#include "bsp_tile64/port.hpp"
-#include "bsp_tile64/power.hpp"
-#include "bsp_tile64/trace.hpp"
+#include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/emu/energy.hpp"
+#include "bsp_tile64/api/port.hpp"
+#include "bsp_tile64/api/power.hpp"
+#include "bsp_tile64/emu/trace.hpp"
 #include "tests/support/heap_probe.hpp"
-#include "tools/common/run_folder.hpp"
+#include "tools/common/mission/run_folder.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
  * @brief The run folder is complete or absent (commit replaces, abandon leaves nothing, bad folders are errors);
  *        summary.json parses back; nav.csv and events.log have their layout; plots with and without gnuplot.
  */
-#include "tools/common/run_folder.hpp"
+#include "tools/common/mission/run_folder.hpp"
 
 #include "tests/support/folder_permissions.hpp"
 #include "tests/support/heap_probe.hpp"

@@ -2,7 +2,7 @@
  * @file tile_view_test.cpp
  * @brief The terminal tile grid: layout, role codes, health and power marks, legend, colours, and no allocation when redrawn.
  */
-#include "tools/common/tile_view.hpp"
+#include "tools/common/mission/tile_view.hpp"
 
 #include "tests/support/heap_probe.hpp"
 

@@ -3,11 +3,11 @@
  * @brief Trace dumps: every recorded event is written and read back, folds to the board's hash, costs no
  *        allocation while recording; the first difference of two traces is found; kinds have names.
  */
-#include "tools/common/trace_dump.hpp"
+#include "tools/common/mission/trace_dump.hpp"
 #include "trn/events.hpp"
 
-#include "bsp_tile64/trace.hpp"
-#include "bsp_tile64/udn_net.hpp"
+#include "bsp_tile64/emu/trace.hpp"
+#include "bsp_tile64/emu/udn_net.hpp"
 #include "fdir/event_ids.hpp"
 #include "kernel/sched.hpp"
 #include "tests/support/heap_probe.hpp"

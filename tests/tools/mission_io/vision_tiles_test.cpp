@@ -3,7 +3,7 @@
  * @brief The vision tiles a mission gives its coordinator (--vision-tiles N): N of the map's 40,
  *        spread over the map, the rest left out of the coordinator's list.
  */
-#include "tools/common/mission.hpp"
+#include "tools/common/mission/mission.hpp"
 #include "trn/tasks/tile_map.hpp"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
  * @file scenario_test.cpp
  * @brief Scenario files: defaults, every section parsed, and clear errors (file, key, range) for bad files.
  */
-#include "tools/common/scenario.hpp"
+#include "tools/common/mission/scenario.hpp"
 #include "tools/common/toml_input.hpp"
 
 #include "build_info.hpp"

@@ -12,10 +12,10 @@
  */
 #include "build_dirs.hpp"
 #include "build_info.hpp"
-#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/api/memory.hpp"
 #include "fdir/net_health.hpp"
 #include "fdir/tile_health.hpp"
-#include "trn/tasks/vision_worker.hpp"
+#include "trn/tasks/vision/vision_worker.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -5,8 +5,8 @@
  */
 #include "build_dirs.hpp"
 #include "build_info.hpp"
-#include "tools/common/run_folder.hpp"
-#include "tools/common/trace_dump.hpp"
+#include "tools/common/mission/run_folder.hpp"
+#include "tools/common/mission/trace_dump.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -251,7 +251,7 @@ TEST_F(TrnMissionBinary, TheMapsTieAccuracyWidensTheReportedSigmaAndNotTheEstima
   const auto col = [&head](const char* name) {
     return static_cast<std::size_t>(std::find(head.begin(), head.end(), name) - head.begin());
   };
-  const std::array<double, 3> tie_m = {0.34, 0.34, 0.23};  // the defaults (tools/common/scenario.hpp)
+  const std::array<double, 3> tie_m = {0.34, 0.34, 0.23};  // the defaults (tools/common/mission/scenario.hpp)
   const std::array<const char*, 3> est = {"est_x_m", "est_y_m", "est_z_m"};
   const std::array<const char*, 3> s3 = {"sigma3_x_m", "sigma3_y_m", "sigma3_z_m"};
   for (std::size_t r = 1; r < tie.size(); ++r) {

@@ -4,7 +4,7 @@
  *        failed tiles, switches and links that loses, duplicates, misorders and corrupts nothing,
  *        and the same traffic raw and fault-tolerant, compared key for key.
  */
-#include "tools/common/udn_stress.hpp"
+#include "tools/common/udn_stress/udn_stress.hpp"
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
  *        elsewhere, and corrupted after any single-bit flip of any word (exhaustive for the
  *        self-checked words 0 and 1) or a changed length or source.
  */
-#include "tools/common/udn_stress_payload.hpp"
+#include "tools/common/udn_stress/udn_stress_payload.hpp"
 
 #include <gtest/gtest.h>
 

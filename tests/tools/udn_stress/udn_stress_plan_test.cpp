@@ -3,7 +3,7 @@
  * @brief udn_stress traffic plan: who sends and is sent to in each mode, quotas, and destinations
  *        by pattern that never name a tile left out of the traffic.
  */
-#include "tools/common/udn_stress_plan.hpp"
+#include "tools/common/udn_stress/udn_stress_plan.hpp"
 
 #include <gtest/gtest.h>
 

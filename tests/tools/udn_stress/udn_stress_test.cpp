@@ -4,7 +4,7 @@
  *        deterministic raw runs, failed switches and tiles, a run stopped by its bound; the built
  *        binary when it is present.
  */
-#include "tools/common/udn_stress.hpp"
+#include "tools/common/udn_stress/udn_stress.hpp"
 
 #include "build_dirs.hpp"
 #include "build_info.hpp"

@@ -11,10 +11,10 @@
  */
 #pragma once
 
-#include "bsp_tile64/devices/camera_model.hpp"
-#include "bsp_tile64/devices/frames.hpp"
-#include "bsp_tile64/devices/imu_sample.hpp"
-#include "bsp_tile64/rng.hpp"
+#include "bsp_tile64/api/camera_model.hpp"
+#include "bsp_tile64/api/frames.hpp"
+#include "bsp_tile64/api/imu_sample.hpp"
+#include "bsp_tile64/emu/rng.hpp"
 #include "trn/filter/ekf.hpp"
 #include "trn/filter/filter_config.hpp"
 #include "trn/filter/linalg.hpp"

@@ -5,7 +5,7 @@
  *        recomputed, and the update is the clean one bit for bit; a product still wrong is not
  *        applied; no false alarm over random updates with the filter's conditioning.
  */
-#include "bsp_tile64/fault_injector.hpp"
+#include "bsp_tile64/faults/fault_injector.hpp"
 #include "tests/fdir/fdir_fixture.hpp"
 #include "trn/filter/covariance.hpp"
 

@@ -12,14 +12,14 @@
 #include "build_dirs.hpp"
 #include "trn/events.hpp"
 
-#include "bsp_tile64/board.hpp"
+#include "bsp_tile64/emu/board.hpp"
 #include "fdir/event_log.hpp"
-#include "tools/common/mission.hpp"
-#include "trn/tasks/filter_task.hpp"
-#include "trn/tasks/landmark_product.hpp"
+#include "tools/common/mission/mission.hpp"
+#include "trn/tasks/filter/filter_task.hpp"
+#include "trn/tasks/vision/landmark_product.hpp"
 #include "trn/tasks/tile_map.hpp"
-#include "trn/tasks/vision_coord.hpp"
-#include "trn/tasks/vision_shared.hpp"
+#include "trn/tasks/vision/vision_coord.hpp"
+#include "trn/tasks/vision/vision_shared.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,12 +3,12 @@
  * @brief The filter's DDR checkpoints (alternating slots, torn or upset slots refused, the older
  *        one used) and the I/O tile's IMU record (wrap, overwritten and future samples told apart).
  */
-#include "trn/tasks/filter_checkpoint.hpp"
+#include "trn/tasks/filter/filter_checkpoint.hpp"
 
-#include "bsp_tile64/memory.hpp"
+#include "bsp_tile64/api/memory.hpp"
 #include "tests/trn/filter/truth_sim.hpp"
 #include "trn/filter/ekf.hpp"
-#include "trn/tasks/imu_ring.hpp"
+#include "trn/tasks/io/imu_ring.hpp"
 
 #include <gtest/gtest.h>
 

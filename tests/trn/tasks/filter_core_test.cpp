@@ -4,10 +4,10 @@
  *        elsewhere (a TMR seed) runs the next records to the same bits as the original,
  *        match queue wrap included; damaged or out-of-range saves are refused.
  */
-#include "trn/tasks/filter_core.hpp"
+#include "trn/filter/filter_core.hpp"
 
-#include "bsp_tile64/memory.hpp"
-#include "bsp_tile64/rng.hpp"
+#include "bsp_tile64/api/memory.hpp"
+#include "bsp_tile64/emu/rng.hpp"
 #include "tests/trn/filter/truth_sim.hpp"
 
 #include <gtest/gtest.h>

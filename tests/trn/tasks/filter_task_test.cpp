@@ -4,16 +4,16 @@
  *        the truth, meets every deadline inside 10 ms of emulated time, allocates nothing,
  *        and repeats bit for bit.
  */
-#include "bsp_tile64/board.hpp"
-#include "bsp_tile64/memory.hpp"
-#include "bsp_tile64/devices/device_bus.hpp"
-#include "bsp_tile64/trace.hpp"
-#include "bsp_tile64/udn_net.hpp"
+#include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/api/memory.hpp"
+#include "bsp_tile64/emu/devices/device_bus.hpp"
+#include "bsp_tile64/emu/trace.hpp"
+#include "bsp_tile64/emu/udn_net.hpp"
 #include "bsp_tile64/world/trajectory.hpp"
 #include "kernel/kernel.hpp"
 #include "tests/support/heap_probe.hpp"
-#include "trn/tasks/filter_task.hpp"
-#include "trn/tasks/io_task.hpp"
+#include "trn/tasks/filter/filter_task.hpp"
+#include "trn/tasks/io/io_task.hpp"
 #include "trn/tasks/messages.hpp"
 #include "trn/tasks/tile_map.hpp"
 

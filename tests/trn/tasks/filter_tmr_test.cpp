@@ -3,7 +3,7 @@
  * @brief The voter's place in the stream and its held matches in DDR: what a restarted voter goes
  *        on from is refused when torn, upset or never written.
  */
-#include "trn/tasks/filter_tmr.hpp"
+#include "trn/tasks/filter/filter_tmr.hpp"
 
 #include <gtest/gtest.h>
 

@@ -5,7 +5,7 @@
 #include "trn/tasks/tile_map.hpp"
 
 #include "build_info.hpp"
-#include "tools/common/fdir_params_doc.hpp"
+#include "tools/common/mission/fdir_params_doc.hpp"
 #include "trn/tasks/fdir_params.hpp"
 
 #include <gtest/gtest.h>

@@ -3,8 +3,8 @@
  * @brief The ground's landmark table: written and read back whole, and refused, with its reason,
  *        when any part of it does not fit the coordinator's map and settings.
  */
-#include "trn/tasks/landmark_product.hpp"
-#include "trn/tasks/vision_coord.hpp"
+#include "trn/tasks/vision/landmark_product.hpp"
+#include "trn/tasks/vision/vision_coord.hpp"
 #include "udn/crc32c.hpp"
 
 #include <gtest/gtest.h>

@@ -1,9 +1,9 @@
 /**
  * @file match_deal_test.cpp
- * @brief The quadrant deal of a frame's matches (trn/tasks/match_deal.cpp): the order it gives,
+ * @brief The quadrant deal of a frame's matches (trn/tasks/vision/match_deal.cpp): the order it gives,
  *        that it is a permutation keeping each quadrant's order, the protected head, and refusals.
  */
-#include "trn/tasks/match_deal.hpp"
+#include "trn/tasks/vision/match_deal.hpp"
 
 #include <gtest/gtest.h>
 

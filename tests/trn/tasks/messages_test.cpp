@@ -3,7 +3,7 @@
  * @brief Decoders of the TRN tasks' messages (trn/tasks/messages.cpp, filter_tmr.cpp): round
  *        trips against the packers, and malformed messages refused untouched.
  */
-#include "trn/tasks/filter_tmr.hpp"
+#include "trn/tasks/filter/filter_tmr.hpp"
 #include "trn/tasks/messages.hpp"
 
 #include <gtest/gtest.h>

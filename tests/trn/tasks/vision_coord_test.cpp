@@ -2,7 +2,7 @@
  * @file vision_coord_test.cpp
  * @brief The coordinator's weighing of a fine match by its frame's prior attitude.
  */
-#include "trn/tasks/vision_coord.hpp"
+#include "trn/tasks/vision/vision_coord.hpp"
 
 #include <gtest/gtest.h>
 

@@ -6,8 +6,8 @@
  */
 #include "trn/vision/coarse.hpp"
 
-#include "bsp_tile64/cost_model.hpp"
-#include "bsp_tile64/profile.hpp"
+#include "bsp_tile64/emu/cost_model.hpp"
+#include "bsp_tile64/emu/profile.hpp"
 #include "tests/trn/vision/synth.hpp"
 
 #include <gtest/gtest.h>

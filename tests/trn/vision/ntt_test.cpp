@@ -5,7 +5,7 @@
  */
 #include "trn/vision/ntt.hpp"
 
-#include "bsp_tile64/rng.hpp"
+#include "bsp_tile64/emu/rng.hpp"
 
 #include <gtest/gtest.h>
 

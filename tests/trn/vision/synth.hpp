@@ -6,7 +6,7 @@
  */
 #pragma once
 
-#include "bsp_tile64/rng.hpp"
+#include "bsp_tile64/emu/rng.hpp"
 #include "trn/vision/image.hpp"
 
 #include <algorithm>

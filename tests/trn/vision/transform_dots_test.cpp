@@ -6,8 +6,8 @@
  */
 #include "trn/vision/transform_dots.hpp"
 
-#include "bsp_tile64/cost_model.hpp"
-#include "bsp_tile64/profile.hpp"
+#include "bsp_tile64/emu/cost_model.hpp"
+#include "bsp_tile64/emu/profile.hpp"
 #include "trn/vision/integral.hpp"
 #include "trn/vision/ncc.hpp"
 

@@ -6,7 +6,7 @@
  */
 #include "trn/vision/warp_grid.hpp"
 
-#include "bsp_tile64/cost_model.hpp"
+#include "bsp_tile64/emu/cost_model.hpp"
 #include "tests/trn/vision/synth.hpp"
 
 #include <gtest/gtest.h>

@@ -3,8 +3,8 @@
  * @brief Pose geometry (projection, map-plane homography, lifted points) against the camera device's
  *        pinhole model, the terrain-following warp against direct projection, and template relighting.
  */
-#include "bsp_tile64/devices/camera.hpp"
-#include "bsp_tile64/rng.hpp"
+#include "bsp_tile64/emu/devices/camera.hpp"
+#include "bsp_tile64/emu/rng.hpp"
 #include "trn/vision/frame.hpp"
 #include "trn/vision/ortho.hpp"
 #include "trn/vision/pose_geometry.hpp"

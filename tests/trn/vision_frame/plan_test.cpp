@@ -3,7 +3,7 @@
  * @brief plan_frame(): predictions where the camera projects the landmarks, spread over the image,
  *        radii from the prior sigmas, border and caps respected, deterministic; bad inputs refused.
  */
-#include "bsp_tile64/devices/camera.hpp"
+#include "bsp_tile64/emu/devices/camera.hpp"
 #include "trn/vision/frame.hpp"
 
 #include <gtest/gtest.h>

@@ -12,9 +12,9 @@
  */
 #include "tests/trn/vision_frame/world.hpp"
 
-#include "bsp_tile64/cost_model.hpp"
-#include "bsp_tile64/profile.hpp"
-#include "trn/tasks/vision_coord.hpp"
+#include "bsp_tile64/emu/cost_model.hpp"
+#include "bsp_tile64/emu/profile.hpp"
+#include "trn/tasks/vision/vision_coord.hpp"
 #include "trn/vision/pose_geometry.hpp"
 #include "trn/vision/warp_grid.hpp"
 

@@ -13,15 +13,15 @@
 
 #include "build_dirs.hpp"
 
-#include "bsp_tile64/devices/camera.hpp"
-#include "bsp_tile64/memory.hpp"
-#include "bsp_tile64/rng.hpp"
+#include "bsp_tile64/emu/devices/camera.hpp"
+#include "bsp_tile64/api/memory.hpp"
+#include "bsp_tile64/emu/rng.hpp"
 #include "bsp_tile64/world/refmap.hpp"
 #include "bsp_tile64/world/terrain.hpp"
 #include "bsp_tile64/world/trajectory.hpp"
 #include "trn/vision/frame.hpp"
 #include "trn/vision/ortho.hpp"
-#include "tools/common/world_cache.hpp"
+#include "tools/common/mission/world_cache.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,1081 @@
+/**
+ * @file filter_task.cpp
+ * @brief The 100 Hz navigation filter job: IMU, match batches, bounded updates, solution out.
+ */
+#include "trn/tasks/filter/filter_task.hpp"
+#include "trn/events.hpp"
+
+#include "bsp_tile64/api/memory.hpp"
+#include "fdir/assert.hpp"
+#include "fdir/event_log.hpp"
+#include "kernel/kernel.hpp"
+#include "fdir/tmr.hpp"
+#include "trn/tasks/filter/filter_checkpoint.hpp"
+#include "trn/filter/filter_core.hpp"
+#include "trn/tasks/filter/filter_tmr.hpp"
+#include "trn/tasks/io/imu_ring.hpp"
+#include "trn/tasks/messages.hpp"
+#include "udn/crc32c.hpp"
+#include "udn/endpoint.hpp"
+
+#include <algorithm>
+#include <array>
+#include <new>
+#include <span>
+
+namespace trn::tasks {
+namespace {
+
+/** What the front does with the records it fills. */
+enum class Mode : std::uint8_t {
+  kSimplex,   ///< runs them itself
+  kStarting,  ///< runs them itself and compares the replicas, seeded from its state, until they agree
+  kTmr,       ///< the replicas run them; the front votes and delivers
+  kStopping,  ///< as kTmr, until a replica's state after the stop job is there to go on from alone
+};
+
+/** Outputs kept per replica (and the front's own while starting), by job. */
+constexpr std::uint32_t kOutRing = 8U;
+/**
+ * Job j takes the IMU samples up to seq j - kImuLagJobs: sample s is read at
+ * (s + 1) x 10 ms, so the newest one a job takes was read a whole period before
+ * the job's release. What arrived sooner waits (held) for its job: which samples
+ * a job takes does not depend on the network's timing.
+ */
+constexpr std::uint32_t kImuLagJobs = 2U;
+/** Early samples held for their job at most (one or two in flight). */
+constexpr std::uint32_t kImuHeld = 8U;
+/** Causes of tmr_simplex (fdir/event_ids.hpp). */
+constexpr std::uint32_t kTmrStopCommand = 0U;
+constexpr std::uint32_t kTmrStopNotEstablished = 2U;
+constexpr std::uint32_t kTmrStopRestart = 3U;
+/** Jobs a voter catching up after a restart votes at most in one of its own. */
+constexpr std::uint32_t kVotesPerJob = 4U;
+/** Voted words: the packed solution and the state digest. */
+constexpr std::uint32_t kVotedWords = kNavWords + 1U;
+
+struct Slot {
+  FilterCore core;
+  const FilterTaskConfig* cfg;
+  FilterTaskStats stats;
+  filter::NavOutput latest;
+  bool published;
+  JobRecord record;          ///< the job being filled
+  CheckpointArea* ckpt;      ///< nullptr: no checkpoints (disabled, or no DDR)
+  const ImuRing* ring;       ///< the I/O tile's record; nullptr until it exists
+  bool have_imu;             ///< last_imu is valid (the front's cursor: samples put into records)
+  std::uint32_t last_imu;    ///< seq of the last sample put into a record
+  bool catching_up;          ///< samples to replay from the record before the live ones
+  std::uint32_t ckpt_seq;    ///< number of the last checkpoint written or resumed from
+  std::uint32_t ckpt_slot;   ///< slot it is in (the next write goes to the other)
+  std::uint32_t since_ckpt;  ///< jobs since it
+  std::uint32_t job;         ///< this job's number
+  std::array<bsp::ImuSample, kImuHeld> held;  ///< samples that came before their job, in order
+  std::uint32_t held_count;
+  bool cmd_held;             ///< a telecommand waits for the sample it came after
+  std::array<std::uint32_t, std::size_t{kHeldMatches} * kMatchWords> mheld;  ///< packed matches waiting for their job, in order
+  std::array<std::uint32_t, kHeldMatches> mheld_job;            ///< the job each waits for
+  std::uint32_t mheld_count;
+  std::uint32_t mheld_changes;  ///< +1 whenever the held matches change (written to DDR when they did)
+  std::array<std::uint32_t, kCommandWords> cmd;
+  // ---- TMR
+  Mode mode;
+  TmrArea* tmr;
+  std::uint32_t command;     ///< a telecommand taken this job (0: none)
+  std::uint32_t next_deliver;  ///< the job whose solution is delivered next
+  bool delivered_any;
+  std::uint32_t start_job;
+  fdir::TmrGroup group;
+  std::array<std::array<fdir::TmrRecord, kOutRing>, kReplicas> out;  ///< replicas' outputs by job
+  std::array<fdir::TmrRecord, kOutRing> own;  ///< the front's own outputs while starting
+  std::uint32_t hello_mask;  ///< replicas that asked for a seed since the last one
+  std::uint32_t seed_asked;  ///< jobs since a seed was asked (0: none pending)
+  bool resume_tmr;           ///< restarted while in TMR: start it again once caught up
+  std::uint32_t last_winner; ///< a replica that agreed with the last vote
+  std::uint32_t no_majority_mask;  ///< replicas that differed in a vote without a majority and have not voted since
+  std::uint32_t stop_job;    ///< stopping: the job after whose record a replica saves its state for the front
+  bool stop_voted;           ///< stopping: that job was voted, stop_digest is its state digest
+  std::uint32_t stop_digest;
+  bool stop_again;           ///< stopping: no good state came; ask again before the next record
+  std::uint32_t next_vote;   ///< the job voted next
+  std::uint32_t held_saved;  ///< mheld_changes when the held matches were last written to DDR
+  bool held_written;         ///< the held matches were written to DDR since the task started
+  bool rejoin;               ///< restarted while voting: writes the records of its outage first
+  std::uint32_t rebuild_from;  ///< the first of them
+  std::uint32_t lenient_until; ///< until this job a vote waits for every voting replica's output
+  std::uint32_t rolled_back_to;  ///< the checkpoint the last plausibility failure went back to (0: none)
+  bool recovery_asked;           ///< refused again after going back: the tile asked to be restarted
+};
+
+std::array<Slot, bsp::kMaxTiles> g_slots{};
+
+// ------------------------------------------------------------------ the front: inputs into a record
+
+void add_sample(Slot& slot, const bsp::ImuSample& s) noexcept {
+  if (record_add_imu(slot.record, s)) {
+    slot.have_imu = true;
+    slot.last_imu = s.seq;
+  }
+}
+
+/**
+ * Puts from the DDR record the samples after the last one up to (not
+ * including) @p until into the job's record, at most @p budget of them.
+ * @return false if the budget ran out first. Samples the record lost are skipped and reported.
+ */
+bool replay(Slot& slot, std::uint32_t until, std::uint32_t& budget) noexcept {
+  if (slot.ring == nullptr) {
+    slot.ring = imu_ring();
+  }
+  for (std::uint32_t n = 0; n < kMaxReplayPerJob + 1U && slot.last_imu + 1U < until; ++n) {
+    if (budget == 0U) {
+      return false;
+    }
+    bsp::ImuSample s{};
+    const RingRead rr = slot.ring == nullptr ? RingRead::kNotYet : imu_ring_get(*slot.ring, slot.last_imu + 1U, s);
+    if (rr == RingRead::kNotYet) {
+      return true;  // nothing newer recorded yet
+    }
+    if (rr == RingRead::kGone) {
+      const std::uint32_t oldest = imu_ring_oldest(*slot.ring);
+      const std::uint32_t first = oldest > slot.last_imu + 1U ? oldest : until;
+      const std::uint32_t missing = first - (slot.last_imu + 1U);
+      slot.stats.imu_lost += missing;
+      trn::report(ev::kImuGap, slot.last_imu + 1U, 0U, missing);
+      slot.last_imu = first - 1U;
+      continue;
+    }
+    add_sample(slot, s);
+    ++slot.stats.imu_replayed;
+    --budget;
+  }
+  return slot.last_imu + 1U >= until;
+}
+
+/** After a resume: replays the record until it has nothing newer (bounded per job). */
+void catch_up(Slot& slot) noexcept {
+  if (!slot.catching_up) {
+    return;
+  }
+  std::uint32_t budget = kMaxReplayPerJob;
+  // Up to what is due at this job, not whatever the I/O tile has recorded by now.
+  const std::uint32_t recorded = slot.ring != nullptr ? slot.ring->written : 0U;
+  const std::uint32_t due_end = slot.job >= kImuLagJobs ? slot.job - kImuLagJobs + 1U : 0U;
+  const std::uint32_t newest = recorded < due_end ? recorded : due_end;
+  if (replay(slot, newest > slot.last_imu + 1U ? newest : slot.last_imu + 1U, budget) && budget > 0U) {
+    slot.catching_up = false;
+  }
+}
+
+/** True if sample @p seq belongs to this job (or an earlier one). */
+bool imu_due(const Slot& slot, std::uint32_t seq) noexcept { return seq + kImuLagJobs <= slot.job; }
+
+/** A telecommand in the IMU stream: held until the job that takes the sample sent before it. */
+void hold_command(Slot& slot, const Command& c) noexcept {
+  pack_command(c, slot.cmd);  // held as its words: they travel with the filter's frozen state
+  slot.cmd_held = true;  // a second one before the first is taken replaces it (one a second in flight)
+}
+
+void take_command(Slot& slot) noexcept {
+  const std::uint32_t after = slot.cmd[4];
+  if (!slot.cmd_held || (after != kNoImuYet && !imu_due(slot, after))) {
+    return;
+  }
+  slot.cmd_held = false;
+  ++slot.stats.commands;
+  slot.command = slot.cmd[2];
+  trn::report(ev::kCommandTaken, slot.cmd[2], slot.cmd[1], slot.job);
+}
+
+/** Puts a due sample into the record: duplicates skipped, a gap first replayed from the DDR record. */
+void take_sample(Slot& slot, const bsp::ImuSample& s, std::uint32_t& budget) noexcept {
+  if (slot.have_imu && s.seq <= slot.last_imu) {
+    ++slot.stats.imu_duplicates;  // replayed before it arrived
+    return;
+  }
+  if (slot.have_imu && s.seq > slot.last_imu + 1U && slot.cfg->checkpoint_every != 0U && !replay(slot, s.seq, budget)) {
+    slot.catching_up = true;  // the rest of the gap (and this sample) come from the record next jobs
+    return;
+  }
+  if (slot.have_imu && s.seq <= slot.last_imu) {
+    ++slot.stats.imu_duplicates;
+    return;
+  }
+  add_sample(slot, s);
+}
+
+/** The held samples that are due now, in order. */
+void take_held(Slot& slot, std::uint32_t& budget) noexcept {
+  std::uint32_t n = 0;
+  for (; n < slot.held_count && imu_due(slot, slot.held[n].seq); ++n) {
+    take_sample(slot, slot.held[n], budget);
+  }
+  for (std::uint32_t i = n; i < slot.held_count; ++i) {
+    slot.held[i - n] = slot.held[i];
+  }
+  slot.held_count -= n;
+}
+
+/**
+ * Puts the due samples (held ones, then up to kMaxImuPerJob waiting on
+ * kChanImu) into the record, filling gaps from the DDR record; holds early
+ * ones; takes a telecommand once the sample before it is in.
+ */
+void consume_imu(Slot& slot) noexcept {
+  udn::FtMessage msg{};
+  std::uint32_t budget = kMaxReplayPerJob;
+  take_held(slot, budget);
+  for (std::uint32_t n = 0; n < kMaxImuPerJob; ++n) {
+    if (udn::endpoint_receive(kChanImu, msg) != udn::FtError::kOk) {
+      break;
+    }
+    const std::span<const std::uint32_t> w(msg.data.data(), msg.data_words);
+    Command cmd{};
+    if (unpack_command(w, cmd)) {
+      hold_command(slot, cmd);
+      continue;
+    }
+    bsp::ImuSample s{};
+    if (!unpack_imu_msg(w, s)) {
+      ++slot.stats.imu_rejected;
+      continue;
+    }
+    if (slot.held_count == 0U && imu_due(slot, s.seq)) {
+      take_sample(slot, s, budget);
+    } else if (slot.held_count < kImuHeld) {
+      slot.held[slot.held_count] = s;
+      ++slot.held_count;
+    } else {
+      ++slot.stats.imu_rejected;  // more early samples than a healthy stream sends: dropped, replayed from DDR
+    }
+  }
+  // A due sample the network has not brought (lost, or sent to the tile a role left) comes from the
+  // I/O tile's record: which samples a job takes does not depend on the network's timing.
+  if (slot.have_imu && slot.cfg->checkpoint_every != 0U && slot.job >= kImuLagJobs) {
+    (void)replay(slot, slot.job - kImuLagJobs + 1U, budget);
+  }
+  take_command(slot);
+}
+
+/** Moves the held matches whose job has come into the record, in order, as many as it takes. */
+void take_held_matches(Slot& slot, bsp::Work& work) noexcept {
+  std::uint32_t n = 0;
+  for (; n < slot.mheld_count && slot.mheld_job[n] <= slot.job; ++n) {
+    const std::span<const std::uint32_t, kMatchWords> m(slot.mheld.data() + static_cast<std::size_t>(n) * kMatchWords,
+                                                        kMatchWords);
+    if (!record_add_match(slot.record, m)) {
+      break;  // the record is full: the rest next job
+    }
+  }
+  for (std::uint32_t i = n; i < slot.mheld_count; ++i) {
+    for (std::uint32_t k = 0; k < kMatchWords; ++k) {
+      slot.mheld[static_cast<std::size_t>(i - n) * kMatchWords + k] = slot.mheld[static_cast<std::size_t>(i) * kMatchWords + k];
+    }
+    slot.mheld_job[i - n] = slot.mheld_job[i];
+  }
+  work.mem_words += 2ULL * kMatchWords * slot.mheld_count;
+  slot.mheld_count -= n;
+  if (n != 0U) {
+    ++slot.mheld_changes;
+  }
+}
+
+/** A match for job @p job: into the record if its job has come and none waits before it, else held. */
+void take_match(Slot& slot, std::span<const std::uint32_t, kMatchWords> m, std::uint32_t job) noexcept {
+  if (job <= slot.job && slot.mheld_count == 0U && record_add_match(slot.record, m)) {
+    return;
+  }
+  if (slot.mheld_count == kHeldMatches) {
+    ++slot.stats.matches_dropped;  // more than a frame waiting: only a broken sender does that
+    return;
+  }
+  for (std::uint32_t k = 0; k < kMatchWords; ++k) {
+    slot.mheld[static_cast<std::size_t>(slot.mheld_count) * kMatchWords + k] = m[k];
+  }
+  slot.mheld_job[slot.mheld_count] = job;
+  ++slot.mheld_count;
+  ++slot.mheld_changes;
+}
+
+/**
+ * Puts into the record the held matches due now, then those of the parts
+ * waiting on kChanMatches (a part says which job takes it; earlier ones wait).
+ */
+void consume_parts(Slot& slot) noexcept {
+  udn::FtMessage msg{};
+  bsp::Work work{};
+  take_held_matches(slot, work);
+  for (std::uint32_t p = 0; p < kMaxPartsPerJob; ++p) {
+    if (udn::endpoint_receive(kChanMatches, msg) != udn::FtError::kOk) {
+      break;  // empty, or the node is not open yet
+    }
+    ++slot.stats.parts_received;
+    work.int_ops += 8ULL + 2ULL * msg.data_words;
+    MatchPart part{};
+    if (!unpack_match_part(std::span<const std::uint32_t>(msg.data.data(), msg.data_words), part)) {
+      ++slot.stats.parts_bad;
+      continue;
+    }
+    for (std::uint32_t i = 0; i < part.n; ++i) {
+      const std::size_t at = kMatchHeaderWords + static_cast<std::size_t>(i) * kMatchWords;
+      take_match(slot, std::span<const std::uint32_t, kMatchWords>(msg.data.data() + at, kMatchWords), part.apply_job);
+      ++slot.stats.matches_received;
+    }
+    work.mem_words += 2ULL * msg.data_words;  // read from the node, written into the record
+  }
+  bsp::consume(work);
+}
+
+// ------------------------------------------------------------------ the front: outputs
+
+/** Publishes and sends the solution of job @p job if it is the next one due; never twice, never back. */
+void deliver(Slot& slot, std::uint32_t job, std::span<const std::uint32_t, kNavWords> words) noexcept {
+  if (slot.delivered_any && job < slot.next_deliver) {
+    return;  // delivered already
+  }
+  if (slot.delivered_any && job > slot.next_deliver) {
+    slot.stats.outputs_skipped += job - slot.next_deliver;
+  }
+  std::array<std::uint32_t, kNavWords> w{};
+  std::copy(words.begin(), words.end(), w.begin());
+  // The solution as sent is what a fault may corrupt on its way out (every bit of it is delivered).
+  (void)bsp::publish_filter(kNavChannel, w.data(), sizeof w);
+  slot.latest = unpack_nav(w);
+  slot.published = true;
+  const std::array<std::uint32_t, 1> j{job};
+  slot.stats.output_crc = udn::crc32c_words_continue(udn::crc32c_words_continue(slot.stats.output_crc, j), w);
+  ++slot.stats.outputs_delivered;
+  slot.stats.last_delivered_job = job;
+  if ((job + 1U) % kOutputMarkJobs == 0U) {
+    slot.stats.mark_job = job;
+    slot.stats.mark_crc = slot.stats.output_crc;
+  }
+  slot.delivered_any = true;
+  slot.next_deliver = job + 1U;
+  bsp::consume(bsp::Work{2ULL * kNavWords, 0U, 0U, 0U, kNavWords});
+  if (slot.cfg->nav_sink == bsp::kNoTile) {
+    return;
+  }
+  const bsp::TileId sink = udn::endpoint_role_tile(kSlotCoordinator, slot.cfg->nav_sink);
+  if (udn::endpoint_send(sink, kChanNav, w, 0U) == udn::FtError::kOk) {
+    ++slot.stats.nav_sent;
+  } else {
+    ++slot.stats.nav_send_failed;
+  }
+}
+
+bool resume_from_checkpoint(Slot& slot, std::uint32_t not_seq) noexcept;
+
+/** @p v in units of 1 / @p per, rounded and saturated, for an event field. */
+std::uint32_t scaled(double v, double per) noexcept {
+  const double m = v * per + 0.5;
+  return m >= 4294967295.0 ? 0xFFFF'FFFFU : m > 0.0 ? static_cast<std::uint32_t>(m) : 0U;
+}
+
+/**
+ * The tile asks to be restarted (assertion @p id), once: its health agent stops the watchdog's
+ * kicks, and the restarted task resumes from its last good checkpoint with everything else built
+ * afresh.
+ */
+void ask_restart(Slot& slot, std::uint32_t id) noexcept {
+  if (!slot.recovery_asked) {
+    slot.recovery_asked = true;
+    fdir::assert_failed(id, __LINE__);
+  }
+}
+
+/**
+ * Back to the last checkpoint after a failed job. When it is the one the last failure went back to
+ * (or there is none), what is wrong is not in the state a checkpoint holds: ask_restart(@p id).
+ */
+void go_back(Slot& slot, std::uint32_t id) noexcept {
+  if (resume_from_checkpoint(slot, slot.rolled_back_to)) {
+    slot.rolled_back_to = slot.ckpt_seq;
+    ++slot.stats.rollbacks;
+  } else {
+    ask_restart(slot, id);
+  }
+}
+
+/**
+ * Simplex: runs record @p rec and checks the state after it against the one
+ * before. False when it failed: nothing is delivered, and the task goes back
+ * to its last checkpoint (once per checkpoint: a checkpoint that fails again
+ * is not gone back to twice).
+ */
+bool run_checked(Slot& slot, const JobRecord& rec) noexcept {
+  bsp::Work work{};
+  const filter::StateBefore before = filter::state_before(slot.core.ekf->state(), work);
+  core_run(slot.core, rec);
+  // The settings first: an upset there explains a state that fails, and going back to a checkpoint
+  // with them still wrong would fail again. Checked after the job, so a job that passes ran with
+  // them whole from its start (an upset stays until they are rebuilt).
+  const std::uint32_t changed = core_settings_changed(slot.core, work);
+  if (changed != 0U) {
+    const bool rebuilt = core_reload_settings(slot.core, work);
+    bsp::consume(work);
+    ++slot.stats.settings_rebuilt;
+    trn::report(ev::kFilterSettingsBad, record_job(rec), changed, rebuilt ? 1U : 0U);
+    // Every state since the upset was computed with them: back to the last checkpoint. Changed
+    // again before the next one (a stuck bit, say), or not rebuilt: the tile asks for its restart.
+    if (!rebuilt) {
+      ask_restart(slot, kAssertFilterSettingsChanged);
+    } else if (slot.ckpt != nullptr) {
+      go_back(slot, kAssertFilterSettingsChanged);
+    }
+    return false;
+  }
+  const filter::StateCheckResult r = filter::check_state(before, slot.core.ekf->state(), slot.cfg->envelope, work);
+  bsp::consume(work);
+  if (r.what == filter::StateCheck::kOk) {
+    return true;
+  }
+  ++slot.stats.states_rejected;
+  // Thousandths of the check's unit; the attitude norm's distance from 1 in millionths.
+  const double per = r.what == filter::StateCheck::kAttitudeNorm ? 1e6 : 1e3;
+  trn::report(ev::kFilterStateBad, record_job(rec), static_cast<std::uint32_t>(r.what),
+               scaled(r.value, per), scaled(r.limit, per));
+  go_back(slot, kAssertFilterStateRefused);
+  return false;
+}
+
+/**
+ * The front's own solution of record @p rec, as words (and kept while starting, to compare).
+ * @return false when its state was refused (simplex): nothing delivered.
+ */
+bool run_own(Slot& slot, const JobRecord& rec) noexcept {
+  if (slot.mode == Mode::kSimplex) {
+    if (!run_checked(slot, rec)) {
+      return false;
+    }
+  } else {
+    core_run(slot.core, rec);
+  }
+  std::array<std::uint32_t, kNavWords> w{};
+  pack_nav(core_output(slot.core), w);
+  if (slot.mode == Mode::kStarting) {
+    fdir::TmrRecord& r = slot.own[slot.job % kOutRing];
+    r.job = record_job(rec);
+    r.words = kVotedWords;
+    for (std::uint32_t i = 0; i < kNavWords; ++i) {
+      r.w[i] = w[i];
+    }
+    bsp::Work work{};
+    r.w[kNavWords] = core_digest(slot.core, work);
+    bsp::consume(work);
+  }
+  deliver(slot, record_job(rec), w);
+  return true;
+}
+
+/** Every checkpoint_every jobs (not while catching up): the whole state to DDR. */
+void checkpoint(Slot& slot) noexcept {
+  if (slot.ckpt == nullptr || slot.catching_up || !slot.core.have_imu ||
+      ++slot.since_ckpt < slot.cfg->checkpoint_every) {
+    return;
+  }
+  slot.since_ckpt = 0U;
+  bsp::Work work{};
+  slot.ckpt_slot = 1U - slot.ckpt_slot;
+  // Numbered by job, so that a replica's later checkpoint is the newer one.
+  slot.ckpt_seq = slot.job / slot.cfg->checkpoint_every + 1U;
+  checkpoint_write(*slot.ckpt, slot.core.ekf->state(), slot.core.last_imu, slot.ckpt_seq, slot.ckpt_slot, work);
+  bsp::consume(work);
+  ++slot.stats.checkpoints;
+}
+
+bool rejoin(Slot& slot, std::uint32_t job) noexcept;
+
+// Never inlined: Clang once inlined it into filter_task_main when its checkpoint read held a whole
+// FilterState (about 18 KiB) on the stack, and the loop's frame kept those bytes for the whole flight
+// (the 32 KiB stack overflowed into the next task's saved context when the filter went TMR). The state
+// now stays in the block reader's static scratch; the attribute keeps set-up out of the loop's frame.
+[[gnu::noinline]] bool set_up(Slot& slot, const FilterTaskConfig& cfg) noexcept {
+  if (cfg.matches_per_job == 0U || cfg.matches_per_job > kMaxMatchesPerFrame) {
+    return false;
+  }
+  slot.cfg = &cfg;
+  if (!core_set_up(slot.core, cfg, slot.stats, bsp::Region{bsp::current_tile()})) {
+    return false;
+  }
+  slot.tmr = cfg.replica_tiles[0] != bsp::kNoTile ? tmr_area() : nullptr;
+  if (slot.tmr != nullptr && slot.tmr->control.mode != 0U) {
+    const auto job = static_cast<std::uint32_t>(bsp::now() / (std::uint64_t{kFilterPeriodTicks} * bsp::tick_cycles()));
+    if (rejoin(slot, job)) {
+      return slot.core.ekf->init(cfg.initial) == filter::FilterStatus::kOk;  // it votes: its own filter waits
+    }
+    // Not voting when it stopped, or out too long: simplex (the replicas go idle) until it has
+    // caught up from its checkpoint, then the TMR starts again from its state.
+    slot.tmr->control.mode = 0U;
+    slot.resume_tmr = true;
+    trn::report(ev::kTmrSimplex, job, kTmrStopRestart);
+  }
+  slot.ckpt = cfg.checkpoint_every != 0U ? checkpoint_area() : nullptr;
+  slot.ring = cfg.checkpoint_every != 0U ? imu_ring() : nullptr;
+  // A checkpoint left by an earlier start (a reset, or the tile this role moved from).
+  if (resume_from_checkpoint(slot, 0U)) {
+    slot.stats.resumed_from = slot.ckpt_seq;
+    return true;
+  }
+  return slot.core.ekf->init(cfg.initial) == filter::FilterStatus::kOk;
+}
+
+/**
+ * The newest good checkpoint into the filter, the IMU samples since it to be
+ * replayed from the I/O tile's record (kFilterResumed). Its state stays in the
+ * reader's scratch, restored before any call that may switch tiles.
+ * @return false when there is none, or it is checkpoint @p not_seq (nothing changed; 0: any will do).
+ */
+bool resume_from_checkpoint(Slot& slot, std::uint32_t not_seq) noexcept {
+  if (slot.ckpt == nullptr) {
+    return false;
+  }
+  bsp::Work work{};
+  const CheckpointRead r = checkpoint_read(*slot.ckpt, work);
+  const bool restored = r.found && (not_seq == 0U || r.seq != not_seq) &&
+                        slot.core.ekf->restore(*r.state) == filter::FilterStatus::kOk;
+  bsp::consume(work);
+  if (r.bad != 0U) {
+    trn::report(ev::kCheckpointBad, r.bad_slot, 0U, r.bad);
+  }
+  if (!restored) {
+    return false;
+  }
+  slot.core.have_imu = true;
+  slot.core.last_imu = r.imu_seq;
+  slot.have_imu = true;
+  slot.last_imu = r.imu_seq;
+  slot.catching_up = true;
+  slot.ckpt_seq = r.seq;
+  slot.ckpt_slot = r.slot;
+  slot.since_ckpt = 0U;
+  const std::uint32_t recorded = slot.ring != nullptr ? slot.ring->written : 0U;
+  trn::report(ev::kFilterResumed, r.seq, 0U, recorded > r.imu_seq + 1U ? recorded - r.imu_seq - 1U : 0U,
+               r.imu_seq);
+  return true;
+}
+
+// ------------------------------------------------------------------ the front: TMR
+
+bsp::TileId replica_tile(const Slot& slot, std::uint32_t i) noexcept {
+  return udn::endpoint_role_tile(kSlotReplica0 + i, slot.cfg->replica_tiles[i]);
+}
+
+/** Takes the replicas' outputs and hellos waiting on kChanNav. */
+void drain_replicas(Slot& slot) noexcept {
+  udn::FtMessage m{};
+  for (std::uint32_t n = 0; n < 4U * kReplicas && udn::endpoint_receive(kChanNav, m) == udn::FtError::kOk; ++n) {
+    const std::span<const std::uint32_t> words(m.data.data(), m.data_words);
+    ReplicaHello hello{};
+    ReplicaOut out{};
+    if (unpack_replica_hello(words, hello)) {
+      slot.hello_mask |= 1U << hello.replica;
+      continue;
+    }
+    if (!unpack_replica_out(words, out)) {
+      continue;
+    }
+    fdir::TmrRecord& r = slot.out[out.replica][out.job % kOutRing];
+    r.job = out.job;
+    r.words = kVotedWords;
+    for (std::uint32_t w = 0; w < kNavWords; ++w) {
+      r.w[w] = words[kReplicaOutHeaderWords + w];
+    }
+    r.w[kNavWords] = out.digest;
+  }
+}
+
+const fdir::TmrRecord* output_of(const Slot& slot, std::uint32_t i, std::uint32_t job) noexcept {
+  const fdir::TmrRecord& r = slot.out[i][job % kOutRing];
+  return (r.words == kVotedWords && r.job == job) ? &r : nullptr;
+}
+
+/** True if every voting replica's output for job @p job is here. */
+bool all_present(const Slot& slot, std::uint32_t job) noexcept {
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    if ((slot.group.active_mask() & (1U << i)) != 0U && output_of(slot, i, job) == nullptr) {
+      return false;
+    }
+  }
+  return true;
+}
+
+/** Switch to TMR after this job: the front's state is the replicas' seed. */
+void start_tmr(Slot& slot) noexcept {
+  if (slot.tmr == nullptr || slot.mode != Mode::kSimplex) {
+    return;
+  }
+  TmrControl& c = slot.tmr->control;
+  ++c.epoch;
+  c.mode = 1U;
+  c.seed_by = kNoReplica;
+  c.ckpt_by = kNoReplica;
+  bsp::Work work{};
+  tmr_write_seed(*slot.tmr, slot.core, slot.job, fdir::kTmrAllReplicas, work);
+  bsp::consume(work);
+  (void)slot.group.configure(slot.cfg->tmr);
+  slot.mode = Mode::kStarting;
+  slot.start_job = slot.job;
+  slot.hello_mask = 0U;
+  slot.seed_asked = 0U;
+  slot.no_majority_mask = 0U;
+  trn::report(ev::kTmrStarting, slot.job, c.epoch);
+}
+
+/** Back to simplex (the front runs its own state): replicas go idle. */
+void stop_tmr(Slot& slot, std::uint32_t reason) noexcept {
+  slot.tmr->control.mode = 0U;
+  slot.mode = Mode::kSimplex;
+  trn::report(ev::kTmrSimplex, slot.job, reason);
+}
+
+/** While starting: a replica whose output equals the front's own joins; all three: TMR runs. */
+void compare_starting(Slot& slot, std::uint32_t v) noexcept {
+  const fdir::TmrRecord& own = slot.own[v % kOutRing];
+  if (own.job != v || own.words != kVotedWords) {
+    return;
+  }
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    const fdir::TmrRecord* r = output_of(slot, i, v);
+    if (r != nullptr && fdir::tmr_same(*r, own) && (slot.group.active_mask() & (1U << i)) == 0U) {
+      slot.group.admit(i);
+    }
+  }
+  if (slot.group.active_count() == kReplicas) {
+    slot.mode = Mode::kTmr;
+    slot.next_vote = v + 1U;  // delivered already, by the front's own filter
+    slot.tmr->control.ckpt_by = 0U;
+    trn::report(ev::kTmrEstablished, v, slot.tmr->control.epoch, slot.job - slot.start_job);
+  } else if (slot.job - slot.start_job > kStartJobs) {
+    stop_tmr(slot, kTmrStopNotEstablished);
+  }
+}
+
+/** Reports what the vote says of each replica; excludes past the thresholds. */
+void account_vote(Slot& slot, const fdir::TmrVote& v, std::uint32_t job) noexcept {
+  std::array<std::uint32_t, kReplicas> before{};
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    before[i] = slot.group.count(i).disagree_in_row;
+  }
+  const std::uint32_t active = slot.group.active_mask();
+  const std::uint32_t out = slot.group.account(v);
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    const std::uint32_t bit = 1U << i;
+    if ((active & bit) == 0U) {
+      continue;
+    }
+    if (((v.differ_mask | v.missing_mask) & bit) != 0U) {
+      ++slot.stats.tmr_outvoted;
+      trn::report(ev::kTmrOutvoted, replica_tile(slot, i), job, i, (v.differ_mask & bit) != 0U ? 1U : 2U);
+    } else if (before[i] != 0U || (slot.no_majority_mask & bit) != 0U) {
+      trn::report(ev::kTmrAgrees, replica_tile(slot, i), job, i, before[i]);
+    }
+    slot.no_majority_mask &= ~bit;
+    if ((out & bit) != 0U) {
+      ++slot.stats.tmr_exclusions;
+      ++slot.tmr->control.gen[i];  // it drops its state and waits for a seed
+      trn::report(ev::kTmrExcluded, replica_tile(slot, i), job, i, slot.group.active_count());
+    }
+  }
+}
+
+/** A replica not voting whose output equals the vote is readmitted (it loaded a seed). */
+void readmit(Slot& slot, const fdir::TmrRecord& voted, std::uint32_t job) noexcept {
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    const fdir::TmrRecord* r = output_of(slot, i, job);
+    if ((slot.group.active_mask() & (1U << i)) == 0U && r != nullptr && fdir::tmr_same(*r, voted)) {
+      slot.group.admit(i);
+      ++slot.stats.tmr_resyncs;
+      slot.hello_mask &= ~(1U << i);
+      trn::report(ev::kTmrResynced, replica_tile(slot, i), job, i, slot.group.active_count());
+    }
+  }
+}
+
+/** Votes job @p v; delivers the voted solution; counts, excludes, readmits. */
+void vote(Slot& slot, std::uint32_t v) noexcept {
+  std::array<const fdir::TmrRecord*, kReplicas> recs{};
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    recs[i] = output_of(slot, i, v);
+  }
+  const fdir::TmrVote res = fdir::tmr_vote(recs, slot.group.active_mask());
+  bsp::consume(bsp::Work{4ULL * kVotedWords * kReplicas, 0U, 0U, 0U, std::uint64_t{kVotedWords} * kReplicas});
+  if (res.verdict == fdir::TmrVerdict::kNoMajority) {
+    ++slot.stats.tmr_no_majority;
+    slot.no_majority_mask |= res.differ_mask;
+    // The replicas' tiles go with the masks: the suspects of a vote that could not name one.
+    std::uint32_t tiles = 0U;
+    for (std::uint32_t i = 0; i < kReplicas; ++i) {
+      tiles |= (replica_tile(slot, i) & 0xFFU) << (8U * (i + 1U));
+    }
+    trn::report(ev::kTmrNoMajority, v, slot.group.active_mask(), res.differ_mask,
+                 (res.missing_mask & 0xFFU) | tiles);
+    return;
+  }
+  account_vote(slot, res, v);
+  const fdir::TmrRecord& voted = *recs[res.winner];
+  readmit(slot, voted, v);
+  ++slot.stats.tmr_jobs;
+  deliver(slot, v, std::span<const std::uint32_t, kNavWords>(voted.w.data(), kNavWords));
+  slot.last_winner = res.winner;
+  if (slot.mode == Mode::kStopping && v == slot.stop_job) {
+    slot.stop_voted = true;
+    slot.stop_digest = voted.w[kNavWords];
+  }
+  if (slot.mode == Mode::kStopping) {
+    return;  // the seed area is the front's until it is simplex again
+  }
+  // A replica that asked for a seed (rebooted, or excluded) gets one from the voted state.
+  const std::uint32_t waiting = slot.hello_mask & ~slot.group.active_mask();
+  TmrControl& c = slot.tmr->control;
+  if (waiting != 0U && (slot.seed_asked == 0U || slot.seed_asked > kOutRing)) {
+    c.seed_for = waiting;
+    c.seed_job = slot.job;  // the record written this job: the winner saves its state after it
+    c.seed_by = res.winner;
+    slot.seed_asked = 1U;
+    slot.hello_mask = 0U;
+  } else if (slot.seed_asked != 0U) {
+    ++slot.seed_asked;
+  }
+  if (c.ckpt_by >= kReplicas || (slot.group.active_mask() & (1U << c.ckpt_by)) == 0U) {
+    c.ckpt_by = res.winner;
+  }
+}
+
+/**
+ * Back to simplex, on command: the replica that agreed with the last vote
+ * saves its state after this job's record for the front (asked before the
+ * record is written, so the replica that runs it sees the request).
+ */
+void begin_stop(Slot& slot) noexcept {
+  TmrControl& c = slot.tmr->control;
+  c.seed_for = kFrontBit;
+  c.seed_job = slot.job;
+  c.seed_by = slot.last_winner;
+  slot.stop_job = slot.job;
+  slot.stop_voted = false;
+  slot.stop_again = false;
+  slot.mode = Mode::kStopping;
+}
+
+/**
+ * Once the stop job is voted: loads the replica's state after it if its
+ * digest is the voted one, runs the records written since (in the DDR ring)
+ * and delivers their solutions, and is simplex from this job on: no job
+ * missed, none twice. Without a good state in time it asks again.
+ */
+void finish_stop(Slot& slot, std::uint32_t voted_job) noexcept {
+  if (voted_job < slot.stop_job) {
+    return;
+  }
+  const TmrSeed& seed = slot.tmr->seed;
+  const bool good = slot.stop_voted && seed.job == slot.stop_job && (seed.for_mask & kFrontBit) != 0U &&
+                    seed.epoch == slot.tmr->control.epoch && tmr_seed_ok(seed) && seed.digest == slot.stop_digest;
+  bsp::Work work{};
+  if (!good || !core_load(slot.core, seed.image, work)) {
+    bsp::consume(work);
+    slot.stop_again = slot.job - slot.stop_job >= kOutRing;
+    return;
+  }
+  bsp::consume(work);
+  // The records after the stop job, this one last: the front's own state catches up with the stream.
+  for (std::uint32_t j = slot.stop_job + 1U; j < slot.job && j - slot.stop_job < kJobRingLen; ++j) {
+    const JobRecord& rec = slot.tmr->ring[j % kJobRingLen];
+    bsp::Work rw{};
+    const bool ok = record_ok(rec, j, rw);
+    bsp::consume(rw);
+    if (!ok) {
+      slot.stop_again = true;  // overwritten or damaged: the state cannot be brought up to date
+      return;
+    }
+    run_own(slot, rec);
+  }
+  run_own(slot, slot.record);
+  stop_tmr(slot, kTmrStopCommand);
+}
+
+/**
+ * A voter restarted (reset, or its role moved) while it voted: takes its
+ * place in the stream from DDR, the outputs the replicas kept for the jobs it
+ * had not voted, and the matches it held; the records of the jobs it missed
+ * are written at its first job (rebuild). False if it was not voting, the
+ * place is damaged or of another group, or it was out too long.
+ */
+bool rejoin(Slot& slot, std::uint32_t job) noexcept {
+  TmrArea& a = *slot.tmr;
+  const TmrFront& f = a.front;
+  bsp::Work work{};
+  const bool ok = tmr_front_ok(f) && f.voting == 1U && f.epoch == a.control.epoch && a.held.serial == f.held_serial &&
+                  tmr_held_ok(a.held, work) && job > f.record_job && job - f.record_job <= kMaxRejoinGap;
+  bsp::consume(work);
+  if (!ok) {
+    return false;
+  }
+  slot.mode = Mode::kTmr;
+  slot.next_vote = f.next_vote;
+  slot.next_deliver = f.next_deliver;
+  slot.delivered_any = f.delivered_any != 0U;
+  slot.stats.outputs_delivered = f.outputs_delivered;
+  slot.stats.outputs_skipped = f.outputs_skipped;
+  slot.stats.output_crc = f.output_crc;
+  slot.stats.last_delivered_job = f.last_delivered_job;
+  slot.stats.mark_job = f.mark_job;
+  slot.stats.mark_crc = f.mark_crc;
+  slot.have_imu = f.have_imu != 0U;
+  slot.last_imu = f.last_imu;
+  slot.cmd_held = f.cmd_held != 0U;
+  slot.cmd = f.cmd;
+  slot.last_winner = f.last_winner;
+  slot.no_majority_mask = 0U;
+  (void)slot.group.configure(slot.cfg->tmr);
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    if ((f.active_mask & (1U << i)) != 0U) {
+      slot.group.admit(i);
+    }
+  }
+  slot.mheld_count = a.held.count;
+  for (std::uint32_t m = 0; m < a.held.count; ++m) {
+    slot.mheld_job[m] = a.held.job[m];
+  }
+  std::copy_n(a.held.words.begin(), std::size_t{a.held.count} * kMatchWords, slot.mheld.begin());
+  // The outputs the replicas sent the voter that stopped, for the jobs it had not voted yet.
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    for (std::uint32_t j = f.next_vote; j <= f.record_job && j - f.next_vote < kHeldOutputs; ++j) {
+      const fdir::TmrRecord& kept = a.outputs[i][j % kHeldOutputs];
+      if (kept.job == j && kept.words == kVotedWords) {
+        slot.out[i][j % kOutRing] = kept;
+      }
+    }
+  }
+  // Read: the place, the held matches, the kept outputs.
+  const std::uint64_t read = sizeof(TmrFront) / sizeof(std::uint32_t) +
+                             std::uint64_t{a.held.count} * (kMatchWords + 1U) +
+                             std::uint64_t{kReplicas} * kHeldOutputs * (kVotedWords + 2U);
+  bsp::consume(bsp::Work{0U, 0U, 0U, 0U, read});
+  slot.ring = imu_ring();
+  slot.catching_up = true;
+  slot.rejoin = true;
+  slot.rebuild_from = f.record_job + 1U;
+  // The replicas run two records a release: they gain one a release on the records of the outage.
+  slot.lenient_until = job + (job - f.record_job) + kVoteLag + 4U;
+  trn::report(ev::kTmrVoterResumed, job, a.control.epoch, f.next_deliver, job - f.record_job - 1U);
+  return true;
+}
+
+/** After a rejoin, at the first job: the records of the jobs missed, from the I/O tile's DDR record and the held matches. */
+void rebuild(Slot& slot) noexcept {
+  if (!slot.rejoin) {
+    return;
+  }
+  slot.rejoin = false;
+  const std::uint32_t now_job = slot.job;
+  for (std::uint32_t j = slot.rebuild_from; j < now_job && now_job - j <= kMaxRejoinGap; ++j) {
+    slot.job = j;
+    record_begin(slot.record, j);
+    std::uint32_t budget = kMaxReplayPerJob;
+    if (slot.have_imu && j >= kImuLagJobs) {
+      (void)replay(slot, j - kImuLagJobs + 1U, budget);
+    }
+    take_command(slot);
+    bsp::Work work{};
+    take_held_matches(slot, work);
+    record_seal(slot.record, work);
+    slot.tmr->ring[j % kJobRingLen] = slot.record;
+    work.mem_words += kRecordWords;
+    bsp::consume(work);
+  }
+  slot.job = now_job;
+}
+
+/** After each job in TMR: the voter's place in the stream to DDR (and the held matches, if they changed). */
+void persist_front(Slot& slot) noexcept {
+  TmrArea& a = *slot.tmr;
+  bsp::Work work{};
+  if (!slot.held_written || slot.held_saved != slot.mheld_changes) {
+    TmrHeldMatches& h = a.held;
+    h.crc = ~h.crc;  // torn while written: refused
+    h.serial = h.serial + 1U == 0U ? 1U : h.serial + 1U;
+    h.count = slot.mheld_count;
+    for (std::uint32_t m = 0; m < slot.mheld_count; ++m) {
+      h.job[m] = slot.mheld_job[m];
+    }
+    std::copy_n(slot.mheld.begin(), std::size_t{slot.mheld_count} * kMatchWords, h.words.begin());
+    work.mem_words += std::uint64_t{slot.mheld_count} * (kMatchWords + 1U);
+    tmr_held_seal(h, work);
+    slot.held_saved = slot.mheld_changes;
+    slot.held_written = true;
+  }
+  TmrFront& f = a.front;
+  f.crc = ~f.crc;
+  f.serial = f.serial + 1U == 0U ? 1U : f.serial + 1U;
+  f.epoch = a.control.epoch;
+  f.voting = slot.mode == Mode::kTmr ? 1U : 0U;
+  f.record_job = slot.job;
+  f.next_vote = slot.next_vote;
+  f.next_deliver = slot.next_deliver;
+  f.delivered_any = slot.delivered_any ? 1U : 0U;
+  f.outputs_delivered = slot.stats.outputs_delivered;
+  f.outputs_skipped = slot.stats.outputs_skipped;
+  f.output_crc = slot.stats.output_crc;
+  f.last_delivered_job = slot.stats.last_delivered_job;
+  f.mark_job = slot.stats.mark_job;
+  f.mark_crc = slot.stats.mark_crc;
+  f.have_imu = slot.have_imu ? 1U : 0U;
+  f.last_imu = slot.last_imu;
+  f.cmd_held = slot.cmd_held ? 1U : 0U;
+  f.cmd = slot.cmd;
+  f.active_mask = slot.group.active_mask();
+  f.last_winner = slot.last_winner;
+  f.held_serial = a.held.serial;
+  tmr_front_seal(f);
+  work.mem_words += sizeof(TmrFront) / sizeof(std::uint32_t);
+  work.int_ops += 4ULL * sizeof(TmrFront) / sizeof(std::uint32_t);
+  bsp::consume(work);
+}
+
+/**
+ * The outputs of job @p job that did not come over the network (sent to a
+ * voter that stopped, or before the role's move was known) but that their
+ * replica kept in DDR.
+ */
+void fill_from_ddr(Slot& slot, std::uint32_t job) noexcept {
+  std::uint64_t words = 0U;
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    const fdir::TmrRecord& kept = slot.tmr->outputs[i][job % kHeldOutputs];
+    if ((slot.group.active_mask() & (1U << i)) != 0U && output_of(slot, i, job) == nullptr && kept.job == job &&
+        kept.words == kVotedWords) {
+      slot.out[i][job % kOutRing] = kept;
+      words += kVotedWords + 2U;
+    }
+  }
+  bsp::consume(bsp::Work{0U, 0U, 0U, 0U, 2U + words});
+}
+
+/**
+ * The votes of this job: normally job - kVoteLag alone; a voter that is
+ * behind (after a restart) votes up to kVotesPerJob older jobs first, and
+ * until lenient_until waits for every voting replica's output rather than
+ * count one as missing (the replicas are running the records of its outage).
+ */
+void vote_due(Slot& slot, std::uint32_t v) noexcept {
+  if (slot.next_vote + kOutRing / 2U < v) {
+    slot.next_vote = v - kOutRing / 2U;  // older outputs are gone: those jobs are never delivered
+  }
+  for (std::uint32_t n = 0; n < kVotesPerJob && slot.next_vote <= v; ++n) {
+    const std::uint32_t d = slot.next_vote;
+    fill_from_ddr(slot, d);
+    if (slot.job < slot.lenient_until && !all_present(slot, d)) {
+      return;
+    }
+    vote(slot, d);
+    slot.next_vote = d + 1U;
+  }
+}
+
+/** One job of the front in TMR or starting TMR: the record to the ring, then the vote kVoteLag jobs back. */
+void tmr_job(Slot& slot) noexcept {
+  drain_replicas(slot);
+  const std::uint32_t v = slot.job >= kVoteLag ? slot.job - kVoteLag : 0U;
+  if (slot.mode == Mode::kTmr || slot.mode == Mode::kStopping) {
+    vote_due(slot, v);
+  }
+  // The control block is written before the record it names, so a replica that sees the record sees it.
+  bsp::Work work{};
+  record_seal(slot.record, work);
+  slot.tmr->ring[slot.job % kJobRingLen] = slot.record;
+  work.mem_words += kRecordWords;
+  bsp::consume(work);
+  if (slot.mode == Mode::kStarting) {
+    run_own(slot, slot.record);
+    compare_starting(slot, v);
+  } else if (slot.mode == Mode::kStopping) {
+    finish_stop(slot, v);
+  }
+  if (slot.mode != Mode::kSimplex) {
+    persist_front(slot);
+  }
+}
+
+/** The front's status for the filter supervisor: its mode, the voters and the faults counted. */
+void send_status(const Slot& slot) noexcept {
+  if (slot.cfg->supervisor == bsp::kNoTile || slot.job % kFilterStatusJobs != 0U) {
+    return;
+  }
+  const std::uint32_t mode = slot.mode == Mode::kSimplex    ? kFilterModeSimplex
+                             : slot.mode == Mode::kStarting ? kFilterModeStarting
+                             : slot.mode == Mode::kTmr      ? kFilterModeTmr
+                                                            : kFilterModeStopping;
+  std::array<std::uint32_t, kFilterStatusWords> w{};
+  pack_filter_status(FilterStatus{slot.job, mode, slot.group.active_mask(), slot.stats.tmr_no_majority,
+                                  slot.stats.outputs_skipped},
+                     w);
+  // A lost status is a missing verdict: the supervisor judges the next one.
+  (void)udn::endpoint_send(udn::endpoint_role_tile(kSlotFilterSupervisor, slot.cfg->supervisor), kChanControl, w, 0U);
+}
+
+}  // namespace
+
+void filter_task_main(void* arg) noexcept {
+  const bsp::TileId tile = bsp::current_tile();
+  Slot& slot = g_slots[tile];
+  ::new (&slot) Slot{};  // in place: the slot is too large for a temporary on the task's stack
+  const auto* cfg = static_cast<const FilterTaskConfig*>(arg);
+  if (cfg == nullptr || !set_up(slot, *cfg)) {
+    return;
+  }
+  slot.job = static_cast<std::uint32_t>(bsp::now() / (std::uint64_t{kFilterPeriodTicks} * bsp::tick_cycles()));
+  slot.stats.started_job = slot.job;
+  for (;;) {  // one pass per 10 ms release
+    const bsp::Cycles start = bsp::now();
+    if (slot.tmr != nullptr) {
+      slot.tmr->front_phase = static_cast<std::uint32_t>((start / bsp::tick_cycles()) % kFilterPeriodTicks) + 1U;
+    }
+    slot.command = 0U;
+    rebuild(slot);
+    record_begin(slot.record, slot.job);
+    catch_up(slot);
+    consume_imu(slot);
+    consume_parts(slot);
+    if (slot.mode == Mode::kSimplex) {
+      if (run_own(slot, slot.record)) {
+        checkpoint(slot);  // only a state that passed its check is kept
+      }
+      if (slot.command == kCmdFilterTmr || (slot.resume_tmr && !slot.catching_up)) {
+        slot.resume_tmr = false;
+        start_tmr(slot);
+      }
+    } else {
+      if ((slot.command == kCmdFilterSimplex && slot.mode == Mode::kTmr) ||
+          (slot.mode == Mode::kStopping && slot.stop_again)) {
+        begin_stop(slot);
+      }
+      tmr_job(slot);
+      if (slot.command == kCmdFilterSimplex && slot.mode == Mode::kStarting) {
+        stop_tmr(slot, kTmrStopCommand);
+      }
+    }
+    send_status(slot);
+    ++slot.stats.jobs;
+    ++slot.job;
+    slot.stats.last_job_cycles = bsp::now() - start;
+    if (slot.stats.last_job_cycles > slot.stats.max_job_cycles) {
+      slot.stats.max_job_cycles = slot.stats.last_job_cycles;
+    }
+    k::checkin();
+    (void)k::wait_period();
+  }
+}
+
+FilterTaskStats filter_task_stats(bsp::TileId tile) noexcept {
+  return tile < bsp::kMaxTiles ? g_slots[tile].stats : FilterTaskStats{};
+}
+
+bool filter_task_output(bsp::TileId tile, filter::NavOutput* out) noexcept {
+  if (tile >= bsp::kMaxTiles || out == nullptr || !g_slots[tile].published) {
+    return false;
+  }
+  *out = g_slots[tile].latest;
+  return true;
+}
+
+}  // namespace trn::tasks

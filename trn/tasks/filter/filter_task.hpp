@@ -1,0 +1,158 @@
+/**
+ * @file filter_task.hpp
+ * @brief The navigation filter task: 100 Hz on its tile, IMU from the I/O tile, landmark match
+ *        batches from the vision coordinator, a solution published and sent every period.
+ *
+ * A periodic kernel task (period 10 ticks of 1 ms) on a tile whose table also
+ * runs the fault-tolerant messaging service (kCommTask). Each job:
+ *  1. takes the IMU samples that arrived on kChanImu (fault-tolerant UDN,
+ *     bounded per job) and propagates the EKF with each;
+ *  2. takes the match-batch parts waiting on kChanMatches into a queue in tile
+ *     RAM (two frames; on overflow the oldest frame's remainder is dropped);
+ *  3. applies at most matches_per_job queued matches, each at its image time
+ *     (the EKF's pose history: matches arrive 0.2-0.8 s after the image);
+ *  4. publishes the solution (bsp::publish_filter, where silent-data-corruption
+ *     faults hit it) and sends it to nav_sink on kChanNav without waiting.
+ * The counted work is charged with the board's cost model. The EKF and the
+ * queue live in the tile's RAM (carved at task start), like any state a
+ * single-event upset could hit. How many matches a job applies depends only
+ * on the queue, never on timing, so replicas fed the same parts stay in step.
+ *
+ * Restarts (trn/tasks/filter/filter_checkpoint.hpp): every checkpoint_every jobs the
+ * whole state goes to DDR. A task that starts and finds a good checkpoint,
+ * on whatever tile (after a reset, or as a spare that took the role over),
+ * resumes from it (kFilterResumed) instead of the initial estimate, and
+ * replays the IMU samples it missed from the I/O tile's DDR record
+ * (trn/tasks/io/imu_ring.hpp), at most kMaxReplayPerJob per job, before the live
+ * ones; a live sample already replayed is skipped, and a gap in the live
+ * stream is filled from the record too. Samples the record no longer holds
+ * are reported (kImuGap).
+ *
+ * Plausibility (trn/filter/state_check.hpp): running alone (simplex), the
+ * task checks the state after every job against the one before it and the
+ * vehicle's envelope. A state that fails is not delivered
+ * (kFilterStateBad); the task goes back to its last checkpoint and replays
+ * the IMU samples since from the record, as after a restart (kFilterResumed).
+ * Refused again from that checkpoint (what is wrong is outside the state a
+ * checkpoint holds), it asks for its tile's restart (kAssertFilterStateRefused:
+ * the health agent stops kicking the watchdog). In TMR the vote does this work.
+ *
+ * Settings: running alone, the task also checks after every job that the
+ * EKF's settings in RAM (configuration, camera, process noise: written at
+ * set-up, never by a job, not in a checkpoint) still have the CRC-32C they
+ * had when built. Changed (an upset), the job's solution is not delivered
+ * (kFilterSettingsBad), the settings are built again from the task's
+ * configuration in the image, and the task goes back to its last checkpoint
+ * (kFilterResumed): the states since the upset were computed with them.
+ * Changed again before a newer checkpoint, the tile asks for its restart
+ * (kAssertFilterSettingsChanged).
+ */
+#pragma once
+
+#include "bsp_tile64/api/camera_model.hpp"
+#include "bsp_tile64/api/port.hpp"
+#include "fdir/tmr.hpp"
+#include "trn/filter/ekf.hpp"
+#include "trn/filter/filter_config.hpp"
+#include "trn/filter/nav_output.hpp"
+#include "trn/filter/nav_state.hpp"
+#include "trn/filter/state_check.hpp"
+#include "trn/match.hpp"
+
+#include <array>
+#include <cstdint>
+
+namespace trn::tasks {
+
+/** Publication channel of the navigation solution (bsp::publish_filter). */
+inline constexpr std::uint32_t kNavChannel = 1;
+/** IMU samples one job consumes at most (more wait for the next job). */
+inline constexpr std::uint32_t kMaxImuPerJob = 4;
+/** Matches the queue holds: two full frames. */
+inline constexpr std::uint32_t kMatchQueueLen = 2U * kMaxMatchesPerFrame;
+/** Match-batch parts one job takes at most (the messaging layer queues 8 per channel). */
+inline constexpr std::uint32_t kMaxPartsPerJob = 16;
+/** Matches applied per job by default: 15 x ~0.3 ms of TILE64 time keeps a job under half its period. */
+inline constexpr std::uint32_t kDefaultMatchesPerJob = 15;
+/** IMU samples one job replays at most from the I/O tile's DDR record when it is behind. */
+inline constexpr std::uint32_t kMaxReplayPerJob = 20;
+/** Jobs between two marks of the delivered stream's CRC (FilterTaskStats::mark_crc). */
+inline constexpr std::uint32_t kOutputMarkJobs = 100;
+/** Assertion id (fdir::assert_failed) of a state refused again after going back to a checkpoint: the tile asks to be restarted. */
+inline constexpr std::uint32_t kAssertFilterStateRefused = 0x0605;
+/** Assertion id of the EKF's settings changed again before a new checkpoint (or not rebuilt): the tile asks to be restarted. */
+inline constexpr std::uint32_t kAssertFilterSettingsChanged = 0x0606;
+/** Jobs between two checkpoints by default (100 ms). */
+inline constexpr std::uint32_t kDefaultCheckpointEvery = 10;
+/** Jobs a switch to TMR may take before it is given up. */
+inline constexpr std::uint32_t kStartJobs = 100U;
+
+struct FilterTaskConfig {
+  filter::FilterConfig filter{};
+  bsp::CameraModel camera{};
+  filter::InitialEstimate initial{};
+  bsp::TileId nav_sink = bsp::kNoTile;  ///< tile sent the solution every job on kChanNav (kNoTile: none)
+  std::uint32_t matches_per_job = kDefaultMatchesPerJob;  ///< 1..kMaxMatchesPerFrame
+  std::uint32_t checkpoint_every = kDefaultCheckpointEvery;  ///< jobs between DDR checkpoints (0: none, no resume)
+  /** Boot tiles of the TMR replicas (slots kSlotReplica0..): kNoTile for none (no TMR). */
+  std::array<bsp::TileId, 3> replica_tiles{bsp::kNoTile, bsp::kNoTile, bsp::kNoTile};
+  /** Boot tile of the filter supervisor (slot kSlotFilterSupervisor), sent a status every kFilterStatusJobs jobs (kNoTile: none). */
+  bsp::TileId supervisor = bsp::kNoTile;
+  /** When the voter excludes a replica (disagreements or missed jobs in a row). */
+  fdir::TmrGroupConfig tmr{};
+  /** What a plausible state is, checked after every simplex job (trn/filter/state_check.hpp). */
+  filter::StateEnvelope envelope{};
+};
+
+struct FilterTaskStats {
+  std::uint32_t jobs;
+  std::uint32_t imu_used;          ///< samples integrated
+  std::uint32_t imu_rejected;      ///< bad length or invalid status
+  std::uint32_t filter_errors;     ///< steps or updates that returned another error
+  std::uint32_t parts_received;    ///< match-batch parts taken from kChanMatches
+  std::uint32_t parts_bad;         ///< parts refused: wrong kind, count or length
+  std::uint32_t matches_received;  ///< matches queued from good parts
+  std::uint32_t matches_applied;   ///< accepted by the filter
+  std::uint32_t coarse_applied;    ///< of those, coarse-stage matches
+  std::uint32_t rejected_gate;     ///< refused by the filter's gate
+  std::uint32_t rejected_stale;    ///< refused for their image time (history, future)
+  std::uint32_t rejected_invalid;  ///< refused as invalid (geometry, sigma, time not finite)
+  std::uint32_t matches_dropped;   ///< dropped from a full queue (the oldest frame's remainder)
+  std::uint32_t queue_high_water;  ///< most matches queued at once
+  std::uint32_t nav_sent;          ///< solutions handed to the messaging layer for nav_sink
+  std::uint32_t nav_send_failed;   ///< refused (window full, no route, node not open)
+  std::uint32_t imu_replayed;      ///< samples integrated from the I/O tile's DDR record (missed on the network)
+  std::uint32_t imu_duplicates;    ///< live samples already integrated (replayed before they arrived)
+  std::uint32_t imu_lost;          ///< samples neither received nor still in the record
+  std::uint32_t checkpoints;       ///< checkpoints written
+  std::uint32_t resumed_from;      ///< checkpoint the task started from (0: the initial estimate)
+  bsp::Cycles max_job_cycles;      ///< longest job, from its start to the end of its sends
+  bsp::Cycles last_job_cycles;
+  std::uint32_t outputs_delivered; ///< solutions delivered (published and sent), in job order
+  std::uint32_t outputs_skipped;   ///< jobs whose solution was never delivered (no majority, a gap)
+  std::uint32_t output_crc;        ///< CRC-32C over the delivered solutions' job numbers and words
+  std::uint32_t last_delivered_job;
+  std::uint32_t started_job;       ///< the job this task started at: every count here is since then (a restart clears them)
+  std::uint32_t mark_job;          ///< the last delivered job j with (j + 1) % kOutputMarkJobs == 0
+  std::uint32_t mark_crc;          ///< output_crc through it: two flights compare their streams up to a job
+  std::uint32_t tmr_jobs;          ///< jobs whose delivered solution was voted
+  std::uint32_t tmr_outvoted;      ///< replica outputs outvoted (different or missing)
+  std::uint32_t tmr_no_majority;   ///< votes without a majority
+  std::uint32_t tmr_exclusions;
+  std::uint32_t tmr_resyncs;       ///< replicas readmitted after a seed
+  std::uint32_t commands;          ///< telecommands taken
+  std::uint32_t states_rejected;   ///< simplex jobs whose state failed the plausibility check (not delivered)
+  std::uint32_t rollbacks;         ///< returns to the last checkpoint (a refused state, rebuilt settings)
+  std::uint32_t settings_rebuilt;  ///< simplex jobs after which the EKF's settings had changed in RAM and were rebuilt
+};
+
+/** Task entry (arg: const FilterTaskConfig*). Never returns unless set-up fails (bad config included). */
+void filter_task_main(void* arg) noexcept;
+
+/** Counters of the filter task on @p tile. [host] */
+FilterTaskStats filter_task_stats(bsp::TileId tile) noexcept;
+
+/** The latest solution published by @p tile's filter; false before the first. [host] */
+bool filter_task_output(bsp::TileId tile, filter::NavOutput* out) noexcept;
+
+}  // namespace trn::tasks

@@ -1,0 +1,292 @@
+/**
+ * @file filter_tmr.cpp
+ * @brief The TMR group's DDR areas and the replica task (see filter_tmr.hpp).
+ */
+#include "trn/tasks/filter/filter_tmr.hpp"
+#include "trn/events.hpp"
+
+#include "bsp_tile64/api/memory.hpp"
+#include "fdir/event_log.hpp"
+#include "kernel/kernel.hpp"
+#include "trn/tasks/filter/filter_checkpoint.hpp"
+#include "trn/tasks/vision/vision_shared.hpp"
+#include "udn/crc32c.hpp"
+#include "udn/endpoint.hpp"
+
+#include <new>
+
+namespace trn::tasks {
+namespace {
+
+struct Replica {
+  FilterCore core;
+  FilterTaskStats stats;
+  std::uint32_t index;
+  bool seeded;
+  std::uint32_t epoch;       ///< of the seed loaded
+  std::uint32_t gen;         ///< own generation when it loaded
+  std::uint32_t seed_serial; ///< last seed loaded
+  std::uint32_t next_job;    ///< the record to run next
+  std::uint32_t since_hello;
+  std::uint32_t ckpt_slot;
+};
+
+std::array<Replica, bsp::kMaxTiles> g_replicas{};
+
+std::uint32_t seed_header_crc(const TmrSeed& s) noexcept {
+  const std::array<std::uint32_t, 8> h{s.serial, s.job, s.for_mask, s.epoch, s.digest, s.gen[0], s.gen[1], s.gen[2]};
+  return udn::crc32c_words(h);
+}
+
+void send_hello(const Replica& r, const TmrControl& ctl, const FilterTaskConfig& cfg) noexcept {
+  std::array<std::uint32_t, kReplicaHelloWords> w{};
+  pack_replica_hello(ReplicaHello{r.index, ctl.epoch}, w);
+  (void)udn::endpoint_send(udn::endpoint_role_tile(kSlotFilter, bsp::kNoTile), kChanNav, w, 0U);
+  (void)cfg;
+}
+
+/** Loads the newest seed meant for this replica, if there is one. */
+void try_seed(Replica& r, const TmrArea& a) noexcept {
+  const TmrSeed& s = a.seed;
+  const std::uint32_t bit = 1U << r.index;
+  if (s.serial == 0U || s.serial == r.seed_serial || (s.for_mask & bit) == 0U || s.epoch != a.control.epoch ||
+      s.gen[r.index] != a.control.gen[r.index] || !tmr_seed_ok(s)) {
+    return;
+  }
+  bsp::Work work{};
+  const bool ok = core_load(r.core, s.image, work);
+  bsp::consume(work);
+  r.seed_serial = s.serial;
+  if (!ok) {
+    return;
+  }
+  r.seeded = true;
+  r.epoch = s.epoch;
+  r.gen = s.gen[r.index];
+  r.next_job = s.job + 1U;
+}
+
+/** Sends the front this job's output and state digest, and keeps them in DDR for a voter that restarts. */
+void send_output(Replica& r, TmrArea& a, std::uint32_t job, std::uint32_t digest) noexcept {
+  std::array<std::uint32_t, kReplicaOutWords> w{};
+  pack_replica_out(ReplicaOut{r.index, job, digest}, core_output(r.core), w);
+  // The solution as sent is what a fault may corrupt on its way out (every bit of it is delivered).
+  (void)bsp::publish_filter(kNavChannel, w.data() + 4U, std::size_t{kNavWords} * sizeof(std::uint32_t));
+  fdir::TmrRecord& kept = a.outputs[r.index][job % kHeldOutputs];
+  kept.words = 0U;  // torn while written: not an output
+  kept.job = job;
+  for (std::uint32_t i = 0; i < kNavWords; ++i) {
+    kept.w[i] = w[4U + i];
+  }
+  kept.w[kNavWords] = digest;
+  kept.words = kNavWords + 1U;
+  bsp::consume(bsp::Work{0U, 0U, 0U, 0U, std::uint64_t{kNavWords} + 3U});
+  if (udn::endpoint_send(udn::endpoint_role_tile(kSlotFilter, bsp::kNoTile), kChanNav, w, 0U) ==
+      udn::FtError::kOk) {
+    ++r.stats.nav_sent;
+  } else {
+    ++r.stats.nav_send_failed;
+  }
+}
+
+/** What the control block asks of this replica after it ran @p job: a seed, a checkpoint. */
+void after_job(Replica& r, TmrArea& a, std::uint32_t job) noexcept {
+  const TmrControl& ctl = a.control;
+  bsp::Work work{};
+  if (ctl.seed_by == r.index && ctl.seed_job == job) {
+    tmr_write_seed(a, r.core, job, ctl.seed_for, work);
+  }
+  if (ctl.ckpt_by == r.index && r.core.cfg->checkpoint_every != 0U && job % r.core.cfg->checkpoint_every == 0U) {
+    CheckpointArea* ck = checkpoint_area();
+    if (ck != nullptr) {
+      r.ckpt_slot = 1U - r.ckpt_slot;
+      // Numbered by job, so a later checkpoint of any writer is the newer one.
+      checkpoint_write(*ck, r.core.ekf->state(), r.core.last_imu, job / r.core.cfg->checkpoint_every + 1U,
+                       r.ckpt_slot, work);
+      ++r.stats.checkpoints;
+    }
+  }
+  bsp::consume(work);
+}
+
+/** Runs the records that are there, at most kReplicaJobsPerRelease; unseeds itself if one is gone or bad. */
+void run_records(Replica& r, TmrArea& a) noexcept {
+  for (std::uint32_t n = 0; n < kReplicaJobsPerRelease; ++n) {
+    const JobRecord& rec = a.ring[r.next_job % kJobRingLen];
+    const std::uint32_t job = record_job(rec);
+    if (job < r.next_job) {
+      return;  // not written yet
+    }
+    bsp::Work work{};
+    const bool ok = record_ok(rec, r.next_job, work);
+    bsp::consume(work);
+    if (!ok) {
+      r.seeded = false;  // overwritten before it ran (too far behind), or damaged: needs a seed
+      return;
+    }
+    core_run(r.core, rec);
+    bsp::Work dw{};
+    // Its settings in RAM changed (an upset): this job's state was computed with them. They are
+    // built again from the image and the replica drops its state and waits for a seed, as after a
+    // restart: its output goes missing, the front excludes and re-seeds it. Before, its settings
+    // stayed wrong: re-seeded, it never agreed again, and a second such replica left no majority.
+    const std::uint32_t changed = core_settings_changed(r.core, dw);
+    if (changed != 0U) {
+      const bool rebuilt = core_reload_settings(r.core, dw);
+      bsp::consume(dw);
+      ++r.stats.settings_rebuilt;
+      trn::report(ev::kFilterSettingsBad, r.next_job, changed, rebuilt ? 1U : 0U);
+      r.seeded = false;
+      return;
+    }
+    const std::uint32_t digest = core_digest(r.core, dw);
+    bsp::consume(dw);
+    send_output(r, a, r.next_job, digest);
+    after_job(r, a, r.next_job);
+    ++r.stats.jobs;
+    ++r.next_job;
+  }
+}
+
+}  // namespace
+
+TmrArea* tmr_area() noexcept {
+  void* p = ddr_carve_named("filter_tmr", sizeof(TmrArea), alignof(TmrArea));
+  return static_cast<TmrArea*>(p);
+}
+
+bool tmr_seed_ok(const TmrSeed& s) noexcept { return s.crc == seed_header_crc(s); }
+
+namespace {
+std::uint32_t front_crc(const TmrFront& f) noexcept {
+  std::array<std::uint32_t, 20U + kCommandWords> w{f.serial,           f.epoch,         f.voting,      f.record_job,
+                                                   f.next_vote,        f.next_deliver,  f.delivered_any,
+                                                   f.outputs_delivered, f.outputs_skipped, f.output_crc,
+                                                   f.last_delivered_job, f.mark_job,    f.mark_crc,    f.have_imu,
+                                                   f.last_imu,         f.cmd_held,      f.active_mask, f.last_winner,
+                                                   f.held_serial,      0U};
+  for (std::uint32_t i = 0; i < kCommandWords; ++i) {
+    w[20U + i] = f.cmd[i];
+  }
+  return udn::crc32c_words(w);
+}
+
+std::uint32_t held_crc(const TmrHeldMatches& h, bsp::Work& work) noexcept {
+  const std::array<std::uint32_t, 2> head{h.serial, h.count};
+  const std::uint32_t n = h.count <= kHeldMatches ? h.count : kHeldMatches;
+  std::uint32_t c = udn::crc32c_words(head);
+  c = udn::crc32c_words_continue(c, std::span<const std::uint32_t>(h.job.data(), n));
+  c = udn::crc32c_words_continue(c, std::span<const std::uint32_t>(h.words.data(), std::size_t{n} * kMatchWords));
+  work.int_ops += 4ULL * (2U + n * (kMatchWords + 1U));
+  work.mem_words += 2U + n * (kMatchWords + 1U);
+  return c;
+}
+}  // namespace
+
+void tmr_front_seal(TmrFront& f) noexcept { f.crc = front_crc(f); }
+
+bool tmr_front_ok(const TmrFront& f) noexcept { return f.serial != 0U && f.crc == front_crc(f); }
+
+void tmr_held_seal(TmrHeldMatches& h, bsp::Work& work) noexcept { h.crc = held_crc(h, work); }
+
+bool tmr_held_ok(const TmrHeldMatches& h, bsp::Work& work) noexcept {
+  return h.count <= kHeldMatches && h.crc == held_crc(h, work);
+}
+
+void tmr_write_seed(TmrArea& a, FilterCore& c, std::uint32_t job, std::uint32_t for_mask, bsp::Work& work) noexcept {
+  TmrSeed& s = a.seed;
+  s.crc = 0U;  // torn while written: refused
+  core_save(c, s.image, work);
+  s.digest = core_digest(c, work);
+  s.job = job;
+  s.for_mask = for_mask;
+  s.epoch = a.control.epoch;
+  s.gen = a.control.gen;
+  ++s.serial;
+  s.crc = seed_header_crc(s);
+}
+
+std::uint32_t replica_index(const FilterTaskConfig& cfg, bsp::TileId tile) noexcept {
+  for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    if (cfg.replica_tiles[i] != bsp::kNoTile && udn::endpoint_role_tile(kSlotReplica0 + i, cfg.replica_tiles[i]) == tile) {
+      return i;
+    }
+  }
+  return kNoReplica;
+}
+
+void filter_replica_main(void* arg) noexcept {
+  const bsp::TileId tile = bsp::current_tile();
+  Replica& r = g_replicas[tile];
+  r = Replica{};
+  const auto* cfg = static_cast<const FilterTaskConfig*>(arg);
+  TmrArea* const a = tmr_area();
+  if (cfg == nullptr || a == nullptr || !core_set_up(r.core, *cfg, r.stats, bsp::Region{tile})) {
+    return;
+  }
+  // A replica started in flight (woken by the power policy, reset) is released with the front's
+  // jobs, as one booted with it: released a few ticks off, it found two records in some releases
+  // and overran its deadline.
+  if (a->front_phase != 0U) {
+    (void)k::align_period(a->front_phase - 1U);
+  }
+  for (;;) {  // one pass per release
+    k::checkin();
+    r.index = replica_index(*cfg, tile);
+    const TmrControl& ctl = a->control;
+    if (r.index == kNoReplica || ctl.mode == 0U) {
+      r.seeded = false;  // the group does not run: idle
+    } else {
+      if (r.seeded && (r.epoch != ctl.epoch || r.gen != ctl.gen[r.index])) {
+        r.seeded = false;  // excluded by the front, or a new group: drop the state
+      }
+      if (!r.seeded) {
+        try_seed(r, *a);
+      }
+      if (r.seeded) {
+        run_records(r, *a);
+      }
+      if (!r.seeded && ++r.since_hello >= kHelloEvery) {
+        r.since_hello = 0U;
+        send_hello(r, ctl, *cfg);
+      }
+    }
+    (void)k::wait_period();
+  }
+}
+
+FilterTaskStats replica_stats(bsp::TileId tile) noexcept {
+  return tile < bsp::kMaxTiles ? g_replicas[tile].stats : FilterTaskStats{};
+}
+
+void pack_replica_hello(const ReplicaHello& h, std::span<std::uint32_t, kReplicaHelloWords> w) noexcept {
+  w[0] = kMsgReplicaHello;
+  w[1] = h.replica;
+  w[2] = h.epoch;
+}
+
+bool unpack_replica_hello(std::span<const std::uint32_t> w, ReplicaHello& out) noexcept {
+  if (!udn::is_message(w, kMsgReplicaHello, kReplicaHelloWords) || w[1] >= kReplicas) {
+    return false;
+  }
+  out = ReplicaHello{w[1], w[2]};
+  return true;
+}
+
+void pack_replica_out(const ReplicaOut& o, const filter::NavOutput& nav, std::span<std::uint32_t, kReplicaOutWords> w) noexcept {
+  w[0] = kMsgReplicaOut;
+  w[1] = o.replica;
+  w[2] = o.job;
+  w[3] = o.digest;
+  pack_nav(nav, w.subspan<kReplicaOutHeaderWords, kNavWords>());
+}
+
+bool unpack_replica_out(std::span<const std::uint32_t> w, ReplicaOut& out) noexcept {
+  if (!udn::is_message(w, kMsgReplicaOut, kReplicaOutWords) || w[1] >= kReplicas) {
+    return false;
+  }
+  out = ReplicaOut{w[1], w[2], w[3]};
+  return true;
+}
+
+}  // namespace trn::tasks

@@ -1,0 +1,149 @@
+/**
+ * @file io_task.cpp
+ * @brief I/O tile driver: device FIFO to UDN.
+ */
+#include "trn/tasks/io/io_task.hpp"
+
+#include "bsp_tile64/api/device_io.hpp"
+#include "bsp_tile64/api/memory.hpp"
+#include "fdir/supervisor.hpp"
+#include "kernel/kernel.hpp"
+#include "trn/tasks/io/imu_ring.hpp"
+#include "trn/tasks/messages.hpp"
+#include "udn/endpoint.hpp"
+
+#include <array>
+
+namespace trn::tasks {
+namespace {
+
+// One I/O tile per chip: its state is the board's, reset with every task start.
+k::Semaphore g_device_ready{0, 1000};
+IoTaskStats g_stats{};
+
+void device_isr(bsp::TileId /*tile*/) noexcept { (void)g_device_ready.give_from_isr(); }
+
+/** Samples forwarded per wake-up at most (the FIFO depth). */
+constexpr std::uint32_t kMaxPerWake = bsp::kImuFifoDepth;
+/** A sample that cannot be sent within this many ticks is counted and dropped. */
+constexpr std::uint32_t kSendTicks = kControlSendTicks;
+
+void forward_frames(const IoTaskConfig& cfg) noexcept {
+  bsp::FrameRecord f{};
+  for (std::uint32_t n = 0; n < bsp::kFrameFifoDepth && bsp::frame_read(&f); ++n) {
+    if (cfg.coordinator_tile == bsp::kNoTile) {
+      continue;
+    }
+    const auto* base = reinterpret_cast<const std::uint8_t*>(  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): DDR bytes
+        bsp::region_span(bsp::Region{bsp::Region::kDdr}).data());
+    FrameNotice notice{f.seq, f.width_px, f.height_px, f.status, f.t_s,
+                       static_cast<std::uint64_t>(f.pixels - base)};
+    std::array<std::uint32_t, kFrameNoticeWords> w{};
+    pack_frame_notice(notice, w);
+    const bsp::TileId coord = udn::endpoint_role_tile(kSlotCoordinator, cfg.coordinator_tile);
+    if (udn::endpoint_send(coord, kChanControl, w, kNoticeTicks) == udn::FtError::kOk) {
+      ++g_stats.frames_forwarded;
+    } else {
+      ++g_stats.frame_send_failures;
+    }
+  }
+}
+
+/** A command for the filter, in its IMU stream after the last sample read (@p last_imu): it takes it at a defined job. */
+void command_filter(const IoTaskConfig& cfg, std::uint32_t seq, std::uint32_t code, std::uint32_t arg,
+                    std::uint32_t last_imu) noexcept {
+  std::array<std::uint32_t, kCommandWords> w{};
+  pack_command(Command{seq, code, arg, last_imu}, w);
+  const bsp::TileId filter = udn::endpoint_role_tile(kSlotFilter, cfg.filter_tile);
+  if (udn::endpoint_send(filter, kChanImu, w, kSendTicks) != udn::FtError::kOk) {
+    ++g_stats.send_failures;
+  }
+}
+
+/** A policy telecommand for the TRN supervisor (codes from kCmdFirstPolicy). */
+void policy_to_supervisor(const IoTaskConfig& cfg, std::uint32_t code) noexcept {
+  const fdir::Constraint constraint = code <= kCmdReliabilityHigh ? fdir::Constraint::kReliability : fdir::Constraint::kPower;
+  const std::uint32_t level = (code - kCmdFirstPolicy) % 2U;  // normal / full 0, high / save 1
+  const std::array<std::uint32_t, fdir::kSupMsgWords> w{fdir::kMsgPolicy, static_cast<std::uint32_t>(constraint), level,
+                                                        fdir::kFromGround};
+  if (cfg.trn_supervisor != bsp::kNoTile && udn::endpoint_send(cfg.trn_supervisor, kChanControl, w, kSendTicks) == udn::FtError::kOk) {
+    ++g_stats.policies;
+  } else {
+    ++g_stats.send_failures;
+  }
+}
+
+/** A ground command of the filter's mode, as the filter supervisor's policy (it sends no command of its own for it). */
+void tell_filter_supervisor(const IoTaskConfig& cfg, std::uint32_t code) noexcept {
+  if (cfg.filter_supervisor == bsp::kNoTile || (code != kCmdFilterTmr && code != kCmdFilterSimplex)) {
+    return;
+  }
+  const std::uint32_t level = code == kCmdFilterTmr ? fdir::kReliabilityHigh : fdir::kReliabilityNormal;
+  const std::array<std::uint32_t, fdir::kSupMsgWords> w{
+      fdir::kMsgPolicy, static_cast<std::uint32_t>(fdir::Constraint::kReliability), level, fdir::kFromGround};
+  if (udn::endpoint_send(udn::endpoint_role_tile(kSlotFilterSupervisor, cfg.filter_supervisor), kChanControl, w,
+                         kSendTicks) != udn::FtError::kOk) {
+    ++g_stats.send_failures;
+  }
+}
+
+/** Telecommands: the filter's into its stream, policies to the TRN supervisor; then the supervisors' commands. */
+void forward_commands(const IoTaskConfig& cfg, std::uint32_t last_imu) noexcept {
+  bsp::Telecommand c{};
+  for (std::uint32_t n = 0; n < bsp::kCommandFifoDepth && bsp::command_read(&c); ++n) {
+    if (c.code >= kCmdFirstPolicy && c.code <= kCmdPowerSave) {
+      policy_to_supervisor(cfg, c.code);
+    } else {
+      command_filter(cfg, c.seq, c.code, c.arg, last_imu);
+      tell_filter_supervisor(cfg, c.code);
+    }
+  }
+  udn::FtMessage m{};
+  for (std::uint32_t n = 0; n < 4U && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++n) {
+    SupCommand sc{};
+    if (unpack_sup_command(std::span<const std::uint32_t>(m.data.data(), m.data_words), sc)) {
+      ++g_stats.sup_commands;
+      command_filter(cfg, kSupCommandSeq | g_stats.sup_commands, sc.code, sc.node, last_imu);
+    }
+  }
+}
+
+}  // namespace
+
+void io_task_main(void* arg) noexcept {
+  const auto* cfg = static_cast<const IoTaskConfig*>(arg);
+  g_stats = IoTaskStats{};
+  g_device_ready = k::Semaphore{0, 1000};
+  if (cfg == nullptr || k::set_isr(bsp::Irq::kDevice, &device_isr) != k::Status::kOk) {
+    return;  // the tile's health monitor sees a task that never runs
+  }
+  std::array<std::uint32_t, kImuWords> words{};
+  // Every sample is also recorded in DDR, for a filter that restarts to replay what it missed.
+  ImuRing* const ring = imu_ring();
+  std::uint32_t last_imu = kNoImuYet;
+  for (;;) {  // the driver loop: one pass per device interrupt
+    // The IMU interrupts every 10 ms in flight; the timeout keeps the check-ins going before and after.
+    (void)g_device_ready.take(k::Timeout{kIdleCheckinTicks});
+    k::checkin();
+    bsp::ImuSample s{};
+    for (std::uint32_t n = 0; n < kMaxPerWake && bsp::imu_read(&s); ++n) {
+      if (ring != nullptr) {
+        imu_ring_put(*ring, s);
+      }
+      last_imu = s.seq;
+      pack_imu(s, words);
+      const bsp::TileId filter = udn::endpoint_role_tile(kSlotFilter, cfg->filter_tile);
+      if (udn::endpoint_send(filter, kChanImu, words, kSendTicks) == udn::FtError::kOk) {
+        ++g_stats.imu_forwarded;
+      } else {
+        ++g_stats.send_failures;
+      }
+    }
+    forward_frames(*cfg);
+    forward_commands(*cfg, last_imu);
+  }
+}
+
+IoTaskStats io_task_stats() noexcept { return g_stats; }
+
+}  // namespace trn::tasks

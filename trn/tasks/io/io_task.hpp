@@ -1,0 +1,48 @@
+/**
+ * @file io_task.hpp
+ * @brief The I/O tile's device driver task: forwards IMU samples to the filter tile.
+ */
+#pragma once
+
+#include "bsp_tile64/api/port.hpp"
+
+#include <cstdint>
+
+namespace trn::tasks {
+
+/** Longest wait for a device interrupt between two check-ins with the health agent (ticks). */
+inline constexpr std::uint32_t kIdleCheckinTicks = 20U;
+/** Ticks a frame notice may wait for the network. */
+inline constexpr std::uint32_t kNoticeTicks = 20U;
+
+struct IoTaskConfig {
+  bsp::TileId filter_tile = bsp::kNoTile;
+  bsp::TileId coordinator_tile = bsp::kNoTile;  ///< frame notices go here (kNoTile: frames are not forwarded)
+  /** The TRN supervisor: policy telecommands (codes from kCmdFirstPolicy) go here (kNoTile: they are dropped). */
+  bsp::TileId trn_supervisor = bsp::kNoTile;
+  /** The filter supervisor (slot kSlotFilterSupervisor): told of a ground filter_tmr / filter_simplex, which it takes as its policy (kNoTile: nobody). */
+  bsp::TileId filter_supervisor = bsp::kNoTile;
+};
+
+struct IoTaskStats {
+  std::uint32_t imu_forwarded;
+  std::uint32_t send_failures;  ///< the network refused past the timeout
+  std::uint32_t frames_forwarded;
+  std::uint32_t frame_send_failures;
+  std::uint32_t sup_commands;     ///< supervisor commands put into the filter's stream
+  std::uint32_t policies;         ///< policy telecommands handed to the TRN supervisor
+};
+
+/**
+ * Task entry (arg: const IoTaskConfig*): activates the UDN, takes Irq::kDevice
+ * through a kernel hook, and sends every IMU sample to the filter tile as it
+ * arrives (raw UDN: a 100 Hz stream whose next sample supersedes a lost one),
+ * and a notice of every frame to the vision coordinator (fault-tolerant UDN,
+ * kChanControl; the I/O role then lists kCommTask). Runs forever.
+ */
+void io_task_main(void* arg) noexcept;
+
+/** Counters of the I/O task on the current board. [host] */
+IoTaskStats io_task_stats() noexcept;
+
+}  // namespace trn::tasks

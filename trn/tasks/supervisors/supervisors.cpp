@@ -1,0 +1,528 @@
+/**
+ * @file supervisors.cpp
+ * @brief The TRN supervisor tree's three tasks (see supervisors.hpp).
+ */
+#include "trn/tasks/supervisors/supervisors.hpp"
+#include "trn/events.hpp"
+
+#include "fdir/event_log.hpp"
+#include "fdir/tile_health.hpp"
+#include "kernel/kernel.hpp"
+#include "trn/tasks/messages.hpp"
+#include "udn/endpoint.hpp"
+
+#include <bit>
+
+namespace trn::tasks {
+namespace {
+
+constexpr auto kRel = static_cast<std::uint8_t>(fdir::Constraint::kReliability);
+constexpr auto kPow = static_cast<std::uint8_t>(fdir::Constraint::kPower);
+constexpr auto kCap = static_cast<std::uint8_t>(fdir::Constraint::kCapacity);
+
+/** Messages taken per pass at most. */
+constexpr std::uint32_t kDrainPerPass = 16U;
+/** Ticks a message to another node may wait for the network. */
+constexpr std::uint32_t kSendTicks = kControlSendTicks;
+
+fdir::AlternativeList alts(std::uint8_t a, std::uint8_t b = 0U) noexcept {
+  fdir::AlternativeList l{};
+  l.alt[0] = a;
+  l.count = 1U;
+  if (b != 0U) {
+    l.alt[1] = b;
+    l.count = 2U;
+  }
+  return l;
+}
+
+fdir::SupervisorSpec make_trn() noexcept {
+  fdir::SupervisorSpec s{};
+  s.id = kNodeTrn;
+  s.parent = fdir::kNoSupervisor;
+  s.debounce = 2U;
+  s.settle = 0U;
+  s.plan[kRel][0] = alts(kAltDelegate);
+  s.plan[kRel][1] = alts(kAltDelegate, kAltAcceptSimplex);
+  s.plan[kPow][0] = alts(kAltDelegate);
+  s.plan[kPow][1] = alts(kAltDelegate);
+  // The vision supervisor's escalation at full rate: half the rate; at half rate, nothing left.
+  s.plan[kCap][0] = alts(kAltHalfRate);
+  return s;
+}
+
+
+fdir::SupervisorSpec make_filter() noexcept {
+  fdir::SupervisorSpec s{};
+  s.id = kNodeFilter;
+  s.parent = kNodeTrn;
+  s.debounce = 2U;
+  s.settle = kFilterSettle;
+  s.plan[kRel][0] = alts(kAltSimplex);
+  s.plan[kRel][1] = alts(kAltTmr, kAltTmrReseed);
+  s.plan[kPow][0] = alts(kAltReplicasOn);
+  s.plan[kPow][1] = alts(kAltReplicasParked);
+  return s;
+}
+
+fdir::SupervisorSpec make_vision() noexcept {
+  fdir::SupervisorSpec s{};
+  s.id = kNodeVision;
+  s.parent = kNodeTrn;
+  s.debounce = 2U;  // two frames in a row
+  s.settle = 0U;    // the next frame's status already reflects a new rate
+  s.plan[kCap][0] = alts(kAltFullRate);
+  s.plan[kCap][1] = alts(kAltHalfRate);
+  return s;
+}
+
+const std::array<fdir::SupervisorSpec, 3> kSpecs = {make_trn(), make_vision(), make_filter()};
+
+struct NodeState {
+  fdir::SupervisorState sup;
+  SupervisorStats stats;
+};
+std::array<NodeState, 3> g_nodes{};
+
+void send_words(bsp::TileId to, std::span<const std::uint32_t> w) noexcept {
+  if (to != bsp::kNoTile) {
+    (void)udn::endpoint_send(to, kChanControl, w, kSendTicks);  // a lost policy is sent again at the next refresh
+  }
+}
+
+void send_policy(bsp::TileId to, std::uint8_t constraint, std::uint8_t level, std::uint8_t from,
+                 std::uint32_t kind = fdir::kMsgPolicy) noexcept {
+  std::array<std::uint32_t, fdir::kSupMsgWords> w{};
+  fdir::pack_sup_message(fdir::SupMessage{kind, constraint, level, from}, w);
+  send_words(to, w);
+}
+
+void send_escalation(bsp::TileId to, const fdir::SupDecision& d, std::uint8_t node) noexcept {
+  std::array<std::uint32_t, fdir::kSupMsgWords> w{};
+  fdir::pack_sup_message(fdir::SupMessage{fdir::kMsgEscalate, d.constraint, d.level, node}, w);
+  send_words(to, w);
+}
+
+/**
+ * Whether @p m is a policy for node @p n to take: a new one, or the one its
+ * parent holds for it, sent again, while @p n holds none or only its default.
+ */
+bool is_policy(const fdir::SupMessage& m, const NodeState& n) noexcept {
+  return m.tag == fdir::kMsgPolicy ||
+         (m.tag == fdir::kMsgPolicyHeld && fdir::supervisor_takes_held(n.sup, m.constraint));
+}
+
+/** The words of @p m as a policy or escalation; false for anything else. */
+bool sup_message(const udn::FtMessage& m, fdir::SupMessage& out) noexcept {
+  return fdir::unpack_sup_message(std::span<const std::uint32_t>(m.data.data(), m.data_words), out);
+}
+
+bsp::TileId filter_sup(const SupervisorsConfig& c) noexcept {
+  return udn::endpoint_role_tile(kSlotFilterSupervisor, c.filter_sup_tile);
+}
+bsp::TileId vision_sup(const SupervisorsConfig& c) noexcept {
+  return udn::endpoint_role_tile(kSlotVisionSupervisor, c.vision_sup_tile);
+}
+
+// ------------------------------------------------------------------ the TRN supervisor
+
+/** The TRN supervisor's children, as indexes of the policies it holds for them. */
+enum Child : std::uint8_t { kChildFilter = 0U, kChildVision = 1U, kChildren = 2U };
+
+/** No policy handed down yet for a constraint. */
+constexpr std::uint8_t kNoLevel = 0xFFU;
+
+
+struct TrnState {
+  std::uint32_t phase = 0xFFFF'FFFFU;  ///< index of the phase whose policies went down
+  std::uint32_t woken_for = 0xFFFF'FFFFU;  ///< the phase whose replicas were asked for ahead of it
+  std::array<std::uint8_t, fdir::kMaxConstraints> level{};  ///< the level each policy asks now
+  /** Per child and constraint: the level last handed down (kNoLevel: none). */
+  std::array<std::array<std::uint8_t, fdir::kMaxConstraints>, kChildren> down{};
+  std::uint32_t refreshed = 0U;  ///< mission tick of the last refresh
+};
+TrnState g_trn{};
+
+/** Hands @p child the policy (@p constraint, @p level) and keeps it, to hand again at each refresh. */
+void hand_down(const SupervisorsConfig& c, Child child, std::uint8_t constraint, std::uint8_t level) noexcept {
+  g_trn.down[child][constraint] = level;
+  send_policy(child == kChildFilter ? filter_sup(c) : vision_sup(c), constraint, level, kNodeTrn);
+}
+
+/** Every kPolicyRefreshTicks of mission tick @p now: the policies held for the children, again. */
+void trn_refresh(const SupervisorsConfig& c, std::uint32_t now) noexcept {
+  if (now - g_trn.refreshed < kPolicyRefreshTicks) {
+    return;
+  }
+  g_trn.refreshed = now;
+  for (std::uint8_t child = 0U; child < kChildren; ++child) {
+    for (std::uint8_t k = 0U; k < fdir::kMaxConstraints; ++k) {
+      if (g_trn.down[child][k] != kNoLevel) {
+        send_policy(child == kChildFilter ? filter_sup(c) : vision_sup(c), k, g_trn.down[child][k], kNodeTrn,
+                    fdir::kMsgPolicyHeld);
+      }
+    }
+  }
+}
+
+void trn_act(const SupervisorsConfig& c, const fdir::SupDecision& d) noexcept {
+  NodeState& n = g_nodes[kNodeTrn];
+  if (d.action == fdir::SupAction::kEscalate) {
+    ++n.stats.safe_mode;  // nobody above: the vehicle is told
+    trn::report(ev::kSafeMode, d.constraint, 0U, d.level, 0U);
+    return;
+  }
+  if (d.action != fdir::SupAction::kApply) {
+    return;
+  }
+  ++n.stats.applied;
+  switch (d.alternative) {
+    case kAltDelegate:
+      if (d.constraint == kRel || d.constraint == kPow) {
+        hand_down(c, kChildFilter, d.constraint, d.level);
+      }
+      break;
+    case kAltAcceptSimplex:
+      hand_down(c, kChildFilter, kRel, fdir::kReliabilityNormal);
+      break;
+    case kAltHalfRate:
+      hand_down(c, kChildVision, kCap, fdir::kCapacityHalfRate);
+      break;
+    default:
+      break;
+  }
+}
+
+void trn_policy(const SupervisorsConfig& c, std::uint8_t constraint, std::uint8_t level, std::uint32_t from) noexcept {
+  if (constraint >= fdir::kMaxConstraints) {
+    return;
+  }
+  g_trn.level[constraint] = level;
+  if (from == fdir::kFromGround) {
+    g_nodes[kNodeTrn].sup.c[constraint] = fdir::ConstraintState{};  // a ground command is obeyed again, not debounced
+  }
+  ++g_nodes[kNodeTrn].stats.policies;
+  trn_act(c, fdir::supervisor_policy(kSpecs[kNodeTrn], g_nodes[kNodeTrn].sup, constraint, level, from));
+}
+
+/** The phase of mission tick @p now: its policies go down when it begins. */
+void trn_phase(const SupervisorsConfig& c, std::uint32_t now) noexcept {
+  std::uint32_t p = 0U;
+  for (std::uint32_t i = 1U; i < c.phase_count && i < kMaxPhases; ++i) {
+    p = now >= c.phases[i].start_tick ? i : p;
+  }
+  if (c.phase_count == 0U || p == g_trn.phase) {
+    return;
+  }
+  g_trn.phase = p;
+  g_nodes[kNodeTrn].stats.phase = p;
+  g_trn.woken_for = 0xFFFF'FFFFU;
+  const PhaseSpec& ph = c.phases[p];
+  trn::report(ev::kPhaseBegin, p, 0U, ph.reliability, ph.power);
+  trn_policy(c, kRel, ph.reliability, fdir::kFromPhase);
+  trn_policy(c, kPow, ph.power, fdir::kFromPhase);
+}
+
+/**
+ * Ahead of a phase that needs the replicas (reliability high) the power
+ * policy goes to full, so that they are booted and idle when its reliability
+ * comes: tiles are woken before they are needed, not when.
+ */
+void trn_wake_ahead(const SupervisorsConfig& c, std::uint32_t now) noexcept {
+  const std::uint32_t next = g_trn.phase + 1U;
+  if (g_trn.phase >= c.phase_count || next >= c.phase_count || next >= kMaxPhases || g_trn.woken_for == next) {
+    return;
+  }
+  const PhaseSpec& n = c.phases[next];
+  const PhaseSpec& cur = c.phases[g_trn.phase];
+  const bool needs = n.reliability == fdir::kReliabilityHigh && cur.reliability != fdir::kReliabilityHigh &&
+                     cur.power == fdir::kPowerSave;
+  if (needs && now + c.wake_lead_ticks >= n.start_tick) {
+    g_trn.woken_for = next;
+    trn_policy(c, kPow, fdir::kPowerFull, fdir::kFromPhase);
+  }
+}
+
+void trn_messages(const SupervisorsConfig& c) noexcept {
+  udn::FtMessage m{};
+  for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
+    fdir::SupMessage sm{};
+    if (!sup_message(m, sm)) {
+      continue;
+    }
+    if (sm.tag == fdir::kMsgPolicy) {
+      trn_policy(c, sm.constraint, sm.level, sm.from);  // a ground policy through the I/O tile
+    } else if (sm.tag == fdir::kMsgEscalate) {
+      trn_act(c, fdir::supervisor_escalation(kSpecs[kNodeTrn], g_nodes[kNodeTrn].sup, sm.constraint, sm.level, sm.from));
+    }
+  }
+}
+
+// ------------------------------------------------------------------ the filter supervisor
+
+struct FilterSupState {
+  bool have_status = false;
+  std::uint32_t mode = kFilterModeSimplex;  ///< the filter's mode at the last status
+  bool power_save = false;         ///< the power policy is save: the replicas off while not needed
+  bool tmr_after_wake = false;     ///< TMR is commanded once the replicas have booted
+  std::uint32_t off = 0U;          ///< replicas switched off (bit per replica), as the tile-health supervisor answered
+  std::array<std::uint32_t, 3> asked{};   ///< per replica: 0 nothing pending, 1 park asked, 2 wake asked
+  std::array<k::Ticks, 3> asked_at{};
+  std::uint32_t no_majority = 0U;  ///< the filter's counts at the last status
+  std::uint32_t skipped = 0U;
+  bool reseed_tmr = false;         ///< the reseed alternative waits for simplex to command TMR
+};
+FilterSupState g_fsup{};
+
+void command_filter(const SupervisorsConfig& c, std::uint32_t code) noexcept {
+  std::array<std::uint32_t, kSupCommandWords> w{};
+  pack_sup_command(SupCommand{code, kNodeFilter}, w);
+  send_words(udn::endpoint_role_tile(kSlotIo, c.io_tile), w);
+  ++g_nodes[kNodeFilter].stats.commands;
+}
+
+/** @p commanded: the filter was already commanded (a ground command the I/O tile forwarded itself). */
+void filter_act(const SupervisorsConfig& c, const fdir::SupDecision& d, bool commanded = false) noexcept {
+  NodeState& n = g_nodes[kNodeFilter];
+  if (d.action == fdir::SupAction::kEscalate) {
+    ++n.stats.escalations;
+    send_escalation(c.trn_tile, d, kNodeFilter);
+    return;
+  }
+  if (d.action != fdir::SupAction::kApply) {
+    return;
+  }
+  ++n.stats.applied;
+  if (d.alternative == kAltReplicasOn || d.alternative == kAltReplicasParked) {
+    g_fsup.power_save = d.alternative == kAltReplicasParked;
+    return;  // replica_power() asks for the switching
+  }
+  g_fsup.reseed_tmr = false;
+  g_fsup.tmr_after_wake = false;
+  if (commanded) {
+    return;
+  }
+  if (d.alternative == kAltSimplex) {
+    command_filter(c, kCmdFilterSimplex);
+  } else if (d.alternative == kAltTmr && g_fsup.off != 0U) {
+    g_fsup.tmr_after_wake = true;  // parked replicas: woken first (replica_power), TMR once they booted
+  } else if (d.alternative == kAltTmr) {
+    command_filter(c, kCmdFilterTmr);
+  } else if (d.alternative == kAltTmrReseed) {
+    command_filter(c, kCmdFilterSimplex);  // a fresh seed: back to one filter, then TMR from its state
+    g_fsup.reseed_tmr = true;
+  }
+}
+
+/** Judges the reliability level from one status of the filter. */
+void filter_status(const SupervisorsConfig& c, const FilterStatus& st) noexcept {
+  NodeState& n = g_nodes[kNodeFilter];
+  ++n.stats.statuses;
+  const std::uint32_t mode = st.mode;
+  const auto voting = static_cast<std::uint32_t>(std::popcount(st.voting));
+  const bool fresh_faults = g_fsup.have_status && (st.no_majority != g_fsup.no_majority || st.skipped != g_fsup.skipped);
+  g_fsup.have_status = true;
+  g_fsup.mode = mode;
+  g_fsup.no_majority = st.no_majority;
+  g_fsup.skipped = st.skipped;
+  if (g_fsup.reseed_tmr && mode == kFilterModeSimplex) {
+    g_fsup.reseed_tmr = false;
+    command_filter(c, kCmdFilterTmr);
+  }
+  const fdir::ConstraintState& rel = n.sup.c[kRel];
+  const bool met = rel.level == fdir::kReliabilityHigh ? (mode == kFilterModeTmr && voting >= 2U && !fresh_faults)
+                                                       : mode == kFilterModeSimplex;
+  filter_act(c, fdir::supervisor_judge(kSpecs[kNodeFilter], n.sup, kRel, met));
+}
+
+/** Ticks an unanswered park or wake request waits before it is sent again. */
+constexpr k::Ticks kParkRetryTicks = 200U;
+
+/**
+ * The replicas are needed unless the power policy is save, reliability
+ * normal and the filter simplex: then they are switched off, and on again as
+ * soon as any of that changes. TMR waits for them to boot.
+ */
+void replica_power(const SupervisorsConfig& c) noexcept {
+  const fdir::ConstraintState& rel = g_nodes[kNodeFilter].sup.c[kRel];
+  const bool park = g_fsup.power_save && rel.level == fdir::kReliabilityNormal && rel.phase == fdir::ConstraintPhase::kMet &&
+                    g_fsup.mode == kFilterModeSimplex && !g_fsup.tmr_after_wake;
+  const k::Ticks now = k::now_ticks();
+  for (std::uint32_t i = 0; i < 3U; ++i) {
+    const bool off = ((g_fsup.off >> i) & 1U) != 0U;
+    const std::uint32_t want = park && !off ? 1U : (!park && off ? 2U : 0U);
+    if (want == 0U || (g_fsup.asked[i] == want && now - g_fsup.asked_at[i] < kParkRetryTicks)) {
+      continue;
+    }
+    const bsp::TileId t = udn::endpoint_role_tile(kSlotReplica0 + i, c.replica_tiles[i]);
+    std::array<std::uint32_t, fdir::kParkWords> w{};
+    fdir::pack_park(fdir::ParkRequest{bsp::current_tile(), t, want == 1U, kChanControl}, w);
+    if (t != bsp::kNoTile && udn::endpoint_send(c.health_tile, udn::kFtChanHealth, w, kSendTicks) == udn::FtError::kOk) {
+      g_fsup.asked[i] = want;
+      g_fsup.asked_at[i] = now;
+    }
+  }
+  if (g_fsup.tmr_after_wake && g_fsup.off == 0U) {
+    g_fsup.tmr_after_wake = false;
+    command_filter(c, kCmdFilterTmr);
+  }
+  // Judged once the tile-health supervisor answered every request (a boot takes a few ticks): the
+  // replicas are off when they are not needed, on when they are. Unanswered past the retry, not met.
+  bool answered = true;
+  for (std::uint32_t i = 0; i < 3U; ++i) {
+    answered = answered && (g_fsup.asked[i] == 0U || now - g_fsup.asked_at[i] >= kParkRetryTicks);
+  }
+  if (answered) {
+    const bool met = park ? g_fsup.off == 7U : g_fsup.off == 0U;
+    filter_act(c, fdir::supervisor_judge(kSpecs[kNodeFilter], g_nodes[kNodeFilter].sup, kPow, met));
+  }
+}
+
+/** The tile-health supervisor's answer: a replica is off, or booted again. */
+void filter_park_done(const SupervisorsConfig& c, const fdir::ParkDone& done) noexcept {
+  for (std::uint32_t i = 0; i < 3U; ++i) {
+    if (udn::endpoint_role_tile(kSlotReplica0 + i, c.replica_tiles[i]) != done.tile) {
+      continue;
+    }
+    g_fsup.asked[i] = 0U;
+    if (done.off) {
+      g_fsup.off |= 1U << i;
+      ++g_nodes[kNodeFilter].stats.parks;
+    } else if ((g_fsup.off & (1U << i)) != 0U) {
+      g_fsup.off &= ~(1U << i);
+      ++g_nodes[kNodeFilter].stats.wakes;
+    }
+  }
+}
+
+void filter_messages(const SupervisorsConfig& c) noexcept {
+  udn::FtMessage m{};
+  for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
+    const std::span<const std::uint32_t> w(m.data.data(), m.data_words);
+    FilterStatus status{};
+    fdir::ParkDone done{};
+    fdir::SupMessage sm{};
+    if (unpack_filter_status(w, status)) {
+      filter_status(c, status);
+    } else if (fdir::unpack_park_done(w, done) && m.source == c.health_tile) {
+      filter_park_done(c, done);
+    } else if (sup_message(m, sm) && is_policy(sm, g_nodes[kNodeFilter])) {
+      ++g_nodes[kNodeFilter].stats.policies;
+      // A ground filter_tmr / filter_simplex reached the filter straight from the I/O tile: the
+      // supervisor takes its mode as the policy (until the TRN supervisor sends another) and sends nothing.
+      const bool ground = sm.from == fdir::kFromGround;
+      if (ground) {
+        g_nodes[kNodeFilter].sup.c[sm.constraint] = fdir::ConstraintState{};
+      }
+      filter_act(c, fdir::supervisor_policy(kSpecs[kNodeFilter], g_nodes[kNodeFilter].sup, sm.constraint, sm.level, sm.from),
+                 ground);
+    }
+  }
+  replica_power(c);
+}
+
+// ------------------------------------------------------------------ the vision supervisor
+
+void send_rate(const SupervisorsConfig& c, std::uint32_t div) noexcept {
+  const std::array<std::uint32_t, kVisionRateWords> w{kMsgVisionRate, div};
+  send_words(udn::endpoint_role_tile(kSlotCoordinator, c.coordinator_tile), w);
+  g_nodes[kNodeVision].stats.rate_div = div;
+}
+
+void vision_act(const SupervisorsConfig& c, const fdir::SupDecision& d) noexcept {
+  NodeState& n = g_nodes[kNodeVision];
+  if (d.action == fdir::SupAction::kEscalate) {
+    ++n.stats.escalations;
+    send_escalation(c.trn_tile, d, kNodeVision);
+    return;
+  }
+  if (d.action != fdir::SupAction::kApply) {
+    return;
+  }
+  ++n.stats.applied;
+  send_rate(c, d.alternative == kAltHalfRate ? 2U : 1U);
+}
+
+void vision_status(const SupervisorsConfig& c, const VisionStatus& st) noexcept {
+  NodeState& n = g_nodes[kNodeVision];
+  ++n.stats.statuses;
+  const fdir::ConstraintState& cap = n.sup.c[kCap];
+  if (cap.phase == fdir::ConstraintPhase::kIdle) {
+    // No policy from above yet: the full rate is the default demand.
+    vision_act(c, fdir::supervisor_policy(kSpecs[kNodeVision], n.sup, kCap, fdir::kCapacityFull, fdir::kFromDefault));
+  }
+  if (st.rate_div != n.stats.rate_div) {
+    send_rate(c, n.stats.rate_div);  // a restarted coordinator: the rate again
+  }
+  const std::uint32_t healthy = st.healthy;
+  const std::uint32_t need = cap.level == fdir::kCapacityHalfRate ? c.vision_min_half : c.vision_min_full;
+  vision_act(c, fdir::supervisor_judge(kSpecs[kNodeVision], n.sup, kCap, healthy >= need));
+}
+
+void vision_messages(const SupervisorsConfig& c) noexcept {
+  udn::FtMessage m{};
+  for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
+    VisionStatus status{};
+    fdir::SupMessage sm{};
+    if (unpack_vision_status(std::span<const std::uint32_t>(m.data.data(), m.data_words), status)) {
+      vision_status(c, status);
+    } else if (sup_message(m, sm) && is_policy(sm, g_nodes[kNodeVision]) && sm.constraint == kCap) {
+      ++g_nodes[kNodeVision].stats.policies;
+      vision_act(c, fdir::supervisor_policy(kSpecs[kNodeVision], g_nodes[kNodeVision].sup, kCap, sm.level, sm.from));
+    }
+  }
+}
+
+/** A node's task: its state afresh (a restart starts from the parent's next policy), then its loop. */
+template <void (*Pass)(const SupervisorsConfig&)>
+void node_main(void* arg, std::uint8_t node) noexcept {
+  const auto* cfg = static_cast<const SupervisorsConfig*>(arg);
+  g_nodes[node] = NodeState{};
+  if (cfg == nullptr || !udn::endpoint_wait_ready(100U)) {
+    return;
+  }
+  for (;;) {
+    Pass(*cfg);
+    k::checkin();
+    k::sleep(kSupPeriodTicks);
+  }
+}
+
+void trn_pass(const SupervisorsConfig& c) noexcept {
+  trn_messages(c);
+  const auto now = static_cast<std::uint32_t>(bsp::now() / bsp::tick_cycles());  // mission time, not the tile's since its boot
+  trn_phase(c, now);
+  trn_wake_ahead(c, now);
+  trn_refresh(c, now);
+  // A delegated policy holds until a child escalates.
+  for (std::uint8_t k = 0; k < fdir::kMaxConstraints; ++k) {
+    trn_act(c, fdir::supervisor_judge(kSpecs[kNodeTrn], g_nodes[kNodeTrn].sup, k, true));
+  }
+}
+
+}  // namespace
+
+void trn_supervisor_main(void* arg) noexcept {
+  g_trn = TrnState{};
+  for (auto& child : g_trn.down) {
+    child.fill(kNoLevel);
+  }
+  node_main<&trn_pass>(arg, kNodeTrn);
+}
+
+void filter_supervisor_main(void* arg) noexcept {
+  g_fsup = FilterSupState{};
+  node_main<&filter_messages>(arg, kNodeFilter);
+}
+
+void vision_supervisor_main(void* arg) noexcept { node_main<&vision_messages>(arg, kNodeVision); }
+
+SupervisorStats supervisor_stats(std::uint8_t node) noexcept {
+  return node < g_nodes.size() ? g_nodes[node].stats : SupervisorStats{};
+}
+
+const fdir::SupervisorSpec& supervisor_spec(std::uint8_t node) noexcept {
+  return kSpecs[node < kSpecs.size() ? node : 0U];
+}
+
+}  // namespace trn::tasks

@@ -1,0 +1,252 @@
+/**
+ * @file vision_worker.cpp
+ * @brief A vision tile: runs the work units of the coordinator, answers with matches.
+ */
+#include "trn/tasks/vision/vision_worker.hpp"
+
+#include "bsp_tile64/api/map_product.hpp"
+#include "bsp_tile64/api/memory.hpp"
+#include "fdir/event_log.hpp"
+#include "kernel/kernel.hpp"
+#include "trn/match.hpp"
+#include "trn/tasks/messages.hpp"
+#include "trn/tasks/sdc_points.hpp"
+#include "trn/tasks/vision/vision_shared.hpp"
+#include "udn/endpoint.hpp"
+
+#include <array>
+#include <new>
+
+namespace trn::tasks {
+namespace {
+
+/** Idle poll period of a vision tile: units come once a frame, and each idle wake costs two context switches. */
+constexpr k::Ticks kWorkerIdleTicks = 4;
+
+std::array<VisionWorkerStats, bsp::kMaxTiles> g_worker_stats{};
+
+struct WorkerState {
+  const VisionWorkerConfig* cfg;
+  vision::MapView fine;
+  vision::MapView coarse;
+  vision::LandmarkWorkspace* ws;
+  std::array<std::uint32_t, kResultHeaderWords + kMaxLandmarksPerUnit * kMatchWords> out;
+};
+
+/**
+ * What an upset of the worker's state does (bsp::ControlLayout): its
+ * configuration and workspace pointers, and the views of the map product
+ * (host pointers with their extents and the geometry that maps onto them),
+ * are host state; the result being built is the tile's own (written whole
+ * for each unit before it is sent).
+ */
+constexpr std::array kWorkerFields{
+    BSP_CONTROL_HOST(WorkerState, cfg), BSP_CONTROL_HOST(WorkerState, fine), BSP_CONTROL_HOST(WorkerState, coarse),
+    BSP_CONTROL_HOST(WorkerState, ws),  BSP_CONTROL_STATE(WorkerState, out),
+};
+constexpr bsp::ControlLayout kWorkerLayout{kWorkerFields, sizeof(WorkerState), alignof(WorkerState)};
+static_assert(bsp::control_layout_ok(kWorkerLayout), "every member of WorkerState, pointers as host state");
+
+bool worker_set_up(WorkerState& st) noexcept {
+  const bsp::MapProductHeader* product = bsp::map_product_find();
+  if (product == nullptr || vision::map_view(product, bsp::kMapLayerFine, st.fine) != vision::Status::kOk) {
+    return false;
+  }
+  if (vision::map_view(product, bsp::kMapLayerCoarse, st.coarse) != vision::Status::kOk) {
+    return false;
+  }
+  for (std::size_t i = 0; i < 3U; ++i) {
+    st.fine.descent_sun_m[i] = st.cfg->descent_sun_m[i];
+    st.coarse.descent_sun_m[i] = st.cfg->descent_sun_m[i];
+  }
+  bsp::MemError err = bsp::MemError::kOk;
+  st.ws = bsp::carve_array<vision::LandmarkWorkspace>(bsp::Region{bsp::current_tile()}, 1, "vision_ws", &err);
+  if (err != bsp::MemError::kOk) {
+    return false;
+  }
+  ::new (st.ws) vision::LandmarkWorkspace{};
+  return true;
+}
+
+/** Matches the landmarks of unit @p m; returns the result's length in words (0: bad unit). */
+std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const udn::FtMessage& m) noexcept {
+  const vision::LandmarkTable* table = landmark_table_find();
+  WorkUnit u{};
+  if (!unpack_unit(std::span<const std::uint32_t>(m.data.data(), m.data_words), u) || table == nullptr) {
+    return 0U;
+  }
+  const std::uint32_t n = u.n;
+  vision::PosePrior prior{};
+  prior.t_s = u.t_s;
+  const std::uint32_t width = u.width_px;
+  const std::uint32_t height = u.height_px;
+  for (std::size_t i = 0; i < 3U; ++i) {
+    prior.p_m[i] = u.p_m[i];
+  }
+  for (std::size_t i = 0; i < 4U; ++i) {
+    prior.q_mb[i] = u.q_mb_wxyz[i];
+  }
+  const std::uint8_t* pixels = ddr_at(u.ddr_offset, static_cast<std::uint64_t>(width) * height);
+  if (pixels == nullptr) {
+    return 0U;
+  }
+  const vision::ConstImageU8 image{pixels, static_cast<std::int32_t>(width), static_cast<std::int32_t>(height),
+                                   static_cast<std::int32_t>(width)};
+  std::uint32_t matched = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint16_t index = u.landmark[i];
+    const std::int32_t radius = u.radius_px[i];
+    Match match{};
+    bool accepted = false;
+    vision::LandmarkDiag diag{};
+    bsp::Work work{};
+    const vision::Status s = vision::match_landmark(image, st.cfg->camera, prior, st.fine, *table, index, radius,
+                                                    *st.ws, match, accepted, diag, work);
+    bsp::consume(work);
+    report_correlation_checks(diag.check_failed, diag.recomputes, diag.first_check, index, u.frame);
+    ++stats.landmarks;
+    if (s == vision::Status::kOk && accepted) {
+      match.tile = static_cast<std::uint16_t>(bsp::current_tile());
+      match.frame = u.frame;
+      match.t_s = prior.t_s;
+      pack_match(match, std::span<std::uint32_t, kMatchWords>(st.out.data() + kResultHeaderWords + static_cast<std::size_t>(matched) * kMatchWords,
+                                                              kMatchWords));
+      ++matched;
+    }
+  }
+  st.out[0] = kMsgResult;
+  st.out[1] = u.frame;
+  st.out[2] = u.unit;
+  st.out[3] = n;
+  st.out[4] = matched;
+  stats.matches += matched;
+  return kResultHeaderWords + matched * kMatchWords;
+}
+
+/** A band of the coarse map to relight into the shared copy; answered when done. */
+void relight_request(WorkerState& st, VisionWorkerStats& stats, bsp::TileId from, const RelightBand& band) noexcept {
+  const std::uint8_t* relit = ddr_find(kRelitCarveName);
+  const vision::ConstImageU8 src = st.coarse.image;
+  const std::int32_t row0 = band.row0;
+  const std::int32_t rows = band.rows;
+  // The copy is the coordinator's carve, laid out like the layer.
+  const vision::ImageU8 dst{const_cast<std::uint8_t*>(relit), src.width, src.height, src.width};  // NOLINT(cppcoreguidelines-pro-type-const-cast): shared DDR buffer
+  if (relit == nullptr || !relight_band(st.coarse, st.cfg->descent_sun_m, dst, row0, rows)) {
+    ++stats.bad_units;
+    return;
+  }
+  std::array<std::uint32_t, kRelightWords> w{};
+  pack_relight(kMsgRelightDone, band, w);
+  if (udn::endpoint_send(from, kChanResult, w, kVisionSendTicks) != udn::FtError::kOk) {
+    ++stats.send_failed;
+  }
+}
+
+/** Why a band request could not be computed (CoarseBandDone::status beyond vision::Status). */
+constexpr std::uint32_t kBandNoSlot = 0xF0U;       ///< no slot or no coarse workspace in DDR
+constexpr std::uint32_t kBandBadLayout = 0xF1U;    ///< the request does not describe the workspace's images
+
+/**
+ * A band of the coarse stage's surface: the decimated template over the
+ * decimated map region, both in the coordinator's coarse workspace (DDR),
+ * computed and checked into the band's slot; answered with what the checks found.
+ */
+void coarse_band_request(VisionWorkerStats& stats, bsp::TileId from, const CoarseBand& b) noexcept {
+  CoarseBandSlot* slot = b.slot < kMaxCoarseBands ? coarse_band_slot(b.slot) : nullptr;
+  const auto* ws = reinterpret_cast<const vision::CoarseFrameWorkspace*>(  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): carve bytes
+      ddr_find(kCoarseWsCarveName));
+  CoarseBandDone done{};
+  done.frame = b.frame;
+  done.row0 = b.row0;
+  done.rows = b.rows;
+  if (slot == nullptr || ws == nullptr) {
+    done.status = kBandNoSlot;
+  } else {
+    const vision::ConstImageU8 window = ws->coarse.map_small.cview();
+    const vision::ConstImageU8 small = ws->coarse.image_small.cview();
+    const vision::ConstImageU8 tmpl = small.sub(b.tmpl_x, b.tmpl_y, b.tmpl_w, b.tmpl_h);
+    if (window.width != b.window_w || window.height != b.window_h || !tmpl.valid()) {
+      done.status = kBandBadLayout;
+    } else {
+      vision::BandResult r{};
+      bsp::Work work{};
+      const vision::Status s = vision::correlate_band(tmpl, window, b.row0, b.rows, slot->buffers(), r, work);
+      bsp::consume(work);
+      report_correlation_checks(r.check_failed, r.recomputes, r.first_check, kCoarseLandmark, b.frame);
+      done.status = static_cast<std::uint32_t>(s);
+      done.flat_windows = r.flat_windows;
+      done.digest = r.digest;
+      done.recomputes = r.recomputes;
+      done.check_failed = r.check_failed;
+      done.first_check = static_cast<std::uint32_t>(r.first_check);
+      if (s == vision::Status::kOk) {
+        // The band as it leaves, after its checks: where a corrupted output is injected.
+        (void)bsp::publish_filter(kCoarseBandChannel, slot->surface,
+                                  static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.rows) * sizeof(float));
+      }
+    }
+  }
+  ++stats.coarse_bands;
+  std::array<std::uint32_t, kCoarseBandDoneWords> w{};
+  pack_coarse_band_done(done, w);
+  if (udn::endpoint_send(from, kChanResult, w, kVisionSendTicks) != udn::FtError::kOk) {
+    ++stats.send_failed;
+  }
+}
+
+}  // namespace
+
+void vision_worker_main(void* arg) noexcept {
+  const bsp::TileId self = bsp::current_tile();
+  VisionWorkerStats& stats = g_worker_stats[self];
+  stats = VisionWorkerStats{};
+  const auto* cfg = static_cast<const VisionWorkerConfig*>(arg);
+  bsp::MemError err = bsp::MemError::kOk;
+  auto* st = bsp::carve_control_array<WorkerState>(bsp::Region{self}, 1, kVisionWorkerCarve, &err, &kWorkerLayout);
+  if (cfg == nullptr || err != bsp::MemError::kOk || !udn::endpoint_wait_ready(100)) {
+    return;
+  }
+  ::new (st) WorkerState{};
+  st->cfg = cfg;
+  if (!worker_set_up(*st)) {
+    return;
+  }
+  udn::FtMessage m{};
+  for (;;) {
+    k::checkin();
+    if (udn::endpoint_receive(kChanControl, m) != udn::FtError::kOk) {
+      k::sleep(kWorkerIdleTicks);
+      continue;
+    }
+    CoarseBand coarse{};
+    if (unpack_coarse_band(std::span<const std::uint32_t>(m.data.data(), m.data_words), coarse)) {
+      coarse_band_request(stats, m.source, coarse);
+      continue;
+    }
+    RelightBand band{};
+    if (unpack_relight(kMsgRelight, std::span<const std::uint32_t>(m.data.data(), m.data_words), band)) {
+      relight_request(*st, stats, m.source, band);
+      continue;
+    }
+    const std::uint32_t words = run_unit(*st, stats, m);
+    if (words == 0U) {
+      ++stats.bad_units;
+      continue;
+    }
+    ++stats.units;
+    // The result as sent is a published result: where a corrupted match is injected.
+    (void)bsp::publish_filter(kVisionMatchesChannel, st->out.data(), std::size_t{words} * sizeof(std::uint32_t));
+    if (udn::endpoint_send(m.source, kChanResult, std::span<const std::uint32_t>(st->out.data(), words), kVisionSendTicks) !=
+        udn::FtError::kOk) {
+      ++stats.send_failed;
+    }
+  }
+}
+
+VisionWorkerStats vision_worker_stats(bsp::TileId tile) noexcept {
+  return tile < bsp::kMaxTiles ? g_worker_stats[tile] : VisionWorkerStats{};
+}
+
+const bsp::ControlLayout& vision_worker_state_layout() noexcept { return kWorkerLayout; }
+
+}  // namespace trn::tasks

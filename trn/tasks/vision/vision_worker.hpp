@@ -1,0 +1,47 @@
+/**
+ * @file vision_worker.hpp
+ * @brief A vision tile: matches the landmarks of the work units the coordinator sends.
+ *
+ * Waits for units (kChanControl), matches each landmark (trn/vision/frame.hpp)
+ * in the frame in shared DDR, charges the work, and answers with the matches
+ * (kChanResult). At the coordinator's start it also relights the bands of the
+ * coarse layer it is asked for (kMsgRelight) and answers when done; in a
+ * coarse frame it computes the bands of the coarse surface it is sent
+ * (kMsgCoarseBand) into its slot in DDR and answers with their digests.
+ */
+#pragma once
+
+#include "bsp_tile64/api/camera_model.hpp"
+#include "bsp_tile64/api/memory.hpp"
+#include "bsp_tile64/api/port.hpp"
+
+#include <cstdint>
+
+namespace trn::tasks {
+
+struct VisionWorkerConfig {
+  bsp::CameraModel camera{};
+  double descent_sun_m[3] = {0.0, 0.0, 0.0};  ///< unit vector to the descent sun, map frame (mission knowledge)
+  bsp::TileId coordinator = bsp::kNoTile;
+};
+
+struct VisionWorkerStats {
+  std::uint32_t units;
+  std::uint32_t landmarks;
+  std::uint32_t matches;
+  std::uint32_t coarse_bands;  ///< bands of the coarse stage's surface computed (kMsgCoarseBand)
+  std::uint32_t bad_units;
+  std::uint32_t send_failed;
+};
+
+/** Vision tile entry (arg: const VisionWorkerConfig*). */
+void vision_worker_main(void* arg) noexcept;
+
+/** Name of a vision tile's task state carve, and its layout (bsp::ControlLayout: what an upset of it does). [host] */
+inline constexpr const char* kVisionWorkerCarve = "vision_task";
+const bsp::ControlLayout& vision_worker_state_layout() noexcept;
+
+/** Counters of the vision task on @p tile. [host] */
+VisionWorkerStats vision_worker_stats(bsp::TileId tile) noexcept;
+
+}  // namespace trn::tasks
