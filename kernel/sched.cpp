@@ -58,6 +58,86 @@ bool outgoing_ok(KernelState& ks) noexcept {
   return false;
 }
 
+/** Traces a repair of the kernel's own state: @p what (TraceKind::kKernelStateBad), task or level @p which. */
+void repaired(std::uint32_t what, std::uint32_t which) noexcept {
+  trace_event(static_cast<std::uint16_t>(TraceKind::kKernelStateBad), static_cast<TaskId>(what),
+              static_cast<TaskId>(which));
+}
+
+/** True if ready level @p p is a well-formed FIFO of ready tasks of that priority, as the bitmap says. */
+bool level_ok(const KernelState& ks, std::uint32_t p) noexcept {
+  const Fifo& q = ks.ready[p];
+  const bool marked = ((ks.ready_bitmap >> p) & 1U) != 0U;
+  if (q.head == kNoTask || q.tail == kNoTask) {
+    return q.head == q.tail && !marked;
+  }
+  TaskId id = q.head;
+  for (std::uint32_t n = 0; n < ks.task_count; ++n) {
+    if (id >= ks.task_count || ks.tcbs[id].state != TaskState::kReady || ks.tcbs[id].priority != p) {
+      return false;
+    }
+    if (id == q.tail) {
+      return marked && ks.tcbs[id].next_ready == kNoTask;
+    }
+    id = ks.tcbs[id].next_ready;
+  }
+  return false;  // a cycle, or the tail never reached
+}
+
+/** The ready queues again from the tasks' states: every ready task but the running one, by id. */
+void rebuild_ready(KernelState& ks) noexcept {
+  ks.ready.fill(Fifo{});
+  ks.ready_bitmap = 0U;
+  for (std::uint32_t i = 0; i < ks.task_count; ++i) {
+    if (i != ks.current && ks.tcbs[i].state == TaskState::kReady) {
+      ready_push(ks, static_cast<TaskId>(i));
+    }
+  }
+}
+
+/**
+ * The kernel state lives in the tile's RAM and can take an upset. At each
+ * scheduler entry, before its indices are followed: the task count, the idle
+ * task and the tile against the task table the tile booted (kept outside its
+ * RAM), each task's priority (its table entry) and id, and the ready queues
+ * (rebuilt from the tasks' states when one is not a well-formed FIFO). Each
+ * repair is traced (kKernelStateBad). Whole state costs no emulated time.
+ */
+void check_kernel(KernelState& ks, bsp::TileId tile) noexcept {
+  const auto count = static_cast<std::uint32_t>(g_slots[tile].table.size()) + 1U;
+  if (ks.task_count != count) {
+    repaired(1U, 0U);
+    ks.task_count = count;
+  }
+  if (ks.idle != count - 1U) {
+    repaired(2U, 0U);
+    ks.idle = static_cast<TaskId>(count - 1U);
+  }
+  if (ks.tile != tile) {
+    repaired(3U, 0U);
+    ks.tile = tile;
+  }
+  for (std::uint32_t i = 0; i < count; ++i) {
+    Tcb& t = ks.tcbs[i];
+    if (t.priority != t.spec->priority) {
+      repaired(4U, i);
+      t.priority = t.spec->priority;
+    }
+    if (t.id != i) {
+      repaired(5U, i);
+      t.id = static_cast<TaskId>(i);
+    }
+  }
+  bool queues_ok = true;
+  for (std::uint32_t p = 0; p < config::kNumPriorities && queues_ok; ++p) {
+    queues_ok = level_ok(ks, p);
+  }
+  if (!queues_ok) {
+    repaired(6U, 0U);
+    rebuild_ready(ks);
+  }
+}
+
 /** Switches from the current task to @p next (a different task). Irqs masked. */
 void switch_to(KernelState& ks, TaskId next) noexcept {
   Tcb& from = ks.tcbs[ks.current];
@@ -80,6 +160,7 @@ void switch_to(KernelState& ks, TaskId next) noexcept {
  */
 void run_next(KernelState& ks) noexcept {
   (void)outgoing_ok(ks);
+  check_kernel(ks, bsp::current_tile());
   switch_to(ks, ready_pop(ks));
 }
 
@@ -89,10 +170,13 @@ void task_trampoline(void* arg) noexcept {
   t->spec->entry(t->spec->arg);
   (void)bsp::mask_irqs(true);
   KernelState* ks = current_kernel();
-  t->state = TaskState::kDormant;
   trace_event(static_cast<std::uint16_t>(TraceKind::kTaskExit), t->id, t->id);
-  run_next(*ks);
-  // A dormant task is never resumed.
+  // A dormant task is never resumed; were an upset of its state to make it ready, it goes dormant
+  // again here instead of returning off its context.
+  for (;;) {
+    t->state = TaskState::kDormant;
+    run_next(*ks);
+  }
 }
 
 void idle_main(void* /*arg*/) noexcept {
@@ -145,7 +229,7 @@ Status make_task(KernelState& ks, const TaskSpec& spec, TaskId id) noexcept {
 Status build_kernel(TaskTable table, bsp::Cycles tick_cycles, KernelState*& out) noexcept {
   const bsp::TileId tile = bsp::current_tile();
   bsp::MemError err = bsp::MemError::kOk;
-  auto* ks = bsp::carve_control_array<KernelState>(bsp::Region{tile}, 1, "kernel state", &err);
+  auto* ks = bsp::carve_control_array<KernelState>(bsp::Region{tile}, 1, "kernel state", &err, &kKernelStateLayout);
   if (err != bsp::MemError::kOk) {
     return Status::kNoMemory;
   }
@@ -300,6 +384,7 @@ void reschedule() noexcept {
     return;  // not on a tile (host code): nothing to schedule
   }
   KernelState& ks = *kp;
+  check_kernel(ks, bsp::current_tile());
   const Tcb& cur = ks.tcbs[ks.current];
   if (cur.spec->policy == Policy::kCooperative) {
     return;  // a cooperative task keeps the CPU until it blocks or yields
@@ -365,6 +450,7 @@ void irq_handler(bsp::TileId tile, bsp::Irq irq) noexcept {
   // from it (reschedule below); its line went cold while other tiles ran.
   __builtin_prefetch(ks->tcbs[ks->current].stack);
   if (irq == bsp::Irq::kTimer) {
+    check_kernel(*ks, tile);
     ++ks->ticks;
     tick_tasks(*ks);
   } else {
@@ -437,6 +523,7 @@ void yield() noexcept {
   }
   const bool m = bsp::mask_irqs(true);
   KernelState& ks = *detail::current_kernel();
+  detail::check_kernel(ks, bsp::current_tile());
   if (!detail::outgoing_ok(ks)) {
     detail::switch_to(ks, detail::ready_pop(ks));
   } else {
@@ -548,7 +635,8 @@ std::uint32_t task_count(bsp::TileId tile) noexcept {
   if (tile >= bsp::kMaxTiles || detail::g_slots[tile].ks == nullptr) {
     return 0;
   }
-  return detail::g_slots[tile].ks->task_count;
+  const std::uint32_t n = detail::g_slots[tile].ks->task_count;
+  return n < config::kMaxTasks ? n : config::kMaxTasks;  // an upset count, until the kernel's next check
 }
 
 Status task_stats(bsp::TileId tile, TaskId id, TaskStats* out) noexcept {
