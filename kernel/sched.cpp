@@ -22,10 +22,11 @@ namespace detail {
 namespace {
 
 struct TileSlot {
-  TaskTable table;
+  TaskTable table;  ///< the table the tile boots next (a spare is given its role's before its reset)
   bsp::Cycles tick_cycles;
   KernelState* ks;
   bool in_isr;
+  std::uint32_t booted_tasks;  ///< tasks of the kernel running now, idle included (check_kernel's reference)
 };
 
 std::array<TileSlot, bsp::kMaxTiles> g_slots{};
@@ -98,13 +99,14 @@ void rebuild_ready(KernelState& ks) noexcept {
 /**
  * The kernel state lives in the tile's RAM and can take an upset. At each
  * scheduler entry, before its indices are followed: the task count, the idle
- * task and the tile against the task table the tile booted (kept outside its
- * RAM), each task's priority (its table entry) and id, and the ready queues
- * (rebuilt from the tasks' states when one is not a well-formed FIFO). Each
- * repair is traced (kKernelStateBad). Whole state costs no emulated time.
+ * task and the tile against the kernel the tile started (its task count kept
+ * outside its RAM by start(); the table for the next boot may already be
+ * another), each task's priority (its table entry) and id, and the ready
+ * queues (rebuilt from the tasks' states when one is not a well-formed FIFO).
+ * Each repair is traced (kKernelStateBad). Whole state costs no emulated time.
  */
 void check_kernel(KernelState& ks, bsp::TileId tile) noexcept {
-  const auto count = static_cast<std::uint32_t>(g_slots[tile].table.size()) + 1U;
+  const std::uint32_t count = g_slots[tile].booted_tasks;
   if (ks.task_count != count) {
     repaired(1U, 0U);
     ks.task_count = count;
@@ -504,6 +506,7 @@ Status start(TaskTable table, bsp::Cycles tick_cycles) noexcept {
     return s;
   }
   detail::g_slots[tile].ks = ks;
+  detail::g_slots[tile].booted_tasks = ks->task_count;
   detail::trace_event(static_cast<std::uint16_t>(TraceKind::kStart), 0, 0);
   // Release every task at tick 0: periodic ones start their first job now.
   bsp::set_irq_handler(tile, &detail::irq_handler);
