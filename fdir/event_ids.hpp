@@ -50,6 +50,7 @@ enum class EventId : std::uint16_t {
   kTransitLost = 0x010B,
   kTransitBack = 0x010C,
   kPacketSettled = 0x010D,
+  kEndpointStateBad = 0x010E,
   // ---- network health (fdir/net_health)
   kSuspectVote = 0x0201,
   kSwitchFailed = 0x0202,
@@ -151,7 +152,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 51> kEventTable{{
+inline constexpr std::array<EventInfo, 52> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kPacket, Accused::kNobody,
      "source tile / channel / seq",
      "packet from tile {s} corrected by its SECDED code (channel {c}, seq {a})"},
@@ -198,6 +199,15 @@ inline constexpr std::array<EventInfo, 51> kEventTable{{
      "packet to tile {s} given up (channel {a}, seq {b}) was {c|not delivered: the receiver skipped "
      "it|not delivered: the receiver skipped it|delivered: only its ACKs were lost|not delivered: the "
      "receiver skipped it}"},
+    {EventId::kEndpointStateBad, "endpoint_state_bad", Severity::kWarningHi, kStepDetect | kStepRecover, Diagnosis::kMemoryUpset, Accused::kWriter,
+     "part (1 route table, 2 the node's tile, 3 epoch, 4 send slot, 5 send window count, 6 receive queue, 7 "
+     "queues-ready bits, 8 a queued message, 9 forward slot, 10 SYNC slot, 11 fault map, 12 reports to send, 13 "
+     "transit probes, 14 neighbour probe; udn::FtRepair) / the part's index / the value found: an index, count or "
+     "length of the tile's messaging endpoint that no valid state holds (an upset of its RAM); that part reset "
+     "(docs/FT_MESSAGING.md)",
+     "messaging endpoint state upset: {s|?|route table|node's tile|epoch|send slot|send window count|receive "
+     "queue|queues-ready bits|queued message|forward slot|SYNC slot|fault map|reports to send|transit probes|neighbour "
+     "probe|?} {c} held {a}: reset"},
     {EventId::kSuspectVote, "suspect_vote", Severity::kWarningLo, kStepDetect, Diagnosis::kSuspicion, Accused::kSubject,
      "suspect / reporter / votes / votes needed",
      "tile {c} reports tile {s} (vote {a} of {b})"},

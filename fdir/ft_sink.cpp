@@ -29,6 +29,7 @@ void on_ft_event(void* /*ctx*/, bsp::TileId /*tile*/, const udn::FtEvent& e) noe
     case udn::FtCause::kMapPushed: report(EventId::kMapPushed, peer, 0U, e.word); break;
     case udn::FtCause::kTransitLost: report(EventId::kTransitLost, peer, 0U); break;
     case udn::FtCause::kTransitBack: report(EventId::kTransitBack, peer, 0U); break;
+    case udn::FtCause::kStateRepaired: report(EventId::kEndpointStateBad, e.channel, e.peer, e.word); break;
   }
 }
 

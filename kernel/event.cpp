@@ -59,7 +59,8 @@ void EventFlags::set_masked(std::uint32_t bits) noexcept {
   }
   // Wake every satisfied waiter; each woken one is removed, so walk from the head.
   TaskId id = waiters_.head;
-  for (std::uint32_t n = 0; id != kNoTask && n < config::kMaxTasks; ++n) {
+  // A link past the tasks (an upset of the list or of a task block) ends the walk: those behind it time out.
+  for (std::uint32_t n = 0; id < ks->task_count && id < config::kMaxTasks && n < config::kMaxTasks; ++n) {
     const detail::Tcb& t = ks->tcbs[id];
     const TaskId next = t.next_waiter;
     const WaitMode mode = t.wait_mode_all ? WaitMode::kAll : WaitMode::kAny;

@@ -22,10 +22,11 @@ namespace detail {
 namespace {
 
 struct TileSlot {
-  TaskTable table;
+  TaskTable table;  ///< the table the tile boots next (a spare is given its role's before its reset)
   bsp::Cycles tick_cycles;
   KernelState* ks;
   bool in_isr;
+  std::uint32_t booted_tasks;  ///< tasks of the kernel running now, idle included (check_kernel's reference)
 };
 
 std::array<TileSlot, bsp::kMaxTiles> g_slots{};
@@ -58,6 +59,87 @@ bool outgoing_ok(KernelState& ks) noexcept {
   return false;
 }
 
+/** Traces a repair of the kernel's own state: @p what (TraceKind::kKernelStateBad), task or level @p which. */
+void repaired(std::uint32_t what, std::uint32_t which) noexcept {
+  trace_event(static_cast<std::uint16_t>(TraceKind::kKernelStateBad), static_cast<TaskId>(what),
+              static_cast<TaskId>(which));
+}
+
+/** True if ready level @p p is a well-formed FIFO of ready tasks of that priority, as the bitmap says. */
+bool level_ok(const KernelState& ks, std::uint32_t p) noexcept {
+  const Fifo& q = ks.ready[p];
+  const bool marked = ((ks.ready_bitmap >> p) & 1U) != 0U;
+  if (q.head == kNoTask || q.tail == kNoTask) {
+    return q.head == q.tail && !marked;
+  }
+  TaskId id = q.head;
+  for (std::uint32_t n = 0; n < ks.task_count; ++n) {
+    if (id >= ks.task_count || ks.tcbs[id].state != TaskState::kReady || ks.tcbs[id].priority != p) {
+      return false;
+    }
+    if (id == q.tail) {
+      return marked && ks.tcbs[id].next_ready == kNoTask;
+    }
+    id = ks.tcbs[id].next_ready;
+  }
+  return false;  // a cycle, or the tail never reached
+}
+
+/** The ready queues again from the tasks' states: every ready task but the running one, by id. */
+void rebuild_ready(KernelState& ks) noexcept {
+  ks.ready.fill(Fifo{});
+  ks.ready_bitmap = 0U;
+  for (std::uint32_t i = 0; i < ks.task_count; ++i) {
+    if (i != ks.current && ks.tcbs[i].state == TaskState::kReady) {
+      ready_push(ks, static_cast<TaskId>(i));
+    }
+  }
+}
+
+/**
+ * The kernel state lives in the tile's RAM and can take an upset. At each
+ * scheduler entry, before its indices are followed: the task count, the idle
+ * task and the tile against the kernel the tile started (its task count kept
+ * outside its RAM by start(); the table for the next boot may already be
+ * another), each task's priority (its table entry) and id, and the ready
+ * queues (rebuilt from the tasks' states when one is not a well-formed FIFO).
+ * Each repair is traced (kKernelStateBad). Whole state costs no emulated time.
+ */
+void check_kernel(KernelState& ks, bsp::TileId tile) noexcept {
+  const std::uint32_t count = g_slots[tile].booted_tasks;
+  if (ks.task_count != count) {
+    repaired(1U, 0U);
+    ks.task_count = count;
+  }
+  if (ks.idle != count - 1U) {
+    repaired(2U, 0U);
+    ks.idle = static_cast<TaskId>(count - 1U);
+  }
+  if (ks.tile != tile) {
+    repaired(3U, 0U);
+    ks.tile = tile;
+  }
+  for (std::uint32_t i = 0; i < count; ++i) {
+    Tcb& t = ks.tcbs[i];
+    if (t.priority != t.spec->priority) {
+      repaired(4U, i);
+      t.priority = t.spec->priority;
+    }
+    if (t.id != i) {
+      repaired(5U, i);
+      t.id = static_cast<TaskId>(i);
+    }
+  }
+  bool queues_ok = true;
+  for (std::uint32_t p = 0; p < config::kNumPriorities && queues_ok; ++p) {
+    queues_ok = level_ok(ks, p);
+  }
+  if (!queues_ok) {
+    repaired(6U, 0U);
+    rebuild_ready(ks);
+  }
+}
+
 /** Switches from the current task to @p next (a different task). Irqs masked. */
 void switch_to(KernelState& ks, TaskId next) noexcept {
   Tcb& from = ks.tcbs[ks.current];
@@ -80,6 +162,7 @@ void switch_to(KernelState& ks, TaskId next) noexcept {
  */
 void run_next(KernelState& ks) noexcept {
   (void)outgoing_ok(ks);
+  check_kernel(ks, bsp::current_tile());
   switch_to(ks, ready_pop(ks));
 }
 
@@ -89,10 +172,13 @@ void task_trampoline(void* arg) noexcept {
   t->spec->entry(t->spec->arg);
   (void)bsp::mask_irqs(true);
   KernelState* ks = current_kernel();
-  t->state = TaskState::kDormant;
   trace_event(static_cast<std::uint16_t>(TraceKind::kTaskExit), t->id, t->id);
-  run_next(*ks);
-  // A dormant task is never resumed.
+  // A dormant task is never resumed; were an upset of its state to make it ready, it goes dormant
+  // again here instead of returning off its context.
+  for (;;) {
+    t->state = TaskState::kDormant;
+    run_next(*ks);
+  }
 }
 
 void idle_main(void* /*arg*/) noexcept {
@@ -145,7 +231,7 @@ Status make_task(KernelState& ks, const TaskSpec& spec, TaskId id) noexcept {
 Status build_kernel(TaskTable table, bsp::Cycles tick_cycles, KernelState*& out) noexcept {
   const bsp::TileId tile = bsp::current_tile();
   bsp::MemError err = bsp::MemError::kOk;
-  auto* ks = bsp::carve_control_array<KernelState>(bsp::Region{tile}, 1, "kernel state", &err);
+  auto* ks = bsp::carve_control_array<KernelState>(bsp::Region{tile}, 1, "kernel state", &err, &kKernelStateLayout);
   if (err != bsp::MemError::kOk) {
     return Status::kNoMemory;
   }
@@ -300,6 +386,7 @@ void reschedule() noexcept {
     return;  // not on a tile (host code): nothing to schedule
   }
   KernelState& ks = *kp;
+  check_kernel(ks, bsp::current_tile());
   const Tcb& cur = ks.tcbs[ks.current];
   if (cur.spec->policy == Policy::kCooperative) {
     return;  // a cooperative task keeps the CPU until it blocks or yields
@@ -365,6 +452,7 @@ void irq_handler(bsp::TileId tile, bsp::Irq irq) noexcept {
   // from it (reschedule below); its line went cold while other tiles ran.
   __builtin_prefetch(ks->tcbs[ks->current].stack);
   if (irq == bsp::Irq::kTimer) {
+    check_kernel(*ks, tile);
     ++ks->ticks;
     tick_tasks(*ks);
   } else {
@@ -418,6 +506,7 @@ Status start(TaskTable table, bsp::Cycles tick_cycles) noexcept {
     return s;
   }
   detail::g_slots[tile].ks = ks;
+  detail::g_slots[tile].booted_tasks = ks->task_count;
   detail::trace_event(static_cast<std::uint16_t>(TraceKind::kStart), 0, 0);
   // Release every task at tick 0: periodic ones start their first job now.
   bsp::set_irq_handler(tile, &detail::irq_handler);
@@ -437,6 +526,7 @@ void yield() noexcept {
   }
   const bool m = bsp::mask_irqs(true);
   KernelState& ks = *detail::current_kernel();
+  detail::check_kernel(ks, bsp::current_tile());
   if (!detail::outgoing_ok(ks)) {
     detail::switch_to(ks, detail::ready_pop(ks));
   } else {
@@ -548,7 +638,8 @@ std::uint32_t task_count(bsp::TileId tile) noexcept {
   if (tile >= bsp::kMaxTiles || detail::g_slots[tile].ks == nullptr) {
     return 0;
   }
-  return detail::g_slots[tile].ks->task_count;
+  const std::uint32_t n = detail::g_slots[tile].ks->task_count;
+  return n < config::kMaxTasks ? n : config::kMaxTasks;  // an upset count, until the kernel's next check
 }
 
 Status task_stats(bsp::TileId tile, TaskId id, TaskStats* out) noexcept {

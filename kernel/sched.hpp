@@ -38,6 +38,13 @@ enum class TraceKind : std::uint16_t {
   kStackOverflow, ///< a: task
   kTaskExit,      ///< a: task
   kWaitListCut,   ///< a: the link that named no waiter (an upset wait list), b: the running task
+  /**
+   * The kernel's own state held a value no valid state holds (an upset of its
+   * RAM), repaired: a: what (1 task count, 2 idle task, 3 tile, 4 a task's
+   * priority, 5 a task's id, 6 the ready queues, rebuilt), b: the task or the
+   * priority level (0 for the first three).
+   */
+  kKernelStateBad,
 };
 
 /** Registers the task table and tick of a tile, used by boot_entry(). [host] */

@@ -49,6 +49,59 @@ struct Endpoint {
   bool twin_known;              ///< false: to be found again (the routes changed)
 };
 
+/*
+ * What an upset of an endpoint does (bsp::ControlLayout): it is the tile's own
+ * state (node, map, probe, reports, transits, directory) but for its
+ * configuration's address and the node's and the probe's host members. Every
+ * index and count in it is checked at each entry (check_endpoint, and the
+ * node's own checks): a value no valid state holds resets its part, counted
+ * and reported (FtCause::kStateRepaired).
+ */
+constexpr std::array kTransitProbeFields{BSP_CONTROL_STATE(TransitProbe, target), BSP_CONTROL_STATE(TransitProbe, nonce),
+                                         BSP_CONTROL_STATE(TransitProbe, misses), BSP_CONTROL_STATE(TransitProbe, lost),
+                                         BSP_CONTROL_STATE(TransitProbe, report_owed)};
+constexpr bsp::ControlLayout kTransitProbeLayout{kTransitProbeFields, sizeof(TransitProbe), alignof(TransitProbe)};
+static_assert(bsp::control_layout_ok(kTransitProbeLayout), "every member of TransitProbe");
+
+constexpr std::array kProbeConfigFields{BSP_CONTROL_STATE(ProbeConfig, miss_threshold)};
+constexpr bsp::ControlLayout kProbeConfigLayout{kProbeConfigFields, sizeof(ProbeConfig), alignof(ProbeConfig)};
+static_assert(bsp::control_layout_ok(kProbeConfigLayout), "every member of ProbeConfig");
+
+constexpr std::array kProbeFields{
+    BSP_CONTROL_NESTED(FtProbe, config, kProbeConfigLayout), BSP_CONTROL_HOST(FtProbe, hook),
+    BSP_CONTROL_HOST(FtProbe, hook_ctx),                     BSP_CONTROL_STATE(FtProbe, neighbour),
+    BSP_CONTROL_STATE(FtProbe, misses),                      BSP_CONTROL_STATE(FtProbe, nonce),
+    BSP_CONTROL_STATE(FtProbe, reported),                    BSP_CONTROL_STATE(FtProbe, round),
+};
+constexpr bsp::ControlLayout kProbeLayout{kProbeFields, sizeof(FtProbe), alignof(FtProbe)};
+static_assert(bsp::control_layout_ok(kProbeLayout), "every member of FtProbe");
+
+constexpr std::array kRoleDirectoryFields{BSP_CONTROL_STATE(RoleDirectory, tile), BSP_CONTROL_STATE(RoleDirectory, version)};
+constexpr bsp::ControlLayout kRoleDirectoryLayout{kRoleDirectoryFields, sizeof(RoleDirectory), alignof(RoleDirectory)};
+static_assert(bsp::control_layout_ok(kRoleDirectoryLayout), "every member of RoleDirectory");
+
+constexpr std::array kEndpointFields{
+    BSP_CONTROL_NESTED(Endpoint, node, kFtNodeLayout),
+    BSP_CONTROL_NESTED(Endpoint, map, kFaultMapLayout),
+    BSP_CONTROL_HOST(Endpoint, cfg),
+    BSP_CONTROL_NESTED(Endpoint, probe, kProbeLayout),
+    BSP_CONTROL_STATE(Endpoint, probing),
+    BSP_CONTROL_STATE(Endpoint, pushed),
+    BSP_CONTROL_STATE(Endpoint, behind),
+    BSP_CONTROL_STATE(Endpoint, pending),
+    BSP_CONTROL_STATE(Endpoint, pending_count),
+    BSP_CONTROL_STATE(Endpoint, local_links),
+    BSP_CONTROL_NESTED(Endpoint, transit, kTransitProbeLayout),
+    BSP_CONTROL_STATE(Endpoint, transit_count),
+    BSP_CONTROL_NESTED(Endpoint, roles, kRoleDirectoryLayout),
+    BSP_CONTROL_STATE(Endpoint, parked),
+    BSP_CONTROL_STATE(Endpoint, parked_serial),
+    BSP_CONTROL_STATE(Endpoint, twin),
+    BSP_CONTROL_STATE(Endpoint, twin_known),
+};
+constexpr bsp::ControlLayout kEndpointLayout{kEndpointFields, sizeof(Endpoint), alignof(Endpoint)};
+static_assert(bsp::control_layout_ok(kEndpointLayout), "every member of Endpoint");
+
 /** Per-tile pointer to the carve (a tile's base register); reset with the tile by its service start. */
 std::array<Endpoint*, bsp::kMaxTiles> g_ep{};
 
@@ -164,18 +217,39 @@ bool install(Endpoint& ep, const FaultMap& map, bsp::TileId from) noexcept {
   return true;
 }
 
+/** The map the tile starts from: the configuration's, or an all-clear one of the network's grid. @return false if none. */
+bool take_boot_map(Endpoint& ep) noexcept {
+  ep.map = ep.cfg->boot_map;
+  const std::uint32_t cols = bsp::udn_grid_cols();
+  return ep.map.cols != 0U || (cols != 0U && fault_map_init(ep.map, cols, bsp::udn_grid_rows()) == RouteError::kOk);
+}
+
+/** The transit probes of tile @p self from the configuration, none outstanding. */
+void plan_transits(Endpoint& ep, bsp::TileId self) noexcept {
+  const EndpointConfig& cfg = *ep.cfg;
+  const std::uint64_t targets = cfg.transit_targets[self];
+  // One transit per tick of the probe period, after the tick of the neighbour pings.
+  const std::uint32_t room = cfg.probe_period_ticks > 1U ? cfg.probe_period_ticks - 1U : 0U;
+  const std::uint32_t most = room < kMaxTransitTargets ? room : kMaxTransitTargets;
+  ep.transit_count = 0U;
+  for (std::uint32_t t = 0; t < kRouteMaxTiles && ep.transit_count < most; ++t) {
+    if (((targets >> t) & 1ULL) != 0ULL && t != self) {
+      ep.transit[ep.transit_count] = TransitProbe{static_cast<bsp::TileId>(t), 0U, 0U, false, false};
+      ++ep.transit_count;
+    }
+  }
+}
+
 bool open(Endpoint*& out, bsp::TileId self, const EndpointConfig& cfg) noexcept {
   bsp::MemError err = bsp::MemError::kOk;
-  auto* ep = bsp::carve_control_array<Endpoint>(bsp::Region{self}, 1, "endpoint", &err);
+  auto* ep = bsp::carve_control_array<Endpoint>(bsp::Region{self}, 1, kEndpointCarve, &err, &kEndpointLayout);
   if (err != bsp::MemError::kOk || ep == nullptr) {
     return false;
   }
   ::new (ep) Endpoint{};
   ep->cfg = &cfg;
-  ep->map = cfg.boot_map;
   ep->roles = cfg.roles;
-  const std::uint32_t cols = bsp::udn_grid_cols();
-  if (ep->map.cols == 0U && (cols == 0U || fault_map_init(ep->map, cols, bsp::udn_grid_rows()) != RouteError::kOk)) {
+  if (!take_boot_map(*ep)) {
     return false;  // no boot map and no network to draw an all-clear one from
   }
   if (ft_init(ep->node, self, ep->map, ft_task_port(), cfg.ft) != FtError::kOk) {
@@ -191,19 +265,83 @@ bool open(Endpoint*& out, bsp::TileId self, const EndpointConfig& cfg) noexcept 
                     ProbeError::kOk;
   if (ep->probing) {
     prune_probe(*ep);
-    const std::uint64_t targets = cfg.transit_targets[self];
-    // One transit per tick of the probe period, after the tick of the neighbour pings.
-    const std::uint32_t room = cfg.probe_period_ticks > 1U ? cfg.probe_period_ticks - 1U : 0U;
-    const std::uint32_t most = room < kMaxTransitTargets ? room : kMaxTransitTargets;
-    for (std::uint32_t t = 0; t < kRouteMaxTiles && ep->transit_count < most; ++t) {
-      if (((targets >> t) & 1ULL) != 0ULL && t != self) {
-        ep->transit[ep->transit_count] = TransitProbe{static_cast<bsp::TileId>(t), 0U, 0U, false, false};
-        ++ep->transit_count;
-      }
-    }
+    plan_transits(*ep, self);
   }
   out = ep;
   return true;
+}
+
+/**
+ * The node's tile, the map and the routes built from it. A map whose grid is
+ * not the boot map's is taken again from the boot map (its version behind
+ * every published one, so the next map, pushed by a neighbour whose probes
+ * hear the old version, is applied); the routes are rebuilt from the map when
+ * the tile, the map or their own grid was upset. Caller holds the guard.
+ */
+void check_ground(Endpoint& ep, bsp::TileId self) noexcept {
+  bool rebuild = false;
+  if (ep.node.self != self) {
+    ft_report_repair(ep.node, FtRepair::kSelf, self, ep.node.self);
+    ep.node.self = self;
+    rebuild = true;
+  }
+  const FaultMap& boot = ep.cfg->boot_map;
+  const std::uint32_t cols = boot.cols != 0U ? boot.cols : bsp::udn_grid_cols();
+  const std::uint32_t rows = boot.cols != 0U ? boot.rows : bsp::udn_grid_rows();
+  if (!fault_map_valid(ep.map) || ep.map.cols != cols || ep.map.rows != rows) {
+    ft_report_repair(ep.node, FtRepair::kMap, 0U, (ep.map.cols << 16U) | (ep.map.rows & 0xFFFFU));
+    rebuild = take_boot_map(ep);
+  }
+  if (!rebuild && !ft_routes_ok(ep.node)) {
+    ft_report_repair(ep.node, FtRepair::kRoutes, ep.node.routes.self, ep.node.routes.tiles);
+    rebuild = true;
+  }
+  if (rebuild) {
+    (void)build_routes(ep, ep.map);
+  }
+}
+
+/** The reports to send, the transit probes and the neighbour probe. Caller holds the guard. */
+void check_probes(Endpoint& ep, bsp::TileId self) noexcept {
+  if (ep.pending_count > kPendingReports) {
+    ft_report_repair(ep.node, FtRepair::kPending, 0U, ep.pending_count);
+    ep.pending_count = 0U;
+  }
+  bool transits_ok = ep.transit_count <= kMaxTransitTargets;
+  for (std::uint32_t i = 0; i < kMaxTransitTargets && transits_ok; ++i) {
+    transits_ok = i >= ep.transit_count || ep.transit[i].target < kRouteMaxTiles;
+  }
+  if (!transits_ok) {
+    ft_report_repair(ep.node, FtRepair::kTransit, ep.transit_count, 0U);
+    plan_transits(ep, self);
+  }
+  const EndpointConfig& cfg = *ep.cfg;
+  bool probe_ok = ep.probing == (cfg.report_to != bsp::kNoTile && cfg.probe_miss_threshold != 0U);
+  probe_ok = probe_ok && (!ep.probing || ep.probe.config.miss_threshold == cfg.probe_miss_threshold);
+  for (std::size_t d = 0; d < ep.probe.neighbour.size() && ep.probing; ++d) {
+    const bsp::TileId n = ep.probe.neighbour[d];
+    probe_ok = probe_ok && (n == bsp::kNoTile || n < ep.node.routes.tiles);
+  }
+  if (!probe_ok) {
+    ft_report_repair(ep.node, FtRepair::kProbe, ep.probing ? 1U : 0U, ep.probe.config.miss_threshold);
+    ep.probing = cfg.report_to != bsp::kNoTile &&
+                 ft_probe_init(ep.probe, ep.node, ProbeConfig{cfg.probe_miss_threshold}, &on_suspect, &ep) ==
+                     ProbeError::kOk;
+    if (ep.probing) {
+      prune_probe(ep);
+    }
+  }
+}
+
+/**
+ * The endpoint lives in its tile's RAM and can take an upset: at each entry,
+ * before any of its indices or counts is followed, a value no valid state
+ * holds resets its part (counted in the node, reported as kStateRepaired);
+ * the node checks its own at each of its operations. Caller holds the guard.
+ */
+void check_endpoint(Endpoint& ep, bsp::TileId self) noexcept {
+  check_ground(ep, self);
+  check_probes(ep, self);
 }
 
 /**
@@ -338,6 +476,15 @@ void push_to_stale(Endpoint& ep) noexcept {
   }
 }
 
+/** @p roles with every entry off the chip (an upset one) read as unused. */
+RoleDirectory on_chip(const RoleDirectory& roles) noexcept {
+  RoleDirectory r = roles;
+  for (bsp::TileId& t : r.tile) {
+    t = t < kRouteMaxTiles ? t : bsp::kNoTile;
+  }
+  return r;
+}
+
 bool move_role(Endpoint& ep, std::uint32_t slot, bsp::TileId tile, std::uint32_t version) noexcept {
   if (slot >= kRoleSlots || version <= ep.roles.version[slot]) {
     return false;  // unknown slot, or an older move arriving late
@@ -424,6 +571,7 @@ void endpoint_task_main(void* arg) noexcept {
     const bool probe_now = ep.probing && tick % period == 0U;
     {
       const IrqGuard guard;
+      check_endpoint(ep, self);
       if (probe_now) {
         (void)ft_probe_round(ep.probe, ep.node, tick32());
         if (ep.probe.round % kReReportRounds == 0U) {
@@ -455,6 +603,7 @@ bool endpoint_cut_off() noexcept {
     return false;
   }
   const IrqGuard guard;
+  check_endpoint(*ep, bsp::current_tile());
   std::uint32_t probed = 0U;
   std::uint32_t silent = 0U;
   for (std::size_t d = 0; d < ep->probe.neighbour.size(); ++d) {
@@ -493,6 +642,7 @@ FtError endpoint_send(bsp::TileId dest, std::uint32_t channel, std::span<const s
   for (std::uint32_t i = 0; i <= max_ticks; ++i) {
     {
       const IrqGuard guard;
+      check_endpoint(*ep, bsp::current_tile());
       e = ft_send(ep->node, dest, channel, words, tick32());
     }
     if ((e != FtError::kWindowFull && e != FtError::kNetFull) || i == max_ticks) {
@@ -509,6 +659,7 @@ FtError endpoint_receive(std::uint32_t channel, FtMessage& out) noexcept {
     return FtError::kBadArgs;  // maps belong to the endpoint itself
   }
   const IrqGuard guard;
+  check_endpoint(*ep, bsp::current_tile());
   return ft_receive(ep->node, channel, out);
 }
 
@@ -518,6 +669,7 @@ FtError endpoint_install_map(const FaultMap& map) noexcept {
     return FtError::kBadArgs;
   }
   const IrqGuard guard;
+  check_endpoint(*ep, bsp::current_tile());
   (void)install(*ep, map, ep->node.self);
   return FtError::kOk;
 }
@@ -529,7 +681,7 @@ bsp::TileId endpoint_role_tile(std::uint32_t slot, bsp::TileId fallback) noexcep
   }
   const IrqGuard guard;
   const bsp::TileId t = ep->roles.tile[slot];
-  return t == bsp::kNoTile ? fallback : t;
+  return t >= kRouteMaxTiles ? fallback : t;  // kNoTile, or an upset entry off the chip: not used
 }
 
 bool endpoint_move_role(std::uint32_t slot, bsp::TileId tile, std::uint32_t version) noexcept {
@@ -547,6 +699,7 @@ bool endpoint_set_parked(std::uint64_t parked, std::uint32_t serial) noexcept {
     return false;
   }
   const IrqGuard guard;
+  check_endpoint(*ep, bsp::current_tile());
   return set_parked(*ep, parked, serial);
 }
 
@@ -556,17 +709,19 @@ RoleDirectory endpoint_roles() noexcept {
     return RoleDirectory{};
   }
   const IrqGuard guard;
-  return ep->roles;
+  return on_chip(ep->roles);
 }
 
 RoleDirectory endpoint_roles_of(bsp::TileId tile) noexcept {
-  return (tile < bsp::kMaxTiles && g_ep[tile] != nullptr) ? g_ep[tile]->roles : RoleDirectory{};
+  return (tile < bsp::kMaxTiles && g_ep[tile] != nullptr) ? on_chip(g_ep[tile]->roles) : RoleDirectory{};
 }
 
 FaultMap endpoint_fault_map() noexcept {
   const Endpoint* ep = current();
   return ep != nullptr ? ep->map : FaultMap{};
 }
+
+const bsp::ControlLayout& endpoint_state_layout() noexcept { return kEndpointLayout; }
 
 const FtNode* endpoint_node(bsp::TileId tile) noexcept {
   return (tile < bsp::kMaxTiles && g_ep[tile] != nullptr) ? &g_ep[tile]->node : nullptr;

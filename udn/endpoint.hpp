@@ -233,6 +233,10 @@ RoleDirectory endpoint_roles_of(bsp::TileId tile) noexcept;
 /** The current tile's copy of the fault map (the boot map before the endpoint opens). [task] */
 [[nodiscard]] FaultMap endpoint_fault_map() noexcept;
 
+/** Name of the endpoint's carve in its tile's RAM, and the endpoint's layout (bsp::ControlLayout). [host] */
+inline constexpr const char* kEndpointCarve = "endpoint";
+const bsp::ControlLayout& endpoint_state_layout() noexcept;
+
 /** The node of @p tile, or nullptr when it is not open. [host: statistics] */
 const FtNode* endpoint_node(bsp::TileId tile) noexcept;
 

@@ -43,6 +43,12 @@ enum class FtCause : std::uint8_t {
   kTransitLost,        ///< a transit probe's target stopped answering (peer: target)
   kTransitBack,        ///< a lost transit answers again (peer: target)
   kSettled,            ///< a packet given up with its delivery unknown: the receiver's record tells (peer: destination; word: FtDelivery)
+  /**
+   * A check of the node's or the endpoint's own state found a value no valid
+   * state holds (an upset of its RAM): that part was reset (channel: FtRepair,
+   * peer: the index of the part, word: the value found).
+   */
+  kStateRepaired,
 };
 
 struct FtEvent {

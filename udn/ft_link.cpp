@@ -280,7 +280,9 @@ void send_held(FtNode& n, bsp::TileId dest, std::uint32_t channel, std::uint32_t
       detail::TxStream& st = n.tx_stream[dest][channel];
       if (st.held_report) {
         st.held_report = false;
-        const auto why = static_cast<FtCause>(st.held_why);
+        auto why = static_cast<FtCause>(st.held_why);
+        // A resend's cause only: an upset one is not reported as another event.
+        why = why == FtCause::kResentNack || why == FtCause::kResentBusy ? why : FtCause::kResentTimeout;
         st.busy = st.busy && why != FtCause::kResentBusy;  // that resend answered the BUSY
         report_resend(n, why, dest, channel, seq, now);
       }
@@ -956,9 +958,101 @@ void take_image(FtNode& n, std::uint32_t payload_words, std::uint32_t now, bool 
   handle_packet(n, std::span<std::uint32_t>(n.scratch.data(), payload_words + 2U), now, tag_damaged);
 }
 
+/**
+ * Frees every send slot whose destination, channel or length no packet has
+ * (an upset: they index the streams and bound the image), then counts each
+ * destination's unacknowledged packets again from the slots (in_window is
+ * that count whenever the node's state is whole). A freed slot's packet is
+ * lost to the stream, which recovers by its timeout, give-up and resync.
+ */
+void check_tx(FtNode& n) noexcept {
+  std::array<std::uint8_t, kRouteMaxTiles> window{};
+  for (std::uint32_t i = 0U; i < kFtTxSlots; ++i) {
+    detail::TxSlot& s = n.tx[i];
+    if (!s.used) {
+      continue;
+    }
+    if (s.dest >= n.routes.tiles || s.channel >= kFtAllChannels || s.words < kFtMinPacketWords ||
+        s.words > kFtMaxPacketWords) {
+      ft_report_repair(n, FtRepair::kTxSlot, i, (static_cast<std::uint32_t>(s.dest) << 24U) |
+                                                    (static_cast<std::uint32_t>(s.channel) << 16U) | (s.words & 0xFFFFU));
+      s.used = false;
+      s.held = false;
+      continue;
+    }
+    ++window[s.dest];
+  }
+  for (std::uint32_t d = 0U; d < kRouteMaxTiles; ++d) {
+    if (n.in_window[d] != window[d]) {
+      ft_report_repair(n, FtRepair::kWindow, d, n.in_window[d]);
+      n.in_window[d] = window[d];
+    }
+  }
+}
+
+/** Empties every receive queue whose head or count is off its ring; sets the ready bits from the counts. */
+void check_queues(FtNode& n) noexcept {
+  std::uint32_t ready = 0U;
+  for (std::uint32_t c = 0U; c < kFtAllChannels; ++c) {
+    detail::RxQueue& q = n.rxq[c];
+    if (q.head >= kFtRxDepth || q.count > kFtRxDepth) {
+      ft_report_repair(n, FtRepair::kRxQueue, c, q.head >= kFtRxDepth ? q.head : q.count);
+      q.head = 0U;
+      q.count = 0U;
+      n.rx_ready = static_cast<std::uint8_t>(static_cast<std::uint32_t>(n.rx_ready) & ~(1U << c));
+    }
+    ready |= (q.count != 0U ? 1U : 0U) << c;
+  }
+  if (ready != n.rx_ready) {
+    ft_report_repair(n, FtRepair::kRxReady, 0U, n.rx_ready);
+    n.rx_ready = static_cast<std::uint8_t>(ready);
+  }
+}
+
+/** Frees every forward slot whose length no packet has, and every SYNC slot off the streams. */
+void check_fwd_sync(FtNode& n) noexcept {
+  for (std::uint32_t i = 0U; i < kFtFwdSlots; ++i) {
+    detail::FwdSlot& f = n.fwd[i];
+    if (f.used && (f.words < kFtMinPacketWords || f.words > kFtMaxPacketWords)) {
+      ft_report_repair(n, FtRepair::kFwdSlot, i, f.words);
+      f.used = false;
+    }
+  }
+  for (std::uint32_t i = 0U; i < kFtSyncSlots; ++i) {
+    detail::SyncSlot& y = n.sync[i];
+    if (y.used && (y.dest >= n.routes.tiles || y.channel >= kFtAllChannels)) {
+      ft_report_repair(n, FtRepair::kSyncSlot, i, (static_cast<std::uint32_t>(y.dest) << 8U) | y.channel);
+      y.used = false;
+    }
+  }
+}
+
+/**
+ * The node's state lives in its tile's RAM and can take an upset: every
+ * index, count and length the node's operations follow is checked here, at
+ * the start of each of them, and a value no valid state holds resets its part
+ * (ft_report_repair). Whole state is left as it is, at no emulated cost.
+ * @return false if the route table cannot be used (the owner rebuilds it):
+ *         the operation does nothing.
+ */
+bool check_state(FtNode& n) noexcept {
+  if (n.self == bsp::kNoTile || !ft_routes_ok(n)) {
+    return false;
+  }
+  if (n.epoch >= kFtEpochs) {
+    ft_report_repair(n, FtRepair::kEpoch, 0U, n.epoch);
+    n.epoch = static_cast<std::uint8_t>(n.epoch % kFtEpochs);
+  }
+  check_tx(n);
+  check_queues(n);
+  check_fwd_sync(n);
+  return true;
+}
+
 /** Clears a node member by member: a whole FtNode temporary would not fit a task's stack. */
 void reset(FtNode& node) noexcept {
   node.stats = FtStats{};
+  node.state_repairs = 0U;
   node.tx_hint = false;  // every slot is freed below
   node.fwd_hint = false;
   node.sync_hint = false;
@@ -1021,6 +1115,18 @@ FtError ft_init(FtNode& node, bsp::TileId self, const FaultMap& map, const FtPor
 
 void ft_set_event_sink(FtNode& node, const FtEventSink& sink) noexcept { node.sink = sink; }
 
+void ft_report_repair(FtNode& node, FtRepair what, std::uint32_t index, std::uint32_t value) noexcept {
+  node.state_repairs = static_cast<std::uint16_t>(node.state_repairs + 1U);
+  ft_event_emit(node.sink, node.self,
+                FtEvent{0U, FtCause::kStateRepaired, static_cast<std::uint8_t>(what), 0U, index, value});
+}
+
+bool ft_routes_ok(const FtNode& node) noexcept {
+  const RouteTable& r = node.routes;
+  return r.tiles != 0U && r.tiles <= kRouteMaxTiles && r.cols != 0U && r.tiles % r.cols == 0U &&
+         r.self == node.self && node.self < r.tiles;
+}
+
 void ft_set_epoch(FtNode& node, std::uint32_t epoch) noexcept {
   node.epoch = static_cast<std::uint8_t>(epoch % kFtEpochs);
 }
@@ -1035,7 +1141,7 @@ FtError ft_set_fault_map(FtNode& node, const FaultMap& map, bsp::Work& work) noe
 
 FtError ft_send(FtNode& node, bsp::TileId dest, std::uint32_t channel, std::span<const std::uint32_t> data,
                 std::uint32_t now_tick, bsp::TileId twin) noexcept {
-  if (node.self == bsp::kNoTile || channel >= kFtAllChannels || dest >= node.routes.tiles || data.empty() ||
+  if (!check_state(node) || channel >= kFtAllChannels || dest >= node.routes.tiles || data.empty() ||
       data.size() > kFtMaxDataWords) {
     return FtError::kBadArgs;
   }
@@ -1091,7 +1197,7 @@ FtError ft_send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_
 namespace {
 FtError send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_t seq, std::uint32_t word, bool routed,
                      std::uint8_t epoch, bool resync) noexcept {
-  if (dest >= node.routes.tiles) {
+  if (!ft_routes_ok(node) || dest >= node.routes.tiles) {
     return FtError::kBadArgs;
   }
   std::array<std::uint32_t, ft_packet_words(2U, true)> image{};
@@ -1120,7 +1226,7 @@ FtError send_control(FtNode& node, bsp::TileId dest, FtKind kind, std::uint8_t s
 
 std::uint32_t ft_poll(FtNode& node, std::uint32_t now_tick, std::uint32_t max_packets) noexcept {
   std::uint32_t handled = 0U;
-  if (node.self == bsp::kNoTile) {
+  if (!check_state(node)) {
     return 0U;
   }
   (void)flush_forwards(node, now_tick);
@@ -1136,7 +1242,7 @@ std::uint32_t ft_poll(FtNode& node, std::uint32_t now_tick, std::uint32_t max_pa
 }
 
 void ft_accept(FtNode& node, std::span<const std::uint32_t> payload, std::uint32_t now_tick) noexcept {
-  if (node.self == bsp::kNoTile) {
+  if (!check_state(node)) {
     return;
   }
   const std::size_t n = payload.size() < node.scratch.size() - 2U ? payload.size() : node.scratch.size() - 2U;
@@ -1153,19 +1259,23 @@ FtError ft_receive(FtNode& node, std::uint32_t channel, FtMessage& out) noexcept
   if (((static_cast<std::uint32_t>(node.rx_ready) >> channel) & 1U) == 0U) {
     return FtError::kEmpty;  // the queue's count is 0: its line need not be read
   }
+  check_queues(node);
   detail::RxQueue& q = node.rxq[channel];
   const auto ready = static_cast<std::uint8_t>(static_cast<std::uint32_t>(node.rx_ready) & ~(1U << channel));
-  if (q.count == 0U) {
-    node.rx_ready = ready;  // cannot happen: a message sets the bit, the last one taken clears it
-    return FtError::kEmpty;
+  // A message whose source or length no message has (an upset of it in the queue) is dropped here.
+  for (std::uint32_t i = 0U; i < kFtRxDepth && q.count > 0U; ++i) {
+    out = q.msg[q.head];
+    q.head = (q.head + 1U) % kFtRxDepth;
+    --q.count;
+    node.rx_ready = q.count == 0U ? ready : node.rx_ready;
+    if (out.source < kRouteMaxTiles && out.data_words >= kFtMinDataWords && out.data_words <= kFtMaxDataWords) {
+      out.channel = static_cast<std::uint8_t>(channel);
+      return FtError::kOk;
+    }
+    ft_report_repair(node, FtRepair::kRxMessage, channel, (out.source << 16U) | out.data_words);
   }
-  out = q.msg[q.head];
-  q.head = (q.head + 1U) % kFtRxDepth;
-  --q.count;
-  if (q.count == 0U) {
-    node.rx_ready = ready;
-  }
-  return FtError::kOk;
+  node.rx_ready = ready;
+  return FtError::kEmpty;
 }
 
 std::uint32_t ft_outstanding(const FtNode& node) noexcept {

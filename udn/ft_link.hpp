@@ -85,6 +85,7 @@
 #include "udn/route.hpp"
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -265,6 +266,99 @@ struct RxQueue {
 };
 }  // namespace detail
 
+/*
+ * What an upset of a node does (bsp::ControlLayout): the node is the tile's
+ * own state but for its port and event sink (host function pointers and
+ * their contexts). Every index, count and length in it is checked before it
+ * is used (ft_check_state): a value no valid state holds resets its part.
+ */
+inline constexpr std::array kFtConfigFields{BSP_CONTROL_STATE(FtConfig, timeout_ticks),
+                                            BSP_CONTROL_STATE(FtConfig, max_retries)};
+inline constexpr bsp::ControlLayout kFtConfigLayout{kFtConfigFields, sizeof(FtConfig), alignof(FtConfig)};
+static_assert(bsp::control_layout_ok(kFtConfigLayout), "every member of FtConfig");
+
+inline constexpr std::array kFtStatsFields{
+    BSP_CONTROL_STATE(FtStats, sent),
+    BSP_CONTROL_STATE(FtStats, delivered),
+    BSP_CONTROL_STATE(FtStats, corrected),
+    BSP_CONTROL_STATE(FtStats, forwarded),
+    BSP_CONTROL_STATE(FtStats, retransmitted),
+    BSP_CONTROL_STATE(FtStats, twin_copies),
+    BSP_CONTROL_STATE(FtStats, uncorrectable_detected),
+    BSP_CONTROL_STATE(FtStats, duplicates_dropped),
+    BSP_CONTROL_STATE(FtStats, out_of_order_dropped),
+    BSP_CONTROL_STATE(FtStats, rx_full_dropped),
+    BSP_CONTROL_STATE(FtStats, busy_sent),
+    BSP_CONTROL_STATE(FtStats, resent_busy),
+    BSP_CONTROL_STATE(FtStats, forward_failed),
+    BSP_CONTROL_STATE(FtStats, acks_sent),
+    BSP_CONTROL_STATE(FtStats, nacks_sent),
+    BSP_CONTROL_STATE(FtStats, gave_up),
+    BSP_CONTROL_STATE(FtStats, gave_up_unknown),
+    BSP_CONTROL_STATE(FtStats, gave_up_not_delivered),
+    BSP_CONTROL_STATE(FtStats, settled_delivered),
+    BSP_CONTROL_STATE(FtStats, settled_not_delivered),
+    BSP_CONTROL_STATE(FtStats, unreachable),
+};
+inline constexpr bsp::ControlLayout kFtStatsLayout{kFtStatsFields, sizeof(FtStats), alignof(FtStats)};
+static_assert(bsp::control_layout_ok(kFtStatsLayout), "every member of FtStats");
+
+/** A received message: its source and length are checked when it is taken (ft_receive), its words are data. */
+inline constexpr std::array kFtMessageFields{BSP_CONTROL_STATE(FtMessage, source), BSP_CONTROL_STATE(FtMessage, channel),
+                                             BSP_CONTROL_STATE(FtMessage, seq), BSP_CONTROL_STATE(FtMessage, data_words),
+                                             BSP_CONTROL_STATE(FtMessage, data)};
+inline constexpr bsp::ControlLayout kFtMessageLayout{kFtMessageFields, sizeof(FtMessage), alignof(FtMessage)};
+static_assert(bsp::control_layout_ok(kFtMessageLayout), "every member of FtMessage");
+
+namespace detail {
+inline constexpr std::array kTxSlotFields{
+    BSP_CONTROL_STATE(TxSlot, used),    BSP_CONTROL_STATE(TxSlot, held),      BSP_CONTROL_STATE(TxSlot, dest),
+    BSP_CONTROL_STATE(TxSlot, channel), BSP_CONTROL_STATE(TxSlot, seq),       BSP_CONTROL_STATE(TxSlot, retries),
+    BSP_CONTROL_STATE(TxSlot, sent_tick), BSP_CONTROL_STATE(TxSlot, words),   BSP_CONTROL_STATE(TxSlot, twin),
+    BSP_CONTROL_STATE(TxSlot, image),
+};
+inline constexpr bsp::ControlLayout kTxSlotLayout{kTxSlotFields, sizeof(TxSlot), alignof(TxSlot)};
+static_assert(bsp::control_layout_ok(kTxSlotLayout), "every member of TxSlot");
+
+inline constexpr std::array kTxStreamFields{
+    BSP_CONTROL_STATE(TxStream, next_seq),     BSP_CONTROL_STATE(TxStream, resync_seq),
+    BSP_CONTROL_STATE(TxStream, resync),       BSP_CONTROL_STATE(TxStream, syncing),
+    BSP_CONTROL_STATE(TxStream, confirmed),    BSP_CONTROL_STATE(TxStream, settle_pending),
+    BSP_CONTROL_STATE(TxStream, settle_from),  BSP_CONTROL_STATE(TxStream, settle_point),
+    BSP_CONTROL_STATE(TxStream, busy),         BSP_CONTROL_STATE(TxStream, busy_seq),
+    BSP_CONTROL_STATE(TxStream, held),         BSP_CONTROL_STATE(TxStream, held_report),
+    BSP_CONTROL_STATE(TxStream, held_why),
+};
+inline constexpr bsp::ControlLayout kTxStreamLayout{kTxStreamFields, sizeof(TxStream), alignof(TxStream)};
+static_assert(bsp::control_layout_ok(kTxStreamLayout), "every member of TxStream");
+
+inline constexpr std::array kSyncSlotFields{BSP_CONTROL_STATE(SyncSlot, used),    BSP_CONTROL_STATE(SyncSlot, dest),
+                                            BSP_CONTROL_STATE(SyncSlot, channel), BSP_CONTROL_STATE(SyncSlot, start),
+                                            BSP_CONTROL_STATE(SyncSlot, retries), BSP_CONTROL_STATE(SyncSlot, sent_tick)};
+inline constexpr bsp::ControlLayout kSyncSlotLayout{kSyncSlotFields, sizeof(SyncSlot), alignof(SyncSlot)};
+static_assert(bsp::control_layout_ok(kSyncSlotLayout), "every member of SyncSlot");
+
+inline constexpr std::array kRxStreamFields{
+    BSP_CONTROL_STATE(RxStream, synced),    BSP_CONTROL_STATE(RxStream, resync_asked), BSP_CONTROL_STATE(RxStream, epoch),
+    BSP_CONTROL_STATE(RxStream, expected),  BSP_CONTROL_STATE(RxStream, nacked),       BSP_CONTROL_STATE(RxStream, nack_sent),
+    BSP_CONTROL_STATE(RxStream, busy),      BSP_CONTROL_STATE(RxStream, busy_owed),    BSP_CONTROL_STATE(RxStream, ack_owed),
+    BSP_CONTROL_STATE(RxStream, rec_valid), BSP_CONTROL_STATE(RxStream, rec_point),    BSP_CONTROL_STATE(RxStream, rec_from),
+};
+inline constexpr bsp::ControlLayout kRxStreamLayout{kRxStreamFields, sizeof(RxStream), alignof(RxStream)};
+static_assert(bsp::control_layout_ok(kRxStreamLayout), "every member of RxStream");
+
+inline constexpr std::array kFwdSlotFields{BSP_CONTROL_STATE(FwdSlot, used), BSP_CONTROL_STATE(FwdSlot, dest),
+                                           BSP_CONTROL_STATE(FwdSlot, words), BSP_CONTROL_STATE(FwdSlot, twin),
+                                           BSP_CONTROL_STATE(FwdSlot, image)};
+inline constexpr bsp::ControlLayout kFwdSlotLayout{kFwdSlotFields, sizeof(FwdSlot), alignof(FwdSlot)};
+static_assert(bsp::control_layout_ok(kFwdSlotLayout), "every member of FwdSlot");
+
+inline constexpr std::array kRxQueueFields{BSP_CONTROL_STATE(RxQueue, head), BSP_CONTROL_STATE(RxQueue, count),
+                                           BSP_CONTROL_NESTED(RxQueue, msg, kFtMessageLayout)};
+inline constexpr bsp::ControlLayout kRxQueueLayout{kRxQueueFields, sizeof(RxQueue), alignof(RxQueue)};
+static_assert(bsp::control_layout_ok(kRxQueueLayout), "every member of RxQueue");
+}  // namespace detail
+
 struct FtNode {
   bsp::TileId self = bsp::kNoTile;
   /**
@@ -285,6 +379,8 @@ struct FtNode {
   FtStats stats{};
   FtEventSink sink{};                ///< where events go (ft_set_event_sink); none: only counted
   std::uint8_t epoch = 0U;           ///< this incarnation of the node (ft_set_epoch), 0..7
+  /** Parts of the node's (and its endpoint's) state found upset and reset (FtCause::kStateRepaired), mod 2^16; in padding. */
+  std::uint16_t state_repairs = 0U;
   std::uint32_t map_version = 0U;    ///< version of the fault map the routes were built from
   std::array<std::uint32_t, kRouteMaxTiles> peer_map_version{};  ///< last version a PING or PONG carried, per tile
   std::array<std::uint8_t, kRouteMaxTiles> in_window{};  ///< unacknowledged packets per destination
@@ -317,6 +413,75 @@ struct FtNode {
   std::uint32_t pongs_owed = 0U;
   std::array<std::uint32_t, kFtMaxPacketWords> scratch{};  ///< one packet image being decoded
 };
+
+/** An FtNode in a tile's RAM (bsp::ControlLayout): host state only its port and its sink. */
+inline constexpr std::array kFtNodeFields{
+    BSP_CONTROL_STATE(FtNode, self),
+    BSP_CONTROL_STATE(FtNode, tx_hint),
+    BSP_CONTROL_STATE(FtNode, fwd_hint),
+    BSP_CONTROL_STATE(FtNode, sync_hint),
+    BSP_CONTROL_STATE(FtNode, rx_ready),
+    BSP_CONTROL_HOST(FtNode, port),
+    BSP_CONTROL_NESTED(FtNode, config, kFtConfigLayout),
+    BSP_CONTROL_NESTED(FtNode, routes, kRouteTableLayout),
+    BSP_CONTROL_NESTED(FtNode, stats, kFtStatsLayout),
+    BSP_CONTROL_HOST(FtNode, sink),
+    BSP_CONTROL_STATE(FtNode, epoch),
+    BSP_CONTROL_STATE(FtNode, state_repairs),
+    BSP_CONTROL_STATE(FtNode, map_version),
+    BSP_CONTROL_STATE(FtNode, peer_map_version),
+    BSP_CONTROL_STATE(FtNode, in_window),
+    BSP_CONTROL_STATE(FtNode, srtt8),
+    BSP_CONTROL_STATE(FtNode, rttvar4),
+    BSP_CONTROL_STATE(FtNode, rto_shift),
+    BSP_CONTROL_NESTED(FtNode, tx, detail::kTxSlotLayout),
+    BSP_CONTROL_NESTED(FtNode, tx_stream, detail::kTxStreamLayout),
+    BSP_CONTROL_NESTED(FtNode, rx_stream, detail::kRxStreamLayout),
+    BSP_CONTROL_NESTED(FtNode, rxq, detail::kRxQueueLayout),
+    BSP_CONTROL_NESTED(FtNode, fwd, detail::kFwdSlotLayout),
+    BSP_CONTROL_NESTED(FtNode, sync, detail::kSyncSlotLayout),
+    BSP_CONTROL_STATE(FtNode, acks_owed),
+    BSP_CONTROL_STATE(FtNode, busies_owed),
+    BSP_CONTROL_STATE(FtNode, held_streams),
+    BSP_CONTROL_STATE(FtNode, pong_nonce),
+    BSP_CONTROL_STATE(FtNode, pong_owed),
+    BSP_CONTROL_STATE(FtNode, pongs_owed),
+    BSP_CONTROL_STATE(FtNode, scratch),
+};
+inline constexpr bsp::ControlLayout kFtNodeLayout{kFtNodeFields, sizeof(FtNode), alignof(FtNode)};
+static_assert(bsp::control_layout_ok(kFtNodeLayout), "every member of FtNode");
+
+/** Which part of a node's or an endpoint's state a check found upset (FtEvent::channel of kStateRepaired). */
+enum class FtRepair : std::uint8_t {
+  kRoutes = 1,     ///< the route table's grid or tile: the owner rebuilds it from its map (ft_routes_ok)
+  kSelf = 2,       ///< the node's tile: set again, the routes rebuilt
+  kEpoch = 3,      ///< the epoch beyond its 3 bits: taken mod kFtEpochs
+  kTxSlot = 4,     ///< a send slot's destination, channel or length: freed (its stream recovers by give-up and resync)
+  kWindow = 5,     ///< a destination's count of unacknowledged packets: counted again from the slots
+  kRxQueue = 6,    ///< a receive queue's head or count: emptied (its messages lost)
+  kRxReady = 7,    ///< the queues-ready bits: computed again from the counts
+  kRxMessage = 8,  ///< a queued message's source or length: dropped when taken
+  kFwdSlot = 9,    ///< a forward slot's length: dropped (the sender's timeout recovers the packet)
+  kSyncSlot = 10,  ///< a SYNC slot's destination or channel: freed (its stream starts another SYNC)
+  kMap = 11,       ///< the endpoint's fault map has another grid: the boot map again, newer ones catch up
+  kPending = 12,   ///< the endpoint's count of reports to send: cleared (they are sent again every kReReportRounds)
+  kTransit = 13,   ///< the endpoint's transit probes (count or target): planned again from its configuration
+  kProbe = 14,     ///< the neighbour probe (a neighbour off the grid, its threshold): set up again
+};
+
+/**
+ * Counts a repair of @p node's own state (FtNode::state_repairs) and reports it
+ * to its sink (FtCause::kStateRepaired) with the part @p index and the @p value found.
+ */
+void ft_report_repair(FtNode& node, FtRepair what, std::uint32_t index, std::uint32_t value) noexcept;
+
+/**
+ * True if @p node's route table can be used: a grid of 1 to kRouteMaxTiles
+ * tiles, whole rows, the node's own tile on it. An upset of the table's grid
+ * makes every node operation refuse (ft_poll handles nothing, ft_send kBadArgs)
+ * until the owner rebuilds it (ft_set_fault_map): the node holds no map.
+ */
+bool ft_routes_ok(const FtNode& node) noexcept;
 
 /**
  * Resets @p node for tile @p self, builds its routes from @p map and binds

@@ -31,7 +31,7 @@ std::uint32_t ft_probe_round(FtProbe& probe, FtNode& node, std::uint32_t now_tic
   ++probe.round;
   for (std::size_t d = 0U; d < bsp::kUdnDirs; ++d) {
     const bsp::TileId nb = probe.neighbour[d];
-    if (nb == bsp::kNoTile) {
+    if (nb >= node.routes.tiles || nb >= kRouteMaxTiles) {  // kNoTile, or an upset one (the endpoint sets it up again)
       continue;
     }
     if (probe.nonce[d] != 0U) {

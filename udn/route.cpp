@@ -339,20 +339,23 @@ RouteError route_table_build(const FaultMap& map, bsp::TileId self, RouteTable& 
 
 RouteError route_next_hop(const RouteTable& table, bsp::TileId dest, bsp::TileId& next) noexcept {
   next = bsp::kNoTile;
-  if (dest >= table.tiles) {
+  if (dest >= table.tiles || dest >= kRouteMaxTiles) {
     return RouteError::kBadTile;
   }
   const Route& r = table.to[dest];
-  if (r.status != RouteError::kOk) {
+  const bsp::TileId hop = (r.via_count == 0U) ? dest : static_cast<bsp::TileId>(r.via[0]);
+  // The table lives in the tile's RAM: an upset intermediate off the grid is no route.
+  if (r.status != RouteError::kOk || hop >= table.tiles) {
     return RouteError::kUnreachable;
   }
-  next = (r.via_count == 0U) ? dest : static_cast<bsp::TileId>(r.via[0]);
+  next = hop;
   return RouteError::kOk;
 }
 
 RoutePath route_path(const FaultMap& map, const RouteTable& table, bsp::TileId dest) noexcept {
   RoutePath p{};
-  if (dest >= table.tiles || table.self >= table.tiles || table.to[dest].status != RouteError::kOk) {
+  if (dest >= table.tiles || dest >= kRouteMaxTiles || table.self >= table.tiles ||
+      table.to[dest].status != RouteError::kOk) {
     return p;
   }
   const Route& r = table.to[dest];

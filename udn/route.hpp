@@ -150,6 +150,24 @@ struct RouteTable {
 };
 
 /**
+ * A route table is emulated state through and through (bsp::ControlLayout):
+ * route_next_hop refuses a destination or an intermediate off the table's
+ * grid, and the messaging node checks the grid before using it (ft_routes_ok).
+ */
+inline constexpr std::array kRouteFields{BSP_CONTROL_STATE(Route, status), BSP_CONTROL_STATE(Route, hops),
+                                         BSP_CONTROL_STATE(Route, via_count), BSP_CONTROL_STATE(Route, via)};
+inline constexpr bsp::ControlLayout kRouteLayout{kRouteFields, sizeof(Route), alignof(Route)};
+static_assert(bsp::control_layout_ok(kRouteLayout), "every member of Route");
+inline constexpr std::array kRouteTableFields{
+    BSP_CONTROL_STATE(RouteTable, self),        BSP_CONTROL_STATE(RouteTable, cols),
+    BSP_CONTROL_STATE(RouteTable, tiles),       BSP_CONTROL_STATE(RouteTable, map_version),
+    BSP_CONTROL_STATE(RouteTable, no_forward),  BSP_CONTROL_NESTED(RouteTable, to, kRouteLayout),
+    BSP_CONTROL_STATE(RouteTable, clear),
+};
+inline constexpr bsp::ControlLayout kRouteTableLayout{kRouteTableFields, sizeof(RouteTable), alignof(RouteTable)};
+static_assert(bsp::control_layout_ok(kRouteTableLayout), "every member of RouteTable");
+
+/**
  * Builds @p table for tile @p self: for every destination the route with the
  * fewest total hops; ties go to fewer intermediates, then the lowest first
  * intermediate index, then the lowest second. Bounded: tiles^2 path checks and

@@ -10,11 +10,23 @@
 
 namespace k::detail {
 
+/**
+ * The ready level of @p t. A priority is the tile's own state and can take an
+ * upset: one past the levels is taken again from the task's table entry (the
+ * kernel's check traces it at its next entry, check_kernel).
+ */
+inline Fifo& level_of(KernelState& ks, Tcb& t) noexcept {
+  if (t.priority >= config::kNumPriorities) {
+    t.priority = t.spec->priority;
+  }
+  return ks.ready[t.priority % config::kNumPriorities];
+}
+
 inline void ready_push(KernelState& ks, TaskId id) noexcept {
   Tcb& t = ks.tcbs[id];
-  Fifo& q = ks.ready[t.priority];
+  Fifo& q = level_of(ks, t);
   t.next_ready = kNoTask;
-  if (q.tail == kNoTask) {
+  if (q.tail >= config::kMaxTasks) {  // kNoTask, or an upset tail: the queues are rebuilt at the next check
     q.head = id;
   } else {
     ks.tcbs[q.tail].next_ready = id;
@@ -26,10 +38,10 @@ inline void ready_push(KernelState& ks, TaskId id) noexcept {
 /** Puts @p id at the head of its level (a preempted task keeps its turn). */
 inline void ready_push_front(KernelState& ks, TaskId id) noexcept {
   Tcb& t = ks.tcbs[id];
-  Fifo& q = ks.ready[t.priority];
+  Fifo& q = level_of(ks, t);
   t.next_ready = q.head;
   q.head = id;
-  if (q.tail == kNoTask) {
+  if (q.tail >= config::kMaxTasks) {
     q.tail = id;
   }
   ks.ready_bitmap |= (1U << t.priority);
@@ -41,7 +53,8 @@ inline TaskId ready_peek(const KernelState& ks) noexcept {
     return kNoTask;
   }
   const auto level = static_cast<std::uint32_t>(std::countr_zero(ks.ready_bitmap));
-  return ks.ready[level].head;
+  const TaskId head = ks.ready[level].head;
+  return head < config::kMaxTasks ? head : kNoTask;  // an upset head: the kernel's check rebuilds the queues
 }
 
 inline TaskId ready_pop(KernelState& ks) noexcept {
@@ -50,7 +63,7 @@ inline TaskId ready_pop(KernelState& ks) noexcept {
     return kNoTask;
   }
   Tcb& t = ks.tcbs[id];
-  Fifo& q = ks.ready[t.priority];
+  Fifo& q = level_of(ks, t);
   q.head = t.next_ready;
   if (q.head == kNoTask) {
     q.tail = kNoTask;

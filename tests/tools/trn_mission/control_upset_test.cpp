@@ -15,7 +15,9 @@
 #include "bsp_tile64/api/memory.hpp"
 #include "fdir/net_health.hpp"
 #include "fdir/tile_health.hpp"
+#include "kernel/detail/tcb.hpp"
 #include "trn/tasks/vision/vision_worker.hpp"
+#include "udn/endpoint.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -84,12 +86,20 @@ struct Sweep {
   const char* role;
   std::uint32_t instances;  ///< instances of the role to spread the upsets over (0: the role has one)
   const bsp::ControlLayout* layout;
+  std::uint32_t part = 0U;   ///< with parts > 1: the bytes i with i % parts == part only (a plan holds 256 faults)
+  std::uint32_t parts = 1U;
 };
 
 /** Appends one seu per byte of @p s to @p plan, at times from @p t0_s to @p t1_s; returns how many. */
 std::size_t add_upsets(const Sweep& s, bool full, double t0_s, double t1_s, std::ostringstream& plan) {
+  std::vector<Byte> all;
+  member_bytes(*s.layout, 0U, full, all);
   std::vector<Byte> bytes;
-  member_bytes(*s.layout, 0U, full, bytes);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (i % s.parts == s.part) {
+      bytes.push_back(all[i]);
+    }
+  }
   for (std::size_t i = 0; i < bytes.size(); ++i) {
     // A live bit of the byte, another for each byte: the high bits of an index's low byte push it
     // off its array, a high byte's make it huge.
@@ -169,6 +179,10 @@ class ControlUpsets : public ::testing::Test {
 const Sweep kTileHealth{fdir::kTileHealthCarve, "trn_supervisor", 0U, &fdir::tile_health_state_layout()};
 const Sweep kNetHealth{fdir::kNetHealthCarve, "trn_supervisor", 0U, &fdir::net_health_state_layout()};
 const Sweep kVisionWorker{trn::tasks::kVisionWorkerCarve, "vision", 40U, &trn::tasks::vision_worker_state_layout()};
+const Sweep kEndpointVision{udn::kEndpointCarve, "vision", 40U, &udn::endpoint_state_layout()};
+const Sweep kEndpointSupervisor{udn::kEndpointCarve, "trn_supervisor", 0U, &udn::endpoint_state_layout()};
+const Sweep kKernelVision{"kernel state", "vision", 40U, &k::detail::kKernelStateLayout};
+const Sweep kKernelSupervisor{"kernel state", "trn_supervisor", 0U, &k::detail::kKernelStateLayout};
 
 // Issue 54 item 6: an upset of any emulated member of the converted control structs is made for
 // real, the image survives it (no out-of-bounds index, no undefined behaviour under the
@@ -180,6 +194,26 @@ TEST_F(ControlUpsets, EveryEmulatedMemberOfTheDeclaredControlStructsSurvivesAnUp
     fly({kNetHealth, kVisionWorker}, true, 6.0, "net_health_vision");
   } else {
     fly({kTileHealth, kNetHealth, kVisionWorker}, false, 3.0, "members");
+  }
+}
+
+// The messaging endpoint (every tile's) and the kernel state: an upset of any of their emulated
+// members is flipped for real and the flight code bounds every index, count and length it takes
+// from them (udn::FtRepair, k::TraceKind::kKernelStateBad). With CONTROL_SWEEP_FULL, both ends of
+// every member, on the supervisor's tile as well as the vision tiles.
+TEST_F(ControlUpsets, EveryEmulatedMemberOfTheEndpointAndTheKernelSurvivesAnUpset) {
+  if (std::getenv("CONTROL_SWEEP_FULL") != nullptr) {
+    for (std::uint32_t part = 0; part < 2U; ++part) {
+      Sweep vision = kEndpointVision;
+      Sweep supervisor = kEndpointSupervisor;
+      vision.part = supervisor.part = part;
+      vision.parts = supervisor.parts = 2U;
+      fly({vision}, true, 6.0, "endpoint_vision_" + std::to_string(part));
+      fly({supervisor}, true, 6.0, "endpoint_supervisor_" + std::to_string(part));
+    }
+    fly({kKernelVision, kKernelSupervisor}, true, 6.0, "kernel");
+  } else {
+    fly({kEndpointVision, kKernelSupervisor}, false, 2.0, "endpoint_kernel");
   }
 }
 

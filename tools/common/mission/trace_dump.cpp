@@ -112,6 +112,8 @@ const char* kernel_kind_name(std::uint16_t kind) {
     case static_cast<std::uint16_t>(k::TraceKind::kOverrun): return "overrun";
     case static_cast<std::uint16_t>(k::TraceKind::kStackOverflow): return "stack_overflow";
     case static_cast<std::uint16_t>(k::TraceKind::kTaskExit): return "task_exit";
+    case static_cast<std::uint16_t>(k::TraceKind::kWaitListCut): return "wait_list_cut";
+    case static_cast<std::uint16_t>(k::TraceKind::kKernelStateBad): return "kernel_state_bad";
     default: return nullptr;
   }
 }
