@@ -19,8 +19,7 @@ namespace trn::tasks {
 namespace {
 
 struct Replica {
-  FilterCore core;
-  FilterTaskStats stats;
+  FilterCore core;           ///< its counters too (core.stats, the record in tile RAM)
   std::uint32_t index;
   bool seeded;
   std::uint32_t epoch;       ///< of the seed loaded
@@ -83,9 +82,9 @@ void send_output(Replica& r, TmrArea& a, std::uint32_t job, std::uint32_t digest
   bsp::consume(bsp::Work{0U, 0U, 0U, 0U, std::uint64_t{kNavWords} + 3U});
   if (udn::endpoint_send(udn::endpoint_role_tile(kSlotFilter, bsp::kNoTile), kChanNav, w, 0U) ==
       udn::FtError::kOk) {
-    ++r.stats.nav_sent;
+    ++r.core.stats->nav_sent;
   } else {
-    ++r.stats.nav_send_failed;
+    ++r.core.stats->nav_send_failed;
   }
 }
 
@@ -103,7 +102,7 @@ void after_job(Replica& r, TmrArea& a, std::uint32_t job) noexcept {
       // Numbered by job, so a later checkpoint of any writer is the newer one.
       checkpoint_write(*ck, r.core.ekf->state(), r.core.last_imu, job / r.core.cfg->checkpoint_every + 1U,
                        r.ckpt_slot, work);
-      ++r.stats.checkpoints;
+      ++r.core.stats->checkpoints;
     }
   }
   bsp::consume(work);
@@ -134,7 +133,7 @@ void run_records(Replica& r, TmrArea& a) noexcept {
     if (changed != 0U) {
       const bool rebuilt = core_reload_settings(r.core, dw);
       bsp::consume(dw);
-      ++r.stats.settings_rebuilt;
+      ++r.core.stats->settings_rebuilt;
       trn::report(ev::kFilterSettingsBad, r.next_job, changed, rebuilt ? 1U : 0U);
       r.seeded = false;
       return;
@@ -143,7 +142,7 @@ void run_records(Replica& r, TmrArea& a) noexcept {
     bsp::consume(dw);
     send_output(r, a, r.next_job, digest);
     after_job(r, a, r.next_job);
-    ++r.stats.jobs;
+    ++r.core.stats->jobs;
     ++r.next_job;
   }
 }
@@ -221,7 +220,7 @@ void filter_replica_main(void* arg) noexcept {
   r = Replica{};
   const auto* cfg = static_cast<const FilterTaskConfig*>(arg);
   TmrArea* const a = tmr_area();
-  if (cfg == nullptr || a == nullptr || !core_set_up(r.core, *cfg, r.stats, bsp::Region{tile})) {
+  if (cfg == nullptr || a == nullptr || !core_set_up(r.core, *cfg, bsp::Region{tile})) {
     return;
   }
   // A replica started in flight (woken by the power policy, reset) is released with the front's
@@ -253,10 +252,6 @@ void filter_replica_main(void* arg) noexcept {
     }
     (void)k::wait_period();
   }
-}
-
-FilterTaskStats replica_stats(bsp::TileId tile) noexcept {
-  return tile < bsp::kMaxTiles ? g_replicas[tile].stats : FilterTaskStats{};
 }
 
 void pack_replica_hello(const ReplicaHello& h, std::span<std::uint32_t, kReplicaHelloWords> w) noexcept {

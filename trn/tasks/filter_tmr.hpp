@@ -183,7 +183,4 @@ std::uint32_t replica_index(const FilterTaskConfig& cfg, bsp::TileId tile) noexc
 /** Replica task entry (arg: const FilterTaskConfig*, the filter's). Never returns unless set-up fails. */
 void filter_replica_main(void* arg) noexcept;
 
-/** Counters of the replica on @p tile. [host] */
-FilterTaskStats replica_stats(bsp::TileId tile) noexcept;
-
 }  // namespace trn::tasks

@@ -80,7 +80,7 @@ const std::array<fdir::SupervisorSpec, 3> kSpecs = {make_trn(), make_vision(), m
 
 struct NodeState {
   fdir::SupervisorState sup;
-  SupervisorStats stats;
+  SupervisorStats* stats;  ///< the node's counters: its record in its tile's RAM (kSupervisorStatsRecord)
 };
 std::array<NodeState, 3> g_nodes{};
 
@@ -168,14 +168,14 @@ void trn_refresh(const SupervisorsConfig& c, std::uint32_t now) noexcept {
 void trn_act(const SupervisorsConfig& c, const fdir::SupDecision& d) noexcept {
   NodeState& n = g_nodes[kNodeTrn];
   if (d.action == fdir::SupAction::kEscalate) {
-    ++n.stats.safe_mode;  // nobody above: the vehicle is told
+    ++n.stats->safe_mode;  // nobody above: the vehicle is told
     trn::report(ev::kSafeMode, d.constraint, 0U, d.level, 0U);
     return;
   }
   if (d.action != fdir::SupAction::kApply) {
     return;
   }
-  ++n.stats.applied;
+  ++n.stats->applied;
   switch (d.alternative) {
     case kAltDelegate:
       if (d.constraint == kRel || d.constraint == kPow) {
@@ -201,7 +201,7 @@ void trn_policy(const SupervisorsConfig& c, std::uint8_t constraint, std::uint8_
   if (from == fdir::kFromGround) {
     g_nodes[kNodeTrn].sup.c[constraint] = fdir::ConstraintState{};  // a ground command is obeyed again, not debounced
   }
-  ++g_nodes[kNodeTrn].stats.policies;
+  ++g_nodes[kNodeTrn].stats->policies;
   trn_act(c, fdir::supervisor_policy(kSpecs[kNodeTrn], g_nodes[kNodeTrn].sup, constraint, level, from));
 }
 
@@ -215,7 +215,7 @@ void trn_phase(const SupervisorsConfig& c, std::uint32_t now) noexcept {
     return;
   }
   g_trn.phase = p;
-  g_nodes[kNodeTrn].stats.phase = p;
+  g_nodes[kNodeTrn].stats->phase = p;
   g_trn.woken_for = 0xFFFF'FFFFU;
   const PhaseSpec& ph = c.phases[p];
   trn::report(ev::kPhaseBegin, p, 0U, ph.reliability, ph.power);
@@ -278,21 +278,21 @@ void command_filter(const SupervisorsConfig& c, std::uint32_t code) noexcept {
   std::array<std::uint32_t, kSupCommandWords> w{};
   pack_sup_command(SupCommand{code, kNodeFilter}, w);
   send_words(udn::endpoint_role_tile(kSlotIo, c.io_tile), w);
-  ++g_nodes[kNodeFilter].stats.commands;
+  ++g_nodes[kNodeFilter].stats->commands;
 }
 
 /** @p commanded: the filter was already commanded (a ground command the I/O tile forwarded itself). */
 void filter_act(const SupervisorsConfig& c, const fdir::SupDecision& d, bool commanded = false) noexcept {
   NodeState& n = g_nodes[kNodeFilter];
   if (d.action == fdir::SupAction::kEscalate) {
-    ++n.stats.escalations;
+    ++n.stats->escalations;
     send_escalation(c.trn_tile, d, kNodeFilter);
     return;
   }
   if (d.action != fdir::SupAction::kApply) {
     return;
   }
-  ++n.stats.applied;
+  ++n.stats->applied;
   if (d.alternative == kAltReplicasOn || d.alternative == kAltReplicasParked) {
     g_fsup.power_save = d.alternative == kAltReplicasParked;
     return;  // replica_power() asks for the switching
@@ -317,7 +317,7 @@ void filter_act(const SupervisorsConfig& c, const fdir::SupDecision& d, bool com
 /** Judges the reliability level from one status of the filter. */
 void filter_status(const SupervisorsConfig& c, const FilterStatus& st) noexcept {
   NodeState& n = g_nodes[kNodeFilter];
-  ++n.stats.statuses;
+  ++n.stats->statuses;
   const std::uint32_t mode = st.mode;
   const auto voting = static_cast<std::uint32_t>(std::popcount(st.voting));
   const bool fresh_faults = g_fsup.have_status && (st.no_majority != g_fsup.no_majority || st.skipped != g_fsup.skipped);
@@ -387,10 +387,10 @@ void filter_park_done(const SupervisorsConfig& c, const fdir::ParkDone& done) no
     g_fsup.asked[i] = 0U;
     if (done.off) {
       g_fsup.off |= 1U << i;
-      ++g_nodes[kNodeFilter].stats.parks;
+      ++g_nodes[kNodeFilter].stats->parks;
     } else if ((g_fsup.off & (1U << i)) != 0U) {
       g_fsup.off &= ~(1U << i);
-      ++g_nodes[kNodeFilter].stats.wakes;
+      ++g_nodes[kNodeFilter].stats->wakes;
     }
   }
 }
@@ -407,7 +407,7 @@ void filter_messages(const SupervisorsConfig& c) noexcept {
     } else if (fdir::unpack_park_done(w, done) && m.source == c.health_tile) {
       filter_park_done(c, done);
     } else if (sup_message(m, sm) && is_policy(sm, g_nodes[kNodeFilter])) {
-      ++g_nodes[kNodeFilter].stats.policies;
+      ++g_nodes[kNodeFilter].stats->policies;
       // A ground filter_tmr / filter_simplex reached the filter straight from the I/O tile: the
       // supervisor takes its mode as the policy (until the TRN supervisor sends another) and sends nothing.
       const bool ground = sm.from == fdir::kFromGround;
@@ -426,33 +426,33 @@ void filter_messages(const SupervisorsConfig& c) noexcept {
 void send_rate(const SupervisorsConfig& c, std::uint32_t div) noexcept {
   const std::array<std::uint32_t, kVisionRateWords> w{kMsgVisionRate, div};
   send_words(udn::endpoint_role_tile(kSlotCoordinator, c.coordinator_tile), w);
-  g_nodes[kNodeVision].stats.rate_div = div;
+  g_nodes[kNodeVision].stats->rate_div = div;
 }
 
 void vision_act(const SupervisorsConfig& c, const fdir::SupDecision& d) noexcept {
   NodeState& n = g_nodes[kNodeVision];
   if (d.action == fdir::SupAction::kEscalate) {
-    ++n.stats.escalations;
+    ++n.stats->escalations;
     send_escalation(c.trn_tile, d, kNodeVision);
     return;
   }
   if (d.action != fdir::SupAction::kApply) {
     return;
   }
-  ++n.stats.applied;
+  ++n.stats->applied;
   send_rate(c, d.alternative == kAltHalfRate ? 2U : 1U);
 }
 
 void vision_status(const SupervisorsConfig& c, const VisionStatus& st) noexcept {
   NodeState& n = g_nodes[kNodeVision];
-  ++n.stats.statuses;
+  ++n.stats->statuses;
   const fdir::ConstraintState& cap = n.sup.c[kCap];
   if (cap.phase == fdir::ConstraintPhase::kIdle) {
     // No policy from above yet: the full rate is the default demand.
     vision_act(c, fdir::supervisor_policy(kSpecs[kNodeVision], n.sup, kCap, fdir::kCapacityFull, fdir::kFromDefault));
   }
-  if (st.rate_div != n.stats.rate_div) {
-    send_rate(c, n.stats.rate_div);  // a restarted coordinator: the rate again
+  if (st.rate_div != n.stats->rate_div) {
+    send_rate(c, n.stats->rate_div);  // a restarted coordinator: the rate again
   }
   const std::uint32_t healthy = st.healthy;
   const std::uint32_t need = cap.level == fdir::kCapacityHalfRate ? c.vision_min_half : c.vision_min_full;
@@ -467,7 +467,7 @@ void vision_messages(const SupervisorsConfig& c) noexcept {
     if (unpack_vision_status(std::span<const std::uint32_t>(m.data.data(), m.data_words), status)) {
       vision_status(c, status);
     } else if (sup_message(m, sm) && is_policy(sm, g_nodes[kNodeVision]) && sm.constraint == kCap) {
-      ++g_nodes[kNodeVision].stats.policies;
+      ++g_nodes[kNodeVision].stats->policies;
       vision_act(c, fdir::supervisor_policy(kSpecs[kNodeVision], g_nodes[kNodeVision].sup, kCap, sm.level, sm.from));
     }
   }
@@ -478,7 +478,9 @@ template <void (*Pass)(const SupervisorsConfig&)>
 void node_main(void* arg, std::uint8_t node) noexcept {
   const auto* cfg = static_cast<const SupervisorsConfig*>(arg);
   g_nodes[node] = NodeState{};
-  if (cfg == nullptr || !udn::endpoint_wait_ready(100U)) {
+  bsp::MemError err = bsp::MemError::kOk;
+  g_nodes[node].stats = bsp::carve_record(bsp::Region{bsp::current_tile()}, kSupervisorStatsRecord, &err);
+  if (cfg == nullptr || g_nodes[node].stats == nullptr || !udn::endpoint_wait_ready(100U)) {
     return;
   }
   for (;;) {
@@ -516,10 +518,6 @@ void filter_supervisor_main(void* arg) noexcept {
 }
 
 void vision_supervisor_main(void* arg) noexcept { node_main<&vision_messages>(arg, kNodeVision); }
-
-SupervisorStats supervisor_stats(std::uint8_t node) noexcept {
-  return node < g_nodes.size() ? g_nodes[node].stats : SupervisorStats{};
-}
 
 const fdir::SupervisorSpec& supervisor_spec(std::uint8_t node) noexcept {
   return kSpecs[node < kSpecs.size() ? node : 0U];
