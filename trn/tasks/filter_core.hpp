@@ -82,6 +82,20 @@ struct FilterCore {
 };
 
 /**
+ * What an upset of a core does (bsp::ControlLayout): its pointers are host
+ * state; the cursor of the samples integrated and the settings' digests are
+ * the tile's own.
+ */
+inline constexpr std::array kFilterCoreFields{
+    BSP_CONTROL_HOST(FilterCore, ekf),      BSP_CONTROL_HOST(FilterCore, queue),
+    BSP_CONTROL_HOST(FilterCore, scratch),  BSP_CONTROL_HOST(FilterCore, cfg),
+    BSP_CONTROL_HOST(FilterCore, stats),    BSP_CONTROL_STATE(FilterCore, have_imu),
+    BSP_CONTROL_STATE(FilterCore, last_imu), BSP_CONTROL_STATE(FilterCore, settings_crc),
+};
+inline constexpr bsp::ControlLayout kFilterCoreLayout{kFilterCoreFields, sizeof(FilterCore), alignof(FilterCore)};
+static_assert(bsp::control_layout_ok(kFilterCoreLayout), "every member of FilterCore, pointers as host state");
+
+/**
  * Carves the core in @p ram (the running tile's RAM), its counters' record
  * (kFilterTaskStatsRecord) last, and configures the EKF (not initialised).
  */

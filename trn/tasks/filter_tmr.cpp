@@ -30,7 +30,16 @@ struct Replica {
   std::uint32_t ckpt_slot;
 };
 
-std::array<Replica, bsp::kMaxTiles> g_replicas{};
+/** What an upset of a replica's state does (bsp::ControlLayout): the core as laid out, the rest the tile's own. */
+constexpr std::array kReplicaFields{
+    BSP_CONTROL_NESTED(Replica, core, kFilterCoreLayout), BSP_CONTROL_STATE(Replica, index),
+    BSP_CONTROL_STATE(Replica, seeded),                   BSP_CONTROL_STATE(Replica, epoch),
+    BSP_CONTROL_STATE(Replica, gen),                      BSP_CONTROL_STATE(Replica, seed_serial),
+    BSP_CONTROL_STATE(Replica, next_job),                 BSP_CONTROL_STATE(Replica, since_hello),
+    BSP_CONTROL_STATE(Replica, ckpt_slot),
+};
+constexpr bsp::ControlLayout kReplicaLayout{kReplicaFields, sizeof(Replica), alignof(Replica)};
+static_assert(bsp::control_layout_ok(kReplicaLayout), "every member of Replica, the core's pointers as host state");
 
 std::uint32_t seed_header_crc(const TmrSeed& s) noexcept {
   const std::array<std::uint32_t, 8> h{s.serial, s.job, s.for_mask, s.epoch, s.digest, s.gen[0], s.gen[1], s.gen[2]};
@@ -216,13 +225,21 @@ std::uint32_t replica_index(const FilterTaskConfig& cfg, bsp::TileId tile) noexc
 
 void filter_replica_main(void* arg) noexcept {
   const bsp::TileId tile = bsp::current_tile();
-  Replica& r = g_replicas[tile];
-  r = Replica{};
   const auto* cfg = static_cast<const FilterTaskConfig*>(arg);
   TmrArea* const a = tmr_area();
-  if (cfg == nullptr || a == nullptr || !core_set_up(r.core, *cfg, bsp::Region{tile})) {
+  FilterCore core{};
+  if (cfg == nullptr || a == nullptr || !core_set_up(core, *cfg, bsp::Region{tile})) {
     return;
   }
+  // The state after the core's carves: they keep the places they had before it lived in tile RAM.
+  bsp::MemError err = bsp::MemError::kOk;
+  Replica* const state = bsp::carve_control_array<Replica>(bsp::Region{tile}, 1U, kReplicaCarve, &err, &kReplicaLayout);
+  if (state == nullptr) {
+    return;
+  }
+  ::new (state) Replica{};
+  state->core = core;
+  Replica& r = *state;
   // A replica started in flight (woken by the power policy, reset) is released with the front's
   // jobs, as one booted with it: released a few ticks off, it found two records in some releases
   // and overran its deadline.
@@ -253,6 +270,8 @@ void filter_replica_main(void* arg) noexcept {
     (void)k::wait_period();
   }
 }
+
+const bsp::ControlLayout& replica_state_layout() noexcept { return kReplicaLayout; }
 
 void pack_replica_hello(const ReplicaHello& h, std::span<std::uint32_t, kReplicaHelloWords> w) noexcept {
   w[0] = kMsgReplicaHello;

@@ -124,6 +124,18 @@ void trn_supervisor_main(void* arg) noexcept;
 void filter_supervisor_main(void* arg) noexcept;
 void vision_supervisor_main(void* arg) noexcept;
 
+/**
+ * Names of the nodes' state carves in their tiles' RAM (every node's, the TRN
+ * supervisor's own, the filter supervisor's own) and their layouts (what an
+ * upset of them does). [host]
+ */
+inline constexpr const char* kSupNodeCarve = "sup_node";
+inline constexpr const char* kSupTrnCarve = "sup_trn";
+inline constexpr const char* kSupFilterCarve = "sup_filter";
+const bsp::ControlLayout& sup_node_state_layout() noexcept;
+const bsp::ControlLayout& sup_trn_state_layout() noexcept;
+const bsp::ControlLayout& sup_filter_state_layout() noexcept;
+
 /** The node specs of the tree (the plans of docs/FDIR.md). */
 const fdir::SupervisorSpec& supervisor_spec(std::uint8_t node) noexcept;
 
