@@ -1,7 +1,8 @@
 /**
  * @file control_upset_test.cpp
  * @brief Upsets of the emulated state in control data, field by field, in a flight: the image
- *        survives every one (the sanitizer build too) and the flight ends (issue 54 item 6).
+ *        survives every one (the sanitizer build too) and the flight ends (issue 54 item 6); the
+ *        roles' records and the state moved into tile RAM likewise (issue 55 item 4).
  *
  * Each control struct with a declared layout (bsp::ControlLayout) names the members an upset
  * flips for real; the flight code must then bound what it indexes or loops by with them. The
@@ -15,6 +16,11 @@
 #include "bsp_tile64/memory.hpp"
 #include "fdir/net_health.hpp"
 #include "fdir/tile_health.hpp"
+#include "trn/tasks/filter_task.hpp"
+#include "trn/tasks/filter_tmr.hpp"
+#include "trn/tasks/io_task.hpp"
+#include "trn/tasks/supervisors.hpp"
+#include "trn/tasks/vision_coord.hpp"
 #include "trn/tasks/vision_worker.hpp"
 
 #include <gtest/gtest.h>
@@ -170,6 +176,16 @@ const Sweep kTileHealth{fdir::kTileHealthCarve, "trn_supervisor", 0U, &fdir::til
 const Sweep kNetHealth{fdir::kNetHealthCarve, "trn_supervisor", 0U, &fdir::net_health_state_layout()};
 const Sweep kVisionWorker{trn::tasks::kVisionWorkerCarve, "vision", 40U, &trn::tasks::vision_worker_state_layout()};
 
+namespace tt = trn::tasks;
+const Sweep kSupNodeTrn{tt::kSupNodeCarve, "trn_supervisor", 0U, &tt::sup_node_state_layout()};
+const Sweep kSupTrn{tt::kSupTrnCarve, "trn_supervisor", 0U, &tt::sup_trn_state_layout()};
+const Sweep kReplica{tt::kReplicaCarve, "filter_replica", 3U, &tt::replica_state_layout()};
+const Sweep kFilterStats{tt::kFilterTaskStatsRecord.name, "filter", 0U, tt::kFilterTaskStatsRecord.layout};
+const Sweep kCoordStats{tt::kVisionCoordStatsRecord.name, "vision_coordinator", 0U, tt::kVisionCoordStatsRecord.layout};
+const Sweep kWorkerStats{tt::kVisionWorkerStatsRecord.name, "vision", 40U, tt::kVisionWorkerStatsRecord.layout};
+const Sweep kIoStats{tt::kIoTaskStatsRecord.name, "io", 0U, tt::kIoTaskStatsRecord.layout};
+const Sweep kSupStats{tt::kSupervisorStatsRecord.name, "trn_supervisor", 0U, tt::kSupervisorStatsRecord.layout};
+
 // Issue 54 item 6: an upset of any emulated member of the converted control structs is made for
 // real, the image survives it (no out-of-bounds index, no undefined behaviour under the
 // sanitizers) and the flight ends. With CONTROL_SWEEP_FULL set (make control-sweep), the larger
@@ -181,6 +197,17 @@ TEST_F(ControlUpsets, EveryEmulatedMemberOfTheDeclaredControlStructsSurvivesAnUp
   } else {
     fly({kTileHealth, kNetHealth, kVisionWorker}, false, 3.0, "members");
   }
+}
+
+// Issue 55 item 4: the roles' records and the supervisors' and replicas' state, now in tile RAM
+// with declared layouts, are flipped for real and the image survives every upset of them. A plan
+// aims at a role by name, and names neither the filter nor the vision supervisor: the TRN
+// supervisor's node stands for the three (the same NodeState), the filter supervisor's own
+// state (sup_filter) is not swept.
+TEST_F(ControlUpsets, EveryEmulatedMemberOfTheRecordsAndStateMovedIntoTileRamSurvivesAnUpset) {
+  const bool full = std::getenv("CONTROL_SWEEP_FULL") != nullptr;
+  fly({kSupNodeTrn, kSupTrn, kReplica}, full, full ? 6.0 : 3.0, "supervisors_replicas");
+  fly({kFilterStats, kCoordStats, kWorkerStats, kIoStats, kSupStats}, full, full ? 6.0 : 3.0, "records");
 }
 
 }  // namespace
