@@ -15,6 +15,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <new>
 #include <span>
 #include <type_traits>
 
@@ -265,6 +266,34 @@ T* carve_control_array(Region r, std::size_t count, const char* what, MemError* 
     *err = c.error;
   }
   return reinterpret_cast<T*>(c.ptr);  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): raw region storage
+}
+
+/**
+ * A record a task keeps in its tile's RAM for the host to read (its
+ * telemetry: counters, modes): the carve's name and the record's layout,
+ * declared once beside the record's type. The task carves it at start
+ * (carve_record); the host finds it by this name among the tile's carves and
+ * copies it out (tools/common/mission/ram_record.hpp), never through the task's code.
+ * An upset of it flips the bit for real wherever the layout says emulated state.
+ */
+template <class T>
+struct RamRecord {
+  static_assert(std::is_trivially_copyable_v<T>, "a record is copied out of RAM byte for byte");
+  const char* name;              ///< static string: the carve's name, unique among the tile's carves
+  const ControlLayout* layout;   ///< T's layout (control_layout_ok), static storage
+};
+
+/**
+ * Carves record @p rec in region @p r and value-initialises it (T{}).
+ * @return the record, or nullptr with the reason in @p err (kBadLayout: the layout is not T's).
+ */
+template <class T>
+T* carve_record(Region r, const RamRecord<T>& rec, MemError* err) noexcept {
+  T* p = carve_control_array<T>(r, 1U, rec.name, err, rec.layout);
+  if (p != nullptr) {
+    ::new (static_cast<void*>(p)) T{};
+  }
+  return p;
 }
 
 /** Link-time bounds of the sections, from the linker fragment's symbols. */

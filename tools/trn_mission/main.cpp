@@ -35,12 +35,14 @@
 #include "tools/common/mission/mission.hpp"
 #include "tools/common/mission/nav_integrity.hpp"
 #include "tools/common/mission/phase_energy.hpp"
+#include "tools/common/mission/ram_record.hpp"
 #include "tools/common/mission/run_folder.hpp"
 #include "tools/common/mission/scenario.hpp"
 #include "tools/common/mission/tile_view.hpp"
 #include "tools/common/mission/trace_dump.hpp"
 #include "trn/tasks/filter/filter_task.hpp"
 #include "trn/tasks/io/io_task.hpp"
+#include "trn/tasks/supervisors/supervisors.hpp"
 #include "trn/tasks/tile_map.hpp"
 #include "trn/tasks/vision/vision_coord.hpp"
 #include "udn/endpoint.hpp"
@@ -78,6 +80,21 @@ constexpr double kStepS = 0.1;  ///< sampling step of the flight loop (nav.csv, 
  * (integrity, fix, convergence, maximum error), not one in ten.
  */
 constexpr std::uint32_t kChecksPerStep = 10U;
+
+/**
+ * Record @p rec as the flight left it in the RAM of @p tile
+ * (tools/common/mission/ram_record.hpp); T{} and a warning when the tile holds none
+ * (the role's task never started there, or the tile restarted and has not carved it again).
+ */
+template <class T>
+T flight_record(bsp::TileId tile, const bsp::RamRecord<T>& rec) {
+  T out{};
+  std::string error;
+  if (!tools::read_record(tile, rec, out, error)) {
+    std::fprintf(stderr, "trn_mission: %s\n", error.c_str());
+  }
+  return out;
+}
 
 struct Options {
   std::string scenario_path;
@@ -352,7 +369,12 @@ void fly(const Options& o, const tools::Mission& m, double duration_s, tools::Na
     for (std::uint32_t c = 1; c <= kChecksPerStep; ++c) {
       (void)tools::run_with_phases((static_cast<bsp::Cycles>(s - 1U) * kChecksPerStep + c) * check_cycles, energy);
       check(m.nav(), rec);
-      const std::uint32_t io = trn::tasks::io_task_stats().imu_forwarded;
+      // The I/O role's count as its tile holds it; while the tile restarts (no record), the count before.
+      trn::tasks::IoTaskStats io_stats{};
+      io_stats.imu_forwarded = rec.io_forwarded;
+      (void)tools::try_read_record(trn::tasks::slot_tile_now(trn::tasks::kSlotIo), trn::tasks::kIoTaskStatsRecord,
+                                   io_stats);
+      const std::uint32_t io = io_stats.imu_forwarded;
       if (io != rec.io_forwarded && rec.io_samples_s.size() < rec.io_samples_s.capacity()) {
         rec.io_samples_s.push_back(static_cast<double>(bsp::board_time()) / clock_hz);
       }
@@ -434,12 +456,15 @@ FinalScore score_end(const tools::Mission& m, const FlightRecord& rec, double en
   f.lost = f.output_age_s > kLostOutputAgeS;
   return f;
 }
-/** What the supervisor tree did: the flight's own counters (trn/tasks/supervisors/supervisors.hpp). */
+/** What the supervisor tree did: each node's counters, its record in its tile's RAM (trn/tasks/supervisors/supervisors.hpp). */
 void add_supervisor_keys(tools::Summary& s, const trn::tasks::VisionCoordStats& c) {
-  using trn::tasks::supervisor_stats;
-  const trn::tasks::SupervisorStats top = supervisor_stats(trn::tasks::kNodeTrn);
-  const trn::tasks::SupervisorStats fs = supervisor_stats(trn::tasks::kNodeFilter);
-  const trn::tasks::SupervisorStats vs = supervisor_stats(trn::tasks::kNodeVision);
+  using trn::tasks::kSupervisorStatsRecord;
+  using trn::tasks::slot_tile_now;
+  const trn::tasks::SupervisorStats top = flight_record(trn::tasks::kSupervisorTile, kSupervisorStatsRecord);
+  const trn::tasks::SupervisorStats fs =
+      flight_record(slot_tile_now(trn::tasks::kSlotFilterSupervisor), kSupervisorStatsRecord);
+  const trn::tasks::SupervisorStats vs =
+      flight_record(slot_tile_now(trn::tasks::kSlotVisionSupervisor), kSupervisorStatsRecord);
   s.extra.emplace_back("sup_phase_at_end", top.phase);
   s.extra.emplace_back("sup_policies", top.policies + fs.policies + vs.policies);
   s.extra.emplace_back("sup_alternatives_applied", top.applied + fs.applied + vs.applied);
@@ -569,8 +594,8 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.faults_detected = faults.detected;
   s.faults_recovered = faults.recovered;
   s.trace_hash = tools::trace_hash_hex(bsp::trace_hash());
-  const trn::tasks::VisionCoordStats c =
-      trn::tasks::vision_coord_stats(trn::tasks::slot_tile_now(trn::tasks::kSlotCoordinator));
+  const trn::tasks::VisionCoordStats c = flight_record(trn::tasks::slot_tile_now(trn::tasks::kSlotCoordinator),
+                                                      trn::tasks::kVisionCoordStatsRecord);
   s.extra.emplace_back("mission_lost", end.lost ? 1.0 : 0.0);
   s.extra.emplace_back("nav_output_age_at_end_s", end.output_age_s);
   s.extra.emplace_back("nav_longest_gap_s", std::max(rec.longest_gap_s, end.output_age_s));
@@ -629,7 +654,8 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
                                                     : m.setup().vision_tiles);
   // The filter role's delivered solutions, in job order (a simplex or a voted one alike), and its TMR counts:
   // the flight's counters since the filter task last started (filter_counts_since_job; a restart clears them).
-  const trn::tasks::FilterTaskStats f = trn::tasks::filter_task_stats(trn::tasks::slot_tile_now(trn::tasks::kSlotFilter));
+  const trn::tasks::FilterTaskStats f =
+      flight_record(trn::tasks::slot_tile_now(trn::tasks::kSlotFilter), trn::tasks::kFilterTaskStatsRecord);
   s.extra.emplace_back("filter_counts_since_job", f.started_job);
   s.extra.emplace_back("filter_outputs_delivered", f.outputs_delivered);
   s.extra.emplace_back("filter_outputs_skipped", f.outputs_skipped);
@@ -871,7 +897,7 @@ int run(int argc, char** argv) {
   // Without effect: nothing was detected and the delivered stream is the golden flight's bit for bit.
   if (in.golden_stream.has_value()) {
     const trn::tasks::FilterTaskStats f =
-        trn::tasks::filter_task_stats(trn::tasks::slot_tile_now(trn::tasks::kSlotFilter));
+        flight_record(trn::tasks::slot_tile_now(trn::tasks::kSlotFilter), trn::tasks::kFilterTaskStatsRecord);
     const std::array<double, 4> mine{static_cast<double>(f.output_crc), static_cast<double>(f.outputs_delivered),
                                      static_cast<double>(f.last_delivered_job), static_cast<double>(f.started_job)};
     if (mine == *in.golden_stream) {

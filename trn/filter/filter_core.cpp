@@ -197,10 +197,9 @@ std::array<std::uint32_t, 3> settings_digests(const FilterCore& c, bsp::Work& wo
 
 }  // namespace
 
-bool core_set_up(FilterCore& c, const FilterTaskConfig& cfg, FilterTaskStats& stats, bsp::Region ram) noexcept {
+bool core_set_up(FilterCore& c, const FilterTaskConfig& cfg, bsp::Region ram) noexcept {
   c = FilterCore{};
   c.cfg = &cfg;
-  c.stats = &stats;
   bsp::MemError err = bsp::MemError::kOk;
   auto* ekf = bsp::carve_array<filter::Ekf>(ram, 1, kEkfCarve, &err);
   if (err != bsp::MemError::kOk) {
@@ -220,6 +219,11 @@ bool core_set_up(FilterCore& c, const FilterTaskConfig& cfg, FilterTaskStats& st
   }
   ::new (scratch) filter::StateBlock{};
   c.scratch = scratch;
+  // The counters last: the core's other carves keep the places they had before the counters were a record.
+  c.stats = bsp::carve_record(ram, kFilterTaskStatsRecord, &err);
+  if (c.stats == nullptr) {
+    return false;
+  }
   if (c.ekf->configure(cfg.filter, cfg.camera) != filter::FilterStatus::kOk) {
     return false;
   }

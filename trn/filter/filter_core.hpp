@@ -74,15 +74,32 @@ struct FilterCore {
   MatchQueue* queue = nullptr;
   filter::StateBlock* scratch = nullptr;  ///< for digests and saves
   const FilterTaskConfig* cfg = nullptr;
-  FilterTaskStats* stats = nullptr;       ///< the owner's counters
+  FilterTaskStats* stats = nullptr;       ///< the owner's counters, its record in tile RAM (kFilterTaskStatsRecord)
   bool have_imu = false;
   std::uint32_t last_imu = 0U;            ///< seq of the last sample integrated
   /// CRC-32C of each part of the EKF's settings when they were (re)built (core_settings_changed()).
   std::array<std::uint32_t, 3> settings_crc{};
 };
 
-/** Carves the core in @p ram (the running tile's RAM) and configures the EKF (not initialised). */
-bool core_set_up(FilterCore& c, const FilterTaskConfig& cfg, FilterTaskStats& stats, bsp::Region ram) noexcept;
+/**
+ * What an upset of a core does (bsp::ControlLayout): its pointers are host
+ * state; the cursor of the samples integrated and the settings' digests are
+ * the tile's own.
+ */
+inline constexpr std::array kFilterCoreFields{
+    BSP_CONTROL_HOST(FilterCore, ekf),      BSP_CONTROL_HOST(FilterCore, queue),
+    BSP_CONTROL_HOST(FilterCore, scratch),  BSP_CONTROL_HOST(FilterCore, cfg),
+    BSP_CONTROL_HOST(FilterCore, stats),    BSP_CONTROL_STATE(FilterCore, have_imu),
+    BSP_CONTROL_STATE(FilterCore, last_imu), BSP_CONTROL_STATE(FilterCore, settings_crc),
+};
+inline constexpr bsp::ControlLayout kFilterCoreLayout{kFilterCoreFields, sizeof(FilterCore), alignof(FilterCore)};
+static_assert(bsp::control_layout_ok(kFilterCoreLayout), "every member of FilterCore, pointers as host state");
+
+/**
+ * Carves the core in @p ram (the running tile's RAM), its counters' record
+ * (kFilterTaskStatsRecord) last, and configures the EKF (not initialised).
+ */
+bool core_set_up(FilterCore& c, const FilterTaskConfig& cfg, bsp::Region ram) noexcept;
 
 /** Runs one job: integrates the record's samples, queues its matches, applies at most matches_per_job. */
 void core_run(FilterCore& c, const JobRecord& r) noexcept;

@@ -1,7 +1,8 @@
 /**
  * @file control_upset_test.cpp
  * @brief Upsets of the emulated state in control data, field by field, in a flight: the image
- *        survives every one (the sanitizer build too) and the flight ends (issue 54 item 6).
+ *        survives every one (the sanitizer build too) and the flight ends (issue 54 item 6); the
+ *        roles' records and the state moved into tile RAM likewise (issue 55 item 4).
  *
  * Each control struct with a declared layout (bsp::ControlLayout) names the members an upset
  * flips for real; the flight code must then bound what it indexes or loops by with them. The
@@ -18,6 +19,12 @@
 #include "kernel/detail/tcb.hpp"
 #include "trn/tasks/vision/vision_worker.hpp"
 #include "udn/endpoint.hpp"
+#include "trn/tasks/filter/filter_task.hpp"
+#include "trn/tasks/filter/filter_tmr.hpp"
+#include "trn/tasks/io/io_task.hpp"
+#include "trn/tasks/supervisors/supervisors.hpp"
+#include "trn/tasks/vision/vision_coord.hpp"
+#include "trn/tasks/vision/vision_worker.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -184,6 +191,16 @@ const Sweep kEndpointSupervisor{udn::kEndpointCarve, "trn_supervisor", 0U, &udn:
 const Sweep kKernelVision{"kernel state", "vision", 40U, &k::detail::kKernelStateLayout};
 const Sweep kKernelSupervisor{"kernel state", "trn_supervisor", 0U, &k::detail::kKernelStateLayout};
 
+namespace tt = trn::tasks;
+const Sweep kSupNodeTrn{tt::kSupNodeCarve, "trn_supervisor", 0U, &tt::sup_node_state_layout()};
+const Sweep kSupTrn{tt::kSupTrnCarve, "trn_supervisor", 0U, &tt::sup_trn_state_layout()};
+const Sweep kReplica{tt::kReplicaCarve, "filter_replica", 3U, &tt::replica_state_layout()};
+const Sweep kFilterStats{tt::kFilterTaskStatsRecord.name, "filter", 0U, tt::kFilterTaskStatsRecord.layout};
+const Sweep kCoordStats{tt::kVisionCoordStatsRecord.name, "vision_coordinator", 0U, tt::kVisionCoordStatsRecord.layout};
+const Sweep kWorkerStats{tt::kVisionWorkerStatsRecord.name, "vision", 40U, tt::kVisionWorkerStatsRecord.layout};
+const Sweep kIoStats{tt::kIoTaskStatsRecord.name, "io", 0U, tt::kIoTaskStatsRecord.layout};
+const Sweep kSupStats{tt::kSupervisorStatsRecord.name, "trn_supervisor", 0U, tt::kSupervisorStatsRecord.layout};
+
 // Issue 54 item 6: an upset of any emulated member of the converted control structs is made for
 // real, the image survives it (no out-of-bounds index, no undefined behaviour under the
 // sanitizers) and the flight ends. With CONTROL_SWEEP_FULL set (make control-sweep), the larger
@@ -214,6 +231,21 @@ TEST_F(ControlUpsets, EveryEmulatedMemberOfTheEndpointAndTheKernelSurvivesAnUpse
     fly({kKernelVision, kKernelSupervisor}, true, 6.0, "kernel");
   } else {
     fly({kEndpointVision, kKernelSupervisor}, false, 2.0, "endpoint_kernel");
+  }
+}
+
+// Issue 55 item 4: the roles' records and the supervisors' and replicas' state, now in tile RAM
+// with declared layouts, are flipped for real and the image survives every upset of them. A plan
+// aims at a role by name, and names neither the filter nor the vision supervisor: the TRN
+// supervisor's node stands for the three (the same NodeState), the filter supervisor's own
+// state (sup_filter) is not swept.
+TEST_F(ControlUpsets, EveryEmulatedMemberOfTheRecordsAndStateMovedIntoTileRamSurvivesAnUpset) {
+  if (std::getenv("CONTROL_SWEEP_FULL") != nullptr) {
+    fly({kSupNodeTrn, kSupTrn, kReplica}, true, 6.0, "supervisors_replicas");
+    fly({kFilterStats, kCoordStats, kWorkerStats, kIoStats, kSupStats}, true, 6.0, "records");
+  } else {
+    fly({kSupNodeTrn, kSupTrn, kReplica, kFilterStats, kCoordStats, kWorkerStats, kIoStats, kSupStats}, false, 2.0,
+        "records_state");
   }
 }
 

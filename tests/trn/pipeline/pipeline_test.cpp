@@ -14,6 +14,7 @@
 
 #include "bsp_tile64/emu/board.hpp"
 #include "fdir/event_log.hpp"
+#include "tests/support/flight_record.hpp"
 #include "tools/common/mission/mission.hpp"
 #include "trn/tasks/filter/filter_task.hpp"
 #include "trn/tasks/vision/landmark_product.hpp"
@@ -30,6 +31,17 @@
 #include <vector>
 
 namespace {
+
+/** The filter task's counters on @p tile, as the host reads them: its record in the tile's RAM. */
+trn::tasks::FilterTaskStats filter_stats(bsp::TileId tile) {
+  return test_support::flight_record(tile, trn::tasks::kFilterTaskStatsRecord);
+}
+
+/** The coordinator's counters on @p tile, as the host reads them: its record in the tile's RAM. */
+trn::tasks::VisionCoordStats coord_stats(bsp::TileId tile) {
+  return test_support::flight_record(tile, trn::tasks::kVisionCoordStatsRecord);
+}
+
 
 using trn::tasks::kCoordinatorTile;
 using trn::tasks::kFilterTile;
@@ -69,7 +81,7 @@ TEST_F(PipelineTest, FortyVisionTilesConvergeFromThreeKilometres) {
   ASSERT_TRUE(start.valid);
   EXPECT_GT(start.position_error_m, 2500.0);  // the scenario's 3 km horizontal error
   fly_s(7.0);
-  const trn::tasks::VisionCoordStats c = trn::tasks::vision_coord_stats(kCoordinatorTile);
+  const trn::tasks::VisionCoordStats c = coord_stats(kCoordinatorTile);
   EXPECT_GT(c.landmarks_selected, 500U);
   EXPECT_GE(c.frames_processed, 5U);
   EXPECT_GE(c.coarse_accepted, 1U);
@@ -80,7 +92,7 @@ TEST_F(PipelineTest, FortyVisionTilesConvergeFromThreeKilometres) {
   const tools::NavSample end = mission_->nav();
   ASSERT_TRUE(end.valid);
   EXPECT_LT(end.position_error_m, 20.0) << "after " << end.t_s << " s";
-  const trn::tasks::FilterTaskStats f = trn::tasks::filter_task_stats(kFilterTile);
+  const trn::tasks::FilterTaskStats f = filter_stats(kFilterTile);
   EXPECT_GT(f.matches_applied, 300U);
 }
 
@@ -114,12 +126,12 @@ TEST_F(PipelineTest, TenVisionTilesRemovedFramesStillComplete) {
   }
   EXPECT_EQ(voted, 10U);
   fly_s(5.5);  // the coordinator's start (selection, relit coarse map) takes the first frames
-  const trn::tasks::VisionCoordStats first = trn::tasks::vision_coord_stats(kCoordinatorTile);
+  const trn::tasks::VisionCoordStats first = coord_stats(kCoordinatorTile);
   ASSERT_GE(first.frames_processed, 3U);
   EXPECT_GE(first.units_lost + first.units_send_failed, 10U);  // the removed tiles' shares, at first
   EXPECT_GT(first.matches_total / first.frames_processed, 50U);
   fly_s(4.0);
-  const trn::tasks::VisionCoordStats later = trn::tasks::vision_coord_stats(kCoordinatorTile);
+  const trn::tasks::VisionCoordStats later = coord_stats(kCoordinatorTile);
   EXPECT_EQ(later.suspect_tiles, 10U);
   // Once isolated they get one probe unit every kProbeEveryFrames frames: only those are lost.
   EXPECT_LE(later.units_lost - first.units_lost, 10U * (4U / trn::tasks::kProbeEveryFrames + 1U));
@@ -155,7 +167,7 @@ TEST_F(PipelineTest, ACoordinatorThatCannotStartSaysWhy) {
     }
   }
   EXPECT_EQ(said, 1U);
-  EXPECT_EQ(trn::tasks::vision_coord_stats(kCoordinatorTile).frames_processed, 0U);
+  EXPECT_EQ(coord_stats(kCoordinatorTile).frames_processed, 0U);
 }
 
 /** The coordinator's table (DDR "landmarks"): its records, count and first_tight first. */
@@ -191,7 +203,7 @@ TEST_F(PipelineTest, TheGroundsLandmarkTableIsTheOnboardSelectionAndReadyForTheF
   std::string error;
   ASSERT_TRUE(mission_->boot(error)) << error;
   fly_s(1.2);
-  const trn::tasks::VisionCoordStats ground = trn::tasks::vision_coord_stats(kCoordinatorTile);
+  const trn::tasks::VisionCoordStats ground = coord_stats(kCoordinatorTile);
   EXPECT_EQ(ground.landmarks_from_ground, 1U);
   EXPECT_GT(ground.landmarks_selected, 3000U);
   EXPECT_EQ(ground.frames_before_ready, 0U);
@@ -202,7 +214,7 @@ TEST_F(PipelineTest, TheGroundsLandmarkTableIsTheOnboardSelectionAndReadyForTheF
   ASSERT_TRUE(mission_->boot(error)) << error;
   fly_s(2.5);
   mission_->set_ground_landmarks(true);
-  const trn::tasks::VisionCoordStats board = trn::tasks::vision_coord_stats(kCoordinatorTile);
+  const trn::tasks::VisionCoordStats board = coord_stats(kCoordinatorTile);
   EXPECT_EQ(board.landmarks_from_ground, 0U);
   EXPECT_LT(ground.ready_ms, 300U) << "the table checked, the coarse layer relit";
   EXPECT_GT(board.ready_ms, 1000U) << "the selection on board is most of the start";
@@ -226,7 +238,7 @@ TEST_F(PipelineTest, AGroundTableChangedInMemoryIsRefusedAndTheCoordinatorSelect
   const std::vector<fdir::Event> refused = coordinator_events(trn::ev::kLandmarkProductRefused);
   ASSERT_EQ(refused.size(), 1U);
   EXPECT_EQ(refused[0].cause, static_cast<std::uint32_t>(trn::tasks::ProductCheck::kBadRecords));
-  const trn::tasks::VisionCoordStats c = trn::tasks::vision_coord_stats(kCoordinatorTile);
+  const trn::tasks::VisionCoordStats c = coord_stats(kCoordinatorTile);
   EXPECT_EQ(c.landmarks_from_ground, 0U);
   EXPECT_GT(c.landmarks_selected, 3000U);
   EXPECT_GE(c.frames_processed, 1U);

@@ -70,8 +70,8 @@ class FilterCore2 : public ::testing::Test {
     ASSERT_EQ(bsp::region_reset(bsp::Region{kTileA}), bsp::MemError::kOk);
     ASSERT_EQ(bsp::region_reset(bsp::Region{kTileB}), bsp::MemError::kOk);
     cfg_.matches_per_job = 15U;
-    ASSERT_TRUE(trn::tasks::core_set_up(a_, cfg_, stats_a_, bsp::Region{kTileA}));
-    ASSERT_TRUE(trn::tasks::core_set_up(b_, cfg_, stats_b_, bsp::Region{kTileB}));
+    ASSERT_TRUE(trn::tasks::core_set_up(a_, cfg_, bsp::Region{kTileA}));
+    ASSERT_TRUE(trn::tasks::core_set_up(b_, cfg_, bsp::Region{kTileB}));
     bsp::Rng rng(5, bsp::StreamId::kTest, 1);
     cfg_.initial = filter_test::perturbed_estimate(truth_, rng, 20.0, 0.2, 1e-3);
     ASSERT_EQ(a_.ekf->init(cfg_.initial), trn::filter::FilterStatus::kOk);
@@ -106,8 +106,6 @@ class FilterCore2 : public ::testing::Test {
   filter_test::TruthSim truth_{5, true, trn::filter::FilterConfig{}.imu};
   std::vector<Pose> poses_;  ///< by job
   trn::tasks::FilterTaskConfig cfg_{};
-  trn::tasks::FilterTaskStats stats_a_{};
-  trn::tasks::FilterTaskStats stats_b_{};
   FilterCore a_{};
   FilterCore b_{};
   CoreImage image_{};
@@ -137,7 +135,7 @@ TEST_F(FilterCore2, ASavedCoreLoadedElsewhereRunsTheNextRecordsToTheSameBits) {
     ASSERT_EQ(oa, ob) << "job " << trn::tasks::record_job(r);
   }
   EXPECT_TRUE(wrapped) << "the queue's ring wrapped after the load";
-  EXPECT_GT(stats_a_.matches_applied, 100U);
+  EXPECT_GT(a_.stats->matches_applied, 100U);
 }
 
 TEST_F(FilterCore2, TheDigestSeesTheQueueAndItsRingPosition) {

@@ -14,6 +14,7 @@
 #include "bsp_tile64/world/trajectory.hpp"
 #include "kernel/kernel.hpp"
 #include "tests/support/heap_probe.hpp"
+#include "tests/support/flight_record.hpp"
 #include "trn/filter/nav_output.hpp"
 #include "trn/tasks/filter/filter_task.hpp"
 #include "trn/tasks/messages.hpp"
@@ -27,6 +28,12 @@
 #include <cstdio>
 
 namespace {
+
+/** The filter task's counters on @p tile, as the host reads them: its record in the tile's RAM. */
+trn::tasks::FilterTaskStats filter_stats(bsp::TileId tile) {
+  return test_support::flight_record(tile, trn::tasks::kFilterTaskStatsRecord);
+}
+
 
 constexpr bsp::TileId kCoordTile = 1;
 constexpr bsp::TileId kIoTile = 9;
@@ -245,7 +252,7 @@ TEST_F(FilterMatches, LateBatchesAreAppliedAtTheirImageTimeWithinTheJobBudget) {
   plan_six_frames();
   boot(Eigen::Vector3d(30.0, -20.0, 10.0), trn::tasks::kDefaultMatchesPerJob);
   (void)bsp::run_for(8U * kHz);
-  const trn::tasks::FilterTaskStats st = trn::tasks::filter_task_stats(kFilterTile);
+  const trn::tasks::FilterTaskStats st = filter_stats(kFilterTile);
   trn::filter::NavOutput o{};
   ASSERT_TRUE(trn::tasks::filter_task_output(kFilterTile, &o));
   const double err = position_error_m(o);
@@ -301,7 +308,7 @@ TEST_F(FilterMatches, WithoutMatchesTheSameStartDriftsAway) {
   ASSERT_TRUE(trn::tasks::filter_task_output(kFilterTile, &o));
   std::printf("without matches: error %.2f m after 8 s\n", position_error_m(o));
   EXPECT_GT(position_error_m(o), 30.0);
-  EXPECT_EQ(trn::tasks::filter_task_stats(kFilterTile).matches_received, 0U);
+  EXPECT_EQ(filter_stats(kFilterTile).matches_received, 0U);
 }
 
 TEST_F(FilterMatches, AFullQueueDropsTheOldestFrameAndStaleFramesAreRefused) {
@@ -315,7 +322,7 @@ TEST_F(FilterMatches, AFullQueueDropsTheOldestFrameAndStaleFramesAreRefused) {
   g_setup.plan[3] = FramePlan{3.8, 0.21, 200U, false};
   boot(Eigen::Vector3d(5.0, -5.0, 2.0), 5U);
   (void)bsp::run_for(5U * kHz);
-  trn::tasks::FilterTaskStats st = trn::tasks::filter_task_stats(kFilterTile);
+  trn::tasks::FilterTaskStats st = filter_stats(kFilterTile);
   std::printf("overflow: received %u, applied %u, gated %u, stale %u, dropped %u, high water %u\n",
               st.matches_received, st.matches_applied, st.rejected_gate, st.rejected_stale, st.matches_dropped,
               st.queue_high_water);
@@ -326,7 +333,7 @@ TEST_F(FilterMatches, AFullQueueDropsTheOldestFrameAndStaleFramesAreRefused) {
   EXPECT_GT(st.matches_dropped, 0U);
   EXPECT_LE(st.matches_dropped, 200U) << "only the oldest frame's remainder";
   (void)bsp::run_for(2U * kHz);  // let the queue empty
-  st = trn::tasks::filter_task_stats(kFilterTile);
+  st = filter_stats(kFilterTile);
   EXPECT_EQ(st.matches_applied + st.rejected_gate + st.rejected_stale + st.rejected_invalid + st.matches_dropped,
             st.matches_received)
       << "every match accounted for once";
@@ -342,7 +349,7 @@ TEST_F(FilterMatches, RunAllocatesNothingAndRepeatsBitForBit) {
   EXPECT_EQ(allocs, 0U);
   trn::filter::NavOutput first{};
   ASSERT_TRUE(trn::tasks::filter_task_output(kFilterTile, &first));
-  const std::uint32_t applied = trn::tasks::filter_task_stats(kFilterTile).matches_applied;
+  const std::uint32_t applied = filter_stats(kFilterTile).matches_applied;
   EXPECT_GT(applied, 100U);
   const std::uint64_t hash = bsp::trace_hash();
   plan_six_frames();
@@ -356,7 +363,7 @@ TEST_F(FilterMatches, RunAllocatesNothingAndRepeatsBitForBit) {
   trn::filter::write_nav_output(first, first_bytes);
   trn::filter::write_nav_output(second, second_bytes);
   EXPECT_EQ(first_bytes, second_bytes) << "the same record, byte for byte";
-  EXPECT_EQ(trn::tasks::filter_task_stats(kFilterTile).matches_applied, applied);
+  EXPECT_EQ(filter_stats(kFilterTile).matches_applied, applied);
 }
 
 }  // namespace

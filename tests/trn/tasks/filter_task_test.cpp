@@ -12,6 +12,7 @@
 #include "bsp_tile64/world/trajectory.hpp"
 #include "kernel/kernel.hpp"
 #include "tests/support/heap_probe.hpp"
+#include "tests/support/flight_record.hpp"
 #include "trn/tasks/filter/filter_task.hpp"
 #include "trn/tasks/io/io_task.hpp"
 #include "trn/tasks/messages.hpp"
@@ -22,6 +23,12 @@
 #include <cstring>
 
 namespace {
+
+/** The filter task's counters on @p tile, as the host reads them: its record in the tile's RAM. */
+trn::tasks::FilterTaskStats filter_stats(bsp::TileId tile) {
+  return test_support::flight_record(tile, trn::tasks::kFilterTaskStatsRecord);
+}
+
 
 constexpr bsp::TileId kIoTile = 9;
 constexpr bsp::TileId kFilterTile = 18;
@@ -74,12 +81,12 @@ class FilterTask : public ::testing::Test {
 TEST_F(FilterTask, FollowsTheTruthAtOneHundredHertzWithinEveryDeadline) {
   boot(false);
   (void)bsp::run_for(5U * kHz);
-  const trn::tasks::FilterTaskStats st = trn::tasks::filter_task_stats(kFilterTile);
+  const trn::tasks::FilterTaskStats st = filter_stats(kFilterTile);
   EXPECT_GE(st.jobs, 495U);
   EXPECT_GE(st.imu_used, 495U) << "every sample forwarded and integrated";
   EXPECT_EQ(st.imu_rejected, 0U);
   EXPECT_EQ(st.filter_errors, 0U);
-  EXPECT_EQ(trn::tasks::io_task_stats().send_failures, 0U);
+  EXPECT_EQ(test_support::flight_record(kIoTile, trn::tasks::kIoTaskStatsRecord).send_failures, 0U);
   // One period's work on the soft-float TILE64 fits well inside 10 ms.
   EXPECT_GT(st.max_job_cycles, 0U);
   EXPECT_LT(st.max_job_cycles, 10U * bsp::kTile64.cycles_per_ms() / 2U);

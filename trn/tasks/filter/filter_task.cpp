@@ -57,7 +57,7 @@ constexpr std::uint32_t kVotedWords = kNavWords + 1U;
 struct Slot {
   FilterCore core;
   const FilterTaskConfig* cfg;
-  FilterTaskStats stats;
+  FilterTaskStats* stats;    ///< the core's counters (its record in tile RAM); nullptr before set-up
   filter::NavOutput latest;
   bool published;
   JobRecord record;          ///< the job being filled
@@ -140,13 +140,13 @@ bool replay(Slot& slot, std::uint32_t until, std::uint32_t& budget) noexcept {
       const std::uint32_t oldest = imu_ring_oldest(*slot.ring);
       const std::uint32_t first = oldest > slot.last_imu + 1U ? oldest : until;
       const std::uint32_t missing = first - (slot.last_imu + 1U);
-      slot.stats.imu_lost += missing;
+      slot.stats->imu_lost += missing;
       trn::report(ev::kImuGap, slot.last_imu + 1U, 0U, missing);
       slot.last_imu = first - 1U;
       continue;
     }
     add_sample(slot, s);
-    ++slot.stats.imu_replayed;
+    ++slot.stats->imu_replayed;
     --budget;
   }
   return slot.last_imu + 1U >= until;
@@ -182,7 +182,7 @@ void take_command(Slot& slot) noexcept {
     return;
   }
   slot.cmd_held = false;
-  ++slot.stats.commands;
+  ++slot.stats->commands;
   slot.command = slot.cmd[2];
   trn::report(ev::kCommandTaken, slot.cmd[2], slot.cmd[1], slot.job);
 }
@@ -190,7 +190,7 @@ void take_command(Slot& slot) noexcept {
 /** Puts a due sample into the record: duplicates skipped, a gap first replayed from the DDR record. */
 void take_sample(Slot& slot, const bsp::ImuSample& s, std::uint32_t& budget) noexcept {
   if (slot.have_imu && s.seq <= slot.last_imu) {
-    ++slot.stats.imu_duplicates;  // replayed before it arrived
+    ++slot.stats->imu_duplicates;  // replayed before it arrived
     return;
   }
   if (slot.have_imu && s.seq > slot.last_imu + 1U && slot.cfg->checkpoint_every != 0U && !replay(slot, s.seq, budget)) {
@@ -198,7 +198,7 @@ void take_sample(Slot& slot, const bsp::ImuSample& s, std::uint32_t& budget) noe
     return;
   }
   if (slot.have_imu && s.seq <= slot.last_imu) {
-    ++slot.stats.imu_duplicates;
+    ++slot.stats->imu_duplicates;
     return;
   }
   add_sample(slot, s);
@@ -237,7 +237,7 @@ void consume_imu(Slot& slot) noexcept {
     }
     bsp::ImuSample s{};
     if (!unpack_imu_msg(w, s)) {
-      ++slot.stats.imu_rejected;
+      ++slot.stats->imu_rejected;
       continue;
     }
     if (slot.held_count == 0U && imu_due(slot, s.seq)) {
@@ -246,7 +246,7 @@ void consume_imu(Slot& slot) noexcept {
       slot.held[slot.held_count] = s;
       ++slot.held_count;
     } else {
-      ++slot.stats.imu_rejected;  // more early samples than a healthy stream sends: dropped, replayed from DDR
+      ++slot.stats->imu_rejected;  // more early samples than a healthy stream sends: dropped, replayed from DDR
     }
   }
   // A due sample the network has not brought (lost, or sent to the tile a role left) comes from the
@@ -286,7 +286,7 @@ void take_match(Slot& slot, std::span<const std::uint32_t, kMatchWords> m, std::
     return;
   }
   if (slot.mheld_count == kHeldMatches) {
-    ++slot.stats.matches_dropped;  // more than a frame waiting: only a broken sender does that
+    ++slot.stats->matches_dropped;  // more than a frame waiting: only a broken sender does that
     return;
   }
   for (std::uint32_t k = 0; k < kMatchWords; ++k) {
@@ -309,17 +309,17 @@ void consume_parts(Slot& slot) noexcept {
     if (udn::endpoint_receive(kChanMatches, msg) != udn::FtError::kOk) {
       break;  // empty, or the node is not open yet
     }
-    ++slot.stats.parts_received;
+    ++slot.stats->parts_received;
     work.int_ops += 8ULL + 2ULL * msg.data_words;
     MatchPart part{};
     if (!unpack_match_part(std::span<const std::uint32_t>(msg.data.data(), msg.data_words), part)) {
-      ++slot.stats.parts_bad;
+      ++slot.stats->parts_bad;
       continue;
     }
     for (std::uint32_t i = 0; i < part.n; ++i) {
       const std::size_t at = kMatchHeaderWords + static_cast<std::size_t>(i) * kMatchWords;
       take_match(slot, std::span<const std::uint32_t, kMatchWords>(msg.data.data() + at, kMatchWords), part.apply_job);
-      ++slot.stats.matches_received;
+      ++slot.stats->matches_received;
     }
     work.mem_words += 2ULL * msg.data_words;  // read from the node, written into the record
   }
@@ -334,7 +334,7 @@ void deliver(Slot& slot, std::uint32_t job, std::span<const std::uint32_t, kNavW
     return;  // delivered already
   }
   if (slot.delivered_any && job > slot.next_deliver) {
-    slot.stats.outputs_skipped += job - slot.next_deliver;
+    slot.stats->outputs_skipped += job - slot.next_deliver;
   }
   std::array<std::uint32_t, kNavWords> w{};
   std::copy(words.begin(), words.end(), w.begin());
@@ -343,12 +343,12 @@ void deliver(Slot& slot, std::uint32_t job, std::span<const std::uint32_t, kNavW
   slot.latest = unpack_nav(w);
   slot.published = true;
   const std::array<std::uint32_t, 1> j{job};
-  slot.stats.output_crc = udn::crc32c_words_continue(udn::crc32c_words_continue(slot.stats.output_crc, j), w);
-  ++slot.stats.outputs_delivered;
-  slot.stats.last_delivered_job = job;
+  slot.stats->output_crc = udn::crc32c_words_continue(udn::crc32c_words_continue(slot.stats->output_crc, j), w);
+  ++slot.stats->outputs_delivered;
+  slot.stats->last_delivered_job = job;
   if ((job + 1U) % kOutputMarkJobs == 0U) {
-    slot.stats.mark_job = job;
-    slot.stats.mark_crc = slot.stats.output_crc;
+    slot.stats->mark_job = job;
+    slot.stats->mark_crc = slot.stats->output_crc;
   }
   slot.delivered_any = true;
   slot.next_deliver = job + 1U;
@@ -358,9 +358,9 @@ void deliver(Slot& slot, std::uint32_t job, std::span<const std::uint32_t, kNavW
   }
   const bsp::TileId sink = udn::endpoint_role_tile(kSlotCoordinator, slot.cfg->nav_sink);
   if (udn::endpoint_send(sink, kChanNav, w, 0U) == udn::FtError::kOk) {
-    ++slot.stats.nav_sent;
+    ++slot.stats->nav_sent;
   } else {
-    ++slot.stats.nav_send_failed;
+    ++slot.stats->nav_send_failed;
   }
 }
 
@@ -391,7 +391,7 @@ void ask_restart(Slot& slot, std::uint32_t id) noexcept {
 void go_back(Slot& slot, std::uint32_t id) noexcept {
   if (resume_from_checkpoint(slot, slot.rolled_back_to)) {
     slot.rolled_back_to = slot.ckpt_seq;
-    ++slot.stats.rollbacks;
+    ++slot.stats->rollbacks;
   } else {
     ask_restart(slot, id);
   }
@@ -414,7 +414,7 @@ bool run_checked(Slot& slot, const JobRecord& rec) noexcept {
   if (changed != 0U) {
     const bool rebuilt = core_reload_settings(slot.core, work);
     bsp::consume(work);
-    ++slot.stats.settings_rebuilt;
+    ++slot.stats->settings_rebuilt;
     trn::report(ev::kFilterSettingsBad, record_job(rec), changed, rebuilt ? 1U : 0U);
     // Every state since the upset was computed with them: back to the last checkpoint. Changed
     // again before the next one (a stuck bit, say), or not rebuilt: the tile asks for its restart.
@@ -430,7 +430,7 @@ bool run_checked(Slot& slot, const JobRecord& rec) noexcept {
   if (r.what == filter::StateCheck::kOk) {
     return true;
   }
-  ++slot.stats.states_rejected;
+  ++slot.stats->states_rejected;
   // Thousandths of the check's unit; the attitude norm's distance from 1 in millionths.
   const double per = r.what == filter::StateCheck::kAttitudeNorm ? 1e6 : 1e3;
   trn::report(ev::kFilterStateBad, record_job(rec), static_cast<std::uint32_t>(r.what),
@@ -481,7 +481,7 @@ void checkpoint(Slot& slot) noexcept {
   slot.ckpt_seq = slot.job / slot.cfg->checkpoint_every + 1U;
   checkpoint_write(*slot.ckpt, slot.core.ekf->state(), slot.core.last_imu, slot.ckpt_seq, slot.ckpt_slot, work);
   bsp::consume(work);
-  ++slot.stats.checkpoints;
+  ++slot.stats->checkpoints;
 }
 
 bool rejoin(Slot& slot, std::uint32_t job) noexcept;
@@ -495,9 +495,10 @@ bool rejoin(Slot& slot, std::uint32_t job) noexcept;
     return false;
   }
   slot.cfg = &cfg;
-  if (!core_set_up(slot.core, cfg, slot.stats, bsp::Region{bsp::current_tile()})) {
+  if (!core_set_up(slot.core, cfg, bsp::Region{bsp::current_tile()})) {
     return false;
   }
+  slot.stats = slot.core.stats;
   slot.tmr = cfg.replica_tiles[0] != bsp::kNoTile ? tmr_area() : nullptr;
   if (slot.tmr != nullptr && slot.tmr->control.mode != 0U) {
     const auto job = static_cast<std::uint32_t>(bsp::now() / (std::uint64_t{kFilterPeriodTicks} * bsp::tick_cycles()));
@@ -514,7 +515,7 @@ bool rejoin(Slot& slot, std::uint32_t job) noexcept;
   slot.ring = cfg.checkpoint_every != 0U ? imu_ring() : nullptr;
   // A checkpoint left by an earlier start (a reset, or the tile this role moved from).
   if (resume_from_checkpoint(slot, 0U)) {
-    slot.stats.resumed_from = slot.ckpt_seq;
+    slot.stats->resumed_from = slot.ckpt_seq;
     return true;
   }
   return slot.core.ekf->init(cfg.initial) == filter::FilterStatus::kOk;
@@ -665,14 +666,14 @@ void account_vote(Slot& slot, const fdir::TmrVote& v, std::uint32_t job) noexcep
       continue;
     }
     if (((v.differ_mask | v.missing_mask) & bit) != 0U) {
-      ++slot.stats.tmr_outvoted;
+      ++slot.stats->tmr_outvoted;
       trn::report(ev::kTmrOutvoted, replica_tile(slot, i), job, i, (v.differ_mask & bit) != 0U ? 1U : 2U);
     } else if (before[i] != 0U || (slot.no_majority_mask & bit) != 0U) {
       trn::report(ev::kTmrAgrees, replica_tile(slot, i), job, i, before[i]);
     }
     slot.no_majority_mask &= ~bit;
     if ((out & bit) != 0U) {
-      ++slot.stats.tmr_exclusions;
+      ++slot.stats->tmr_exclusions;
       ++slot.tmr->control.gen[i];  // it drops its state and waits for a seed
       trn::report(ev::kTmrExcluded, replica_tile(slot, i), job, i, slot.group.active_count());
     }
@@ -685,7 +686,7 @@ void readmit(Slot& slot, const fdir::TmrRecord& voted, std::uint32_t job) noexce
     const fdir::TmrRecord* r = output_of(slot, i, job);
     if ((slot.group.active_mask() & (1U << i)) == 0U && r != nullptr && fdir::tmr_same(*r, voted)) {
       slot.group.admit(i);
-      ++slot.stats.tmr_resyncs;
+      ++slot.stats->tmr_resyncs;
       slot.hello_mask &= ~(1U << i);
       trn::report(ev::kTmrResynced, replica_tile(slot, i), job, i, slot.group.active_count());
     }
@@ -701,7 +702,7 @@ void vote(Slot& slot, std::uint32_t v) noexcept {
   const fdir::TmrVote res = fdir::tmr_vote(recs, slot.group.active_mask());
   bsp::consume(bsp::Work{4ULL * kVotedWords * kReplicas, 0U, 0U, 0U, std::uint64_t{kVotedWords} * kReplicas});
   if (res.verdict == fdir::TmrVerdict::kNoMajority) {
-    ++slot.stats.tmr_no_majority;
+    ++slot.stats->tmr_no_majority;
     slot.no_majority_mask |= res.differ_mask;
     // The replicas' tiles go with the masks: the suspects of a vote that could not name one.
     std::uint32_t tiles = 0U;
@@ -715,7 +716,7 @@ void vote(Slot& slot, std::uint32_t v) noexcept {
   account_vote(slot, res, v);
   const fdir::TmrRecord& voted = *recs[res.winner];
   readmit(slot, voted, v);
-  ++slot.stats.tmr_jobs;
+  ++slot.stats->tmr_jobs;
   deliver(slot, v, std::span<const std::uint32_t, kNavWords>(voted.w.data(), kNavWords));
   slot.last_winner = res.winner;
   if (slot.mode == Mode::kStopping && v == slot.stop_job) {
@@ -815,12 +816,12 @@ bool rejoin(Slot& slot, std::uint32_t job) noexcept {
   slot.next_vote = f.next_vote;
   slot.next_deliver = f.next_deliver;
   slot.delivered_any = f.delivered_any != 0U;
-  slot.stats.outputs_delivered = f.outputs_delivered;
-  slot.stats.outputs_skipped = f.outputs_skipped;
-  slot.stats.output_crc = f.output_crc;
-  slot.stats.last_delivered_job = f.last_delivered_job;
-  slot.stats.mark_job = f.mark_job;
-  slot.stats.mark_crc = f.mark_crc;
+  slot.stats->outputs_delivered = f.outputs_delivered;
+  slot.stats->outputs_skipped = f.outputs_skipped;
+  slot.stats->output_crc = f.output_crc;
+  slot.stats->last_delivered_job = f.last_delivered_job;
+  slot.stats->mark_job = f.mark_job;
+  slot.stats->mark_crc = f.mark_crc;
   slot.have_imu = f.have_imu != 0U;
   slot.last_imu = f.last_imu;
   slot.cmd_held = f.cmd_held != 0U;
@@ -914,12 +915,12 @@ void persist_front(Slot& slot) noexcept {
   f.next_vote = slot.next_vote;
   f.next_deliver = slot.next_deliver;
   f.delivered_any = slot.delivered_any ? 1U : 0U;
-  f.outputs_delivered = slot.stats.outputs_delivered;
-  f.outputs_skipped = slot.stats.outputs_skipped;
-  f.output_crc = slot.stats.output_crc;
-  f.last_delivered_job = slot.stats.last_delivered_job;
-  f.mark_job = slot.stats.mark_job;
-  f.mark_crc = slot.stats.mark_crc;
+  f.outputs_delivered = slot.stats->outputs_delivered;
+  f.outputs_skipped = slot.stats->outputs_skipped;
+  f.output_crc = slot.stats->output_crc;
+  f.last_delivered_job = slot.stats->last_delivered_job;
+  f.mark_job = slot.stats->mark_job;
+  f.mark_crc = slot.stats->mark_crc;
   f.have_imu = slot.have_imu ? 1U : 0U;
   f.last_imu = slot.last_imu;
   f.cmd_held = slot.cmd_held ? 1U : 0U;
@@ -1006,8 +1007,8 @@ void send_status(const Slot& slot) noexcept {
                              : slot.mode == Mode::kTmr      ? kFilterModeTmr
                                                             : kFilterModeStopping;
   std::array<std::uint32_t, kFilterStatusWords> w{};
-  pack_filter_status(FilterStatus{slot.job, mode, slot.group.active_mask(), slot.stats.tmr_no_majority,
-                                  slot.stats.outputs_skipped},
+  pack_filter_status(FilterStatus{slot.job, mode, slot.group.active_mask(), slot.stats->tmr_no_majority,
+                                  slot.stats->outputs_skipped},
                      w);
   // A lost status is a missing verdict: the supervisor judges the next one.
   (void)udn::endpoint_send(udn::endpoint_role_tile(kSlotFilterSupervisor, slot.cfg->supervisor), kChanControl, w, 0U);
@@ -1024,7 +1025,7 @@ void filter_task_main(void* arg) noexcept {
     return;
   }
   slot.job = static_cast<std::uint32_t>(bsp::now() / (std::uint64_t{kFilterPeriodTicks} * bsp::tick_cycles()));
-  slot.stats.started_job = slot.job;
+  slot.stats->started_job = slot.job;
   for (;;) {  // one pass per 10 ms release
     const bsp::Cycles start = bsp::now();
     if (slot.tmr != nullptr) {
@@ -1055,19 +1056,15 @@ void filter_task_main(void* arg) noexcept {
       }
     }
     send_status(slot);
-    ++slot.stats.jobs;
+    ++slot.stats->jobs;
     ++slot.job;
-    slot.stats.last_job_cycles = bsp::now() - start;
-    if (slot.stats.last_job_cycles > slot.stats.max_job_cycles) {
-      slot.stats.max_job_cycles = slot.stats.last_job_cycles;
+    slot.stats->last_job_cycles = bsp::now() - start;
+    if (slot.stats->last_job_cycles > slot.stats->max_job_cycles) {
+      slot.stats->max_job_cycles = slot.stats->last_job_cycles;
     }
     k::checkin();
     (void)k::wait_period();
   }
-}
-
-FilterTaskStats filter_task_stats(bsp::TileId tile) noexcept {
-  return tile < bsp::kMaxTiles ? g_slots[tile].stats : FilterTaskStats{};
 }
 
 bool filter_task_output(bsp::TileId tile, filter::NavOutput* out) noexcept {

@@ -50,6 +50,7 @@
 #pragma once
 
 #include "bsp_tile64/api/camera_model.hpp"
+#include "bsp_tile64/api/memory.hpp"
 #include "bsp_tile64/api/port.hpp"
 #include "fdir/tmr.hpp"
 #include "trn/filter/ekf.hpp"
@@ -60,6 +61,7 @@
 #include "trn/match.hpp"
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 
 namespace trn::tasks {
@@ -146,11 +148,60 @@ struct FilterTaskStats {
   std::uint32_t settings_rebuilt;  ///< simplex jobs after which the EKF's settings had changed in RAM and were rebuilt
 };
 
+/** The filter's counters are emulated state through and through (bsp::ControlLayout). */
+inline constexpr std::array kFilterTaskStatsFields{
+    BSP_CONTROL_STATE(FilterTaskStats, jobs),
+    BSP_CONTROL_STATE(FilterTaskStats, imu_used),
+    BSP_CONTROL_STATE(FilterTaskStats, imu_rejected),
+    BSP_CONTROL_STATE(FilterTaskStats, filter_errors),
+    BSP_CONTROL_STATE(FilterTaskStats, parts_received),
+    BSP_CONTROL_STATE(FilterTaskStats, parts_bad),
+    BSP_CONTROL_STATE(FilterTaskStats, matches_received),
+    BSP_CONTROL_STATE(FilterTaskStats, matches_applied),
+    BSP_CONTROL_STATE(FilterTaskStats, coarse_applied),
+    BSP_CONTROL_STATE(FilterTaskStats, rejected_gate),
+    BSP_CONTROL_STATE(FilterTaskStats, rejected_stale),
+    BSP_CONTROL_STATE(FilterTaskStats, rejected_invalid),
+    BSP_CONTROL_STATE(FilterTaskStats, matches_dropped),
+    BSP_CONTROL_STATE(FilterTaskStats, queue_high_water),
+    BSP_CONTROL_STATE(FilterTaskStats, nav_sent),
+    BSP_CONTROL_STATE(FilterTaskStats, nav_send_failed),
+    BSP_CONTROL_STATE(FilterTaskStats, imu_replayed),
+    BSP_CONTROL_STATE(FilterTaskStats, imu_duplicates),
+    BSP_CONTROL_STATE(FilterTaskStats, imu_lost),
+    BSP_CONTROL_STATE(FilterTaskStats, checkpoints),
+    BSP_CONTROL_STATE(FilterTaskStats, resumed_from),
+    BSP_CONTROL_STATE(FilterTaskStats, max_job_cycles),
+    BSP_CONTROL_STATE(FilterTaskStats, last_job_cycles),
+    BSP_CONTROL_STATE(FilterTaskStats, outputs_delivered),
+    BSP_CONTROL_STATE(FilterTaskStats, outputs_skipped),
+    BSP_CONTROL_STATE(FilterTaskStats, output_crc),
+    BSP_CONTROL_STATE(FilterTaskStats, last_delivered_job),
+    BSP_CONTROL_STATE(FilterTaskStats, started_job),
+    BSP_CONTROL_STATE(FilterTaskStats, mark_job),
+    BSP_CONTROL_STATE(FilterTaskStats, mark_crc),
+    BSP_CONTROL_STATE(FilterTaskStats, tmr_jobs),
+    BSP_CONTROL_STATE(FilterTaskStats, tmr_outvoted),
+    BSP_CONTROL_STATE(FilterTaskStats, tmr_no_majority),
+    BSP_CONTROL_STATE(FilterTaskStats, tmr_exclusions),
+    BSP_CONTROL_STATE(FilterTaskStats, tmr_resyncs),
+    BSP_CONTROL_STATE(FilterTaskStats, commands),
+    BSP_CONTROL_STATE(FilterTaskStats, states_rejected),
+    BSP_CONTROL_STATE(FilterTaskStats, rollbacks),
+    BSP_CONTROL_STATE(FilterTaskStats, settings_rebuilt),
+};
+inline constexpr bsp::ControlLayout kFilterTaskStatsLayout{kFilterTaskStatsFields, sizeof(FilterTaskStats),
+                                                          alignof(FilterTaskStats)};
+static_assert(bsp::control_layout_ok(kFilterTaskStatsLayout), "every member of FilterTaskStats");
+/**
+ * The counters of the filter task, or of a replica, on its tile: a record in
+ * the tile's RAM, carved with the filter's core at task start (the host reads
+ * it by this name).
+ */
+inline constexpr bsp::RamRecord<FilterTaskStats> kFilterTaskStatsRecord{"filter_stats", &kFilterTaskStatsLayout};
+
 /** Task entry (arg: const FilterTaskConfig*). Never returns unless set-up fails (bad config included). */
 void filter_task_main(void* arg) noexcept;
-
-/** Counters of the filter task on @p tile. [host] */
-FilterTaskStats filter_task_stats(bsp::TileId tile) noexcept;
 
 /** The latest solution published by @p tile's filter; false before the first. [host] */
 bool filter_task_output(bsp::TileId tile, filter::NavOutput* out) noexcept;

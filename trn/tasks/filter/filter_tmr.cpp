@@ -19,8 +19,7 @@ namespace trn::tasks {
 namespace {
 
 struct Replica {
-  FilterCore core;
-  FilterTaskStats stats;
+  FilterCore core;           ///< its counters too (core.stats, the record in tile RAM)
   std::uint32_t index;
   bool seeded;
   std::uint32_t epoch;       ///< of the seed loaded
@@ -31,7 +30,16 @@ struct Replica {
   std::uint32_t ckpt_slot;
 };
 
-std::array<Replica, bsp::kMaxTiles> g_replicas{};
+/** What an upset of a replica's state does (bsp::ControlLayout): the core as laid out, the rest the tile's own. */
+constexpr std::array kReplicaFields{
+    BSP_CONTROL_NESTED(Replica, core, kFilterCoreLayout), BSP_CONTROL_STATE(Replica, index),
+    BSP_CONTROL_STATE(Replica, seeded),                   BSP_CONTROL_STATE(Replica, epoch),
+    BSP_CONTROL_STATE(Replica, gen),                      BSP_CONTROL_STATE(Replica, seed_serial),
+    BSP_CONTROL_STATE(Replica, next_job),                 BSP_CONTROL_STATE(Replica, since_hello),
+    BSP_CONTROL_STATE(Replica, ckpt_slot),
+};
+constexpr bsp::ControlLayout kReplicaLayout{kReplicaFields, sizeof(Replica), alignof(Replica)};
+static_assert(bsp::control_layout_ok(kReplicaLayout), "every member of Replica, the core's pointers as host state");
 
 std::uint32_t seed_header_crc(const TmrSeed& s) noexcept {
   const std::array<std::uint32_t, 8> h{s.serial, s.job, s.for_mask, s.epoch, s.digest, s.gen[0], s.gen[1], s.gen[2]};
@@ -83,9 +91,9 @@ void send_output(Replica& r, TmrArea& a, std::uint32_t job, std::uint32_t digest
   bsp::consume(bsp::Work{0U, 0U, 0U, 0U, std::uint64_t{kNavWords} + 3U});
   if (udn::endpoint_send(udn::endpoint_role_tile(kSlotFilter, bsp::kNoTile), kChanNav, w, 0U) ==
       udn::FtError::kOk) {
-    ++r.stats.nav_sent;
+    ++r.core.stats->nav_sent;
   } else {
-    ++r.stats.nav_send_failed;
+    ++r.core.stats->nav_send_failed;
   }
 }
 
@@ -103,7 +111,7 @@ void after_job(Replica& r, TmrArea& a, std::uint32_t job) noexcept {
       // Numbered by job, so a later checkpoint of any writer is the newer one.
       checkpoint_write(*ck, r.core.ekf->state(), r.core.last_imu, job / r.core.cfg->checkpoint_every + 1U,
                        r.ckpt_slot, work);
-      ++r.stats.checkpoints;
+      ++r.core.stats->checkpoints;
     }
   }
   bsp::consume(work);
@@ -134,7 +142,7 @@ void run_records(Replica& r, TmrArea& a) noexcept {
     if (changed != 0U) {
       const bool rebuilt = core_reload_settings(r.core, dw);
       bsp::consume(dw);
-      ++r.stats.settings_rebuilt;
+      ++r.core.stats->settings_rebuilt;
       trn::report(ev::kFilterSettingsBad, r.next_job, changed, rebuilt ? 1U : 0U);
       r.seeded = false;
       return;
@@ -143,7 +151,7 @@ void run_records(Replica& r, TmrArea& a) noexcept {
     bsp::consume(dw);
     send_output(r, a, r.next_job, digest);
     after_job(r, a, r.next_job);
-    ++r.stats.jobs;
+    ++r.core.stats->jobs;
     ++r.next_job;
   }
 }
@@ -217,13 +225,21 @@ std::uint32_t replica_index(const FilterTaskConfig& cfg, bsp::TileId tile) noexc
 
 void filter_replica_main(void* arg) noexcept {
   const bsp::TileId tile = bsp::current_tile();
-  Replica& r = g_replicas[tile];
-  r = Replica{};
   const auto* cfg = static_cast<const FilterTaskConfig*>(arg);
   TmrArea* const a = tmr_area();
-  if (cfg == nullptr || a == nullptr || !core_set_up(r.core, *cfg, r.stats, bsp::Region{tile})) {
+  FilterCore core{};
+  if (cfg == nullptr || a == nullptr || !core_set_up(core, *cfg, bsp::Region{tile})) {
     return;
   }
+  // The state after the core's carves: they keep the places they had before it lived in tile RAM.
+  bsp::MemError err = bsp::MemError::kOk;
+  Replica* const state = bsp::carve_control_array<Replica>(bsp::Region{tile}, 1U, kReplicaCarve, &err, &kReplicaLayout);
+  if (state == nullptr) {
+    return;
+  }
+  ::new (state) Replica{};
+  state->core = core;
+  Replica& r = *state;
   // A replica started in flight (woken by the power policy, reset) is released with the front's
   // jobs, as one booted with it: released a few ticks off, it found two records in some releases
   // and overran its deadline.
@@ -255,9 +271,7 @@ void filter_replica_main(void* arg) noexcept {
   }
 }
 
-FilterTaskStats replica_stats(bsp::TileId tile) noexcept {
-  return tile < bsp::kMaxTiles ? g_replicas[tile].stats : FilterTaskStats{};
-}
+const bsp::ControlLayout& replica_state_layout() noexcept { return kReplicaLayout; }
 
 void pack_replica_hello(const ReplicaHello& h, std::span<std::uint32_t, kReplicaHelloWords> w) noexcept {
   w[0] = kMsgReplicaHello;

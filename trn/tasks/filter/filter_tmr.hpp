@@ -183,7 +183,8 @@ std::uint32_t replica_index(const FilterTaskConfig& cfg, bsp::TileId tile) noexc
 /** Replica task entry (arg: const FilterTaskConfig*, the filter's). Never returns unless set-up fails. */
 void filter_replica_main(void* arg) noexcept;
 
-/** Counters of the replica on @p tile. [host] */
-FilterTaskStats replica_stats(bsp::TileId tile) noexcept;
+/** Name of a replica's state carve in its tile's RAM, and its layout (what an upset of it does). [host] */
+inline constexpr const char* kReplicaCarve = "replica";
+const bsp::ControlLayout& replica_state_layout() noexcept;
 
 }  // namespace trn::tasks

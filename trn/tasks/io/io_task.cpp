@@ -19,7 +19,8 @@ namespace {
 
 // One I/O tile per chip: its state is the board's, reset with every task start.
 k::Semaphore g_device_ready{0, 1000};
-IoTaskStats g_stats{};
+/** The task's counters, in its tile's RAM (kIoTaskStatsRecord); carved at task start. */
+IoTaskStats* g_stats = nullptr;
 
 void device_isr(bsp::TileId /*tile*/) noexcept { (void)g_device_ready.give_from_isr(); }
 
@@ -42,9 +43,9 @@ void forward_frames(const IoTaskConfig& cfg) noexcept {
     pack_frame_notice(notice, w);
     const bsp::TileId coord = udn::endpoint_role_tile(kSlotCoordinator, cfg.coordinator_tile);
     if (udn::endpoint_send(coord, kChanControl, w, kNoticeTicks) == udn::FtError::kOk) {
-      ++g_stats.frames_forwarded;
+      ++g_stats->frames_forwarded;
     } else {
-      ++g_stats.frame_send_failures;
+      ++g_stats->frame_send_failures;
     }
   }
 }
@@ -56,7 +57,7 @@ void command_filter(const IoTaskConfig& cfg, std::uint32_t seq, std::uint32_t co
   pack_command(Command{seq, code, arg, last_imu}, w);
   const bsp::TileId filter = udn::endpoint_role_tile(kSlotFilter, cfg.filter_tile);
   if (udn::endpoint_send(filter, kChanImu, w, kSendTicks) != udn::FtError::kOk) {
-    ++g_stats.send_failures;
+    ++g_stats->send_failures;
   }
 }
 
@@ -67,9 +68,9 @@ void policy_to_supervisor(const IoTaskConfig& cfg, std::uint32_t code) noexcept 
   const std::array<std::uint32_t, fdir::kSupMsgWords> w{fdir::kMsgPolicy, static_cast<std::uint32_t>(constraint), level,
                                                         fdir::kFromGround};
   if (cfg.trn_supervisor != bsp::kNoTile && udn::endpoint_send(cfg.trn_supervisor, kChanControl, w, kSendTicks) == udn::FtError::kOk) {
-    ++g_stats.policies;
+    ++g_stats->policies;
   } else {
-    ++g_stats.send_failures;
+    ++g_stats->send_failures;
   }
 }
 
@@ -83,7 +84,7 @@ void tell_filter_supervisor(const IoTaskConfig& cfg, std::uint32_t code) noexcep
       fdir::kMsgPolicy, static_cast<std::uint32_t>(fdir::Constraint::kReliability), level, fdir::kFromGround};
   if (udn::endpoint_send(udn::endpoint_role_tile(kSlotFilterSupervisor, cfg.filter_supervisor), kChanControl, w,
                          kSendTicks) != udn::FtError::kOk) {
-    ++g_stats.send_failures;
+    ++g_stats->send_failures;
   }
 }
 
@@ -102,8 +103,8 @@ void forward_commands(const IoTaskConfig& cfg, std::uint32_t last_imu) noexcept 
   for (std::uint32_t n = 0; n < 4U && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++n) {
     SupCommand sc{};
     if (unpack_sup_command(std::span<const std::uint32_t>(m.data.data(), m.data_words), sc)) {
-      ++g_stats.sup_commands;
-      command_filter(cfg, kSupCommandSeq | g_stats.sup_commands, sc.code, sc.node, last_imu);
+      ++g_stats->sup_commands;
+      command_filter(cfg, kSupCommandSeq | g_stats->sup_commands, sc.code, sc.node, last_imu);
     }
   }
 }
@@ -112,9 +113,10 @@ void forward_commands(const IoTaskConfig& cfg, std::uint32_t last_imu) noexcept 
 
 void io_task_main(void* arg) noexcept {
   const auto* cfg = static_cast<const IoTaskConfig*>(arg);
-  g_stats = IoTaskStats{};
   g_device_ready = k::Semaphore{0, 1000};
-  if (cfg == nullptr || k::set_isr(bsp::Irq::kDevice, &device_isr) != k::Status::kOk) {
+  bsp::MemError err = bsp::MemError::kOk;
+  g_stats = bsp::carve_record(bsp::Region{bsp::current_tile()}, kIoTaskStatsRecord, &err);
+  if (cfg == nullptr || g_stats == nullptr || k::set_isr(bsp::Irq::kDevice, &device_isr) != k::Status::kOk) {
     return;  // the tile's health monitor sees a task that never runs
   }
   std::array<std::uint32_t, kImuWords> words{};
@@ -134,16 +136,14 @@ void io_task_main(void* arg) noexcept {
       pack_imu(s, words);
       const bsp::TileId filter = udn::endpoint_role_tile(kSlotFilter, cfg->filter_tile);
       if (udn::endpoint_send(filter, kChanImu, words, kSendTicks) == udn::FtError::kOk) {
-        ++g_stats.imu_forwarded;
+        ++g_stats->imu_forwarded;
       } else {
-        ++g_stats.send_failures;
+        ++g_stats->send_failures;
       }
     }
     forward_frames(*cfg);
     forward_commands(*cfg, last_imu);
   }
 }
-
-IoTaskStats io_task_stats() noexcept { return g_stats; }
 
 }  // namespace trn::tasks

@@ -4,8 +4,11 @@
  */
 #pragma once
 
+#include "bsp_tile64/api/memory.hpp"
 #include "bsp_tile64/api/port.hpp"
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 
 namespace trn::tasks {
@@ -33,16 +36,25 @@ struct IoTaskStats {
   std::uint32_t policies;         ///< policy telecommands handed to the TRN supervisor
 };
 
+/** The I/O task's counters are emulated state through and through (bsp::ControlLayout). */
+inline constexpr std::array kIoTaskStatsFields{
+    BSP_CONTROL_STATE(IoTaskStats, imu_forwarded),       BSP_CONTROL_STATE(IoTaskStats, send_failures),
+    BSP_CONTROL_STATE(IoTaskStats, frames_forwarded),    BSP_CONTROL_STATE(IoTaskStats, frame_send_failures),
+    BSP_CONTROL_STATE(IoTaskStats, sup_commands),        BSP_CONTROL_STATE(IoTaskStats, policies),
+};
+inline constexpr bsp::ControlLayout kIoTaskStatsLayout{kIoTaskStatsFields, sizeof(IoTaskStats), alignof(IoTaskStats)};
+static_assert(bsp::control_layout_ok(kIoTaskStatsLayout), "every member of IoTaskStats");
+/** The I/O task's counters: a record in its tile's RAM, carved at task start (the host reads it by this name). */
+inline constexpr bsp::RamRecord<IoTaskStats> kIoTaskStatsRecord{"io_stats", &kIoTaskStatsLayout};
+
 /**
  * Task entry (arg: const IoTaskConfig*): activates the UDN, takes Irq::kDevice
  * through a kernel hook, and sends every IMU sample to the filter tile as it
  * arrives (raw UDN: a 100 Hz stream whose next sample supersedes a lost one),
  * and a notice of every frame to the vision coordinator (fault-tolerant UDN,
- * kChanControl; the I/O role then lists kCommTask). Runs forever.
+ * kChanControl; the I/O role then lists kCommTask). Counts in its record
+ * (kIoTaskStatsRecord). Runs forever.
  */
 void io_task_main(void* arg) noexcept;
-
-/** Counters of the I/O task on the current board. [host] */
-IoTaskStats io_task_stats() noexcept;
 
 }  // namespace trn::tasks

@@ -5,6 +5,7 @@
 #include "trn/tasks/supervisors/supervisors.hpp"
 #include "trn/events.hpp"
 
+#include "bsp_tile64/api/memory.hpp"
 #include "fdir/event_log.hpp"
 #include "fdir/tile_health.hpp"
 #include "kernel/kernel.hpp"
@@ -12,6 +13,7 @@
 #include "udn/endpoint.hpp"
 
 #include <bit>
+#include <new>
 
 namespace trn::tasks {
 namespace {
@@ -78,11 +80,43 @@ fdir::SupervisorSpec make_vision() noexcept {
 
 const std::array<fdir::SupervisorSpec, 3> kSpecs = {make_trn(), make_vision(), make_filter()};
 
+/**
+ * What an upset of a node's framework state does (bsp::ControlLayout): every
+ * member is the tile's own (phases, levels, alternatives in use, debounce
+ * counts); the stats pointer is host state.
+ */
+constexpr std::array kConstraintStateFields{
+    BSP_CONTROL_STATE(fdir::ConstraintState, phase),       BSP_CONTROL_STATE(fdir::ConstraintState, level),
+    BSP_CONTROL_STATE(fdir::ConstraintState, index),       BSP_CONTROL_STATE(fdir::ConstraintState, settle_left),
+    BSP_CONTROL_STATE(fdir::ConstraintState, bad),         BSP_CONTROL_STATE(fdir::ConstraintState, good),
+    BSP_CONTROL_STATE(fdir::ConstraintState, from),
+};
+constexpr bsp::ControlLayout kConstraintStateLayout{kConstraintStateFields, sizeof(fdir::ConstraintState),
+                                                    alignof(fdir::ConstraintState)};
+static_assert(bsp::control_layout_ok(kConstraintStateLayout), "every member of fdir::ConstraintState");
+constexpr std::array kSupervisorStateFields{
+    BSP_CONTROL_NESTED(fdir::SupervisorState, c, kConstraintStateLayout),
+    BSP_CONTROL_STATE(fdir::SupervisorState, applied),
+    BSP_CONTROL_STATE(fdir::SupervisorState, escalations),
+};
+constexpr bsp::ControlLayout kSupervisorStateLayout{kSupervisorStateFields, sizeof(fdir::SupervisorState),
+                                                    alignof(fdir::SupervisorState)};
+static_assert(bsp::control_layout_ok(kSupervisorStateLayout), "every member of fdir::SupervisorState");
+
+/** A node's state, in the RAM of the tile it runs on (carve kSupNodeCarve); one node per tile. */
 struct NodeState {
   fdir::SupervisorState sup;
-  SupervisorStats stats;
+  SupervisorStats* stats;  ///< the node's counters: its record in its tile's RAM (kSupervisorStatsRecord)
 };
-std::array<NodeState, 3> g_nodes{};
+constexpr std::array kNodeStateFields{
+    BSP_CONTROL_NESTED(NodeState, sup, kSupervisorStateLayout),
+    BSP_CONTROL_HOST(NodeState, stats),
+};
+constexpr bsp::ControlLayout kNodeStateLayout{kNodeStateFields, sizeof(NodeState), alignof(NodeState)};
+static_assert(bsp::control_layout_ok(kNodeStateLayout), "every member of NodeState, the pointer as host state");
+
+/** Each node's state in its tile's RAM (host pointers: set when the node's task starts, by node id). */
+std::array<NodeState*, 3> g_nodes{};
 
 void send_words(bsp::TileId to, std::span<const std::uint32_t> w) noexcept {
   if (to != bsp::kNoTile) {
@@ -141,24 +175,32 @@ struct TrnState {
   std::array<std::array<std::uint8_t, fdir::kMaxConstraints>, kChildren> down{};
   std::uint32_t refreshed = 0U;  ///< mission tick of the last refresh
 };
-TrnState g_trn{};
+/** The TRN supervisor's own state is emulated state through and through (bsp::ControlLayout). */
+constexpr std::array kTrnStateFields{
+    BSP_CONTROL_STATE(TrnState, phase), BSP_CONTROL_STATE(TrnState, woken_for), BSP_CONTROL_STATE(TrnState, level),
+    BSP_CONTROL_STATE(TrnState, down),  BSP_CONTROL_STATE(TrnState, refreshed),
+};
+constexpr bsp::ControlLayout kTrnStateLayout{kTrnStateFields, sizeof(TrnState), alignof(TrnState)};
+static_assert(bsp::control_layout_ok(kTrnStateLayout), "every member of TrnState");
+/** In the TRN supervisor's tile's RAM (carve kSupTrnCarve), set at its task's start. */
+TrnState* g_trn = nullptr;
 
 /** Hands @p child the policy (@p constraint, @p level) and keeps it, to hand again at each refresh. */
 void hand_down(const SupervisorsConfig& c, Child child, std::uint8_t constraint, std::uint8_t level) noexcept {
-  g_trn.down[child][constraint] = level;
+  g_trn->down[child][constraint] = level;
   send_policy(child == kChildFilter ? filter_sup(c) : vision_sup(c), constraint, level, kNodeTrn);
 }
 
 /** Every kPolicyRefreshTicks of mission tick @p now: the policies held for the children, again. */
 void trn_refresh(const SupervisorsConfig& c, std::uint32_t now) noexcept {
-  if (now - g_trn.refreshed < kPolicyRefreshTicks) {
+  if (now - g_trn->refreshed < kPolicyRefreshTicks) {
     return;
   }
-  g_trn.refreshed = now;
+  g_trn->refreshed = now;
   for (std::uint8_t child = 0U; child < kChildren; ++child) {
     for (std::uint8_t k = 0U; k < fdir::kMaxConstraints; ++k) {
-      if (g_trn.down[child][k] != kNoLevel) {
-        send_policy(child == kChildFilter ? filter_sup(c) : vision_sup(c), k, g_trn.down[child][k], kNodeTrn,
+      if (g_trn->down[child][k] != kNoLevel) {
+        send_policy(child == kChildFilter ? filter_sup(c) : vision_sup(c), k, g_trn->down[child][k], kNodeTrn,
                     fdir::kMsgPolicyHeld);
       }
     }
@@ -166,16 +208,16 @@ void trn_refresh(const SupervisorsConfig& c, std::uint32_t now) noexcept {
 }
 
 void trn_act(const SupervisorsConfig& c, const fdir::SupDecision& d) noexcept {
-  NodeState& n = g_nodes[kNodeTrn];
+  NodeState& n = *g_nodes[kNodeTrn];
   if (d.action == fdir::SupAction::kEscalate) {
-    ++n.stats.safe_mode;  // nobody above: the vehicle is told
+    ++n.stats->safe_mode;  // nobody above: the vehicle is told
     trn::report(ev::kSafeMode, d.constraint, 0U, d.level, 0U);
     return;
   }
   if (d.action != fdir::SupAction::kApply) {
     return;
   }
-  ++n.stats.applied;
+  ++n.stats->applied;
   switch (d.alternative) {
     case kAltDelegate:
       if (d.constraint == kRel || d.constraint == kPow) {
@@ -197,12 +239,12 @@ void trn_policy(const SupervisorsConfig& c, std::uint8_t constraint, std::uint8_
   if (constraint >= fdir::kMaxConstraints) {
     return;
   }
-  g_trn.level[constraint] = level;
+  g_trn->level[constraint] = level;
   if (from == fdir::kFromGround) {
-    g_nodes[kNodeTrn].sup.c[constraint] = fdir::ConstraintState{};  // a ground command is obeyed again, not debounced
+    g_nodes[kNodeTrn]->sup.c[constraint] = fdir::ConstraintState{};  // a ground command is obeyed again, not debounced
   }
-  ++g_nodes[kNodeTrn].stats.policies;
-  trn_act(c, fdir::supervisor_policy(kSpecs[kNodeTrn], g_nodes[kNodeTrn].sup, constraint, level, from));
+  ++g_nodes[kNodeTrn]->stats->policies;
+  trn_act(c, fdir::supervisor_policy(kSpecs[kNodeTrn], g_nodes[kNodeTrn]->sup, constraint, level, from));
 }
 
 /** The phase of mission tick @p now: its policies go down when it begins. */
@@ -211,12 +253,12 @@ void trn_phase(const SupervisorsConfig& c, std::uint32_t now) noexcept {
   for (std::uint32_t i = 1U; i < c.phase_count && i < kMaxPhases; ++i) {
     p = now >= c.phases[i].start_tick ? i : p;
   }
-  if (c.phase_count == 0U || p == g_trn.phase) {
+  if (c.phase_count == 0U || p == g_trn->phase) {
     return;
   }
-  g_trn.phase = p;
-  g_nodes[kNodeTrn].stats.phase = p;
-  g_trn.woken_for = 0xFFFF'FFFFU;
+  g_trn->phase = p;
+  g_nodes[kNodeTrn]->stats->phase = p;
+  g_trn->woken_for = 0xFFFF'FFFFU;
   const PhaseSpec& ph = c.phases[p];
   trn::report(ev::kPhaseBegin, p, 0U, ph.reliability, ph.power);
   trn_policy(c, kRel, ph.reliability, fdir::kFromPhase);
@@ -229,16 +271,16 @@ void trn_phase(const SupervisorsConfig& c, std::uint32_t now) noexcept {
  * comes: tiles are woken before they are needed, not when.
  */
 void trn_wake_ahead(const SupervisorsConfig& c, std::uint32_t now) noexcept {
-  const std::uint32_t next = g_trn.phase + 1U;
-  if (g_trn.phase >= c.phase_count || next >= c.phase_count || next >= kMaxPhases || g_trn.woken_for == next) {
+  const std::uint32_t next = g_trn->phase + 1U;
+  if (g_trn->phase >= c.phase_count || next >= c.phase_count || next >= kMaxPhases || g_trn->woken_for == next) {
     return;
   }
   const PhaseSpec& n = c.phases[next];
-  const PhaseSpec& cur = c.phases[g_trn.phase];
+  const PhaseSpec& cur = c.phases[g_trn->phase];
   const bool needs = n.reliability == fdir::kReliabilityHigh && cur.reliability != fdir::kReliabilityHigh &&
                      cur.power == fdir::kPowerSave;
   if (needs && now + c.wake_lead_ticks >= n.start_tick) {
-    g_trn.woken_for = next;
+    g_trn->woken_for = next;
     trn_policy(c, kPow, fdir::kPowerFull, fdir::kFromPhase);
   }
 }
@@ -253,7 +295,7 @@ void trn_messages(const SupervisorsConfig& c) noexcept {
     if (sm.tag == fdir::kMsgPolicy) {
       trn_policy(c, sm.constraint, sm.level, sm.from);  // a ground policy through the I/O tile
     } else if (sm.tag == fdir::kMsgEscalate) {
-      trn_act(c, fdir::supervisor_escalation(kSpecs[kNodeTrn], g_nodes[kNodeTrn].sup, sm.constraint, sm.level, sm.from));
+      trn_act(c, fdir::supervisor_escalation(kSpecs[kNodeTrn], g_nodes[kNodeTrn]->sup, sm.constraint, sm.level, sm.from));
     }
   }
 }
@@ -272,61 +314,73 @@ struct FilterSupState {
   std::uint32_t skipped = 0U;
   bool reseed_tmr = false;         ///< the reseed alternative waits for simplex to command TMR
 };
-FilterSupState g_fsup{};
+/** The filter supervisor's own state is emulated state through and through (bsp::ControlLayout). */
+constexpr std::array kFilterSupStateFields{
+    BSP_CONTROL_STATE(FilterSupState, have_status),    BSP_CONTROL_STATE(FilterSupState, mode),
+    BSP_CONTROL_STATE(FilterSupState, power_save),     BSP_CONTROL_STATE(FilterSupState, tmr_after_wake),
+    BSP_CONTROL_STATE(FilterSupState, off),            BSP_CONTROL_STATE(FilterSupState, asked),
+    BSP_CONTROL_STATE(FilterSupState, asked_at),       BSP_CONTROL_STATE(FilterSupState, no_majority),
+    BSP_CONTROL_STATE(FilterSupState, skipped),        BSP_CONTROL_STATE(FilterSupState, reseed_tmr),
+};
+constexpr bsp::ControlLayout kFilterSupStateLayout{kFilterSupStateFields, sizeof(FilterSupState),
+                                                   alignof(FilterSupState)};
+static_assert(bsp::control_layout_ok(kFilterSupStateLayout), "every member of FilterSupState");
+/** In the filter supervisor's tile's RAM (carve kSupFilterCarve), set at its task's start. */
+FilterSupState* g_fsup = nullptr;
 
 void command_filter(const SupervisorsConfig& c, std::uint32_t code) noexcept {
   std::array<std::uint32_t, kSupCommandWords> w{};
   pack_sup_command(SupCommand{code, kNodeFilter}, w);
   send_words(udn::endpoint_role_tile(kSlotIo, c.io_tile), w);
-  ++g_nodes[kNodeFilter].stats.commands;
+  ++g_nodes[kNodeFilter]->stats->commands;
 }
 
 /** @p commanded: the filter was already commanded (a ground command the I/O tile forwarded itself). */
 void filter_act(const SupervisorsConfig& c, const fdir::SupDecision& d, bool commanded = false) noexcept {
-  NodeState& n = g_nodes[kNodeFilter];
+  NodeState& n = *g_nodes[kNodeFilter];
   if (d.action == fdir::SupAction::kEscalate) {
-    ++n.stats.escalations;
+    ++n.stats->escalations;
     send_escalation(c.trn_tile, d, kNodeFilter);
     return;
   }
   if (d.action != fdir::SupAction::kApply) {
     return;
   }
-  ++n.stats.applied;
+  ++n.stats->applied;
   if (d.alternative == kAltReplicasOn || d.alternative == kAltReplicasParked) {
-    g_fsup.power_save = d.alternative == kAltReplicasParked;
+    g_fsup->power_save = d.alternative == kAltReplicasParked;
     return;  // replica_power() asks for the switching
   }
-  g_fsup.reseed_tmr = false;
-  g_fsup.tmr_after_wake = false;
+  g_fsup->reseed_tmr = false;
+  g_fsup->tmr_after_wake = false;
   if (commanded) {
     return;
   }
   if (d.alternative == kAltSimplex) {
     command_filter(c, kCmdFilterSimplex);
-  } else if (d.alternative == kAltTmr && g_fsup.off != 0U) {
-    g_fsup.tmr_after_wake = true;  // parked replicas: woken first (replica_power), TMR once they booted
+  } else if (d.alternative == kAltTmr && g_fsup->off != 0U) {
+    g_fsup->tmr_after_wake = true;  // parked replicas: woken first (replica_power), TMR once they booted
   } else if (d.alternative == kAltTmr) {
     command_filter(c, kCmdFilterTmr);
   } else if (d.alternative == kAltTmrReseed) {
     command_filter(c, kCmdFilterSimplex);  // a fresh seed: back to one filter, then TMR from its state
-    g_fsup.reseed_tmr = true;
+    g_fsup->reseed_tmr = true;
   }
 }
 
 /** Judges the reliability level from one status of the filter. */
 void filter_status(const SupervisorsConfig& c, const FilterStatus& st) noexcept {
-  NodeState& n = g_nodes[kNodeFilter];
-  ++n.stats.statuses;
+  NodeState& n = *g_nodes[kNodeFilter];
+  ++n.stats->statuses;
   const std::uint32_t mode = st.mode;
   const auto voting = static_cast<std::uint32_t>(std::popcount(st.voting));
-  const bool fresh_faults = g_fsup.have_status && (st.no_majority != g_fsup.no_majority || st.skipped != g_fsup.skipped);
-  g_fsup.have_status = true;
-  g_fsup.mode = mode;
-  g_fsup.no_majority = st.no_majority;
-  g_fsup.skipped = st.skipped;
-  if (g_fsup.reseed_tmr && mode == kFilterModeSimplex) {
-    g_fsup.reseed_tmr = false;
+  const bool fresh_faults = g_fsup->have_status && (st.no_majority != g_fsup->no_majority || st.skipped != g_fsup->skipped);
+  g_fsup->have_status = true;
+  g_fsup->mode = mode;
+  g_fsup->no_majority = st.no_majority;
+  g_fsup->skipped = st.skipped;
+  if (g_fsup->reseed_tmr && mode == kFilterModeSimplex) {
+    g_fsup->reseed_tmr = false;
     command_filter(c, kCmdFilterTmr);
   }
   const fdir::ConstraintState& rel = n.sup.c[kRel];
@@ -344,37 +398,37 @@ constexpr k::Ticks kParkRetryTicks = 200U;
  * soon as any of that changes. TMR waits for them to boot.
  */
 void replica_power(const SupervisorsConfig& c) noexcept {
-  const fdir::ConstraintState& rel = g_nodes[kNodeFilter].sup.c[kRel];
-  const bool park = g_fsup.power_save && rel.level == fdir::kReliabilityNormal && rel.phase == fdir::ConstraintPhase::kMet &&
-                    g_fsup.mode == kFilterModeSimplex && !g_fsup.tmr_after_wake;
+  const fdir::ConstraintState& rel = g_nodes[kNodeFilter]->sup.c[kRel];
+  const bool park = g_fsup->power_save && rel.level == fdir::kReliabilityNormal && rel.phase == fdir::ConstraintPhase::kMet &&
+                    g_fsup->mode == kFilterModeSimplex && !g_fsup->tmr_after_wake;
   const k::Ticks now = k::now_ticks();
   for (std::uint32_t i = 0; i < 3U; ++i) {
-    const bool off = ((g_fsup.off >> i) & 1U) != 0U;
+    const bool off = ((g_fsup->off >> i) & 1U) != 0U;
     const std::uint32_t want = park && !off ? 1U : (!park && off ? 2U : 0U);
-    if (want == 0U || (g_fsup.asked[i] == want && now - g_fsup.asked_at[i] < kParkRetryTicks)) {
+    if (want == 0U || (g_fsup->asked[i] == want && now - g_fsup->asked_at[i] < kParkRetryTicks)) {
       continue;
     }
     const bsp::TileId t = udn::endpoint_role_tile(kSlotReplica0 + i, c.replica_tiles[i]);
     std::array<std::uint32_t, fdir::kParkWords> w{};
     fdir::pack_park(fdir::ParkRequest{bsp::current_tile(), t, want == 1U, kChanControl}, w);
     if (t != bsp::kNoTile && udn::endpoint_send(c.health_tile, udn::kFtChanHealth, w, kSendTicks) == udn::FtError::kOk) {
-      g_fsup.asked[i] = want;
-      g_fsup.asked_at[i] = now;
+      g_fsup->asked[i] = want;
+      g_fsup->asked_at[i] = now;
     }
   }
-  if (g_fsup.tmr_after_wake && g_fsup.off == 0U) {
-    g_fsup.tmr_after_wake = false;
+  if (g_fsup->tmr_after_wake && g_fsup->off == 0U) {
+    g_fsup->tmr_after_wake = false;
     command_filter(c, kCmdFilterTmr);
   }
   // Judged once the tile-health supervisor answered every request (a boot takes a few ticks): the
   // replicas are off when they are not needed, on when they are. Unanswered past the retry, not met.
   bool answered = true;
   for (std::uint32_t i = 0; i < 3U; ++i) {
-    answered = answered && (g_fsup.asked[i] == 0U || now - g_fsup.asked_at[i] >= kParkRetryTicks);
+    answered = answered && (g_fsup->asked[i] == 0U || now - g_fsup->asked_at[i] >= kParkRetryTicks);
   }
   if (answered) {
-    const bool met = park ? g_fsup.off == 7U : g_fsup.off == 0U;
-    filter_act(c, fdir::supervisor_judge(kSpecs[kNodeFilter], g_nodes[kNodeFilter].sup, kPow, met));
+    const bool met = park ? g_fsup->off == 7U : g_fsup->off == 0U;
+    filter_act(c, fdir::supervisor_judge(kSpecs[kNodeFilter], g_nodes[kNodeFilter]->sup, kPow, met));
   }
 }
 
@@ -384,13 +438,13 @@ void filter_park_done(const SupervisorsConfig& c, const fdir::ParkDone& done) no
     if (udn::endpoint_role_tile(kSlotReplica0 + i, c.replica_tiles[i]) != done.tile) {
       continue;
     }
-    g_fsup.asked[i] = 0U;
+    g_fsup->asked[i] = 0U;
     if (done.off) {
-      g_fsup.off |= 1U << i;
-      ++g_nodes[kNodeFilter].stats.parks;
-    } else if ((g_fsup.off & (1U << i)) != 0U) {
-      g_fsup.off &= ~(1U << i);
-      ++g_nodes[kNodeFilter].stats.wakes;
+      g_fsup->off |= 1U << i;
+      ++g_nodes[kNodeFilter]->stats->parks;
+    } else if ((g_fsup->off & (1U << i)) != 0U) {
+      g_fsup->off &= ~(1U << i);
+      ++g_nodes[kNodeFilter]->stats->wakes;
     }
   }
 }
@@ -406,15 +460,15 @@ void filter_messages(const SupervisorsConfig& c) noexcept {
       filter_status(c, status);
     } else if (fdir::unpack_park_done(w, done) && m.source == c.health_tile) {
       filter_park_done(c, done);
-    } else if (sup_message(m, sm) && is_policy(sm, g_nodes[kNodeFilter])) {
-      ++g_nodes[kNodeFilter].stats.policies;
+    } else if (sup_message(m, sm) && is_policy(sm, *g_nodes[kNodeFilter])) {
+      ++g_nodes[kNodeFilter]->stats->policies;
       // A ground filter_tmr / filter_simplex reached the filter straight from the I/O tile: the
       // supervisor takes its mode as the policy (until the TRN supervisor sends another) and sends nothing.
       const bool ground = sm.from == fdir::kFromGround;
       if (ground) {
-        g_nodes[kNodeFilter].sup.c[sm.constraint] = fdir::ConstraintState{};
+        g_nodes[kNodeFilter]->sup.c[sm.constraint] = fdir::ConstraintState{};
       }
-      filter_act(c, fdir::supervisor_policy(kSpecs[kNodeFilter], g_nodes[kNodeFilter].sup, sm.constraint, sm.level, sm.from),
+      filter_act(c, fdir::supervisor_policy(kSpecs[kNodeFilter], g_nodes[kNodeFilter]->sup, sm.constraint, sm.level, sm.from),
                  ground);
     }
   }
@@ -426,33 +480,33 @@ void filter_messages(const SupervisorsConfig& c) noexcept {
 void send_rate(const SupervisorsConfig& c, std::uint32_t div) noexcept {
   const std::array<std::uint32_t, kVisionRateWords> w{kMsgVisionRate, div};
   send_words(udn::endpoint_role_tile(kSlotCoordinator, c.coordinator_tile), w);
-  g_nodes[kNodeVision].stats.rate_div = div;
+  g_nodes[kNodeVision]->stats->rate_div = div;
 }
 
 void vision_act(const SupervisorsConfig& c, const fdir::SupDecision& d) noexcept {
-  NodeState& n = g_nodes[kNodeVision];
+  NodeState& n = *g_nodes[kNodeVision];
   if (d.action == fdir::SupAction::kEscalate) {
-    ++n.stats.escalations;
+    ++n.stats->escalations;
     send_escalation(c.trn_tile, d, kNodeVision);
     return;
   }
   if (d.action != fdir::SupAction::kApply) {
     return;
   }
-  ++n.stats.applied;
+  ++n.stats->applied;
   send_rate(c, d.alternative == kAltHalfRate ? 2U : 1U);
 }
 
 void vision_status(const SupervisorsConfig& c, const VisionStatus& st) noexcept {
-  NodeState& n = g_nodes[kNodeVision];
-  ++n.stats.statuses;
+  NodeState& n = *g_nodes[kNodeVision];
+  ++n.stats->statuses;
   const fdir::ConstraintState& cap = n.sup.c[kCap];
   if (cap.phase == fdir::ConstraintPhase::kIdle) {
     // No policy from above yet: the full rate is the default demand.
     vision_act(c, fdir::supervisor_policy(kSpecs[kNodeVision], n.sup, kCap, fdir::kCapacityFull, fdir::kFromDefault));
   }
-  if (st.rate_div != n.stats.rate_div) {
-    send_rate(c, n.stats.rate_div);  // a restarted coordinator: the rate again
+  if (st.rate_div != n.stats->rate_div) {
+    send_rate(c, n.stats->rate_div);  // a restarted coordinator: the rate again
   }
   const std::uint32_t healthy = st.healthy;
   const std::uint32_t need = cap.level == fdir::kCapacityHalfRate ? c.vision_min_half : c.vision_min_full;
@@ -466,19 +520,46 @@ void vision_messages(const SupervisorsConfig& c) noexcept {
     fdir::SupMessage sm{};
     if (unpack_vision_status(std::span<const std::uint32_t>(m.data.data(), m.data_words), status)) {
       vision_status(c, status);
-    } else if (sup_message(m, sm) && is_policy(sm, g_nodes[kNodeVision]) && sm.constraint == kCap) {
-      ++g_nodes[kNodeVision].stats.policies;
-      vision_act(c, fdir::supervisor_policy(kSpecs[kNodeVision], g_nodes[kNodeVision].sup, kCap, sm.level, sm.from));
+    } else if (sup_message(m, sm) && is_policy(sm, *g_nodes[kNodeVision]) && sm.constraint == kCap) {
+      ++g_nodes[kNodeVision]->stats->policies;
+      vision_act(c, fdir::supervisor_policy(kSpecs[kNodeVision], g_nodes[kNodeVision]->sup, kCap, sm.level, sm.from));
     }
   }
 }
 
-/** A node's task: its state afresh (a restart starts from the parent's next policy), then its loop. */
+/** @p T value-initialised in the running tile's RAM (a control carve named @p what, laid out by @p l); nullptr if short. */
+template <class T>
+T* carve_own(const char* what, const bsp::ControlLayout& l) noexcept {
+  bsp::MemError err = bsp::MemError::kOk;
+  T* p = bsp::carve_control_array<T>(bsp::Region{bsp::current_tile()}, 1U, what, &err, &l);
+  if (p != nullptr) {
+    ::new (p) T{};
+  }
+  return p;
+}
+
+/**
+ * A node's counters' record and its state, afresh in its tile's RAM (a
+ * restart starts from the parent's next policy). @return false if the RAM is short.
+ */
+bool carve_node(std::uint8_t node) noexcept {
+  g_nodes[node] = nullptr;
+  bsp::MemError err = bsp::MemError::kOk;
+  SupervisorStats* const stats = bsp::carve_record(bsp::Region{bsp::current_tile()}, kSupervisorStatsRecord, &err);
+  NodeState* const n = stats != nullptr ? carve_own<NodeState>(kSupNodeCarve, kNodeStateLayout) : nullptr;
+  if (n == nullptr) {
+    return false;
+  }
+  n->stats = stats;
+  g_nodes[node] = n;
+  return true;
+}
+
+/** A node's task once its state is carved (@p state_ok), then its loop. */
 template <void (*Pass)(const SupervisorsConfig&)>
-void node_main(void* arg, std::uint8_t node) noexcept {
+void node_main(void* arg, bool state_ok) noexcept {
   const auto* cfg = static_cast<const SupervisorsConfig*>(arg);
-  g_nodes[node] = NodeState{};
-  if (cfg == nullptr || !udn::endpoint_wait_ready(100U)) {
+  if (cfg == nullptr || !state_ok || !udn::endpoint_wait_ready(100U)) {
     return;
   }
   for (;;) {
@@ -496,30 +577,32 @@ void trn_pass(const SupervisorsConfig& c) noexcept {
   trn_refresh(c, now);
   // A delegated policy holds until a child escalates.
   for (std::uint8_t k = 0; k < fdir::kMaxConstraints; ++k) {
-    trn_act(c, fdir::supervisor_judge(kSpecs[kNodeTrn], g_nodes[kNodeTrn].sup, k, true));
+    trn_act(c, fdir::supervisor_judge(kSpecs[kNodeTrn], g_nodes[kNodeTrn]->sup, k, true));
   }
 }
 
 }  // namespace
 
 void trn_supervisor_main(void* arg) noexcept {
-  g_trn = TrnState{};
-  for (auto& child : g_trn.down) {
-    child.fill(kNoLevel);
+  g_trn = carve_node(kNodeTrn) ? carve_own<TrnState>(kSupTrnCarve, kTrnStateLayout) : nullptr;
+  if (g_trn != nullptr) {
+    for (auto& child : g_trn->down) {
+      child.fill(kNoLevel);
+    }
   }
-  node_main<&trn_pass>(arg, kNodeTrn);
+  node_main<&trn_pass>(arg, g_trn != nullptr);
 }
 
 void filter_supervisor_main(void* arg) noexcept {
-  g_fsup = FilterSupState{};
-  node_main<&filter_messages>(arg, kNodeFilter);
+  g_fsup = carve_node(kNodeFilter) ? carve_own<FilterSupState>(kSupFilterCarve, kFilterSupStateLayout) : nullptr;
+  node_main<&filter_messages>(arg, g_fsup != nullptr);
 }
 
-void vision_supervisor_main(void* arg) noexcept { node_main<&vision_messages>(arg, kNodeVision); }
+void vision_supervisor_main(void* arg) noexcept { node_main<&vision_messages>(arg, carve_node(kNodeVision)); }
 
-SupervisorStats supervisor_stats(std::uint8_t node) noexcept {
-  return node < g_nodes.size() ? g_nodes[node].stats : SupervisorStats{};
-}
+const bsp::ControlLayout& sup_node_state_layout() noexcept { return kNodeStateLayout; }
+const bsp::ControlLayout& sup_trn_state_layout() noexcept { return kTrnStateLayout; }
+const bsp::ControlLayout& sup_filter_state_layout() noexcept { return kFilterSupStateLayout; }
 
 const fdir::SupervisorSpec& supervisor_spec(std::uint8_t node) noexcept {
   return kSpecs[node < kSpecs.size() ? node : 0U];

@@ -23,10 +23,12 @@
  */
 #pragma once
 
+#include "bsp_tile64/api/memory.hpp"
 #include "bsp_tile64/api/port.hpp"
 #include "fdir/supervisor.hpp"
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 
 namespace trn::tasks {
@@ -86,7 +88,7 @@ struct SupervisorsConfig {
   std::uint32_t wake_lead_ticks = 1000U;
 };
 
-/** What each node did (host: summary.json). */
+/** What each node did (host: summary.json, through kSupervisorStatsRecord). */
 struct SupervisorStats {
   std::uint32_t policies = 0U;     ///< policies taken (phases, telecommands, the parent)
   std::uint32_t applied = 0U;      ///< alternatives applied
@@ -100,13 +102,39 @@ struct SupervisorStats {
   std::uint32_t wakes = 0U;        ///< filter: replicas switched on again
 };
 
+/** A node's counters are emulated state through and through (bsp::ControlLayout). */
+inline constexpr std::array kSupervisorStatsFields{
+    BSP_CONTROL_STATE(SupervisorStats, policies), BSP_CONTROL_STATE(SupervisorStats, applied),
+    BSP_CONTROL_STATE(SupervisorStats, escalations), BSP_CONTROL_STATE(SupervisorStats, phase),
+    BSP_CONTROL_STATE(SupervisorStats, safe_mode), BSP_CONTROL_STATE(SupervisorStats, commands),
+    BSP_CONTROL_STATE(SupervisorStats, statuses), BSP_CONTROL_STATE(SupervisorStats, rate_div),
+    BSP_CONTROL_STATE(SupervisorStats, parks), BSP_CONTROL_STATE(SupervisorStats, wakes),
+};
+inline constexpr bsp::ControlLayout kSupervisorStatsLayout{kSupervisorStatsFields, sizeof(SupervisorStats),
+                                                          alignof(SupervisorStats)};
+static_assert(bsp::control_layout_ok(kSupervisorStatsLayout), "every member of SupervisorStats");
+/**
+ * A node's counters: a record in the RAM of the tile the node runs on (one
+ * node per tile), carved at task start (the host reads it by this name).
+ */
+inline constexpr bsp::RamRecord<SupervisorStats> kSupervisorStatsRecord{"sup_stats", &kSupervisorStatsLayout};
+
 /** Task entries (arg: const SupervisorsConfig*). */
 void trn_supervisor_main(void* arg) noexcept;
 void filter_supervisor_main(void* arg) noexcept;
 void vision_supervisor_main(void* arg) noexcept;
 
-/** A node's counters (by node id). [host] */
-SupervisorStats supervisor_stats(std::uint8_t node) noexcept;
+/**
+ * Names of the nodes' state carves in their tiles' RAM (every node's, the TRN
+ * supervisor's own, the filter supervisor's own) and their layouts (what an
+ * upset of them does). [host]
+ */
+inline constexpr const char* kSupNodeCarve = "sup_node";
+inline constexpr const char* kSupTrnCarve = "sup_trn";
+inline constexpr const char* kSupFilterCarve = "sup_filter";
+const bsp::ControlLayout& sup_node_state_layout() noexcept;
+const bsp::ControlLayout& sup_trn_state_layout() noexcept;
+const bsp::ControlLayout& sup_filter_state_layout() noexcept;
 
 /** The node specs of the tree (the plans of docs/FDIR.md). */
 const fdir::SupervisorSpec& supervisor_spec(std::uint8_t node) noexcept;

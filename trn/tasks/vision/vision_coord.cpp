@@ -126,7 +126,6 @@ constexpr k::Ticks kRelightWaitTicks = 400;
 /** The vision tiles kRelightWaitTicks is sized for (each relights 1/40 of the coarse layer). */
 constexpr std::uint32_t kRelightSharers = 40U;
 
-std::array<VisionCoordStats, bsp::kMaxTiles> g_coord_stats{};
 
 k::Ticks seconds_to_ticks(double s) noexcept {
   // The frame logic works in ticks.
@@ -1140,15 +1139,17 @@ double weighed_sigma_px(double sigma_px, const vision::PosePrior& prior, double 
 
 void vision_coord_main(void* arg) noexcept {
   const bsp::TileId self = bsp::current_tile();
-  VisionCoordStats& stats = g_coord_stats[self];
-  stats = VisionCoordStats{};
   const auto* cfg = static_cast<const VisionCoordConfig*>(arg);
   bsp::MemError err = bsp::MemError::kOk;
   auto* st = bsp::carve_control_array<CoordState>(bsp::Region{self}, 1, "vision_coord", &err);
-  if (cfg == nullptr || cfg->vision_count > kMaxVisionTiles || err != bsp::MemError::kOk || !udn::endpoint_wait_ready(100)) {
+  // The counters' record after the state: the state keeps the place it had before they were a record.
+  VisionCoordStats* const counters =
+      err == bsp::MemError::kOk ? bsp::carve_record(bsp::Region{self}, kVisionCoordStatsRecord, &err) : nullptr;
+  if (cfg == nullptr || cfg->vision_count > kMaxVisionTiles || counters == nullptr || !udn::endpoint_wait_ready(100)) {
     (void)set_up_failed(SetUpStep::kLists, cfg == nullptr ? 1U : 2U);
     return;
   }
+  VisionCoordStats& stats = *counters;
   ::new (st) CoordState{};
   st->cfg = cfg;
   st->rate_div = 1U;
@@ -1185,10 +1186,6 @@ void vision_coord_main(void* arg) noexcept {
     k::checkin();
     k::sleep(kCoordIdleTicks);
   }
-}
-
-VisionCoordStats vision_coord_stats(bsp::TileId tile) noexcept {
-  return tile < bsp::kMaxTiles ? g_coord_stats[tile] : VisionCoordStats{};
 }
 
 }  // namespace trn::tasks

@@ -27,6 +27,7 @@
 #pragma once
 
 #include "bsp_tile64/api/camera_model.hpp"
+#include "bsp_tile64/api/memory.hpp"
 #include "bsp_tile64/api/port.hpp"
 #include "fdir/liveness.hpp"
 #include "fdir/result_trust.hpp"
@@ -35,6 +36,7 @@
 #include "trn/vision/landmarks.hpp"
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 
 namespace trn::tasks {
@@ -173,6 +175,53 @@ struct VisionCoordStats {
   bsp::Cycles last_frame_cycles;
 };
 
+/** The coordinator's counters are emulated state through and through (bsp::ControlLayout). */
+inline constexpr std::array kVisionCoordStatsFields{
+    BSP_CONTROL_STATE(VisionCoordStats, landmarks_selected),
+    BSP_CONTROL_STATE(VisionCoordStats, landmarks_from_ground),
+    BSP_CONTROL_STATE(VisionCoordStats, ready_ms),
+    BSP_CONTROL_STATE(VisionCoordStats, frames_seen),
+    BSP_CONTROL_STATE(VisionCoordStats, frames_processed),
+    BSP_CONTROL_STATE(VisionCoordStats, frames_skipped),
+    BSP_CONTROL_STATE(VisionCoordStats, frames_before_ready),
+    BSP_CONTROL_STATE(VisionCoordStats, coarse_runs),
+    BSP_CONTROL_STATE(VisionCoordStats, coarse_accepted),
+    BSP_CONTROL_STATE(VisionCoordStats, coarse_bands_sent),
+    BSP_CONTROL_STATE(VisionCoordStats, coarse_bands_redone),
+    BSP_CONTROL_STATE(VisionCoordStats, coarse_one_piece),
+    BSP_CONTROL_STATE(VisionCoordStats, max_coarse_cycles),
+    BSP_CONTROL_STATE(VisionCoordStats, units_sent),
+    BSP_CONTROL_STATE(VisionCoordStats, units_answered),
+    BSP_CONTROL_STATE(VisionCoordStats, units_lost),
+    BSP_CONTROL_STATE(VisionCoordStats, units_send_failed),
+    BSP_CONTROL_STATE(VisionCoordStats, results_late),
+    BSP_CONTROL_STATE(VisionCoordStats, planned_total),
+    BSP_CONTROL_STATE(VisionCoordStats, matches_total),
+    BSP_CONTROL_STATE(VisionCoordStats, last_frame_matches),
+    BSP_CONTROL_STATE(VisionCoordStats, batch_send_failed),
+    BSP_CONTROL_STATE(VisionCoordStats, status_send_failed),
+    BSP_CONTROL_STATE(VisionCoordStats, suspect_tiles),
+    BSP_CONTROL_STATE(VisionCoordStats, frames_checked),
+    BSP_CONTROL_STATE(VisionCoordStats, matches_checked),
+    BSP_CONTROL_STATE(VisionCoordStats, matches_failed),
+    BSP_CONTROL_STATE(VisionCoordStats, matches_unused),
+    BSP_CONTROL_STATE(VisionCoordStats, tiles_untrusted),
+    BSP_CONTROL_STATE(VisionCoordStats, resets_asked),
+    BSP_CONTROL_STATE(VisionCoordStats, replacements_asked),
+    BSP_CONTROL_STATE(VisionCoordStats, tiles_replaced),
+    BSP_CONTROL_STATE(VisionCoordStats, frames_rate_skipped),
+    BSP_CONTROL_STATE(VisionCoordStats, rate_div),
+    BSP_CONTROL_STATE(VisionCoordStats, healthy_tiles),
+    BSP_CONTROL_STATE(VisionCoordStats, residual_scale_max_px),
+    BSP_CONTROL_STATE(VisionCoordStats, max_frame_cycles),
+    BSP_CONTROL_STATE(VisionCoordStats, last_frame_cycles),
+};
+inline constexpr bsp::ControlLayout kVisionCoordStatsLayout{kVisionCoordStatsFields, sizeof(VisionCoordStats),
+                                                           alignof(VisionCoordStats)};
+static_assert(bsp::control_layout_ok(kVisionCoordStatsLayout), "every member of VisionCoordStats");
+/** The coordinator's counters: a record in its tile's RAM, carved at task start (the host reads it by this name). */
+inline constexpr bsp::RamRecord<VisionCoordStats> kVisionCoordStatsRecord{"coord_stats", &kVisionCoordStatsLayout};
+
 /**
  * The coordinator reports through the flight event log: a tile isolated or
  * back (fdir/liveness.hpp: kWorkerSilent, kWorkerBack), a tile whose matches
@@ -192,8 +241,5 @@ struct VisionCoordStats {
 
 /** Coordinator entry (arg: const VisionCoordConfig*). */
 void vision_coord_main(void* arg) noexcept;
-
-/** Counters of the coordinator on @p tile. [host] */
-VisionCoordStats vision_coord_stats(bsp::TileId tile) noexcept;
 
 }  // namespace trn::tasks

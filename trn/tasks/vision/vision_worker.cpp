@@ -23,8 +23,6 @@ namespace {
 /** Idle poll period of a vision tile: units come once a frame, and each idle wake costs two context switches. */
 constexpr k::Ticks kWorkerIdleTicks = 4;
 
-std::array<VisionWorkerStats, bsp::kMaxTiles> g_worker_stats{};
-
 struct WorkerState {
   const VisionWorkerConfig* cfg;
   vision::MapView fine;
@@ -198,8 +196,6 @@ void coarse_band_request(VisionWorkerStats& stats, bsp::TileId from, const Coars
 
 void vision_worker_main(void* arg) noexcept {
   const bsp::TileId self = bsp::current_tile();
-  VisionWorkerStats& stats = g_worker_stats[self];
-  stats = VisionWorkerStats{};
   const auto* cfg = static_cast<const VisionWorkerConfig*>(arg);
   bsp::MemError err = bsp::MemError::kOk;
   auto* st = bsp::carve_control_array<WorkerState>(bsp::Region{self}, 1, kVisionWorkerCarve, &err, &kWorkerLayout);
@@ -211,6 +207,12 @@ void vision_worker_main(void* arg) noexcept {
   if (!worker_set_up(*st)) {
     return;
   }
+  // The counters' record last: the state and the workspace keep the places they had before.
+  VisionWorkerStats* const counters = bsp::carve_record(bsp::Region{self}, kVisionWorkerStatsRecord, &err);
+  if (counters == nullptr) {
+    return;
+  }
+  VisionWorkerStats& stats = *counters;
   udn::FtMessage m{};
   for (;;) {
     k::checkin();
@@ -241,10 +243,6 @@ void vision_worker_main(void* arg) noexcept {
       ++stats.send_failed;
     }
   }
-}
-
-VisionWorkerStats vision_worker_stats(bsp::TileId tile) noexcept {
-  return tile < bsp::kMaxTiles ? g_worker_stats[tile] : VisionWorkerStats{};
 }
 
 const bsp::ControlLayout& vision_worker_state_layout() noexcept { return kWorkerLayout; }

@@ -15,6 +15,8 @@
 #include "bsp_tile64/api/memory.hpp"
 #include "bsp_tile64/api/port.hpp"
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 
 namespace trn::tasks {
@@ -34,14 +36,23 @@ struct VisionWorkerStats {
   std::uint32_t send_failed;
 };
 
+/** A vision task's counters are emulated state through and through (bsp::ControlLayout). */
+inline constexpr std::array kVisionWorkerStatsFields{
+    BSP_CONTROL_STATE(VisionWorkerStats, units),        BSP_CONTROL_STATE(VisionWorkerStats, landmarks),
+    BSP_CONTROL_STATE(VisionWorkerStats, matches),      BSP_CONTROL_STATE(VisionWorkerStats, coarse_bands),
+    BSP_CONTROL_STATE(VisionWorkerStats, bad_units),    BSP_CONTROL_STATE(VisionWorkerStats, send_failed),
+};
+inline constexpr bsp::ControlLayout kVisionWorkerStatsLayout{kVisionWorkerStatsFields, sizeof(VisionWorkerStats),
+                                                            alignof(VisionWorkerStats)};
+static_assert(bsp::control_layout_ok(kVisionWorkerStatsLayout), "every member of VisionWorkerStats");
+/** A vision task's counters: a record in its tile's RAM, carved at task start (the host reads it by this name). */
+inline constexpr bsp::RamRecord<VisionWorkerStats> kVisionWorkerStatsRecord{"worker_stats", &kVisionWorkerStatsLayout};
+
 /** Vision tile entry (arg: const VisionWorkerConfig*). */
 void vision_worker_main(void* arg) noexcept;
 
 /** Name of a vision tile's task state carve, and its layout (bsp::ControlLayout: what an upset of it does). [host] */
 inline constexpr const char* kVisionWorkerCarve = "vision_task";
 const bsp::ControlLayout& vision_worker_state_layout() noexcept;
-
-/** Counters of the vision task on @p tile. [host] */
-VisionWorkerStats vision_worker_stats(bsp::TileId tile) noexcept;
 
 }  // namespace trn::tasks
