@@ -251,7 +251,7 @@ constexpr Field<Msg, M> u64(const char* name, M Msg::*m, std::uint8_t word) noex
 /** Reserved bits that must be zero. */
 template <typename Msg>
 constexpr Zero<Msg> zero(std::uint8_t word, std::uint8_t shift, std::uint8_t width) noexcept {
-  return {{"(zero)", Type::kZero, word, shift, width, 1U, false, 0U, 0U}};
+  return {{"reserved", Type::kZero, word, shift, width, 1U, false, 0U, 0U}};
 }
 /** Bits of each group element (member: an array with one entry per element). */
 template <typename Msg, typename M>

@@ -31,6 +31,7 @@
 #include "tools/common/fault_plan.hpp"
 #include "tools/common/fdir_join.hpp"
 #include "tools/common/fdir_params_doc.hpp"
+#include "tools/common/message_doc.hpp"
 #include "tools/common/memory_report.hpp"
 #include "tools/common/mission.hpp"
 #include "tools/common/nav_integrity.hpp"
@@ -782,6 +783,9 @@ int run(int argc, char** argv) {
   bool fdir_params = false;
   app.add_flag("--fdir-params", fdir_params,
                "Print the FDIR parameter table (docs/FDIR.md, \"Parameters\") as Markdown rows and exit");
+  bool message_kinds = false;
+  app.add_flag("--message-kinds", message_kinds,
+               "Print the declared message kinds (docs/ARCHITECTURE.md, \"Message kinds\") as Markdown rows and exit");
   app.add_option("--trace-dump", o.trace_dump,
                  "Write every trace event of the run to this file (compare two runs with trn_trace diff)");
   try {
@@ -792,6 +796,10 @@ int run(int argc, char** argv) {
   }
   if (fdir_params) {
     std::fputs(tools::fdir_params_markdown().c_str(), stdout);
+    return 0;
+  }
+  if (message_kinds) {
+    std::fputs(tools::message_kinds_markdown().c_str(), stdout);
     return 0;
   }
   if (seed_opt->count() > 0U) {
