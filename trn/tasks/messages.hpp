@@ -35,6 +35,8 @@ inline constexpr std::uint32_t kChanResult = 1U;   ///< vision -> coordinator an
 inline constexpr std::uint32_t kChanNav = 2U;      ///< navigation solutions, and the replicas' outputs to the filter
 inline constexpr std::uint32_t kChanMatches = 3U;  ///< coordinator -> filter match batches
 inline constexpr std::uint32_t kChanImu = 4U;      ///< I/O -> filter IMU samples and telecommands, in order
+/** The channels' names in the docs, by number. */
+inline constexpr std::array<const char*, 5> kChannelNames{"control", "result", "nav", "matches", "imu"};
 /**
  * Role slots of the messaging role directory (udn::RoleDirectory): a sender
  * to one of these roles asks the directory where it runs now, the configured
