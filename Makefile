@@ -266,13 +266,17 @@ CAMPAIGN ?= campaigns/single_faults.toml
 SLURM_CAMPAIGN ?= campaigns/slurm_small.toml
 JOBS ?= $(shell nproc)
 TASKS ?= 4
-.PHONY: campaign campaign-slurm integrity docs-params
+.PHONY: campaign campaign-slurm integrity docs-params docs-messages
 campaign: deps ## Fly the campaign CAMPAIGN (default campaigns/single_faults.toml) on JOBS cores into out/campaign-<name>/
 	@$(MAKE) --no-print-directory $(BIN)/trn_campaign $(BIN)/trn_mission
 	$(BIN)/trn_campaign run $(CAMPAIGN) -j $(JOBS) --out out/campaign-$(basename $(notdir $(CAMPAIGN)))
 
 docs-params: $(BIN)/trn_mission ## Write the FDIR parameter table (trn/tasks/fdir_params.hpp) into docs/FDIR.md, "Parameters"
 	$(BIN)/trn_mission --fdir-params | tools/build/docs_params.py docs/FDIR.md
+
+docs-messages: $(BIN)/trn_mission ## Write the table of message kinds (trn/tasks/messages.hpp) into docs/ARCHITECTURE.md, "Message kinds"
+	$(BIN)/trn_mission --message-kinds | tools/build/docs_params.py docs/ARCHITECTURE.md "Message kinds" \
+	  "kind | tag | channel | from | to | words | fields"
 
 integrity: ## Fly 100 fault-free seeds (campaigns/integrity_100.toml) and report the filter's integrity into out/campaign-integrity_100/
 	@$(MAKE) --no-print-directory campaign CAMPAIGN=campaigns/integrity_100.toml

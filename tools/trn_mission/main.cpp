@@ -43,6 +43,7 @@
 #include "trn/tasks/filter/filter_task.hpp"
 #include "trn/tasks/io/io_task.hpp"
 #include "trn/tasks/supervisors/supervisors.hpp"
+#include "tools/common/mission/message_doc.hpp"
 #include "trn/tasks/tile_map.hpp"
 #include "trn/tasks/vision/vision_coord.hpp"
 #include "udn/endpoint.hpp"
@@ -808,6 +809,9 @@ int run(int argc, char** argv) {
   bool fdir_params = false;
   app.add_flag("--fdir-params", fdir_params,
                "Print the FDIR parameter table (docs/FDIR.md, \"Parameters\") as Markdown rows and exit");
+  bool message_kinds = false;
+  app.add_flag("--message-kinds", message_kinds,
+               "Print the declared message kinds (docs/ARCHITECTURE.md, \"Message kinds\") as Markdown rows and exit");
   app.add_option("--trace-dump", o.trace_dump,
                  "Write every trace event of the run to this file (compare two runs with trn_trace diff)");
   try {
@@ -818,6 +822,10 @@ int run(int argc, char** argv) {
   }
   if (fdir_params) {
     std::fputs(tools::fdir_params_markdown().c_str(), stdout);
+    return 0;
+  }
+  if (message_kinds) {
+    std::fputs(tools::message_kinds_markdown().c_str(), stdout);
     return 0;
   }
   if (seed_opt->count() > 0U) {

@@ -1,30 +1,42 @@
 /**
  * @file messages.hpp
- * @brief UDN tags and word layouts of the messages between TRN tiles.
+ * @brief The messages between TRN tiles, each kind declared once: tag, channel, sender and
+ *        receiver roles, fields by word with the range its decoder enforces.
  *
- * Doubles travel as their IEEE-754 bits, low word first, so a message is
- * reproduced bit for bit on the receiving tile.
+ * The encoders, decoders and the dispatch by tag come from these declarations
+ * (fdir/message_kind.hpp); docs/ARCHITECTURE.md, "Message kinds", is the table
+ * they write (make docs-messages). Doubles travel as their IEEE-754 bits, low
+ * word first, so a message is reproduced bit for bit on the receiving tile.
  */
 #pragma once
 
 #include "bsp_tile64/api/imu_sample.hpp"
+#include "fdir/message_kind.hpp"
+#include "fdir/supervisor.hpp"
+#include "fdir/tile_health.hpp"
 #include "trn/filter/nav_output.hpp"
 #include "trn/match.hpp"
+#include "trn/tasks/roles.hpp"
 
-#include <bit>
+#include <array>
 #include <cstdint>
+#include <limits>
 #include <span>
 
 namespace trn::tasks {
 
 /**
  * Fault-tolerant UDN channels (udn/ft_link.hpp) of TRN traffic. A tile's
- * receive queue is per channel, so each kind of traffic a tile takes has its own.
+ * receive queue is per channel, so each kind of traffic a tile takes has its
+ * own; which kinds travel on each is kMessageKinds (below), not these comments.
  */
-inline constexpr std::uint32_t kChanControl = 0U;  ///< I/O -> coordinator frame notices; coordinator -> vision work units
-inline constexpr std::uint32_t kChanResult = 1U;   ///< vision -> coordinator unit results
-inline constexpr std::uint32_t kChanNav = 2U;      ///< filter -> coordinator navigation solutions (pose priors)
+inline constexpr std::uint32_t kChanControl = 0U;  ///< requests and notices: frames, units, bands, statuses, policies
+inline constexpr std::uint32_t kChanResult = 1U;   ///< vision -> coordinator answers
+inline constexpr std::uint32_t kChanNav = 2U;      ///< navigation solutions, and the replicas' outputs to the filter
 inline constexpr std::uint32_t kChanMatches = 3U;  ///< coordinator -> filter match batches
+inline constexpr std::uint32_t kChanImu = 4U;      ///< I/O -> filter IMU samples and telecommands, in order
+/** The channels' names in the docs, by number. */
+inline constexpr std::array<const char*, 5> kChannelNames{"control", "result", "nav", "matches", "imu"};
 /**
  * Role slots of the messaging role directory (udn::RoleDirectory): a sender
  * to one of these roles asks the directory where it runs now, the configured
@@ -44,35 +56,26 @@ inline constexpr std::uint32_t kSlotVisionPool = 8U;
 /** The filter and vision supervisors (trn/tasks/supervisors/supervisors.hpp). */
 inline constexpr std::uint32_t kSlotFilterSupervisor = 6U;
 inline constexpr std::uint32_t kSlotVisionSupervisor = 7U;
-inline constexpr std::uint32_t kChanImu = 4U;      ///< I/O -> filter IMU samples, one per message
 
-/** First word of every FT message: what it is. */
-inline constexpr std::uint32_t kMsgFrame = 0x46524D31U;    ///< "FRM1" frame notice
-inline constexpr std::uint32_t kMsgUnit = 0x554E5431U;     ///< "UNT1" vision work unit
-inline constexpr std::uint32_t kMsgResult = 0x52534C31U;   ///< "RSL1" vision unit result
-inline constexpr std::uint32_t kMsgNav = 0x4E415631U;      ///< "NAV1" navigation solution
-inline constexpr std::uint32_t kMsgMatches = 0x4D544331U;  ///< "MTC1" part of a frame's match batch
-inline constexpr std::uint32_t kMsgRelight = 0x524C5431U;  ///< "RLT1" relight a band of the coarse map: [1] row0 [2] rows
-inline constexpr std::uint32_t kMsgRelightDone = 0x524C4431U;  ///< "RLD1" the band is done: [1] row0 [2] rows
-inline constexpr std::uint32_t kRelightWords = 3;
-/// "CBD1" compute a band of the coarse surface (CoarseBand): [1] frame [2] row0 [3] rows [4] window width | height << 16
-/// [5] template x | y << 16 in the decimated image [6] template width | height << 16 [7] slot
-inline constexpr std::uint32_t kMsgCoarseBand = 0x43424431U;
-inline constexpr std::uint32_t kCoarseBandWords = 8;
-/// "CBR1" the band is in the tile's slot (CoarseBandDone): [1] frame [2] row0 [3] rows [4] flat windows
-/// [5..6] digest (low, high) [7] recomputes [8] status | check failed << 8 | first check << 16
-inline constexpr std::uint32_t kMsgCoarseBandDone = 0x43425231U;
-inline constexpr std::uint32_t kCoarseBandDoneWords = 9;
-inline constexpr std::uint32_t kMsgReplicaOut = 0x52504F31U;    ///< "RPO1" a TMR replica's job output (filter_tmr.hpp)
-inline constexpr std::uint32_t kMsgReplicaHello = 0x52504831U;  ///< "RPH1" a TMR replica waits for a seed
-/**
- * Telecommand (I/O -> filter, kChanImu, in order with the samples), 5 words:
- * [0] kMsgCommand [1] sequence number [2] code [3] argument [4] seq of the
- * last IMU sample the I/O tile sent before it (kNoImuYet: none). The filter
- * takes it at the job that takes that sample, whenever it arrived.
- */
-inline constexpr std::uint32_t kMsgCommand = 0x434D4431U;  ///< "CMD1"
-inline constexpr std::uint32_t kCommandWords = 5U;
+/** Word 0 of every tagged message: what it is (four ASCII letters). */
+inline constexpr std::uint32_t kMsgFrame = 0x46524D31U;          ///< "FRM1"
+inline constexpr std::uint32_t kMsgUnit = 0x554E5431U;           ///< "UNT1"
+inline constexpr std::uint32_t kMsgResult = 0x52534C31U;         ///< "RSL1"
+inline constexpr std::uint32_t kMsgNav = 0x4E415631U;            ///< "NAV1"
+inline constexpr std::uint32_t kMsgMatches = 0x4D544331U;        ///< "MTC1"
+inline constexpr std::uint32_t kMsgRelight = 0x524C5431U;        ///< "RLT1"
+inline constexpr std::uint32_t kMsgRelightDone = 0x524C4431U;    ///< "RLD1"
+inline constexpr std::uint32_t kMsgCoarseBand = 0x43424431U;     ///< "CBD1"
+inline constexpr std::uint32_t kMsgCoarseBandDone = 0x43425231U; ///< "CBR1"
+inline constexpr std::uint32_t kMsgReplicaOut = 0x52504F31U;     ///< "RPO1" (filter_tmr.hpp)
+inline constexpr std::uint32_t kMsgReplicaHello = 0x52504831U;   ///< "RPH1"
+inline constexpr std::uint32_t kMsgCommand = 0x434D4431U;        ///< "CMD1"
+inline constexpr std::uint32_t kMsgSupCommand = 0x53434D31U;     ///< "SCM1"
+inline constexpr std::uint32_t kMsgFilterStatus = 0x46535431U;   ///< "FST1"
+inline constexpr std::uint32_t kMsgVisionStatus = 0x56535431U;   ///< "VST1"
+inline constexpr std::uint32_t kMsgVisionRate = 0x56525431U;     ///< "VRT1"
+
+/** A telecommand's after_imu when the I/O tile had sent no IMU sample yet. */
 inline constexpr std::uint32_t kNoImuYet = 0xFFFFFFFFU;
 /** Telecommand codes of the filter. */
 inline constexpr std::uint32_t kCmdFilterTmr = 1U;      ///< run the filter as TMR from the next job
@@ -87,123 +90,383 @@ inline constexpr std::uint32_t kCmdPowerFull = 18U;
 inline constexpr std::uint32_t kCmdPowerSave = 19U;
 /** First policy code: codes from here go to the TRN supervisor. */
 inline constexpr std::uint32_t kCmdFirstPolicy = kCmdReliabilityNormal;
-
-/**
- * A supervisor's command for the filter (kChanControl, to the I/O tile, which
- * puts it in the filter's IMU stream like a telecommand): [0] kMsgSupCommand
- * [1] code (kCmdFilterTmr, kCmdFilterSimplex) [2] the node that sent it.
- */
-inline constexpr std::uint32_t kMsgSupCommand = 0x53434D31U;  ///< "SCM1"
-inline constexpr std::uint32_t kSupCommandWords = 3U;
 /** Sequence numbers of supervisor commands in the filter's stream (telecommands count from 1). */
 inline constexpr std::uint32_t kSupCommandSeq = 0x8000'0000U;
-
-/**
- * The filter front's status for its supervisor (kChanControl, every
- * kFilterStatusJobs jobs): [0] kMsgFilterStatus [1] job [2] mode (0 simplex, 1
- * starting TMR, 2 TMR, 3 stopping) [3] voting replicas (bit mask) [4] votes
- * without a majority so far [5] outputs skipped so far.
- */
-inline constexpr std::uint32_t kMsgFilterStatus = 0x46535431U;  ///< "FST1"
-inline constexpr std::uint32_t kFilterStatusWords = 6U;
+/** Jobs between two statuses of the filter front. */
 inline constexpr std::uint32_t kFilterStatusJobs = 10U;
 inline constexpr std::uint32_t kFilterModeSimplex = 0U;
 inline constexpr std::uint32_t kFilterModeStarting = 1U;
 inline constexpr std::uint32_t kFilterModeTmr = 2U;
 inline constexpr std::uint32_t kFilterModeStopping = 3U;
+/** Most landmarks in one vision work unit (its result fits one FT packet). */
+inline constexpr std::uint32_t kMaxLandmarksPerUnit = 5;
+/** Most matches in one part of a frame's match batch (a part fits one FT packet). */
+inline constexpr std::uint32_t kMatchesPerPart = 5;
+/** The filter's TMR replicas. */
+inline constexpr std::uint32_t kReplicas = 3U;
+
+// ---------------------------------------------------------------- the messages' fields
+
+/** A frame notice: the image in shared DDR (width and height 1 .. 65535). */
+struct FrameNotice {
+  std::uint32_t seq = 0;
+  std::uint32_t width_px = 0;
+  std::uint32_t height_px = 0;
+  std::uint32_t status = 0;
+  double t_s = 0.0;
+  std::uint64_t ddr_offset = 0;  ///< of the pixels from the start of the shared DDR region
+};
 
 /**
- * The coordinator's status for the vision supervisor (kChanControl, after
- * each frame): [0] kMsgVisionStatus [1] frame seq [2] healthy vision tiles
- * (in its list, answering, trusted) [3] tiles in its list [4] units lost in
- * the frame [5] its image-rate divisor.
+ * A telecommand for the filter: any code (the filter ignores one it does not
+ * know). It travels in order with the IMU samples and is taken at the job that
+ * takes the sample after_imu, whenever it arrived.
  */
-inline constexpr std::uint32_t kMsgVisionStatus = 0x56535431U;  ///< "VST1"
-inline constexpr std::uint32_t kVisionStatusWords = 6U;
-/** The vision supervisor's image rate for the coordinator (kChanControl): [0] kMsgVisionRate [1] divisor (1, 2). */
-inline constexpr std::uint32_t kMsgVisionRate = 0x56525431U;  ///< "VRT1"
-inline constexpr std::uint32_t kVisionRateWords = 2U;
+struct Command {
+  std::uint32_t seq = 0U;
+  std::uint32_t code = 0U;
+  std::uint32_t arg = 0U;
+  std::uint32_t after_imu = kNoImuYet;  ///< seq of the IMU sample it follows
+};
 
-inline constexpr std::uint32_t kImuWords = 16;
+/**
+ * A supervisor's command for the filter: to the I/O tile, which puts it in
+ * the filter's IMU stream like a telecommand (code kCmdFilterTmr or kCmdFilterSimplex).
+ */
+struct SupCommand {
+  std::uint32_t code = kCmdFilterTmr;
+  std::uint32_t node = 0U;  ///< the supervisor node that sent it
+};
+
+/** The filter front's status for its supervisor, every kFilterStatusJobs jobs. */
+struct FilterStatus {
+  std::uint32_t job = 0U;
+  std::uint32_t mode = kFilterModeSimplex;  ///< kFilterModeSimplex .. kFilterModeStopping
+  std::uint32_t voting = 0U;                ///< voting replicas, a mask of the three
+  std::uint32_t no_majority = 0U;           ///< votes without a majority so far
+  std::uint32_t skipped = 0U;               ///< outputs skipped so far
+};
+
+/** The coordinator's status for the vision supervisor, after each frame. */
+struct VisionStatus {
+  std::uint32_t frame = 0U;
+  std::uint32_t healthy = 0U;  ///< vision tiles in its list, answering, trusted (<= listed)
+  std::uint32_t listed = 0U;
+  std::uint32_t lost = 0U;     ///< units lost in the frame
+  std::uint32_t rate_div = 1U; ///< its image-rate divisor, 1 or 2
+};
+
+/** The vision supervisor's image rate for the coordinator. */
+struct VisionRate {
+  std::uint32_t div = 1U;  ///< 1 or 2
+};
+
+/** A band of the coarse map to relight or relit: rows from row0, both 0 .. INT32_MAX. */
+struct RelightBand {
+  std::int32_t row0 = 0;
+  std::int32_t rows = 0;
+};
+
+/** A band of the coarse stage's surface for a vision tile: rows [row0, row0 + rows) of the decimated template over the window. */
+struct CoarseBand {
+  std::uint32_t frame = 0U;
+  std::int32_t row0 = 0;
+  std::int32_t rows = 0;
+  std::int32_t window_w = 0;  ///< the decimated map region (the coarse workspace's map_small), 1 .. 65535
+  std::int32_t window_h = 0;
+  std::int32_t tmpl_x = 0;    ///< the template in the decimated image (image_small), 0 .. 65535
+  std::int32_t tmpl_y = 0;
+  std::int32_t tmpl_w = 0;    ///< 1 .. 65535
+  std::int32_t tmpl_h = 0;
+  std::uint32_t slot = 0U;    ///< the DDR band slot to compute it in (the receiver checks its range)
+};
+
+/** A vision tile's answer to a CoarseBand: the band is in its slot, with what its checks found. */
+struct CoarseBandDone {
+  std::uint32_t frame = 0U;
+  std::int32_t row0 = 0;
+  std::int32_t rows = 0;
+  std::int32_t flat_windows = 0;
+  std::uint64_t digest = 0U;      ///< vision::surface_digest() of the band as computed and checked
+  std::uint32_t recomputes = 0U;
+  std::uint32_t status = 0U;      ///< vision::Status of the computation (0: kOk), 0 .. 255
+  bool check_failed = false;      ///< still wrong after its recomputations: not to be used
+  std::uint32_t first_check = 0U; ///< vision::CorrelationCheck, 0 .. 255
+};
+
+/** A vision work unit: n landmarks, each its index and search radius (map px), and the frame's prior. */
+struct WorkUnit {
+  std::uint32_t frame = 0U;
+  std::uint32_t unit = 0U;
+  std::uint32_t n = 0U;  ///< 0 .. kMaxLandmarksPerUnit
+  double t_s = 0.0;
+  std::uint64_t ddr_offset = 0U;
+  std::uint32_t width_px = 0U;   ///< 0 .. 65535
+  std::uint32_t height_px = 0U;  ///< 0 .. 65535
+  double p_m[3] = {0.0, 0.0, 0.0};
+  double q_mb_wxyz[4] = {1.0, 0.0, 0.0, 0.0};
+  std::uint16_t landmark[kMaxLandmarksPerUnit] = {};
+  std::uint16_t radius_px[kMaxLandmarksPerUnit] = {};
+};
+
+/** A vision unit's result: m matches (the words after the header), m <= tried. */
+struct UnitResult {
+  std::uint32_t frame = 0U;
+  std::uint32_t unit = 0U;
+  std::uint32_t tried = 0U;
+  std::uint32_t m = 0U;
+};
+
+/**
+ * A part of a frame's match batch (split into parts of at most
+ * kMatchesPerPart): part < parts, 1 .. kMatchesPerPart matches (the words
+ * after the header), every one of the part's frame.
+ */
+struct MatchPart {
+  std::uint32_t frame = 0U;
+  std::uint32_t part = 0U;
+  std::uint32_t parts = 1U;
+  std::uint32_t n = 0U;
+  std::uint32_t apply_job = 0U;  ///< the filter job whose record takes the batch (0: the next one)
+};
+
+/** A TMR replica waits for a seed (filter_tmr.hpp). */
+struct ReplicaHello {
+  std::uint32_t replica = 0U;  ///< below kReplicas
+  std::uint32_t epoch = 0U;    ///< the epoch it saw
+};
+
+/** A replica's output header; its solution follows as a kNavMsg (any bits: voted). */
+struct ReplicaOut {
+  std::uint32_t replica = 0U;  ///< below kReplicas
+  std::uint32_t job = 0U;
+  std::uint32_t digest = 0U;   ///< of its state
+};
+
+// ---------------------------------------------------------------- the declarations
 
 namespace detail {
-inline void put_f64(std::span<std::uint32_t> w, std::size_t at, double v) noexcept {
-  const auto bits = std::bit_cast<std::uint64_t>(v);
-  w[at] = static_cast<std::uint32_t>(bits);
-  w[at + 1U] = static_cast<std::uint32_t>(bits >> 32U);
-}
-inline double get_f64(std::span<const std::uint32_t> w, std::size_t at) noexcept {
-  return std::bit_cast<double>(static_cast<std::uint64_t>(w[at]) | (static_cast<std::uint64_t>(w[at + 1U]) << 32U));
-}
+namespace m = fdir::msg;
+inline constexpr auto kMaxRow = static_cast<std::uint32_t>(std::numeric_limits<std::int32_t>::max());
+inline constexpr std::uint32_t kU16 = 0xFFFFU;
+constexpr bool healthy_listed(std::span<const std::uint32_t> w) noexcept { return w[2] <= w[3]; }
+constexpr bool matched_tried(std::span<const std::uint32_t> w) noexcept { return w[4] <= w[3]; }
+bool part_of_frame(std::span<const std::uint32_t> w) noexcept;  // messages.cpp
 }  // namespace detail
 
-/** Packs @p s into exactly kImuWords words. */
-inline void pack_imu(const bsp::ImuSample& s, std::span<std::uint32_t, kImuWords> w) noexcept {
-  w[0] = s.seq;
-  w[1] = s.status;
-  detail::put_f64(w, 2, s.t_s);
-  for (std::size_t i = 0; i < 3U; ++i) {
-    detail::put_f64(w, 4U + 2U * i, s.dtheta_rad[i]);
-    detail::put_f64(w, 10U + 2U * i, s.dv_mps[i]);
-  }
-}
+/** A match inside results and batches (a record, no tag: sigma_px travels as a float). */
+inline constexpr auto kMatchRecord = detail::m::kind<Match>(
+    {.tag = detail::m::kNoTag, .name = "match", .channel = detail::m::kNoChannel, .from = 0U, .to = 0U},
+    detail::m::f64("w_c", &Match::w_c, 0), detail::m::f64("p_m", &Match::p_m, 6), detail::m::f64("u_px", &Match::u_px, 12),
+    detail::m::f64("v_px", &Match::v_px, 14), detail::m::f64("t_s", &Match::t_s, 16),
+    detail::m::f32("sigma_px", &Match::sigma_px, 18), detail::m::f32("quality", &Match::quality, 19),
+    detail::m::bits("landmark", &Match::landmark, 20, 0, 16), detail::m::bits("tile", &Match::tile, 20, 16, 16),
+    detail::m::u32("frame", &Match::frame, 21));
 
-/** Unpacks what pack_imu() wrote. */
-inline bsp::ImuSample unpack_imu(std::span<const std::uint32_t, kImuWords> w) noexcept {
-  bsp::ImuSample s{};
-  s.seq = w[0];
-  s.status = w[1];
-  s.t_s = detail::get_f64(w, 2);
-  for (std::size_t i = 0; i < 3U; ++i) {
-    s.dtheta_rad[i] = detail::get_f64(w, 4U + 2U * i);
-    s.dv_mps[i] = detail::get_f64(w, 10U + 2U * i);
-  }
-  return s;
-}
+/** An IMU sample, untagged (any bits: the filter refuses a bad one itself). */
+inline constexpr auto kImuMsg = detail::m::kind<bsp::ImuSample>(
+    {.tag = detail::m::kNoTag, .name = "imu", .channel = kChanImu, .from = role_bit(Role::kIo), .to = role_bit(Role::kFilter)},
+    detail::m::u32("seq", &bsp::ImuSample::seq, 0), detail::m::u32("status", &bsp::ImuSample::status, 1),
+    detail::m::f64("t_s", &bsp::ImuSample::t_s, 2), detail::m::f64("dtheta_rad", &bsp::ImuSample::dtheta_rad, 4),
+    detail::m::f64("dv_mps", &bsp::ImuSample::dv_mps, 10));
 
-/** Words of one packed Match. */
-inline constexpr std::uint32_t kMatchWords = 22;
-
-/** Packs @p m into exactly kMatchWords words (doubles bit-exact). */
-inline void pack_match(const Match& m, std::span<std::uint32_t, kMatchWords> w) noexcept {
-  for (std::size_t i = 0; i < 3U; ++i) {
-    detail::put_f64(w, 2U * i, m.w_c[i]);
-    detail::put_f64(w, 6U + 2U * i, m.p_m[i]);
-  }
-  detail::put_f64(w, 12, m.u_px);
-  detail::put_f64(w, 14, m.v_px);
-  detail::put_f64(w, 16, m.t_s);
-  w[18] = std::bit_cast<std::uint32_t>(static_cast<float>(m.sigma_px));
-  w[19] = std::bit_cast<std::uint32_t>(m.quality);
-  w[20] = static_cast<std::uint32_t>(m.landmark) | (static_cast<std::uint32_t>(m.tile) << 16U);
-  w[21] = m.frame;
-}
-
-/** Unpacks what pack_match() wrote (sigma_px travels as a float). */
-inline Match unpack_match(std::span<const std::uint32_t, kMatchWords> w) noexcept {
-  Match m{};
-  for (std::size_t i = 0; i < 3U; ++i) {
-    m.w_c[i] = detail::get_f64(w, 2U * i);
-    m.p_m[i] = detail::get_f64(w, 6U + 2U * i);
-  }
-  m.u_px = detail::get_f64(w, 12);
-  m.v_px = detail::get_f64(w, 14);
-  m.t_s = detail::get_f64(w, 16);
-  m.sigma_px = static_cast<double>(std::bit_cast<float>(w[18]));
-  m.quality = std::bit_cast<float>(w[19]);
-  m.landmark = static_cast<std::uint16_t>(w[20] & 0xFFFFU);
-  m.tile = static_cast<std::uint16_t>(w[20] >> 16U);
-  m.frame = w[21];
-  return m;
-}
+inline constexpr auto kCommandMsg = detail::m::kind<Command>(
+    {.tag = kMsgCommand, .name = "command", .channel = kChanImu, .from = role_bit(Role::kIo), .to = role_bit(Role::kFilter)},
+    detail::m::u32("seq", &Command::seq, 1), detail::m::u32("code", &Command::code, 2),
+    detail::m::u32("arg", &Command::arg, 3), detail::m::u32("after_imu", &Command::after_imu, 4));
 
 /**
- * Match batch message (coordinator -> filter, kChanMatches):
- *   [0] kMsgMatches [1] frame seq [2] part index | (part count << 16) [3] matches in this part (n)
- *   [4] the filter job whose record takes the batch (0: the next one)
- *   then n x kMatchWords. A frame's batch is split into parts of at most kMatchesPerPart.
+ * A navigation solution (any bits: a corrupted one is for the receiver to
+ * judge): the variance diagonal of dp, dv, dtheta relative to the map (the
+ * rest reads as zero), and the position variance against the world.
  */
-inline constexpr std::uint32_t kMatchHeaderWords = 5;
+inline constexpr auto kNavMsg = detail::m::kind<filter::NavOutput>(
+    {.tag = kMsgNav, .name = "nav", .channel = kChanNav, .from = role_bit(Role::kFilter),
+     .to = role_bit(Role::kVisionCoordinator)},
+    detail::m::u32("flags", &filter::NavOutput::flags, 1), detail::m::f64("t_s", &filter::NavOutput::t_s, 2),
+    detail::m::f64("p_m", &filter::NavOutput::p_m, 4), detail::m::f64("v_mps", &filter::NavOutput::v_mps, 10),
+    detail::m::f64("q_mb_wxyz", &filter::NavOutput::q_mb_wxyz, 16),
+    detail::m::f64("var_diag", &filter::NavOutput::var_diag, 24, 9),
+    detail::m::f64("pos_var_world", &filter::NavOutput::pos_var_world, 42));
+
+inline constexpr auto kFrameMsg = detail::m::kind<FrameNotice>(
+    {.tag = kMsgFrame, .name = "frame", .channel = kChanControl, .from = role_bit(Role::kIo),
+     .to = role_bit(Role::kVisionCoordinator)},
+    detail::m::u32("seq", &FrameNotice::seq, 1), detail::m::bits("width_px", &FrameNotice::width_px, 2, 0, 16, 1U),
+    detail::m::bits("height_px", &FrameNotice::height_px, 2, 16, 16, 1U), detail::m::u32("status", &FrameNotice::status, 3),
+    detail::m::f64("t_s", &FrameNotice::t_s, 4), detail::m::u64("ddr_offset", &FrameNotice::ddr_offset, 6));
+
+inline constexpr auto kUnitMsg = detail::m::kind<WorkUnit>(
+    {.tag = kMsgUnit, .name = "unit", .channel = kChanControl, .from = role_bit(Role::kVisionCoordinator),
+     .to = role_bit(Role::kVision), .group = {.count_field = 2U, .elem_words = 1U}},
+    detail::m::u32("frame", &WorkUnit::frame, 1), detail::m::u32("unit", &WorkUnit::unit, 2),
+    detail::m::u32("n", &WorkUnit::n, 3, 0U, kMaxLandmarksPerUnit), detail::m::f64("t_s", &WorkUnit::t_s, 4),
+    detail::m::u64("ddr_offset", &WorkUnit::ddr_offset, 6), detail::m::bits("width_px", &WorkUnit::width_px, 8, 0, 16),
+    detail::m::bits("height_px", &WorkUnit::height_px, 8, 16, 16), detail::m::f64("p_m", &WorkUnit::p_m, 9),
+    detail::m::f64("q_mb_wxyz", &WorkUnit::q_mb_wxyz, 15), detail::m::each("landmark", &WorkUnit::landmark, 0, 0, 16),
+    detail::m::each("radius_px", &WorkUnit::radius_px, 0, 16, 16));
+
+inline constexpr auto kResultMsg = detail::m::kind<UnitResult>(
+    {.tag = kMsgResult, .name = "result", .channel = kChanResult, .from = role_bit(Role::kVision),
+     .to = role_bit(Role::kVisionCoordinator), .group = {.count_field = 3U, .elem_words = 22U, .record = "match"},
+     .check = detail::matched_tried, .rule = "m <= tried"},
+    detail::m::u32("frame", &UnitResult::frame, 1), detail::m::u32("unit", &UnitResult::unit, 2),
+    detail::m::u32("tried", &UnitResult::tried, 3), detail::m::u32("m", &UnitResult::m, 4, 0U, kMaxLandmarksPerUnit));
+
+inline constexpr auto kMatchesMsg = detail::m::kind<MatchPart>(
+    {.tag = kMsgMatches, .name = "matches", .channel = kChanMatches, .from = role_bit(Role::kVisionCoordinator),
+     .to = role_bit(Role::kFilter), .group = {.count_field = 3U, .elem_words = 22U, .record = "match"},
+     .check = detail::part_of_frame, .rule = "part < parts; every match's frame is frame"},
+    detail::m::u32("frame", &MatchPart::frame, 1), detail::m::bits("part", &MatchPart::part, 2, 0, 16),
+    detail::m::bits("parts", &MatchPart::parts, 2, 16, 16), detail::m::u32("n", &MatchPart::n, 3, 1U, kMatchesPerPart),
+    detail::m::u32("apply_job", &MatchPart::apply_job, 4));
+
+inline constexpr auto kRelightMsg = detail::m::kind<RelightBand>(
+    {.tag = kMsgRelight, .name = "relight", .channel = kChanControl, .from = role_bit(Role::kVisionCoordinator),
+     .to = role_bit(Role::kVision)},
+    detail::m::i32("row0", &RelightBand::row0, 1, 0U, detail::kMaxRow), detail::m::i32("rows", &RelightBand::rows, 2, 0U, detail::kMaxRow));
+
+inline constexpr auto kRelightDoneMsg = detail::m::kind<RelightBand>(
+    {.tag = kMsgRelightDone, .name = "relight_done", .channel = kChanResult, .from = role_bit(Role::kVision),
+     .to = role_bit(Role::kVisionCoordinator)},
+    detail::m::i32("row0", &RelightBand::row0, 1, 0U, detail::kMaxRow), detail::m::i32("rows", &RelightBand::rows, 2, 0U, detail::kMaxRow));
+
+inline constexpr auto kCoarseBandMsg = detail::m::kind<CoarseBand>(
+    {.tag = kMsgCoarseBand, .name = "coarse_band", .channel = kChanControl, .from = role_bit(Role::kVisionCoordinator),
+     .to = role_bit(Role::kVision)},
+    detail::m::u32("frame", &CoarseBand::frame, 1), detail::m::i32("row0", &CoarseBand::row0, 2, 0U, detail::kMaxRow),
+    detail::m::i32("rows", &CoarseBand::rows, 3, 0U, detail::kMaxRow),
+    detail::m::bits("window_w", &CoarseBand::window_w, 4, 0, 16, 1U), detail::m::bits("window_h", &CoarseBand::window_h, 4, 16, 16, 1U),
+    detail::m::bits("tmpl_x", &CoarseBand::tmpl_x, 5, 0, 16), detail::m::bits("tmpl_y", &CoarseBand::tmpl_y, 5, 16, 16),
+    detail::m::bits("tmpl_w", &CoarseBand::tmpl_w, 6, 0, 16, 1U), detail::m::bits("tmpl_h", &CoarseBand::tmpl_h, 6, 16, 16, 1U),
+    detail::m::u32("slot", &CoarseBand::slot, 7));
+
+inline constexpr auto kCoarseBandDoneMsg = detail::m::kind<CoarseBandDone>(
+    {.tag = kMsgCoarseBandDone, .name = "coarse_band_done", .channel = kChanResult, .from = role_bit(Role::kVision),
+     .to = role_bit(Role::kVisionCoordinator)},
+    detail::m::u32("frame", &CoarseBandDone::frame, 1), detail::m::i32("row0", &CoarseBandDone::row0, 2, 0U, detail::kMaxRow),
+    detail::m::i32("rows", &CoarseBandDone::rows, 3, 0U, detail::kMaxRow),
+    detail::m::i32("flat_windows", &CoarseBandDone::flat_windows, 4, 0U, detail::kMaxRow),
+    detail::m::u64("digest", &CoarseBandDone::digest, 5), detail::m::u32("recomputes", &CoarseBandDone::recomputes, 7),
+    detail::m::bits("status", &CoarseBandDone::status, 8, 0, 8),
+    detail::m::bits("check_failed", &CoarseBandDone::check_failed, 8, 8, 8, 0U, 1U),
+    detail::m::bits("first_check", &CoarseBandDone::first_check, 8, 16, 8), detail::m::zero<CoarseBandDone>(8, 24, 8));
+
+inline constexpr auto kReplicaHelloMsg = detail::m::kind<ReplicaHello>(
+    {.tag = kMsgReplicaHello, .name = "replica_hello", .channel = kChanNav, .from = role_bit(Role::kFilterReplica),
+     .to = role_bit(Role::kFilter)},
+    detail::m::u32("replica", &ReplicaHello::replica, 1, 0U, kReplicas - 1U), detail::m::u32("epoch", &ReplicaHello::epoch, 2));
+
+inline constexpr auto kReplicaOutMsg = detail::m::kind<ReplicaOut>(
+    {.tag = kMsgReplicaOut, .name = "replica_out", .channel = kChanNav, .from = role_bit(Role::kFilterReplica),
+     .to = role_bit(Role::kFilter), .group = {.fixed_count = 1U, .elem_words = kNavMsg.info.words, .record = "nav"}},
+    detail::m::u32("replica", &ReplicaOut::replica, 1, 0U, kReplicas - 1U), detail::m::u32("job", &ReplicaOut::job, 2),
+    detail::m::u32("digest", &ReplicaOut::digest, 3));
+
+inline constexpr auto kSupCommandMsg = detail::m::kind<SupCommand>(
+    {.tag = kMsgSupCommand, .name = "sup_command", .channel = kChanControl, .from = role_bit(Role::kFilterSupervisor),
+     .to = role_bit(Role::kIo)},
+    detail::m::u32("code", &SupCommand::code, 1, kCmdFilterTmr, kCmdFilterSimplex), detail::m::u32("node", &SupCommand::node, 2));
+
+inline constexpr auto kFilterStatusMsg = detail::m::kind<FilterStatus>(
+    {.tag = kMsgFilterStatus, .name = "filter_status", .channel = kChanControl, .from = role_bit(Role::kFilter),
+     .to = role_bit(Role::kFilterSupervisor)},
+    detail::m::u32("job", &FilterStatus::job, 1), detail::m::u32("mode", &FilterStatus::mode, 2, 0U, kFilterModeStopping),
+    detail::m::u32("voting", &FilterStatus::voting, 3, 0U, 7U), detail::m::u32("no_majority", &FilterStatus::no_majority, 4),
+    detail::m::u32("skipped", &FilterStatus::skipped, 5));
+
+inline constexpr auto kVisionStatusMsg = detail::m::kind<VisionStatus>(
+    {.tag = kMsgVisionStatus, .name = "vision_status", .channel = kChanControl, .from = role_bit(Role::kVisionCoordinator),
+     .to = role_bit(Role::kVisionSupervisor), .check = detail::healthy_listed, .rule = "healthy <= listed"},
+    detail::m::u32("frame", &VisionStatus::frame, 1), detail::m::u32("healthy", &VisionStatus::healthy, 2),
+    detail::m::u32("listed", &VisionStatus::listed, 3), detail::m::u32("lost", &VisionStatus::lost, 4),
+    detail::m::u32("rate_div", &VisionStatus::rate_div, 5, 1U, 2U));
+
+inline constexpr auto kVisionRateMsg = detail::m::kind<VisionRate>(
+    {.tag = kMsgVisionRate, .name = "vision_rate", .channel = kChanControl, .from = role_bit(Role::kVisionSupervisor),
+     .to = role_bit(Role::kVisionCoordinator)},
+    detail::m::u32("div", &VisionRate::div, 1, 1U, 2U));
+
+/**
+ * fdir's messages that travel on these channels: fdir lays their words out
+ * (fdir/tile_health.hpp, fdir/supervisor.hpp) and decodes them; these say
+ * where they go here, so a receiver's dispatch and the docs list them.
+ */
+inline constexpr fdir::msg::KindInfo kReplacedOnControl{
+    .tag = fdir::kMsgReplaced, .name = "fdir_replaced", .channel = kChanControl, .from = role_bit(Role::kTrnSupervisor),
+    .to = role_bit(Role::kVisionCoordinator), .words = fdir::kReplacedWords, .layout = "fdir/tile_health.hpp"};
+inline constexpr fdir::msg::KindInfo kParkDoneOnControl{
+    .tag = fdir::kMsgParkDone, .name = "fdir_park_done", .channel = kChanControl, .from = role_bit(Role::kTrnSupervisor),
+    .to = role_bit(Role::kFilterSupervisor), .words = fdir::kParkDoneWords, .layout = "fdir/tile_health.hpp"};
+inline constexpr std::uint32_t kSupervisorRoles =
+    role_bit(Role::kTrnSupervisor) | role_bit(Role::kFilterSupervisor) | role_bit(Role::kVisionSupervisor);
+inline constexpr fdir::msg::KindInfo kPolicyOnControl{
+    .tag = fdir::kMsgPolicy, .name = "fdir_policy", .channel = kChanControl, .from = kSupervisorRoles | role_bit(Role::kIo),
+    .to = kSupervisorRoles, .words = fdir::kSupMsgWords, .layout = "fdir/supervisor.hpp"};
+inline constexpr fdir::msg::KindInfo kPolicyHeldOnControl{
+    .tag = fdir::kMsgPolicyHeld, .name = "fdir_policy_held", .channel = kChanControl, .from = kSupervisorRoles,
+    .to = kSupervisorRoles, .words = fdir::kSupMsgWords, .layout = "fdir/supervisor.hpp"};
+inline constexpr fdir::msg::KindInfo kEscalateOnControl{
+    .tag = fdir::kMsgEscalate, .name = "fdir_escalate", .channel = kChanControl, .from = kSupervisorRoles,
+    .to = kSupervisorRoles, .words = fdir::kSupMsgWords, .layout = "fdir/supervisor.hpp"};
+
+/** Every kind of message between TRN tiles, and the match record inside them: the docs' table. */
+inline constexpr std::array<fdir::msg::KindView, 23> kMessageKinds{{
+    fdir::msg::view(kFrameMsg), fdir::msg::view(kUnitMsg), fdir::msg::view(kRelightMsg), fdir::msg::view(kCoarseBandMsg),
+    fdir::msg::view(kSupCommandMsg), fdir::msg::view(kFilterStatusMsg), fdir::msg::view(kVisionStatusMsg),
+    fdir::msg::view(kVisionRateMsg), {&kReplacedOnControl, {}}, {&kParkDoneOnControl, {}}, {&kPolicyOnControl, {}},
+    {&kPolicyHeldOnControl, {}}, {&kEscalateOnControl, {}}, fdir::msg::view(kResultMsg), fdir::msg::view(kRelightDoneMsg),
+    fdir::msg::view(kCoarseBandDoneMsg), fdir::msg::view(kNavMsg), fdir::msg::view(kReplicaOutMsg),
+    fdir::msg::view(kReplicaHelloMsg), fdir::msg::view(kMatchesMsg), fdir::msg::view(kImuMsg), fdir::msg::view(kCommandMsg),
+    fdir::msg::view(kMatchRecord)}};
+
+// ---------------------------------------------------------------- sizes that follow
+
+inline constexpr std::uint32_t kImuWords = kImuMsg.info.words;
+inline constexpr std::uint32_t kMatchWords = kMatchRecord.info.words;
+inline constexpr std::uint32_t kNavWords = kNavMsg.info.words;
+inline constexpr std::uint32_t kFrameNoticeWords = kFrameMsg.info.words;
+inline constexpr std::uint32_t kCommandWords = kCommandMsg.info.words;
+inline constexpr std::uint32_t kSupCommandWords = kSupCommandMsg.info.words;
+inline constexpr std::uint32_t kFilterStatusWords = kFilterStatusMsg.info.words;
+inline constexpr std::uint32_t kVisionStatusWords = kVisionStatusMsg.info.words;
+inline constexpr std::uint32_t kVisionRateWords = kVisionRateMsg.info.words;
+inline constexpr std::uint32_t kRelightWords = kRelightMsg.info.words;
+inline constexpr std::uint32_t kCoarseBandWords = kCoarseBandMsg.info.words;
+inline constexpr std::uint32_t kCoarseBandDoneWords = kCoarseBandDoneMsg.info.words;
+inline constexpr std::uint32_t kUnitHeaderWords = kUnitMsg.info.words;
+inline constexpr std::uint32_t kResultHeaderWords = kResultMsg.info.words;
+inline constexpr std::uint32_t kMatchHeaderWords = kMatchesMsg.info.words;
+inline constexpr std::uint32_t kReplicaHelloWords = kReplicaHelloMsg.info.words;
+inline constexpr std::uint32_t kReplicaOutHeaderWords = kReplicaOutMsg.info.words;
+inline constexpr std::uint32_t kReplicaOutWords = kReplicaOutHeaderWords + kNavWords;
+
+namespace detail {
+/** No tag twice among the kinds (an untagged kind is told by its channel and size). */
+constexpr bool tags_unique() noexcept {
+  for (std::size_t i = 0; i < kMessageKinds.size(); ++i) {
+    for (std::size_t j = i + 1U; j < kMessageKinds.size(); ++j) {
+      const fdir::msg::KindInfo* a = kMessageKinds[i].info;
+      const fdir::msg::KindInfo* b = kMessageKinds[j].info;
+      if (a != nullptr && b != nullptr && a->tag != fdir::msg::kNoTag && a->tag == b->tag) {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+}  // namespace detail
+static_assert(detail::tags_unique(), "every message kind has its own tag");
+static_assert(kImuWords == 16U && kMatchWords == 22U && kNavWords == 48U && kFrameNoticeWords == 8U &&
+                  kUnitHeaderWords == 23U && kResultHeaderWords == 5U && kMatchHeaderWords == 5U &&
+                  kCoarseBandDoneWords == 9U && kReplicaOutWords == 52U,
+              "the wire format of the declared kinds");
+static_assert(kMatchesMsg.info.group.elem_words == kMatchWords && kResultMsg.info.group.elem_words == kMatchWords,
+              "results and batches carry match records");
+static_assert(kMatchHeaderWords + kMatchesPerPart * kMatchWords <= 124U, "a part fits one FT packet");
+static_assert(kUnitHeaderWords + kMaxLandmarksPerUnit <= 124U, "a unit fits one FT packet");
+static_assert(kResultHeaderWords + kMaxLandmarksPerUnit * kMatchWords <= 124U, "a result fits one FT packet");
+
 /** The filter's period in kernel ticks: its job j is released at tick j x kFilterPeriodTicks. */
 inline constexpr std::uint32_t kFilterPeriodTicks = 10U;
 /**
@@ -231,250 +494,118 @@ inline constexpr std::uint32_t kControlSendTicks = 5U;
  */
 inline constexpr std::uint32_t kFineApplyJobs = 15U;
 inline constexpr std::uint32_t kCoarseApplyJobs = 35U;
-inline constexpr std::uint32_t kMatchesPerPart = 5;
-static_assert(kMatchHeaderWords + kMatchesPerPart * kMatchWords <= 124U, "a part fits one FT packet");
 
-/**
- * Navigation solution message (filter -> coordinator, kChanNav), 48 words:
- *   [0] kMsgNav [1] flags [2..3] t_s [4..9] p [10..15] v [16..23] q (w x y z)
- *   [24..41] variance diagonal of dp, dv, dtheta (9 doubles, relative to the map)
- *   [42..47] position variance against the world (3 doubles: the map's tie variance added).
- */
-inline constexpr std::uint32_t kNavWords = 48;
-
-inline void pack_nav(const filter::NavOutput& o, std::span<std::uint32_t, kNavWords> w) noexcept {
-  w[0] = kMsgNav;
-  w[1] = o.flags;
-  detail::put_f64(w, 2, o.t_s);
-  for (std::size_t i = 0; i < 3U; ++i) {
-    detail::put_f64(w, 4U + 2U * i, o.p_m[i]);
-    detail::put_f64(w, 10U + 2U * i, o.v_mps[i]);
-  }
-  for (std::size_t i = 0; i < 4U; ++i) {
-    detail::put_f64(w, 16U + 2U * i, o.q_mb_wxyz[i]);
-  }
-  for (std::size_t i = 0; i < 9U; ++i) {
-    detail::put_f64(w, 24U + 2U * i, o.var_diag[i]);
-  }
-  for (std::size_t i = 0; i < 3U; ++i) {
-    detail::put_f64(w, 42U + 2U * i, o.pos_var_world[i]);
-  }
-}
-
-/** Unpacks what pack_nav() wrote (the covariance diagonal beyond attitude reads as zero). */
-inline filter::NavOutput unpack_nav(std::span<const std::uint32_t, kNavWords> w) noexcept {
-  filter::NavOutput o{};
-  o.flags = w[1];
-  o.t_s = detail::get_f64(w, 2);
-  for (std::size_t i = 0; i < 3U; ++i) {
-    o.p_m[i] = detail::get_f64(w, 4U + 2U * i);
-    o.v_mps[i] = detail::get_f64(w, 10U + 2U * i);
-  }
-  for (std::size_t i = 0; i < 4U; ++i) {
-    o.q_mb_wxyz[i] = detail::get_f64(w, 16U + 2U * i);
-  }
-  for (std::size_t i = 0; i < 9U; ++i) {
-    o.var_diag[i] = detail::get_f64(w, 24U + 2U * i);
-  }
-  for (std::size_t i = 0; i < 3U; ++i) {
-    o.pos_var_world[i] = detail::get_f64(w, 42U + 2U * i);
-  }
-  return o;
-}
-
-/**
- * Frame notice (I/O -> coordinator, kChanControl), 8 words:
- *   [0] kMsgFrame [1] seq [2] width | height << 16 [3] status [4..5] t_s [6..7] byte offset of the
- *   pixels from the start of the shared DDR region.
- */
-inline constexpr std::uint32_t kFrameNoticeWords = 8;
-
-struct FrameNotice {
-  std::uint32_t seq = 0;
-  std::uint32_t width_px = 0;
-  std::uint32_t height_px = 0;
-  std::uint32_t status = 0;
-  double t_s = 0.0;
-  std::uint64_t ddr_offset = 0;
-};
-
-inline void pack_frame_notice(const FrameNotice& f, std::span<std::uint32_t, kFrameNoticeWords> w) noexcept {
-  w[0] = kMsgFrame;
-  w[1] = f.seq;
-  w[2] = (f.width_px & 0xFFFFU) | ((f.height_px & 0xFFFFU) << 16U);
-  w[3] = f.status;
-  detail::put_f64(w, 4, f.t_s);
-  w[6] = static_cast<std::uint32_t>(f.ddr_offset);
-  w[7] = static_cast<std::uint32_t>(f.ddr_offset >> 32U);
-}
-
-inline FrameNotice unpack_frame_notice(std::span<const std::uint32_t, kFrameNoticeWords> w) noexcept {
-  FrameNotice f{};
-  f.seq = w[1];
-  f.width_px = w[2] & 0xFFFFU;
-  f.height_px = w[2] >> 16U;
-  f.status = w[3];
-  f.t_s = detail::get_f64(w, 4);
-  f.ddr_offset = static_cast<std::uint64_t>(w[6]) | (static_cast<std::uint64_t>(w[7]) << 32U);
-  return f;
-}
-
-/** Most landmarks in one vision work unit (its result fits one FT packet). */
-inline constexpr std::uint32_t kMaxLandmarksPerUnit = 5;
-
-/**
- * Vision work unit (coordinator -> vision tile, kChanControl), kUnitHeaderWords + n words:
- *   [0] kMsgUnit [1] frame seq [2] unit id [3] n [4..5] t_s [6..7] frame DDR offset
- *   [8] width | height << 16 [9..14] prior p [15..22] prior q (w x y z)
- *   then n words: landmark index | search radius (map px) << 16.
- */
-inline constexpr std::uint32_t kUnitHeaderWords = 23;
-
-/**
- * Vision unit result (vision tile -> coordinator, kChanResult), kResultHeaderWords + m x kMatchWords:
- *   [0] kMsgResult [1] frame seq [2] unit id [3] landmarks tried [4] matches m, then the matches.
- */
-inline constexpr std::uint32_t kResultHeaderWords = 5;
-static_assert(kUnitHeaderWords + kMaxLandmarksPerUnit <= 124U, "a unit fits one FT packet");
-static_assert(kResultHeaderWords + kMaxLandmarksPerUnit * kMatchWords <= 124U, "a result fits one FT packet");
+// ---------------------------------------------------------------- the codecs, by the declarations' names
 
 /*
- * Decoders of received words (messages.cpp). Each returns false, leaving its
- * output as it was, unless the words are exactly that message (size, tag)
- * with every field in the range its layout above documents; the handlers of
- * the tasks read messages through them (tests/fuzz/flight_msg_fuzz.cpp checks
- * them against the packers).
+ * Each unpack_ returns false, leaving its output as it was, unless the words
+ * are exactly that message (size, tag) with every field in its declared range
+ * (fdir::msg::decode); the handlers of the tasks read messages through them or
+ * through a dispatch table (tests/fuzz/flight_msg_fuzz.cpp checks them against
+ * the packers). A pack_ writes the declared words (fdir::msg::encode).
  */
-
-/** A telecommand for the filter: any code (the filter ignores one it does not know). */
-struct Command {
-  std::uint32_t seq = 0U;
-  std::uint32_t code = 0U;
-  std::uint32_t arg = 0U;
-  std::uint32_t after_imu = kNoImuYet;  ///< seq of the IMU sample it follows
-};
-void pack_command(const Command& c, std::span<std::uint32_t, kCommandWords> w) noexcept;
-[[nodiscard]] bool unpack_command(std::span<const std::uint32_t> w, Command& out) noexcept;
-
-/** A supervisor's command for the filter: code kCmdFilterTmr or kCmdFilterSimplex. */
-struct SupCommand {
-  std::uint32_t code = kCmdFilterTmr;
-  std::uint32_t node = 0U;
-};
-void pack_sup_command(const SupCommand& c, std::span<std::uint32_t, kSupCommandWords> w) noexcept;
-[[nodiscard]] bool unpack_sup_command(std::span<const std::uint32_t> w, SupCommand& out) noexcept;
-
-/** The filter front's status: mode kFilterModeSimplex .. kFilterModeStopping, voting a mask of the three replicas. */
-struct FilterStatus {
-  std::uint32_t job = 0U;
-  std::uint32_t mode = kFilterModeSimplex;
-  std::uint32_t voting = 0U;
-  std::uint32_t no_majority = 0U;
-  std::uint32_t skipped = 0U;
-};
-void pack_filter_status(const FilterStatus& f, std::span<std::uint32_t, kFilterStatusWords> w) noexcept;
-[[nodiscard]] bool unpack_filter_status(std::span<const std::uint32_t> w, FilterStatus& out) noexcept;
-
-/** The coordinator's status: healthy <= listed, rate divisor 1 or 2. */
-struct VisionStatus {
-  std::uint32_t frame = 0U;
-  std::uint32_t healthy = 0U;
-  std::uint32_t listed = 0U;
-  std::uint32_t lost = 0U;
-  std::uint32_t rate_div = 1U;
-};
-void pack_vision_status(const VisionStatus& v, std::span<std::uint32_t, kVisionStatusWords> w) noexcept;
-[[nodiscard]] bool unpack_vision_status(std::span<const std::uint32_t> w, VisionStatus& out) noexcept;
-
-/** The vision supervisor's image rate divisor: 1 or 2. */
-[[nodiscard]] bool unpack_vision_rate(std::span<const std::uint32_t> w, std::uint32_t& div) noexcept;
-
-/** A band of the coarse map to relight (kMsgRelight) or relit (kMsgRelightDone): rows from row0, both 0 .. INT32_MAX. */
-struct RelightBand {
-  std::int32_t row0 = 0;
-  std::int32_t rows = 0;
-};
-void pack_relight(std::uint32_t tag, const RelightBand& b, std::span<std::uint32_t, kRelightWords> w) noexcept;
-[[nodiscard]] bool unpack_relight(std::uint32_t tag, std::span<const std::uint32_t> w, RelightBand& out) noexcept;
-
-/** A band of the coarse stage's surface for a vision tile: rows [row0, row0 + rows) of the decimated template over the window. */
-struct CoarseBand {
-  std::uint32_t frame = 0U;
-  std::int32_t row0 = 0;
-  std::int32_t rows = 0;
-  std::int32_t window_w = 0;  ///< the decimated map region (the coarse workspace's map_small), 1 .. 65535
-  std::int32_t window_h = 0;
-  std::int32_t tmpl_x = 0;    ///< the template in the decimated image (image_small), 0 .. 65535
-  std::int32_t tmpl_y = 0;
-  std::int32_t tmpl_w = 0;    ///< 1 .. 65535
-  std::int32_t tmpl_h = 0;
-  std::uint32_t slot = 0U;    ///< the DDR band slot to compute it in (the receiver checks its range)
-};
-void pack_coarse_band(const CoarseBand& b, std::span<std::uint32_t, kCoarseBandWords> w) noexcept;
-[[nodiscard]] bool unpack_coarse_band(std::span<const std::uint32_t> w, CoarseBand& out) noexcept;
-
-/** A vision tile's answer to a CoarseBand: the band is in its slot, with what its checks found. */
-struct CoarseBandDone {
-  std::uint32_t frame = 0U;
-  std::int32_t row0 = 0;
-  std::int32_t rows = 0;
-  std::int32_t flat_windows = 0;
-  std::uint64_t digest = 0U;      ///< vision::surface_digest() of the band as computed and checked
-  std::uint32_t recomputes = 0U;
-  std::uint32_t status = 0U;      ///< vision::Status of the computation (0: kOk), 0 .. 255
-  bool check_failed = false;      ///< still wrong after its recomputations: not to be used
-  std::uint32_t first_check = 0U; ///< vision::CorrelationCheck, 0 .. 255
-};
-void pack_coarse_band_done(const CoarseBandDone& d, std::span<std::uint32_t, kCoarseBandDoneWords> w) noexcept;
-[[nodiscard]] bool unpack_coarse_band_done(std::span<const std::uint32_t> w, CoarseBandDone& out) noexcept;
-
-/** A navigation solution (any bits: a corrupted one is for the receiver to judge). */
-[[nodiscard]] bool unpack_nav_msg(std::span<const std::uint32_t> w, filter::NavOutput& out) noexcept;
-
-/** A frame notice: width and height 1 .. 65535. */
-[[nodiscard]] bool unpack_frame_msg(std::span<const std::uint32_t> w, FrameNotice& out) noexcept;
-
-/** An IMU sample (any bits: the filter refuses a bad one itself). */
-[[nodiscard]] bool unpack_imu_msg(std::span<const std::uint32_t> w, bsp::ImuSample& out) noexcept;
-
-/** A vision work unit: n 0 .. kMaxLandmarksPerUnit landmarks, each its index and search radius. */
-struct WorkUnit {
-  std::uint32_t frame = 0U;
-  std::uint32_t unit = 0U;
-  std::uint32_t n = 0U;
-  double t_s = 0.0;
-  std::uint64_t ddr_offset = 0U;
-  std::uint32_t width_px = 0U;   ///< 0 .. 65535
-  std::uint32_t height_px = 0U;  ///< 0 .. 65535
-  double p_m[3] = {0.0, 0.0, 0.0};
-  double q_mb_wxyz[4] = {1.0, 0.0, 0.0, 0.0};
-  std::uint16_t landmark[kMaxLandmarksPerUnit] = {};
-  std::uint16_t radius_px[kMaxLandmarksPerUnit] = {};
-};
+inline void pack_imu(const bsp::ImuSample& s, std::span<std::uint32_t, kImuWords> w) noexcept {
+  (void)fdir::msg::encode(kImuMsg, s, w);
+}
+/** Reads what pack_imu() wrote (words this tile holds: no checks). */
+inline bsp::ImuSample unpack_imu(std::span<const std::uint32_t, kImuWords> w) noexcept { return fdir::msg::read(kImuMsg, w); }
+[[nodiscard]] inline bool unpack_imu_msg(std::span<const std::uint32_t> w, bsp::ImuSample& out) noexcept {
+  return fdir::msg::decode(kImuMsg, w, out);
+}
+inline void pack_match(const Match& m, std::span<std::uint32_t, kMatchWords> w) noexcept {
+  (void)fdir::msg::encode(kMatchRecord, m, w);
+}
+inline Match unpack_match(std::span<const std::uint32_t, kMatchWords> w) noexcept { return fdir::msg::read(kMatchRecord, w); }
+inline void pack_nav(const filter::NavOutput& o, std::span<std::uint32_t, kNavWords> w) noexcept {
+  (void)fdir::msg::encode(kNavMsg, o, w);
+}
+/** Reads what pack_nav() wrote (no checks; the covariance diagonal beyond attitude reads as zero). */
+inline filter::NavOutput unpack_nav(std::span<const std::uint32_t, kNavWords> w) noexcept { return fdir::msg::read(kNavMsg, w); }
+[[nodiscard]] inline bool unpack_nav_msg(std::span<const std::uint32_t> w, filter::NavOutput& out) noexcept {
+  return fdir::msg::decode(kNavMsg, w, out);
+}
+inline void pack_frame_notice(const FrameNotice& f, std::span<std::uint32_t, kFrameNoticeWords> w) noexcept {
+  (void)fdir::msg::encode(kFrameMsg, f, w);
+}
+[[nodiscard]] inline bool unpack_frame_msg(std::span<const std::uint32_t> w, FrameNotice& out) noexcept {
+  return fdir::msg::decode(kFrameMsg, w, out);
+}
+inline void pack_command(const Command& c, std::span<std::uint32_t, kCommandWords> w) noexcept {
+  (void)fdir::msg::encode(kCommandMsg, c, w);
+}
+[[nodiscard]] inline bool unpack_command(std::span<const std::uint32_t> w, Command& out) noexcept {
+  return fdir::msg::decode(kCommandMsg, w, out);
+}
+inline void pack_sup_command(const SupCommand& c, std::span<std::uint32_t, kSupCommandWords> w) noexcept {
+  (void)fdir::msg::encode(kSupCommandMsg, c, w);
+}
+[[nodiscard]] inline bool unpack_sup_command(std::span<const std::uint32_t> w, SupCommand& out) noexcept {
+  return fdir::msg::decode(kSupCommandMsg, w, out);
+}
+inline void pack_filter_status(const FilterStatus& f, std::span<std::uint32_t, kFilterStatusWords> w) noexcept {
+  (void)fdir::msg::encode(kFilterStatusMsg, f, w);
+}
+[[nodiscard]] inline bool unpack_filter_status(std::span<const std::uint32_t> w, FilterStatus& out) noexcept {
+  return fdir::msg::decode(kFilterStatusMsg, w, out);
+}
+inline void pack_vision_status(const VisionStatus& v, std::span<std::uint32_t, kVisionStatusWords> w) noexcept {
+  (void)fdir::msg::encode(kVisionStatusMsg, v, w);
+}
+[[nodiscard]] inline bool unpack_vision_status(std::span<const std::uint32_t> w, VisionStatus& out) noexcept {
+  return fdir::msg::decode(kVisionStatusMsg, w, out);
+}
+[[nodiscard]] inline bool unpack_vision_rate(std::span<const std::uint32_t> w, std::uint32_t& div) noexcept {
+  VisionRate r{};
+  if (!fdir::msg::decode(kVisionRateMsg, w, r)) {
+    return false;
+  }
+  div = r.div;
+  return true;
+}
+/** A relight band request (@p tag kMsgRelight) or its answer (kMsgRelightDone). */
+inline void pack_relight(std::uint32_t tag, const RelightBand& b, std::span<std::uint32_t, kRelightWords> w) noexcept {
+  (void)(tag == kMsgRelightDone ? fdir::msg::encode(kRelightDoneMsg, b, w) : fdir::msg::encode(kRelightMsg, b, w));
+}
+[[nodiscard]] inline bool unpack_relight(std::uint32_t tag, std::span<const std::uint32_t> w, RelightBand& out) noexcept {
+  return tag == kMsgRelightDone ? fdir::msg::decode(kRelightDoneMsg, w, out)
+                                : tag == kMsgRelight && fdir::msg::decode(kRelightMsg, w, out);
+}
+inline void pack_coarse_band(const CoarseBand& b, std::span<std::uint32_t, kCoarseBandWords> w) noexcept {
+  (void)fdir::msg::encode(kCoarseBandMsg, b, w);
+}
+[[nodiscard]] inline bool unpack_coarse_band(std::span<const std::uint32_t> w, CoarseBand& out) noexcept {
+  return fdir::msg::decode(kCoarseBandMsg, w, out);
+}
+inline void pack_coarse_band_done(const CoarseBandDone& d, std::span<std::uint32_t, kCoarseBandDoneWords> w) noexcept {
+  (void)fdir::msg::encode(kCoarseBandDoneMsg, d, w);
+}
+[[nodiscard]] inline bool unpack_coarse_band_done(std::span<const std::uint32_t> w, CoarseBandDone& out) noexcept {
+  return fdir::msg::decode(kCoarseBandDoneMsg, w, out);
+}
 /** Writes kUnitHeaderWords + u.n words (pre: u.n <= kMaxLandmarksPerUnit, w that long). */
-void pack_unit(const WorkUnit& u, std::span<std::uint32_t> w) noexcept;
-[[nodiscard]] bool unpack_unit(std::span<const std::uint32_t> w, WorkUnit& out) noexcept;
-
-/** A vision unit's result: m 0 .. kMaxLandmarksPerUnit matches, m <= tried; the matches are the words after the header. */
-struct UnitResult {
-  std::uint32_t frame = 0U;
-  std::uint32_t unit = 0U;
-  std::uint32_t tried = 0U;
-  std::uint32_t m = 0U;
-};
-[[nodiscard]] bool unpack_result(std::span<const std::uint32_t> w, UnitResult& out) noexcept;
-
-/**
- * A part of a match batch: part < parts, 1 .. kMatchesPerPart matches, every
- * one of the part's frame; the matches are the words after the header.
- */
-struct MatchPart {
-  std::uint32_t frame = 0U;
-  std::uint32_t part = 0U;
-  std::uint32_t parts = 1U;
-  std::uint32_t n = 0U;
-  std::uint32_t apply_job = 0U;  ///< 0: the next job
-};
-[[nodiscard]] bool unpack_match_part(std::span<const std::uint32_t> w, MatchPart& out) noexcept;
+inline void pack_unit(const WorkUnit& u, std::span<std::uint32_t> w) noexcept { (void)fdir::msg::encode(kUnitMsg, u, w); }
+[[nodiscard]] inline bool unpack_unit(std::span<const std::uint32_t> w, WorkUnit& out) noexcept {
+  return fdir::msg::decode(kUnitMsg, w, out);
+}
+[[nodiscard]] inline bool unpack_result(std::span<const std::uint32_t> w, UnitResult& out) noexcept {
+  return fdir::msg::decode(kResultMsg, w, out);
+}
+[[nodiscard]] inline bool unpack_match_part(std::span<const std::uint32_t> w, MatchPart& out) noexcept {
+  return fdir::msg::decode(kMatchesMsg, w, out);
+}
+inline void pack_replica_hello(const ReplicaHello& h, std::span<std::uint32_t, kReplicaHelloWords> w) noexcept {
+  (void)fdir::msg::encode(kReplicaHelloMsg, h, w);
+}
+[[nodiscard]] inline bool unpack_replica_hello(std::span<const std::uint32_t> w, ReplicaHello& out) noexcept {
+  return fdir::msg::decode(kReplicaHelloMsg, w, out);
+}
+/** The header, then @p nav as a kNavMsg after it. */
+inline void pack_replica_out(const ReplicaOut& o, const filter::NavOutput& nav, std::span<std::uint32_t, kReplicaOutWords> w) noexcept {
+  (void)fdir::msg::encode(kReplicaOutMsg, o, w);
+  pack_nav(nav, w.subspan<kReplicaOutHeaderWords, kNavWords>());
+}
+[[nodiscard]] inline bool unpack_replica_out(std::span<const std::uint32_t> w, ReplicaOut& out) noexcept {
+  return fdir::msg::decode(kReplicaOutMsg, w, out);
+}
 
 }  // namespace trn::tasks

@@ -33,9 +33,6 @@ inline constexpr std::uint32_t kCoordinatorBatchChannel = 4;
 /** A vision tile's band of the coarse stage's surface in its DDR slot, after its checks, just before it is reported done. */
 inline constexpr std::uint32_t kCoarseBandChannel = 11;
 
-/** Bit per Role (1 << Role). */
-constexpr std::uint32_t role_bit(Role r) noexcept { return 1U << static_cast<std::uint32_t>(r); }
-
 struct SdcPoint {
   const char* name;
   std::uint32_t channel;

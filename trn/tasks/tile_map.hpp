@@ -35,6 +35,7 @@
 #include "trn/tasks/filter/filter_tmr.hpp"
 #include "trn/tasks/io/io_task.hpp"
 #include "trn/tasks/messages.hpp"
+#include "trn/tasks/roles.hpp"
 #include "trn/tasks/supervisors/supervisors.hpp"
 #include "trn/tasks/vision/vision_coord.hpp"
 #include "trn/tasks/vision/vision_worker.hpp"
@@ -45,18 +46,6 @@
 #include <type_traits>
 
 namespace trn::tasks {
-
-enum class Role : std::uint8_t {
-  kSpare,
-  kTrnSupervisor,
-  kVisionCoordinator,
-  kFilterSupervisor,
-  kIo,
-  kFilter,
-  kVision,
-  kFilterReplica,
-  kVisionSupervisor,
-};
 
 inline constexpr std::uint32_t kMapTiles = 64;
 

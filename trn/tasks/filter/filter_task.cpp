@@ -562,27 +562,39 @@ bsp::TileId replica_tile(const Slot& slot, std::uint32_t i) noexcept {
   return udn::endpoint_role_tile(kSlotReplica0 + i, slot.cfg->replica_tiles[i]);
 }
 
+/** What a handler of the replicas' messages acts on: the front's slot and the words received. */
+struct ReplicaInbox {
+  Slot& slot;
+  std::span<const std::uint32_t> words;
+};
+
+void take_hello(ReplicaInbox& in, const ReplicaHello& hello) noexcept { in.slot.hello_mask |= 1U << hello.replica; }
+
+/** A replica's output: its solution's words as they came (any bits: voted) and its state digest. */
+void take_replica_out(ReplicaInbox& in, const ReplicaOut& out) noexcept {
+  fdir::TmrRecord& r = in.slot.out[out.replica][out.job % kOutRing];
+  r.job = out.job;
+  r.words = kVotedWords;
+  for (std::uint32_t w = 0; w < kNavWords; ++w) {
+    r.w[w] = in.words[kReplicaOutHeaderWords + w];
+  }
+  r.w[kNavWords] = out.digest;
+}
+
+/** The kinds the filter front takes on kChanNav; anything else there is dropped. */
+constexpr std::array<fdir::msg::Handler<ReplicaInbox>, 2> kReplicaHandlers{{
+    fdir::msg::on<kReplicaHelloMsg, &take_hello, ReplicaInbox>(),
+    fdir::msg::on<kReplicaOutMsg, &take_replica_out, ReplicaInbox>(),
+}};
+static_assert(fdir::msg::handlers_fit(kReplicaHandlers, kChanNav, role_bit(Role::kFilter)),
+              "the front's handlers are kinds declared for the filter on kChanNav");
+
 /** Takes the replicas' outputs and hellos waiting on kChanNav. */
 void drain_replicas(Slot& slot) noexcept {
   udn::FtMessage m{};
   for (std::uint32_t n = 0; n < 4U * kReplicas && udn::endpoint_receive(kChanNav, m) == udn::FtError::kOk; ++n) {
-    const std::span<const std::uint32_t> words(m.data.data(), m.data_words);
-    ReplicaHello hello{};
-    ReplicaOut out{};
-    if (unpack_replica_hello(words, hello)) {
-      slot.hello_mask |= 1U << hello.replica;
-      continue;
-    }
-    if (!unpack_replica_out(words, out)) {
-      continue;
-    }
-    fdir::TmrRecord& r = slot.out[out.replica][out.job % kOutRing];
-    r.job = out.job;
-    r.words = kVotedWords;
-    for (std::uint32_t w = 0; w < kNavWords; ++w) {
-      r.w[w] = words[kReplicaOutHeaderWords + w];
-    }
-    r.w[kNavWords] = out.digest;
+    ReplicaInbox in{slot, std::span<const std::uint32_t>(m.data.data(), m.data_words)};
+    (void)fdir::msg::dispatch(kReplicaHandlers, in.words, in);
   }
 }
 

@@ -273,34 +273,4 @@ void filter_replica_main(void* arg) noexcept {
 
 const bsp::ControlLayout& replica_state_layout() noexcept { return kReplicaLayout; }
 
-void pack_replica_hello(const ReplicaHello& h, std::span<std::uint32_t, kReplicaHelloWords> w) noexcept {
-  w[0] = kMsgReplicaHello;
-  w[1] = h.replica;
-  w[2] = h.epoch;
-}
-
-bool unpack_replica_hello(std::span<const std::uint32_t> w, ReplicaHello& out) noexcept {
-  if (!udn::is_message(w, kMsgReplicaHello, kReplicaHelloWords) || w[1] >= kReplicas) {
-    return false;
-  }
-  out = ReplicaHello{w[1], w[2]};
-  return true;
-}
-
-void pack_replica_out(const ReplicaOut& o, const filter::NavOutput& nav, std::span<std::uint32_t, kReplicaOutWords> w) noexcept {
-  w[0] = kMsgReplicaOut;
-  w[1] = o.replica;
-  w[2] = o.job;
-  w[3] = o.digest;
-  pack_nav(nav, w.subspan<kReplicaOutHeaderWords, kNavWords>());
-}
-
-bool unpack_replica_out(std::span<const std::uint32_t> w, ReplicaOut& out) noexcept {
-  if (!udn::is_message(w, kMsgReplicaOut, kReplicaOutWords) || w[1] >= kReplicas) {
-    return false;
-  }
-  out = ReplicaOut{w[1], w[2], w[3]};
-  return true;
-}
-
 }  // namespace trn::tasks

@@ -47,8 +47,7 @@ namespace trn::tasks {
 inline constexpr std::uint32_t kJobRingLen = 32U;
 /** The front votes job j while it writes the record of job j + kVoteLag. */
 inline constexpr std::uint32_t kVoteLag = 2U;
-/** The replica count, and the front's bit in a seed's for_mask. */
-inline constexpr std::uint32_t kReplicas = 3U;
+/** The front's bit in a seed's for_mask (the replicas' are 0 .. kReplicas - 1, messages.hpp). */
 inline constexpr std::uint32_t kFrontBit = 1U << kReplicas;
 /** Releases (10 ms) between two hellos of a replica waiting for a seed. */
 inline constexpr std::uint32_t kHelloEvery = 2U;
@@ -57,28 +56,7 @@ inline constexpr std::uint32_t kHelloEvery = 2U;
  * it catches up after a seed (a job with matches costs about 4 ms).
  */
 inline constexpr std::uint32_t kReplicaJobsPerRelease = 2U;
-/** Output sent per job: [0] kMsgReplicaOut [1] replica [2] job [3] state digest [4..] packed solution. */
-inline constexpr std::uint32_t kReplicaOutHeaderWords = 4U;
-inline constexpr std::uint32_t kReplicaOutWords = kReplicaOutHeaderWords + kNavWords;
-/** [0] kMsgReplicaHello [1] replica [2] epoch it saw. */
-inline constexpr std::uint32_t kReplicaHelloWords = 3U;
 inline constexpr std::uint32_t kNoReplica = 0xFFFF'FFFFU;
-
-/** A replica's hello, replica below kReplicas (unpack_: false, nothing written, for anything else). */
-struct ReplicaHello {
-  std::uint32_t replica = 0U;
-  std::uint32_t epoch = 0U;
-};
-void pack_replica_hello(const ReplicaHello& h, std::span<std::uint32_t, kReplicaHelloWords> w) noexcept;
-[[nodiscard]] bool unpack_replica_hello(std::span<const std::uint32_t> w, ReplicaHello& out) noexcept;
-/** A replica's output header, replica below kReplicas; its solution is words kReplicaOutHeaderWords.. (any bits: voted). */
-struct ReplicaOut {
-  std::uint32_t replica = 0U;
-  std::uint32_t job = 0U;
-  std::uint32_t digest = 0U;
-};
-void pack_replica_out(const ReplicaOut& o, const filter::NavOutput& nav, std::span<std::uint32_t, kReplicaOutWords> w) noexcept;
-[[nodiscard]] bool unpack_replica_out(std::span<const std::uint32_t> w, ReplicaOut& out) noexcept;
 
 struct TmrControl {
   std::uint32_t mode = 0U;        ///< 1 while the group runs (0: the front is simplex; replicas idle)

@@ -374,55 +374,71 @@ void take_replacement(CoordState& st, VisionCoordStats& stats, bsp::TileId from,
   ++stats.tiles_replaced;
 }
 
+/** What a handler of the coordinator's inputs acts on: the coordinator, its statistics, the message. */
+struct Inbox {
+  CoordState& st;
+  VisionCoordStats& stats;
+  const udn::FtMessage& m;
+};
+
+/** fdir lays out and decodes its replacement answer; the coordinator only acts on it. */
+bool take_replaced(Inbox& in, std::span<const std::uint32_t> w) noexcept {
+  fdir::Replaced replaced{};
+  if (!fdir::unpack_replaced(w, replaced)) {
+    return false;
+  }
+  take_replacement(in.st, in.stats, in.m.source, replaced);
+  return true;
+}
+
+void take_rate(Inbox& in, const VisionRate& r) noexcept {
+  in.st.rate_div = r.div;
+  in.stats.rate_div = r.div;
+}
+
+void take_frame(Inbox& in, const FrameNotice& notice) noexcept {
+  CoordState& st = in.st;
+  ++in.stats.frames_seen;
+  if (notice.seq % st.rate_div != 0U) {
+    ++in.stats.frames_rate_skipped;  // half rate: the tiles left get twice the time per frame
+    return;
+  }
+  if (st.have_pending) {
+    ++in.stats.frames_skipped;  // a newer frame replaces one that never started
+  }
+  st.pending = notice;
+  st.have_pending = true;
+}
+
+/** The kinds the coordinator takes on kChanControl; anything else there is dropped uncounted. */
+constexpr std::array<fdir::msg::Handler<Inbox>, 3> kNoticeHandlers{{
+    {&kReplacedOnControl, &take_replaced},
+    fdir::msg::on<kVisionRateMsg, &take_rate, Inbox>(),
+    fdir::msg::on<kFrameMsg, &take_frame, Inbox>(),
+}};
+static_assert(fdir::msg::handlers_fit(kNoticeHandlers, kChanControl, role_bit(Role::kVisionCoordinator)),
+              "the coordinator's control handlers are kinds declared for it on kChanControl");
+
 void drain_notices(CoordState& st, VisionCoordStats& stats) noexcept {
   udn::FtMessage m{};
   for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
-    const std::span<const std::uint32_t> w(m.data.data(), m.data_words);
-    fdir::Replaced replaced{};
-    std::uint32_t div = 0U;
-    FrameNotice notice{};
-    if (fdir::unpack_replaced(w, replaced)) {
-      take_replacement(st, stats, m.source, replaced);
-      continue;
-    }
-    if (unpack_vision_rate(w, div)) {
-      st.rate_div = div;
-      stats.rate_div = div;
-      continue;
-    }
-    if (!unpack_frame_msg(w, notice)) {
-      continue;
-    }
-    ++stats.frames_seen;
-    if (notice.seq % st.rate_div != 0U) {
-      ++stats.frames_rate_skipped;  // half rate: the tiles left get twice the time per frame
-      continue;
-    }
-    if (st.have_pending) {
-      ++stats.frames_skipped;  // a newer frame replaces one that never started
-    }
-    st.pending = notice;
-    st.have_pending = true;
+    Inbox in{st, stats, m};
+    (void)fdir::msg::dispatch(kNoticeHandlers, std::span<const std::uint32_t>(m.data.data(), m.data_words), in);
   }
 }
 
-void take_result(CoordState& st, VisionCoordStats& stats, const udn::FtMessage& m) noexcept {
-  UnitResult r{};
-  if (!unpack_result(std::span<const std::uint32_t>(m.data.data(), m.data_words), r)) {
-    // A coarse band answered after its stage was gathered (its band computed here instead): late.
-    CoarseBandDone d{};
-    stats.results_late += unpack_coarse_band_done(std::span<const std::uint32_t>(m.data.data(), m.data_words), d) ? 1U : 0U;
-    return;
-  }
+void take_unit_result(Inbox& in, const UnitResult& r) noexcept {
+  CoordState& st = in.st;
+  const udn::FtMessage& m = in.m;
   const std::uint32_t unit = r.unit;
   const std::uint32_t n = r.m;
   if (!st.busy || r.frame != st.frame.seq || unit >= st.unit_count || st.units[unit].answered ||
       st.units[unit].tile != m.source) {
-    ++stats.results_late;
+    ++in.stats.results_late;
     return;
   }
   st.units[unit].answered = true;
-  ++stats.units_answered;
+  ++in.stats.units_answered;
   for (std::uint32_t i = 0; i < n && st.match_count < st.matches.size(); ++i) {
     const std::span<const std::uint32_t, kMatchWords> w(m.data.data() + kResultHeaderWords + static_cast<std::size_t>(i) * kMatchWords,
                                                         kMatchWords);
@@ -430,6 +446,22 @@ void take_result(CoordState& st, VisionCoordStats& stats, const udn::FtMessage& 
     st.matches[st.match_count].tile = static_cast<std::uint16_t>(m.source);  // what the check holds it to
     ++st.match_count;
   }
+}
+
+/** A coarse band answered after its stage was gathered (its band computed here instead): late. */
+void take_late_band(Inbox& in, const CoarseBandDone& /*d*/) noexcept { ++in.stats.results_late; }
+
+/** The kinds the coordinator takes on kChanResult while it gathers a frame's units. */
+constexpr std::array<fdir::msg::Handler<Inbox>, 2> kResultHandlers{{
+    fdir::msg::on<kResultMsg, &take_unit_result, Inbox>(),
+    fdir::msg::on<kCoarseBandDoneMsg, &take_late_band, Inbox>(),
+}};
+static_assert(fdir::msg::handlers_fit(kResultHandlers, kChanResult, role_bit(Role::kVisionCoordinator)),
+              "the coordinator's result handlers are kinds declared for it on kChanResult");
+
+void take_result(CoordState& st, VisionCoordStats& stats, const udn::FtMessage& m) noexcept {
+  Inbox in{st, stats, m};
+  (void)fdir::msg::dispatch(kResultHandlers, std::span<const std::uint32_t>(m.data.data(), m.data_words), in);
 }
 
 void drain_results(CoordState& st, VisionCoordStats& stats) noexcept {
@@ -957,21 +989,15 @@ void send_batch(CoordState& st, VisionCoordStats& stats) noexcept {
     const std::uint32_t first = part * kMatchesPerPart;
     const std::uint32_t left = st.match_count - first;
     const std::uint32_t n = left < kMatchesPerPart ? left : kMatchesPerPart;
-    w[0] = kMsgMatches;
-    w[1] = st.frame.seq;
-    w[2] = part | (parts << 16U);
-    w[3] = n;
-    w[4] = st.apply_job;
+    const std::size_t words = fdir::msg::encode(kMatchesMsg, MatchPart{st.frame.seq, part, parts, n, st.apply_job}, w);
     for (std::uint32_t i = 0; i < n; ++i) {
       pack_match(st.matches[first + i],
                  std::span<std::uint32_t, kMatchWords>(w.data() + kMatchHeaderWords + static_cast<std::size_t>(i) * kMatchWords, kMatchWords));
     }
     // Each part as sent is a published result: where a corrupted batch is injected.
-    (void)bsp::publish_filter(kCoordinatorBatchChannel, w.data(),
-                              (std::size_t{kMatchHeaderWords} + std::size_t{n} * kMatchWords) * sizeof(std::uint32_t));
+    (void)bsp::publish_filter(kCoordinatorBatchChannel, w.data(), words * sizeof(std::uint32_t));
     if (udn::endpoint_send(udn::endpoint_role_tile(kSlotFilter, st.cfg->filter_tile), kChanMatches,
-                  std::span<const std::uint32_t>(w.data(), kMatchHeaderWords + n * kMatchWords),
-                  kVisionSendTicks) != udn::FtError::kOk) {
+                           std::span<const std::uint32_t>(w.data(), words), kVisionSendTicks) != udn::FtError::kOk) {
       ++stats.batch_send_failed;
     }
   }

@@ -66,11 +66,10 @@ bool worker_set_up(WorkerState& st) noexcept {
   return true;
 }
 
-/** Matches the landmarks of unit @p m; returns the result's length in words (0: bad unit). */
-std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const udn::FtMessage& m) noexcept {
+/** Matches the landmarks of unit @p u; returns the result's length in words (0: no landmark table or image). */
+std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const WorkUnit& u) noexcept {
   const vision::LandmarkTable* table = landmark_table_find();
-  WorkUnit u{};
-  if (!unpack_unit(std::span<const std::uint32_t>(m.data.data(), m.data_words), u) || table == nullptr) {
+  if (table == nullptr) {
     return 0U;
   }
   const std::uint32_t n = u.n;
@@ -112,13 +111,9 @@ std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const udn::FtM
       ++matched;
     }
   }
-  st.out[0] = kMsgResult;
-  st.out[1] = u.frame;
-  st.out[2] = u.unit;
-  st.out[3] = n;
-  st.out[4] = matched;
   stats.matches += matched;
-  return kResultHeaderWords + matched * kMatchWords;
+  // The header after the matches: a record group's words are the caller's, the encoder leaves them.
+  return static_cast<std::uint32_t>(fdir::msg::encode(kResultMsg, UnitResult{u.frame, u.unit, n, matched}, st.out));
 }
 
 /** A band of the coarse map to relight into the shared copy; answered when done. */
@@ -192,6 +187,41 @@ void coarse_band_request(VisionWorkerStats& stats, bsp::TileId from, const Coars
   }
 }
 
+/** What a handler of the worker's requests acts on: its state, its statistics, the message. */
+struct Inbox {
+  WorkerState& st;
+  VisionWorkerStats& stats;
+  const udn::FtMessage& m;
+};
+
+void take_coarse_band(Inbox& in, const CoarseBand& b) noexcept { coarse_band_request(in.stats, in.m.source, b); }
+
+void take_relight(Inbox& in, const RelightBand& b) noexcept { relight_request(in.st, in.stats, in.m.source, b); }
+
+void take_unit(Inbox& in, const WorkUnit& u) noexcept {
+  const std::uint32_t words = run_unit(in.st, in.stats, u);
+  if (words == 0U) {
+    ++in.stats.bad_units;
+    return;
+  }
+  ++in.stats.units;
+  // The result as sent is a published result: where a corrupted match is injected.
+  (void)bsp::publish_filter(kVisionMatchesChannel, in.st.out.data(), std::size_t{words} * sizeof(std::uint32_t));
+  if (udn::endpoint_send(in.m.source, kChanResult, std::span<const std::uint32_t>(in.st.out.data(), words), kVisionSendTicks) !=
+      udn::FtError::kOk) {
+    ++in.stats.send_failed;
+  }
+}
+
+/** The kinds a vision tile takes on kChanControl; anything else there counts as a bad unit. */
+constexpr std::array<fdir::msg::Handler<Inbox>, 3> kRequestHandlers{{
+    fdir::msg::on<kCoarseBandMsg, &take_coarse_band, Inbox>(),
+    fdir::msg::on<kRelightMsg, &take_relight, Inbox>(),
+    fdir::msg::on<kUnitMsg, &take_unit, Inbox>(),
+}};
+static_assert(fdir::msg::handlers_fit(kRequestHandlers, kChanControl, role_bit(Role::kVision)),
+              "the vision tile's handlers are kinds declared for it on kChanControl");
+
 }  // namespace
 
 void vision_worker_main(void* arg) noexcept {
@@ -220,27 +250,10 @@ void vision_worker_main(void* arg) noexcept {
       k::sleep(kWorkerIdleTicks);
       continue;
     }
-    CoarseBand coarse{};
-    if (unpack_coarse_band(std::span<const std::uint32_t>(m.data.data(), m.data_words), coarse)) {
-      coarse_band_request(stats, m.source, coarse);
-      continue;
-    }
-    RelightBand band{};
-    if (unpack_relight(kMsgRelight, std::span<const std::uint32_t>(m.data.data(), m.data_words), band)) {
-      relight_request(*st, stats, m.source, band);
-      continue;
-    }
-    const std::uint32_t words = run_unit(*st, stats, m);
-    if (words == 0U) {
-      ++stats.bad_units;
-      continue;
-    }
-    ++stats.units;
-    // The result as sent is a published result: where a corrupted match is injected.
-    (void)bsp::publish_filter(kVisionMatchesChannel, st->out.data(), std::size_t{words} * sizeof(std::uint32_t));
-    if (udn::endpoint_send(m.source, kChanResult, std::span<const std::uint32_t>(st->out.data(), words), kVisionSendTicks) !=
-        udn::FtError::kOk) {
-      ++stats.send_failed;
+    Inbox in{*st, stats, m};
+    if (fdir::msg::dispatch(kRequestHandlers, std::span<const std::uint32_t>(m.data.data(), m.data_words), in) !=
+        fdir::msg::Dispatch::kTaken) {
+      ++stats.bad_units;  // not a request of a vision tile, or one out of range
     }
   }
 }
