@@ -531,11 +531,7 @@ void vision_messages(const SupervisorsConfig& c) noexcept {
 template <class T>
 T* carve_own(const char* what, const bsp::ControlLayout& l) noexcept {
   bsp::MemError err = bsp::MemError::kOk;
-  T* p = bsp::carve_control_array<T>(bsp::Region{bsp::current_tile()}, 1U, what, &err, &l);
-  if (p != nullptr) {
-    ::new (p) T{};
-  }
-  return p;
+  return bsp::carve_record(bsp::Region{bsp::current_tile()}, bsp::RamRecord<T>{what, &l}, &err);
 }
 
 /**
