@@ -35,8 +35,11 @@ std::string image() { return std::string(build_info::kBinDir) + "/trn_mission"; 
 /**
  * The image with the tests' world cache: every flight of a scenario after the first reads the built
  * terrain and map product instead of building them (bit for bit the same, WorldCacheFliesTheSameBits).
+ * No plots: gnuplot takes a quarter of a second per flight and no test reads them (run_folder_test
+ * checks the plots; the full run folder test below draws them once).
  */
-std::string binary() { return image() + " --world-cache " + std::string(build_info::kBinDir) + "/test-world-cache"; }
+std::string with_plots() { return image() + " --world-cache " + std::string(build_info::kBinDir) + "/test-world-cache"; }
+std::string binary() { return with_plots() + " --no-plots"; }
 
 /** Runs a command; returns its exit status (-1 if it did not exit). */
 int run(const std::string& cmd) {
@@ -75,12 +78,17 @@ std::string read_text(const fs::path& p) {
 // vision tile's crash and another's hang), are detected, and the two flights are the same to the bit.
 TEST_F(TrnMissionBinary, SameInputsGiveTheSameTraceHashAndAFullRunFolderOnOneHostThreadOrTwo) {
   const std::string plan = std::string(build_info::kRepoRoot) + "/tests/fixtures/fault_plans/early_faults.toml";
-  const std::string common = binary() + " --duration 3 --quiet --faults " + plan + " --seed 4 --out ";
-  ASSERT_EQ(run(common + (dir_ / "a").string()), 0);
+  const std::string common = " --duration 3 --quiet --faults " + plan + " --seed 4 --out ";
+  ASSERT_EQ(run(with_plots() + common + (dir_ / "a").string()), 0);
   // The second run renders every frame at its capture, on one host thread: the same run.
-  ASSERT_EQ(run(common + (dir_ / "b").string() + " --one-host-thread"), 0);
-  for (const char* f : {"summary.json", "nav.csv", "events.log", "tile_map.csv"}) {
+  ASSERT_EQ(run(binary() + common + (dir_ / "b").string() + " --one-host-thread"), 0);
+  // make test installs gnuplot (tools/build/deps.sh), so the plots are drawn; --no-plots draws none.
+  for (const char* f : {"summary.json", "nav.csv", "events.log", "tile_map.csv", "position_error.gp",
+                        "position_error.png", "tile_map.gp", "tile_map.png"}) {
     EXPECT_TRUE(fs::exists(dir_ / "a" / f)) << f;
+  }
+  for (const char* f : {"position_error.gp", "position_error.png", "tile_map.png"}) {
+    EXPECT_FALSE(fs::exists(dir_ / "b" / f)) << f << " under --no-plots";
   }
   const nlohmann::json a = read_json(dir_ / "a" / "summary.json");
   const nlohmann::json b = read_json(dir_ / "b" / "summary.json");
@@ -131,7 +139,7 @@ std::vector<std::vector<std::string>> csv_rows(const fs::path& p) {
 // summary.json's figures cover its rows: about ten outputs a row, ratios and maxima no smaller than the
 // rows' (to their printed digits), and both moments no later than the rows show them.
 TEST_F(TrnMissionBinary, SummaryCarriesTheIntegrityOfEveryOutputFromTheFix) {
-  ASSERT_EQ(run(binary() + " --duration 8 --quiet --no-plots --seed 1 --out " + (dir_ / "i").string()), 0);
+  ASSERT_EQ(run(binary() + " --duration 8 --quiet --seed 1 --out " + (dir_ / "i").string()), 0);
   const nlohmann::json s = read_json(dir_ / "i" / "summary.json");
   const double fix = s["fix_at_s"].get<double>();
   const double converged = s["converged_at_s"].get<double>();
@@ -203,7 +211,7 @@ TEST_F(TrnMissionBinary, SummaryCarriesTheIntegrityOfEveryOutputFromTheFix) {
 // covariance too small, so the true matches after it were gated (341 m after the frame, 209 m at
 // the end). Failed matches are now left out of the batch and the coarse match is an iterated update.
 TEST_F(TrnMissionBinary, ACoarseFixWithAnAltitudeErrorConvergesInItsOwnFrame) {
-  ASSERT_EQ(run(binary() + " --duration 5 --quiet --no-plots --seed 11 --out " + (dir_ / "c").string()), 0);
+  ASSERT_EQ(run(binary() + " --duration 5 --quiet --seed 11 --out " + (dir_ / "c").string()), 0);
   const nlohmann::json s = read_json(dir_ / "c" / "summary.json");
   EXPECT_EQ(s["coarse_accepted"].get<double>(), 1.0);
   EXPECT_GE(s["vision_matches_failed"].get<double>(), 1.0) << "the case needs a failed match";
@@ -239,8 +247,8 @@ TEST_F(TrnMissionBinary, TheMapsTieAccuracyWidensTheReportedSigmaAndNotTheEstima
     std::ofstream sc(dir_ / "exact.toml");
     sc << "[map]\ntie_horizontal_m = 0\ntie_vertical_m = 0\n";
   }
-  ASSERT_EQ(run(binary() + " --duration 4 --quiet --no-plots --seed 1 --out " + (dir_ / "tie").string()), 0);
-  ASSERT_EQ(run(binary() + " --duration 4 --quiet --no-plots --seed 1 --scenario " + (dir_ / "exact.toml").string() +
+  ASSERT_EQ(run(binary() + " --duration 4 --quiet --seed 1 --out " + (dir_ / "tie").string()), 0);
+  ASSERT_EQ(run(binary() + " --duration 4 --quiet --seed 1 --scenario " + (dir_ / "exact.toml").string() +
                 " --out " + (dir_ / "exact").string()),
             0);
   const std::vector<std::vector<std::string>> tie = csv_rows(dir_ / "tie" / "nav.csv");
@@ -271,7 +279,7 @@ TEST_F(TrnMissionBinary, TheMapsTieAccuracyWidensTheReportedSigmaAndNotTheEstima
 // frame's other bearings failed the gate against it, and the solution sat 60.8 m off (3-sigma 19 m, 0.75 deg
 // of attitude error) until the next frame. While the position is loose every match is iterated.
 TEST_F(TrnMissionBinary, TheCoarseFramesFineMatchesAreIteratedWhileThePositionIsLoose) {
-  ASSERT_EQ(run(binary() + " --duration 4 --quiet --no-plots --seed 22 --out " + (dir_ / "l").string()), 0);
+  ASSERT_EQ(run(binary() + " --duration 4 --quiet --seed 22 --out " + (dir_ / "l").string()), 0);
   const nlohmann::json s = read_json(dir_ / "l" / "summary.json");
   EXPECT_EQ(s["coarse_accepted"].get<double>(), 1.0);
   EXPECT_LT(s["converged_at_s"].get<double>(), 3.5);
@@ -312,7 +320,7 @@ TEST_F(TrnMissionBinary, TheCoarseFramesFineMatchesAreIteratedWhileThePositionIs
 // (2.14 s) the position was 3.50 m off, y at 1.28 of its 3-sigma. Weighed by their frame's prior attitude
 // (VisionCoordConfig::sigma_px_per_prior_deg), the frame's matches leave the filter honest.
 TEST_F(TrnMissionBinary, TheFirstFineMatchesAreWeighedByTheirFramesPriorAttitude) {
-  ASSERT_EQ(run(binary() + " --duration 3 --quiet --no-plots --seed 157 --out " + (dir_ / "w").string()), 0);
+  ASSERT_EQ(run(binary() + " --duration 3 --quiet --seed 157 --out " + (dir_ / "w").string()), 0);
   const nlohmann::json s = read_json(dir_ / "w" / "summary.json");
   EXPECT_LT(s["fix_at_s"].get<double>(), 1.5) << "the frame at 1 s";
   EXPECT_LT(s["converged_at_s"].get<double>(), 2.5) << "the frame at 2 s";
@@ -694,7 +702,7 @@ TEST_F(TrnMissionBinary, AnSdcAtEachNamedPointReachesTheValueThere) {
 // filled and ~45 packets were given up and settled at every start, DETECT lines in a clean
 // events.log), and the frame captured before the start ended is not processed, and says so.
 TEST_F(TrnMissionBinary, TheCoordinatorsStartIsReadyForTheFirstFrameOrSkipsItOnPurpose) {
-  ASSERT_EQ(run(binary() + " --duration 3 --quiet --no-plots --seed 2 --out " + (dir_ / "gr").string()), 0);
+  ASSERT_EQ(run(binary() + " --duration 3 --quiet --seed 2 --out " + (dir_ / "gr").string()), 0);
   const nlohmann::json g = read_json(dir_ / "gr" / "summary.json");
   const std::string glog = read_text(dir_ / "gr" / "events.log");
   EXPECT_EQ(g["landmarks_from_ground"], 1);
@@ -703,7 +711,7 @@ TEST_F(TrnMissionBinary, TheCoordinatorsStartIsReadyForTheFirstFrameOrSkipsItOnP
   EXPECT_EQ(g["coarse_accepted"], 1);
   EXPECT_LT(g["fix_at_s"].get<double>(), 2.0) << "the fix from the frame at 1 s";
   EXPECT_EQ(count_of(glog, "DETECT"), 0U) << "a fault-free flight detects nothing";
-  ASSERT_EQ(run(binary() + " --duration 3 --quiet --no-plots --seed 2 --onboard-landmarks --out " +
+  ASSERT_EQ(run(binary() + " --duration 3 --quiet --seed 2 --onboard-landmarks --out " +
                 (dir_ / "st").string()),
             0);
   const nlohmann::json s = read_json(dir_ / "st" / "summary.json");
@@ -940,7 +948,7 @@ TEST_F(TrnMissionBinary, ASparesSwitchIsFoundByTransitsAndTheIoTilesPacketsAreCo
 // transits through it that others ping, and its watcher, cut off, does not reset the healthy
 // supervisor (before: the supervisor was reset, its votes lost, and the switch never named).
 TEST_F(TrnMissionBinary, TheIoTilesSwitchIsNamedByTransitsAndItsCutOffWatcherResetsNobody) {
-  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 4 --faults " + fixture("io_switch_fail.toml") + " --out " +
+  ASSERT_EQ(run(binary() + " --quiet --duration 4 --faults " + fixture("io_switch_fail.toml") + " --out " +
                 (dir_ / "io").string()),
             0);
   const nlohmann::json s = read_json(dir_ / "io" / "summary.json");
@@ -959,7 +967,7 @@ TEST_F(TrnMissionBinary, TheIoTilesSwitchIsNamedByTransitsAndItsCutOffWatcherRes
 // FDIR-TR-11: the health tile reset while a failed switch's reports wait to be judged: the reports
 // that still hold come again, and the switch is named all the same (before: never).
 TEST_F(TrnMissionBinary, ReportsThatStillHoldComeAgainAfterTheHealthTileIsReset) {
-  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 4 --faults " + fixture("io_switch_supervisor_reset.toml") +
+  ASSERT_EQ(run(binary() + " --quiet --duration 4 --faults " + fixture("io_switch_supervisor_reset.toml") +
                 " --out " + (dir_ / "r").string()),
             0);
   const nlohmann::json s = read_json(dir_ / "r" / "summary.json");
@@ -976,7 +984,7 @@ TEST_F(TrnMissionBinary, ReportsThatStillHoldComeAgainAfterTheHealthTileIsReset)
 // across it; the reports of tiles 6 and 7, whose route to the health tile crosses it, come through their
 // twins (FDIR-TR-15). No spare is taken out, and nothing more is given up.
 TEST_F(TrnMissionBinary, TheCoordinatorsEastLinkIsNamedByTheTransitsAcrossIt) {
-  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 5 --faults " + fixture("coordinator_east_link.toml") +
+  ASSERT_EQ(run(binary() + " --quiet --duration 5 --faults " + fixture("coordinator_east_link.toml") +
                 " --out " + (dir_ / "c").string()),
             0);
   const nlohmann::json s = read_json(dir_ / "c" / "summary.json");
@@ -998,7 +1006,7 @@ TEST_F(TrnMissionBinary, TheCoordinatorsEastLinkIsNamedByTheTransitsAcrossIt) {
 // FDIR-TR-15: a spare's switch whose failure cuts the route of other tiles' reports (spare 2: those of
 // tiles 6 and 7) is named all the same: their reports come through their twins. It was silent before.
 TEST_F(TrnMissionBinary, ASpareSwitchOnTheReportsRouteIsNamedFromTheirTwins) {
-  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 5 --faults " + fixture("spare_on_report_route.toml") +
+  ASSERT_EQ(run(binary() + " --quiet --duration 5 --faults " + fixture("spare_on_report_route.toml") +
                 " --out " + (dir_ / "s").string()),
             0);
   const nlohmann::json s = read_json(dir_ / "s" / "summary.json");
@@ -1016,7 +1024,7 @@ TEST_F(TrnMissionBinary, ASpareSwitchOnTheReportsRouteIsNamedFromTheirTwins) {
 // position) is refused by its plausibility check in the job it happened and the filter goes back to
 // its last checkpoint. Before, the filter carried it to the end, 79 m off with a small 3-sigma.
 TEST_F(TrnMissionBinary, TheSimplexFiltersCorruptedStateIsRefusedAndItGoesBackToItsCheckpoint) {
-  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 5 --faults " + fixture("filter_state_flipped.toml") +
+  ASSERT_EQ(run(binary() + " --quiet --duration 5 --faults " + fixture("filter_state_flipped.toml") +
                 " --out " + (dir_ / "f").string()),
             0);
   const nlohmann::json s = read_json(dir_ / "f" / "summary.json");
@@ -1044,7 +1052,7 @@ TEST_F(TrnMissionBinary, TheSimplexFiltersCorruptedStateIsRefusedAndItGoesBackTo
 // settings' CRC at the end of its job; the settings are built again from the image and the filter
 // goes back to its last checkpoint in the same job, without a restart.
 TEST_F(TrnMissionBinary, UpsetsInTheFiltersSettingsAreFoundAndBuiltAgainWithoutARestart) {
-  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 5 --faults " + fixture("filter_settings_upset.toml") +
+  ASSERT_EQ(run(binary() + " --quiet --duration 5 --faults " + fixture("filter_settings_upset.toml") +
                 " --out " + (dir_ / "u").string()),
             0);
   const nlohmann::json s = read_json(dir_ / "u" / "summary.json");
@@ -1084,7 +1092,7 @@ TEST_F(TrnMissionBinary, UpsetsInTheFiltersSettingsAreFoundAndBuiltAgainWithoutA
 // resumes from the checkpoint. The join measures the recovery on the filter's outputs: back
 // steadily after the restart, not after the first resume, which did not hold.
 TEST_F(TrnMissionBinary, AStateRefusedAgainFromItsCheckpointRestartsTheFiltersTile) {
-  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 5 --faults " + fixture("filter_state_flipped_twice.toml") +
+  ASSERT_EQ(run(binary() + " --quiet --duration 5 --faults " + fixture("filter_state_flipped_twice.toml") +
                 " --out " + (dir_ / "t").string()),
             0);
   const nlohmann::json s = read_json(dir_ / "t" / "summary.json");
@@ -1111,7 +1119,7 @@ TEST_F(TrnMissionBinary, AStateRefusedAgainFromItsCheckpointRestartsTheFiltersTi
 // The flight saw nothing wrong with the two: not detected; the outvote and exclusion of the healthy
 // replica are a wrong diagnosis and healthy tiles disturbed, in summary.json, faults.csv and events.log.
 TEST_F(TrnMissionBinary, TwoReplicasCorruptedAlikeAreNotCreditedAndTheHealthyOneIsCounted) {
-  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 12 --faults " + fixture("filter_tmr_two_alike.toml") +
+  ASSERT_EQ(run(binary() + " --quiet --duration 12 --faults " + fixture("filter_tmr_two_alike.toml") +
                 " --out " + (dir_ / "alike").string()),
             0);
   const nlohmann::json s = read_json(dir_ / "alike" / "summary.json");
@@ -1133,9 +1141,9 @@ TEST_F(TrnMissionBinary, TwoReplicasCorruptedAlikeAreNotCreditedAndTheHealthyOne
 // Without effect, only against a golden flight: a spare's failed watchdog is latent and changes
 // nothing, so with --golden it counts as without effect; a golden flight of another seed is refused.
 TEST_F(TrnMissionBinary, AFaultIsWithoutEffectOnlyAgainstTheGoldenFlight) {
-  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 6 --out " + (dir_ / "golden").string()), 0);
+  ASSERT_EQ(run(binary() + " --quiet --duration 6 --out " + (dir_ / "golden").string()), 0);
   const std::string golden = (dir_ / "golden" / "summary.json").string();
-  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 6 --faults " + fixture("spare_watchdog_fail.toml") +
+  ASSERT_EQ(run(binary() + " --quiet --duration 6 --faults " + fixture("spare_watchdog_fail.toml") +
                 " --golden " + golden + " --out " + (dir_ / "w").string()),
             0);
   const nlohmann::json s = read_json(dir_ / "w" / "summary.json");
@@ -1146,10 +1154,10 @@ TEST_F(TrnMissionBinary, AFaultIsWithoutEffectOnlyAgainstTheGoldenFlight) {
   EXPECT_NE(read_text(dir_ / "w" / "events.log").find("not detected by the flight software (no effect)"),
             std::string::npos);
   // A golden flight that flew another seed or duration is no reference.
-  EXPECT_EQ(run(binary() + " --quiet --no-plots --duration 6 --seed 2 --faults " + fixture("spare_watchdog_fail.toml") +
+  EXPECT_EQ(run(binary() + " --quiet --duration 6 --seed 2 --faults " + fixture("spare_watchdog_fail.toml") +
                 " --golden " + golden + " --out " + (dir_ / "w2").string()),
             2);
-  EXPECT_EQ(run(binary() + " --quiet --no-plots --duration 5 --golden " + golden + " --out " + (dir_ / "w3").string()),
+  EXPECT_EQ(run(binary() + " --quiet --duration 5 --golden " + golden + " --out " + (dir_ / "w3").string()),
             2);
 }
 
@@ -1301,7 +1309,7 @@ TEST_F(TrnMissionBinary, AnUpsetInAReplicasStateIsCaughtByItsDigestAndReseeded) 
 // output) and re-seeds it, and it votes again. Before, the first stayed out (its settings still
 // wrong after the seed), the second left no majority, and nothing was delivered from 9.17 s on.
 TEST_F(TrnMissionBinary, AReplicaWhoseSettingsWereUpsetBuildsThemAgainAndIsReseeded) {
-  ASSERT_EQ(run(binary() + " --quiet --no-plots --duration 12 --faults " + fixture("filter_tmr_settings_upset.toml") +
+  ASSERT_EQ(run(binary() + " --quiet --duration 12 --faults " + fixture("filter_tmr_settings_upset.toml") +
                 " --out " + (dir_ / "ts").string()),
             0);
   const nlohmann::json s = read_json(dir_ / "ts" / "summary.json");
@@ -1484,7 +1492,7 @@ TEST_F(TrnMissionBinary, WorldCacheFliesTheSameBits) {
   // The cold flight builds the world and keeps it; the warm one reads it back; the damaged one finds
   // files cut short, builds again and writes them whole. All three fly the same bits.
   const fs::path cache = dir_ / "world";
-  const std::string args = " --quiet --no-plots --duration 2 --seed 3 --out ";
+  const std::string args = " --quiet --duration 2 --seed 3 --out ";
   ASSERT_EQ(run(image() + " --world-cache " + cache.string() + args + (dir_ / "cold").string()), 0);
   std::vector<fs::path> files;
   for (const fs::directory_entry& e : fs::directory_iterator(cache)) {
@@ -1521,7 +1529,7 @@ TEST_F(TrnMissionBinary, WorldCacheFliesTheSameBits) {
 // hash), a replay's dump is the same event for event, and trn_trace diff says so (exit 0) or names the
 // first differing event of another seed's run (exit 1).
 TEST_F(TrnMissionBinary, ATraceDumpFoldsToTheSummarysHashAndTrnTraceNamesTheFirstDifference) {
-  const std::string args = " --quiet --no-plots --duration 2 --out ";
+  const std::string args = " --quiet --duration 2 --out ";
   const auto fly = [&](const char* name, int seed) {
     return run(binary() + args + (dir_ / name).string() + " --seed " + std::to_string(seed) + " --trace-dump " +
                (dir_ / name).string() + ".trace");
@@ -1551,7 +1559,7 @@ TEST_F(TrnMissionBinary, ATraceDumpFoldsToTheSummarysHashAndTrnTraceNamesTheFirs
 // tile-health supervisor retires it at once and its role goes to a spare. Before, the coordinator
 // stayed on its dead tile and no frame came after 11 s (2.04 m at the end, a campaign's run 59).
 TEST_F(TrnMissionBinary, ATileWhoseSwitchFailedIsRetiredAndItsRoleMoves) {
-  ASSERT_EQ(run(binary() + " --quiet --no-plots --faults " + fixture("coordinator_switch_fail.toml") + " --out " +
+  ASSERT_EQ(run(binary() + " --quiet --faults " + fixture("coordinator_switch_fail.toml") + " --out " +
                 (dir_ / "sw").string()),
             0);
   const nlohmann::json s = read_json(dir_ / "sw" / "summary.json");
