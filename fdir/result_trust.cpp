@@ -9,6 +9,14 @@
 namespace fdir {
 namespace {
 
+// A ResultTrust may sit in RAM that takes upsets (the vision coordinator's state): its count and
+// window are taken bounded, so a flipped one never indexes past the arrays or divides by zero. The
+// owner finds and reports the upset itself (vision_coord.cpp, check_coord).
+std::uint32_t count_of(const ResultTrust& t) noexcept { return t.count < kMaxTrustWorkers ? t.count : kMaxTrustWorkers; }
+std::uint32_t window_of(const ResultTrust& t) noexcept {
+  return t.config.window == 0U ? 1U : (t.config.window < kMaxTrustWindow ? t.config.window : kMaxTrustWindow);
+}
+
 void clear_window(ResultTrust& t, std::uint32_t i) noexcept {
   t.checked[i].fill(0U);
   t.failed[i].fill(0U);
@@ -47,19 +55,20 @@ TrustError result_trust_init(ResultTrust& t, const ResultTrustConfig& config, co
 }
 
 bool result_trust_used(const ResultTrust& t, std::uint32_t i) noexcept {
-  return i < t.count && t.state[i] == TrustState::kTrusted;
+  return i < count_of(t) && t.state[i] == TrustState::kTrusted;
 }
 
 TrustAction result_trust_round(ResultTrust& t, std::uint32_t i, std::uint32_t checked, std::uint32_t failed) noexcept {
-  if (i >= t.count) {
+  if (i >= count_of(t)) {
     return TrustAction::kNone;
   }
-  const std::uint32_t at = t.round % t.config.window;
+  const std::uint32_t window = window_of(t);
+  const std::uint32_t at = t.round % window;
   t.checked[i][at] = clamp16(checked);
   t.failed[i][at] = clamp16(failed > checked ? checked : failed);
   std::uint32_t sum_checked = 0U;
   std::uint32_t sum_failed = 0U;
-  for (std::uint32_t k = 0; k < t.config.window; ++k) {
+  for (std::uint32_t k = 0; k < window; ++k) {
     sum_checked += t.checked[i][k];
     sum_failed += t.failed[i][k];
   }
@@ -108,7 +117,7 @@ TrustAction result_trust_round(ResultTrust& t, std::uint32_t i, std::uint32_t ch
 void result_trust_close_round(ResultTrust& t) noexcept { ++t.round; }
 
 void result_trust_replace(ResultTrust& t, std::uint32_t i, bsp::TileId tile) noexcept {
-  if (i >= t.count) {
+  if (i >= count_of(t)) {
     return;
   }
   t.tile[i] = tile;
@@ -120,7 +129,7 @@ void result_trust_replace(ResultTrust& t, std::uint32_t i, bsp::TileId tile) noe
 
 std::uint32_t result_trust_untrusted(const ResultTrust& t) noexcept {
   std::uint32_t n = 0U;
-  for (std::uint32_t i = 0; i < t.count; ++i) {
+  for (std::uint32_t i = 0; i < count_of(t); ++i) {
     n += t.state[i] == TrustState::kTrusted ? 0U : 1U;
   }
   return n;

@@ -26,6 +26,7 @@ inline constexpr fdir::EventId kFrameDone{0x0303};
 inline constexpr fdir::EventId kVisionSetUpFailed{0x0306};
 inline constexpr fdir::EventId kCoarseBandRedone{0x0307};
 inline constexpr fdir::EventId kLandmarkProductRefused{0x0308};
+inline constexpr fdir::EventId kCoordStateBad{0x0309};
 // ---- navigation filter restarts (trn/tasks/filter_task)
 inline constexpr fdir::EventId kFilterResumed{0x0601};
 inline constexpr fdir::EventId kCheckpointBad{0x0602};
@@ -52,7 +53,7 @@ inline constexpr fdir::EventId kSafeMode{0x0909};
 }  // namespace ev
 
 /** The table: every application id once. */
-inline constexpr std::array<fdir::EventInfo, 23> kEventTable{{
+inline constexpr std::array<fdir::EventInfo, 24> kEventTable{{
     {ev::kFrameDone, "frame_done", fdir::Severity::kInfo, fdir::kStepNone, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
      "- / units lost / frame / matches",
      "frame {a} done: {b} matches, {c} units lost"},
@@ -68,6 +69,16 @@ inline constexpr std::array<fdir::EventInfo, 23> kEventTable{{
      "first row / frame. The coordinator computed the band itself: the coarse surface is whole and checked",
      "coarse band from row {a} of frame {b} dealt to tile {s}: {c|?|it could not be sent|no answer in "
      "time|its checks failed|its copy differs from its digest|?}; computed by the coordinator"},
+    {ev::kCoordStateBad, "coord_state_bad", fdir::Severity::kWarningHi, fdir::kStepDetect | fdir::kStepRecover, fdir::Diagnosis::kMemoryUpset, fdir::Accused::kWriter,
+     "part (1 image-rate divisor, 2 band count, 3 a band's rows, 4 unit count, 5 match count, 6 tile list, 7 "
+     "liveness, 8 result trust, 9 the frame's size, 10 a match, 11 the prior's solution, 12 the frame's deadline, 13 the time the set-up ended; "
+     "trn::tasks::CoordPart) / "
+     "the part's index / the value found: a count, index, divisor or value of the vision coordinator's state "
+     "that no valid state holds (an upset of its RAM); that part reset, from the coordinator's configuration "
+     "and its tile list in DDR where they hold it, else dropped (a frame, its bands, its matches)",
+     "vision coordinator state upset: {s|?|image-rate divisor|band count|band rows|unit count|match count|tile "
+     "list|liveness|result trust|frame size|match|prior's solution|frame deadline|set-up end|?} {c} held {a}: "
+     "reset"},
     {ev::kLandmarkProductRefused, "landmark_product_refused", fdir::Severity::kWarningLo, fdir::kStepDetect | fdir::kStepRecover, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
      "- / why (trn::tasks::ProductCheck): 1 the block is too short, 2 its header (magic, version, its "
      "CRC-32C), 3 selected with other settings than the coordinator's, 4 selected on a layer of another "

@@ -186,6 +186,7 @@ class ControlUpsets : public ::testing::Test {
 const Sweep kTileHealth{fdir::kTileHealthCarve, "trn_supervisor", 0U, &fdir::tile_health_state_layout()};
 const Sweep kNetHealth{fdir::kNetHealthCarve, "trn_supervisor", 0U, &fdir::net_health_state_layout()};
 const Sweep kVisionWorker{trn::tasks::kVisionWorkerCarve, "vision", 40U, &trn::tasks::vision_worker_state_layout()};
+const Sweep kVisionCoord{trn::tasks::kVisionCoordCarve, "vision_coordinator", 0U, &trn::tasks::vision_coord_state_layout()};
 const Sweep kEndpointVision{udn::kEndpointCarve, "vision", 40U, &udn::endpoint_state_layout()};
 const Sweep kEndpointSupervisor{udn::kEndpointCarve, "trn_supervisor", 0U, &udn::endpoint_state_layout()};
 const Sweep kKernelVision{"kernel state", "vision", 40U, &k::detail::kKernelStateLayout};
@@ -209,8 +210,10 @@ TEST_F(ControlUpsets, EveryEmulatedMemberOfTheDeclaredControlStructsSurvivesAnUp
   if (std::getenv("CONTROL_SWEEP_FULL") != nullptr) {
     fly({kTileHealth}, true, 6.0, "tile_health");
     fly({kNetHealth, kVisionWorker}, true, 6.0, "net_health_vision");
+    fly({kVisionCoord}, true, 6.0, "vision_coord");
   } else {
     fly({kTileHealth, kNetHealth, kVisionWorker}, false, 3.0, "members");
+    fly({kVisionCoord}, false, 4.0, "vision_coord");
   }
 }
 

@@ -19,6 +19,7 @@
 #include "trn/tasks/messages.hpp"
 #include "trn/tasks/sdc_points.hpp"
 #include "trn/tasks/vision/vision_shared.hpp"
+#include "trn/vision/match_consistency.hpp"
 #include "udn/endpoint.hpp"
 
 #include <algorithm>
@@ -30,6 +31,8 @@
 namespace trn::tasks {
 namespace {
 
+/** The largest image-rate divisor the vision supervisor sends (VisionRate: 1 or 2). */
+constexpr std::uint32_t kMaxRateDiv = 2U;
 /** Solutions the coordinator keeps (10 ms apart: 0.64 s). */
 constexpr std::uint32_t kNavRing = 64;
 /** Messages drained per channel per pass (the receive queues hold kFtRxDepth each). */
@@ -117,6 +120,178 @@ struct CoordState {
   std::uint32_t rate_div;       ///< the vision supervisor's image rate: a frame whose seq it does not divide is left out
   double ready_s;               ///< when the set-up ended: a frame captured before is not processed
 };
+
+// What an upset of the coordinator's state does (bsp::ControlLayout). Its configuration, the
+// views of the map product and of its DDR workspaces (host pointers with their extents and the
+// geometry that maps onto them) and the DDR tile list's address are host state: an upset there is
+// modelled as a crash of the tile. Everything else is the tile's own and is flipped for real:
+// check_coord() bounds every count, index and divisor the coordinator follows, each use takes
+// them bounded (an upset can land between the check and the use), and a value no valid state
+// holds is reported (coord_state_bad) and reset.
+constexpr std::array kUnitFields{BSP_CONTROL_STATE(Unit, tile), BSP_CONTROL_STATE(Unit, planned),
+                                 BSP_CONTROL_STATE(Unit, sent), BSP_CONTROL_STATE(Unit, answered)};
+constexpr bsp::ControlLayout kUnitLayout{kUnitFields, sizeof(Unit), alignof(Unit)};
+static_assert(bsp::control_layout_ok(kUnitLayout), "every member of Unit");
+
+constexpr std::array kBandJobFields{BSP_CONTROL_STATE(CoarseBandJob, row0), BSP_CONTROL_STATE(CoarseBandJob, rows),
+                                    BSP_CONTROL_STATE(CoarseBandJob, tile), BSP_CONTROL_STATE(CoarseBandJob, answered),
+                                    BSP_CONTROL_STATE(CoarseBandJob, done), BSP_CONTROL_STATE(CoarseBandJob, why)};
+constexpr bsp::ControlLayout kBandJobLayout{kBandJobFields, sizeof(CoarseBandJob), alignof(CoarseBandJob)};
+static_assert(bsp::control_layout_ok(kBandJobLayout), "every member of CoarseBandJob");
+
+constexpr std::array kGatherFields{BSP_CONTROL_HOST(CoarseGather, surface), BSP_CONTROL_STATE(CoarseGather, digest),
+                                   BSP_CONTROL_STATE(CoarseGather, flat_windows),
+                                   BSP_CONTROL_STATE(CoarseGather, recomputes), BSP_CONTROL_STATE(CoarseGather, pending)};
+constexpr bsp::ControlLayout kGatherLayout{kGatherFields, sizeof(CoarseGather), alignof(CoarseGather)};
+static_assert(bsp::control_layout_ok(kGatherLayout), "every member of CoarseGather, the surface's view as host state");
+
+constexpr std::array kNavFields{
+    BSP_CONTROL_STATE(filter::NavOutput, propagations), BSP_CONTROL_STATE(filter::NavOutput, t_s),
+    BSP_CONTROL_STATE(filter::NavOutput, p_m),          BSP_CONTROL_STATE(filter::NavOutput, v_mps),
+    BSP_CONTROL_STATE(filter::NavOutput, q_mb_wxyz),    BSP_CONTROL_STATE(filter::NavOutput, var_diag),
+    BSP_CONTROL_STATE(filter::NavOutput, pos_var_world), BSP_CONTROL_STATE(filter::NavOutput, flags),
+    BSP_CONTROL_STATE(filter::NavOutput, last_accepted), BSP_CONTROL_STATE(filter::NavOutput, last_rejected),
+    BSP_CONTROL_STATE(filter::NavOutput, imu_gaps)};
+constexpr bsp::ControlLayout kNavLayout{kNavFields, sizeof(filter::NavOutput), alignof(filter::NavOutput)};
+static_assert(bsp::control_layout_ok(kNavLayout), "every member of NavOutput");
+
+constexpr std::array kNoticeFields{BSP_CONTROL_STATE(FrameNotice, seq),    BSP_CONTROL_STATE(FrameNotice, width_px),
+                                   BSP_CONTROL_STATE(FrameNotice, height_px), BSP_CONTROL_STATE(FrameNotice, status),
+                                   BSP_CONTROL_STATE(FrameNotice, t_s),    BSP_CONTROL_STATE(FrameNotice, ddr_offset)};
+constexpr bsp::ControlLayout kNoticeLayout{kNoticeFields, sizeof(FrameNotice), alignof(FrameNotice)};
+static_assert(bsp::control_layout_ok(kNoticeLayout), "every member of FrameNotice");
+
+constexpr std::array kPlannedFields{
+    BSP_CONTROL_STATE(vision::PlannedLandmark, landmark), BSP_CONTROL_STATE(vision::PlannedLandmark, u_px),
+    BSP_CONTROL_STATE(vision::PlannedLandmark, v_px), BSP_CONTROL_STATE(vision::PlannedLandmark, radius_px)};
+constexpr bsp::ControlLayout kPlannedLayout{kPlannedFields, sizeof(vision::PlannedLandmark),
+                                            alignof(vision::PlannedLandmark)};
+static_assert(bsp::control_layout_ok(kPlannedLayout), "every member of PlannedLandmark");
+
+constexpr std::array kMatchFields{BSP_CONTROL_STATE(Match, w_c),      BSP_CONTROL_STATE(Match, p_m),
+                                  BSP_CONTROL_STATE(Match, u_px),     BSP_CONTROL_STATE(Match, v_px),
+                                  BSP_CONTROL_STATE(Match, sigma_px), BSP_CONTROL_STATE(Match, quality),
+                                  BSP_CONTROL_STATE(Match, landmark), BSP_CONTROL_STATE(Match, tile),
+                                  BSP_CONTROL_STATE(Match, frame),    BSP_CONTROL_STATE(Match, t_s)};
+constexpr bsp::ControlLayout kMatchLayout{kMatchFields, sizeof(Match), alignof(Match)};
+static_assert(bsp::control_layout_ok(kMatchLayout), "every member of Match");
+
+constexpr std::array kLivenessConfigFields{BSP_CONTROL_STATE(fdir::LivenessConfig, suspect_after_misses),
+                                           BSP_CONTROL_STATE(fdir::LivenessConfig, probe_every)};
+constexpr bsp::ControlLayout kLivenessConfigLayout{kLivenessConfigFields, sizeof(fdir::LivenessConfig),
+                                                   alignof(fdir::LivenessConfig)};
+static_assert(bsp::control_layout_ok(kLivenessConfigLayout), "every member of LivenessConfig");
+constexpr std::array kLivenessFields{BSP_CONTROL_NESTED(fdir::Liveness, config, kLivenessConfigLayout),
+                                     BSP_CONTROL_STATE(fdir::Liveness, count), BSP_CONTROL_STATE(fdir::Liveness, tile),
+                                     BSP_CONTROL_STATE(fdir::Liveness, misses)};
+constexpr bsp::ControlLayout kLivenessLayout{kLivenessFields, sizeof(fdir::Liveness), alignof(fdir::Liveness)};
+static_assert(bsp::control_layout_ok(kLivenessLayout), "every member of Liveness");
+
+constexpr std::array kTrustConfigFields{
+    BSP_CONTROL_STATE(fdir::ResultTrustConfig, window), BSP_CONTROL_STATE(fdir::ResultTrustConfig, min_failed),
+    BSP_CONTROL_STATE(fdir::ResultTrustConfig, reset_after), BSP_CONTROL_STATE(fdir::ResultTrustConfig, probation)};
+constexpr bsp::ControlLayout kTrustConfigLayout{kTrustConfigFields, sizeof(fdir::ResultTrustConfig),
+                                                alignof(fdir::ResultTrustConfig)};
+static_assert(bsp::control_layout_ok(kTrustConfigLayout), "every member of ResultTrustConfig");
+constexpr std::array kTrustFields{
+    BSP_CONTROL_NESTED(fdir::ResultTrust, config, kTrustConfigLayout), BSP_CONTROL_STATE(fdir::ResultTrust, count),
+    BSP_CONTROL_STATE(fdir::ResultTrust, tile),       BSP_CONTROL_STATE(fdir::ResultTrust, state),
+    BSP_CONTROL_STATE(fdir::ResultTrust, checked),    BSP_CONTROL_STATE(fdir::ResultTrust, failed),
+    BSP_CONTROL_STATE(fdir::ResultTrust, rounds_bad), BSP_CONTROL_STATE(fdir::ResultTrust, clean),
+    BSP_CONTROL_STATE(fdir::ResultTrust, round)};
+constexpr bsp::ControlLayout kTrustLayout{kTrustFields, sizeof(fdir::ResultTrust), alignof(fdir::ResultTrust)};
+static_assert(bsp::control_layout_ok(kTrustLayout), "every member of ResultTrust");
+
+constexpr std::array kPriorFields{BSP_CONTROL_STATE(vision::PosePrior, t_s), BSP_CONTROL_STATE(vision::PosePrior, p_m),
+                                  BSP_CONTROL_STATE(vision::PosePrior, q_mb),
+                                  BSP_CONTROL_STATE(vision::PosePrior, sigma_p_m),
+                                  BSP_CONTROL_STATE(vision::PosePrior, sigma_att_rad)};
+constexpr bsp::ControlLayout kPriorLayout{kPriorFields, sizeof(vision::PosePrior), alignof(vision::PosePrior)};
+static_assert(bsp::control_layout_ok(kPriorLayout), "every member of PosePrior");
+
+constexpr std::array kConsistencyFields{BSP_CONTROL_STATE(vision::ConsistencyWork, norm),
+                                        BSP_CONTROL_STATE(vision::ConsistencyWork, sorted),
+                                        BSP_CONTROL_STATE(vision::ConsistencyWork, in_fit)};
+constexpr bsp::ControlLayout kConsistencyLayout{kConsistencyFields, sizeof(vision::ConsistencyWork),
+                                                alignof(vision::ConsistencyWork)};
+static_assert(bsp::control_layout_ok(kConsistencyLayout), "every member of ConsistencyWork");
+
+constexpr std::array kCoordFields{
+    BSP_CONTROL_HOST(CoordState, cfg),
+    BSP_CONTROL_HOST(CoordState, fine),
+    BSP_CONTROL_HOST(CoordState, coarse_map),
+    BSP_CONTROL_HOST(CoordState, table),
+    BSP_CONTROL_HOST(CoordState, coarse_ws),
+    BSP_CONTROL_HOST(CoordState, plan_scratch),
+    BSP_CONTROL_NESTED(CoordState, bands, kBandJobLayout),
+    BSP_CONTROL_STATE(CoordState, band_count),
+    BSP_CONTROL_NESTED(CoordState, gather, kGatherLayout),
+    BSP_CONTROL_NESTED(CoordState, nav, kNavLayout),
+    BSP_CONTROL_STATE(CoordState, nav_count),
+    BSP_CONTROL_STATE(CoordState, have_pending),
+    BSP_CONTROL_NESTED(CoordState, pending, kNoticeLayout),
+    BSP_CONTROL_STATE(CoordState, busy),
+    BSP_CONTROL_STATE(CoordState, apply_job),
+    BSP_CONTROL_NESTED(CoordState, frame, kNoticeLayout),
+    BSP_CONTROL_STATE(CoordState, frame_start),
+    BSP_CONTROL_STATE(CoordState, deadline),
+    BSP_CONTROL_NESTED(CoordState, units, kUnitLayout),
+    BSP_CONTROL_STATE(CoordState, unit_count),
+    BSP_CONTROL_NESTED(CoordState, planned, kPlannedLayout),
+    BSP_CONTROL_NESTED(CoordState, matches, kMatchLayout),
+    BSP_CONTROL_STATE(CoordState, match_count),
+    BSP_CONTROL_NESTED(CoordState, live, kLivenessLayout),
+    BSP_CONTROL_STATE(CoordState, frames_planned),
+    BSP_CONTROL_HOST(CoordState, relit),
+    BSP_CONTROL_STATE(CoordState, band_done),
+    BSP_CONTROL_STATE(CoordState, tiles),
+    BSP_CONTROL_HOST(CoordState, list),
+    BSP_CONTROL_NESTED(CoordState, prior, kPriorLayout),
+    BSP_CONTROL_NESTED(CoordState, trust, kTrustLayout),
+    BSP_CONTROL_NESTED(CoordState, cws, kConsistencyLayout),
+    BSP_CONTROL_STATE(CoordState, failed),
+    BSP_CONTROL_STATE(CoordState, order),
+    BSP_CONTROL_STATE(CoordState, placed),
+    BSP_CONTROL_STATE(CoordState, rate_div),
+    BSP_CONTROL_STATE(CoordState, ready_s),
+};
+constexpr bsp::ControlLayout kCoordLayout{kCoordFields, sizeof(CoordState), alignof(CoordState)};
+static_assert(bsp::control_layout_ok(kCoordLayout), "every member of CoordState, pointers and views as host state");
+
+/** The parts of the coordinator's state check_coord() and the uses check (coord_state_bad's subject). */
+enum class CoordPart : std::uint32_t {
+  kRateDiv = 1,
+  kBandCount = 2,
+  kBandRows = 3,
+  kUnitCount = 4,
+  kMatchCount = 5,
+  kTileList = 6,
+  kLiveness = 7,
+  kTrust = 8,
+  kFrameSize = 9,
+  kMatch = 10,
+  kPrior = 11,
+  kDeadline = 12,
+  kReadyTime = 13,
+};
+
+void coord_repaired(CoordPart part, std::uint32_t index, std::uint32_t value) noexcept {
+  trn::report(ev::kCoordStateBad, static_cast<std::uint32_t>(part), index, value);
+}
+
+// Counts and divisors as every use takes them: bounded, whatever an upset left there since the last
+// check_coord() (an upset lands whenever the tile's time advances: at a send, a wait, a charge of work).
+std::uint32_t rate_div_of(const CoordState& st) noexcept { return st.rate_div != 0U ? st.rate_div : 1U; }
+std::uint32_t band_count_of(const CoordState& st) noexcept {
+  return st.band_count < kMaxCoarseBands ? st.band_count : kMaxCoarseBands;
+}
+std::uint32_t unit_count_of(const CoordState& st) noexcept {
+  return st.unit_count < st.cfg->vision_count ? st.unit_count : st.cfg->vision_count;
+}
+std::uint32_t match_count_of(const CoordState& st) noexcept {
+  const auto cap = static_cast<std::uint32_t>(st.matches.size());
+  return st.match_count < cap ? st.match_count : cap;
+}
 
 /** Idle poll period of the coordinator (results, notices and solutions are drained each time). */
 constexpr k::Ticks kCoordIdleTicks = 2;
@@ -399,7 +574,7 @@ void take_rate(Inbox& in, const VisionRate& r) noexcept {
 void take_frame(Inbox& in, const FrameNotice& notice) noexcept {
   CoordState& st = in.st;
   ++in.stats.frames_seen;
-  if (notice.seq % st.rate_div != 0U) {
+  if (notice.seq % rate_div_of(st) != 0U) {
     ++in.stats.frames_rate_skipped;  // half rate: the tiles left get twice the time per frame
     return;
   }
@@ -432,7 +607,7 @@ void take_unit_result(Inbox& in, const UnitResult& r) noexcept {
   const udn::FtMessage& m = in.m;
   const std::uint32_t unit = r.unit;
   const std::uint32_t n = r.m;
-  if (!st.busy || r.frame != st.frame.seq || unit >= st.unit_count || st.units[unit].answered ||
+  if (!st.busy || r.frame != st.frame.seq || unit >= unit_count_of(st) || st.units[unit].answered ||
       st.units[unit].tile != m.source) {
     ++in.stats.results_late;
     return;
@@ -489,6 +664,19 @@ bool prior_at(const CoordState& st, double t_s, vision::PosePrior& out) noexcept
   if (best == nullptr || t_s - best->t_s > st.cfg->max_prior_age_s || (best->flags & filter::kNavFinite) == 0U) {
     return false;
   }
+  // The filter said it was finite: a value that is not changed in this tile's RAM (the ring).
+  bool finite = std::isfinite(best->t_s);
+  for (std::size_t i = 0; i < 3U; ++i) {
+    finite = finite && std::isfinite(best->p_m[i]) && std::isfinite(best->v_mps[i]) && best->var_diag[i] >= 0.0 &&
+             best->var_diag[6U + i] >= 0.0 && std::isfinite(best->var_diag[i]) && std::isfinite(best->var_diag[6U + i]);
+  }
+  for (std::size_t i = 0; i < 4U; ++i) {
+    finite = finite && std::isfinite(best->q_mb_wxyz[i]);
+  }
+  if (!finite) {
+    coord_repaired(CoordPart::kPrior, static_cast<std::uint32_t>(best - st.nav.data()), best->flags);
+    return false;
+  }
   const double dt = t_s - best->t_s;
   out.t_s = t_s;
   for (std::size_t i = 0; i < 3U; ++i) {
@@ -519,6 +707,12 @@ vision::Status coarse_one_piece(CoordState& st, const vision::CoarsePrepared& pr
 /** Copies @p j's rows from @p slot into the gathered surface; true when the copy's digest is @p digest. */
 bool gather_band(CoordState& st, const CoarseBandJob& j, const CoarseBandSlot& slot, std::uint64_t digest) noexcept {
   const std::int32_t sw = st.gather.surface.width;
+  if (j.row0 < 0 || j.rows < 0 || j.row0 > st.gather.surface.height - j.rows ||
+      static_cast<std::int64_t>(sw) * j.rows > kCoarseBandValues) {
+    coord_repaired(CoordPart::kBandRows, static_cast<std::uint32_t>(&j - st.bands.data()),
+                   static_cast<std::uint32_t>(j.rows));
+    return false;  // rows no band has: the band is computed again here, from its rows as dealt
+  }
   const auto values = static_cast<std::size_t>(sw) * static_cast<std::size_t>(j.rows);
   float* dst = st.gather.surface.row(j.row0);
   std::copy_n(slot.surface, values, dst);
@@ -532,11 +726,12 @@ bool gather_band(CoordState& st, const CoarseBandJob& j, const CoarseBandSlot& s
 /** A tile's answer for a band of this frame: its rows gathered when its checks passed and the copy matches. */
 void take_band_done(CoordState& st, VisionCoordStats& stats, bsp::TileId from, const CoarseBandDone& d) noexcept {
   std::uint32_t j = 0;
-  while (j < st.band_count && !(st.bands[j].row0 == d.row0 && st.bands[j].rows == d.rows && st.bands[j].tile == from &&
+  const std::uint32_t bands = band_count_of(st);
+  while (j < bands && !(st.bands[j].row0 == d.row0 && st.bands[j].rows == d.rows && st.bands[j].tile == from &&
                                 !st.bands[j].answered)) {
     ++j;
   }
-  if (j == st.band_count || d.frame != st.frame.seq) {
+  if (j == bands || d.frame != st.frame.seq) {
     ++stats.results_late;
     return;
   }
@@ -671,6 +866,21 @@ k::Ticks band_wait_ticks(const vision::CoarsePrepared& prep, std::int32_t rows, 
   return k::Ticks{2U} * per_tile * ticks + kSlackTicks;
 }
 
+/** Each of the @p bands bands' rows are its rows as dealt (deal_coarse_bands); one that is not is computed again here. */
+void check_band_rows(CoordState& st, std::int32_t surface_h, std::uint32_t bands) noexcept {
+  for (std::uint32_t j = 0; j < bands; ++j) {
+    std::int32_t row0 = 0;
+    std::int32_t rows = 0;
+    band_rows(surface_h, j, bands, row0, rows);
+    if (st.bands[j].row0 != row0 || st.bands[j].rows != rows) {
+      coord_repaired(CoordPart::kBandRows, j, static_cast<std::uint32_t>(st.bands[j].rows));
+      st.bands[j].row0 = row0;
+      st.bands[j].rows = rows;
+      st.bands[j].done = false;  // gathered from rows it was not dealt
+    }
+  }
+}
+
 /**
  * The bands not gathered, computed here: band by band, or in one piece when
  * that costs less. @p settled: @p out is the stage's result already (the
@@ -680,7 +890,9 @@ vision::Status redo_bands(CoordState& st, VisionCoordStats& stats, const vision:
                           vision::MatchResult& out, bool& settled) noexcept {
   settled = false;
   std::int32_t missing = 0;
-  for (std::uint32_t j = 0; j < st.band_count; ++j) {
+  const std::uint32_t bands = band_count_of(st);
+  check_band_rows(st, prep.surface_h, bands);
+  for (std::uint32_t j = 0; j < bands; ++j) {
     CoarseBandJob& b = st.bands[j];
     if (b.done) {
       continue;
@@ -699,7 +911,7 @@ vision::Status redo_bands(CoordState& st, VisionCoordStats& stats, const vision:
     return coarse_one_piece(st, prep, out);
   }
   CoarseBandSlot* own = coarse_band_slot(kCoordinatorBandSlot);
-  for (std::uint32_t j = 0; j < st.band_count && own != nullptr; ++j) {
+  for (std::uint32_t j = 0; j < bands && own != nullptr; ++j) {
     CoarseBandJob& b = st.bands[j];
     if (b.done) {
       continue;
@@ -747,7 +959,7 @@ vision::Status coarse_in_bands(CoordState& st, VisionCoordStats& stats, const vi
     return coarse_one_piece(st, prep, out);
   }
   std::int32_t largest = 0;
-  for (std::uint32_t j = 0; j < st.band_count; ++j) {
+  for (std::uint32_t j = 0; j < band_count_of(st); ++j) {
     largest = st.bands[j].rows > largest ? st.bands[j].rows : largest;
   }
   const k::Ticks until = k::now_ticks() + band_wait_ticks(prep, largest, per_tile);
@@ -907,6 +1119,12 @@ void start_frame(CoordState& st, VisionCoordStats& stats) noexcept {
     ++stats.frames_before_ready;  // see frames_before_ready
     return;
   }
+  if (st.frame.width_px != st.cfg->camera.width_px || st.frame.height_px != st.cfg->camera.height_px) {
+    // The I/O tile announces frames of the camera's size only (its message is checked on the way).
+    coord_repaired(CoordPart::kFrameSize, st.frame.seq, st.frame.width_px);
+    ++stats.frames_skipped;
+    return;
+  }
   const std::uint64_t bytes = static_cast<std::uint64_t>(st.frame.width_px) * st.frame.height_px;
   const std::uint8_t* pixels = ddr_at(st.frame.ddr_offset, bytes);
   if (st.frame.status != 0U || pixels == nullptr || !prior_at(st, st.frame.t_s, prior)) {
@@ -953,8 +1171,9 @@ void start_frame(CoordState& st, VisionCoordStats& stats) noexcept {
  * to 0.54 of its 3-sigma.
  */
 void order_matches(CoordState& st) noexcept {
-  const std::uint32_t first = (st.match_count > 0U && st.matches[0].landmark == kCoarseLandmark) ? 1U : 0U;
-  if (st.match_count <= first + 1U) {
+  const std::uint32_t count = match_count_of(st);
+  const std::uint32_t first = (count > 0U && st.matches[0].landmark == kCoarseLandmark) ? 1U : 0U;
+  if (count <= first + 1U) {
     return;
   }
   const auto before = [](const Match& a, const Match& b) noexcept {
@@ -966,28 +1185,29 @@ void order_matches(CoordState& st) noexcept {
     }
     return a.u_px != b.u_px ? a.u_px < b.u_px : a.v_px < b.v_px;
   };
-  std::sort(st.matches.begin() + first, st.matches.begin() + st.match_count, before);
+  std::sort(st.matches.begin() + first, st.matches.begin() + count, before);
   // The scratch holds every place of the matches array, so the deal is never refused; were it,
   // the sorted order would stand (a valid order, only not dealt) and the deal's work is not charged.
-  const bool dealt = deal_by_quadrant(std::span<Match>(st.matches.data(), st.match_count), first,
+  const bool dealt = deal_by_quadrant(std::span<Match>(st.matches.data(), count), first,
                                       st.cfg->camera.cx_px, st.cfg->camera.cy_px, st.order, st.placed);
   // About n log2 n (n <= 201: log2 n <= 8) compares, and as many moves of 25-word matches; the deal
   // tests each match's quadrant once per quadrant and moves each match once more.
-  const std::uint64_t n = st.match_count;
+  const std::uint64_t n = count;
   const std::uint64_t n_log_n = 8ULL * n;
   const std::uint64_t dealt_n = dealt ? n : 0U;
   bsp::consume(bsp::Work{4ULL * n_log_n + 8ULL * dealt_n, 0U, 8ULL * dealt_n, 0U, 25ULL * (n_log_n + dealt_n)});
 }
 
 void send_batch(CoordState& st, VisionCoordStats& stats) noexcept {
-  if (st.match_count == 0U || st.cfg->filter_tile == bsp::kNoTile) {
+  const std::uint32_t count = match_count_of(st);
+  if (count == 0U || st.cfg->filter_tile == bsp::kNoTile) {
     return;
   }
-  const std::uint32_t parts = (st.match_count + kMatchesPerPart - 1U) / kMatchesPerPart;
+  const std::uint32_t parts = (count + kMatchesPerPart - 1U) / kMatchesPerPart;
   std::array<std::uint32_t, kMatchHeaderWords + kMatchesPerPart * kMatchWords> w{};
   for (std::uint32_t part = 0; part < parts; ++part) {
     const std::uint32_t first = part * kMatchesPerPart;
-    const std::uint32_t left = st.match_count - first;
+    const std::uint32_t left = count - first;
     const std::uint32_t n = left < kMatchesPerPart ? left : kMatchesPerPart;
     const std::size_t words = fdir::msg::encode(kMatchesMsg, MatchPart{st.frame.seq, part, parts, n, st.apply_job}, w);
     for (std::uint32_t i = 0; i < n; ++i) {
@@ -1020,7 +1240,8 @@ void ask_supervisor(const CoordState& st, VisionCoordStats& stats, std::uint32_t
 void judge_tiles(CoordState& st, VisionCoordStats& stats, std::uint32_t first, bool checked) noexcept {
   std::array<std::uint16_t, kMaxVisionTiles> n_checked{};
   std::array<std::uint16_t, kMaxVisionTiles> n_failed{};
-  for (std::uint32_t k = first; checked && k < st.match_count; ++k) {
+  const std::uint32_t count = match_count_of(st);
+  for (std::uint32_t k = first; checked && k < count && k - first < st.failed.size(); ++k) {
     const std::uint32_t i = tile_index(st, st.matches[k].tile);
     if (i < st.cfg->vision_count) {
       ++n_checked[i];
@@ -1031,19 +1252,20 @@ void judge_tiles(CoordState& st, VisionCoordStats& stats, std::uint32_t first, b
     ask_supervisor(st, stats, i, fdir::result_trust_round(st.trust, i, n_checked[i], n_failed[i]));
   }
   fdir::result_trust_close_round(st.trust);
-  bsp::consume(bsp::Work{4ULL * kMaxVisionTiles * (st.match_count + 1U), 0U, 0U, 0U, 0U});
+  bsp::consume(bsp::Work{4ULL * kMaxVisionTiles * (count + 1U), 0U, 0U, 0U, 0U});
 }
 
 /** Each fine match of the batch (from @p first) weighed by the frame's prior attitude (weighed_sigma_px()). */
 void weigh_by_prior(CoordState& st, std::uint32_t first) noexcept {
   const double extra = prior_attitude_px(st.prior, st.cfg->sigma_px_per_prior_deg);
+  const std::uint32_t count = match_count_of(st);
   if (extra > 0.0) {
-    for (std::uint32_t k = first; k < st.match_count; ++k) {
+    for (std::uint32_t k = first; k < count; ++k) {
       const double s = st.matches[k].sigma_px;
       st.matches[k].sigma_px = std::sqrt(s * s + extra * extra);
     }
   }
-  bsp::consume(bsp::Work{0U, 0U, 12ULL + 3ULL * st.match_count, 1ULL + st.match_count, 0U});  // the norm once, a root per match
+  bsp::consume(bsp::Work{0U, 0U, 12ULL + 3ULL * count, 1ULL + count, 0U});  // the norm once, a root per match
 }
 
 /**
@@ -1052,26 +1274,27 @@ void weigh_by_prior(CoordState& st, std::uint32_t first) noexcept {
  * matches of the tiles not trusted now (matches_unused) and the failed ones.
  */
 void check_frame(CoordState& st, VisionCoordStats& stats) noexcept {
-  const std::uint32_t first = (st.match_count > 0U && st.matches[0].landmark == kCoarseLandmark) ? 1U : 0U;
+  const std::uint32_t count = match_count_of(st);
+  const std::uint32_t first = (count > 0U && st.matches[0].landmark == kCoarseLandmark) ? 1U : 0U;
   bsp::Work work{};
   vision::ConsistencyResult r{};
-  if (vision::check_match_consistency(st.cfg->camera, st.prior, st.matches.data() + first, st.match_count - first,
+  if (vision::check_match_consistency(st.cfg->camera, st.prior, st.matches.data() + first, count - first,
                                       st.cfg->consistency, st.failed.data(), st.cws, r, work) != vision::Status::kOk) {
     r.checked = false;
   }
   bsp::consume(work);
   if (r.checked) {
     ++stats.frames_checked;
-    stats.matches_checked += st.match_count - first;
+    stats.matches_checked += count - first;
     stats.matches_failed += r.failed;
     stats.residual_scale_max_px = std::max(stats.residual_scale_max_px, r.scale_px);
   }
   judge_tiles(st, stats, first, r.checked);
   std::uint32_t kept = first;
-  for (std::uint32_t k = first; k < st.match_count; ++k) {
+  for (std::uint32_t k = first; k < count; ++k) {
     if (!fdir::result_trust_used(st.trust, tile_index(st, st.matches[k].tile))) {
       ++stats.matches_unused;
-    } else if (!(r.checked && st.failed[k - first])) {
+    } else if (!(r.checked && k - first < st.failed.size() && st.failed[k - first])) {
       st.matches[kept] = st.matches[k];
       ++kept;
     }  // else failed (counted in matches_failed): a filter whose covariance is still wide could take it
@@ -1106,12 +1329,40 @@ void send_status(const CoordState& st, VisionCoordStats& stats, std::uint32_t lo
   }
 }
 
+/**
+ * Leaves out of the frame each match holding a value no match can have (not finite: its
+ * order would be no order, its weight no weight), and says so: an upset of this tile's RAM,
+ * or of the vision tile's before it sent it.
+ */
+void drop_wrong_matches(CoordState& st) noexcept {
+  const std::uint32_t count = match_count_of(st);
+  if (count != st.match_count) {
+    coord_repaired(CoordPart::kMatchCount, 0U, st.match_count);
+  }
+  std::uint32_t kept = 0U;
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const Match& m = st.matches[k];
+    bool finite = std::isfinite(m.u_px) && std::isfinite(m.v_px) && std::isfinite(m.sigma_px) && std::isfinite(m.t_s) &&
+                  std::isfinite(m.quality);
+    for (std::size_t i = 0; i < 3U; ++i) {
+      finite = finite && std::isfinite(m.w_c[i]) && std::isfinite(m.p_m[i]);
+    }
+    if (!finite) {
+      coord_repaired(CoordPart::kMatch, k, m.landmark);
+      continue;
+    }
+    st.matches[kept] = st.matches[k];
+    ++kept;
+  }
+  st.match_count = kept;  // at no emulated cost, like check_coord()
+}
+
 /** Closes the frame: misses counted per tile, the batch sent to the filter. */
 void finish_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   std::uint32_t lost = 0;
   for (std::uint32_t i = 0; i < st.cfg->vision_count; ++i) {
     const bsp::TileId t = st.tiles[i];
-    for (std::uint32_t u = 0; u < st.unit_count; ++u) {
+    for (std::uint32_t u = 0; u < unit_count_of(st); ++u) {
       if (st.units[u].tile != t || st.units[u].planned == 0U) {
         continue;
       }
@@ -1125,7 +1376,9 @@ void finish_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   }
   stats.units_lost += lost;
   stats.suspect_tiles = fdir::liveness_isolated(st.live);
-  const std::uint32_t fine = st.match_count - ((st.match_count > 0U && st.matches[0].landmark == kCoarseLandmark) ? 1U : 0U);
+  drop_wrong_matches(st);
+  const std::uint32_t count = match_count_of(st);
+  const std::uint32_t fine = count - ((count > 0U && st.matches[0].landmark == kCoarseLandmark) ? 1U : 0U);
   stats.matches_total += fine;
   stats.last_frame_matches = fine;
   order_matches(st);
@@ -1140,8 +1393,81 @@ void finish_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   }
 }
 
+/** The lists the coordinator keeps per vision tile: as its tile list in DDR and its configuration hold them. */
+void check_lists(CoordState& st) noexcept {
+  const VisionCoordConfig& cfg = *st.cfg;
+  const std::uint32_t n = cfg.vision_count;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (st.tiles[i] != st.list->tiles[i]) {
+      coord_repaired(CoordPart::kTileList, i, st.tiles[i]);
+      st.tiles[i] = st.list->tiles[i];
+    }
+    if (st.live.tile[i] != st.tiles[i]) {
+      coord_repaired(CoordPart::kLiveness, i, st.live.tile[i]);
+      st.live.tile[i] = st.tiles[i];
+    }
+    if (st.trust.tile[i] != st.tiles[i] || st.trust.state[i] > fdir::TrustState::kReplacing) {
+      coord_repaired(CoordPart::kTrust, i, static_cast<std::uint32_t>(st.trust.state[i]));
+      st.trust.tile[i] = st.tiles[i];
+      // A state no worker has: suspect until its clean rounds make it trusted again.
+      st.trust.state[i] = st.trust.state[i] > fdir::TrustState::kReplacing ? fdir::TrustState::kSuspect : st.trust.state[i];
+    }
+  }
+  if (st.live.count != n || st.live.config.suspect_after_misses != cfg.liveness.suspect_after_misses ||
+      st.live.config.probe_every != cfg.liveness.probe_every) {
+    coord_repaired(CoordPart::kLiveness, n, st.live.count);
+    st.live.count = n;
+    st.live.config = cfg.liveness;
+  }
+  if (st.trust.count != n || st.trust.config.window != cfg.trust.window ||
+      st.trust.config.min_failed != cfg.trust.min_failed || st.trust.config.reset_after != cfg.trust.reset_after ||
+      st.trust.config.probation != cfg.trust.probation) {
+    coord_repaired(CoordPart::kTrust, n, st.trust.count);
+    st.trust.count = n;
+    st.trust.config = cfg.trust;
+  }
+}
+
+/**
+ * The coordinator's state in its tile's RAM can take an upset: at each pass every count, index
+ * and divisor it follows is checked against what a valid state holds, and one that is off is
+ * reported (coord_state_bad) and reset. At no emulated cost, like the endpoint's and the
+ * kernel's checks; each use takes its counts bounded as well (rate_div_of() and the others).
+ */
+void check_coord(CoordState& st) noexcept {
+  if (st.rate_div == 0U || st.rate_div > kMaxRateDiv) {
+    coord_repaired(CoordPart::kRateDiv, 0U, st.rate_div);
+    st.rate_div = 1U;  // the full rate until the vision supervisor says otherwise again
+  }
+  if (st.band_count > kMaxCoarseBands) {
+    coord_repaired(CoordPart::kBandCount, 0U, st.band_count);
+    st.band_count = 0U;  // a later band's answer is late; the frame's stage computes its bands itself
+  }
+  if (st.unit_count > st.cfg->vision_count) {
+    coord_repaired(CoordPart::kUnitCount, 0U, st.unit_count);
+    st.unit_count = st.cfg->vision_count;
+  }
+  if (st.match_count > st.matches.size()) {
+    coord_repaired(CoordPart::kMatchCount, 0U, st.match_count);
+    st.match_count = 0U;  // the frame's matches are lost: which of them were its own is not known
+  }
+  check_lists(st);
+  const k::Ticks now = k::now_ticks();
+  if (st.busy && st.deadline > now + seconds_to_ticks(st.cfg->deadline_s)) {
+    coord_repaired(CoordPart::kDeadline, 0U, static_cast<std::uint32_t>(st.deadline));
+    st.deadline = now;  // the frame closes now with what came back
+  }
+  // In the frames' time, as vision_coord_main() sets it.
+  const double now_s = static_cast<double>(bsp::now()) / static_cast<double>(bsp::tick_cycles()) *
+                       (1.0 / static_cast<double>(kTicksPerSecond));
+  if (!(st.ready_s <= now_s)) {  // also not a number
+    coord_repaired(CoordPart::kReadyTime, 0U, static_cast<std::uint32_t>(now));
+    st.ready_s = now_s;
+  }
+}
+
 bool all_answered(const CoordState& st) noexcept {
-  for (std::uint32_t u = 0; u < st.unit_count; ++u) {
+  for (std::uint32_t u = 0; u < unit_count_of(st); ++u) {
     if (st.units[u].sent && !st.units[u].answered) {
       return false;
     }
@@ -1150,6 +1476,8 @@ bool all_answered(const CoordState& st) noexcept {
 }
 
 }  // namespace
+
+const bsp::ControlLayout& vision_coord_state_layout() noexcept { return kCoordLayout; }
 
 double prior_attitude_px(const vision::PosePrior& prior, double px_per_deg) noexcept {
   constexpr double kDegPerRad = 57.29577951308232;
@@ -1167,7 +1495,7 @@ void vision_coord_main(void* arg) noexcept {
   const bsp::TileId self = bsp::current_tile();
   const auto* cfg = static_cast<const VisionCoordConfig*>(arg);
   bsp::MemError err = bsp::MemError::kOk;
-  auto* st = bsp::carve_control_array<CoordState>(bsp::Region{self}, 1, "vision_coord", &err);
+  auto* st = bsp::carve_control_array<CoordState>(bsp::Region{self}, 1, kVisionCoordCarve, &err, &kCoordLayout);
   // The counters' record after the state: the state keeps the place it had before they were a record.
   VisionCoordStats* const counters =
       err == bsp::MemError::kOk ? bsp::carve_record(bsp::Region{self}, kVisionCoordStatsRecord, &err) : nullptr;
@@ -1200,6 +1528,7 @@ void vision_coord_main(void* arg) noexcept {
                 (1.0 / static_cast<double>(kTicksPerSecond));
   stats.ready_ms = static_cast<std::uint32_t>(bsp::now() / bsp::tick_cycles());
   for (;;) {
+    check_coord(*st);
     drain_nav(*st);
     drain_notices(*st, stats);
     drain_results(*st, stats);

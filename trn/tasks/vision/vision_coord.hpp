@@ -242,4 +242,8 @@ inline constexpr bsp::RamRecord<VisionCoordStats> kVisionCoordStatsRecord{"coord
 /** Coordinator entry (arg: const VisionCoordConfig*). */
 void vision_coord_main(void* arg) noexcept;
 
+/** Name of the coordinator's state carve, and its layout (bsp::ControlLayout: what an upset of it does). [host] */
+inline constexpr const char* kVisionCoordCarve = "vision_coord";
+const bsp::ControlLayout& vision_coord_state_layout() noexcept;
+
 }  // namespace trn::tasks
