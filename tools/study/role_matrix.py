@@ -11,7 +11,7 @@ the service gap) and its events.log (role_moved: the spare that took the role ov
 prints a Markdown table with one row per role and kind: runs, detected with the right
 diagnosis, misdiagnosed, the detection latency (median and max), recovered, the recovering
 events, the service gap (median and max), who took over (the tile itself after its reset,
-or a spare), and the outcomes that are not no_effect or detected_recovered. The flight's
+or a spare: "no move" when it recovered without one), and the outcomes that are not no_effect or detected_recovered. The flight's
 own events decide all of it (the join, docs/FDIR.md); this only counts.
 """
 import csv
@@ -99,7 +99,7 @@ def main():
             in_place = sum(1 for _, f, moved in runs if f["recovery"] == "recovered" and not moved)
             taken = []
             if in_place:
-                taken.append(f"its own tile {in_place}x")
+                taken.append(f"no move {in_place}x")
             taken += [f"spare {t} {n}x" for t, n in sorted(spares.items(), key=lambda kv: -kv[1])]
             others = Counter(r["outcome"] for r, _, _ in runs if r["outcome"] not in ("no_effect", "detected_recovered"))
             no_effect = sum(1 for r, _, _ in runs if r["outcome"] == "no_effect")

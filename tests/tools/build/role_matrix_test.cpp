@@ -79,7 +79,7 @@ TEST_F(RoleMatrix, CountsEachRoleAndKindFromTheJoinsVerdicts) {
           "6.0,switch_fail,9,io,1,,0,detected,switch_failed,10,900.000,wrong,1,switch_failed,10,none,,,,", "");
   const auto [status, out] = table(dir_);
   ASSERT_EQ(status, 0) << out;
-  EXPECT_NE(out.find("| filter | core_hang | 2 | 2 | 0 | 30 (40) | 2 | filter_outputs 2 | 190 (310) | its own tile 1x, "
+  EXPECT_NE(out.find("| filter | core_hang | 2 | 2 | 0 | 30 (40) | 2 | filter_outputs 2 | 190 (310) | no move 1x, "
                      "spare 22 1x | - |"),
             std::string::npos)
       << out;
