@@ -35,6 +35,7 @@ struct State {
   std::array<bsp::TileId, 3> tested{};
   std::array<std::uint32_t, 3> digest{};
   std::array<bool, 3> answered{};
+  std::array<bool, 3> asked{};  ///< the request went out (the network took it): one refused is sent again
   bool late_ok = false;  ///< the last round closed without an answer: a late one still completes it
   std::array<std::uint32_t, bsp::kMaxTiles> disagreements{};  ///< rounds in a row a tile was outvoted
   std::array<std::uint64_t, udn::kRoleSlots> to_tell{};  ///< per slot: tiles still to be sent its latest move
@@ -99,6 +100,7 @@ constexpr std::array kStateFields{
     BSP_CONTROL_STATE(State, tested),
     BSP_CONTROL_STATE(State, digest),
     BSP_CONTROL_STATE(State, answered),
+    BSP_CONTROL_STATE(State, asked),
     BSP_CONTROL_STATE(State, late_ok),
     BSP_CONTROL_STATE(State, disagreements),
     BSP_CONTROL_STATE(State, to_tell),
@@ -415,6 +417,26 @@ std::uint32_t nearest_watched(const State& s, bsp::TileId target, bsp::TileId se
   return got;
 }
 
+/** The seed every tile of round @p round computes its digest from. */
+std::uint32_t round_seed(std::uint32_t round) noexcept { return 0x9E3779B9U * round; }
+
+/**
+ * Sends the open round's request to each of its tiles not asked yet. The supervisor's tile sends
+ * in bursts (its reports, maps and probes): a request the network refuses for back-pressure is
+ * sent again at the next pass while the round is open, not lost. Lost, every round whose third
+ * request met a burst went late; after the supervisor's restart that was one round in every one
+ * for the rest of the flight (a tile restarts its tasks out of their power-on phase).
+ */
+void ask(State& s, bsp::TileId self) noexcept {
+  std::array<std::uint32_t, kSelfTestWords> w{};
+  pack_self_test(SelfTestRequest{s.round, round_seed(s.round)}, w);
+  for (std::uint32_t i = 0; i < 3U; ++i) {
+    if (!s.asked[i] && s.tested[i] != self) {
+      s.asked[i] = udn::endpoint_send(s.tested[i], udn::kFtChanHealth, w, 0U) == udn::FtError::kOk;
+    }
+  }
+}
+
 /** Opens a self-test round: the next watched tile and its two nearest watched tiles compute one seed. */
 void open_round(State& s, bsp::TileId self) noexcept {
   for (std::uint32_t k = 0; k < bsp::kMaxTiles; ++k) {
@@ -430,21 +452,16 @@ void open_round(State& s, bsp::TileId self) noexcept {
     s.next_target = static_cast<bsp::TileId>((t + 1U) % bsp::kMaxTiles);
     s.tested = {t, near[0], near[1]};
     s.answered = {false, false, false};
+    s.asked = {false, false, false};
     ++s.round;
     s.round_open = true;
     s.late_ok = false;
     s.round_at = k::now_ticks();
-    const std::uint32_t seed = 0x9E3779B9U * s.round;
-    std::array<std::uint32_t, kSelfTestWords> w{};
-    pack_self_test(SelfTestRequest{s.round, seed}, w);
     if (own) {
-      s.answered[0] = self_test_digest(self, seed, s.digest[0]);
+      s.asked[0] = true;
+      s.answered[0] = self_test_digest(self, round_seed(s.round), s.digest[0]);
     }
-    for (const bsp::TileId x : s.tested) {
-      if (x != self) {
-        (void)udn::endpoint_send(x, udn::kFtChanHealth, w, 0U);  // a request the network refuses is a missing vote
-      }
-    }
+    ask(s, self);
     return;
   }
 }
@@ -638,6 +655,9 @@ void run_self_tests(State& s, const TileHealthConfig& cfg, bsp::TileId self) noe
     return;
   }
   const k::Ticks now = k::now_ticks();
+  if (s.round_open) {
+    ask(s, self);  // a request the network refused before
+  }
   const bool all_in = s.round_open && s.answered[0] && s.answered[1] && s.answered[2];
   if (s.round_open && (all_in || now - s.round_at >= cfg.self_test_wait_ticks)) {
     close_round(s, cfg, self);

@@ -980,6 +980,22 @@ TEST_F(TrnMissionBinary, ReportsThatStillHoldComeAgainAfterTheHealthTileIsReset)
       << "once before the reset, once after: a report sent again is no new vote";
 }
 
+// The supervisor's tile restarted out of its power-on phase: a self-test request the network refuses
+// for back-pressure (its own tile's burst of packets) is sent again at the next pass, so no round goes
+// late after the restart and the reset is recovered by the health rounds (before: one late round in
+// every one for the rest of the flight, the run degraded).
+TEST_F(TrnMissionBinary, ASelfTestRequestTheNetworkRefusedIsSentAgain) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 17 --faults " + fixture("supervisor_reset_self_tests.toml") +
+                " --out " + (dir_ / "s").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "s" / "summary.json");
+  const std::string log = read_text(dir_ / "s" / "events.log");
+  EXPECT_NE(log.find("tile_rebooted: tile 0"), std::string::npos) << log;
+  EXPECT_EQ(count_of(log, "self_test_late"), 0U) << log;
+  EXPECT_EQ(s["faults_recovered"], 1) << log;
+  EXPECT_EQ(s["faults_degraded_accepted"], 0);
+}
+
 // FDIR-TR-12: the coordinator's east link, which no neighbour vote can name, is named by the transits
 // across it; the reports of tiles 6 and 7, whose route to the health tile crosses it, come through their
 // twins (FDIR-TR-15). No spare is taken out, and nothing more is given up.
