@@ -9,7 +9,7 @@ Reads each run's result.json (its kind, role and outcome), the one row of its fa
 (the join's verdict: diagnosis, detection latency, recovery, the event that recovered it,
 the service gap) and its events.log (role_moved: the spare that took the role over), and
 prints a Markdown table with one row per role and kind: runs, detected with the right
-diagnosis, misdiagnosed, the detection latency (median and max), recovered, the recovering
+diagnosis (also when it was accused wrongly as well), misdiagnosed, the detection latency (median and max), recovered, the recovering
 events, the service gap (median and max), who took over (the tile itself after its reset,
 or a spare: "no move" when it recovered without one), and the outcomes that are not no_effect or detected_recovered. The flight's
 own events decide all of it (the join, docs/FDIR.md); this only counts.
@@ -89,9 +89,10 @@ def main():
             runs = cells.get((role, kind))
             if not runs:
                 continue
-            right = sum(1 for _, f, _ in runs if f["diagnosis"] == "right")
+            named = ("right", "right_and_wrong")  # right_and_wrong: named right, and wrongly as well
+            right = sum(1 for _, f, _ in runs if f["diagnosis"] in named)
             wrong = sum(1 for r, _, _ in runs if r.get("misdiagnosed"))
-            latency = [v for _, f, _ in runs if f["diagnosis"] == "right" for v in [number(f["latency_ms"])] if v is not None]
+            latency = [v for _, f, _ in runs if f["diagnosis"] in named for v in [number(f["latency_ms"])] if v is not None]
             recovered = sum(1 for _, f, _ in runs if f["recovery"] == "recovered")
             by = Counter(f["recovery_by"] for _, f, _ in runs if f["recovery"] == "recovered" and f["recovery_by"])
             gap = [v for _, f, _ in runs for v in [number(f["service_gap_ms"])] if v is not None]

@@ -77,6 +77,11 @@ TEST_F(RoleMatrix, CountsEachRoleAndKindFromTheJoinsVerdicts) {
           "(directory version 2)\n");
   add_run("000002", R"({"role": "io", "kind": "switch_fail", "outcome": "detected_lost", "misdiagnosed": 1})",
           "6.0,switch_fail,9,io,1,,0,detected,switch_failed,10,900.000,wrong,1,switch_failed,10,none,,,,", "");
+  // Named right and wrongly as well: detected right, and misdiagnosed.
+  add_run("000003", R"({"role": "vision", "kind": "switch_fail", "outcome": "detected_recovered", "misdiagnosed": 1})",
+          "20.0,switch_fail,36,vision,1,,0,detected,switch_failed,36,37.000,right_and_wrong,1,worker_silent,36,"
+          "recovered,frame_done,900.000,,",
+          "");
   const auto [status, out] = table(dir_);
   ASSERT_EQ(status, 0) << out;
   EXPECT_NE(out.find("| filter | core_hang | 2 | 2 | 0 | 30 (40) | 2 | filter_outputs 2 | 190 (310) | no move 1x, "
@@ -84,6 +89,9 @@ TEST_F(RoleMatrix, CountsEachRoleAndKindFromTheJoinsVerdicts) {
             std::string::npos)
       << out;
   EXPECT_NE(out.find("| io | switch_fail | 1 | 0 | 1 | - | 0 | - | - | - | detected_lost 1 |"), std::string::npos)
+      << out;
+  EXPECT_NE(out.find("| vision | switch_fail | 1 | 1 | 1 | 37 (37) | 1 | frame_done 1 | - | no move 1x | - |"),
+            std::string::npos)
       << out;
 }
 
