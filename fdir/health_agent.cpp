@@ -82,6 +82,20 @@ struct Watch {
   bool cut_off = false;  ///< the watcher heard nobody at its last check (reported once per spell)
 };
 
+/**
+ * A self-test answer the network refused (back-pressure; sent without waiting): sent again at
+ * the agent's next pass, until the next request replaces it. Lost, the round went late.
+ */
+struct OwedAnswer {
+  std::array<std::uint32_t, kSelfTestResultWords> w{};
+  bool owed = false;
+};
+
+/** Sends @p a to the supervisor; it stays owed if the network refuses it. */
+void send_answer(const HealthAgentConfig& cfg, OwedAnswer& a) noexcept {
+  a.owed = udn::endpoint_send(cfg.supervisor, udn::kFtChanHealth, a.w, 0U) != udn::FtError::kOk;
+}
+
 /** A heartbeat of the supervisor's tile: a reset the watcher commanded is closed by it. */
 void take_alive(Watch& w, const TileBootReport& alive, bsp::TileId supervisor) noexcept {
   const k::Ticks now = k::now_ticks();
@@ -100,7 +114,10 @@ void take_alive(Watch& w, const TileBootReport& alive, bsp::TileId supervisor) n
  * supervisor's self-test requests, answered, and, on the watcher's tile, the
  * supervisor tile's heartbeats.
  */
-void take_agent_messages(bsp::TileId self, const HealthAgentConfig& cfg, Watch& watch) noexcept {
+void take_agent_messages(bsp::TileId self, const HealthAgentConfig& cfg, Watch& watch, OwedAnswer& answer) noexcept {
+  if (answer.owed) {
+    send_answer(cfg, answer);
+  }
   udn::FtMessage m{};
   for (std::uint32_t i = 0; i < 2U && udn::endpoint_receive(udn::kFtChanHealth, m) == udn::FtError::kOk; ++i) {
     if (m.source != cfg.supervisor) {
@@ -117,9 +134,8 @@ void take_agent_messages(bsp::TileId self, const HealthAgentConfig& cfg, Watch& 
     if (!unpack_self_test(in, req) || !self_test_digest(self, req.seed, digest)) {
       continue;
     }
-    std::array<std::uint32_t, kSelfTestResultWords> w{};
-    pack_self_test_result(SelfTestResult{self, req.round, digest}, w);
-    (void)udn::endpoint_send(cfg.supervisor, udn::kFtChanHealth, w, 0U);  // a lost answer is a missing vote
+    pack_self_test_result(SelfTestResult{self, req.round, digest}, answer.w);
+    send_answer(cfg, answer);  // refused, it is sent again at the next pass
   }
 }
 
@@ -203,6 +219,7 @@ void health_agent_main(void* arg) noexcept {
   const bool watches = cfg->watcher == self && cfg->supervisor < bsp::kMaxTiles && !own_supervisor;
   Watch watch{};
   watch.last_alive = k::now_ticks();
+  OwedAnswer answer{};
   pattern_init(self);
   recovery_clear(self);  // a request from before this boot was the one the restart answered
   for (;;) {
@@ -224,7 +241,7 @@ void health_agent_main(void* arg) noexcept {
       reported = udn::endpoint_send(cfg->supervisor, udn::kFtChanHealth, boot, 0U) == udn::FtError::kOk;
     }
     if (!own_supervisor && cfg->supervisor != bsp::kNoTile && udn::endpoint_ready()) {
-      take_agent_messages(self, *cfg, watch);
+      take_agent_messages(self, *cfg, watch, answer);
     }
     if (watches) {
       watch_supervisor(watch, *cfg, self);
