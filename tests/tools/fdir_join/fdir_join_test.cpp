@@ -342,6 +342,24 @@ TEST(FdirJoinStrict, ARebootAloneRecoversNothing) {
   EXPECT_EQ(tools::join_faults(filter, commanded, kHz, streams).detected, 0U);
 }
 
+// The filter and vision supervisors have no output stream the host measures: a reboot alone recovers
+// nothing; their node's own word that it runs again (a policy taken, written by its tile) does, and
+// another tile's does not.
+TEST(FdirJoinStrict, ASupervisorNodeRecoversWhenItTakesItsPolicyAgain) {
+  const std::array<bsp::FaultRecord, 1> vision_sup{record(bsp::FaultKind::kCoreReset, 7U, 2'000'000U)};
+  std::vector<fdir::Event> events{event(EventId::kTileRebooted, 0U, 7U, 2'050'000U, 3U)};
+  tools::FaultAccount a = tools::join_faults(vision_sup, events, kHz);
+  ASSERT_EQ(a.detected, 1U);
+  EXPECT_EQ(a.outcomes[0].role, trn::tasks::Role::kVisionSupervisor);
+  EXPECT_EQ(a.recovered, 0U);
+  events.push_back(event(EventId::kSupPolicy, 6U, 1U, 2'100'000U));
+  EXPECT_EQ(tools::join_faults(vision_sup, events, kHz).recovered, 0U) << "the filter supervisor's policy";
+  events.push_back(event(EventId::kSupPolicy, 7U, 2U, 2'400'000U));
+  a = tools::join_faults(vision_sup, events, kHz);
+  EXPECT_EQ(a.recovered, 1U);
+  EXPECT_STREQ(a.outcomes[0].recovered_by, "sup_policy");
+}
+
 // A hung core accused of a failed switch is misdiagnosed, not detected; a neighbour's suspicion is
 // neither a detection nor a wrong diagnosis.
 TEST(FdirJoinStrict, AHangAccusedOfAFailedSwitchIsMisdiagnosed) {

@@ -324,7 +324,7 @@ TEST(FaultPlanErrors, MissingKindOrTile) {
   EXPECT_NE(e.find("[[fault]] #1 (line 1): missing key kind (allowed: core_hang"), std::string::npos) << e;
   e = error_of("missing_tile.toml");
   EXPECT_NE(e.find("[[fault]] #1 (line 1): missing key tile (allowed 0 .. 63) or role (trn_supervisor, "
-                   "vision_coordinator, io, filter, vision, filter_replica)"),
+                   "vision_coordinator, io, filter, vision, filter_replica, filter_supervisor, vision_supervisor)"),
             std::string::npos)
       << e;
 }
@@ -435,7 +435,8 @@ TEST(FaultPlanErrors, AnSdcNobodyWouldDeliverIsRefused) {
 TEST(FaultPlanErrors, RoleMistakesAreNamed) {
   std::string e = error_of("unknown_role.toml");
   EXPECT_NE(e.find("unknown_role.toml: [[fault]] #1 (line 1) role: unknown role \"navigator\" (allowed: "
-                   "trn_supervisor, vision_coordinator, io, filter, vision, filter_replica)"),
+                   "trn_supervisor, vision_coordinator, io, filter, vision, filter_replica, filter_supervisor, "
+                   "vision_supervisor)"),
             std::string::npos)
       << e;
   e = error_of("role_and_tile.toml");

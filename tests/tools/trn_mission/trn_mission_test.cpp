@@ -996,6 +996,21 @@ TEST_F(TrnMissionBinary, ASelfTestRequestTheNetworkRefusedIsSentAgain) {
   EXPECT_EQ(s["faults_degraded_accepted"], 0);
 }
 
+// A plan names the filter and the vision supervisor by role: the faults hit the tiles that run them
+// (6 and 7), and each is detected and recovered like any role's hang or reset.
+TEST_F(TrnMissionBinary, AFaultCanNameTheFilterAndTheVisionSupervisor) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 8 --faults " + fixture("supervisors_by_role.toml") + " --out " +
+                (dir_ / "s").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "s" / "summary.json");
+  const std::string log = read_text(dir_ / "s" / "events.log");
+  EXPECT_EQ(s["faults_injected"], 2);
+  EXPECT_EQ(s["faults_detected"], 2) << log;
+  EXPECT_EQ(s["faults_recovered"], 2) << log;
+  EXPECT_NE(log.find("tile  6  core_hang (planned)"), std::string::npos) << log;
+  EXPECT_NE(log.find("tile  7  core_reset (planned)"), std::string::npos) << log;
+}
+
 // FDIR-TR-12: the coordinator's east link, which no neighbour vote can name, is named by the transits
 // across it; the reports of tiles 6 and 7, whose route to the health tile crosses it, come through their
 // twins (FDIR-TR-15). No spare is taken out, and nothing more is given up.

@@ -482,6 +482,19 @@ void recover(const Join& j, const bsp::FaultRecord& r, std::size_t det, FaultOut
       }
       replica_votes_again(j, t, det_s, from, until, o);
       return;
+    case Role::kFilterSupervisor:
+    case Role::kVisionSupervisor: {
+      // No stream the host measures: its node's own word that it runs (a policy taken, applied or
+      // met, written by its tile), or the flight's word that the tile runs its role again.
+      const std::size_t k = j.first_after(det_s, until, [&](const fdir::Event& e) {
+        return ((e.id == EventId::kSupPolicy || e.id == EventId::kSupApply || e.id == EventId::kSupMet) && e.tile == t) ||
+               runs_again(e, t);
+      });
+      if (k < j.events.size()) {
+        found(k, Recovery::kRecovered);
+      }
+      return;
+    }
     default:
       break;
   }

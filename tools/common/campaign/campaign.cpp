@@ -35,9 +35,6 @@ constexpr std::array<std::string_view, 18> kKeys = {
     "window_s", "kinds", "roles", "tiles",        "points",        "carves",    "pass_bound_m",   "degraded_bound_m",
     "timeout_s", "command"};
 
-/** The roles a campaign can aim at: those a fault plan names. */
-constexpr std::array<std::string_view, 6> kRoles = {"trn_supervisor", "vision_coordinator", "io",
-                                                    "filter",         "vision",             "filter_replica"};
 
 std::string list_of(std::span<const std::string_view> names) {
   std::string out;
@@ -335,10 +332,16 @@ SpecResult parse_spec(std::string_view text, const std::string& source, double m
     errors.push_back(source + ": missing key kinds (allowed: " + kind_names() + ")");
   }
   if (const toml::node* n = root.get("roles")) {
-    rd.fail("roles", read_names(*n, s.roles, [](const std::string& v) {
-              return std::find(kRoles.begin(), kRoles.end(), v) != kRoles.end()
+    // The roles a campaign can aim at: those a fault plan names.
+    const std::vector<std::string> roles = fault_plan_role_names();
+    rd.fail("roles", read_names(*n, s.roles, [&roles](const std::string& v) {
+              std::string all;
+              for (const std::string& r : roles) {
+                all += (all.empty() ? "" : ", ") + r;
+              }
+              return std::find(roles.begin(), roles.end(), v) != roles.end()
                          ? std::string{}
-                         : "unknown role \"" + v + "\" (allowed: " + list_of(kRoles) + ")";
+                         : "unknown role \"" + v + "\" (allowed: " + all + ")";
             }));
   }
   if (const toml::node* n = root.get("tiles")) {

@@ -61,8 +61,8 @@ constexpr std::array<const char*, 13> kAllFaultKeys = {"t_s",  "kind", "tile",  
 /** Roles a plan can name (every role of the tile map but spare). */
 std::vector<trn::tasks::Role> plan_roles() {
   using trn::tasks::Role;
-  return {Role::kTrnSupervisor, Role::kVisionCoordinator, Role::kIo, Role::kFilter, Role::kVision,
-          Role::kFilterReplica};
+  return {Role::kTrnSupervisor, Role::kVisionCoordinator, Role::kIo,           Role::kFilter,
+          Role::kVision,         Role::kFilterReplica,     Role::kFilterSupervisor, Role::kVisionSupervisor};
 }
 
 std::string role_list() {
@@ -502,6 +502,14 @@ std::string toml_float(double v) {
 
 }  // namespace
 
+std::vector<std::string> fault_plan_role_names() {
+  std::vector<std::string> out;
+  for (const trn::tasks::Role r : plan_roles()) {
+    out.emplace_back(trn::tasks::role_name(r));
+  }
+  return out;
+}
+
 std::string fault_kind_name(bsp::FaultKind k) {
   const auto i = static_cast<std::size_t>(k);
   return i < kFaultKinds ? kKindNames[i] : "unknown_kind_" + std::to_string(i);
@@ -691,6 +699,8 @@ bsp::TileId role_tile(trn::tasks::Role role, std::uint32_t instance) {
     case Role::kFilter: return trn::tasks::slot_tile_now(trn::tasks::kSlotFilter);
     case Role::kFilterReplica: return trn::tasks::slot_tile_now(trn::tasks::kSlotReplica0 + instance);
     case Role::kTrnSupervisor: return trn::tasks::kSupervisorTile;
+    case Role::kFilterSupervisor: return trn::tasks::slot_tile_now(trn::tasks::kSlotFilterSupervisor);
+    case Role::kVisionSupervisor: return trn::tasks::slot_tile_now(trn::tasks::kSlotVisionSupervisor);
     case Role::kVision: {
       std::uint32_t seen = 0U;
       for (bsp::TileId t = 0; t < trn::tasks::kMapTiles; ++t) {

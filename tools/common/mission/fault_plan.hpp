@@ -123,6 +123,12 @@ double demo_fault_plan_end_s();
  */
 bool arm_fault_plan(const FaultPlan& plan, double clock_hz, std::string& error);
 
+/**
+ * The roles a fault plan (and a campaign) can aim at by name, in the order error messages list
+ * them: the tile that runs the role when the fault is due is hit.
+ */
+std::vector<std::string> fault_plan_role_names();
+
 /** "core_hang", "core_reset", "sdc", "seu", "watchdog_fail", "packet_bit_flip", "switch_fail", "link_fail". */
 std::string fault_kind_name(bsp::FaultKind k);
 
