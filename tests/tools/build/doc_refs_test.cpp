@@ -4,6 +4,7 @@
  *        names that does not exist is reported by file and line and fails the check; what exists passes.
  */
 #include "build_info.hpp"
+#include "tests/support/run_command.hpp"
 
 #include <gtest/gtest.h>
 
@@ -47,17 +48,7 @@ class DocRefs : public ::testing::Test {
     std::ofstream(dir_ / "README.md") << "# r\n";
     const std::string cmd = "python3 " + std::string(build_info::kRepoRoot) + "/tools/lint/doc_refs.py " +
                             dir_.string() + " 2>&1";
-    FILE* p = ::popen(cmd.c_str(), "r");
-    std::string out;
-    if (p == nullptr) {
-      return {-1, out};
-    }
-    char buf[512];
-    while (std::fgets(buf, sizeof buf, p) != nullptr) {
-      out += buf;
-    }
-    const int st = ::pclose(p);
-    return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
+    return test_support::run_command(cmd);
   }
 
   fs::path dir_;

@@ -4,6 +4,7 @@
  *        and kind, counted from the runs' result.json, faults.csv and events.log as the join wrote them.
  */
 #include "build_info.hpp"
+#include "tests/support/run_command.hpp"
 
 #include <gtest/gtest.h>
 
@@ -48,17 +49,7 @@ class RoleMatrix : public ::testing::Test {
   std::pair<int, std::string> table(const fs::path& folder) const {
     const std::string cmd = "python3 " + std::string(build_info::kRepoRoot) + "/tools/study/role_matrix.py " +
                             folder.string() + " 2>&1";
-    FILE* p = ::popen(cmd.c_str(), "r");
-    std::string out;
-    if (p == nullptr) {
-      return {-1, out};
-    }
-    char buf[512];
-    while (std::fgets(buf, sizeof buf, p) != nullptr) {
-      out += buf;
-    }
-    const int st = ::pclose(p);
-    return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
+    return test_support::run_command(cmd);
   }
 
   fs::path dir_;

@@ -6,6 +6,7 @@
  */
 #include "build_dirs.hpp"
 #include "build_info.hpp"
+#include "tests/support/run_command.hpp"
 
 #include <gtest/gtest.h>
 
@@ -59,17 +60,7 @@ class RunTests : public ::testing::Test {
   std::pair<int, std::string> run(const std::string& bins, const std::string& filters = "") const {
     const std::string cmd = "TEST_FILTERS='" + filters + "' " + std::string(build_info::kRepoRoot) +
                             "/tools/build/run_tests.sh " + (dir_ / "results").string() + " " + bins + " 2>&1";
-    std::string out;
-    FILE* p = ::popen(cmd.c_str(), "r");
-    if (p == nullptr) {
-      return {-1, out};
-    }
-    char buf[4096];
-    for (std::size_t n = 0; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) {
-      out.append(buf, n);
-    }
-    const int status = ::pclose(p);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+    return test_support::run_command(cmd);
   }
 
   fs::path dir_;
