@@ -312,7 +312,7 @@ TEST_F(TrnCampaignBinary, ShardsMergeIntoTheReportOfTheWholeCampaign) {
 }
 
 // CMP-05: an image that crashes or hangs is the run's outcome (hang_crash), not the campaign's end. The
-// fake image crashes run 0 and hangs run 1 until the spec's 5 s timeout kills it; for the golden run and
+// fake image crashes run 0 and hangs run 1 until the spec's 2 s timeout kills it; for the golden run and
 // run 2 it hands back, at once, the run folder of a real flight of the image flown before the campaign,
 // so no real flight has to race the timeout (a loaded machine or a sanitizer build cannot make it flake).
 TEST_F(TrnCampaignBinary, ACrashedOrHungImageIsTheRunsOutcome) {
