@@ -4,6 +4,8 @@
  */
 #include "fdir/tmr.hpp"
 
+#include <bit>
+
 namespace fdir {
 
 bool tmr_same(const TmrRecord& a, const TmrRecord& b) noexcept {
@@ -17,15 +19,19 @@ bool tmr_same(const TmrRecord& a, const TmrRecord& b) noexcept {
   return diff == 0U;
 }
 
-TmrVote tmr_vote(const std::array<const TmrRecord*, kTmrReplicas>& records, std::uint32_t expected_mask) noexcept {
+TmrVote tmr_vote(const std::array<const TmrRecord*, kTmrReplicas>& records, std::uint32_t expected_mask,
+                 std::uint32_t bad_mask) noexcept {
   TmrVote v{};
-  std::array<const TmrRecord*, kTmrReplicas> r{};
+  std::array<const TmrRecord*, kTmrReplicas> r{};  // the good records present
+  std::uint32_t bad = 0U;                           // the bad ones present
   for (std::uint32_t i = 0; i < kTmrReplicas; ++i) {
     if ((expected_mask & (1U << i)) == 0U) {
       continue;
     }
     if (records[i] == nullptr) {
       v.missing_mask |= 1U << i;
+    } else if ((bad_mask & (1U << i)) != 0U) {
+      bad |= 1U << i;
     } else {
       r[i] = records[i];
     }
@@ -40,12 +46,17 @@ TmrVote tmr_vote(const std::array<const TmrRecord*, kTmrReplicas>& records, std:
     }
   }
   if (v.winner == kTmrReplicas) {
+    // Present records that differ from each other: each may be the wrong one. A record alone
+    // differs from nothing: it is not named (the missing ones are).
+    std::uint32_t present = 0U;
     for (std::uint32_t i = 0; i < kTmrReplicas; ++i) {
-      v.differ_mask |= r[i] != nullptr ? (1U << i) : 0U;
+      present |= r[i] != nullptr ? (1U << i) : 0U;
     }
+    v.differ_mask = bad | (std::popcount(present) >= 2 ? present : 0U);
     v.verdict = TmrVerdict::kNoMajority;
     return v;
   }
+  v.differ_mask = bad;
   for (std::uint32_t i = 0; i < kTmrReplicas; ++i) {
     if (r[i] != nullptr && !tmr_same(*r[i], *r[v.winner])) {
       v.differ_mask |= 1U << i;

@@ -45,7 +45,9 @@ enum class TmrVerdict : std::uint8_t {
 struct TmrVote {
   TmrVerdict verdict = TmrVerdict::kNoMajority;
   std::uint32_t winner = kTmrReplicas;  ///< a replica holding the voted record (not for kNoMajority)
-  std::uint32_t differ_mask = 0U;       ///< expected replicas present whose record differs from the vote
+  /// Expected replicas present whose record differs from the vote; without a majority, the present
+  /// ones when two or more are (they differ from each other), none when one is alone.
+  std::uint32_t differ_mask = 0U;
   std::uint32_t missing_mask = 0U;      ///< expected replicas with no record for the job
 };
 
@@ -55,9 +57,12 @@ bool tmr_same(const TmrRecord& a, const TmrRecord& b) noexcept;
 /**
  * Votes the records of the replicas in @p expected_mask (bit i: replica i);
  * records[i] == nullptr means replica i's record is missing. Records of
- * replicas not expected are ignored.
+ * replicas not expected are ignored. A record in @p bad_mask is one its
+ * receiver found corrupted (its own check failed): present and different,
+ * never the vote, even when another bad record equals it.
  */
-TmrVote tmr_vote(const std::array<const TmrRecord*, kTmrReplicas>& records, std::uint32_t expected_mask) noexcept;
+TmrVote tmr_vote(const std::array<const TmrRecord*, kTmrReplicas>& records, std::uint32_t expected_mask,
+                 std::uint32_t bad_mask = 0U) noexcept;
 
 struct TmrReplicaCount {
   std::uint32_t disagree_in_row = 0U;

@@ -44,6 +44,9 @@ inline constexpr fdir::EventId kTmrExcluded{0x0706};
 inline constexpr fdir::EventId kTmrResynced{0x0707};
 inline constexpr fdir::EventId kTmrNoMajority{0x0708};
 inline constexpr fdir::EventId kTmrVoterResumed{0x0709};
+inline constexpr fdir::EventId kTmrFallback{0x070A};
+/** tmr_simplex's cause when the TMR lost its majority and the filter fell back (tmr_fallback). */
+inline constexpr std::uint32_t kTmrSimplexNoMajority = 4U;
 // ---- checked correlation (trn/vision/correlator, logged by the vision tile)
 inline constexpr fdir::EventId kCorrelationCorrected{0x0803};
 inline constexpr fdir::EventId kCorrelationFailed{0x0804};
@@ -53,7 +56,7 @@ inline constexpr fdir::EventId kSafeMode{0x0909};
 }  // namespace ev
 
 /** The table: every application id once. */
-inline constexpr std::array<fdir::EventInfo, 24> kEventTable{{
+inline constexpr std::array<fdir::EventInfo, 25> kEventTable{{
     {ev::kFrameDone, "frame_done", fdir::Severity::kInfo, fdir::kStepNone, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
      "- / units lost / frame / matches",
      "frame {a} done: {b} matches, {c} units lost"},
@@ -121,12 +124,15 @@ inline constexpr std::array<fdir::EventInfo, 24> kEventTable{{
      "TMR established at job {s}: three replicas agree with the filter ({a} jobs after the command); the "
      "voter delivers"},
     {ev::kTmrSimplex, "tmr_simplex", fdir::Severity::kInfo, fdir::kStepNone, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
-     "job / 0 command, 2 not established in time, 3 the filter restarted",
+     "job / 0 command, 2 not established in time, 3 the filter restarted, 4 no majority (tmr_fallback)",
      "filter simplex again at job {s} ({c|command|TMR not established in time|TMR not established in "
-     "time|the filter restarted: TMR again once it has caught up|TMR not established in time})"},
+     "time|the filter restarted: TMR again once it has caught up|no majority: one filter from the last "
+     "voted checkpoint|TMR not established in time})"},
     {ev::kTmrOutvoted, "tmr_outvoted", fdir::Severity::kWarningHi, fdir::kStepDetect, fdir::Diagnosis::kWrongResult, fdir::Accused::kSubject,
-     "replica's tile / job / replica / 1 different, 2 missing",
-     "replica {a} on tile {s} outvoted at job {c} ({b|no output|different output or state|no output})"},
+     "replica's tile / job / replica / 1 different, 2 missing, 3 its solution fails the CRC taken where it was "
+     "computed, 4 missing: it refused its own state and said so",
+     "replica {a} on tile {s} outvoted at job {c} ({b|no output|different output or state|no output|its "
+     "solution changed after it was computed: it fails its CRC|no output: it refused its own state|no output})"},
     {ev::kTmrAgrees, "tmr_agrees", fdir::Severity::kInfo, fdir::kStepRecover, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
      "replica's tile / job / replica / disagreements before",
      "replica {a} on tile {s} agrees again at job {c}"},
@@ -144,6 +150,10 @@ inline constexpr std::array<fdir::EventInfo, 24> kEventTable{{
      "job / epoch / next job delivered / records of the outage written",
      "the voter restarted at job {s} goes on voting (epoch {c}): delivers from job {a}; records of its "
      "outage written: {b}"},
+    {ev::kTmrFallback, "tmr_fallback", fdir::Severity::kWarningHi, fdir::kStepRecover, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
+     "job / votes without a majority in a row / checkpoint / its job",
+     "no majority in {c} votes in a row up to job {s}: the filter goes on alone from checkpoint {a} (its "
+     "state after job {b}, which the vote agreed on)"},
     {ev::kCorrelationCorrected, "correlation_corrected", fdir::Severity::kWarningLo, fdir::kStepDetect | fdir::kStepRecover, fdir::Diagnosis::kWrongResult, fdir::Accused::kWriter,
      "landmark / check that failed first (1 dot-product checksum, 2 surface digest, 3 peak score) / frame "
      "/ recomputations",

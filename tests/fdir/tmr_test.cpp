@@ -61,7 +61,25 @@ TEST(TmrVote, TwoCorruptedInTheSameJobIsNoMajority) {
   const fdir::TmrVote v = fdir::tmr_vote(Recs{&a, &b, &c}, fdir::kTmrAllReplicas);
   EXPECT_EQ(v.verdict, fdir::TmrVerdict::kNoMajority);
   EXPECT_EQ(v.differ_mask, 7U);
-  EXPECT_EQ(fdir::tmr_vote(Recs{&a, nullptr, nullptr}, fdir::kTmrAllReplicas).verdict, fdir::TmrVerdict::kNoMajority);
+  const fdir::TmrVote alone = fdir::tmr_vote(Recs{&a, nullptr, nullptr}, fdir::kTmrAllReplicas);
+  EXPECT_EQ(alone.verdict, fdir::TmrVerdict::kNoMajority);
+  EXPECT_EQ(alone.differ_mask, 0U) << "a record alone differs from nothing: not named";
+  EXPECT_EQ(alone.missing_mask, 6U);
+}
+
+// Records their receiver found corrupted never win, even two alike: they differ, and a good record
+// alone is not named.
+TEST(TmrVote, BadRecordsNeverWinEvenTwoAlike) {
+  const fdir::TmrRecord good = rec(3, 4), bad = rec(3, 5);
+  fdir::TmrVote v = fdir::tmr_vote(Recs{&bad, &good, &bad}, fdir::kTmrAllReplicas, 0b101U);
+  EXPECT_EQ(v.verdict, fdir::TmrVerdict::kNoMajority);
+  EXPECT_EQ(v.differ_mask, 0b101U);
+  EXPECT_EQ(v.missing_mask, 0U);
+  const fdir::TmrRecord same = rec(3, 4);
+  v = fdir::tmr_vote(Recs{&good, &same, &same}, fdir::kTmrAllReplicas, 0b100U);
+  EXPECT_EQ(v.verdict, fdir::TmrVerdict::kOutvoted) << "equal to the vote, but found corrupted";
+  EXPECT_EQ(v.differ_mask, 0b100U);
+  EXPECT_LT(v.winner, 2U);
 }
 
 // Duplex: two replicas expected (the third excluded, its stale record ignored).

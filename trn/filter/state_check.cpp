@@ -131,6 +131,11 @@ StateCheckResult check_state(const StateBefore& before, const FilterState& after
   return check_step(before, after, dt, env);
 }
 
+std::uint32_t state_check_field(double v, StateCheck c) noexcept {
+  const double m = v * (c == StateCheck::kAttitudeNorm ? 1e6 : 1e3) + 0.5;
+  return m >= 4294967295.0 ? 0xFFFF'FFFFU : m > 0.0 ? static_cast<std::uint32_t>(m) : 0U;
+}
+
 const char* state_check_name(StateCheck c) noexcept {
   switch (c) {
     case StateCheck::kOk:

@@ -95,4 +95,10 @@ StateCheckResult check_state(const StateBefore& before, const FilterState& after
 /** The name of a check, for logs and tests. */
 const char* state_check_name(StateCheck c) noexcept;
 
+/**
+ * A check's value or limit as an event field (filter_state_bad): thousandths of the check's unit,
+ * the attitude norm's distance from 1 in millionths; rounded, saturated.
+ */
+std::uint32_t state_check_field(double v, StateCheck c) noexcept;
+
 }  // namespace trn::filter

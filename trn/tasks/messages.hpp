@@ -234,6 +234,7 @@ struct MatchPart {
 struct ReplicaHello {
   std::uint32_t replica = 0U;  ///< below kReplicas
   std::uint32_t epoch = 0U;    ///< the epoch it saw
+  std::uint32_t refused = 0U;  ///< 1: it dropped its state because its own checks refused it (filter_state_bad, filter_settings_bad)
 };
 
 /** A replica's output header; its solution follows as a kNavMsg (any bits: voted). */
@@ -241,6 +242,7 @@ struct ReplicaOut {
   std::uint32_t replica = 0U;  ///< below kReplicas
   std::uint32_t job = 0U;
   std::uint32_t digest = 0U;   ///< of its state
+  std::uint32_t out_crc = 0U;  ///< CRC-32C of its solution's words, taken where they were computed
 };
 
 // ---------------------------------------------------------------- the declarations
@@ -355,13 +357,14 @@ inline constexpr auto kCoarseBandDoneMsg = detail::m::kind<CoarseBandDone>(
 inline constexpr auto kReplicaHelloMsg = detail::m::kind<ReplicaHello>(
     {.tag = kMsgReplicaHello, .name = "replica_hello", .channel = kChanNav, .from = role_bit(Role::kFilterReplica),
      .to = role_bit(Role::kFilter)},
-    detail::m::u32("replica", &ReplicaHello::replica, 1, 0U, kReplicas - 1U), detail::m::u32("epoch", &ReplicaHello::epoch, 2));
+    detail::m::u32("replica", &ReplicaHello::replica, 1, 0U, kReplicas - 1U), detail::m::u32("epoch", &ReplicaHello::epoch, 2),
+    detail::m::u32("refused", &ReplicaHello::refused, 3, 0U, 1U));
 
 inline constexpr auto kReplicaOutMsg = detail::m::kind<ReplicaOut>(
     {.tag = kMsgReplicaOut, .name = "replica_out", .channel = kChanNav, .from = role_bit(Role::kFilterReplica),
      .to = role_bit(Role::kFilter), .group = {.fixed_count = 1U, .elem_words = kNavMsg.info.words, .record = "nav"}},
     detail::m::u32("replica", &ReplicaOut::replica, 1, 0U, kReplicas - 1U), detail::m::u32("job", &ReplicaOut::job, 2),
-    detail::m::u32("digest", &ReplicaOut::digest, 3));
+    detail::m::u32("digest", &ReplicaOut::digest, 3), detail::m::u32("out_crc", &ReplicaOut::out_crc, 4));
 
 inline constexpr auto kSupCommandMsg = detail::m::kind<SupCommand>(
     {.tag = kMsgSupCommand, .name = "sup_command", .channel = kChanControl, .from = role_bit(Role::kFilterSupervisor),
@@ -459,7 +462,7 @@ constexpr bool tags_unique() noexcept {
 static_assert(detail::tags_unique(), "every message kind has its own tag");
 static_assert(kImuWords == 16U && kMatchWords == 22U && kNavWords == 48U && kFrameNoticeWords == 8U &&
                   kUnitHeaderWords == 23U && kResultHeaderWords == 5U && kMatchHeaderWords == 5U &&
-                  kCoarseBandDoneWords == 9U && kReplicaOutWords == 52U,
+                  kCoarseBandDoneWords == 9U && kReplicaOutWords == 53U,
               "the wire format of the declared kinds");
 static_assert(kMatchesMsg.info.group.elem_words == kMatchWords && kResultMsg.info.group.elem_words == kMatchWords,
               "results and batches carry match records");

@@ -8,7 +8,8 @@
  * allows (docs/FDIR.md, "The join"). The refinements, each from a field the
  * event's row documents:
  *   - tmr_outvoted with b = 2 (the replica's output missing) accuses its core of
- *     silence, with b = 1 (different) of a wrong result;
+ *     silence; with b = 1 (different), 3 (its solution fails its CRC) or 4 (missing
+ *     because it refused its own state and said so) of a wrong result;
  *   - coarse_band_redone accuses the band's tile of a wrong result for causes 3
  *     (its own checks failed) and 4 (its copy differs from its digest), suspects
  *     it for cause 2 (no answer in time) and accuses nobody for cause 1 (not sent);

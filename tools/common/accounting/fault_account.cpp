@@ -364,11 +364,19 @@ void replica_votes_again(const Join& j, bsp::TileId t, double det_s, double from
       return;
     }
   }
-  const std::size_t k = j.first_after(from, until, [&](const fdir::Event& e) {
+  // A fall-back to one filter (no majority) is on the way back: TMR established again after it is the
+  // recovery; without it, the fall-back is the mode given up.
+  const auto fell_back = [](const fdir::Event& e) {
+    return e.id == trn::ev::kTmrSimplex && e.cause == trn::ev::kTmrSimplexNoMajority;
+  };
+  std::size_t k = j.first_after(from, until, [&](const fdir::Event& e) {
     return ((e.id == trn::ev::kTmrResynced || e.id == trn::ev::kTmrAgrees) && e.subject == t) ||
            (e.id == trn::ev::kTmrResynced && e.b >= 3U) || e.id == trn::ev::kTmrEstablished ||
-           e.id == trn::ev::kTmrSimplex;
+           (e.id == trn::ev::kTmrSimplex && !fell_back(e));
   });
+  if (k == j.events.size()) {
+    k = j.first_after(from, until, fell_back);
+  }
   if (k < j.events.size()) {
     recovered_at(j, k, j.events[k].id == trn::ev::kTmrSimplex ? Recovery::kDegradedAccepted : Recovery::kRecovered, o);
   }

@@ -5,7 +5,12 @@
  *
  * A slot is the filter's state block (trn/filter/state_block.hpp, with its own
  * checksum) under a header: magic, the checkpoint's sequence number, the last
- * IMU sample the state has integrated, and a CRC-32C over the header words.
+ * IMU sample the state has integrated, the digest of the writer's whole state
+ * when a TMR replica wrote it (core_digest: what its output for that job
+ * carried to the vote; 0 from a simplex filter), and a CRC-32C over the header
+ * words. A filter whose TMR lost its majority goes on alone from a checkpoint
+ * whose digest the vote agreed on (VotedCheckpoint), never from one only its
+ * writer vouches for.
  * A writer first clears the slot's magic, then writes the block, then the
  * header, alternating between the slots from the one after the checkpoint it
  * resumed from (so the good checkpoint it read is never the one overwritten):
@@ -20,6 +25,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 
 namespace trn::tasks {
 
@@ -29,7 +35,8 @@ struct CheckpointSlot {
   std::uint32_t magic = 0U;
   std::uint32_t seq = 0U;      ///< checkpoint number, +1 per write (0: never written)
   std::uint32_t imu_seq = 0U;  ///< last IMU sample integrated into the state
-  std::uint32_t crc = 0U;      ///< CRC-32C of magic, seq, imu_seq
+  std::uint32_t digest = 0U;   ///< the writer's state digest after the checkpoint's job (0: not a replica's)
+  std::uint32_t crc = 0U;      ///< CRC-32C of magic, seq, imu_seq, digest
   filter::StateBlock block{};
 };
 
@@ -42,10 +49,17 @@ CheckpointArea* checkpoint_area() noexcept;
 
 /**
  * Writes @p s (which has integrated IMU sample @p imu_seq) as checkpoint @p seq
- * into slot @p slot (0 or 1; the writer alternates); charges @p work.
+ * into slot @p slot (0 or 1; the writer alternates), with the writer's state
+ * digest @p digest (0: none); charges @p work.
  */
 void checkpoint_write(CheckpointArea& a, const filter::FilterState& s, std::uint32_t imu_seq, std::uint32_t seq,
-                      std::uint32_t slot, bsp::Work& work) noexcept;
+                      std::uint32_t slot, bsp::Work& work, std::uint32_t digest = 0U) noexcept;
+
+/** A checkpoint the TMR vote confirmed: its number and the voted state digest of its job (seq 0: none). */
+struct VotedCheckpoint {
+  std::uint32_t seq = 0U;
+  std::uint32_t digest = 0U;
+};
 
 /** What checkpoint_read found. */
 struct CheckpointRead {
@@ -60,7 +74,11 @@ struct CheckpointRead {
   const filter::FilterState* state = nullptr;
 };
 
-/** Finds the newest good checkpoint and leaves its state in the reader's scratch (no state on the stack). */
-CheckpointRead checkpoint_read(const CheckpointArea& a, bsp::Work& work) noexcept;
+/**
+ * Finds the newest good checkpoint and leaves its state in the reader's scratch (no state on the
+ * stack). With @p voted not empty, only a checkpoint whose number and digest are one of them will do.
+ */
+CheckpointRead checkpoint_read(const CheckpointArea& a, bsp::Work& work,
+                               std::span<const VotedCheckpoint> voted = {}) noexcept;
 
 }  // namespace trn::tasks

@@ -49,6 +49,12 @@ constexpr std::uint32_t kImuHeld = 8U;
 constexpr std::uint32_t kTmrStopCommand = 0U;
 constexpr std::uint32_t kTmrStopNotEstablished = 2U;
 constexpr std::uint32_t kTmrStopRestart = 3U;
+constexpr std::uint32_t kTmrStopNoMajority = ev::kTmrSimplexNoMajority;
+/**
+ * Votes without a majority in a row after which the replicas' states are taken to have parted and
+ * the front goes on alone from the last checkpoint the vote confirmed (one alone is a lost output).
+ */
+constexpr std::uint32_t kNoMajorityToFallBack = 2U;
 /** Jobs a voter catching up after a restart votes at most in one of its own. */
 constexpr std::uint32_t kVotesPerJob = 4U;
 /** Voted words: the packed solution and the state digest. */
@@ -87,12 +93,16 @@ struct Slot {
   std::uint32_t start_job;
   fdir::TmrGroup group;
   std::array<std::array<fdir::TmrRecord, kOutRing>, kReplicas> out;  ///< replicas' outputs by job
+  std::array<std::uint32_t, kOutRing> out_bad;  ///< per ring place, bit per replica: its output there fails its CRC
   std::array<fdir::TmrRecord, kOutRing> own;  ///< the front's own outputs while starting
   std::uint32_t hello_mask;  ///< replicas that asked for a seed since the last one
+  std::uint32_t refused_mask;  ///< those of them that dropped their state because their own checks refused it
   std::uint32_t seed_asked;  ///< jobs since a seed was asked (0: none pending)
   bool resume_tmr;           ///< restarted while in TMR: start it again once caught up
   std::uint32_t last_winner; ///< a replica that agreed with the last vote
   std::uint32_t no_majority_mask;  ///< replicas that differed in a vote without a majority and have not voted since
+  std::uint32_t no_majority_run;   ///< votes without a majority in a row
+  std::array<VotedCheckpoint, 2> voted_ckpt;  ///< the last two checkpoints whose state digest the vote agreed on
   std::uint32_t stop_job;    ///< stopping: the job after whose record a replica saves its state for the front
   bool stop_voted;           ///< stopping: that job was voted, stop_digest is its state digest
   std::uint32_t stop_digest;
@@ -364,13 +374,7 @@ void deliver(Slot& slot, std::uint32_t job, std::span<const std::uint32_t, kNavW
   }
 }
 
-bool resume_from_checkpoint(Slot& slot, std::uint32_t not_seq) noexcept;
-
-/** @p v in units of 1 / @p per, rounded and saturated, for an event field. */
-std::uint32_t scaled(double v, double per) noexcept {
-  const double m = v * per + 0.5;
-  return m >= 4294967295.0 ? 0xFFFF'FFFFU : m > 0.0 ? static_cast<std::uint32_t>(m) : 0U;
-}
+bool resume_from_checkpoint(Slot& slot, std::uint32_t not_seq, std::span<const VotedCheckpoint> voted = {}) noexcept;
 
 /**
  * The tile asks to be restarted (assertion @p id), once: its health agent stops the watchdog's
@@ -431,10 +435,8 @@ bool run_checked(Slot& slot, const JobRecord& rec) noexcept {
     return true;
   }
   ++slot.stats->states_rejected;
-  // Thousandths of the check's unit; the attitude norm's distance from 1 in millionths.
-  const double per = r.what == filter::StateCheck::kAttitudeNorm ? 1e6 : 1e3;
   trn::report(ev::kFilterStateBad, record_job(rec), static_cast<std::uint32_t>(r.what),
-               scaled(r.value, per), scaled(r.limit, per));
+              filter::state_check_field(r.value, r.what), filter::state_check_field(r.limit, r.what));
   go_back(slot, kAssertFilterStateRefused);
   return false;
 }
@@ -526,13 +528,14 @@ bool rejoin(Slot& slot, std::uint32_t job) noexcept;
  * replayed from the I/O tile's record (kFilterResumed). Its state stays in the
  * reader's scratch, restored before any call that may switch tiles.
  * @return false when there is none, or it is checkpoint @p not_seq (nothing changed; 0: any will do).
+ * With @p voted not empty, only a checkpoint the TMR vote confirmed will do.
  */
-bool resume_from_checkpoint(Slot& slot, std::uint32_t not_seq) noexcept {
+bool resume_from_checkpoint(Slot& slot, std::uint32_t not_seq, std::span<const VotedCheckpoint> voted) noexcept {
   if (slot.ckpt == nullptr) {
     return false;
   }
   bsp::Work work{};
-  const CheckpointRead r = checkpoint_read(*slot.ckpt, work);
+  const CheckpointRead r = checkpoint_read(*slot.ckpt, work, voted);
   const bool restored = r.found && (not_seq == 0U || r.seq != not_seq) &&
                         slot.core.ekf->restore(*r.state) == filter::FilterStatus::kOk;
   bsp::consume(work);
@@ -568,17 +571,42 @@ struct ReplicaInbox {
   std::span<const std::uint32_t> words;
 };
 
-void take_hello(ReplicaInbox& in, const ReplicaHello& hello) noexcept { in.slot.hello_mask |= 1U << hello.replica; }
-
-/** A replica's output: its solution's words as they came (any bits: voted) and its state digest. */
-void take_replica_out(ReplicaInbox& in, const ReplicaOut& out) noexcept {
-  fdir::TmrRecord& r = in.slot.out[out.replica][out.job % kOutRing];
-  r.job = out.job;
-  r.words = kVotedWords;
-  for (std::uint32_t w = 0; w < kNavWords; ++w) {
-    r.w[w] = in.words[kReplicaOutHeaderWords + w];
+void take_hello(ReplicaInbox& in, const ReplicaHello& hello) noexcept {
+  in.slot.hello_mask |= 1U << hello.replica;
+  if (hello.refused != 0U) {
+    in.slot.refused_mask |= 1U << hello.replica;
   }
-  r.w[kNavWords] = out.digest;
+}
+
+/**
+ * Keeps replica @p i's output of job @p job (its solution's words @p nav, any bits, and its state
+ * digest), and whether the words still match @p out_crc, the CRC the replica took where it computed
+ * them: an output that fails it is voted as different and never wins (fdir::tmr_vote's bad_mask).
+ */
+void keep_output(Slot& slot, std::uint32_t i, std::uint32_t job, std::span<const std::uint32_t, kNavWords> nav,
+                 std::uint32_t digest, std::uint32_t out_crc) noexcept {
+  fdir::TmrRecord& r = slot.out[i][job % kOutRing];
+  r.job = job;
+  r.words = kVotedWords;
+  std::copy(nav.begin(), nav.end(), r.w.begin());
+  r.w[kNavWords] = digest;
+  const std::uint32_t bit = 1U << i;
+  std::uint32_t& bad = slot.out_bad[job % kOutRing];
+  bad = udn::crc32c_words(nav) == out_crc ? (bad & ~bit) : (bad | bit);
+  bsp::consume(bsp::Work{8ULL * kNavWords, 0U, 0U, 0U, 2ULL * kNavWords});
+}
+
+/** A replica's output as it came. */
+void take_replica_out(ReplicaInbox& in, const ReplicaOut& out) noexcept {
+  keep_output(in.slot, out.replica, out.job,
+              std::span<const std::uint32_t, kNavWords>(in.words.data() + kReplicaOutHeaderWords, kNavWords),
+              out.digest, out.out_crc);
+}
+
+/** A replica's output its replica kept in DDR (the CRC after the voted words). */
+void keep_kept_output(Slot& slot, std::uint32_t i, const fdir::TmrRecord& kept) noexcept {
+  keep_output(slot, i, kept.job, std::span<const std::uint32_t, kNavWords>(kept.w.data(), kNavWords), kept.w[kNavWords],
+              kept.w[kNavWords + 1U]);
 }
 
 /** The kinds the filter front takes on kChanNav; anything else there is dropped. */
@@ -601,6 +629,11 @@ void drain_replicas(Slot& slot) noexcept {
 const fdir::TmrRecord* output_of(const Slot& slot, std::uint32_t i, std::uint32_t job) noexcept {
   const fdir::TmrRecord& r = slot.out[i][job % kOutRing];
   return (r.words == kVotedWords && r.job == job) ? &r : nullptr;
+}
+
+/** Replica @p i's output of job @p job, if it is here and passed its CRC (nullptr otherwise). */
+const fdir::TmrRecord* good_output_of(const Slot& slot, std::uint32_t i, std::uint32_t job) noexcept {
+  return (slot.out_bad[job % kOutRing] & (1U << i)) == 0U ? output_of(slot, i, job) : nullptr;
 }
 
 /** True if every voting replica's output for job @p job is here. */
@@ -630,8 +663,11 @@ void start_tmr(Slot& slot) noexcept {
   slot.mode = Mode::kStarting;
   slot.start_job = slot.job;
   slot.hello_mask = 0U;
+  slot.refused_mask = 0U;
   slot.seed_asked = 0U;
   slot.no_majority_mask = 0U;
+  slot.no_majority_run = 0U;
+  slot.voted_ckpt = {};
   trn::report(ev::kTmrStarting, slot.job, c.epoch);
 }
 
@@ -649,7 +685,7 @@ void compare_starting(Slot& slot, std::uint32_t v) noexcept {
     return;
   }
   for (std::uint32_t i = 0; i < kReplicas; ++i) {
-    const fdir::TmrRecord* r = output_of(slot, i, v);
+    const fdir::TmrRecord* r = good_output_of(slot, i, v);
     if (r != nullptr && fdir::tmr_same(*r, own) && (slot.group.active_mask() & (1U << i)) == 0U) {
       slot.group.admit(i);
     }
@@ -679,7 +715,10 @@ void account_vote(Slot& slot, const fdir::TmrVote& v, std::uint32_t job) noexcep
     }
     if (((v.differ_mask | v.missing_mask) & bit) != 0U) {
       ++slot.stats->tmr_outvoted;
-      trn::report(ev::kTmrOutvoted, replica_tile(slot, i), job, i, (v.differ_mask & bit) != 0U ? 1U : 2U);
+      const bool bad = (slot.out_bad[job % kOutRing] & bit) != 0U && output_of(slot, i, job) != nullptr;
+      const bool refused = (v.missing_mask & bit) != 0U && (slot.refused_mask & bit) != 0U;
+      trn::report(ev::kTmrOutvoted, replica_tile(slot, i), job, i,
+                  bad ? 3U : refused ? 4U : (v.differ_mask & bit) != 0U ? 1U : 2U);
     } else if (before[i] != 0U || (slot.no_majority_mask & bit) != 0U) {
       trn::report(ev::kTmrAgrees, replica_tile(slot, i), job, i, before[i]);
     }
@@ -695,13 +734,47 @@ void account_vote(Slot& slot, const fdir::TmrVote& v, std::uint32_t job) noexcep
 /** A replica not voting whose output equals the vote is readmitted (it loaded a seed). */
 void readmit(Slot& slot, const fdir::TmrRecord& voted, std::uint32_t job) noexcept {
   for (std::uint32_t i = 0; i < kReplicas; ++i) {
-    const fdir::TmrRecord* r = output_of(slot, i, job);
+    const fdir::TmrRecord* r = good_output_of(slot, i, job);
     if ((slot.group.active_mask() & (1U << i)) == 0U && r != nullptr && fdir::tmr_same(*r, voted)) {
       slot.group.admit(i);
       ++slot.stats->tmr_resyncs;
       slot.hello_mask &= ~(1U << i);
+      slot.refused_mask &= ~(1U << i);
       trn::report(ev::kTmrResynced, replica_tile(slot, i), job, i, slot.group.active_count());
     }
+  }
+}
+
+/**
+ * The replicas' states have parted (kNoMajorityToFallBack votes without a majority): the front goes
+ * on alone from the newest checkpoint whose state digest the vote agreed on, the IMU samples since
+ * replayed from the I/O tile's record, and reports it (tmr_fallback); the filter supervisor chooses
+ * TMR again (seeded from this state) or simplex. Without such a checkpoint it keeps voting.
+ */
+void fall_back(Slot& slot, std::uint32_t v) noexcept {
+  if (slot.cfg->checkpoint_every == 0U) {
+    return;
+  }
+  if (slot.ckpt == nullptr) {
+    slot.ckpt = checkpoint_area();
+  }
+  if (!resume_from_checkpoint(slot, 0U, slot.voted_ckpt)) {
+    return;
+  }
+  // The matches its core held were for the state it had when TMR started: gone with it.
+  slot.core.queue->head = 0U;
+  slot.core.queue->count = 0U;
+  slot.rolled_back_to = 0U;
+  stop_tmr(slot, kTmrStopNoMajority);
+  trn::report(ev::kTmrFallback, v, slot.no_majority_run, slot.ckpt_seq, (slot.ckpt_seq - 1U) * slot.cfg->checkpoint_every);
+  slot.no_majority_run = 0U;
+}
+
+/** A voted job that a replica checkpointed: its number and the voted digest, kept for fall_back(). */
+void note_voted_checkpoint(Slot& slot, std::uint32_t v, std::uint32_t digest) noexcept {
+  const std::uint32_t every = slot.cfg->checkpoint_every;
+  if (every != 0U && v % every == 0U) {
+    slot.voted_ckpt[(v / every) % 2U] = VotedCheckpoint{v / every + 1U, digest};
   }
 }
 
@@ -711,7 +784,7 @@ void vote(Slot& slot, std::uint32_t v) noexcept {
   for (std::uint32_t i = 0; i < kReplicas; ++i) {
     recs[i] = output_of(slot, i, v);
   }
-  const fdir::TmrVote res = fdir::tmr_vote(recs, slot.group.active_mask());
+  const fdir::TmrVote res = fdir::tmr_vote(recs, slot.group.active_mask(), slot.out_bad[v % kOutRing]);
   bsp::consume(bsp::Work{4ULL * kVotedWords * kReplicas, 0U, 0U, 0U, std::uint64_t{kVotedWords} * kReplicas});
   if (res.verdict == fdir::TmrVerdict::kNoMajority) {
     ++slot.stats->tmr_no_majority;
@@ -723,13 +796,18 @@ void vote(Slot& slot, std::uint32_t v) noexcept {
     }
     trn::report(ev::kTmrNoMajority, v, slot.group.active_mask(), res.differ_mask,
                  (res.missing_mask & 0xFFU) | tiles);
+    if (++slot.no_majority_run >= kNoMajorityToFallBack) {
+      fall_back(slot, v);
+    }
     return;
   }
+  slot.no_majority_run = 0U;
   account_vote(slot, res, v);
   const fdir::TmrRecord& voted = *recs[res.winner];
   readmit(slot, voted, v);
   ++slot.stats->tmr_jobs;
   deliver(slot, v, std::span<const std::uint32_t, kNavWords>(voted.w.data(), kNavWords));
+  note_voted_checkpoint(slot, v, voted.w[kNavWords]);
   slot.last_winner = res.winner;
   if (slot.mode == Mode::kStopping && v == slot.stop_job) {
     slot.stop_voted = true;
@@ -856,7 +934,7 @@ bool rejoin(Slot& slot, std::uint32_t job) noexcept {
     for (std::uint32_t j = f.next_vote; j <= f.record_job && j - f.next_vote < kHeldOutputs; ++j) {
       const fdir::TmrRecord& kept = a.outputs[i][j % kHeldOutputs];
       if (kept.job == j && kept.words == kVotedWords) {
-        slot.out[i][j % kOutRing] = kept;
+        keep_kept_output(slot, i, kept);
       }
     }
   }
@@ -957,8 +1035,8 @@ void fill_from_ddr(Slot& slot, std::uint32_t job) noexcept {
     const fdir::TmrRecord& kept = slot.tmr->outputs[i][job % kHeldOutputs];
     if ((slot.group.active_mask() & (1U << i)) != 0U && output_of(slot, i, job) == nullptr && kept.job == job &&
         kept.words == kVotedWords) {
-      slot.out[i][job % kOutRing] = kept;
-      words += kVotedWords + 2U;
+      keep_kept_output(slot, i, kept);
+      words += kVotedWords + 3U;
     }
   }
   bsp::consume(bsp::Work{0U, 0U, 0U, 0U, 2U + words});
@@ -974,7 +1052,7 @@ void vote_due(Slot& slot, std::uint32_t v) noexcept {
   if (slot.next_vote + kOutRing / 2U < v) {
     slot.next_vote = v - kOutRing / 2U;  // older outputs are gone: those jobs are never delivered
   }
-  for (std::uint32_t n = 0; n < kVotesPerJob && slot.next_vote <= v; ++n) {
+  for (std::uint32_t n = 0; n < kVotesPerJob && slot.next_vote <= v && slot.mode != Mode::kSimplex; ++n) {
     const std::uint32_t d = slot.next_vote;
     fill_from_ddr(slot, d);
     if (slot.job < slot.lenient_until && !all_present(slot, d)) {

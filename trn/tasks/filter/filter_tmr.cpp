@@ -8,6 +8,7 @@
 #include "bsp_tile64/api/memory.hpp"
 #include "fdir/event_log.hpp"
 #include "kernel/kernel.hpp"
+#include "trn/filter/state_check.hpp"
 #include "trn/tasks/filter/filter_checkpoint.hpp"
 #include "trn/tasks/vision/vision_shared.hpp"
 #include "udn/crc32c.hpp"
@@ -46,11 +47,11 @@ std::uint32_t seed_header_crc(const TmrSeed& s) noexcept {
   return udn::crc32c_words(h);
 }
 
-void send_hello(const Replica& r, const TmrControl& ctl, const FilterTaskConfig& cfg) noexcept {
+/** Asks the front for a seed; @p refused: at once, because its own checks refused its state. */
+void send_hello(const Replica& r, const TmrControl& ctl, bool refused = false) noexcept {
   std::array<std::uint32_t, kReplicaHelloWords> w{};
-  pack_replica_hello(ReplicaHello{r.index, ctl.epoch}, w);
+  pack_replica_hello(ReplicaHello{r.index, ctl.epoch, refused ? 1U : 0U}, w);
   (void)udn::endpoint_send(udn::endpoint_role_tile(kSlotFilter, bsp::kNoTile), kChanNav, w, 0U);
-  (void)cfg;
 }
 
 /** Loads the newest seed meant for this replica, if there is one. */
@@ -74,21 +75,30 @@ void try_seed(Replica& r, const TmrArea& a) noexcept {
   r.next_job = s.job + 1U;
 }
 
-/** Sends the front this job's output and state digest, and keeps them in DDR for a voter that restarts. */
+/**
+ * Sends the front this job's output, its state digest and the CRC of the output taken here, where it
+ * was computed (the front votes no output that fails it: two corrupted alike cannot outvote the third),
+ * and keeps them in DDR for a voter that restarts (the CRC after the voted words).
+ */
 void send_output(Replica& r, TmrArea& a, std::uint32_t job, std::uint32_t digest) noexcept {
+  const filter::NavOutput nav = core_output(r.core);
+  std::array<std::uint32_t, kNavWords> words{};
+  pack_nav(nav, words);
+  const std::uint32_t out_crc = udn::crc32c_words(words);
   std::array<std::uint32_t, kReplicaOutWords> w{};
-  pack_replica_out(ReplicaOut{r.index, job, digest}, core_output(r.core), w);
+  pack_replica_out(ReplicaOut{r.index, job, digest, out_crc}, nav, w);
   // The solution as sent is what a fault may corrupt on its way out (every bit of it is delivered).
-  (void)bsp::publish_filter(kNavChannel, w.data() + 4U, std::size_t{kNavWords} * sizeof(std::uint32_t));
+  (void)bsp::publish_filter(kNavChannel, w.data() + kReplicaOutHeaderWords, std::size_t{kNavWords} * sizeof(std::uint32_t));
   fdir::TmrRecord& kept = a.outputs[r.index][job % kHeldOutputs];
   kept.words = 0U;  // torn while written: not an output
   kept.job = job;
   for (std::uint32_t i = 0; i < kNavWords; ++i) {
-    kept.w[i] = w[4U + i];
+    kept.w[i] = w[kReplicaOutHeaderWords + i];
   }
   kept.w[kNavWords] = digest;
+  kept.w[kNavWords + 1U] = out_crc;
   kept.words = kNavWords + 1U;
-  bsp::consume(bsp::Work{0U, 0U, 0U, 0U, std::uint64_t{kNavWords} + 3U});
+  bsp::consume(bsp::Work{8ULL * kNavWords, 0U, 0U, 0U, 2ULL * kNavWords + 4U});
   if (udn::endpoint_send(udn::endpoint_role_tile(kSlotFilter, bsp::kNoTile), kChanNav, w, 0U) ==
       udn::FtError::kOk) {
     ++r.core.stats->nav_sent;
@@ -97,8 +107,11 @@ void send_output(Replica& r, TmrArea& a, std::uint32_t job, std::uint32_t digest
   }
 }
 
-/** What the control block asks of this replica after it ran @p job: a seed, a checkpoint. */
-void after_job(Replica& r, TmrArea& a, std::uint32_t job) noexcept {
+/**
+ * What the control block asks of this replica after it ran @p job: a seed, a checkpoint (with
+ * @p digest, the state digest its output for the job carries to the vote).
+ */
+void after_job(Replica& r, TmrArea& a, std::uint32_t job, std::uint32_t digest) noexcept {
   const TmrControl& ctl = a.control;
   bsp::Work work{};
   if (ctl.seed_by == r.index && ctl.seed_job == job) {
@@ -110,11 +123,42 @@ void after_job(Replica& r, TmrArea& a, std::uint32_t job) noexcept {
       r.ckpt_slot = 1U - r.ckpt_slot;
       // Numbered by job, so a later checkpoint of any writer is the newer one.
       checkpoint_write(*ck, r.core.ekf->state(), r.core.last_imu, job / r.core.cfg->checkpoint_every + 1U,
-                       r.ckpt_slot, work);
+                       r.ckpt_slot, work, digest);
       ++r.core.stats->checkpoints;
     }
   }
   bsp::consume(work);
+}
+
+/**
+ * The checks of a replica's job, as the simplex filter's (run_checked): its settings in RAM, then its
+ * state against the one before the job (@p before). False when one fails: the replica reports it and
+ * drops its state (its output goes missing; the front excludes and re-seeds it, as after a restart).
+ *
+ * Settings changed (an upset): this job's state was computed with them; they are built again from
+ * the image. Before, they stayed wrong: re-seeded, the replica never agreed again, and a second such
+ * replica left no majority. A state that fails the plausibility check is never sent: two replicas
+ * corrupted alike cannot outvote the third with a state the simplex filter would have refused.
+ */
+bool job_ok(Replica& r, const filter::StateBefore& before) noexcept {
+  bsp::Work work{};
+  const std::uint32_t changed = core_settings_changed(r.core, work);
+  if (changed != 0U) {
+    const bool rebuilt = core_reload_settings(r.core, work);
+    bsp::consume(work);
+    ++r.core.stats->settings_rebuilt;
+    trn::report(ev::kFilterSettingsBad, r.next_job, changed, rebuilt ? 1U : 0U);
+    return false;
+  }
+  const filter::StateCheckResult c = filter::check_state(before, r.core.ekf->state(), r.core.cfg->envelope, work);
+  bsp::consume(work);
+  if (c.what == filter::StateCheck::kOk) {
+    return true;
+  }
+  ++r.core.stats->states_rejected;
+  trn::report(ev::kFilterStateBad, r.next_job, static_cast<std::uint32_t>(c.what),
+              filter::state_check_field(c.value, c.what), filter::state_check_field(c.limit, c.what));
+  return false;
 }
 
 /** Runs the records that are there, at most kReplicaJobsPerRelease; unseeds itself if one is gone or bad. */
@@ -132,25 +176,22 @@ void run_records(Replica& r, TmrArea& a) noexcept {
       r.seeded = false;  // overwritten before it ran (too far behind), or damaged: needs a seed
       return;
     }
+    bsp::Work bw{};
+    const filter::StateBefore before = filter::state_before(r.core.ekf->state(), bw);
+    bsp::consume(bw);
     core_run(r.core, rec);
-    bsp::Work dw{};
-    // Its settings in RAM changed (an upset): this job's state was computed with them. They are
-    // built again from the image and the replica drops its state and waits for a seed, as after a
-    // restart: its output goes missing, the front excludes and re-seeds it. Before, its settings
-    // stayed wrong: re-seeded, it never agreed again, and a second such replica left no majority.
-    const std::uint32_t changed = core_settings_changed(r.core, dw);
-    if (changed != 0U) {
-      const bool rebuilt = core_reload_settings(r.core, dw);
-      bsp::consume(dw);
-      ++r.core.stats->settings_rebuilt;
-      trn::report(ev::kFilterSettingsBad, r.next_job, changed, rebuilt ? 1U : 0U);
+    if (!job_ok(r, before)) {
       r.seeded = false;
+      // Said at once: the front counts its missing outputs as refused, not as a silent replica.
+      send_hello(r, a.control, true);
+      r.since_hello = 0U;
       return;
     }
+    bsp::Work dw{};
     const std::uint32_t digest = core_digest(r.core, dw);
     bsp::consume(dw);
     send_output(r, a, r.next_job, digest);
-    after_job(r, a, r.next_job);
+    after_job(r, a, r.next_job, digest);
     ++r.core.stats->jobs;
     ++r.next_job;
   }
@@ -264,7 +305,7 @@ void filter_replica_main(void* arg) noexcept {
       }
       if (!r.seeded && ++r.since_hello >= kHelloEvery) {
         r.since_hello = 0U;
-        send_hello(r, ctl, *cfg);
+        send_hello(r, ctl);
       }
     }
     (void)k::wait_period();
