@@ -1203,6 +1203,16 @@ TEST_F(TrnMissionBinary, TwoReplicaStatesCorruptedInOneJobFallBackToTheVotedChec
   EXPECT_EQ(read_json(dir_ / "filter_tmr_states_alike" / "summary.json")["faults_misdiagnosed"], 0);
   // Parted: the vote cannot tell which of three different states is right, and names all three.
   EXPECT_EQ(read_json(dir_ / "filter_tmr_states_part" / "summary.json")["faults_misdiagnosed"], 1);
+  // A voter reset 50 ms before resumes with the voted checkpoints it kept in DDR: the same fall-back.
+  ASSERT_EQ(run(binary() + " --quiet --duration 10 --faults " + fixture("filter_tmr_voter_reset_then_part.toml") +
+                " --out " + (dir_ / "vr").string()),
+            0);
+  const std::string vr = read_text(dir_ / "vr" / "events.log");
+  EXPECT_NE(vr.find("tmr_voter_resumed: the voter restarted at job 895"), std::string::npos) << vr;
+  EXPECT_NE(vr.find("tmr_fallback: no majority in 2 votes in a row up to job 901: the filter goes on alone from "
+                    "checkpoint 90 (its state after job 890"),
+            std::string::npos)
+      << vr;
 }
 
 // Without effect, only against a golden flight: a spare's failed watchdog is latent and changes

@@ -918,6 +918,7 @@ bool rejoin(Slot& slot, std::uint32_t job) noexcept {
   slot.cmd = f.cmd;
   slot.last_winner = f.last_winner;
   slot.no_majority_mask = 0U;
+  slot.voted_ckpt = f.voted_ckpt;
   (void)slot.group.configure(slot.cfg->tmr);
   for (std::uint32_t i = 0; i < kReplicas; ++i) {
     if ((f.active_mask & (1U << i)) != 0U) {
@@ -1018,6 +1019,7 @@ void persist_front(Slot& slot) noexcept {
   f.active_mask = slot.group.active_mask();
   f.last_winner = slot.last_winner;
   f.held_serial = a.held.serial;
+  f.voted_ckpt = slot.voted_ckpt;
   tmr_front_seal(f);
   work.mem_words += sizeof(TmrFront) / sizeof(std::uint32_t);
   work.int_ops += 4ULL * sizeof(TmrFront) / sizeof(std::uint32_t);

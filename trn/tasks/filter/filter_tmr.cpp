@@ -208,14 +208,16 @@ bool tmr_seed_ok(const TmrSeed& s) noexcept { return s.crc == seed_header_crc(s)
 
 namespace {
 std::uint32_t front_crc(const TmrFront& f) noexcept {
-  std::array<std::uint32_t, 20U + kCommandWords> w{f.serial,           f.epoch,         f.voting,      f.record_job,
+  std::array<std::uint32_t, 24U + kCommandWords> w{f.serial,           f.epoch,         f.voting,      f.record_job,
                                                    f.next_vote,        f.next_deliver,  f.delivered_any,
                                                    f.outputs_delivered, f.outputs_skipped, f.output_crc,
                                                    f.last_delivered_job, f.mark_job,    f.mark_crc,    f.have_imu,
                                                    f.last_imu,         f.cmd_held,      f.active_mask, f.last_winner,
-                                                   f.held_serial,      0U};
+                                                   f.held_serial,      0U,
+                                                   f.voted_ckpt[0].seq, f.voted_ckpt[0].digest,
+                                                   f.voted_ckpt[1].seq, f.voted_ckpt[1].digest};
   for (std::uint32_t i = 0; i < kCommandWords; ++i) {
-    w[20U + i] = f.cmd[i];
+    w[24U + i] = f.cmd[i];
   }
   return udn::crc32c_words(w);
 }

@@ -37,6 +37,7 @@
 
 #include "fdir/tmr.hpp"
 #include "trn/filter/filter_core.hpp"
+#include "trn/tasks/filter/filter_checkpoint.hpp"
 
 #include <array>
 #include <cstdint>
@@ -111,6 +112,9 @@ struct TmrFront {
   std::uint32_t active_mask = 0U;   ///< replicas voting
   std::uint32_t last_winner = 0U;
   std::uint32_t held_serial = 0U;   ///< the TmrHeldMatches serial that goes with this place
+  /// The last two checkpoints whose state digest the vote agreed on: what a voter restarted in TMR
+  /// can fall back to when the replicas part (without them, nothing until its next voted checkpoint).
+  std::array<VotedCheckpoint, 2> voted_ckpt{};
   std::uint32_t crc = 0U;           ///< CRC-32C of the words above
 };
 
