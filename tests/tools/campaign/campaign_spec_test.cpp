@@ -204,6 +204,50 @@ TEST(CampaignSpec, PointsAndCarvesNarrowTheDraws) {
   EXPECT_NE(bad.error.find("points: element 0: unknown point \"x\""), std::string::npos) << bad.error;
 }
 
+// same_time: every fault of a run at one drawn time (faults in the same job); the times differ from run
+// to run, the targets are drawn as usual; without it the faults of a run fall at their own times, the
+// plans those campaigns always drew. Refused in a fault-free campaign and when not a boolean.
+TEST(CampaignSpec, SameTimePutsEveryFaultOfARunAtOneTime) {
+  const std::string spec = "name = \"t\"\nruns = 20\nfaults_per_run = 3\nkinds = [\"sdc\"]\n"
+                           "roles = [\"filter_replica\"]\nwindow_s = [5.0, 40.0]\n";
+  const cp::SpecResult same = parse(spec + "same_time = true\n");
+  const cp::SpecResult apart = parse(spec);
+  ASSERT_TRUE(same.ok()) << same.error;
+  ASSERT_TRUE(apart.ok()) << apart.error;
+  EXPECT_TRUE(same.spec.same_time);
+  EXPECT_FALSE(apart.spec.same_time);
+  std::set<double> run_times;
+  std::size_t apart_runs_at_one_time = 0U;
+  for (std::uint32_t i = 0; i < same.spec.runs; ++i) {
+    for (const cp::SpecResult* r : {&same, &apart}) {
+      const cp::DrawnPlan d = cp::draw_plan(r->spec, i, 64U, kRunS);
+      ASSERT_TRUE(d.error.empty()) << d.error;
+      const tools::FaultPlanResult p = tools::parse_fault_plan(d.toml, "run", 64U, kRunS);
+      ASSERT_TRUE(p.ok()) << p.error;
+      ASSERT_EQ(p.plan->items.size(), 3U);
+      std::set<double> times;
+      for (const tools::FaultPlanItem& it : p.plan->items) {
+        times.insert(it.t_s);
+        EXPECT_GE(it.t_s, 5.0);
+        EXPECT_LE(it.t_s, 40.0);
+      }
+      if (r == &same) {
+        EXPECT_EQ(times.size(), 1U) << d.toml;
+        run_times.insert(*times.begin());
+      } else if (times.size() == 1U) {
+        ++apart_runs_at_one_time;
+      }
+    }
+  }
+  EXPECT_GT(run_times.size(), 15U) << "each run its own time";
+  EXPECT_EQ(apart_runs_at_one_time, 0U);
+  EXPECT_NE(parse(spec + "same_time = 1\n").error.find("same_time: wrong type: expected true or false"),
+            std::string::npos);
+  EXPECT_NE(parse("name = \"t\"\nruns = 2\nfaults_per_run = 0\nsame_time = true\n")
+                .error.find("same_time: faults_per_run is 0"),
+            std::string::npos);
+}
+
 // ------------------------------------------------------------------ CMP-07 outcome classes
 
 constexpr double kPass = 2.0;

@@ -30,10 +30,10 @@ constexpr std::uint32_t kReplicaInstances = 3U;
 constexpr std::uint32_t kMaxPacketWord = 129U;
 constexpr std::uint32_t kMaxSdcBit = 65535U;
 
-constexpr std::array<std::string_view, 18> kKeys = {
+constexpr std::array<std::string_view, 19> kKeys = {
     "name",  "scenario", "seed",  "seed_per_run", "campaign_seed", "runs",      "faults_per_run", "duration_s",
-    "window_s", "kinds", "roles", "tiles",        "points",        "carves",    "pass_bound_m",   "degraded_bound_m",
-    "timeout_s", "command"};
+    "window_s", "same_time", "kinds", "roles", "tiles",  "points",        "carves",    "pass_bound_m",
+    "degraded_bound_m", "timeout_s", "command"};
 
 
 std::string list_of(std::span<const std::string_view> names) {
@@ -163,8 +163,11 @@ struct Stream {
 
 constexpr std::array<const char*, 4> kDirections = {"east", "west", "north", "south"};
 
-/** One drawn [[fault]] entry as plan text; its kind and its target's role ("tile_<n>" for a tile) are returned too. */
-std::string draw_fault(const Spec& spec, Stream& r, std::string& kind_out, std::string& role_out) {
+/**
+ * One drawn [[fault]] entry as plan text; its kind and its target's role ("tile_<n>" for a tile) are
+ * returned too. At @p at_s when it is not negative (same_time), else at a time drawn in the window.
+ */
+std::string draw_fault(const Spec& spec, Stream& r, std::string& kind_out, std::string& role_out, double at_s) {
   const bsp::FaultKind kind = spec.kinds[r.below(spec.kinds.size())];
   kind_out = fault_kind_name(kind);
   const std::size_t targets = spec.roles.size() + spec.tiles.size();
@@ -172,7 +175,7 @@ std::string draw_fault(const Spec& spec, Stream& r, std::string& kind_out, std::
   std::ostringstream o;
   o.precision(17);
   // Rounded to the microsecond: the time the plan says is the time flown.
-  const double t = std::round(r.between(spec.window_lo_s, spec.window_hi_s) * 1e6) / 1e6;
+  const double t = at_s >= 0.0 ? at_s : std::round(r.between(spec.window_lo_s, spec.window_hi_s) * 1e6) / 1e6;
   o << "\n[[fault]]\nt_s = " << format_number(t) << "\nkind = \"" << kind_out << "\"\n";
   if (ti < spec.roles.size()) {
     const std::string& role = spec.roles[ti];
@@ -286,6 +289,13 @@ SpecResult parse_spec(std::string_view text, const std::string& source, double m
       s.seed_per_run = n->as_boolean()->get();
     }
   }
+  if (const toml::node* n = root.get("same_time")) {
+    if (!n->is_boolean()) {
+      rd.fail("same_time", "wrong type: expected true or false");
+    } else {
+      s.same_time = n->as_boolean()->get();
+    }
+  }
   rd.integer("campaign_seed", 0, INT64_MAX, s.campaign_seed);
   if (root.get("runs") == nullptr) {
     errors.push_back(source + ": missing key runs (1 .. " + std::to_string(kMaxRuns) + ")");
@@ -371,7 +381,8 @@ SpecResult parse_spec(std::string_view text, const std::string& source, double m
   }
   if (s.faults_per_run == 0U) {
     // A fault-free campaign: a key that only shapes the draws would be silently ignored, so it is refused.
-    for (const std::string_view k : {"kinds", "roles", "tiles", "points", "carves", "window_s", "campaign_seed"}) {
+    for (const std::string_view k :
+         {"kinds", "roles", "tiles", "points", "carves", "window_s", "same_time", "campaign_seed"}) {
       if (root.get(k) != nullptr) {
         rd.fail(k, "faults_per_run is 0: no fault is drawn, so this key has no meaning");
       }
@@ -430,10 +441,14 @@ DrawnPlan draw_plan(const Spec& spec, std::uint32_t index, std::uint32_t tile_co
     }
     std::string kind = spec.faults_per_run == 0U ? std::string("none") : std::string{};
     std::string role = kind;
+    // Rounded to the microsecond, as a drawn time is; drawn only when the spec asks for it, so the other
+    // campaigns draw the plans they always did.
+    const double at_s =
+        spec.same_time ? std::round(r.between(spec.window_lo_s, spec.window_hi_s) * 1e6) / 1e6 : -1.0;
     for (std::uint32_t f = 0; f < spec.faults_per_run; ++f) {
       std::string k;
       std::string t;
-      o << draw_fault(spec, r, k, t);
+      o << draw_fault(spec, r, k, t, at_s);
       kind = f == 0U ? k : (k == kind ? kind : std::string("mixed"));
       role = f == 0U ? t : (t == role ? role : std::string("mixed"));
     }

@@ -40,6 +40,7 @@ struct Spec {
   double duration_s = 0.0;          ///< emulated seconds per run; 0: the whole descent
   double window_lo_s = 0.0;         ///< faults drawn uniformly in [lo, hi]
   double window_hi_s = 0.0;
+  bool same_time = false;           ///< every fault of a run at one time drawn in the window (common-mode faults)
   std::vector<bsp::FaultKind> kinds;
   std::vector<std::string> roles;   ///< targets by role (resolved by the role directory when due)
   std::vector<std::uint32_t> tiles; ///< targets by tile
