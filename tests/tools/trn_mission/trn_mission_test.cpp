@@ -1335,6 +1335,28 @@ TEST_F(TrnMissionBinary, ASwitchToTmrAndBackDeliversTheSimplexStream) {
   EXPECT_EQ(s["deadline_misses"], 0);
 }
 
+// A replica whose state is corrupted right after it was seeded again runs but never agrees: after 8
+// outputs that differ from the vote it is outvoted and made to drop its state, and votes again after
+// another seed. Before, it ran on unseen and the group stayed two for the rest of the descent (a
+// campaign's run: tmr_common_mode_80, run 36).
+TEST_F(TrnMissionBinary, AReplicaWrongAgainAfterItsSeedIsOutvotedAndSeededAgain) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 10 --faults " + fixture("filter_tmr_reset_then_seeded_wrong.toml") +
+                " --out " + (dir_ / "rsw").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "rsw" / "summary.json");
+  const std::string log = read_text(dir_ / "rsw" / "events.log");
+  EXPECT_NE(log.find("tmr_outvoted: replica 0 on tile 19 outvoted at job 912 (different output or state)"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("tmr_resynced: replica 0 on tile 19 seeded with the voted state, votes again from job 916 (3 "
+                     "voting)"),
+            std::string::npos)
+      << log;
+  EXPECT_EQ(s["faults_detected"], 2);
+  EXPECT_EQ(s["faults_recovered"], 2);
+  EXPECT_EQ(s["faults_misdiagnosed"], 0);
+}
+
 // Two replicas' solutions corrupted in the same job: no majority, reported, and nothing delivered for
 // that job (one gap, never a wrong solution); the next job agrees again. Each fails the CRC its
 // replica took where it computed it, so the vote names those two (0x3) and not the healthy third; each

@@ -97,6 +97,7 @@ struct Slot {
   std::array<fdir::TmrRecord, kOutRing> own;  ///< the front's own outputs while starting
   std::uint32_t hello_mask;  ///< replicas that asked for a seed since the last one
   std::uint32_t refused_mask;  ///< those of them that dropped their state because their own checks refused it
+  std::array<std::uint32_t, kReplicas> seeded_differ;  ///< outputs of a replica not voting that differed from the vote, in a row
   std::uint32_t seed_asked;  ///< jobs since a seed was asked (0: none pending)
   bool resume_tmr;           ///< restarted while in TMR: start it again once caught up
   std::uint32_t last_winner; ///< a replica that agreed with the last vote
@@ -664,6 +665,7 @@ void start_tmr(Slot& slot) noexcept {
   slot.start_job = slot.job;
   slot.hello_mask = 0U;
   slot.refused_mask = 0U;
+  slot.seeded_differ = {};
   slot.seed_asked = 0U;
   slot.no_majority_mask = 0U;
   slot.no_majority_run = 0U;
@@ -731,16 +733,30 @@ void account_vote(Slot& slot, const fdir::TmrVote& v, std::uint32_t job) noexcep
   }
 }
 
-/** A replica not voting whose output equals the vote is readmitted (it loaded a seed). */
+/**
+ * A replica not voting whose output equals the vote is readmitted (it loaded a seed). One that sends
+ * outputs (it is seeded) but differs from the vote kOutRing times in a row has a wrong state again
+ * (hit after its seed): it is outvoted and made to drop its state, to ask for another seed. Before,
+ * it ran on with that state, never readmitted, and the group stayed two for the rest of the descent.
+ */
 void readmit(Slot& slot, const fdir::TmrRecord& voted, std::uint32_t job) noexcept {
   for (std::uint32_t i = 0; i < kReplicas; ++i) {
+    if ((slot.group.active_mask() & (1U << i)) != 0U || output_of(slot, i, job) == nullptr) {
+      continue;
+    }
     const fdir::TmrRecord* r = good_output_of(slot, i, job);
-    if ((slot.group.active_mask() & (1U << i)) == 0U && r != nullptr && fdir::tmr_same(*r, voted)) {
+    if (r != nullptr && fdir::tmr_same(*r, voted)) {
       slot.group.admit(i);
       ++slot.stats->tmr_resyncs;
       slot.hello_mask &= ~(1U << i);
       slot.refused_mask &= ~(1U << i);
+      slot.seeded_differ[i] = 0U;
       trn::report(ev::kTmrResynced, replica_tile(slot, i), job, i, slot.group.active_count());
+    } else if (++slot.seeded_differ[i] >= kOutRing) {
+      slot.seeded_differ[i] = 0U;
+      ++slot.stats->tmr_outvoted;
+      ++slot.tmr->control.gen[i];  // it drops its state and waits for a seed
+      trn::report(ev::kTmrOutvoted, replica_tile(slot, i), job, i, 1U);
     }
   }
 }
