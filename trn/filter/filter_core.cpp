@@ -282,6 +282,11 @@ filter::NavOutput core_output(const FilterCore& c) noexcept {
   return filter::make_nav_output(c.ekf->state(), c.ekf->config());
 }
 
+void core_drop_matches(FilterCore& c) noexcept {
+  c.queue->head = 0U;
+  c.queue->count = 0U;
+}
+
 std::uint32_t core_digest(FilterCore& c, bsp::Work& work) noexcept {
   (void)filter::write_state_block(c.ekf->state(), *c.scratch);
   std::uint32_t crc = udn::crc32c_bytes(std::span<const std::uint8_t>(c.scratch->data(), c.scratch->size()));

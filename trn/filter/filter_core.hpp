@@ -107,6 +107,9 @@ void core_run(FilterCore& c, const JobRecord& r) noexcept;
 /** The solution after the last job. */
 filter::NavOutput core_output(const FilterCore& c) noexcept;
 
+/** Drops the matches waiting in the queue (they were for a state the core no longer has). */
+void core_drop_matches(FilterCore& c) noexcept;
+
 /** CRC-32C of the whole state (state block, queue, last sample); charges @p work. */
 std::uint32_t core_digest(FilterCore& c, bsp::Work& work) noexcept;
 

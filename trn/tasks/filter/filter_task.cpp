@@ -778,8 +778,7 @@ void fall_back(Slot& slot, std::uint32_t v) noexcept {
     return;
   }
   // The matches its core held were for the state it had when TMR started: gone with it.
-  slot.core.queue->head = 0U;
-  slot.core.queue->count = 0U;
+  core_drop_matches(slot.core);
   slot.rolled_back_to = 0U;
   stop_tmr(slot, kTmrStopNoMajority);
   trn::report(ev::kTmrFallback, v, slot.no_majority_run, slot.ckpt_seq, (slot.ckpt_seq - 1U) * slot.cfg->checkpoint_every);
