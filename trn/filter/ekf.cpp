@@ -70,6 +70,20 @@ bool finite_state(const FilterState& s) noexcept {
 
 bool Ekf::state_finite() const noexcept { return finite_state(s_); }
 
+FilterStatus Ekf::integrate(const ImuIncrement& inc, double t_s) noexcept {
+  const Vec3 v_before = s_.x.v_mps;
+  const Quat dq = strapdown_step(s_.x, inc, f_, work_);
+  propagate_covariance(s_.p, f_, q_diag_, w_, work_);
+  history_record(s_.hist, t_s, inc.dt_s, s_.x.v_mps - v_before, dq, s_.x, work_);
+  ++s_.c.propagations;
+  s_.t_s = t_s;
+  if (!state_finite()) {
+    ++s_.c.numeric_faults;
+    return FilterStatus::kNumericalFault;
+  }
+  return FilterStatus::kOk;
+}
+
 FilterStatus Ekf::propagate(const bsp::ImuSample& imu) noexcept {
   if (s_.initialized == 0U) {
     return FilterStatus::kNotInitialized;
@@ -85,20 +99,21 @@ FilterStatus Ekf::propagate(const bsp::ImuSample& imu) noexcept {
   }
   if (s_.c.propagations > 0U && imu.seq != s_.c.last_imu_seq + 1U) {
     ++s_.c.imu_gaps;
+    // The samples lost moved the vehicle too: their intervals are integrated with this sample's
+    // increments, the nearest measured, so the state does not fall behind the samples' time.
+    const std::uint32_t missing = imu.seq > s_.c.last_imu_seq ? imu.seq - s_.c.last_imu_seq - 1U : 0U;
+    const std::uint32_t bridged = missing < kMaxBridgedSamples ? missing : kMaxBridgedSamples;
+    for (std::uint32_t k = 0; k < bridged; ++k) {
+      const double t = imu.t_s - static_cast<double>(bridged - k) * inc.dt_s;
+      if (integrate(inc, t) != FilterStatus::kOk) {
+        return FilterStatus::kNumericalFault;
+      }
+    }
   }
-  const Vec3 v_before = s_.x.v_mps;
-  const Quat dq = strapdown_step(s_.x, inc, f_, work_);
-  propagate_covariance(s_.p, f_, q_diag_, w_, work_);
-  history_record(s_.hist, imu.t_s, inc.dt_s, s_.x.v_mps - v_before, dq, s_.x, work_);
-  ++s_.c.propagations;
+  const FilterStatus st = integrate(inc, imu.t_s);
   s_.c.last_imu_seq = imu.seq;
-  s_.t_s = imu.t_s;
   s_.last_imu_ok = 1;
-  if (!state_finite()) {
-    ++s_.c.numeric_faults;
-    return FilterStatus::kNumericalFault;
-  }
-  return FilterStatus::kOk;
+  return st;
 }
 
 namespace {

@@ -81,7 +81,11 @@ class Ekf {
 
   /**
    * Integrates one IMU sample (increments over cfg.imu_dt_s). A sample with a
-   * non-zero status is counted and skipped (kImuInvalid); a seq jump is counted as a gap.
+   * non-zero status is counted and skipped (kImuInvalid); a seq jump is counted
+   * as a gap and bridged: the missing samples (up to kMaxBridgedSamples) are
+   * integrated with this sample's increments first (a zero-order hold), so the
+   * state keeps time with the samples instead of falling one interval behind
+   * per sample lost (about 1 m of position at the descent's speed).
    */
   FilterStatus propagate(const bsp::ImuSample& imu) noexcept;
 
@@ -142,6 +146,8 @@ class Ekf {
 
  private:
   void apply_correction(const Vec15& dx) noexcept;
+  /** One strapdown and covariance step with @p inc, ending at @p t_s (propagate()'s body). */
+  FilterStatus integrate(const ImuIncrement& inc, double t_s) noexcept;
   /** Injects the batch's accumulated correction dx_acc_, if any (apply_correction()), and clears it. */
   void flush_pending() noexcept;
   /**
@@ -199,6 +205,9 @@ inline constexpr std::uint32_t kCoarseIterations = 4;
 inline constexpr double kCoarseConvergedM = 0.01;
 /** Above this position sigma (any axis), every match is an iterated update (Ekf::position_loose()), m. */
 inline constexpr double kLooseSigmaM = 5.0;
+
+/** Missing samples a propagate() bridges at most; a longer gap leaves the rest of its time unintegrated. */
+inline constexpr std::uint32_t kMaxBridgedSamples = 10U;
 
 /** Flops of one propagate() (strapdown, covariance, history); a task budgets its period with these. */
 /** The checks of the propagation's two products, when they pass (rows first, fdir/abft.hpp). */

@@ -253,10 +253,12 @@ TEST(FilterLagged, StaleFutureAndGapMatchesAreRefusedCountedAndNotApplied) {
   ASSERT_EQ(g_ekf.update(&g_matches[3], 1, rep), FilterStatus::kOk);
   EXPECT_EQ(rep.accepted, 1U);
 
-  // IMU samples lost for 0.1 s: an image inside the gap cannot be placed, one beside it can.
+  // IMU samples lost for 0.2 s: the last kMaxBridgedSamples (0.1 s) are bridged, the 0.1 s before
+  // them is not; an image there cannot be placed, one beside the gap can.
+  static_assert(trn::filter::kMaxBridgedSamples == 10U);
   const double t_before_gap = g_ekf.state().t_s;
   truth.make_matches(rng, bsp::CameraModel{}, 2, kPixelSigma, g_matches.data());  // at t_before_gap
-  for (int k = 0; k < 10; ++k) {
+  for (int k = 0; k < 20; ++k) {
     bsp::ImuSample s = truth.next_imu();
     s.status = 1;  // device error: not integrated
     EXPECT_EQ(g_ekf.propagate(s), FilterStatus::kImuInvalid);

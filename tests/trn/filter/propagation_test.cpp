@@ -103,8 +103,18 @@ TEST(FilterPropagation, InvalidSampleIsCountedAndNotIntegrated) {
   s.status = 0U;
   EXPECT_EQ(g_ekf.propagate(s), FilterStatus::kOk);
   s.seq += 3U;  // two samples lost
+  s.t_s += 3.0 * cfg.imu_dt_s;
   EXPECT_EQ(g_ekf.propagate(s), FilterStatus::kOk);
   EXPECT_EQ(g_ekf.state().c.imu_gaps, 1U);
+  // Bridged: the two lost intervals are integrated with this sample's increments, then the sample.
+  EXPECT_EQ(g_ekf.state().c.propagations, 4U);
+  EXPECT_EQ(g_ekf.state().t_s, s.t_s);
+  // A gap longer than the bridge: kMaxBridgedSamples of it integrated, the rest left out.
+  s.seq += 1U + 20U;
+  s.t_s += 21.0 * cfg.imu_dt_s;
+  EXPECT_EQ(g_ekf.propagate(s), FilterStatus::kOk);
+  EXPECT_EQ(g_ekf.state().c.imu_gaps, 2U);
+  EXPECT_EQ(g_ekf.state().c.propagations, 4U + trn::filter::kMaxBridgedSamples + 1U);
 }
 
 TEST(FilterPropagation, CountedWorkEqualsThePublishedBudgetConstants) {
