@@ -84,6 +84,7 @@ enum class EventId : std::uint16_t {
   kSelfTestLate = 0x050C,
   kSupervisorSilent = 0x050D,
   kWatcherCutOff = 0x050E,
+  kSupervisorPathCut = 0x050F,
   // ---- checked matrix products (fdir/abft)
   kAbftCorrected = 0x0801,
   kAbftFailed = 0x0802,
@@ -152,7 +153,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 52> kEventTable{{
+inline constexpr std::array<EventInfo, 53> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kPacket, Accused::kNobody,
      "source tile / channel / seq",
      "packet from tile {s} corrected by its SECDED code (channel {c}, seq {a})"},
@@ -312,6 +313,12 @@ inline constexpr std::array<EventInfo, 52> kEventTable{{
      "neighbours or transits: no reset)",
      "no heartbeat from the supervisor's tile {s} for {a} ticks (ms), but its watcher (tile {c}) hears "
      "none of its neighbours or transits: its own silence, no reset"},
+    {EventId::kSupervisorPathCut, "supervisor_path_cut", Severity::kWarningLo, kStepNone, Diagnosis::kNone, Accused::kNobody,
+     "supervisor's tile / watcher / ticks since its last heartbeat / tiles beside it that hear it (their "
+     "neighbour probes answered, none silent: its core runs and its switch routes, the way to the "
+     "watcher is cut; no reset)",
+     "no heartbeat from the supervisor's tile {s} for {a} ticks (ms), but {b} tile(s) beside it hear it: "
+     "the way to its watcher (tile {c}) is cut, no reset"},
     {EventId::kAbftCorrected, "abft_corrected", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kWrongResult, Accused::kWriter,
      "product site (1 F P, 2 (F P) F^T, 3 P H^T, 4 the gain, 5 K (P H^T)^T's upper triangle) / row << 16 "
      "| column located (0xFFFF: not one; 0xFFFE: rows only checked) / bad rows << 16 | bad columns / "

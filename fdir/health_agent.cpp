@@ -80,7 +80,18 @@ struct Watch {
   bool pending = false;  ///< reset by the watcher, not heard since
   bool silent = false;   ///< named silent, not heard since
   bool cut_off = false;  ///< the watcher heard nobody at its last check (reported once per spell)
+  // The second opinion before a reset: the tiles beside the supervisor's asked whether they hear it.
+  bool asking = false;         ///< questions out, answers awaited
+  k::Ticks asked_at = 0U;
+  std::uint32_t asked = 0U;    ///< witnesses asked (or this tile itself, if beside it)
+  std::uint32_t unsent = 0U;   ///< witnesses whose question the network refused: sent again at the next pass
+  std::uint32_t heard = 0U;    ///< of them, those whose probe hears the supervisor's tile
+  std::uint32_t missed = 0U;   ///< those whose last ping to it went unanswered
+  bool path_cut = false;       ///< supervisor_path_cut written this spell
 };
+
+/** Ticks the watcher waits for the witnesses' answers before it decides without them. */
+constexpr std::uint32_t kWitnessWaitTicks = 20U;
 
 /**
  * A self-test answer the network refused (back-pressure; sent without waiting): sent again at
@@ -89,7 +100,14 @@ struct Watch {
 struct OwedAnswer {
   std::array<std::uint32_t, kSelfTestResultWords> w{};
   bool owed = false;
+  std::array<std::uint32_t, kHearAnswerWords> hear{};  ///< a witness's answer to the watcher, the same way
+  bsp::TileId hear_to = bsp::kNoTile;                   ///< kNoTile: none owed
 };
+
+/** The watcher's tile now: where the directory has its role, or its configured tile. */
+bsp::TileId watcher_now(const HealthAgentConfig& cfg) noexcept {
+  return cfg.watcher_slot < udn::kRoleSlots ? udn::endpoint_role_tile(cfg.watcher_slot, cfg.watcher) : cfg.watcher;
+}
 
 /** Sends @p a to the supervisor; it stays owed if the network refuses it. */
 void send_answer(const HealthAgentConfig& cfg, OwedAnswer& a) noexcept {
@@ -106,7 +124,102 @@ void take_alive(Watch& w, const TileBootReport& alive, bsp::TileId supervisor) n
   w.pending = false;
   w.silent = false;
   w.cut_off = false;
+  w.asking = false;
+  w.path_cut = false;
   w.last_alive = now;
+}
+
+/** Counts one witness's word on the supervisor's tile (while the watcher asks). */
+void count_hearing(Watch& w, udn::Heard h) noexcept {
+  if (!w.asking) {
+    return;
+  }
+  w.heard += h == udn::Heard::kAnswers ? 1U : 0U;
+  w.missed += h == udn::Heard::kSilent ? 1U : 0U;
+}
+
+Hearing to_hearing(udn::Heard h) noexcept {
+  return h == udn::Heard::kAnswers ? Hearing::kAnswers : (h == udn::Heard::kSilent ? Hearing::kSilent : Hearing::kNotProbed);
+}
+
+udn::Heard from_hearing(Hearing h) noexcept {
+  return h == Hearing::kAnswers ? udn::Heard::kAnswers : (h == Hearing::kSilent ? udn::Heard::kSilent : udn::Heard::kNotProbed);
+}
+
+/** The tiles beside @p sup on the grid (kNoTile off its edge), north, east, south, west. */
+std::array<bsp::TileId, 4> beside(bsp::TileId sup) noexcept {
+  const std::uint32_t cols = bsp::udn_grid_cols();
+  const std::uint32_t rows = bsp::udn_grid_rows();
+  if (cols == 0U || rows == 0U || sup >= cols * rows) {
+    return {bsp::kNoTile, bsp::kNoTile, bsp::kNoTile, bsp::kNoTile};
+  }
+  const std::uint32_t x = sup % cols;
+  const std::uint32_t y = sup / cols;
+  return {y > 0U ? sup - cols : bsp::kNoTile, x + 1U < cols ? sup + 1U : bsp::kNoTile,
+          y + 1U < rows ? sup + cols : bsp::kNoTile, x > 0U ? sup - 1U : bsp::kNoTile};
+}
+
+/** Sends the question to the witnesses still unsent (bit per direction); refused ones stay. */
+void send_questions(Watch& w, const HealthAgentConfig& cfg, bsp::TileId self) noexcept {
+  std::array<std::uint32_t, kHearQueryWords> q{};
+  pack_hear_query(HearQuery{self, cfg.supervisor}, q);
+  const std::array<bsp::TileId, 4> n = beside(cfg.supervisor);
+  for (std::size_t d = 0; d < n.size(); ++d) {
+    if (((w.unsent >> d) & 1U) != 0U && udn::endpoint_send(n[d], udn::kFtChanHealth, q, 0U) == udn::FtError::kOk) {
+      w.unsent &= ~(1U << d);
+    }
+  }
+}
+
+/**
+ * Asks the tiles beside the supervisor's that run a role (the role directory
+ * names them; spares run no agent) whether their neighbour probe hears it; a
+ * watcher beside it answers itself. @return how many are asked.
+ */
+std::uint32_t ask_witnesses(Watch& w, const HealthAgentConfig& cfg, bsp::TileId self) noexcept {
+  w.asking = true;
+  w.asked = 0U;
+  w.unsent = 0U;
+  w.heard = 0U;
+  w.missed = 0U;
+  w.asked_at = k::now_ticks();
+  const std::array<bsp::TileId, 4> n = beside(cfg.supervisor);
+  const udn::RoleDirectory dir = udn::endpoint_roles();
+  const std::uint64_t failed = udn::endpoint_fault_map().failed_tiles;
+  for (std::size_t d = 0; d < n.size(); ++d) {
+    if (n[d] >= bsp::kMaxTiles || ((failed >> n[d]) & 1ULL) != 0ULL) {
+      continue;
+    }
+    if (n[d] == self) {
+      ++w.asked;
+      count_hearing(w, udn::endpoint_hears(cfg.supervisor));
+      continue;
+    }
+    bool runs_role = false;
+    for (const bsp::TileId t : dir.tile) {
+      runs_role = runs_role || t == n[d];
+    }
+    if (runs_role) {
+      ++w.asked;
+      w.unsent |= 1U << d;
+    }
+  }
+  send_questions(w, cfg, self);
+  return w.asked;
+}
+
+/** Sends a witness's answer owed; refused, it stays owed for the next pass (the watcher waits a while). */
+void send_hearing(OwedAnswer& a) noexcept {
+  if (a.hear_to != bsp::kNoTile && udn::endpoint_send(a.hear_to, udn::kFtChanHealth, a.hear, 0U) == udn::FtError::kOk) {
+    a.hear_to = bsp::kNoTile;
+  }
+}
+
+/** A witness's question answered from this tile's probe. */
+void answer_witness(bsp::TileId self, const HearQuery& q, OwedAnswer& a) noexcept {
+  pack_hear_answer(HearAnswer{self, q.subject, to_hearing(udn::endpoint_hears(q.subject))}, a.hear);
+  a.hear_to = q.asker;
+  send_hearing(a);
 }
 
 /**
@@ -118,14 +231,25 @@ void take_agent_messages(bsp::TileId self, const HealthAgentConfig& cfg, Watch& 
   if (answer.owed) {
     send_answer(cfg, answer);
   }
+  send_hearing(answer);
   udn::FtMessage m{};
   for (std::uint32_t i = 0; i < 2U && udn::endpoint_receive(udn::kFtChanHealth, m) == udn::FtError::kOk; ++i) {
+    const std::span<const std::uint32_t> in(m.data.data(), m.data_words);
+    HearQuery query{};
+    HearAnswer heard{};
+    if (unpack_hear_query(in, query) && query.asker == m.source) {
+      answer_witness(self, query, answer);
+      continue;
+    }
+    if (unpack_hear_answer(in, heard) && heard.tile == m.source && heard.subject == cfg.supervisor) {
+      count_hearing(watch, from_hearing(heard.hearing));
+      continue;
+    }
     if (m.source != cfg.supervisor) {
       continue;
     }
-    const std::span<const std::uint32_t> in(m.data.data(), m.data_words);
     TileBootReport alive{};
-    if (unpack_alive(in, alive) && cfg.watcher == self) {
+    if (unpack_alive(in, alive) && watcher_now(cfg) == self) {
       take_alive(watch, alive, cfg.supervisor);
       continue;
     }
@@ -162,6 +286,26 @@ void watch_supervisor(Watch& w, const HealthAgentConfig& cfg, bsp::TileId self) 
     return;
   }
   w.cut_off = false;
+  // A second opinion first: the tiles beside the supervisor's ping it. If they hear it and none
+  // misses it, its core runs and its switch routes: only the way to this watcher is cut, and a
+  // reset would wipe a healthy supervisor's state. Silent to one of them, or no answer, it is reset.
+  if (!w.asking && ask_witnesses(w, cfg, self) > 0U) {
+    return;
+  }
+  send_questions(w, cfg, self);
+  const bool answered = w.heard + w.missed >= w.asked;
+  if (w.asking && !answered && now - w.asked_at < kWitnessWaitTicks) {
+    return;
+  }
+  w.asking = false;
+  if (w.heard > 0U && w.missed == 0U) {
+    if (!w.path_cut) {
+      report(EventId::kSupervisorPathCut, cfg.supervisor, self, static_cast<std::uint32_t>(since), w.heard);
+    }
+    w.path_cut = true;
+    w.last_alive = now;  // asked again after another whole timeout
+    return;
+  }
   w.silent = true;
   report(EventId::kSupervisorSilent, cfg.supervisor, self, static_cast<std::uint32_t>(since), w.resets);
   if (w.resets >= cfg.max_watcher_resets) {
@@ -215,14 +359,25 @@ void health_agent_main(void* arg) noexcept {
   std::array<std::uint32_t, kAliveWords> alive{};
   pack_booted(TileBootReport{self, cause}, boot);
   pack_alive(TileBootReport{self, cause}, alive);
-  const bool sends_alive = own_supervisor && cfg->watcher < bsp::kMaxTiles && cfg->watcher != self;
-  const bool watches = cfg->watcher == self && cfg->supervisor < bsp::kMaxTiles && !own_supervisor;
+  const auto watching = [cfg, self, own_supervisor]() noexcept {
+    return watcher_now(*cfg) == self && cfg->supervisor < bsp::kMaxTiles && !own_supervisor;
+  };
+  bool watches = watching();
   Watch watch{};
   watch.last_alive = k::now_ticks();
   OwedAnswer answer{};
   pattern_init(self);
   recovery_clear(self);  // a request from before this boot was the one the restart answered
   for (;;) {
+    // The watcher follows its role: a tile that becomes it starts its watch with a whole timeout.
+    const bsp::TileId watcher = watcher_now(*cfg);
+    const bool sends_alive = own_supervisor && watcher < bsp::kMaxTiles && watcher != self;
+    const bool watches_now = watching();
+    if (watches_now && !watches) {
+      watch = Watch{};
+      watch.last_alive = k::now_ticks();
+    }
+    watches = watches_now;
     const Overdue o = find_overdue(self, k::now_ticks());
     // A failed flight check asked for the tile's recovery: no more kicks, the watchdog restarts it.
     if (o.task == k::kNoTask && recovery_requested(self) == 0U) {
@@ -230,7 +385,7 @@ void health_agent_main(void* arg) noexcept {
       overdue_written = false;
       // The remote kick: the watcher hears it only while the supervisor's tasks are within budget.
       if (sends_alive && udn::endpoint_ready()) {
-        (void)udn::endpoint_send(cfg->watcher, udn::kFtChanHealth, alive, 0U);  // a lost one is a late one
+        (void)udn::endpoint_send(watcher, udn::kFtChanHealth, alive, 0U);  // a lost one is a late one
       }
     } else if (o.task != k::kNoTask && !overdue_written) {
       report(EventId::kTaskOverdue, o.task, self, o.late, o.budget);

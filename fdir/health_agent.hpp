@@ -68,6 +68,12 @@ struct HealthAgentConfig {
   bsp::TileId supervisor = bsp::kNoTile;  ///< tile of the tile-health supervisor (boot reports, watchdog monitor)
   std::uint32_t watchdog_ticks = 20U;     ///< hardware watchdog timeout (>= 2 agent periods)
   bsp::TileId watcher = bsp::kNoTile;     ///< tile whose agent watches the supervisor's tile (kNoTile: none)
+  /**
+   * The watcher's role slot in the role directory (udn::RoleDirectory;
+   * kRoleSlots or more: none): where the role moves, the watching goes with
+   * it; @c watcher is its tile until the directory says otherwise.
+   */
+  std::uint32_t watcher_slot = 0xFFFF'FFFFU;
   /** A supervisor heartbeat missing this long is named and its tile reset (> watchdog_ticks + a boot). */
   std::uint32_t watcher_timeout_ticks = 40U;
   std::uint32_t max_watcher_resets = 3U;  ///< resets of the supervisor's tile by the watcher over the mission

@@ -137,4 +137,34 @@ bool unpack_replaced(std::span<const std::uint32_t> w, Replaced& out) noexcept {
   return true;
 }
 
+void pack_hear_query(const HearQuery& r, std::span<std::uint32_t, kHearQueryWords> w) noexcept {
+  w[0] = kMsgHearQuery;
+  w[1] = r.asker;
+  w[2] = r.subject;
+}
+
+bool unpack_hear_query(std::span<const std::uint32_t> w, HearQuery& out) noexcept {
+  if (!udn::is_message(w, kMsgHearQuery, kHearQueryWords) || !is_tile(w[1]) || !is_tile(w[2])) {
+    return false;
+  }
+  out = HearQuery{w[1], w[2]};
+  return true;
+}
+
+void pack_hear_answer(const HearAnswer& r, std::span<std::uint32_t, kHearAnswerWords> w) noexcept {
+  w[0] = kMsgHearAnswer;
+  w[1] = r.tile;
+  w[2] = r.subject;
+  w[3] = static_cast<std::uint32_t>(r.hearing);
+}
+
+bool unpack_hear_answer(std::span<const std::uint32_t> w, HearAnswer& out) noexcept {
+  if (!udn::is_message(w, kMsgHearAnswer, kHearAnswerWords) || !is_tile(w[1]) || !is_tile(w[2]) ||
+      w[3] > static_cast<std::uint32_t>(Hearing::kNotProbed)) {
+    return false;
+  }
+  out = HearAnswer{w[1], w[2], static_cast<Hearing>(w[3])};
+  return true;
+}
+
 }  // namespace fdir

@@ -1,7 +1,8 @@
 /**
  * @file health_messages.hpp
  * @brief The tile-health messages on udn::kFtChanHealth between the health agents and the
- *        tile-health supervisor: boot reports, heartbeats, self-tests, results bad, parks, replacements.
+ *        tile-health supervisor: boot reports, heartbeats, self-tests, results bad, parks, replacements,
+ *        and the watcher's questions to the supervisor's neighbours.
  */
 #pragma once
 
@@ -28,6 +29,23 @@ inline constexpr std::uint32_t kSelfTestResultWords = 4U;
 /** Heartbeat of the supervisor's tile (its agent -> the watcher, kFtChanHealth): [0] kMsgAlive [1] tile [2] bsp::BootCause. */
 inline constexpr std::uint32_t kMsgAlive = 0x414C5645U;  // "ALVE"
 inline constexpr std::uint32_t kAliveWords = 3U;
+/**
+ * The watcher's question to a tile beside the supervisor's, when the
+ * heartbeat is missing (watcher -> agent, kFtChanHealth): [0] kMsgHearQuery
+ * [1] the watcher [2] the supervisor's tile. The answer (agent -> watcher):
+ * [0] kMsgHearAnswer [1] the answering tile [2] the supervisor's tile
+ * [3] a Hearing: whether its endpoint's neighbour probe hears that tile.
+ */
+inline constexpr std::uint32_t kMsgHearQuery = 0x48524451U;   // "HRDQ"
+inline constexpr std::uint32_t kHearQueryWords = 3U;
+inline constexpr std::uint32_t kMsgHearAnswer = 0x48524441U;  // "HRDA"
+inline constexpr std::uint32_t kHearAnswerWords = 4U;
+/** What a neighbour's probe says of a tile (udn::endpoint_hears). */
+enum class Hearing : std::uint32_t {
+  kAnswers = 0U,    ///< its last ping was answered: the core runs and its switch routes
+  kSilent = 1U,     ///< its last ping went unanswered
+  kNotProbed = 2U,  ///< not a neighbour this tile probes
+};
 /**
  * A coordinator's report of a worker whose results stay wrong (fdir/result_trust.hpp; coordinator ->
  * supervisor, kFtChanHealth): [0] kMsgResultsBad [1] coordinator tile [2] worker tile [3] kResultsReset
@@ -100,6 +118,15 @@ struct Replaced {
   bsp::TileId old_tile = 0U;
   bsp::TileId spare = 0U;             ///< bsp::kNoTile: none
 };
+struct HearQuery {
+  bsp::TileId asker = 0U;
+  bsp::TileId subject = 0U;
+};
+struct HearAnswer {
+  bsp::TileId tile = 0U;
+  bsp::TileId subject = 0U;
+  Hearing hearing = Hearing::kNotProbed;
+};
 void pack_booted(const TileBootReport& r, std::span<std::uint32_t, kBootedWords> w) noexcept;
 [[nodiscard]] bool unpack_booted(std::span<const std::uint32_t> w, TileBootReport& out) noexcept;
 void pack_alive(const TileBootReport& r, std::span<std::uint32_t, kAliveWords> w) noexcept;
@@ -116,5 +143,9 @@ void pack_park_done(const ParkDone& r, std::span<std::uint32_t, kParkDoneWords> 
 [[nodiscard]] bool unpack_park_done(std::span<const std::uint32_t> w, ParkDone& out) noexcept;
 void pack_replaced(const Replaced& r, std::span<std::uint32_t, kReplacedWords> w) noexcept;
 [[nodiscard]] bool unpack_replaced(std::span<const std::uint32_t> w, Replaced& out) noexcept;
+void pack_hear_query(const HearQuery& r, std::span<std::uint32_t, kHearQueryWords> w) noexcept;
+[[nodiscard]] bool unpack_hear_query(std::span<const std::uint32_t> w, HearQuery& out) noexcept;
+void pack_hear_answer(const HearAnswer& r, std::span<std::uint32_t, kHearAnswerWords> w) noexcept;
+[[nodiscard]] bool unpack_hear_answer(std::span<const std::uint32_t> w, HearAnswer& out) noexcept;
 
 }  // namespace fdir

@@ -158,13 +158,36 @@ std::uint32_t distance(bsp::TileId a, bsp::TileId b) noexcept {
   return (ax > bx ? ax - bx : bx - ax) + (ay > by ? ay - by : by - ay);
 }
 
-/** The free spare nearest @p failed whose switch the fault map does not name; kNoTile for none. */
-bsp::TileId pick_spare(const State& s, bsp::TileId failed) noexcept {
-  const std::uint64_t failed_switches = udn::endpoint_fault_map().failed_tiles;
+/** The spares kept for a slot of their own (cfg.slot_spare). */
+std::uint64_t kept_spares(const TileHealthConfig& cfg) noexcept {
+  std::uint64_t m = 0ULL;
+  for (const bsp::TileId t : cfg.slot_spare) {
+    m |= t < bsp::kMaxTiles ? bit(t) : 0ULL;
+  }
+  return m;
+}
+
+/** True if spare @p t is free and the fault map does not name its switch. */
+bool spare_usable(const State& s, bsp::TileId t) noexcept {
+  return t < bsp::kMaxTiles && (s.view.spares & bit(t)) != 0ULL &&
+         (udn::endpoint_fault_map().failed_tiles & bit(t)) == 0ULL;
+}
+
+/**
+ * The spare for role slot @p slot of tile @p failed: the slot's own
+ * (cfg.slot_spare) if it has one, else the free spare nearest @p failed
+ * whose switch the fault map does not name, other than those kept for a
+ * slot; kNoTile for none.
+ */
+bsp::TileId pick_spare(const State& s, const TileHealthConfig& cfg, bsp::TileId failed, std::uint32_t slot) noexcept {
+  if (slot < udn::kRoleSlots && cfg.slot_spare[slot] != bsp::kNoTile) {
+    return spare_usable(s, cfg.slot_spare[slot]) ? cfg.slot_spare[slot] : bsp::kNoTile;
+  }
+  const std::uint64_t kept = kept_spares(cfg);
   bsp::TileId best = bsp::kNoTile;
   std::uint32_t best_d = 0xFFFF'FFFFU;
   for (bsp::TileId t = 0; t < bsp::kMaxTiles; ++t) {
-    if ((s.view.spares & bit(t)) == 0ULL || (failed_switches & bit(t)) != 0ULL) {
+    if (!spare_usable(s, t) || (kept & bit(t)) != 0ULL) {
       continue;
     }
     const std::uint32_t d = distance(t, failed);
@@ -192,8 +215,8 @@ void reset_watched(State& s, bsp::TileId t, std::uint32_t cause) noexcept {
  * Switches the free spare nearest @p t on to run boot slot @p slot in its
  * place (kNoSpare when there is none). @return the spare, or kNoTile.
  */
-bsp::TileId boot_spare(State& s, bsp::TileId t, std::uint32_t slot) noexcept {
-  const bsp::TileId p = pick_spare(s, t);
+bsp::TileId boot_spare(State& s, const TileHealthConfig& cfg, bsp::TileId t, std::uint32_t slot) noexcept {
+  const bsp::TileId p = pick_spare(s, cfg, t, slot);
   if (p == bsp::kNoTile || g_boot_slots == nullptr) {
     report(EventId::kNoSpare, slot, t);
     return bsp::kNoTile;
@@ -220,9 +243,10 @@ void retire(State& s, const TileHealthConfig& cfg, bsp::TileId t) noexcept {
   }
   const udn::RoleDirectory held = udn::endpoint_roles();
   for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
-    if (held.tile[slot] == t && (cfg.movable_slots & (1U << slot)) == 0U) {
-      // A role bound to this tile (the I/O tile's devices): nowhere to go, so
-      // the tile is kept and a later expiry may reset it again.
+    const bool kept_gone = cfg.slot_spare[slot] != bsp::kNoTile && !spare_usable(s, cfg.slot_spare[slot]);
+    if (held.tile[slot] == t && ((cfg.movable_slots & (1U << slot)) == 0U || kept_gone)) {
+      // A role bound to this tile, or whose own spare is gone (the I/O role's second attachment):
+      // nowhere to go, so the tile is kept and a later expiry may reset it again.
       report(EventId::kNoSpare, slot, t);
       return;
     }
@@ -236,7 +260,7 @@ void retire(State& s, const TileHealthConfig& cfg, bsp::TileId t) noexcept {
     if ((cfg.movable_slots & (1U << slot)) == 0U || dir.tile[slot] != t) {
       continue;
     }
-    const bsp::TileId p = boot_spare(s, t, slot);
+    const bsp::TileId p = boot_spare(s, cfg, t, slot);
     if (p == bsp::kNoTile) {
       continue;
     }
@@ -248,7 +272,7 @@ void retire(State& s, const TileHealthConfig& cfg, bsp::TileId t) noexcept {
 }
 
 /** A worker whose results stay wrong (a coordinator's report): reset it, or switch it off for a spare. */
-void on_results_bad(State& s, bsp::TileId from, const ResultsBad& bad) noexcept {
+void on_results_bad(State& s, const TileHealthConfig& cfg, bsp::TileId from, const ResultsBad& bad) noexcept {
   const bsp::TileId t = bad.worker;
   if ((s.watched & bit(t)) == 0ULL || (s.view.pending & bit(t)) != 0ULL) {
     return;  // not ours, or being reset already
@@ -260,7 +284,7 @@ void on_results_bad(State& s, bsp::TileId from, const ResultsBad& bad) noexcept 
   s.view.retired |= bit(t);
   s.watched &= ~bit(t);
   (void)bsp::power_off(t);
-  const bsp::TileId p = boot_spare(s, t, bad.boot_slot);
+  const bsp::TileId p = boot_spare(s, cfg, t, bad.boot_slot);
   if (p != bsp::kNoTile) {
     report(EventId::kRoleMoved, bad.boot_slot, t, p, 0U);
   }
@@ -642,7 +666,7 @@ void take_reports(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexc
     } else if (unpack_self_test_result(w, result)) {
       take_result(s, cfg, result, self);
     } else if (unpack_results_bad(w, bad)) {
-      on_results_bad(s, m.source, bad);
+      on_results_bad(s, cfg, m.source, bad);
     } else if (unpack_park(w, park)) {
       on_park(s, m.source, park, self);
     }

@@ -38,7 +38,8 @@
  * Retirement and spares: a tile past its reset cap (kActionCapped), or lost,
  * is retired: switched off (its switch still routes) and every movable role
  * slot it ran (the messaging role directory, udn::RoleDirectory) moves to the
- * nearest free spare: the supervisor writes the slot into the spare's boot
+ * nearest free spare (or the one spare kept for its slot, slot_spare): the
+ * supervisor writes the slot into the spare's boot
  * assignment (boot_slot, in DDR), switches it on (boot delay), applies the
  * move to its own directory and sends it to every running tile
  * (kMsgRoleMove), so senders follow without knowing tile numbers
@@ -66,7 +67,9 @@
 #include "fdir/health_agent.hpp"
 #include "fdir/health_messages.hpp"
 #include "kernel/task_table.hpp"
+#include "udn/endpoint.hpp"
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -80,10 +83,27 @@ namespace fdir {
 /** tile_lost's cause for a tile cut off: its switch is declared failed (above every tile id). */
 inline constexpr std::uint32_t kLostSwitchFailed = 0x100U;
 
+/** No role slot has a spare of its own. */
+constexpr std::array<bsp::TileId, udn::kRoleSlots> no_slot_spares() noexcept {
+  std::array<bsp::TileId, udn::kRoleSlots> a{};
+  for (bsp::TileId& t : a) {
+    t = bsp::kNoTile;
+  }
+  return a;
+}
+
 struct TileHealthConfig {
   std::uint64_t watched = 0U;              ///< tiles whose agents report here (role tiles)
   std::uint64_t spares = 0U;               ///< tiles off at boot that can take a role
   std::uint32_t movable_slots = 0U;        ///< role slots that move to a spare (bit per udn role slot)
+  /**
+   * Per role slot, the one spare it moves to (kNoTile: the nearest free one):
+   * a role wired to its tile, as the I/O role is to the devices, moves only
+   * to the tile its second attachment is on. Such a spare is kept for its
+   * slot; with it gone (taken, or its switch failed) the role's tile is kept
+   * and reset, as a role that does not move.
+   */
+  std::array<bsp::TileId, udn::kRoleSlots> slot_spare = no_slot_spares();
   std::uint32_t max_resets = 3U;           ///< resets per tile over the mission (>= 1)
   std::uint32_t boot_timeout_ticks = 200U; ///< a reset tile reports within this or is lost
   std::uint32_t poll_ticks = 2U;           ///< looks at boot reports and timeouts at least this often

@@ -50,13 +50,15 @@ inline constexpr std::uint32_t kTmrSimplexNoMajority = 4U;
 // ---- checked correlation (trn/vision/correlator, logged by the vision tile)
 inline constexpr fdir::EventId kCorrelationCorrected{0x0803};
 inline constexpr fdir::EventId kCorrelationFailed{0x0804};
+// ---- the I/O role (trn/tasks/io)
+inline constexpr fdir::EventId kIoDevicesTaken{0x0A01};
 // ---- mission phases and safe mode (trn/tasks/supervisors)
 inline constexpr fdir::EventId kPhaseBegin{0x0906};
 inline constexpr fdir::EventId kSafeMode{0x0909};
 }  // namespace ev
 
 /** The table: every application id once. */
-inline constexpr std::array<fdir::EventInfo, 25> kEventTable{{
+inline constexpr std::array<fdir::EventInfo, 26> kEventTable{{
     {ev::kFrameDone, "frame_done", fdir::Severity::kInfo, fdir::kStepNone, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
      "- / units lost / frame / matches",
      "frame {a} done: {b} matches, {c} units lost"},
@@ -169,6 +171,12 @@ inline constexpr std::array<fdir::EventInfo, 25> kEventTable{{
     {ev::kPhaseBegin, "phase_begin", fdir::Severity::kInfo, fdir::kStepNone, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
      "phase / - / reliability / power",
      "mission phase {s} begins: reliability {a|normal|high|?}, power {b|full|save|?}"},
+    {ev::kIoDevicesTaken, "io_devices_taken", fdir::Severity::kWarningLo, fdir::kStepRecover, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
+     "the tile that had them / IMU samples stranded / frames stranded / telecommands stranded: the I/O "
+     "role, started on the cross-strap's other attachment, set the select to its tile; what waited in "
+     "the FIFOs of the tile it left is lost",
+     "the I/O role took the devices over from tile {s}: {c} IMU samples, {a} frames and {b} telecommands "
+     "left there are lost"},
     {ev::kSafeMode, "safe_mode", fdir::Severity::kFatal, fdir::kStepNone, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
      "constraint / - / level",
      "trn_supervisor cannot meet {s|reliability {a|normal|high|?}|power {a|full|save|?}|capacity {a|full "

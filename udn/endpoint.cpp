@@ -622,6 +622,21 @@ bool endpoint_cut_off() noexcept {
   return probed > 0U && silent == probed;
 }
 
+Heard endpoint_hears(bsp::TileId tile) noexcept {
+  Endpoint* ep = current();
+  if (ep == nullptr || !ep->probing || tile >= kRouteMaxTiles) {
+    return Heard::kNotProbed;
+  }
+  const IrqGuard guard;
+  for (std::size_t d = 0; d < ep->probe.neighbour.size(); ++d) {
+    if (ep->probe.neighbour[d] == tile) {
+      // One ping lost in a row can be the network's; a tile that stopped misses every round.
+      return ep->probe.misses[d] > 1U || ep->probe.reported[d] ? Heard::kSilent : Heard::kAnswers;
+    }
+  }
+  return Heard::kNotProbed;
+}
+
 bool endpoint_wait_ready(std::uint32_t max_ticks) noexcept {
   for (std::uint32_t i = 0; i <= max_ticks; ++i) {
     if (endpoint_ready()) {

@@ -230,6 +230,16 @@ RoleDirectory endpoint_roles_of(bsp::TileId tile) noexcept;
  */
 [[nodiscard]] bool endpoint_cut_off() noexcept;
 
+/** What the current tile's neighbour probe says of one tile (endpoint_hears). */
+enum class Heard : std::uint8_t {
+  kAnswers,    ///< its pings are answered (one lost in a row at most): its core runs, its switch routes
+  kSilent,     ///< its last two pings or more went unanswered
+  kNotProbed,  ///< not a neighbour this tile probes (off the grid, a spare, failed, or the endpoint closed)
+};
+
+/** Whether the current tile's probe hears neighbour @p tile (a second opinion on a silent tile). [task] */
+[[nodiscard]] Heard endpoint_hears(bsp::TileId tile) noexcept;
+
 /** The current tile's copy of the fault map (the boot map before the endpoint opens). [task] */
 [[nodiscard]] FaultMap endpoint_fault_map() noexcept;
 

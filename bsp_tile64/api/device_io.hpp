@@ -6,6 +6,13 @@
  * bounded FIFOs on the I/O tile and raise Irq::kDevice there; the I/O tile's
  * driver reads them with these calls. Nothing here exposes the world's truth.
  * A FIFO that is full drops the newest record and counts it, as a device does.
+ *
+ * Cross-strapping: the devices may be wired to two tiles, a prime and a
+ * backup, each with its own FIFOs, through a select (the model of a
+ * cross-strap switch). They deliver to the selected attachment only; the
+ * prime is selected at attach. A driver takes the devices over by setting
+ * the select to its own tile (devices_select); what waited in the other
+ * attachment's FIFOs is lost with it, and counted.
  */
 #pragma once
 
@@ -37,6 +44,10 @@ inline constexpr std::uint32_t kImuFifoDepth = 32;
 inline constexpr std::uint32_t kFrameFifoDepth = 2;
 inline constexpr std::uint32_t kCommandFifoDepth = 8;
 
+/**
+ * Reads pop from the calling tile's attachment (from the host, outside any
+ * tile: the selected one's); a tile with no attachment reads nothing.
+ */
 /** Pops the oldest IMU sample. @return false when the FIFO is empty. [task|isr on the I/O tile] */
 bool imu_read(ImuSample* out) noexcept;
 
@@ -54,10 +65,36 @@ struct DeviceStats {
   std::uint32_t frames_dropped;  ///< FIFO full
   std::uint32_t commands_delivered;
   std::uint32_t commands_dropped;  ///< FIFO full
+  std::uint32_t selects;           ///< times the select moved the devices to the other attachment
+  std::uint32_t imu_stranded;      ///< samples left in the attachment the select left (lost)
+  std::uint32_t frames_stranded;   ///< frame records left there
+  std::uint32_t commands_stranded; ///< telecommands left there
 };
 DeviceStats device_stats() noexcept;
 
-/** The tile the devices deliver to (kNoTile before the bus is attached). */
+/** The tile the devices deliver to: the selected attachment's (kNoTile before the bus is attached). */
 TileId io_tile() noexcept;
+
+enum class SelectResult : std::uint8_t {
+  kSelected,  ///< the devices deliver to this tile (already did, or from now on)
+  kNoBus,     ///< no devices attached: nothing to select
+  kNotWired,  ///< this tile is neither attachment: the select is unchanged
+};
+
+/** What one select did. */
+struct DeviceSelect {
+  SelectResult result;
+  TileId from;                      ///< the tile the devices delivered to before (kNoTile if unchanged)
+  std::uint32_t imu_stranded;       ///< what was waiting in its FIFOs, lost with the switch-over
+  std::uint32_t frames_stranded;
+  std::uint32_t commands_stranded;
+};
+
+/**
+ * The cross-strap select: the devices deliver to the calling tile's
+ * attachment from now on. Selecting the attachment already selected changes
+ * nothing. [task on an attached tile]
+ */
+DeviceSelect devices_select() noexcept;
 
 }  // namespace bsp

@@ -34,6 +34,7 @@ enum class BoardEvent : std::uint16_t {
   kSdcApplied = 0x00D,      ///< a = fault log index, b = bit index in the published value
   kQueueFull = 0x00E,       ///< a = event cycle (the global event queue is full; event lost)
   kBootFailed = 0x00F,      ///< a = MemError of the boot stack carve
+  kDeviceSelect = 0x010,    ///< the cross-strap moved the devices to this tile: a = the tile before, b = IMU samples stranded
 };
 
 /** One trace event. */

@@ -44,6 +44,19 @@ TEST(TileHealthMessages, EveryMessageRoundTrips) {
   ASSERT_TRUE(fdir::unpack_replaced(rp, replaced));
   EXPECT_EQ(replaced.spare, bsp::kNoTile);
 
+  std::array<std::uint32_t, fdir::kHearQueryWords> hq{};
+  fdir::pack_hear_query(fdir::HearQuery{9U, 0U}, hq);
+  fdir::HearQuery query{};
+  ASSERT_TRUE(fdir::unpack_hear_query(hq, query));
+  EXPECT_EQ(query.asker, 9U);
+  EXPECT_EQ(query.subject, 0U);
+  std::array<std::uint32_t, fdir::kHearAnswerWords> ha{};
+  fdir::pack_hear_answer(fdir::HearAnswer{1U, 0U, fdir::Hearing::kSilent}, ha);
+  fdir::HearAnswer answer{};
+  ASSERT_TRUE(fdir::unpack_hear_answer(ha, answer));
+  EXPECT_EQ(answer.tile, 1U);
+  EXPECT_EQ(answer.hearing, fdir::Hearing::kSilent);
+
   std::array<std::uint32_t, fdir::kSupMsgWords> sm{};
   fdir::pack_sup_message(fdir::SupMessage{fdir::kMsgEscalate, 1U, 2U, 7U}, sm);
   fdir::SupMessage sup{};
@@ -68,6 +81,12 @@ TEST(TileHealthMessages, FieldsOutOfRangeAreRefusedUntouched) {
   EXPECT_EQ(bad.worker, 3U);
   fdir::ParkDone done{};
   EXPECT_FALSE(fdir::unpack_park_done(std::array<std::uint32_t, 3>{fdir::kMsgParkDone, 19U, 2U}, done));
+  fdir::HearAnswer answer{1U, 0U, fdir::Hearing::kAnswers};
+  EXPECT_FALSE(fdir::unpack_hear_answer(std::array<std::uint32_t, 4>{fdir::kMsgHearAnswer, 8U, 0U, 3U}, answer));
+  EXPECT_FALSE(fdir::unpack_hear_answer(std::array<std::uint32_t, 4>{fdir::kMsgHearAnswer, 8U, bsp::kMaxTiles, 1U}, answer));
+  EXPECT_EQ(answer.tile, 1U);
+  fdir::HearQuery query{};
+  EXPECT_FALSE(fdir::unpack_hear_query(std::array<std::uint32_t, 3>{fdir::kMsgHearQuery, bsp::kMaxTiles, 0U}, query));
   fdir::SupMessage sup{};
   EXPECT_FALSE(fdir::unpack_sup_message(std::array<std::uint32_t, 4>{fdir::kMsgPolicy, fdir::kMaxConstraints, 0U, 0U}, sup));
   EXPECT_FALSE(fdir::unpack_sup_message(std::array<std::uint32_t, 4>{fdir::kMsgPolicy, 0U, fdir::kMaxLevels, 0U}, sup));

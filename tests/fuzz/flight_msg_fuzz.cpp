@@ -165,6 +165,24 @@ void fdir_park_done(Words w) {
   });
 }
 
+void fdir_hear_query(Words w) {
+  run<fdir::HearQuery>(w, fdir::unpack_hear_query, [&](const fdir::HearQuery& r) {
+    require(tile_ok(r.asker) && tile_ok(r.subject), "hear query ranges");
+    std::array<std::uint32_t, fdir::kHearQueryWords> p{};
+    fdir::pack_hear_query(r, p);
+    require(same(p, w), "hear query repacks");
+  });
+}
+
+void fdir_hear_answer(Words w) {
+  run<fdir::HearAnswer>(w, fdir::unpack_hear_answer, [&](const fdir::HearAnswer& r) {
+    require(tile_ok(r.tile) && tile_ok(r.subject) && r.hearing <= fdir::Hearing::kNotProbed, "hear answer ranges");
+    std::array<std::uint32_t, fdir::kHearAnswerWords> p{};
+    fdir::pack_hear_answer(r, p);
+    require(same(p, w), "hear answer repacks");
+  });
+}
+
 void fdir_replaced(Words w) {
   run<fdir::Replaced>(w, fdir::unpack_replaced, [&](const fdir::Replaced& r) {
     require(tile_ok(r.old_tile) && (tile_ok(r.spare) || r.spare == bsp::kNoTile), "replaced ranges");
@@ -356,6 +374,8 @@ const Decoder kDecoders[] = {
     {fdir_park, fdir::kMsgPark, fdir::kParkWords},
     {fdir_park_done, fdir::kMsgParkDone, fdir::kParkDoneWords},
     {fdir_replaced, fdir::kMsgReplaced, fdir::kReplacedWords},
+    {fdir_hear_query, fdir::kMsgHearQuery, fdir::kHearQueryWords},
+    {fdir_hear_answer, fdir::kMsgHearAnswer, fdir::kHearAnswerWords},
     {fdir_sup, fdir::kMsgPolicy, fdir::kSupMsgWords},
     {trn_command, tt::kMsgCommand, tt::kCommandWords},
     {trn_sup_command, tt::kMsgSupCommand, tt::kSupCommandWords},

@@ -376,7 +376,8 @@ void fly(const Options& o, const tools::Mission& m, double duration_s, tools::Na
       (void)tools::try_read_record(trn::tasks::slot_tile_now(trn::tasks::kSlotIo), trn::tasks::kIoTaskStatsRecord,
                                    io_stats);
       const std::uint32_t io = io_stats.imu_forwarded;
-      if (io != rec.io_forwarded && rec.io_samples_s.size() < rec.io_samples_s.capacity()) {
+      // A count back at 0 is a record carved anew (a restart, or the role on its spare), not a sample sent.
+      if (io != rec.io_forwarded && io != 0U && rec.io_samples_s.size() < rec.io_samples_s.capacity()) {
         rec.io_samples_s.push_back(static_cast<double>(bsp::board_time()) / clock_hz);
       }
       rec.io_forwarded = io;

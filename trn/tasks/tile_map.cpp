@@ -36,6 +36,12 @@ ImageError check_tiles(const ImageConfig& c, const char*& what) noexcept {
       return ImageError::kBadTile;
     }
   }
+  for (const bsp::TileId t : c.tile_health.slot_spare) {
+    if (!tile_ok(t)) {
+      what = "tile_health.slot_spare";
+      return ImageError::kBadTile;
+    }
+  }
   what = "coord.vision_tiles";
   if (c.coord.vision_count > kMaxVisionTiles) {
     return ImageError::kBadVisionList;
@@ -131,7 +137,14 @@ void wire_image(ImageConfig& cfg) noexcept {
   }
   for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
     cfg.endpoint.roles.tile[slot] = slot_boot_tile(slot);
+    cfg.tile_health.slot_spare[slot] = bsp::kNoTile;
   }
+  for (const Placement& p : kPlacements) {
+    if (p.slot < udn::kRoleSlots) {
+      cfg.tile_health.slot_spare[p.slot] = p.backup;
+    }
+  }
+  cfg.agent.watcher_slot = kSlotIo;  // the watcher is the I/O role (kWiring's agent.watcher)
 }
 
 void tile_map_vision_tiles(VisionCoordConfig& cfg, std::uint64_t exclude_mask) noexcept {

@@ -12,10 +12,12 @@
  * (configure_image). Default 8x8 layout (tile = row * 8 + col):
  *
  *   row 0:  T  V  .  .  .  .  F  S     T TRN supervisor, V vision coordinator,
- *   row 1:  .  I  .  .  .  .  .  .     F filter supervisor, S vision supervisor,
+ *   row 1:  i  I  .  .  .  .  .  .     F filter supervisor, S vision supervisor,
  *   row 2:  .  .  N  R  R  R  .  .     I I/O tile, N navigation filter (and TMR voter),
  *   rows 3-7: v v v v v v v v          R filter replica (idle until TMR),
- *                                      v vision tile, . spare (powered off)
+ *                                      v vision tile, . spare (powered off),
+ *                                      i the I/O role's backup (a spare kept for it:
+ *                                        the devices' second attachment)
  *
  * The TRN supervisor's tile runs the top of the supervisor tree
  * (trn/tasks/supervisors/supervisors.hpp: mission phases, policies, escalations) beside
@@ -62,6 +64,12 @@ struct Placement {
   Role role;
   std::uint32_t slot;  ///< its role-directory slot (kNoSlot: senders name its tile, it does not move)
   bsp::TileId tile;
+  /**
+   * The one spare the role moves to (kNoTile: the nearest free one): the
+   * I/O role's is the tile the devices' second attachment is on (the
+   * cross-strap, bsp_tile64/api/device_io.hpp), kept for it.
+   */
+  bsp::TileId backup;
 };
 
 /**
@@ -69,18 +77,28 @@ struct Placement {
  * 3-7 (kVisionFirstTile..) is a vision tile, the rest are spares.
  */
 inline constexpr std::array<Placement, 9> kPlacements{{
-    {Role::kTrnSupervisor, kNoSlot, 0},
-    {Role::kVisionCoordinator, kSlotCoordinator, 1},
-    {Role::kFilterSupervisor, kSlotFilterSupervisor, 6},
-    {Role::kVisionSupervisor, kSlotVisionSupervisor, 7},
-    {Role::kIo, kSlotIo, 9},
-    {Role::kFilter, kSlotFilter, 18},
-    {Role::kFilterReplica, kSlotReplica0, 19},
-    {Role::kFilterReplica, kSlotReplica0 + 1U, 20},
-    {Role::kFilterReplica, kSlotReplica0 + 2U, 21},
+    {Role::kTrnSupervisor, kNoSlot, 0, bsp::kNoTile},
+    {Role::kVisionCoordinator, kSlotCoordinator, 1, bsp::kNoTile},
+    {Role::kFilterSupervisor, kSlotFilterSupervisor, 6, bsp::kNoTile},
+    {Role::kVisionSupervisor, kSlotVisionSupervisor, 7, bsp::kNoTile},
+    {Role::kIo, kSlotIo, 9, 8},
+    {Role::kFilter, kSlotFilter, 18, bsp::kNoTile},
+    {Role::kFilterReplica, kSlotReplica0, 19, bsp::kNoTile},
+    {Role::kFilterReplica, kSlotReplica0 + 1U, 20, bsp::kNoTile},
+    {Role::kFilterReplica, kSlotReplica0 + 2U, 21, bsp::kNoTile},
 }};
 /** The vision tiles: every tile from here to the last (rows 3-7). */
 inline constexpr bsp::TileId kVisionFirstTile = 24;
+
+/** The backup tile of the first instance of role @p r (Placement::backup); kNoTile if it has none. */
+constexpr bsp::TileId backup_tile(Role r) noexcept {
+  for (const Placement& p : kPlacements) {
+    if (p.role == r) {
+      return p.backup;
+    }
+  }
+  return bsp::kNoTile;
+}
 
 /** The tile of the @p index-th instance of role @p r in kPlacements; kNoTile if it has none. */
 constexpr bsp::TileId boot_tile(Role r, std::uint32_t index = 0U) noexcept {
@@ -109,8 +127,14 @@ constexpr std::array<Role, kMapTiles> make_roles() noexcept {
 }
 constexpr bool placements_ok() noexcept {
   for (std::size_t i = 0; i < kPlacements.size(); ++i) {
-    if (kPlacements[i].tile >= kVisionFirstTile) {
+    const bsp::TileId b = kPlacements[i].backup;
+    if (kPlacements[i].tile >= kVisionFirstTile || (b != bsp::kNoTile && (b >= kVisionFirstTile || kPlacements[i].slot == kNoSlot))) {
       return false;
+    }
+    for (std::size_t j = 0; j < kPlacements.size(); ++j) {
+      if (b != bsp::kNoTile && (kPlacements[j].tile == b || (j != i && kPlacements[j].backup == b))) {
+        return false;  // a backup is a spare, kept for one role
+      }
     }
     for (std::size_t j = i + 1U; j < kPlacements.size(); ++j) {
       if (kPlacements[i].tile == kPlacements[j].tile ||
@@ -122,7 +146,8 @@ constexpr bool placements_ok() noexcept {
   return true;
 }
 }  // namespace detail
-static_assert(detail::placements_ok(), "each tile and each directory slot placed once, below the vision tiles");
+static_assert(detail::placements_ok(),
+              "each tile and each directory slot placed once, below the vision tiles; a backup is a spare of one role with a slot");
 
 /** The default tile map. */
 inline constexpr std::array<Role, kMapTiles> kTileRoles = detail::make_roles();
@@ -130,6 +155,8 @@ inline constexpr std::array<Role, kMapTiles> kTileRoles = detail::make_roles();
 constexpr bsp::TileId kSupervisorTile = boot_tile(Role::kTrnSupervisor);
 constexpr bsp::TileId kCoordinatorTile = boot_tile(Role::kVisionCoordinator);
 constexpr bsp::TileId kIoTile = boot_tile(Role::kIo);
+/** The cross-strap's second attachment of the devices: the I/O role's one spare. */
+constexpr bsp::TileId kIoBackupTile = backup_tile(Role::kIo);
 constexpr bsp::TileId kFilterTile = boot_tile(Role::kFilter);
 constexpr bsp::TileId kFilterSupervisorTile = boot_tile(Role::kFilterSupervisor);
 constexpr bsp::TileId kVisionSupervisorTile = boot_tile(Role::kVisionSupervisor);
@@ -301,9 +328,9 @@ struct RoleDecl {
   k::TaskTable table;  ///< empty: nothing runs there (a spare)
   /**
    * Moves to a spare (its directory slot then names the spare) when its tile
-   * is given up. The I/O tile is wired to the devices and is only reset; the
-   * TRN supervisor has no slot; a vision tile is replaced by the coordinator's
-   * pool, not moved.
+   * is given up. The I/O role moves only to its backup (the devices' second
+   * attachment, Placement::backup); the TRN supervisor has no slot; a vision
+   * tile is replaced by the coordinator's pool, not moved.
    */
   bool movable;
 };
@@ -314,7 +341,7 @@ inline constexpr std::array<RoleDecl, 9> kRoles{{
     {Role::kTrnSupervisor, "trn_supervisor", 'T', kSupervisorRole, false},
     {Role::kVisionCoordinator, "vision_coordinator", 'V', kCoordinatorRole, true},
     {Role::kFilterSupervisor, "filter_supervisor", 'F', kFilterSupervisorRole, true},
-    {Role::kIo, "io", 'I', kIoRole, false},
+    {Role::kIo, "io", 'I', kIoRole, true},
     {Role::kFilter, "filter", 'N', kFilterRole, true},
     {Role::kVision, "vision", 'v', kVisionRole, false},
     {Role::kFilterReplica, "filter_replica", 'R', kReplicaRole, true},
@@ -394,8 +421,8 @@ inline constexpr std::array<Wire, 25> kWiring{{
     // Suspect reports, boot reports and watchdog interrupts go to the tile-health supervisor.
     wire<&ImageConfig::endpoint, &udn::EndpointConfig::report_to>("endpoint.report_to", Role::kTrnSupervisor),
     wire<&ImageConfig::agent, &fdir::HealthAgentConfig::supervisor>("agent.supervisor", Role::kTrnSupervisor),
-    // The I/O tile watches the supervisor's tile: it never moves (its devices are wired to it) and is
-    // watched by the supervisor in turn.
+    // The I/O role watches the supervisor's tile (and the watching moves with it, agent.watcher_slot);
+    // the supervisor watches it in turn.
     wire<&ImageConfig::agent, &fdir::HealthAgentConfig::watcher>("agent.watcher", Role::kIo),
     wire<&ImageConfig::io, &IoTaskConfig::filter_tile>("io.filter_tile", Role::kFilter),
     wire<&ImageConfig::io, &IoTaskConfig::coordinator_tile>("io.coordinator_tile", Role::kVisionCoordinator),
@@ -422,8 +449,9 @@ inline constexpr std::array<Wire, 25> kWiring{{
 }};
 
 /**
- * Fills every tile of @p cfg that kWiring names with its role's boot tile, and
- * the role directory's slots with their boot tiles. [host, before boot]
+ * Fills every tile of @p cfg that kWiring names with its role's boot tile,
+ * the role directory's slots with their boot tiles, the spares kept for a
+ * slot (Placement::backup) and the watcher's slot. [host, before boot]
  */
 void wire_image(ImageConfig& cfg) noexcept;
 

@@ -5,6 +5,7 @@
 #include "bsp_tile64/emu/devices/device_bus.hpp"
 
 #include "bsp_tile64/emu/board.hpp"
+#include "bsp_tile64/emu/trace.hpp"
 
 #include <array>
 #include <cmath>
@@ -36,12 +37,19 @@ struct Fifo {
   }
 };
 
-struct Bus {
-  DeviceBusConfig cfg{};
-  bool attached = false;
+/** One end of the cross-strap: a tile and its FIFOs. */
+struct Attachment {
+  TileId tile = kNoTile;
   Fifo<ImuSample, kImuFifoDepth> imu;
   Fifo<FrameRecord, kFrameFifoDepth> frames;
   Fifo<Telecommand, kCommandFifoDepth> commands;
+};
+
+struct Bus {
+  DeviceBusConfig cfg{};
+  bool attached = false;
+  std::array<Attachment, 2> end{};  ///< prime, backup
+  std::uint32_t selected = 0;       ///< the attachment the devices deliver to
   std::uint32_t next_command = 0;
   DeviceStats stats{};
   std::uint32_t next_imu_seq = 0;
@@ -52,6 +60,36 @@ struct Bus {
 };
 
 Bus g_bus;
+
+Attachment& sel() noexcept { return g_bus.end[g_bus.selected]; }
+
+/** The tile the next delivery's interrupt goes to. */
+TileId sel_tile() noexcept { return sel().tile; }
+
+/**
+ * A delivery whose event was scheduled before a select (on the tile selected
+ * then) went to the new attachment: its interrupt goes there too, at the
+ * next barrier like any effect across tiles.
+ */
+void follow_select(TileId event_tile, Cycles cycle) noexcept {
+  if (event_tile != sel_tile()) {
+    (void)schedule_event(cycle, sel_tile(), Irq::kDevice, nullptr, 0U);
+  }
+}
+
+/** The calling tile's attachment (from the host: the selected one); nullptr if it has none. */
+Attachment* mine() noexcept {
+  const TileId t = current_tile();
+  if (t == kNoTile) {
+    return &sel();
+  }
+  for (Attachment& a : g_bus.end) {
+    if (a.tile == t) {
+      return &a;
+    }
+  }
+  return nullptr;
+}
 
 Cycles cycle_at(double t_s) noexcept {
   return static_cast<Cycles>(std::llround(t_s * static_cast<double>(board_config().profile.clock_hz)));
@@ -66,17 +104,18 @@ double frame_time(std::uint32_t n) noexcept {
   return g_bus.cfg.first_frame_s + static_cast<double>(n) / g_bus.cfg.camera->config().rate_hz;
 }
 
-void on_imu(TileId /*tile*/, Cycles /*cycle*/, std::uint64_t seq) noexcept {
+void on_imu(TileId tile, Cycles cycle, std::uint64_t seq) noexcept {
   const ImuSample s = g_bus.cfg.imu->sample(static_cast<std::uint32_t>(seq));
-  if (g_bus.imu.push(s)) {
+  if (sel().imu.push(s)) {
     ++g_bus.stats.imu_delivered;
   } else {
     ++g_bus.stats.imu_dropped;
   }
+  follow_select(tile, cycle);
   g_bus.next_imu_seq = static_cast<std::uint32_t>(seq) + 1U;
   const double next_t = static_cast<double>(g_bus.next_imu_seq + 1U) / kImuRateHz;
   if (next_t <= g_bus.cfg.last_time_s) {
-    (void)schedule_event(imu_cycle(g_bus.next_imu_seq), g_bus.cfg.io_tile, Irq::kDevice, &on_imu,
+    (void)schedule_event(imu_cycle(g_bus.next_imu_seq), sel_tile(), Irq::kDevice, &on_imu,
                          g_bus.next_imu_seq);
   }
 }
@@ -107,13 +146,14 @@ void render_pending() noexcept {
 
 void on_barrier(Cycles /*barrier*/) noexcept { render_pending(); }
 
-void on_frame_ready(TileId /*tile*/, Cycles /*cycle*/, std::uint64_t /*arg*/) noexcept {
+void on_frame_ready(TileId tile, Cycles cycle, std::uint64_t /*arg*/) noexcept {
   render_pending();  // a readout shorter than a quantum comes before the barrier
-  if (g_bus.frames.push(g_bus.pending)) {
+  if (sel().frames.push(g_bus.pending)) {
     ++g_bus.stats.frames_delivered;
   } else {
     ++g_bus.stats.frames_dropped;
   }
+  follow_select(tile, cycle);
 }
 
 void on_capture(TileId /*tile*/, Cycles /*cycle*/, std::uint64_t n) noexcept {
@@ -121,33 +161,38 @@ void on_capture(TileId /*tile*/, Cycles /*cycle*/, std::uint64_t n) noexcept {
   g_bus.render_due = true;
   g_bus.render_frame = static_cast<std::uint32_t>(n);
   // The readout delay is shorter than the frame period, so at most one frame is pending.
-  (void)schedule_event(cycle_at(t + g_bus.cfg.frame_readout_s), g_bus.cfg.io_tile, Irq::kDevice, &on_frame_ready,
+  (void)schedule_event(cycle_at(t + g_bus.cfg.frame_readout_s), sel_tile(), Irq::kDevice, &on_frame_ready,
                        0);
   const double next_t = frame_time(static_cast<std::uint32_t>(n) + 1U);
   if (next_t <= g_bus.cfg.last_time_s) {
-    (void)schedule_event(cycle_at(next_t), g_bus.cfg.io_tile, Irq::kCount, &on_capture, n + 1U);
+    (void)schedule_event(cycle_at(next_t), sel_tile(), Irq::kCount, &on_capture, n + 1U);
   }
 }
 
-void on_command(TileId /*tile*/, Cycles /*cycle*/, std::uint64_t arg) noexcept {
+void on_command(TileId tile, Cycles cycle, std::uint64_t arg) noexcept {
   const Telecommand c{g_bus.next_command++, static_cast<std::uint32_t>(arg >> 32U), static_cast<std::uint32_t>(arg)};
-  if (g_bus.commands.push(c)) {
+  if (sel().commands.push(c)) {
     ++g_bus.stats.commands_delivered;
   } else {
     ++g_bus.stats.commands_dropped;
   }
+  follow_select(tile, cycle);
 }
 
 }  // namespace
 
 DeviceBusError attach_devices(const DeviceBusConfig& cfg) noexcept {
-  if (cfg.io_tile >= board_config().profile.tiles() || cfg.frame_readout_s < 0.0 ||
+  const TileId tiles = board_config().profile.tiles();
+  if (cfg.io_tile >= tiles || (cfg.backup_tile != kNoTile && (cfg.backup_tile >= tiles || cfg.backup_tile == cfg.io_tile)) ||
+      cfg.frame_readout_s < 0.0 ||
       (cfg.camera != nullptr && cfg.frame_readout_s >= 1.0 / cfg.camera->config().rate_hz)) {
     return DeviceBusError::kBadConfig;
   }
   g_bus = Bus{};
   g_bus.cfg = cfg;
   g_bus.attached = true;
+  g_bus.end[0].tile = cfg.io_tile;
+  g_bus.end[1].tile = cfg.backup_tile;
   if (cfg.imu != nullptr &&
       schedule_event(imu_cycle(0), cfg.io_tile, Irq::kDevice, &on_imu, 0) != BoardError::kOk) {
     return DeviceBusError::kScheduleFailed;
@@ -163,24 +208,69 @@ DeviceBusError attach_devices(const DeviceBusConfig& cfg) noexcept {
   return DeviceBusError::kOk;
 }
 
-bool imu_read(ImuSample* out) noexcept { return g_bus.imu.pop(out); }
+bool imu_read(ImuSample* out) noexcept {
+  Attachment* a = mine();
+  return a != nullptr && a->imu.pop(out);
+}
 
-bool frame_read(FrameRecord* out) noexcept { return g_bus.frames.pop(out); }
+bool frame_read(FrameRecord* out) noexcept {
+  Attachment* a = mine();
+  return a != nullptr && a->frames.pop(out);
+}
 
-bool command_read(Telecommand* out) noexcept { return g_bus.commands.pop(out); }
+bool command_read(Telecommand* out) noexcept {
+  Attachment* a = mine();
+  return a != nullptr && a->commands.pop(out);
+}
+
+DeviceSelect devices_select() noexcept {
+  DeviceSelect d{SelectResult::kNoBus, kNoTile, 0U, 0U, 0U};
+  if (!g_bus.attached) {
+    return d;
+  }
+  const TileId t = current_tile();
+  std::uint32_t want = g_bus.end.size();
+  for (std::uint32_t i = 0; i < g_bus.end.size(); ++i) {
+    want = (g_bus.end[i].tile == t && t != kNoTile) ? i : want;
+  }
+  if (want == g_bus.end.size()) {
+    d.result = SelectResult::kNotWired;
+    return d;
+  }
+  d.result = SelectResult::kSelected;
+  if (want == g_bus.selected) {
+    return d;
+  }
+  // What waits in the attachment left behind is lost with it: counted, and emptied.
+  Attachment& old = sel();
+  d.from = old.tile;
+  d.imu_stranded = old.imu.count;
+  d.frames_stranded = old.frames.count;
+  d.commands_stranded = old.commands.count;
+  old.imu = {};
+  old.frames = {};
+  old.commands = {};
+  g_bus.selected = want;
+  ++g_bus.stats.selects;
+  g_bus.stats.imu_stranded += d.imu_stranded;
+  g_bus.stats.frames_stranded += d.frames_stranded;
+  g_bus.stats.commands_stranded += d.commands_stranded;
+  trace_record(tile_time(t), t, static_cast<std::uint16_t>(BoardEvent::kDeviceSelect), d.from, d.imu_stranded);
+  return d;
+}
 
 DeviceBusError schedule_command(double t_s, std::uint32_t code, std::uint32_t arg) noexcept {
   if (!g_bus.attached || !(t_s >= 0.0)) {
     return DeviceBusError::kBadConfig;
   }
   const std::uint64_t word = (static_cast<std::uint64_t>(code) << 32U) | arg;
-  return schedule_event(cycle_at(t_s), g_bus.cfg.io_tile, Irq::kDevice, &on_command, word) == BoardError::kOk
+  return schedule_event(cycle_at(t_s), sel_tile(), Irq::kDevice, &on_command, word) == BoardError::kOk
              ? DeviceBusError::kOk
              : DeviceBusError::kScheduleFailed;
 }
 
 DeviceStats device_stats() noexcept { return g_bus.stats; }
 
-TileId io_tile() noexcept { return g_bus.attached ? g_bus.cfg.io_tile : kNoTile; }
+TileId io_tile() noexcept { return g_bus.attached ? sel_tile() : kNoTile; }
 
 }  // namespace bsp

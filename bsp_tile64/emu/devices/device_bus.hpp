@@ -7,7 +7,10 @@
  * I/O tile's IMU FIFO; at each capture time the camera renders the truth pose
  * into its DDR ring and, after the readout delay, the frame record is pushed
  * into the frame FIFO; a telecommand scheduled by the image (the uplink)
- * goes into the command FIFO at its time. Each delivery raises Irq::kDevice on the I/O tile.
+ * goes into the command FIFO at its time. Each delivery goes to the selected
+ * attachment (the prime, or the backup once a driver there selected it) and
+ * raises Irq::kDevice on its tile; an event scheduled before a select raises
+ * it on the tile selected then, while its record goes to the new one.
  * Flight code reads them through device_io.hpp only.
  */
 #pragma once
@@ -19,7 +22,8 @@
 namespace bsp {
 
 struct DeviceBusConfig {
-  TileId io_tile = 0;
+  TileId io_tile = 0;             ///< the prime attachment, selected at attach
+  TileId backup_tile = kNoTile;   ///< the cross-strap's second attachment (kNoTile: none)
   ImuModel* imu = nullptr;        ///< nullptr: no IMU
   CameraDevice* camera = nullptr; ///< nullptr: no camera
   double first_frame_s = 1.0;     ///< first capture time, emulated seconds

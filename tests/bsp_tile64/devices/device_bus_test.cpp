@@ -55,6 +55,20 @@ constexpr k::TaskSpec kIoTable[] = {
     {"io", &io_driver, nullptr, 1, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
 };
 
+/** The cross-strap's second attachment. */
+constexpr bsp::TileId kBackup = 5;
+bsp::DeviceSelect g_select{};
+
+/** A driver on the backup: takes the devices over, then reads like the prime's. */
+void backup_driver(void* arg) {
+  g_select = bsp::devices_select();
+  io_driver(arg);
+}
+
+constexpr k::TaskSpec kBackupTable[] = {
+    {"io", &backup_driver, nullptr, 1, 0, 0, 32U * 1024U, k::Policy::kPreemptive},
+};
+
 class DeviceBus : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -78,7 +92,10 @@ class DeviceBus : public ::testing::Test {
     cfg.powered_at_start = 1ULL << kIo;
     cfg.monitor_tile = bsp::kNoTile;
     cfg.boot[kIo] = &k::boot_entry;
+    cfg.boot[kBackup] = &k::boot_entry;
     k::set_task_table(kIo, kIoTable, bsp::kTile64.cycles_per_ms());
+    k::set_task_table(kBackup, kBackupTable, bsp::kTile64.cycles_per_ms());
+    g_select = bsp::DeviceSelect{};
     ASSERT_EQ(bsp::board_init(cfg), bsp::BoardError::kOk);
     g_seen = Seen{};
   }
@@ -144,10 +161,48 @@ TEST_F(DeviceBus, AFullFifoDropsAndCountsInsteadOfOverwriting) {
   EXPECT_EQ(s.seq, 0U) << "the oldest samples are kept";
 }
 
+TEST_F(DeviceBus, TheCrossStrapSelectMovesTheDevicesToTheBackupAndCountsWhatWasLeft) {
+  // The prime dies before its driver reads anything: its IMU FIFO fills and then drops.
+  ASSERT_EQ(bsp::power_off(kIo), bsp::BoardError::kOk);
+  bsp::DeviceBusConfig bus;
+  bus.io_tile = kIo;
+  bus.backup_tile = kBackup;
+  bus.imu = &imu_;
+  ASSERT_EQ(bsp::attach_devices(bus), bsp::DeviceBusError::kOk);
+  EXPECT_EQ(bsp::io_tile(), kIo) << "the prime is selected at attach";
+  EXPECT_EQ(bsp::devices_select().result, bsp::SelectResult::kNotWired) << "the host is no attachment";
+  (void)bsp::run_for(kHz / 2U + kHz / 1000U);  // samples 0..49: 32 held by the prime, 18 dropped
+  ASSERT_EQ(g_seen.imu_count, 0U);
+  // The backup starts: its driver sets the select to its own tile.
+  ASSERT_EQ(bsp::power_on(kBackup), bsp::BoardError::kOk);
+  (void)bsp::run_for(kHz / 2U);  // to 1.001 s
+  EXPECT_EQ(g_select.result, bsp::SelectResult::kSelected);
+  EXPECT_EQ(g_select.from, kIo);
+  EXPECT_EQ(g_select.imu_stranded, bsp::kImuFifoDepth);
+  EXPECT_EQ(bsp::io_tile(), kBackup);
+  const bsp::DeviceStats st = bsp::device_stats();
+  EXPECT_EQ(st.selects, 1U);
+  EXPECT_EQ(st.imu_stranded, bsp::kImuFifoDepth);
+  EXPECT_EQ(st.imu_dropped, 50U - bsp::kImuFifoDepth);
+  // Every sample from the select on reached the backup, in order, none twice.
+  ASSERT_GT(g_seen.imu_count, 40U);
+  for (std::uint32_t i = 1; i < g_seen.imu_count; ++i) {
+    EXPECT_EQ(g_seen.imu[i].seq, g_seen.imu[0].seq + i);
+  }
+  EXPECT_EQ(g_seen.imu[g_seen.imu_count - 1U].seq, 99U);
+  EXPECT_EQ(st.imu_delivered, bsp::kImuFifoDepth + g_seen.imu_count);
+}
+
 TEST_F(DeviceBus, BadConfigurationIsRefused) {
   bsp::DeviceBusConfig bus;
   bus.io_tile = 200;
   EXPECT_EQ(bsp::attach_devices(bus), bsp::DeviceBusError::kBadConfig);
+  bus.io_tile = kIo;
+  bus.backup_tile = kIo;  // the backup is another tile
+  EXPECT_EQ(bsp::attach_devices(bus), bsp::DeviceBusError::kBadConfig);
+  bus.backup_tile = 200;
+  EXPECT_EQ(bsp::attach_devices(bus), bsp::DeviceBusError::kBadConfig);
+  bus.backup_tile = bsp::kNoTile;
   bus.io_tile = kIo;
   bus.camera = &cam_;
   bus.frame_readout_s = 1.5;  // longer than the frame period

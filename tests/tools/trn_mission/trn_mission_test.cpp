@@ -960,8 +960,55 @@ TEST_F(TrnMissionBinary, TheIoTilesSwitchIsNamedByTransitsAndItsCutOffWatcherRes
   EXPECT_NE(log.find("watcher_cut_off"), std::string::npos);
   EXPECT_EQ(count_of(log, "supervisor_silent"), 0U);
   EXPECT_EQ(count_of(log, "tile_reset: tile 0"), 0U) << "the healthy supervisor is not reset";
-  EXPECT_NE(log.find("no_spare: role slot 1 of tile 9"), std::string::npos)
-      << "the I/O role has no spare (its devices are on tile 9): the flight says so";
+  EXPECT_NE(log.find("role_moved: role slot 1 moves from retired tile 9 to spare 8"), std::string::npos)
+      << "the I/O role moves to the devices' second attachment";
+  EXPECT_NE(log.find("io_devices_taken: the I/O role took the devices over from tile 9"), std::string::npos);
+  EXPECT_NE(log.find("role_restored: role slot 1 runs again on tile 8"), std::string::npos);
+  EXPECT_EQ(s["faults_recovered"], 1) << log;
+}
+
+// Issue 56 item 1: the cross-strap. The I/O role, moved to its backup (tile 8) when the prime's
+// switch fails, carries on the IMU stream and the frames; when the backup then hangs, it has no
+// spare left, so it is kept and reset like a role that does not move, and the heartbeat watcher
+// (the I/O role) has moved with it: no supervisor_silent, no healthy tile reset.
+TEST_F(TrnMissionBinary, TheIoRoleMovesToTheDevicesSecondAttachmentWhichIsResetWhenItHangs) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 4 --faults " + fixture("io_switch_then_backup_hang.toml") + " --out " +
+                (dir_ / "io").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "io" / "summary.json");
+  const std::string log = read_text(dir_ / "io" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 2) << log;
+  EXPECT_EQ(s["faults_recovered"], 2) << log;
+  EXPECT_EQ(s["false_alarms"].get<double>(), 0.0) << log;
+  EXPECT_EQ(s["faults_misdiagnosed"].get<double>(), 0.0) << log;
+  EXPECT_NE(log.find("role_moved: role slot 1 moves from retired tile 9 to spare 8"), std::string::npos) << log;
+  EXPECT_NE(log.find("io_devices_taken: the I/O role took the devices over from tile 9"), std::string::npos);
+  EXPECT_NE(log.find("core_hang (planned) -> detected by tile 0 (watchdog_expired)"), std::string::npos);
+  EXPECT_NE(log.find("tile_reset: tile 8 reset by the supervisor"), std::string::npos);
+  EXPECT_NE(log.find("tile_recovered: tile 8 booted its role again"), std::string::npos);
+  EXPECT_EQ(count_of(log, "supervisor_silent"), 0U) << "the watcher moved with the I/O role";
+  EXPECT_EQ(count_of(log, "imu_gap"), 0U) << "every sample reached the filter, live or from the DDR record";
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+}
+
+// Issue 56 item 2, the watcher's second opinion: the link the supervisor's heartbeat takes to its
+// watcher fails (nothing names it). The watcher asks the tiles beside the supervisor's; tile 1 still
+// hears it, so the watcher writes the cut way and resets nobody (before: three resets of the healthy
+// supervisor, then a false alarm at every timeout). A hung supervisor is still reset: see
+// AHungSupervisorWhoseWatchdogFailedIsResetByItsWatcher.
+TEST_F(TrnMissionBinary, AWatcherWhoseWayToTheSupervisorIsCutAsksItsNeighboursAndResetsNobody) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 4 --faults " + fixture("io_west_link_heartbeat.toml") + " --out " +
+                (dir_ / "cut").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "cut" / "summary.json");
+  const std::string log = read_text(dir_ / "cut" / "events.log");
+  EXPECT_NE(log.find("supervisor_path_cut: no heartbeat from the supervisor's tile 0"), std::string::npos) << log;
+  EXPECT_NE(log.find("but 1 tile(s) beside it hear it"), std::string::npos);
+  EXPECT_EQ(count_of(log, "supervisor_silent"), 0U) << log;
+  EXPECT_EQ(count_of(log, "tile_reset: tile 0"), 0U) << "the healthy supervisor is not reset";
+  EXPECT_EQ(s["false_alarms"].get<double>(), 0.0);
+  EXPECT_EQ(s["healthy_tiles_disturbed"].get<double>(), 0.0);
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
 }
 
 // FDIR-TR-11: the health tile reset while a failed switch's reports wait to be judged: the reports

@@ -176,6 +176,14 @@ TEST(Deployment, WiringFillsEveryTileARoleNamesWithThatRolesBootTile) {
   }
   EXPECT_EQ(c.io.filter_tile, 18U);
   EXPECT_EQ(c.agent.watcher, trn::tasks::kIoTile) << "the I/O tile watches the supervisor";
+  EXPECT_EQ(c.agent.watcher_slot, trn::tasks::kSlotIo) << "and the watching moves with the I/O role";
+  // The I/O role's one spare is the devices' second attachment, kept for it; no other slot has one.
+  for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
+    EXPECT_EQ(c.tile_health.slot_spare[slot], slot == trn::tasks::kSlotIo ? trn::tasks::kIoBackupTile : bsp::kNoTile)
+        << "slot " << slot;
+  }
+  EXPECT_EQ(trn::tasks::kIoBackupTile, 8U);
+  EXPECT_EQ(trn::tasks::kTileRoles[trn::tasks::kIoBackupTile], trn::tasks::Role::kSpare) << "off until the role moves";
   EXPECT_EQ(c.filter.replica_tiles, trn::tasks::kReplicaTiles);
   EXPECT_EQ(c.sup.replica_tiles, trn::tasks::kReplicaTiles);
   for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
@@ -207,9 +215,10 @@ TEST(Deployment, PlacementsRolesAndSlotsAgree) {
   EXPECT_EQ(trn::tasks::slot_boot_tile(trn::tasks::kNoSlot), bsp::kNoTile);
   EXPECT_EQ(trn::tasks::slot_role(trn::tasks::kNoSlot), Role::kSpare);
   EXPECT_EQ(trn::tasks::slot_role(trn::tasks::kSlotVisionPool), Role::kVision);
-  // The coordinator, the filter, its replicas and the two application supervisors move; the I/O
-  // tile (wired to the devices) and the TRN supervisor (no slot) do not.
+  // The coordinator, the filter, its replicas, the two application supervisors and the I/O role (to
+  // its backup only) move; the TRN supervisor (no slot) does not.
   EXPECT_EQ(trn::tasks::movable_slots(), (1U << trn::tasks::kSlotCoordinator) | (1U << trn::tasks::kSlotFilter) |
+                                             (1U << trn::tasks::kSlotIo) |
                                              (7U << trn::tasks::kSlotReplica0) |
                                              (1U << trn::tasks::kSlotFilterSupervisor) |
                                              (1U << trn::tasks::kSlotVisionSupervisor));

@@ -334,6 +334,7 @@ bool Mission::boot(std::string& error) {
   }
   bsp::DeviceBusConfig bus;
   bus.io_tile = trn::tasks::kIoTile;
+  bus.backup_tile = trn::tasks::kIoBackupTile;  // the cross-strap: the I/O role's one spare
   bus.imu = &imu_;
   bus.camera = &camera_;
   bus.last_time_s = setup_.duration_s;

@@ -93,6 +93,7 @@ const char* board_kind_name(std::uint16_t kind) {
     case static_cast<std::uint16_t>(bsp::BoardEvent::kSdcApplied): return "sdc_applied";
     case static_cast<std::uint16_t>(bsp::BoardEvent::kQueueFull): return "queue_full";
     case static_cast<std::uint16_t>(bsp::BoardEvent::kBootFailed): return "boot_failed";
+    case static_cast<std::uint16_t>(bsp::BoardEvent::kDeviceSelect): return "device_select";
     case static_cast<std::uint16_t>(bsp::UdnTrace::kLost): return "udn_lost";
     case static_cast<std::uint16_t>(bsp::UdnTrace::kBitFlip): return "udn_bit_flip";
     case static_cast<std::uint16_t>(bsp::UdnTrace::kSwitchFail): return "udn_switch_fail";

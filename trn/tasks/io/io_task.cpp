@@ -8,6 +8,7 @@
 #include "bsp_tile64/api/memory.hpp"
 #include "fdir/supervisor.hpp"
 #include "kernel/kernel.hpp"
+#include "trn/events.hpp"
 #include "trn/tasks/io/imu_ring.hpp"
 #include "trn/tasks/messages.hpp"
 #include "udn/endpoint.hpp"
@@ -118,6 +119,16 @@ void io_task_main(void* arg) noexcept {
   g_stats = bsp::carve_record(bsp::Region{bsp::current_tile()}, kIoTaskStatsRecord, &err);
   if (cfg == nullptr || g_stats == nullptr || k::set_isr(bsp::Irq::kDevice, &device_isr) != k::Status::kOk) {
     return;  // the tile's health monitor sees a task that never runs
+  }
+  // The cross-strap: the devices deliver to this tile from now on (a no-op where they already do:
+  // the prime at boot, or a tile restarted in place). Started where no device is wired, it has
+  // nothing to drive: the task ends, and its tile's health monitor sees one that never runs.
+  const bsp::DeviceSelect sel = bsp::devices_select();
+  if (sel.result == bsp::SelectResult::kNotWired) {
+    return;
+  }
+  if (sel.from != bsp::kNoTile) {
+    trn::report(ev::kIoDevicesTaken, sel.from, sel.imu_stranded, sel.frames_stranded, sel.commands_stranded);
   }
   std::array<std::uint32_t, kImuWords> words{};
   // Every sample is also recorded in DDR, for a filter that restarts to replay what it missed.
