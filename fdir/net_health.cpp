@@ -254,6 +254,38 @@ bool judge_link(State& s, const NetHealthConfig& cfg, bsp::TileId self, std::uin
   return any;
 }
 
+/**
+ * An end tile cut off (end_tile_verdict): every transit to or through it lost
+ * for cfg.end_tile_ticks, longer than a hung core there would stay silent
+ * (its watchdog, a reset and a boot). Its switch goes into the map like any
+ * failed switch (transit_failed, cause 1), and the tile-health supervisor
+ * retires the tile and moves its role. @return true on a decision.
+ */
+bool judge_end_tile(State& s, const NetHealthConfig& cfg, bsp::TileId self, k::Ticks now, std::uint64_t mute) noexcept {
+  const std::uint64_t candidates = cfg.transits.untested & cfg.transit_subjects & ~(std::uint64_t{1} << self) & ~s.parked;
+  std::uint64_t reported = 0U;
+  static_assert(udn::kRouteMaxTiles <= 64U, "a tile mask holds every tile");
+  for (bsp::TileId t = 0; t < udn::kRouteMaxTiles; ++t) {
+    reported |= s.suspected_at[t] != 0U ? (std::uint64_t{1} << t) : 0U;
+  }
+  std::uint64_t lost_ones = 0U;
+  const bsp::TileId x = end_tile_verdict(cfg.transits, s.lost, candidates, s.votes.failed, mute, reported, lost_ones);
+  if (x == bsp::kNoTile) {
+    return false;
+  }
+  k::Ticks latest = 0U;
+  for (std::uint32_t i = 0; i < cfg.transits.count && i < kMaxTransits; ++i) {
+    latest = ((lost_ones >> i) & 1U) != 0U && s.lost_at[i] > latest ? s.lost_at[i] : latest;
+  }
+  if (now - latest < cfg.end_tile_ticks || udn::fault_map_fail_tile(s.map, x) != udn::RouteError::kOk) {
+    return false;
+  }
+  s.votes.failed |= std::uint64_t{1} << x;
+  report(EventId::kTransitFailed, x, 1U, static_cast<std::uint32_t>(std::popcount(lost_ones)), s.map.version);
+  decided(s, self);
+  return true;
+}
+
 /** Judges the transits once the reports are quiet: a switch or a link failed, or a silent core behind a switch that routes. */
 void judge_transits(State& s, const NetHealthConfig& cfg, bsp::TileId self) noexcept {
   const k::Ticks now = k::now_ticks();
@@ -269,19 +301,22 @@ void judge_transits(State& s, const NetHealthConfig& cfg, bsp::TileId self) noex
     off_ends |= off ? (std::uint64_t{1} << i) : 0U;
   }
   s.lost &= ~off_ends;
+  // A transit across a link the map says failed (voted by its two ends, or named by the transits)
+  // tells nothing of a switch.
+  const std::uint64_t mute = s.lost != 0U ? transits_across(cfg.transits, udn::failed_link_set(s.map)) : 0U;
   if (s.lost != 0U) {
-    // A transit across a link the map says failed (voted by its two ends, or named by the transits)
-    // tells nothing of a switch.
-    const std::uint64_t mute = transits_across(cfg.transits, udn::failed_link_set(s.map));
     const bsp::TileId x = transit_verdict(cfg.transits, s.lost, cfg.transit_subjects, s.votes.failed, mute);
     if (x != bsp::kNoTile && udn::fault_map_fail_tile(s.map, x) == udn::RouteError::kOk) {
       s.votes.failed |= std::uint64_t{1} << x;
       const std::uint64_t through = transits_through(cfg.transits, x);
-      report(EventId::kTransitFailed, x, 0U, static_cast<std::uint32_t>(std::popcount(through)), s.map.version);
+      report(EventId::kTransitFailed, x, 0U, static_cast<std::uint32_t>(std::popcount(through)), s.map.version);  // cause 0: through it
       decided(s, self);
       return;
     }
     if (judge_link(s, cfg, self, mute | off_ends)) {
+      return;
+    }
+    if (judge_end_tile(s, cfg, self, now, mute | off_ends)) {
       return;
     }
   }

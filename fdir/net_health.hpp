@@ -52,6 +52,13 @@ struct NetHealthConfig {
   TransitPlan transits{};              ///< the transit probes the endpoints run (same plan as their configuration)
   std::uint64_t transit_subjects = 0U; ///< switches judged by transits (the plan's subjects)
   std::uint32_t settle_ticks = 60U;    ///< quiet time before transits are judged
+  /**
+   * An end tile (end_tile_verdict: transits end there, none crosses it
+   * between two independent probers) whose every transit stays lost this
+   * long is cut off: longer than a hung core takes to be named by its
+   * watchdog, reset and answer again.
+   */
+  std::uint32_t end_tile_ticks = 150U;
 };
 
 /** Health task entry (arg: const NetHealthConfig*). */

@@ -482,6 +482,36 @@ std::uint64_t transits_across(const TransitPlan& plan, const udn::LinkSet& links
   return m;
 }
 
+bsp::TileId end_tile_verdict(const TransitPlan& plan, std::uint64_t lost, std::uint64_t candidates,
+                             std::uint64_t known_failed, std::uint64_t mute, std::uint64_t reported,
+                             std::uint64_t& transits_out) noexcept {
+  transits_out = 0U;
+  for (std::uint32_t x = 0; x < 64U; ++x) {
+    if (!has(candidates, x) || has(known_failed, x)) {
+      continue;
+    }
+    std::uint64_t counted = 0U;
+    bool targeted = false;
+    std::uint64_t probers = 0U;
+    for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
+      const Transit& t = plan.t[i];
+      const bool on = t.target == x || has(interior(t), x);
+      if (!on || t.prober == x || (t.path & known_failed) != 0U || has(mute, i)) {
+        continue;
+      }
+      counted |= bit(i);
+      targeted = targeted || t.target == x;
+      probers |= bit(t.prober);
+    }
+    const bool independent = std::popcount(probers) >= 2 && empty(common_links(plan, counted));
+    if (targeted && counted != 0U && (counted & ~lost) == 0U && (independent || has(reported, x))) {
+      transits_out = counted;
+      return static_cast<bsp::TileId>(x);
+    }
+  }
+  return bsp::kNoTile;
+}
+
 bsp::TileId transit_verdict(const TransitPlan& plan, std::uint64_t lost, std::uint64_t subjects,
                             std::uint64_t known_failed, std::uint64_t mute) noexcept {
   // Candidates: subjects with enough telling transits, all lost. A failed

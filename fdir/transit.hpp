@@ -108,6 +108,25 @@ std::uint64_t transits_across(const TransitPlan& plan, const udn::LinkSet& links
 bsp::TileId transit_verdict(const TransitPlan& plan, std::uint64_t lost, std::uint64_t subjects,
                             std::uint64_t known_failed, std::uint64_t mute = 0U) noexcept;
 
+/**
+ * An end tile whose switch the lost transits point at although the plan
+ * cannot test it (a subject of @p candidates, say plan.untested: one live
+ * neighbour, nothing crosses it between two independent probers): some
+ * planned transit targets it, so its software answers them, and every
+ * transit to or through it that tells (nothing on the way in
+ * @p known_failed, not in @p mute) is in @p lost, and either they come from
+ * two probers or more with no link common to all, or a neighbour's probe
+ * found it silent too (@p reported; the transit reports that cross a failed
+ * end tile are lost with it, so often one prober is all that is heard). A
+ * hung core loses the same transits; the
+ * caller tells the two apart by time (a hung core is named by its watchdog,
+ * reset and answers again well within it). @p transits_out: those
+ * transits. @return the lowest such tile, or bsp::kNoTile.
+ */
+bsp::TileId end_tile_verdict(const TransitPlan& plan, std::uint64_t lost, std::uint64_t candidates,
+                             std::uint64_t known_failed, std::uint64_t mute, std::uint64_t reported,
+                             std::uint64_t& transits_out) noexcept;
+
 /** A mesh link named by lost transits. */
 struct LinkVerdict {
   bsp::TileId a = bsp::kNoTile;  ///< the link's west or north tile (kNoTile: no link named)

@@ -1011,6 +1011,41 @@ TEST_F(TrnMissionBinary, AWatcherWhoseWayToTheSupervisorIsCutAsksItsNeighboursAn
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
 }
 
+// The end tile: the vision supervisor's corner switch, which no vote and no two independent transits
+// can name. Every transit to or through it stays lost longer than a hung core would, and its
+// neighbour finds it silent: its switch is declared failed, its role moves, and the coordinator's
+// traffic to column 7 goes around it (before: not detected, five healthy vision tiles accused).
+TEST_F(TrnMissionBinary, AnEndTilesSwitchIsNamedByItsTransitsAfterAHungCoreWouldBeBack) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 4 --faults " + fixture("vision_supervisor_switch.toml") + " --out " +
+                (dir_ / "end").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "end" / "summary.json");
+  const std::string log = read_text(dir_ / "end" / "events.log");
+  EXPECT_NE(log.find("switch_fail (planned) -> detected by tile 0 (transit_failed)"), std::string::npos) << log;
+  EXPECT_NE(log.find("switch of tile 7 declared failed (an end tile"), std::string::npos);
+  EXPECT_NE(log.find("role_moved: role slot 7 moves from retired tile 7 to spare 15"), std::string::npos);
+  EXPECT_EQ(count_of(log, "worker_silent"), 0U) << "no vision tile accused";
+  EXPECT_EQ(s["faults_recovered"], 1);
+  EXPECT_EQ(s["false_alarms"].get<double>(), 0.0);
+}
+
+// ... and what it must not take for one: a hang (the watchdog), a hang with the watchdog failed (a
+// transit through the tile answers: core_suspect) and the link to its one live neighbour.
+TEST_F(TrnMissionBinary, AHungEndTileOrItsLinkIsNoFailedSwitch) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 5 --faults " + fixture("vision_supervisor_hangs_and_link.toml") +
+                " --out " + (dir_ / "end").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "end" / "summary.json");
+  const std::string log = read_text(dir_ / "end" / "events.log");
+  EXPECT_EQ(count_of(log, "declared failed (an end tile"), 0U) << log;
+  EXPECT_EQ(count_of(log, "tile_reset: tile 7 reset by the supervisor"), 2U);
+  EXPECT_NE(log.find("core_suspect: core of tile 7"), std::string::npos);
+  EXPECT_NE(log.find("link between tiles 7 and 6 declared failed"), std::string::npos);
+  EXPECT_EQ(s["faults_recovered"], 3);
+  EXPECT_EQ(s["faults_misdiagnosed"].get<double>(), 0.0);
+  EXPECT_EQ(s["false_alarms"].get<double>(), 0.0);
+}
+
 // FDIR-TR-11: the health tile reset while a failed switch's reports wait to be judged: the reports
 // that still hold come again, and the switch is named all the same (before: never).
 TEST_F(TrnMissionBinary, ReportsThatStillHoldComeAgainAfterTheHealthTileIsReset) {

@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
+
 #include <fstream>
 #include <string>
 
@@ -163,6 +165,26 @@ TEST(ImageConfig, TransitPlanOnTheTileMapVotesOnEverySubject) {
       EXPECT_EQ(fdir::transit_verdict(plan, lost, subjects, 0U), x) << "subject " << x;
     }
   }
+  // The untested corner tile 7 is an end tile: transits end there (answered by its software) or
+  // cross it, all by the link from tile 15 (its other neighbour, 6, takes none). All of them lost and
+  // a neighbour's probe finding it silent too name it (a hung core loses the same ones: net_health
+  // tells the two apart by time); without that report the shared link alone could lose them all,
+  // and any of them heard names nothing.
+  std::uint64_t on7 = 0;
+  for (std::uint32_t i = 0; i < plan.count; ++i) {
+    on7 |= (plan.t[i].path >> 7U & 1U) != 0U && plan.t[i].prober != 7U ? std::uint64_t{1} << i : 0U;
+  }
+  ASSERT_GE(std::popcount(on7), 2);
+  const std::uint64_t reported7 = std::uint64_t{1} << 7U;
+  std::uint64_t out = 0;
+  EXPECT_EQ(fdir::end_tile_verdict(plan, on7, plan.untested, 0U, 0U, reported7, out), 7U);
+  EXPECT_EQ(out, on7);
+  EXPECT_EQ(fdir::end_tile_verdict(plan, on7, plan.untested, 0U, 0U, 0U, out), bsp::kNoTile) << "one link under them all";
+  const std::uint64_t one = on7 & (~on7 + 1U);  // the lowest of them
+  EXPECT_EQ(fdir::end_tile_verdict(plan, on7 & ~one, plan.untested, 0U, 0U, reported7, out), bsp::kNoTile) << "one heard";
+  EXPECT_EQ(fdir::end_tile_verdict(plan, on7, 0U, 0U, 0U, reported7, out), bsp::kNoTile) << "not a candidate";
+  EXPECT_EQ(fdir::end_tile_verdict(plan, on7, plan.untested, reported7, 0U, reported7, out), bsp::kNoTile)
+      << "already failed";
 }
 
 // The deployment declared once: every tile a role's configuration names is filled from the wiring
