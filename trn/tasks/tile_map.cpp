@@ -188,8 +188,33 @@ bsp::TileId slot_tile_now(std::uint32_t slot) noexcept {
   if (slot >= udn::kRoleSlots) {
     return bsp::kNoTile;
   }
-  const bsp::TileId t = udn::endpoint_roles_of(kSupervisorTile).tile[slot];
-  return t == bsp::kNoTile ? slot_boot_tile(slot) : t;
+  // The newest move any open endpoint holds (the most holders among equals): the supervisor's own
+  // directory starts again from the boot one when its tile is reset, while the others keep theirs.
+  std::array<bsp::TileId, kMapTiles> tile{};
+  std::array<std::uint32_t, kMapTiles> version{};
+  for (bsp::TileId e = 0; e < kMapTiles; ++e) {
+    const udn::RoleDirectory d = udn::endpoint_roles_of(e);
+    tile[e] = d.tile[slot];
+    version[e] = d.version[slot];
+  }
+  bsp::TileId best = bsp::kNoTile;
+  std::uint32_t best_version = 0U;
+  std::uint32_t best_holders = 0U;
+  for (bsp::TileId e = 0; e < kMapTiles; ++e) {
+    if (tile[e] == bsp::kNoTile) {
+      continue;
+    }
+    std::uint32_t holders = 0U;
+    for (bsp::TileId o = 0; o < kMapTiles; ++o) {
+      holders += tile[o] == tile[e] && version[o] == version[e] ? 1U : 0U;
+    }
+    if (best == bsp::kNoTile || version[e] > best_version || (version[e] == best_version && holders > best_holders)) {
+      best = tile[e];
+      best_version = version[e];
+      best_holders = holders;
+    }
+  }
+  return best == bsp::kNoTile ? slot_boot_tile(slot) : best;
 }
 
 void spare_boot_entry(bsp::TileId tile) noexcept {

@@ -1046,6 +1046,21 @@ TEST_F(TrnMissionBinary, AHungEndTileOrItsLinkIsNoFailedSwitch) {
   EXPECT_EQ(s["false_alarms"].get<double>(), 0.0);
 }
 
+// The host finds a role where the newest move any endpoint holds puts it: the supervisor's own
+// directory starts again from the boot one when its tile resets, and cut off it stays so (campaign
+// five_100, run 88: the filter on spare 10 flew to 0.35 m, and the host, reading the retired tile 18,
+// scored 17.5 m, lost).
+TEST_F(TrnMissionBinary, TheHostReadsAMovedRoleWhereTheNewestMovePutsIt) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 5 --faults " + fixture("filter_moved_then_supervisor_cut_off.toml") +
+                " --out " + (dir_ / "moved").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "moved" / "summary.json");
+  const std::string log = read_text(dir_ / "moved" / "events.log");
+  EXPECT_NE(log.find("role_moved: role slot 2 moves from retired tile 18 to spare 10"), std::string::npos) << log;
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+  EXPECT_LT(s["nav_longest_gap_s"].get<double>(), 0.5) << "the outputs of tile 10 read to the end";
+}
+
 // FDIR-TR-11: the health tile reset while a failed switch's reports wait to be judged: the reports
 // that still hold come again, and the switch is named all the same (before: never).
 TEST_F(TrnMissionBinary, ReportsThatStillHoldComeAgainAfterTheHealthTileIsReset) {
