@@ -138,14 +138,6 @@ void count_hearing(Watch& w, udn::Heard h) noexcept {
   w.missed += h == udn::Heard::kSilent ? 1U : 0U;
 }
 
-Hearing to_hearing(udn::Heard h) noexcept {
-  return h == udn::Heard::kAnswers ? Hearing::kAnswers : (h == udn::Heard::kSilent ? Hearing::kSilent : Hearing::kNotProbed);
-}
-
-udn::Heard from_hearing(Hearing h) noexcept {
-  return h == Hearing::kAnswers ? udn::Heard::kAnswers : (h == Hearing::kSilent ? udn::Heard::kSilent : udn::Heard::kNotProbed);
-}
-
 /** The tiles beside @p sup on the grid (kNoTile off its edge), north, east, south, west. */
 std::array<bsp::TileId, 4> beside(bsp::TileId sup) noexcept {
   const std::uint32_t cols = bsp::udn_grid_cols();
@@ -217,7 +209,7 @@ void send_hearing(OwedAnswer& a) noexcept {
 
 /** A witness's question answered from this tile's probe. */
 void answer_witness(bsp::TileId self, const HearQuery& q, OwedAnswer& a) noexcept {
-  pack_hear_answer(HearAnswer{self, q.subject, to_hearing(udn::endpoint_hears(q.subject))}, a.hear);
+  pack_hear_answer(HearAnswer{self, q.subject, udn::endpoint_hears(q.subject)}, a.hear);
   a.hear_to = q.asker;
   send_hearing(a);
 }
@@ -242,7 +234,7 @@ void take_agent_messages(bsp::TileId self, const HealthAgentConfig& cfg, Watch& 
       continue;
     }
     if (unpack_hear_answer(in, heard) && heard.tile == m.source && heard.subject == cfg.supervisor) {
-      count_hearing(watch, from_hearing(heard.hearing));
+      count_hearing(watch, heard.hearing);
       continue;
     }
     if (m.source != cfg.supervisor) {
@@ -359,10 +351,8 @@ void health_agent_main(void* arg) noexcept {
   std::array<std::uint32_t, kAliveWords> alive{};
   pack_booted(TileBootReport{self, cause}, boot);
   pack_alive(TileBootReport{self, cause}, alive);
-  const auto watching = [cfg, self, own_supervisor]() noexcept {
-    return watcher_now(*cfg) == self && cfg->supervisor < bsp::kMaxTiles && !own_supervisor;
-  };
-  bool watches = watching();
+  const bool can_watch = cfg->supervisor < bsp::kMaxTiles && !own_supervisor;
+  bool watches = can_watch && watcher_now(*cfg) == self;
   Watch watch{};
   watch.last_alive = k::now_ticks();
   OwedAnswer answer{};
@@ -372,7 +362,7 @@ void health_agent_main(void* arg) noexcept {
     // The watcher follows its role: a tile that becomes it starts its watch with a whole timeout.
     const bsp::TileId watcher = watcher_now(*cfg);
     const bool sends_alive = own_supervisor && watcher < bsp::kMaxTiles && watcher != self;
-    const bool watches_now = watching();
+    const bool watches_now = can_watch && watcher == self;
     if (watches_now && !watches) {
       watch = Watch{};
       watch.last_alive = k::now_ticks();

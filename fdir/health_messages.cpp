@@ -160,10 +160,10 @@ void pack_hear_answer(const HearAnswer& r, std::span<std::uint32_t, kHearAnswerW
 
 bool unpack_hear_answer(std::span<const std::uint32_t> w, HearAnswer& out) noexcept {
   if (!udn::is_message(w, kMsgHearAnswer, kHearAnswerWords) || !is_tile(w[1]) || !is_tile(w[2]) ||
-      w[3] > static_cast<std::uint32_t>(Hearing::kNotProbed)) {
+      w[3] > static_cast<std::uint32_t>(udn::Heard::kNotProbed)) {
     return false;
   }
-  out = HearAnswer{w[1], w[2], static_cast<Hearing>(w[3])};
+  out = HearAnswer{w[1], w[2], static_cast<udn::Heard>(w[3])};
   return true;
 }
 

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "bsp_tile64/api/port.hpp"
+#include "udn/endpoint.hpp"
 
 #include <cstdint>
 #include <span>
@@ -34,18 +35,12 @@ inline constexpr std::uint32_t kAliveWords = 3U;
  * heartbeat is missing (watcher -> agent, kFtChanHealth): [0] kMsgHearQuery
  * [1] the watcher [2] the supervisor's tile. The answer (agent -> watcher):
  * [0] kMsgHearAnswer [1] the answering tile [2] the supervisor's tile
- * [3] a Hearing: whether its endpoint's neighbour probe hears that tile.
+ * [3] a udn::Heard: whether its endpoint's neighbour probe hears that tile.
  */
 inline constexpr std::uint32_t kMsgHearQuery = 0x48524451U;   // "HRDQ"
 inline constexpr std::uint32_t kHearQueryWords = 3U;
 inline constexpr std::uint32_t kMsgHearAnswer = 0x48524441U;  // "HRDA"
 inline constexpr std::uint32_t kHearAnswerWords = 4U;
-/** What a neighbour's probe says of a tile (udn::endpoint_hears). */
-enum class Hearing : std::uint32_t {
-  kAnswers = 0U,    ///< its last ping was answered: the core runs and its switch routes
-  kSilent = 1U,     ///< its last ping went unanswered
-  kNotProbed = 2U,  ///< not a neighbour this tile probes
-};
 /**
  * A coordinator's report of a worker whose results stay wrong (fdir/result_trust.hpp; coordinator ->
  * supervisor, kFtChanHealth): [0] kMsgResultsBad [1] coordinator tile [2] worker tile [3] kResultsReset
@@ -125,7 +120,7 @@ struct HearQuery {
 struct HearAnswer {
   bsp::TileId tile = 0U;
   bsp::TileId subject = 0U;
-  Hearing hearing = Hearing::kNotProbed;
+  udn::Heard hearing = udn::Heard::kNotProbed;
 };
 void pack_booted(const TileBootReport& r, std::span<std::uint32_t, kBootedWords> w) noexcept;
 [[nodiscard]] bool unpack_booted(std::span<const std::uint32_t> w, TileBootReport& out) noexcept;

@@ -51,11 +51,11 @@ TEST(TileHealthMessages, EveryMessageRoundTrips) {
   EXPECT_EQ(query.asker, 9U);
   EXPECT_EQ(query.subject, 0U);
   std::array<std::uint32_t, fdir::kHearAnswerWords> ha{};
-  fdir::pack_hear_answer(fdir::HearAnswer{1U, 0U, fdir::Hearing::kSilent}, ha);
+  fdir::pack_hear_answer(fdir::HearAnswer{1U, 0U, udn::Heard::kSilent}, ha);
   fdir::HearAnswer answer{};
   ASSERT_TRUE(fdir::unpack_hear_answer(ha, answer));
   EXPECT_EQ(answer.tile, 1U);
-  EXPECT_EQ(answer.hearing, fdir::Hearing::kSilent);
+  EXPECT_EQ(answer.hearing, udn::Heard::kSilent);
 
   std::array<std::uint32_t, fdir::kSupMsgWords> sm{};
   fdir::pack_sup_message(fdir::SupMessage{fdir::kMsgEscalate, 1U, 2U, 7U}, sm);
@@ -81,7 +81,7 @@ TEST(TileHealthMessages, FieldsOutOfRangeAreRefusedUntouched) {
   EXPECT_EQ(bad.worker, 3U);
   fdir::ParkDone done{};
   EXPECT_FALSE(fdir::unpack_park_done(std::array<std::uint32_t, 3>{fdir::kMsgParkDone, 19U, 2U}, done));
-  fdir::HearAnswer answer{1U, 0U, fdir::Hearing::kAnswers};
+  fdir::HearAnswer answer{1U, 0U, udn::Heard::kAnswers};
   EXPECT_FALSE(fdir::unpack_hear_answer(std::array<std::uint32_t, 4>{fdir::kMsgHearAnswer, 8U, 0U, 3U}, answer));
   EXPECT_FALSE(fdir::unpack_hear_answer(std::array<std::uint32_t, 4>{fdir::kMsgHearAnswer, 8U, bsp::kMaxTiles, 1U}, answer));
   EXPECT_EQ(answer.tile, 1U);

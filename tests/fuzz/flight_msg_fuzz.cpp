@@ -176,7 +176,7 @@ void fdir_hear_query(Words w) {
 
 void fdir_hear_answer(Words w) {
   run<fdir::HearAnswer>(w, fdir::unpack_hear_answer, [&](const fdir::HearAnswer& r) {
-    require(tile_ok(r.tile) && tile_ok(r.subject) && r.hearing <= fdir::Hearing::kNotProbed, "hear answer ranges");
+    require(tile_ok(r.tile) && tile_ok(r.subject) && r.hearing <= udn::Heard::kNotProbed, "hear answer ranges");
     std::array<std::uint32_t, fdir::kHearAnswerWords> p{};
     fdir::pack_hear_answer(r, p);
     require(same(p, w), "hear answer repacks");
