@@ -85,6 +85,9 @@ enum class EventId : std::uint16_t {
   kSupervisorSilent = 0x050D,
   kWatcherCutOff = 0x050E,
   kSupervisorPathCut = 0x050F,
+  kSupervisorMoved = 0x0510,
+  kSupervisorTookOver = 0x0511,
+  kSupervisorUnheard = 0x0512,
   // ---- checked matrix products (fdir/abft)
   kAbftCorrected = 0x0801,
   kAbftFailed = 0x0802,
@@ -153,7 +156,7 @@ struct EventInfo {
 };
 
 /** The table: every id once. */
-inline constexpr std::array<EventInfo, 53> kEventTable{{
+inline constexpr std::array<EventInfo, 56> kEventTable{{
     {EventId::kPacketCorrected, "packet_corrected", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kPacket, Accused::kNobody,
      "source tile / channel / seq",
      "packet from tile {s} corrected by its SECDED code (channel {c}, seq {a})"},
@@ -286,7 +289,7 @@ inline constexpr std::array<EventInfo, 53> kEventTable{{
      "tile {s} {c.b1|did not report back {a} ticks (ms) after its reset|cut off: its switch is declared "
      "failed; retired, its roles go to spares|did not report back {a} ticks (ms) after its reset}"},
     {EventId::kRoleMoved, "role_moved", Severity::kWarningHi, kStepIsolate, Diagnosis::kNone, Accused::kNobody,
-     "role slot (8: a vision tile replaced for wrong results) / retired tile / spare / directory version "
+     "role slot (9: a vision tile replaced for wrong results) / retired tile / spare / directory version "
      "(0 for a replaced vision tile)",
      "{b|worker slot {s}: tile {c} switched off for wrong results, spare {a} takes its place|role slot "
      "{s} moves from retired tile {c} to spare {a} (directory version {b})}"},
@@ -307,9 +310,15 @@ inline constexpr std::array<EventInfo, 53> kEventTable{{
      "tile {s} had not answered self-test round {c} after {a} ticks (voted if it answers before the next "
      "round)"},
     {EventId::kSupervisorSilent, "supervisor_silent", Severity::kWarningHi, kStepDetect, Diagnosis::kCoreSilent, Accused::kSubject,
-     "supervisor's tile / watcher / ticks since its last heartbeat / resets so far",
-     "no heartbeat from the supervisor's tile {s} for {a} ticks (ms): its watcher (tile {c}) takes it as "
-     "hung ({b} resets so far)"},
+     "supervisor's tile / watcher / ticks from its last heartbeat before the reset to its first after / "
+     "resets so far (written when the watcher's reset brought it back: it was hung)",
+     "the supervisor's tile {s} was silent {a} ticks (ms) to its watcher (tile {c}) and the tiles beside it, "
+     "and its reset brought it back: it was hung ({b} resets so far)"},
+    {EventId::kSupervisorUnheard, "supervisor_unheard", Severity::kWarningHi, kStepDetect, Diagnosis::kSuspicion, Accused::kSubject,
+     "supervisor's tile / watcher / ticks since its last heartbeat / resets so far (the tiles beside it miss "
+     "it too: hung with its own watchdog failed, or its switch; the watcher resets it to tell them apart)",
+     "no heartbeat from the supervisor's tile {s} for {a} ticks (ms), and the tiles beside it miss it too: "
+     "hung or cut off; its watcher (tile {c}) resets it to tell ({b} resets so far)"},
     {EventId::kWatcherCutOff, "watcher_cut_off", Severity::kWarningLo, kStepNone, Diagnosis::kNone, Accused::kNobody,
      "supervisor's tile / watcher / ticks since its last heartbeat (the watcher hears none of its "
      "neighbours or transits: no reset)",
@@ -321,6 +330,16 @@ inline constexpr std::array<EventInfo, 53> kEventTable{{
      "watcher is cut; no reset)",
      "no heartbeat from the supervisor's tile {s} for {a} ticks (ms), but {b} tile(s) beside it hear it: "
      "the way to its watcher (tile {c}) is cut, no reset"},
+    {EventId::kSupervisorMoved, "supervisor_moved", Severity::kFatal, kStepDetect | kStepIsolate, Diagnosis::kSwitch, Accused::kSubject,
+     "supervisor's tile / watcher / standby / ticks since the watcher's reset (still silent to the watcher "
+     "and to the tiles beside it: no hang, its switch; switched off, the standby switched on to run its role)",
+     "the supervisor's tile {s} stayed silent {b} ticks (ms) after its reset, to its watcher (tile {c}) and "
+     "the tiles beside it: its switch is taken as failed; switched off, standby {a} takes the supervisor's role"},
+    {EventId::kSupervisorTookOver, "supervisor_took_over", Severity::kWarningHi, kStepRecover, Diagnosis::kNone, Accused::kNobody,
+     "new supervisor's tile / the tile it replaces / 1 state from the ledger, 0 from the boot configuration "
+     "/ directory version of its move",
+     "tile {s} runs the supervisor's role in place of tile {c}, its state {a|from the boot configuration|from "
+     "the supervisor's ledger} (directory version {b})"},
     {EventId::kAbftCorrected, "abft_corrected", Severity::kWarningLo, kStepDetect | kStepRecover, Diagnosis::kWrongResult, Accused::kWriter,
      "product site (1 F P, 2 (F P) F^T, 3 P H^T, 4 the gain, 5 K (P H^T)^T's upper triangle) / row << 16 "
      "| column located (0xFFFF: not one; 0xFFFE: rows only checked) / bad rows << 16 | bad columns / "

@@ -12,6 +12,7 @@
 #include "fdir/health_messages.hpp"
 #include "fdir/health_table.hpp"
 #include "fdir/net_health.hpp"
+#include "fdir/tile_health.hpp"
 #include "kernel/kernel.hpp"
 #include "udn/crc32c.hpp"
 #include "udn/endpoint.hpp"
@@ -88,6 +89,9 @@ struct Watch {
   std::uint32_t heard = 0U;    ///< of them, those whose probe hears the supervisor's tile
   std::uint32_t missed = 0U;   ///< those whose last ping to it went unanswered
   bool path_cut = false;       ///< supervisor_path_cut written this spell
+  bool moved = false;          ///< its role was given to the standby (take_over): nothing more to do here
+  std::uint32_t silent_ticks = 0U;  ///< how long it had been silent when the watcher reset it
+  bsp::TileId subject = bsp::kNoTile;  ///< the supervisor's tile watched (a move starts the watch afresh)
 };
 
 /** Ticks the watcher waits for the witnesses' answers before it decides without them. */
@@ -109,17 +113,28 @@ bsp::TileId watcher_now(const HealthAgentConfig& cfg) noexcept {
   return cfg.watcher_slot < udn::kRoleSlots ? udn::endpoint_role_tile(cfg.watcher_slot, cfg.watcher) : cfg.watcher;
 }
 
-/** Sends @p a to the supervisor; it stays owed if the network refuses it. */
-void send_answer(const HealthAgentConfig& cfg, OwedAnswer& a) noexcept {
-  a.owed = udn::endpoint_send(cfg.supervisor, udn::kFtChanHealth, a.w, 0U) != udn::FtError::kOk;
+/** The supervisor's tile now: where the directory has its role, or its configured tile. */
+bsp::TileId supervisor_now(const HealthAgentConfig& cfg) noexcept {
+  return cfg.supervisor_slot < udn::kRoleSlots ? udn::endpoint_role_tile(cfg.supervisor_slot, cfg.supervisor)
+                                               : cfg.supervisor;
 }
 
-/** A heartbeat of the supervisor's tile: a reset the watcher commanded is closed by it. */
-void take_alive(Watch& w, const TileBootReport& alive, bsp::TileId supervisor) noexcept {
+/** Sends @p a to the supervisor; it stays owed if the network refuses it. */
+void send_answer(const HealthAgentConfig& cfg, OwedAnswer& a) noexcept {
+  a.owed = udn::endpoint_send(supervisor_now(cfg), udn::kFtChanHealth, a.w, 0U) != udn::FtError::kOk;
+}
+
+/**
+ * A heartbeat of the supervisor's tile: a reset the watcher commanded is
+ * closed by it, and only now is the silence diagnosed: a reset ended it, so
+ * the supervisor was hung (with its own watchdog failed), not cut off.
+ */
+void take_alive(Watch& w, const TileBootReport& alive, bsp::TileId supervisor, bsp::TileId self) noexcept {
   const k::Ticks now = k::now_ticks();
   if (w.pending) {
-    report(EventId::kTileRecovered, supervisor, static_cast<std::uint32_t>(alive.cause),
-           static_cast<std::uint32_t>(now >= w.reset_at ? now - w.reset_at : 0U));
+    const auto since_reset = static_cast<std::uint32_t>(now >= w.reset_at ? now - w.reset_at : 0U);
+    report(EventId::kSupervisorSilent, supervisor, self, w.silent_ticks + since_reset, w.resets);
+    report(EventId::kTileRecovered, supervisor, static_cast<std::uint32_t>(alive.cause), since_reset);
   }
   w.pending = false;
   w.silent = false;
@@ -152,10 +167,10 @@ std::array<bsp::TileId, 4> beside(bsp::TileId sup) noexcept {
 }
 
 /** Sends the question to the witnesses still unsent (bit per direction); refused ones stay. */
-void send_questions(Watch& w, const HealthAgentConfig& cfg, bsp::TileId self) noexcept {
+void send_questions(Watch& w, bsp::TileId sup, bsp::TileId self) noexcept {
   std::array<std::uint32_t, kHearQueryWords> q{};
-  pack_hear_query(HearQuery{self, cfg.supervisor}, q);
-  const std::array<bsp::TileId, 4> n = beside(cfg.supervisor);
+  pack_hear_query(HearQuery{self, sup}, q);
+  const std::array<bsp::TileId, 4> n = beside(sup);
   for (std::size_t d = 0; d < n.size(); ++d) {
     if (((w.unsent >> d) & 1U) != 0U && udn::endpoint_send(n[d], udn::kFtChanHealth, q, 0U) == udn::FtError::kOk) {
       w.unsent &= ~(1U << d);
@@ -168,14 +183,14 @@ void send_questions(Watch& w, const HealthAgentConfig& cfg, bsp::TileId self) no
  * names them; spares run no agent) whether their neighbour probe hears it; a
  * watcher beside it answers itself. @return how many are asked.
  */
-std::uint32_t ask_witnesses(Watch& w, const HealthAgentConfig& cfg, bsp::TileId self) noexcept {
+std::uint32_t ask_witnesses(Watch& w, bsp::TileId sup, bsp::TileId self) noexcept {
   w.asking = true;
   w.asked = 0U;
   w.unsent = 0U;
   w.heard = 0U;
   w.missed = 0U;
   w.asked_at = k::now_ticks();
-  const std::array<bsp::TileId, 4> n = beside(cfg.supervisor);
+  const std::array<bsp::TileId, 4> n = beside(sup);
   const udn::RoleDirectory dir = udn::endpoint_roles();
   const std::uint64_t failed = udn::endpoint_fault_map().failed_tiles;
   for (std::size_t d = 0; d < n.size(); ++d) {
@@ -184,7 +199,7 @@ std::uint32_t ask_witnesses(Watch& w, const HealthAgentConfig& cfg, bsp::TileId 
     }
     if (n[d] == self) {
       ++w.asked;
-      count_hearing(w, udn::endpoint_hears(cfg.supervisor));
+      count_hearing(w, udn::endpoint_hears(sup));
       continue;
     }
     bool runs_role = false;
@@ -196,7 +211,7 @@ std::uint32_t ask_witnesses(Watch& w, const HealthAgentConfig& cfg, bsp::TileId 
       w.unsent |= 1U << d;
     }
   }
-  send_questions(w, cfg, self);
+  send_questions(w, sup, self);
   return w.asked;
 }
 
@@ -219,7 +234,8 @@ void answer_witness(bsp::TileId self, const HearQuery& q, OwedAnswer& a) noexcep
  * supervisor's self-test requests, answered, and, on the watcher's tile, the
  * supervisor tile's heartbeats.
  */
-void take_agent_messages(bsp::TileId self, const HealthAgentConfig& cfg, Watch& watch, OwedAnswer& answer) noexcept {
+void take_agent_messages(bsp::TileId self, const HealthAgentConfig& cfg, bsp::TileId sup, Watch& watch,
+                         OwedAnswer& answer) noexcept {
   if (answer.owed) {
     send_answer(cfg, answer);
   }
@@ -233,16 +249,16 @@ void take_agent_messages(bsp::TileId self, const HealthAgentConfig& cfg, Watch& 
       answer_witness(self, query, answer);
       continue;
     }
-    if (unpack_hear_answer(in, heard) && heard.tile == m.source && heard.subject == cfg.supervisor) {
+    if (unpack_hear_answer(in, heard) && heard.tile == m.source && heard.subject == sup) {
       count_hearing(watch, heard.hearing);
       continue;
     }
-    if (m.source != cfg.supervisor) {
+    if (m.source != sup) {
       continue;
     }
     TileBootReport alive{};
     if (unpack_alive(in, alive) && watcher_now(cfg) == self) {
-      take_alive(watch, alive, cfg.supervisor);
+      take_alive(watch, alive, sup, self);
       continue;
     }
     SelfTestRequest req{};
@@ -256,14 +272,62 @@ void take_agent_messages(bsp::TileId self, const HealthAgentConfig& cfg, Watch& 
 }
 
 /**
- * The watcher's check: a heartbeat missing past its timeout names the
- * supervisor's tile once and resets it, under the cap; the next heartbeat
- * closes the recovery (take_alive).
+ * The supervisor's tile stayed silent after the watcher's reset, to the
+ * watcher and to the tiles beside it: no hang (a reset ends one), its switch
+ * or every link. It is switched off for good and the standby switched on to
+ * run the supervisor's role (boot_slot), which announces its move itself.
  */
-void watch_supervisor(Watch& w, const HealthAgentConfig& cfg, bsp::TileId self) noexcept {
+void take_over(Watch& w, const HealthAgentConfig& cfg, bsp::TileId sup, bsp::TileId self, std::uint32_t since) noexcept {
+  w.moved = true;
+  const bsp::TileId standby = cfg.standby;
+  const bool usable = standby < bsp::kMaxTiles && standby != sup && boot_slot(standby) == kNoSlot &&
+                      ((udn::endpoint_fault_map().failed_tiles >> standby) & 1ULL) == 0ULL;
+  if (!usable) {
+    report(EventId::kNoSpare, cfg.supervisor_slot, sup);
+    return;
+  }
+  (void)bsp::power_off(sup);
+  if (!boot_slot_assign(standby, cfg.supervisor_slot) || bsp::power_on(standby) != bsp::BoardError::kOk) {
+    report(EventId::kNoSpare, cfg.supervisor_slot, sup);
+    return;
+  }
+  report(EventId::kSupervisorMoved, sup, self, standby, since);
+}
+
+/** Silent to the watcher and to the tiles beside it: a suspicion, and a reset under the cap to tell. */
+void reset_supervisor(Watch& w, const HealthAgentConfig& cfg, bsp::TileId sup, bsp::TileId self,
+                      std::uint32_t since) noexcept {
+  w.silent = true;
+  w.silent_ticks = since;
+  report(EventId::kSupervisorUnheard, sup, self, since, w.resets);
+  if (w.resets >= cfg.max_watcher_resets) {
+    report(EventId::kActionCapped, sup, self, w.resets);
+    return;
+  }
+  if (bsp::reset_tile(sup) != bsp::BoardError::kOk) {
+    report(EventId::kTileLost, sup, self);
+    return;
+  }
+  const k::Ticks now = k::now_ticks();
+  ++w.resets;
+  w.pending = true;
+  w.reset_at = now;
+  w.last_alive = now;  // its boot and first heartbeat get a whole timeout again
+  report(EventId::kTileReset, sup, 1U, w.resets, cfg.max_watcher_resets);
+}
+
+/**
+ * The watcher's check: a heartbeat missing past its timeout, to the tiles
+ * beside the supervisor's too, is written once as a suspicion and the tile
+ * reset, under the cap; the next heartbeat names the hang and closes the
+ * recovery (take_alive). Still silent a whole timeout after that
+ * reset, to the tiles beside it too, its role goes to the standby (take_over).
+ */
+void watch_supervisor(Watch& w, const HealthAgentConfig& cfg, bsp::TileId sup, bsp::TileId self) noexcept {
   const k::Ticks now = k::now_ticks();
   const k::Ticks since = now >= w.last_alive ? now - w.last_alive : 0U;
-  if (since <= cfg.watcher_timeout_ticks || w.silent) {
+  const bool may_move = w.pending && cfg.standby < bsp::kMaxTiles;
+  if (since <= cfg.watcher_timeout_ticks || w.moved || (w.silent && !may_move)) {
     return;
   }
   // A watcher that hears nobody (its own switch failed) misses the heartbeat for its own reason:
@@ -271,7 +335,7 @@ void watch_supervisor(Watch& w, const HealthAgentConfig& cfg, bsp::TileId self) 
   // switch. It waits; once it hears its neighbours again the timeout runs afresh.
   if (udn::endpoint_cut_off()) {
     if (!w.cut_off) {
-      report(EventId::kWatcherCutOff, cfg.supervisor, self, static_cast<std::uint32_t>(since));
+      report(EventId::kWatcherCutOff, sup, self, static_cast<std::uint32_t>(since));
     }
     w.cut_off = true;
     w.last_alive = now;
@@ -281,10 +345,10 @@ void watch_supervisor(Watch& w, const HealthAgentConfig& cfg, bsp::TileId self) 
   // A second opinion first: the tiles beside the supervisor's ping it. If they hear it and none
   // misses it, its core runs and its switch routes: only the way to this watcher is cut, and a
   // reset would wipe a healthy supervisor's state. Silent to one of them, or no answer, it is reset.
-  if (!w.asking && ask_witnesses(w, cfg, self) > 0U) {
+  if (!w.asking && ask_witnesses(w, sup, self) > 0U) {
     return;
   }
-  send_questions(w, cfg, self);
+  send_questions(w, sup, self);
   const bool answered = w.heard + w.missed >= w.asked;
   if (w.asking && !answered && now - w.asked_at < kWitnessWaitTicks) {
     return;
@@ -292,27 +356,19 @@ void watch_supervisor(Watch& w, const HealthAgentConfig& cfg, bsp::TileId self) 
   w.asking = false;
   if (w.heard > 0U && w.missed == 0U) {
     if (!w.path_cut) {
-      report(EventId::kSupervisorPathCut, cfg.supervisor, self, static_cast<std::uint32_t>(since), w.heard);
+      report(EventId::kSupervisorPathCut, sup, self, static_cast<std::uint32_t>(since), w.heard);
     }
     w.path_cut = true;
     w.last_alive = now;  // asked again after another whole timeout
     return;
   }
-  w.silent = true;
-  report(EventId::kSupervisorSilent, cfg.supervisor, self, static_cast<std::uint32_t>(since), w.resets);
-  if (w.resets >= cfg.max_watcher_resets) {
-    report(EventId::kActionCapped, cfg.supervisor, self, w.resets);
+  if (may_move) {
+    take_over(w, cfg, sup, self, static_cast<std::uint32_t>(now - w.reset_at));
     return;
   }
-  if (bsp::reset_tile(cfg.supervisor) != bsp::BoardError::kOk) {
-    report(EventId::kTileLost, cfg.supervisor, self);
-    return;
-  }
-  ++w.resets;
-  w.pending = true;
-  w.reset_at = now;
-  w.last_alive = now;  // its boot and first heartbeat get a whole timeout again
-  report(EventId::kTileReset, cfg.supervisor, 1U, w.resets, cfg.max_watcher_resets);
+  // Silent to the tiles beside it too: hung with its own watchdog failed, or its switch failed.
+  // Only the reset tells them apart (a heartbeat after it, or silence a whole timeout longer).
+  reset_supervisor(w, cfg, sup, self, static_cast<std::uint32_t>(since));
 }
 
 Overdue find_overdue(bsp::TileId self, k::Ticks now) noexcept {
@@ -333,6 +389,27 @@ Overdue find_overdue(bsp::TileId self, k::Ticks now) noexcept {
   return o;
 }
 
+/**
+ * Kicks the tile's watchdog while every watched task is within budget, and sends the heartbeat
+ * to @p alive_to (kNoTile: none); a task past its budget is written once and the kicks stop.
+ */
+void kick(bsp::TileId self, bool& overdue_written, bsp::TileId alive_to,
+          std::span<const std::uint32_t, kAliveWords> alive) noexcept {
+  const Overdue o = find_overdue(self, k::now_ticks());
+  // A failed flight check asked for the tile's recovery: no more kicks, the watchdog restarts it.
+  if (o.task == k::kNoTask && recovery_requested(self) == 0U) {
+    bsp::watchdog_kick();
+    overdue_written = false;
+    // The remote kick: the watcher hears it only while the supervisor's tasks are within budget.
+    if (alive_to != bsp::kNoTile && udn::endpoint_ready()) {
+      (void)udn::endpoint_send(alive_to, udn::kFtChanHealth, alive, 0U);  // a lost one is a late one
+    }
+  } else if (o.task != k::kNoTask && !overdue_written) {
+    report(EventId::kTaskOverdue, o.task, self, o.late, o.budget);
+    overdue_written = true;
+  }
+}
+
 }  // namespace
 
 void health_agent_main(void* arg) noexcept {
@@ -342,54 +419,55 @@ void health_agent_main(void* arg) noexcept {
     return;  // no kicks: the hardware watchdog is never armed, the neighbours' probes still see the tile
   }
   const bsp::BootCause cause = bsp::boot_cause();
-  // The supervisor's own tile has nobody above it: its watchdog resets it.
-  const bool own_supervisor = cfg->supervisor == self;
-  bsp::watchdog_arm(static_cast<bsp::Cycles>(cfg->watchdog_ticks) * bsp::tick_cycles(), own_supervisor);
+  // The supervisor's own tile has nobody above it: its watchdog resets it. A standby switched on
+  // to take the supervisor's role (its boot slot) is it from its boot, before the directory says so.
+  const bool standby = cfg->supervisor_slot < udn::kRoleSlots && boot_slot(self) == cfg->supervisor_slot;
+  bool own_supervisor = standby || supervisor_now(*cfg) == self;
+  const bsp::Cycles watchdog = static_cast<bsp::Cycles>(cfg->watchdog_ticks) * bsp::tick_cycles();
+  bsp::watchdog_arm(watchdog, own_supervisor);
   bool reported = cfg->supervisor == bsp::kNoTile || own_supervisor;
   bool overdue_written = false;
   std::array<std::uint32_t, kBootedWords> boot{};
   std::array<std::uint32_t, kAliveWords> alive{};
   pack_booted(TileBootReport{self, cause}, boot);
   pack_alive(TileBootReport{self, cause}, alive);
-  const bool can_watch = cfg->supervisor < bsp::kMaxTiles && !own_supervisor;
-  bool watches = can_watch && watcher_now(*cfg) == self;
-  Watch watch{};
-  watch.last_alive = k::now_ticks();
+  bool watches = false;
+  Watch watch{};  // started afresh at the first pass that watches
   OwedAnswer answer{};
   pattern_init(self);
   recovery_clear(self);  // a request from before this boot was the one the restart answered
+  bool caught_up = false;
   for (;;) {
-    // The watcher follows its role: a tile that becomes it starts its watch with a whole timeout.
+    if (!caught_up && udn::endpoint_ready()) {
+      ledger_roles_apply();  // the moves made before this boot, the supervisor's own among them
+      caught_up = true;
+    }
+    // The supervisor and its watcher follow their roles through the directory.
+    const bsp::TileId sup = standby ? self : supervisor_now(*cfg);
+    if ((sup == self) != own_supervisor) {
+      own_supervisor = sup == self;
+      bsp::watchdog_arm(watchdog, own_supervisor);  // the role came here, or left: reset on expiry with it
+    }
     const bsp::TileId watcher = watcher_now(*cfg);
     const bool sends_alive = own_supervisor && watcher < bsp::kMaxTiles && watcher != self;
-    const bool watches_now = can_watch && watcher == self;
-    if (watches_now && !watches) {
+    // A tile that becomes the watcher, or whose supervisor moved, starts its watch with a whole timeout.
+    const bool watches_now = sup < bsp::kMaxTiles && !own_supervisor && watcher == self;
+    if (watches_now && (!watches || watch.subject != sup)) {
       watch = Watch{};
       watch.last_alive = k::now_ticks();
+      watch.subject = sup;
     }
     watches = watches_now;
-    const Overdue o = find_overdue(self, k::now_ticks());
-    // A failed flight check asked for the tile's recovery: no more kicks, the watchdog restarts it.
-    if (o.task == k::kNoTask && recovery_requested(self) == 0U) {
-      bsp::watchdog_kick();
-      overdue_written = false;
-      // The remote kick: the watcher hears it only while the supervisor's tasks are within budget.
-      if (sends_alive && udn::endpoint_ready()) {
-        (void)udn::endpoint_send(watcher, udn::kFtChanHealth, alive, 0U);  // a lost one is a late one
-      }
-    } else if (o.task != k::kNoTask && !overdue_written) {
-      report(EventId::kTaskOverdue, o.task, self, o.late, o.budget);
-      overdue_written = true;
-    }
+    kick(self, overdue_written, sends_alive ? watcher : bsp::kNoTile, alive);
     // Staggered by tile: 40 tiles booting together would overrun the supervisor's queue.
     if (!reported && udn::endpoint_ready() && k::now_ticks() >= self / kReportsPerTick) {
-      reported = udn::endpoint_send(cfg->supervisor, udn::kFtChanHealth, boot, 0U) == udn::FtError::kOk;
+      reported = udn::endpoint_send(sup, udn::kFtChanHealth, boot, 0U) == udn::FtError::kOk;
     }
-    if (!own_supervisor && cfg->supervisor != bsp::kNoTile && udn::endpoint_ready()) {
-      take_agent_messages(self, *cfg, watch, answer);
+    if (!own_supervisor && sup != bsp::kNoTile && udn::endpoint_ready()) {
+      take_agent_messages(self, *cfg, sup, watch, answer);
     }
     if (watches) {
-      watch_supervisor(watch, *cfg, self);
+      watch_supervisor(watch, *cfg, sup, self);
     }
     (void)k::wait_period();
   }

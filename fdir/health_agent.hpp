@@ -13,7 +13,9 @@
  *
  * The agent answers the supervisor's self-tests (fdir/tile_health.hpp) with
  * self_test_kernel over its resident pattern, and the agent of the tile named
- * watcher watches the supervisor's tile by its heartbeat (kMsgAlive).
+ * watcher watches the supervisor's tile by its heartbeat (kMsgAlive). The
+ * supervisor and the watcher are roles: each agent finds their tiles in the
+ * role directory (supervisor_slot, watcher_slot), so both can move.
  */
 #pragma once
 
@@ -66,6 +68,13 @@ bool self_test_digest(bsp::TileId self, std::uint32_t seed, std::uint32_t& diges
 
 struct HealthAgentConfig {
   bsp::TileId supervisor = bsp::kNoTile;  ///< tile of the tile-health supervisor (boot reports, watchdog monitor)
+  /**
+   * The supervisor's role slot in the role directory (kRoleSlots or more:
+   * none): boot reports, self-test answers, the heartbeat and the watching
+   * follow the role where it moves; @c supervisor is its tile until the
+   * directory says otherwise.
+   */
+  std::uint32_t supervisor_slot = 0xFFFF'FFFFU;
   std::uint32_t watchdog_ticks = 20U;     ///< hardware watchdog timeout (>= 2 agent periods)
   bsp::TileId watcher = bsp::kNoTile;     ///< tile whose agent watches the supervisor's tile (kNoTile: none)
   /**
@@ -77,6 +86,13 @@ struct HealthAgentConfig {
   /** A supervisor heartbeat missing this long is named and its tile reset (> watchdog_ticks + a boot). */
   std::uint32_t watcher_timeout_ticks = 40U;
   std::uint32_t max_watcher_resets = 3U;  ///< resets of the supervisor's tile by the watcher over the mission
+  /**
+   * The spare kept for the supervisor's role (kNoTile: none). A supervisor
+   * still silent a whole timeout after the watcher's reset, to the tiles
+   * beside it too, is no hang: the watcher switches its tile off and this
+   * one on, with the supervisor's slot as its boot slot (kSupervisorMoved).
+   */
+  bsp::TileId standby = bsp::kNoTile;
 };
 
 /** Agent period: it looks at the check-ins and kicks every this many ticks. */

@@ -371,6 +371,26 @@ void net_health_set_parked(std::uint64_t parked) noexcept {
   s->to_send &= ~parked;
 }
 
+namespace {
+
+/**
+ * A map newer than the task's own reached this tile's endpoint (from a
+ * neighbour, after this tile restarted or took the supervisor's role over):
+ * the task goes on from it, so its next decision gets a newer version than
+ * every tile holds (a version they hold already would be ignored).
+ */
+void adopt_newer_map(State& s) noexcept {
+  const udn::FaultMap held = udn::endpoint_fault_map();
+  if (s.to_send != 0ULL || held.version <= s.map.version || !udn::fault_map_valid(held)) {
+    return;
+  }
+  s.map = held;
+  s.votes.failed |= held.failed_tiles;
+  s.published = held.version;
+}
+
+}  // namespace
+
 void net_health_task_main(void* arg) noexcept {
   const auto* cfg = static_cast<const NetHealthConfig*>(arg);
   const bsp::TileId self = bsp::current_tile();
@@ -398,6 +418,7 @@ void net_health_task_main(void* arg) noexcept {
       s->map = udn::endpoint_fault_map();
       s->votes.failed = s->map.failed_tiles;
     }
+    adopt_newer_map(*s);
     for (std::uint32_t i = 0; i < udn::kFtRxDepth && udn::endpoint_receive(udn::kFtChanFdir, m) == udn::FtError::kOk;
          ++i) {
       const std::span<const std::uint32_t> w(m.data.data(), m.data_words);

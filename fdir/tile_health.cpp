@@ -135,6 +135,28 @@ std::array<State*, bsp::kMaxTiles> g_state{};
 /** Boot assignments in DDR (survive the spare's switch-on); nullptr before boot_slots_init. */
 std::uint32_t* g_boot_slots = nullptr;
 
+/**
+ * The supervisor's ledger in DDR: what it must not forget when its tile
+ * restarts or its standby takes over (the tiles it watches, the spares still
+ * free, the tiles retired and parked, the resets under each tile's cap, the
+ * role directory), as words under a CRC-32C. Written whenever it changes.
+ */
+namespace ledger {
+constexpr std::size_t kCrc = 0U;
+constexpr std::size_t kSerial = 1U;  ///< writes so far (0: never written)
+constexpr std::size_t kWriter = 2U;  ///< the supervisor's tile that wrote it
+constexpr std::size_t kMasks = 3U;   ///< watched, spares, retired, parked, booted, cut_off, adopted, capped (two words each)
+constexpr std::size_t kMaskCount = 8U;
+constexpr std::size_t kParkSerial = kMasks + 2U * kMaskCount;
+constexpr std::size_t kResets = kParkSerial + 1U;  ///< per tile: resets under its cap
+constexpr std::size_t kRoleTiles = kResets + bsp::kMaxTiles;
+constexpr std::size_t kRoleVersions = kRoleTiles + udn::kRoleSlots;
+constexpr std::size_t kWords = kRoleVersions + udn::kRoleSlots;
+}  // namespace ledger
+std::uint32_t* g_ledger = nullptr;
+/** Ticks a supervisor starting from its ledger waits for its endpoint at most. */
+constexpr std::uint32_t kLedgerWaitTicks = 100U;
+
 void watchdog_isr(bsp::TileId tile) noexcept {
   if (tile < bsp::kMaxTiles && g_state[tile] != nullptr) {
     (void)g_state[tile]->expired.give_from_isr();
@@ -692,6 +714,131 @@ void run_self_tests(State& s, const TileHealthConfig& cfg, bsp::TileId self) noe
   }
 }
 
+/** The supervisor's state, as ledger words (word 0, the CRC, and 1, the serial, left 0). */
+std::array<std::uint32_t, ledger::kWords> ledger_words(const State& s, bsp::TileId self) noexcept {
+  std::array<std::uint32_t, ledger::kWords> w{};
+  w[ledger::kWriter] = self;
+  std::uint64_t capped = 0U;
+  for (bsp::TileId t = 0; t < bsp::kMaxTiles; ++t) {
+    w[ledger::kResets + t] = s.wd[t].actions;
+    capped |= s.wd[t].capped ? bit(t) : 0ULL;
+  }
+  const std::array<std::uint64_t, ledger::kMaskCount> masks{s.watched, s.view.spares, s.view.retired, s.view.parked,
+                                                            s.booted,  s.cut_off,     s.adopted,      capped};
+  for (std::size_t i = 0; i < masks.size(); ++i) {
+    w[ledger::kMasks + 2U * i] = static_cast<std::uint32_t>(masks[i]);
+    w[ledger::kMasks + 2U * i + 1U] = static_cast<std::uint32_t>(masks[i] >> 32U);
+  }
+  w[ledger::kParkSerial] = s.park_serial;
+  const udn::RoleDirectory dir = udn::endpoint_roles();
+  for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
+    w[ledger::kRoleTiles + slot] = dir.tile[slot];
+    w[ledger::kRoleVersions + slot] = dir.version[slot];
+  }
+  return w;
+}
+
+/** Writes the ledger if the state changed since the last write (one pass of the supervisor). */
+void ledger_write(const State& s, bsp::TileId self) noexcept {
+  if (g_ledger == nullptr) {
+    return;
+  }
+  std::array<std::uint32_t, ledger::kWords> w = ledger_words(s, self);
+  bool same = g_ledger[ledger::kSerial] != 0U;
+  for (std::size_t i = ledger::kWriter; i < ledger::kWords && same; ++i) {
+    same = g_ledger[i] == w[i];
+  }
+  if (same) {
+    return;
+  }
+  w[ledger::kSerial] = g_ledger[ledger::kSerial] + 1U;
+  w[ledger::kCrc] = udn::crc32c_words(std::span<const std::uint32_t>(w).subspan(1U));
+  for (std::size_t i = 0; i < ledger::kWords; ++i) {
+    g_ledger[i] = w[i];
+  }
+}
+
+/** The ledger's words if it was written and its CRC holds; false otherwise (the state starts from the configuration). */
+bool ledger_read(std::array<std::uint32_t, ledger::kWords>& w) noexcept {
+  if (g_ledger == nullptr) {
+    return false;
+  }
+  for (std::size_t i = 0; i < ledger::kWords; ++i) {
+    w[i] = g_ledger[i];
+  }
+  return w[ledger::kSerial] != 0U && w[ledger::kWriter] < bsp::kMaxTiles &&
+         w[ledger::kCrc] == udn::crc32c_words(std::span<const std::uint32_t>(w).subspan(1U));
+}
+
+/** Takes the state the ledger holds: the tiles, the caps, the parked set and the directory's moves. */
+void ledger_take(State& s, const std::array<std::uint32_t, ledger::kWords>& w) noexcept {
+  std::array<std::uint64_t, ledger::kMaskCount> m{};
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    m[i] = w[ledger::kMasks + 2U * i] | (std::uint64_t{w[ledger::kMasks + 2U * i + 1U]} << 32U);
+  }
+  s.watched = m[0];
+  s.view.spares = m[1];
+  s.view.retired = m[2];
+  s.view.parked = m[3];
+  s.booted = m[4];
+  s.cut_off = m[5];
+  s.adopted = m[6];
+  for (bsp::TileId t = 0; t < bsp::kMaxTiles; ++t) {
+    s.wd[t].actions = w[ledger::kResets + t];
+    s.wd[t].capped = (m[7] & bit(t)) != 0ULL;
+  }
+  s.park_serial = w[ledger::kParkSerial];
+  for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
+    const std::uint32_t version = w[ledger::kRoleVersions + slot];
+    if (version != 0U) {
+      (void)udn::endpoint_move_role(slot, w[ledger::kRoleTiles + slot], version);  // an older one is refused
+    }
+  }
+  if (s.view.parked != 0ULL) {
+    ++s.park_serial;
+    (void)udn::endpoint_set_parked(s.view.parked, s.park_serial);
+    net_health_set_parked(s.view.parked);
+  }
+}
+
+/**
+ * The supervisor's start: from its ledger when one holds (a restart, or the
+ * standby taking over), else from the configuration. The standby (its boot
+ * slot is the supervisor's own) also takes the watchdog line, gives up the
+ * tile it replaces, and moves the role's slot to itself (told to every tile).
+ */
+void start_state(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexcept {
+  s.watched = cfg.watched;
+  s.view.spares = cfg.spares;
+  std::array<std::uint32_t, ledger::kWords> w{};
+  const bool held = ledger_read(w);
+  if (held) {
+    (void)udn::endpoint_wait_ready(kLedgerWaitTicks);  // the moves and the parked set go to its endpoint
+    ledger_take(s, w);
+  }
+  const bool standby = cfg.own_slot < udn::kRoleSlots && boot_slot(self) == cfg.own_slot;
+  if (!standby || (held && w[ledger::kWriter] == self)) {
+    return;  // its own tile, or the standby restarted: nothing to take over
+  }
+  bsp::watchdog_monitor_select();
+  const bsp::TileId old = held ? static_cast<bsp::TileId>(w[ledger::kWriter]) : udn::endpoint_role_tile(cfg.own_slot, bsp::kNoTile);
+  if (old < bsp::kMaxTiles) {
+    s.view.retired |= bit(old);
+    s.watched &= ~bit(old);
+    s.view.pending &= ~bit(old);
+  }
+  s.watched |= bit(self);
+  s.booted |= bit(self);
+  s.view.spares &= ~bit(self);
+  const udn::RoleDirectory dir = udn::endpoint_roles();
+  const std::uint32_t version =
+      (held && w[ledger::kRoleVersions + cfg.own_slot] > dir.version[cfg.own_slot] ? w[ledger::kRoleVersions + cfg.own_slot]
+                                                                                   : dir.version[cfg.own_slot]) + 1U;
+  (void)udn::endpoint_move_role(cfg.own_slot, self, version);
+  s.to_tell[cfg.own_slot] = s.watched & ~bit(self);
+  report(EventId::kSupervisorTookOver, self, old, held ? 1U : 0U, version);
+}
+
 }  // namespace
 
 void tile_health_task_main(void* arg) noexcept {
@@ -708,8 +855,6 @@ void tile_health_task_main(void* arg) noexcept {
     return;
   }
   ::new (s) State{};
-  s->watched = cfg->watched;
-  s->view.spares = cfg->spares;
   s->arriving.fill(kNoSlot);
   // A silent tile is one sample of 1: fatal at once, the action a reset, at most max_resets.
   s->spec = MonitorSpec{"watchdog", 0U, 1U, 1U, MonitorAction::kRestart, cfg->max_resets};
@@ -722,6 +867,7 @@ void tile_health_task_main(void* arg) noexcept {
     ++s->view.rebooted;
     report(EventId::kTileRebooted, self, static_cast<std::uint32_t>(own));
   }
+  start_state(*s, *cfg, self);
   s->booted |= bit(self);
   for (;;) {
     (void)s->expired.take(k::Timeout{cfg->poll_ticks});
@@ -732,6 +878,7 @@ void tile_health_task_main(void* arg) noexcept {
     switch_off_parked(*s);
     tell_moves(*s);
     run_self_tests(*s, *cfg, self);
+    ledger_write(*s, self);
     k::checkin();
   }
 }
@@ -754,11 +901,41 @@ bool boot_slots_init() noexcept {
     slots[t] = kNoSlot;
   }
   g_boot_slots = slots;
+  auto* book = bsp::carve_array<std::uint32_t>(bsp::Region{bsp::Region::kDdr}, ledger::kWords, "fdir_health_ledger", &err);
+  if (err != bsp::MemError::kOk || book == nullptr) {
+    g_ledger = nullptr;
+    return false;
+  }
+  for (std::size_t i = 0; i < ledger::kWords; ++i) {
+    book[i] = 0U;  // never written: a supervisor starts from its configuration
+  }
+  g_ledger = book;
   return true;
 }
 
 std::uint32_t boot_slot(bsp::TileId tile) noexcept {
   return (g_boot_slots == nullptr || tile >= bsp::kMaxTiles) ? kNoSlot : g_boot_slots[tile];
+}
+
+void ledger_roles_apply() noexcept {
+  std::array<std::uint32_t, ledger::kWords> w{};
+  if (!ledger_read(w)) {
+    return;
+  }
+  for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
+    const std::uint32_t version = w[ledger::kRoleVersions + slot];
+    if (version != 0U) {
+      (void)udn::endpoint_move_role(slot, w[ledger::kRoleTiles + slot], version);  // an older one is refused
+    }
+  }
+}
+
+bool boot_slot_assign(bsp::TileId tile, std::uint32_t slot) noexcept {
+  if (g_boot_slots == nullptr || tile >= bsp::kMaxTiles) {
+    return false;
+  }
+  g_boot_slots[tile] = slot;
+  return true;
 }
 
 TileHealthView tile_health_view(bsp::TileId tile) noexcept {

@@ -110,6 +110,12 @@ struct TileHealthConfig {
   std::uint32_t self_test_ticks = 50U;     ///< a self-test round this often (0: none)
   std::uint32_t self_test_wait_ticks = 40U;///< results of a round are voted this long after the requests
   std::uint32_t disagreements_to_fail = 2U;///< self-tests in a row a tile disagrees in before it is retired (>= 1)
+  /**
+   * The supervisor's own role slot (kRoleSlots or more: none). A spare whose
+   * boot slot is this one is the standby its watcher switched on: it takes
+   * the supervisor's state from the ledger and moves the slot to itself.
+   */
+  std::uint32_t own_slot = 0xFFFF'FFFFU;
 };
 
 /** The tile-health supervisor's task entry (arg: const TileHealthConfig*). */
@@ -148,6 +154,21 @@ struct TileHealthView {
 
 /** The role slot a supervisor assigned to @p tile before switching it on; kNoSlot for none. [task|host] */
 std::uint32_t boot_slot(bsp::TileId tile) noexcept;
+
+/**
+ * Assigns role slot @p slot to spare @p tile before it is switched on (the
+ * supervisor's watcher does so for the standby). [task]
+ * @return false before boot_slots_init or for a tile off the chip.
+ */
+[[nodiscard]] bool boot_slot_assign(bsp::TileId tile, std::uint32_t slot) noexcept;
+
+/**
+ * Applies the role moves the supervisor's ledger holds to the current tile's
+ * endpoint (older ones are refused): a tile that boots starts from the boot
+ * directory, and its boot report must reach the supervisor where it is now.
+ * [task, endpoint open]
+ */
+void ledger_roles_apply() noexcept;
 
 /** The view of the supervisor on @p tile (all zero when none runs there). [host] */
 TileHealthView tile_health_view(bsp::TileId tile) noexcept;

@@ -412,6 +412,15 @@ void report_again(Endpoint& ep) noexcept {
   }
 }
 
+/** Where reports go: the report slot's tile in the directory, or report_to. */
+bsp::TileId report_target(const Endpoint& ep) noexcept {
+  const std::uint32_t slot = ep.cfg->report_slot;
+  if (ep.cfg->report_to == bsp::kNoTile || slot >= kRoleSlots || ep.roles.tile[slot] >= kRouteMaxTiles) {
+    return ep.cfg->report_to;
+  }
+  return ep.roles.tile[slot];
+}
+
 bool owes_transit_report(const Endpoint& ep) noexcept {
   bool owed = false;
   for (std::uint32_t i = 0; i < ep.transit_count; ++i) {
@@ -421,7 +430,7 @@ bool owes_transit_report(const Endpoint& ep) noexcept {
 }
 
 void send_reports(Endpoint& ep) noexcept {
-  const bsp::TileId to = ep.cfg->report_to;
+  const bsp::TileId to = report_target(ep);
   if (to == bsp::kNoTile || (ep.pending_count == 0U && !owes_transit_report(ep))) {
     return;
   }
@@ -491,6 +500,9 @@ bool move_role(Endpoint& ep, std::uint32_t slot, bsp::TileId tile, std::uint32_t
   }
   ep.roles.tile[slot] = tile;
   ep.roles.version[slot] = version;
+  if (ep.cfg != nullptr && slot == ep.cfg->report_slot) {
+    ep.twin_known = false;  // the reports' way is to the role's new tile
+  }
   return true;
 }
 

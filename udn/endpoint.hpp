@@ -47,7 +47,7 @@
 namespace udn {
 
 /** Role slots of the directory (logical destinations the image names). */
-inline constexpr std::uint32_t kRoleSlots = 8U;
+inline constexpr std::uint32_t kRoleSlots = 9U;
 
 /** Where each role slot runs. kNoTile: the slot is not used. */
 struct RoleDirectory {
@@ -64,6 +64,12 @@ struct EndpointConfig {
   std::uint32_t packets_per_tick = 16U;
   FaultMap boot_map{};                  ///< the map every tile starts from (cols 0: all clear on the network's grid)
   bsp::TileId report_to = bsp::kNoTile; ///< suspect reports go here (kNoTile: no probing)
+  /**
+   * The role slot of the tile reports go to (kRoleSlots or more: none):
+   * where the directory has that role, reports follow it; report_to is its
+   * tile until the directory says otherwise.
+   */
+  std::uint32_t report_slot = 0xFFFF'FFFFU;
   std::uint64_t not_probed = 0U;        ///< tiles off by design (spares): they answer no ping
   std::uint32_t probe_period_ticks = 10U;
   std::uint32_t probe_miss_threshold = 3U;

@@ -178,6 +178,17 @@ void watchdog_arm(Cycles timeout, bool reset_on_expiry) noexcept;
 /** Kicks the current tile's watchdog. [task|isr] */
 void watchdog_kick() noexcept;
 
+/**
+ * Selects the current tile as the watchdog monitor: Irq::kWatchdog goes to it
+ * from the next barrier on (the model of the watchdogs' expiry line wired to
+ * two supervisor tiles through a select; the board configuration names the
+ * first). A supervisor that takes over from a cut-off one calls it. [task]
+ */
+void watchdog_monitor_select() noexcept;
+
+/** The tile Irq::kWatchdog goes to now (kNoTile: none). [task|isr|host] */
+TileId watchdog_monitor() noexcept;
+
 /** Takes (reads and clears) the set of tiles whose watchdog expired, as a bit mask. [task|isr] */
 std::uint64_t watchdog_take_expired() noexcept;
 

@@ -155,6 +155,10 @@ void apply(const DeferredCommand& c) noexcept {
     case Command::kHang:
       do_hang(t);
       break;
+    case Command::kMonitor:
+      board_trace(t.time, t.id, BoardEvent::kMonitorSelect, g_board.config.monitor_tile, 0U);
+      g_board.config.monitor_tile = t.id;
+      break;
   }
 }
 
@@ -417,6 +421,15 @@ BoardError reset_tile(TileId tile) noexcept { return reset_tile_for(tile, ResetR
 BoardError reset_tile_for(TileId tile, ResetReason reason) noexcept {
   return detail::command(detail::Command::kReset, tile, reason);
 }
+
+void watchdog_monitor_select() noexcept {
+  const detail::Tile* t = detail::running_tile();
+  if (t != nullptr && detail::g_board.config.monitor_tile != t->id) {
+    (void)detail::command(detail::Command::kMonitor, t->id, ResetReason::kCommand);
+  }
+}
+
+TileId watchdog_monitor() noexcept { return detail::g_board.config.monitor_tile; }
 
 BoardError hang_tile(TileId tile) noexcept { return detail::command(detail::Command::kHang, tile, ResetReason::kFault); }
 

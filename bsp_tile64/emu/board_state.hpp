@@ -65,7 +65,7 @@ inline void advance_to(Tile& t, PowerState state, Cycles to) noexcept {
   t.time = to;
 }
 
-enum class Command : std::uint8_t { kPowerOn, kPowerOff, kReset, kHang };
+enum class Command : std::uint8_t { kPowerOn, kPowerOff, kReset, kHang, kMonitor };
 
 struct DeferredCommand {
   Command cmd;

@@ -35,6 +35,7 @@ enum class BoardEvent : std::uint16_t {
   kQueueFull = 0x00E,       ///< a = event cycle (the global event queue is full; event lost)
   kBootFailed = 0x00F,      ///< a = MemError of the boot stack carve
   kDeviceSelect = 0x010,    ///< the cross-strap moved the devices to this tile: a = the tile before, b = IMU samples stranded
+  kMonitorSelect = 0x011,   ///< the watchdog interrupt line goes to this tile from now: a = the tile before
 };
 
 /** One trace event. */

@@ -161,6 +161,36 @@ TEST(Board, UnkickedWatchdogExpiresAtItsCycleAndIsReported) {
   EXPECT_EQ(g_expired_seen, 1ULL << 2U);
 }
 
+void boot_takes_monitor(TileId tile) {
+  bsp::consume(200U);
+  bsp::watchdog_monitor_select();  // effective at the next barrier (1000)
+  boot_idle(tile);
+}
+
+TEST(Board, AWatchdogMonitorSelectMovesTheInterruptLineAtTheNextBarrier) {
+  reset_records();
+  bsp::BoardConfig c = small_config();
+  c.monitor_tile = 0U;
+  c.powered_at_start = 0b1111U;
+  c.boot[0] = boot_idle;
+  c.boot[1] = boot_takes_monitor;
+  c.boot[2] = boot_watchdog_unkicked;
+  c.boot[3] = boot_idle;
+  ASSERT_EQ(bsp::board_init(c), bsp::BoardError::kOk);
+  EXPECT_EQ(bsp::watchdog_monitor(), 0U);
+  bsp::run_for(50'000U);
+  EXPECT_EQ(bsp::watchdog_monitor(), 1U);
+  const auto selects = board_test::events_of(bsp::BoardEvent::kMonitorSelect);
+  ASSERT_EQ(selects.size(), 1U);
+  EXPECT_EQ(selects[0].tile, 1U);
+  EXPECT_EQ(selects[0].a, 0U) << "the tile before";
+  // Tile 2's expiry (3100) reaches the new monitor at the barrier after it; the old one hears nothing.
+  ASSERT_EQ(g_irq_times[1].size(), 1U);
+  EXPECT_EQ(g_irq_times[1][0], 4000U);
+  EXPECT_EQ(g_irq_kinds[1][0], bsp::Irq::kWatchdog);
+  EXPECT_TRUE(g_irq_times[0].empty());
+}
+
 void boot_watchdog_reset(TileId tile) {
   g_boot_time[tile] = bsp::now();
   bsp::watchdog_arm(2000U, true);

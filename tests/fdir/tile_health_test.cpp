@@ -218,11 +218,15 @@ TEST_F(TileHealth, AHungSupervisorWhoseWatchdogFailedIsResetByItsWatcher) {
   const bsp::Cycles hung_at = bsp::board_time();
   ASSERT_EQ(bsp::hang_tile(kSup), bsp::BoardError::kOk);
   (void)bsp::run_for(300U * kTick);
+  const auto unheard = events_with(kB, EventId::kSupervisorUnheard, kSup);
+  ASSERT_EQ(unheard.size(), 1U);
+  EXPECT_EQ(unheard[0].cause, kB);
+  // Heartbeats every 5 ticks, a 40-tick timeout checked every 5: suspected within 50 ms.
+  EXPECT_LE(ms(unheard[0].cycle - hung_at), 50.0);
+  // Named hung once the reset brought it back.
   const auto silent = events_with(kB, EventId::kSupervisorSilent, kSup);
   ASSERT_EQ(silent.size(), 1U);
-  EXPECT_EQ(silent[0].cause, kB);
-  // Heartbeats every 5 ticks, a 40-tick timeout checked every 5: named within 50 ms.
-  EXPECT_LE(ms(silent[0].cycle - hung_at), 50.0);
+  EXPECT_GT(silent[0].cycle, unheard[0].cycle);
   const auto reset = events_with(kB, EventId::kTileReset, kSup);
   ASSERT_EQ(reset.size(), 1U);
   EXPECT_EQ(reset[0].cause, 1U) << "reset by the watcher";
@@ -243,7 +247,8 @@ TEST_F(TileHealth, TheWatchersResetsStopAtTheCap) {
     ASSERT_EQ(bsp::hang_tile(kSup), bsp::BoardError::kOk);
     (void)bsp::run_for(300U * kTick);
   }
-  EXPECT_EQ(events_with(kB, EventId::kSupervisorSilent, kSup).size(), 4U);
+  EXPECT_EQ(events_with(kB, EventId::kSupervisorUnheard, kSup).size(), 4U);
+  EXPECT_EQ(events_with(kB, EventId::kSupervisorSilent, kSup).size(), 3U) << "the capped fourth is never heard back";
   EXPECT_EQ(events_with(kB, EventId::kTileReset, kSup).size(), 3U);
   EXPECT_EQ(events_with(kB, EventId::kTileRecovered, kSup).size(), 3U);
   EXPECT_EQ(events_with(kB, EventId::kActionCapped, kSup).size(), 1U);

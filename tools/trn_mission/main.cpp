@@ -381,7 +381,7 @@ void fly(const Options& o, const tools::Mission& m, double duration_s, tools::Na
         rec.io_samples_s.push_back(static_cast<double>(bsp::board_time()) / clock_hz);
       }
       rec.io_forwarded = io;
-      const std::uint32_t rounds = fdir::tile_health_view(trn::tasks::kSupervisorTile).self_tests;
+      const std::uint32_t rounds = fdir::tile_health_view(trn::tasks::slot_tile_now(trn::tasks::kSlotTrnSupervisor)).self_tests;
       if (rounds != rec.health_rounds && rec.health_rounds_s.size() < rec.health_rounds_s.capacity()) {
         rec.health_rounds_s.push_back(static_cast<double>(bsp::board_time()) / clock_hz);
       }
@@ -462,7 +462,7 @@ FinalScore score_end(const tools::Mission& m, const FlightRecord& rec, double en
 void add_supervisor_keys(tools::Summary& s, const trn::tasks::VisionCoordStats& c) {
   using trn::tasks::kSupervisorStatsRecord;
   using trn::tasks::slot_tile_now;
-  const trn::tasks::SupervisorStats top = flight_record(trn::tasks::kSupervisorTile, kSupervisorStatsRecord);
+  const trn::tasks::SupervisorStats top = flight_record(slot_tile_now(trn::tasks::kSlotTrnSupervisor), kSupervisorStatsRecord);
   const trn::tasks::SupervisorStats fs =
       flight_record(slot_tile_now(trn::tasks::kSlotFilterSupervisor), kSupervisorStatsRecord);
   const trn::tasks::SupervisorStats vs =

@@ -17,6 +17,7 @@
 #include "trn/filter/nav_output.hpp"
 #include "trn/match.hpp"
 #include "trn/tasks/roles.hpp"
+#include "udn/endpoint.hpp"
 
 #include <array>
 #include <cstdint>
@@ -47,15 +48,22 @@ inline constexpr std::uint32_t kSlotIo = 1U;
 inline constexpr std::uint32_t kSlotFilter = 2U;
 /** The filter's TMR replicas: slots kSlotReplica0 .. kSlotReplica0 + 2. */
 inline constexpr std::uint32_t kSlotReplica0 = 3U;
-/**
- * Not a directory slot: the boot slot (fdir::boot_slot) of a spare switched on
- * to take the place of a vision tile whose matches stayed wrong. Nobody sends
- * to it by slot; the coordinator learns the spare's tile from the supervisor.
- */
-inline constexpr std::uint32_t kSlotVisionPool = 8U;
 /** The filter and vision supervisors (trn/tasks/supervisors/supervisors.hpp). */
 inline constexpr std::uint32_t kSlotFilterSupervisor = 6U;
 inline constexpr std::uint32_t kSlotVisionSupervisor = 7U;
+/**
+ * The TRN supervisor's tile (tile health, network health, the top of the
+ * supervisor tree): reports, boot reports and escalations follow it when its
+ * watcher moves it to its standby (fdir/health_agent.hpp).
+ */
+inline constexpr std::uint32_t kSlotTrnSupervisor = 8U;
+/**
+ * Not a directory slot (the first number past them): the boot slot
+ * (fdir::boot_slot) of a spare switched on to take the place of a vision tile
+ * whose matches stayed wrong. Nobody sends to it by slot; the coordinator
+ * learns the spare's tile from the supervisor.
+ */
+inline constexpr std::uint32_t kSlotVisionPool = udn::kRoleSlots;
 
 /** Word 0 of every tagged message: what it is (four ASCII letters). */
 inline constexpr std::uint32_t kMsgFrame = 0x46524D31U;          ///< "FRM1"

@@ -145,6 +145,11 @@ void wire_image(ImageConfig& cfg) noexcept {
     }
   }
   cfg.agent.watcher_slot = kSlotIo;  // the watcher is the I/O role (kWiring's agent.watcher)
+  // Reports, boot reports and the watching follow the TRN supervisor's tile where its watcher moves it.
+  cfg.agent.supervisor_slot = kSlotTrnSupervisor;
+  cfg.endpoint.report_slot = kSlotTrnSupervisor;
+  cfg.agent.standby = kSupervisorStandbyTile;
+  cfg.tile_health.own_slot = kSlotTrnSupervisor;
 }
 
 void tile_map_vision_tiles(VisionCoordConfig& cfg, std::uint64_t exclude_mask) noexcept {

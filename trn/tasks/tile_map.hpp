@@ -13,11 +13,13 @@
  *
  *   row 0:  T  V  .  .  .  .  F  S     T TRN supervisor, V vision coordinator,
  *   row 1:  i  I  .  .  .  .  .  .     F filter supervisor, S vision supervisor,
- *   row 2:  .  .  N  R  R  R  .  .     I I/O tile, N navigation filter (and TMR voter),
+ *   row 2:  t  .  N  R  R  R  .  .     I I/O tile, N navigation filter (and TMR voter),
  *   rows 3-7: v v v v v v v v          R filter replica (idle until TMR),
  *                                      v vision tile, . spare (powered off),
  *                                      i the I/O role's backup (a spare kept for it:
- *                                        the devices' second attachment)
+ *                                        the devices' second attachment),
+ *                                      t the TRN supervisor's standby (a spare kept
+ *                                        for it: its watcher switches it on)
  *
  * The TRN supervisor's tile runs the top of the supervisor tree
  * (trn/tasks/supervisors/supervisors.hpp: mission phases, policies, escalations) beside
@@ -77,7 +79,7 @@ struct Placement {
  * 3-7 (kVisionFirstTile..) is a vision tile, the rest are spares.
  */
 inline constexpr std::array<Placement, 9> kPlacements{{
-    {Role::kTrnSupervisor, kNoSlot, 0, bsp::kNoTile},
+    {Role::kTrnSupervisor, kSlotTrnSupervisor, 0, 16},
     {Role::kVisionCoordinator, kSlotCoordinator, 1, bsp::kNoTile},
     {Role::kFilterSupervisor, kSlotFilterSupervisor, 6, bsp::kNoTile},
     {Role::kVisionSupervisor, kSlotVisionSupervisor, 7, bsp::kNoTile},
@@ -157,6 +159,8 @@ constexpr bsp::TileId kCoordinatorTile = boot_tile(Role::kVisionCoordinator);
 constexpr bsp::TileId kIoTile = boot_tile(Role::kIo);
 /** The cross-strap's second attachment of the devices: the I/O role's one spare. */
 constexpr bsp::TileId kIoBackupTile = backup_tile(Role::kIo);
+/** The TRN supervisor's standby: a spare kept for it, which its watcher switches on when it is cut off. */
+constexpr bsp::TileId kSupervisorStandbyTile = backup_tile(Role::kTrnSupervisor);
 constexpr bsp::TileId kFilterTile = boot_tile(Role::kFilter);
 constexpr bsp::TileId kFilterSupervisorTile = boot_tile(Role::kFilterSupervisor);
 constexpr bsp::TileId kVisionSupervisorTile = boot_tile(Role::kVisionSupervisor);
@@ -329,7 +333,8 @@ struct RoleDecl {
   /**
    * Moves to a spare (its directory slot then names the spare) when its tile
    * is given up. The I/O role moves only to its backup (the devices' second
-   * attachment, Placement::backup); the TRN supervisor has no slot; a vision
+   * attachment, Placement::backup); the TRN supervisor is moved by its
+   * watcher, to its standby (fdir/health_agent.hpp), not by itself; a vision
    * tile is replaced by the coordinator's pool, not moved.
    */
   bool movable;

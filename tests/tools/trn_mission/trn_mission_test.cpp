@@ -503,7 +503,8 @@ TEST_F(TrnMissionBinary, AHungSupervisorWhoseWatchdogFailedIsResetByItsWatcher) 
   EXPECT_EQ(s["faults_detected"], 2);
   EXPECT_EQ(s["faults_recovered"], 2);
   EXPECT_NE(log.find("watchdog_fail (planned) -> not detected by the flight software"), std::string::npos) << log;
-  EXPECT_EQ(count_of(log, "supervisor_silent: no heartbeat from the supervisor's tile 0"), 1U) << log;
+  EXPECT_EQ(count_of(log, "supervisor_unheard: no heartbeat from the supervisor's tile 0"), 1U) << log;
+  EXPECT_EQ(count_of(log, "supervisor_silent: the supervisor's tile 0 was silent"), 1U) << "named hung once heard back";
   EXPECT_NE(log.find("tile_reset: tile 0 reset by its watcher (reset 1 of at most 3)"), std::string::npos);
   EXPECT_NE(log.find("tile  9  tile_recovered: tile 0 booted its role again"), std::string::npos);
   EXPECT_NE(log.find("tile  9  core_hang (planned) -> detected by tile 0 (watchdog_expired)"), std::string::npos);
@@ -822,7 +823,7 @@ TEST_F(TrnMissionBinary, ARestartedCoordinatorKeepsTheReplacement) {
   const std::string log = read_text(dir_ / "rc" / "events.log");
   EXPECT_EQ(s["faults_injected"], 2);
   EXPECT_EQ(s["faults_detected"], 2) << log;
-  EXPECT_NE(log.find("role slot 8 runs again on tile 13 (was tile 29)"), std::string::npos) << log;
+  EXPECT_NE(log.find("role slot 9 runs again on tile 13 (was tile 29)"), std::string::npos) << log;
   EXPECT_NE(log.find("tile_rebooted: tile 1 booted again"), std::string::npos);
   EXPECT_EQ(count_of(log, "no route to tile 29"), 0U) << "the retired tile is not sent units";
   EXPECT_EQ(count_of(log, "worker_silent: worker tile 29"), 0U);
@@ -1008,6 +1009,38 @@ TEST_F(TrnMissionBinary, AWatcherWhoseWayToTheSupervisorIsCutAsksItsNeighboursAn
   EXPECT_EQ(count_of(log, "tile_reset: tile 0"), 0U) << "the healthy supervisor is not reset";
   EXPECT_EQ(s["false_alarms"].get<double>(), 0.0);
   EXPECT_EQ(s["healthy_tiles_disturbed"].get<double>(), 0.0);
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+}
+
+// Issue 56 item 2, the supervisor that moves: tile 0's switch fails. Its watcher and the tiles beside
+// it miss it (a suspicion, not yet a diagnosis), the watcher's reset does not bring it back, so it is no
+// hang: the watcher switches it off and the standby on (supervisor_moved names the switch). The standby
+// takes the ledger, the watchdog line and the directory slot; its network health declares the switch;
+// the hangs that follow are reset by it and heard back (before: misdiagnosed, the coordinator never
+// recovered, 23 frames of 45 and 39 false alarms in the whole descent).
+TEST_F(TrnMissionBinary, ACutOffSupervisorMovesToItsStandbyWhichRecoversTheHangsAfter) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 5 --faults " + fixture("supervisor_switch_then_hangs.toml") +
+                " --out " + (dir_ / "sup").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "sup" / "summary.json");
+  const std::string log = read_text(dir_ / "sup" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 3) << log;
+  EXPECT_EQ(s["faults_recovered"], 3) << log;
+  EXPECT_EQ(s["faults_misdiagnosed"].get<double>(), 0.0) << log;
+  EXPECT_EQ(s["false_alarms"].get<double>(), 0.0) << log;
+  EXPECT_EQ(s["healthy_tiles_disturbed"].get<double>(), 0.0) << log;
+  EXPECT_NE(log.find("supervisor_unheard: no heartbeat from the supervisor's tile 0"), std::string::npos) << log;
+  EXPECT_NE(log.find("tile_reset: tile 0 reset by its watcher"), std::string::npos);
+  EXPECT_NE(log.find("switch_fail (planned) -> detected by tile 9 (supervisor_moved)"), std::string::npos);
+  EXPECT_NE(log.find("standby 16 takes the supervisor's role"), std::string::npos);
+  EXPECT_NE(log.find("supervisor_took_over: tile 16 runs the supervisor's role in place of tile 0, its state from "
+                     "the supervisor's ledger"),
+            std::string::npos);
+  EXPECT_NE(log.find("tile 16  transit_failed: switch of tile 0 declared failed"), std::string::npos);
+  EXPECT_EQ(count_of(log, "supervisor_silent"), 0U) << "no hang is claimed";
+  EXPECT_NE(log.find("core_hang (planned) -> detected by tile 16 (watchdog_expired)"), std::string::npos);
+  EXPECT_NE(log.find("tile_recovered: tile 37 booted its role again"), std::string::npos);
+  EXPECT_NE(log.find("tile_recovered: tile 1 booted its role again"), std::string::npos);
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
 }
 

@@ -199,13 +199,23 @@ TEST(Deployment, WiringFillsEveryTileARoleNamesWithThatRolesBootTile) {
   EXPECT_EQ(c.io.filter_tile, 18U);
   EXPECT_EQ(c.agent.watcher, trn::tasks::kIoTile) << "the I/O tile watches the supervisor";
   EXPECT_EQ(c.agent.watcher_slot, trn::tasks::kSlotIo) << "and the watching moves with the I/O role";
-  // The I/O role's one spare is the devices' second attachment, kept for it; no other slot has one.
+  // The I/O role's one spare is the devices' second attachment, kept for it, and the TRN supervisor's
+  // is its standby; no other slot has one.
   for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
-    EXPECT_EQ(c.tile_health.slot_spare[slot], slot == trn::tasks::kSlotIo ? trn::tasks::kIoBackupTile : bsp::kNoTile)
-        << "slot " << slot;
+    const bsp::TileId kept = slot == trn::tasks::kSlotIo                ? trn::tasks::kIoBackupTile
+                             : slot == trn::tasks::kSlotTrnSupervisor ? trn::tasks::kSupervisorStandbyTile
+                                                                        : bsp::kNoTile;
+    EXPECT_EQ(c.tile_health.slot_spare[slot], kept) << "slot " << slot;
   }
   EXPECT_EQ(trn::tasks::kIoBackupTile, 8U);
   EXPECT_EQ(trn::tasks::kTileRoles[trn::tasks::kIoBackupTile], trn::tasks::Role::kSpare) << "off until the role moves";
+  EXPECT_EQ(trn::tasks::kSupervisorStandbyTile, 16U);
+  EXPECT_EQ(trn::tasks::kTileRoles[trn::tasks::kSupervisorStandbyTile], trn::tasks::Role::kSpare);
+  // The supervisor is a role the directory names: its reports, the watching and its standby follow it.
+  EXPECT_EQ(c.agent.standby, trn::tasks::kSupervisorStandbyTile);
+  EXPECT_EQ(c.agent.supervisor_slot, trn::tasks::kSlotTrnSupervisor);
+  EXPECT_EQ(c.endpoint.report_slot, trn::tasks::kSlotTrnSupervisor);
+  EXPECT_EQ(c.tile_health.own_slot, trn::tasks::kSlotTrnSupervisor);
   EXPECT_EQ(c.filter.replica_tiles, trn::tasks::kReplicaTiles);
   EXPECT_EQ(c.sup.replica_tiles, trn::tasks::kReplicaTiles);
   for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
@@ -238,7 +248,7 @@ TEST(Deployment, PlacementsRolesAndSlotsAgree) {
   EXPECT_EQ(trn::tasks::slot_role(trn::tasks::kNoSlot), Role::kSpare);
   EXPECT_EQ(trn::tasks::slot_role(trn::tasks::kSlotVisionPool), Role::kVision);
   // The coordinator, the filter, its replicas, the two application supervisors and the I/O role (to
-  // its backup only) move; the TRN supervisor (no slot) does not.
+  // its backup only) move; the TRN supervisor is moved by its watcher (to its standby), not by itself.
   EXPECT_EQ(trn::tasks::movable_slots(), (1U << trn::tasks::kSlotCoordinator) | (1U << trn::tasks::kSlotFilter) |
                                              (1U << trn::tasks::kSlotIo) |
                                              (7U << trn::tasks::kSlotReplica0) |

@@ -383,6 +383,21 @@ void replica_votes_again(const Join& j, bsp::TileId t, double det_s, double from
 }
 
 /** Recovery of detected fault @p r (detected by event @p det): fills the outcome's recovery fields. */
+/**
+ * The fault map version that routes around the tile a switch or link detection @p d names: the
+ * detection's own (its field b), or, when the supervisor's watcher named the switch (it publishes
+ * no map), that of the standby's declaration of tile @p t; none (all ones) without one.
+ */
+std::uint32_t routing_version(const Join& j, const fdir::Event& d, bsp::TileId t, double det_s, double until) {
+  if (d.id != EventId::kSupervisorMoved) {
+    return d.b;
+  }
+  const std::size_t k = j.first_after(det_s, until, [&](const fdir::Event& e) {
+    return (e.id == EventId::kSwitchFailed || e.id == EventId::kTransitFailed) && e.subject == t;
+  });
+  return k == j.events.size() ? 0xFFFF'FFFFU : j.events[k].b;
+}
+
 void recover(const Join& j, const bsp::FaultRecord& r, std::size_t det, FaultOutcome& o) {
   const fdir::Event& d = j.events[det];
   const bsp::TileId t = r.spec.tile;
@@ -423,8 +438,9 @@ void recover(const Join& j, const bsp::FaultRecord& r, std::size_t det, FaultOut
   double from = det_s;
   const fdir::Diagnosis cls = tools::accusation_of(d).diagnosis;
   if (cls == Diagnosis::kSwitch || cls == Diagnosis::kLink || cls == Diagnosis::kSwitchOrLink) {
+    const std::uint32_t version = routing_version(j, d, t, det_s, until);
     const std::size_t k =
-        j.first_after(det_s, until, [&](const fdir::Event& e) { return e.id == EventId::kMapPublished && e.subject >= d.b; });
+        j.first_after(det_s, until, [&](const fdir::Event& e) { return e.id == EventId::kMapPublished && e.subject >= version; });
     if (k == j.events.size()) {
       return;
     }

@@ -698,7 +698,7 @@ bsp::TileId role_tile(trn::tasks::Role role, std::uint32_t instance) {
     case Role::kIo: return trn::tasks::slot_tile_now(trn::tasks::kSlotIo);
     case Role::kFilter: return trn::tasks::slot_tile_now(trn::tasks::kSlotFilter);
     case Role::kFilterReplica: return trn::tasks::slot_tile_now(trn::tasks::kSlotReplica0 + instance);
-    case Role::kTrnSupervisor: return trn::tasks::kSupervisorTile;
+    case Role::kTrnSupervisor: return trn::tasks::slot_tile_now(trn::tasks::kSlotTrnSupervisor);
     case Role::kFilterSupervisor: return trn::tasks::slot_tile_now(trn::tasks::kSlotFilterSupervisor);
     case Role::kVisionSupervisor: return trn::tasks::slot_tile_now(trn::tasks::kSlotVisionSupervisor);
     case Role::kVision: {

@@ -68,7 +68,9 @@ void policy_to_supervisor(const IoTaskConfig& cfg, std::uint32_t code) noexcept 
   const std::uint32_t level = (code - kCmdFirstPolicy) % 2U;  // normal / full 0, high / save 1
   const std::array<std::uint32_t, fdir::kSupMsgWords> w{fdir::kMsgPolicy, static_cast<std::uint32_t>(constraint), level,
                                                         fdir::kFromGround};
-  if (cfg.trn_supervisor != bsp::kNoTile && udn::endpoint_send(cfg.trn_supervisor, kChanControl, w, kSendTicks) == udn::FtError::kOk) {
+  if (cfg.trn_supervisor != bsp::kNoTile &&
+      udn::endpoint_send(udn::endpoint_role_tile(kSlotTrnSupervisor, cfg.trn_supervisor), kChanControl, w, kSendTicks) ==
+          udn::FtError::kOk) {
     ++g_stats->policies;
   } else {
     ++g_stats->send_failures;

@@ -158,6 +158,16 @@ bsp::TileId vision_sup(const SupervisorsConfig& c) noexcept {
   return udn::endpoint_role_tile(kSlotVisionSupervisor, c.vision_sup_tile);
 }
 
+/** The TRN supervisor's tile now (tile health, network health and the tree's top move together). */
+bsp::TileId trn_tile_now(const SupervisorsConfig& c) noexcept {
+  return udn::endpoint_role_tile(kSlotTrnSupervisor, c.trn_tile);
+}
+
+/** The tile-health supervisor's tile now: it runs beside the TRN supervisor, and moves with it. */
+bsp::TileId health_tile_now(const SupervisorsConfig& c) noexcept {
+  return udn::endpoint_role_tile(kSlotTrnSupervisor, c.health_tile);
+}
+
 // ------------------------------------------------------------------ the TRN supervisor
 
 /** The TRN supervisor's children, as indexes of the policies it holds for them. */
@@ -340,7 +350,7 @@ void filter_act(const SupervisorsConfig& c, const fdir::SupDecision& d, bool com
   NodeState& n = *g_nodes[kNodeFilter];
   if (d.action == fdir::SupAction::kEscalate) {
     ++n.stats->escalations;
-    send_escalation(c.trn_tile, d, kNodeFilter);
+    send_escalation(trn_tile_now(c), d, kNodeFilter);
     return;
   }
   if (d.action != fdir::SupAction::kApply) {
@@ -411,7 +421,7 @@ void replica_power(const SupervisorsConfig& c) noexcept {
     const bsp::TileId t = udn::endpoint_role_tile(kSlotReplica0 + i, c.replica_tiles[i]);
     std::array<std::uint32_t, fdir::kParkWords> w{};
     fdir::pack_park(fdir::ParkRequest{bsp::current_tile(), t, want == 1U, kChanControl}, w);
-    if (t != bsp::kNoTile && udn::endpoint_send(c.health_tile, udn::kFtChanHealth, w, kSendTicks) == udn::FtError::kOk) {
+    if (t != bsp::kNoTile && udn::endpoint_send(health_tile_now(c), udn::kFtChanHealth, w, kSendTicks) == udn::FtError::kOk) {
       g_fsup->asked[i] = want;
       g_fsup->asked_at[i] = now;
     }
@@ -458,7 +468,7 @@ void filter_messages(const SupervisorsConfig& c) noexcept {
     fdir::SupMessage sm{};
     if (unpack_filter_status(w, status)) {
       filter_status(c, status);
-    } else if (fdir::unpack_park_done(w, done) && m.source == c.health_tile) {
+    } else if (fdir::unpack_park_done(w, done) && m.source == health_tile_now(c)) {
       filter_park_done(c, done);
     } else if (sup_message(m, sm) && is_policy(sm, *g_nodes[kNodeFilter])) {
       ++g_nodes[kNodeFilter]->stats->policies;
@@ -487,7 +497,7 @@ void vision_act(const SupervisorsConfig& c, const fdir::SupDecision& d) noexcept
   NodeState& n = *g_nodes[kNodeVision];
   if (d.action == fdir::SupAction::kEscalate) {
     ++n.stats->escalations;
-    send_escalation(c.trn_tile, d, kNodeVision);
+    send_escalation(trn_tile_now(c), d, kNodeVision);
     return;
   }
   if (d.action != fdir::SupAction::kApply) {

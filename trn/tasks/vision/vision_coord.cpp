@@ -538,7 +538,7 @@ std::uint32_t tile_index(const CoordState& st, bsp::TileId tile) noexcept {
 void take_replacement(CoordState& st, VisionCoordStats& stats, bsp::TileId from, const fdir::Replaced& r) noexcept {
   const std::uint32_t i = tile_index(st, r.old_tile);
   const bsp::TileId spare = r.spare;
-  if (from != st.cfg->health_tile || i >= st.cfg->vision_count || spare >= bsp::kMaxTiles) {
+  if (from != udn::endpoint_role_tile(kSlotTrnSupervisor, st.cfg->health_tile) || i >= st.cfg->vision_count || spare >= bsp::kMaxTiles) {
     return;  // not from the supervisor, not ours, or no spare (the tile stays unused)
   }
   st.tiles[i] = spare;
@@ -1231,7 +1231,8 @@ void ask_supervisor(const CoordState& st, VisionCoordStats& stats, std::uint32_t
   const bool replace = a == fdir::TrustAction::kReplace;
   std::array<std::uint32_t, fdir::kResultsBadWords> w{};
   fdir::pack_results_bad(fdir::ResultsBad{bsp::current_tile(), st.tiles[i], replace, kSlotVisionPool, kChanControl}, w);
-  if (udn::endpoint_send(st.cfg->health_tile, udn::kFtChanHealth, w, kVisionSendTicks) == udn::FtError::kOk) {
+  if (udn::endpoint_send(udn::endpoint_role_tile(kSlotTrnSupervisor, st.cfg->health_tile), udn::kFtChanHealth, w,
+                         kVisionSendTicks) == udn::FtError::kOk) {
     ++(replace ? stats.replacements_asked : stats.resets_asked);
   }
 }
