@@ -230,9 +230,11 @@ inline constexpr std::array<EventInfo, 56> kEventTable{{
      "core of tile {s} silent behind a switch that routes ({a} transits through it answer)"},
     {EventId::kTransitFailed, "transit_failed", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kSwitch, Accused::kSubject,
      "tile / 0 the transits through it, 1 an end tile: the transits to or through it, lost longer than a "
-     "hung core there stays silent / those transits / map version",
+     "hung core there stays silent, 2 the supervisor's tile its watcher moved the role from / those "
+     "transits / map version",
      "switch of tile {s} declared failed ({c|all {a} transit probes through it lost|an end tile: all {a} "
-     "transit probes to or through it lost longer than a hung core stays silent|?}): map version {b}"},
+     "transit probes to or through it lost longer than a hung core stays silent|the supervisor's tile its "
+     "watcher moved the role from: silent after a reset|?}): map version {b}"},
     {EventId::kLinkOrSwitchFailed, "link_or_switch_failed", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kSwitchOrLink, Accused::kSubjectAndCause,
      "spare / the link's other end / transits heard across the link / map version: the lost transits are "
      "all the health tile hears through the spare's switch, so the link or that switch failed (they look "

@@ -333,7 +333,7 @@ void watch_supervisor(Watch& w, const HealthAgentConfig& cfg, bsp::TileId sup, b
   // A watcher that hears nobody (its own switch failed) misses the heartbeat for its own reason:
   // resetting a healthy supervisor would wipe the network-health votes that are to name this very
   // switch. It waits; once it hears its neighbours again the timeout runs afresh.
-  if (udn::endpoint_cut_off()) {
+  if (udn::endpoint_cut_off(sup)) {
     if (!w.cut_off) {
       report(EventId::kWatcherCutOff, sup, self, static_cast<std::uint32_t>(since));
     }

@@ -102,6 +102,7 @@ struct State {
   std::uint64_t to_send;      ///< targets not yet sent the current version
   std::uint32_t sent_count;
   std::uint32_t published;    ///< latest version sent to every target
+  k::Ticks started;           ///< when the task started (what it knows of the transits is relearnt after)
 };
 
 /**
@@ -124,6 +125,7 @@ constexpr std::array kStateFields{
     BSP_CONTROL_STATE(State, to_send),
     BSP_CONTROL_STATE(State, sent_count),
     BSP_CONTROL_STATE(State, published),
+    BSP_CONTROL_STATE(State, started),
 };
 constexpr bsp::ControlLayout kStateLayout{kStateFields, sizeof(State), alignof(State)};
 static_assert(bsp::control_layout_ok(kStateLayout), "every member of the net-health State");
@@ -321,6 +323,10 @@ void judge_transits(State& s, const NetHealthConfig& cfg, bsp::TileId self) noex
     }
   }
   // A reported tile, voted failed or not, whose switch still carries transits: its core is silent.
+  // Not before the lost transits had time to be reported again since the task started.
+  if (now - s.started < cfg.relearn_ticks) {
+    return;
+  }
   for (bsp::TileId t = 0; t < udn::kRouteMaxTiles; ++t) {
     const std::uint64_t bit = std::uint64_t{1} << t;
     if (s.suspected_at[t] == 0U || (s.core_told & bit) != 0U || now - s.suspected_at[t] < cfg.settle_ticks) {
@@ -389,6 +395,23 @@ void adopt_newer_map(State& s) noexcept {
   s.published = held.version;
 }
 
+/**
+ * On a standby that took the supervisor's role over: the tile it replaced
+ * was silent after its watcher's reset, to it and to the tiles beside it (its
+ * switch, supervisor_moved). Its switch goes into the map at once: the probers
+ * whose reports would cross it cannot tell this tile what they lose.
+ */
+void declare_replaced(State& s, bsp::TileId self) noexcept {
+  const bsp::TileId x = tile_health_replaced();
+  if (x == bsp::kNoTile || ((s.votes.failed >> x) & 1ULL) != 0ULL ||
+      udn::fault_map_fail_tile(s.map, x) != udn::RouteError::kOk) {
+    return;
+  }
+  s.votes.failed |= std::uint64_t{1} << x;
+  report(EventId::kTransitFailed, x, 2U, 0U, s.map.version);  // cause 2: the tile the watcher moved the role from
+  decided(s, self);
+}
+
 }  // namespace
 
 void net_health_task_main(void* arg) noexcept {
@@ -410,6 +433,7 @@ void net_health_task_main(void* arg) noexcept {
   s->map = udn::endpoint_fault_map();
   s->votes.failed = s->map.failed_tiles;
   s->published = s->map.version;
+  s->started = k::now_ticks();
   g_state[self] = s;
   udn::FtMessage m{};
   for (;;) {
@@ -431,6 +455,7 @@ void net_health_task_main(void* arg) noexcept {
       }
     }
     if (s->to_send == 0ULL) {
+      declare_replaced(*s, self);
       judge_transits(*s, *cfg, self);
     }
     if (s->to_send != 0ULL) {

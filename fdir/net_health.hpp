@@ -59,6 +59,14 @@ struct NetHealthConfig {
    * watchdog, reset and answer again.
    */
   std::uint32_t end_tile_ticks = 150U;
+  /**
+   * After the task starts (its tile restarted, or a standby took the
+   * supervisor's role over) it knows no transit lost yet: the endpoints send
+   * again what still holds every kReReportRounds probe rounds. Until this
+   * long has passed, no transit counts as answering, so no silent tile is
+   * taken for a silent core behind a switch that routes.
+   */
+  std::uint32_t relearn_ticks = 220U;
 };
 
 /** Health task entry (arg: const NetHealthConfig*). */

@@ -55,6 +55,7 @@ struct State {
   std::uint64_t off_due = 0U;      ///< parked, still to be switched off
   std::uint64_t waking = 0U;       ///< switched on again, boot report awaited
   std::uint64_t park_to_tell = 0U; ///< tiles still to be sent the parked set
+  bsp::TileId replaced = bsp::kNoTile;  ///< the supervisor's tile this standby took over from (its switch goes in the map)
   std::uint32_t park_serial = 0U;
   std::array<k::Ticks, bsp::kMaxTiles> off_at{};
   std::array<bsp::TileId, bsp::kMaxTiles> park_by{};      ///< who asked (the answer goes there)
@@ -119,6 +120,7 @@ constexpr std::array kStateFields{
     BSP_CONTROL_STATE(State, off_due),
     BSP_CONTROL_STATE(State, waking),
     BSP_CONTROL_STATE(State, park_to_tell),
+    BSP_CONTROL_STATE(State, replaced),
     BSP_CONTROL_STATE(State, park_serial),
     BSP_CONTROL_STATE(State, off_at),
     BSP_CONTROL_STATE(State, park_by),
@@ -139,7 +141,8 @@ std::uint32_t* g_boot_slots = nullptr;
  * The supervisor's ledger in DDR: what it must not forget when its tile
  * restarts or its standby takes over (the tiles it watches, the spares still
  * free, the tiles retired and parked, the resets under each tile's cap, the
- * role directory), as words under a CRC-32C. Written whenever it changes.
+ * role directory, the fault map), as words under a CRC-32C. Written whenever
+ * it changes.
  */
 namespace ledger {
 constexpr std::size_t kCrc = 0U;
@@ -151,7 +154,8 @@ constexpr std::size_t kParkSerial = kMasks + 2U * kMaskCount;
 constexpr std::size_t kResets = kParkSerial + 1U;  ///< per tile: resets under its cap
 constexpr std::size_t kRoleTiles = kResets + bsp::kMaxTiles;
 constexpr std::size_t kRoleVersions = kRoleTiles + udn::kRoleSlots;
-constexpr std::size_t kWords = kRoleVersions + udn::kRoleSlots;
+constexpr std::size_t kMap = kRoleVersions + udn::kRoleSlots;  ///< the fault map its endpoint holds (pack_fault_map)
+constexpr std::size_t kWords = kMap + udn::kFaultMapWords;
 }  // namespace ledger
 std::uint32_t* g_ledger = nullptr;
 /** Ticks a supervisor starting from its ledger waits for its endpoint at most. */
@@ -735,6 +739,8 @@ std::array<std::uint32_t, ledger::kWords> ledger_words(const State& s, bsp::Tile
     w[ledger::kRoleTiles + slot] = dir.tile[slot];
     w[ledger::kRoleVersions + slot] = dir.version[slot];
   }
+  udn::pack_fault_map(udn::endpoint_fault_map(),
+                      std::span<std::uint32_t, udn::kFaultMapWords>(w.data() + ledger::kMap, udn::kFaultMapWords));
   return w;
 }
 
@@ -794,6 +800,12 @@ void ledger_take(State& s, const std::array<std::uint32_t, ledger::kWords>& w) n
       (void)udn::endpoint_move_role(slot, w[ledger::kRoleTiles + slot], version);  // an older one is refused
     }
   }
+  // The map it held: a standby's endpoint starts from the boot one, and its routes would cross the
+  // switches already taken out (the neighbours' probes bring the map too, but only after a while).
+  udn::FaultMap map{};
+  if (udn::unpack_fault_map(std::span<const std::uint32_t>(w.data() + ledger::kMap, udn::kFaultMapWords), map)) {
+    (void)udn::endpoint_install_map(map);  // an older one is refused
+  }
   if (s.view.parked != 0ULL) {
     ++s.park_serial;
     (void)udn::endpoint_set_parked(s.view.parked, s.park_serial);
@@ -823,6 +835,7 @@ void start_state(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexce
   bsp::watchdog_monitor_select();
   const bsp::TileId old = held ? static_cast<bsp::TileId>(w[ledger::kWriter]) : udn::endpoint_role_tile(cfg.own_slot, bsp::kNoTile);
   if (old < bsp::kMaxTiles) {
+    s.replaced = old;
     s.view.retired |= bit(old);
     s.watched &= ~bit(old);
     s.view.pending &= ~bit(old);
@@ -888,6 +901,15 @@ void tile_health_core_suspect(bsp::TileId tile) noexcept {
   if (self < bsp::kMaxTiles && tile < bsp::kMaxTiles && g_state[self] != nullptr) {
     g_state[self]->suspects |= bit(tile);
   }
+}
+
+bsp::TileId tile_health_replaced() noexcept {
+  const bsp::TileId self = bsp::current_tile();
+  if (self >= bsp::kMaxTiles || g_state[self] == nullptr) {
+    return bsp::kNoTile;
+  }
+  const bsp::TileId t = g_state[self]->replaced;
+  return t < bsp::kMaxTiles ? t : bsp::kNoTile;
 }
 
 bool boot_slots_init() noexcept {

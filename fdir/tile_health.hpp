@@ -129,6 +129,14 @@ void tile_health_task_main(void* arg) noexcept;
  */
 void tile_health_core_suspect(bsp::TileId tile) noexcept;
 
+/**
+ * The supervisor's tile this standby took the role over from (kNoTile: none):
+ * its watcher found it silent after a reset, to it and to the tiles beside
+ * it, so the network-health task on the same tile puts its switch in the map.
+ * [task, on the supervisor's tile]
+ */
+bsp::TileId tile_health_replaced() noexcept;
+
 /** What the supervisor has seen and done. [host: displays and tests] */
 struct TileHealthView {
   std::uint32_t expiries = 0U;   ///< watchdog expiries taken

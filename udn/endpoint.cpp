@@ -609,7 +609,7 @@ void endpoint_task_main(void* arg) noexcept {
 
 bool endpoint_ready() noexcept { return current() != nullptr; }
 
-bool endpoint_cut_off() noexcept {
+bool endpoint_cut_off(bsp::TileId besides) noexcept {
   Endpoint* ep = current();
   if (ep == nullptr || !ep->probing) {
     return false;
@@ -619,14 +619,14 @@ bool endpoint_cut_off() noexcept {
   std::uint32_t probed = 0U;
   std::uint32_t silent = 0U;
   for (std::size_t d = 0; d < ep->probe.neighbour.size(); ++d) {
-    if (ep->probe.neighbour[d] < kRouteMaxTiles) {
+    if (ep->probe.neighbour[d] < kRouteMaxTiles && ep->probe.neighbour[d] != besides) {
       ++probed;
       silent += ep->probe.reported[d] ? 1U : 0U;
     }
   }
   for (std::uint32_t i = 0; i < ep->transit_count; ++i) {
     const TransitProbe& t = ep->transit[i];
-    if (((ep->parked >> t.target) & 1ULL) == 0ULL) {
+    if (((ep->parked >> t.target) & 1ULL) == 0ULL && t.target != besides) {
       ++probed;
       silent += t.lost ? 1U : 0U;
     }

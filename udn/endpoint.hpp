@@ -229,12 +229,14 @@ RoleDirectory endpoint_roles_of(bsp::TileId tile) noexcept;
 
 /**
  * Whether the current tile hears nobody: it probes at least one neighbour or
- * transit target, and every neighbour it probes is reported silent and every
- * transit it pings lost. A tile whose own switch failed sees exactly this; a
- * tile whose one probed neighbour hung still hears its transits. False when
- * the endpoint is closed or not probing. [task]
+ * transit target other than @p besides, and every one of them is reported
+ * silent (a neighbour) or lost (a transit). A tile whose own switch failed
+ * sees exactly this; a tile whose one probed neighbour hung still hears its
+ * transits. @p besides leaves out the tile whose silence is in question (a
+ * watcher beside the supervisor's tile must not take that tile's silence for
+ * its own). False when the endpoint is closed or not probing. [task]
  */
-[[nodiscard]] bool endpoint_cut_off() noexcept;
+[[nodiscard]] bool endpoint_cut_off(bsp::TileId besides = bsp::kNoTile) noexcept;
 
 /** What the current tile's neighbour probe says of one tile (endpoint_hears). */
 enum class Heard : std::uint8_t {

@@ -7,7 +7,7 @@ Usage: tools/study/role_matrix.py CAMPAIGN_FOLDER   (a `trn_campaign run` output
 
 Reads each run's result.json (its kind, role and outcome), the one row of its faults.csv
 (the join's verdict: diagnosis, detection latency, recovery, the event that recovered it,
-the service gap) and its events.log (role_moved: the spare that took the role over), and
+the service gap) and its events.log (role_moved, supervisor_moved: the spare that took the role over), and
 prints a Markdown table with one row per role and kind: runs, detected with the right
 diagnosis (also when it was accused wrongly as well), misdiagnosed, the detection latency (median and max), recovered, the recovering
 events, the service gap (median and max), who took over (the tile itself after its reset,
@@ -27,6 +27,8 @@ KIND_ORDER = ["core_hang", "core_reset", "switch_fail", "link_fail", "seu"]
 ROLE_ORDER = ["trn_supervisor", "vision_coordinator", "io", "filter", "filter_replica", "vision"]
 MOVED = re.compile(r"role_moved: role slot \d+ moves from retired tile (\d+) to spare (\d+)")
 REPLACED = re.compile(r"role_moved: worker slot \d+: tile (\d+) switched off for wrong results, spare (\d+)")
+# The supervisor's watcher gives its role to the standby (fdir/health_agent.hpp).
+SUPERVISOR = re.compile(r"supervisor_moved: the supervisor's tile (\d+) stayed silent .* standby (\d+) takes")
 
 
 def number(text):
@@ -59,7 +61,7 @@ def read_run(folder):
     if os.path.exists(events):
         with open(events, encoding="utf-8") as f:
             for line in f:
-                m = MOVED.search(line) or REPLACED.search(line)
+                m = MOVED.search(line) or REPLACED.search(line) or SUPERVISOR.search(line)
                 if m:
                     moved.append(m.group(2))
     return result, rows[0], moved

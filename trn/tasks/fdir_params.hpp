@@ -76,7 +76,7 @@ constexpr FdirParam constant(const char* name, const char* unit, std::uint32_t v
 }
 
 /** The table: configuration fields first, by part, then the image's constants. */
-inline constexpr std::array<FdirParam, 51> kFdirParams{{
+inline constexpr std::array<FdirParam, 52> kFdirParams{{
     // ---- messaging: probes and the fault-tolerant links (udn)
     field<&ImageConfig::endpoint, &udn::EndpointConfig::probe_period_ticks>(
         "endpoint.probe_period_ticks", "ticks", 2U, 1000U, "a tile pings its neighbours and transit targets this often"),
@@ -119,6 +119,9 @@ inline constexpr std::array<FdirParam, 51> kFdirParams{{
     field<&ImageConfig::net_health, &fdir::NetHealthConfig::end_tile_ticks>(
         "net_health.end_tile_ticks", "ticks", 1U, 100000U,
         "an end tile's transits all lost this long: its switch failed (a hung core is reset sooner)"),
+    field<&ImageConfig::net_health, &fdir::NetHealthConfig::relearn_ticks>(
+        "net_health.relearn_ticks", "ticks", 0U, 100000U,
+        "after the task starts, no transit counts as answering before the endpoints report again"),
     // ---- vision: the coordinator's view of its tiles (trn)
     field<&ImageConfig::coord, &VisionCoordConfig::liveness, &fdir::LivenessConfig::suspect_after_misses>(
         "coord.liveness.suspect_after_misses", "frames", 1U, 1000U,

@@ -1044,6 +1044,27 @@ TEST_F(TrnMissionBinary, ACutOffSupervisorMovesToItsStandbyWhichRecoversTheHangs
   EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
 }
 
+// The watcher beside the supervisor: the I/O role has moved to tile 8 when tile 0's switch fails. Tile 8
+// hears no other neighbour, and before it took the supervisor's silence for its own (watcher_cut_off)
+// and never acted. The standby takes the ledger's fault map, with tile 9's switch already out: its
+// routes avoid it from its first message (before: the boot map, a second of messages lost).
+TEST_F(TrnMissionBinary, AWatcherBesideTheSupervisorMovesItAndTheStandbyRoutesByTheLedgersMap) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 5 --faults " + fixture("io_moved_then_supervisor_cut_off.toml") +
+                " --out " + (dir_ / "beside").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "beside" / "summary.json");
+  const std::string log = read_text(dir_ / "beside" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 3) << log;
+  EXPECT_EQ(s["faults_recovered"], 3) << log;
+  EXPECT_EQ(s["faults_misdiagnosed"].get<double>(), 0.0) << log;
+  EXPECT_EQ(s["false_alarms"].get<double>(), 0.0) << log;
+  EXPECT_NE(log.find("switch_fail (planned) -> detected by tile 8 (supervisor_moved)"), std::string::npos) << log;
+  EXPECT_EQ(count_of(log, "tile  8  watcher_cut_off"), 0U) << "tile 9, its own switch failed, is cut off; tile 8 is not";
+  EXPECT_EQ(count_of(log, "tile 16  transit_failed: switch of tile 9"), 0U) << "the ledger's map has it already";
+  EXPECT_NE(log.find("core_hang (planned) -> detected by tile 16 (watchdog_expired)"), std::string::npos);
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 2.0);
+}
+
 // The end tile: the vision supervisor's corner switch, which no vote and no two independent transits
 // can name. Every transit to or through it stays lost longer than a hung core would, and its
 // neighbour finds it silent: its switch is declared failed, its role moves, and the coordinator's

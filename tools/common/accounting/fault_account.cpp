@@ -241,7 +241,7 @@ struct Join {
     return from + detect_bound_s(r.spec.kind) + kRecoverWindowS;
   }
 
-  /** The role tile @p t held at @p at_s: its boot role, moved by every role_moved before. */
+  /** The role tile @p t held at @p at_s: its boot role, moved by every role_moved (and supervisor move) before. */
   [[nodiscard]] Role role_at(bsp::TileId t, double at_s) const {
     std::array<Role, trn::tasks::kMapTiles> roles = trn::tasks::kTileRoles;
     for (const std::size_t k : order) {
@@ -251,6 +251,9 @@ struct Join {
       const fdir::Event& e = events[k];
       if (e.id == EventId::kRoleMoved && e.cause < roles.size() && e.a < roles.size()) {
         roles[e.a] = roles[e.cause];
+        roles[e.cause] = Role::kSpare;
+      } else if (e.id == EventId::kSupervisorTookOver && e.subject < roles.size() && e.cause < roles.size()) {
+        roles[e.subject] = roles[e.cause];  // the standby runs the supervisor's role now
         roles[e.cause] = Role::kSpare;
       }
     }
