@@ -110,13 +110,13 @@ struct OwedAnswer {
 
 /** The watcher's tile now: where the directory has its role, or its configured tile. */
 bsp::TileId watcher_now(const HealthAgentConfig& cfg) noexcept {
-  return cfg.watcher_slot < udn::kRoleSlots ? udn::endpoint_role_tile(cfg.watcher_slot, cfg.watcher) : cfg.watcher;
+  return cfg.watcher_slot < udn::kRoleSlots ? udn::endpoint_role_tile(cfg.watcher_slot, cfg.watcher_tile) : cfg.watcher_tile;
 }
 
 /** The supervisor's tile now: where the directory has its role, or its configured tile. */
 bsp::TileId supervisor_now(const HealthAgentConfig& cfg) noexcept {
-  return cfg.supervisor_slot < udn::kRoleSlots ? udn::endpoint_role_tile(cfg.supervisor_slot, cfg.supervisor)
-                                               : cfg.supervisor;
+  return cfg.supervisor_slot < udn::kRoleSlots ? udn::endpoint_role_tile(cfg.supervisor_slot, cfg.health_tile)
+                                               : cfg.health_tile;
 }
 
 /** Sends @p a to the supervisor; it stays owed if the network refuses it. */
@@ -425,7 +425,7 @@ void health_agent_main(void* arg) noexcept {
   bool own_supervisor = standby || supervisor_now(*cfg) == self;
   const bsp::Cycles watchdog = static_cast<bsp::Cycles>(cfg->watchdog_ticks) * bsp::tick_cycles();
   bsp::watchdog_arm(watchdog, own_supervisor);
-  bool reported = cfg->supervisor == bsp::kNoTile || own_supervisor;
+  bool reported = cfg->health_tile == bsp::kNoTile || own_supervisor;
   bool overdue_written = false;
   std::array<std::uint32_t, kBootedWords> boot{};
   std::array<std::uint32_t, kAliveWords> alive{};

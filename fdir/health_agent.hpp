@@ -67,20 +67,20 @@ std::span<std::uint8_t> self_test_pattern(bsp::TileId self) noexcept;
 bool self_test_digest(bsp::TileId self, std::uint32_t seed, std::uint32_t& digest) noexcept;
 
 struct HealthAgentConfig {
-  bsp::TileId supervisor = bsp::kNoTile;  ///< tile of the tile-health supervisor (boot reports, watchdog monitor)
+  bsp::TileId health_tile = bsp::kNoTile;  ///< tile of the tile-health supervisor (boot reports, watchdog monitor)
   /**
    * The supervisor's role slot in the role directory (kRoleSlots or more:
    * none): boot reports, self-test answers, the heartbeat and the watching
-   * follow the role where it moves; @c supervisor is its tile until the
+   * follow the role where it moves; @c health_tile is its tile until the
    * directory says otherwise.
    */
   std::uint32_t supervisor_slot = 0xFFFF'FFFFU;
   std::uint32_t watchdog_ticks = 20U;     ///< hardware watchdog timeout (>= 2 agent periods)
-  bsp::TileId watcher = bsp::kNoTile;     ///< tile whose agent watches the supervisor's tile (kNoTile: none)
+  bsp::TileId watcher_tile = bsp::kNoTile;     ///< tile whose agent watches the supervisor's tile (kNoTile: none)
   /**
    * The watcher's role slot in the role directory (udn::RoleDirectory;
    * kRoleSlots or more: none): where the role moves, the watching goes with
-   * it; @c watcher is its tile until the directory says otherwise.
+   * it; @c watcher_tile is its tile until the directory says otherwise.
    */
   std::uint32_t watcher_slot = 0xFFFF'FFFFU;
   /** A supervisor heartbeat missing this long is named and its tile reset (> watchdog_ticks + a boot). */

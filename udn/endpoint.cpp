@@ -260,7 +260,7 @@ bool open(Endpoint*& out, bsp::TileId self, const EndpointConfig& cfg) noexcept 
   ft_set_epoch(ep->node, bsp::boot_count());
   ep->node.peer_map_version.fill(kVersionUnknown);
   ep->pushed.fill(kVersionUnknown);
-  ep->probing = cfg.report_to != bsp::kNoTile &&
+  ep->probing = cfg.health_tile != bsp::kNoTile &&
                 ft_probe_init(ep->probe, ep->node, ProbeConfig{cfg.probe_miss_threshold}, &on_suspect, ep) ==
                     ProbeError::kOk;
   if (ep->probing) {
@@ -316,7 +316,7 @@ void check_probes(Endpoint& ep, bsp::TileId self) noexcept {
     plan_transits(ep, self);
   }
   const EndpointConfig& cfg = *ep.cfg;
-  bool probe_ok = ep.probing == (cfg.report_to != bsp::kNoTile && cfg.probe_miss_threshold != 0U);
+  bool probe_ok = ep.probing == (cfg.health_tile != bsp::kNoTile && cfg.probe_miss_threshold != 0U);
   probe_ok = probe_ok && (!ep.probing || ep.probe.config.miss_threshold == cfg.probe_miss_threshold);
   for (std::size_t d = 0; d < ep.probe.neighbour.size() && ep.probing; ++d) {
     const bsp::TileId n = ep.probe.neighbour[d];
@@ -324,7 +324,7 @@ void check_probes(Endpoint& ep, bsp::TileId self) noexcept {
   }
   if (!probe_ok) {
     ft_report_repair(ep.node, FtRepair::kProbe, ep.probing ? 1U : 0U, ep.probe.config.miss_threshold);
-    ep.probing = cfg.report_to != bsp::kNoTile &&
+    ep.probing = cfg.health_tile != bsp::kNoTile &&
                  ft_probe_init(ep.probe, ep.node, ProbeConfig{cfg.probe_miss_threshold}, &on_suspect, &ep) ==
                      ProbeError::kOk;
     if (ep.probing) {
@@ -412,11 +412,11 @@ void report_again(Endpoint& ep) noexcept {
   }
 }
 
-/** Where reports go: the report slot's tile in the directory, or report_to. */
+/** Where reports go: the report slot's tile in the directory, or health_tile. */
 bsp::TileId report_target(const Endpoint& ep) noexcept {
   const std::uint32_t slot = ep.cfg->report_slot;
-  if (ep.cfg->report_to == bsp::kNoTile || slot >= kRoleSlots || ep.roles.tile[slot] >= kRouteMaxTiles) {
-    return ep.cfg->report_to;
+  if (ep.cfg->health_tile == bsp::kNoTile || slot >= kRoleSlots || ep.roles.tile[slot] >= kRouteMaxTiles) {
+    return ep.cfg->health_tile;
   }
   return ep.roles.tile[slot];
 }

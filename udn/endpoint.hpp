@@ -25,7 +25,7 @@
  * kFtChanMap) and the service applies the newest move of each slot, so
  * senders follow a move without knowing tile numbers.
  *
- * Reports: the probe's suspects go to config.report_to on kFtChanFdir
+ * Reports: the probe's suspects go to config.health_tile on kFtChanFdir
  * (kMsgSuspect), and so do the transit probes' targets lost or back
  * (kMsgTransit), each by its route and, as a copy, through a twin whose way
  * shares no switch and no link with it (route_twin_via): one failed switch
@@ -63,10 +63,10 @@ struct EndpointConfig {
   FtConfig ft{10U, 8U};  ///< detours re-injected by two tiles take several ticks per leg
   std::uint32_t packets_per_tick = 16U;
   FaultMap boot_map{};                  ///< the map every tile starts from (cols 0: all clear on the network's grid)
-  bsp::TileId report_to = bsp::kNoTile; ///< suspect reports go here (kNoTile: no probing)
+  bsp::TileId health_tile = bsp::kNoTile; ///< suspect reports go here (kNoTile: no probing)
   /**
    * The role slot of the tile reports go to (kRoleSlots or more: none):
-   * where the directory has that role, reports follow it; report_to is its
+   * where the directory has that role, reports follow it; health_tile is its
    * tile until the directory says otherwise.
    */
   std::uint32_t report_slot = 0xFFFF'FFFFU;

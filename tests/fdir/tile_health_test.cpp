@@ -85,8 +85,8 @@ class TileHealth : public ::testing::Test {
     ASSERT_EQ(udn::fault_map_init(image.endpoint.boot_map, bsp::kTile64.cols, bsp::kTile64.rows),
               udn::RouteError::kOk);
     image.endpoint.sink = fdir::ft_event_sink();
-    image.agent.supervisor = kSup;
-    image.agent.watcher = kB;  // the supervisor's tile is watched by tile B's agent
+    image.agent.health_tile = kSup;
+    image.agent.watcher_tile = kB;  // the supervisor's tile is watched by tile B's agent
     image.tile_health.watched = (1ULL << kA) | (1ULL << kB);
     ASSERT_EQ(trn::tasks::configure_image(image), trn::tasks::ImageError::kOk);
     bsp::BoardConfig cfg = bsp::default_config(bsp::kTile64);
@@ -268,7 +268,7 @@ class SelfTests : public ::testing::Test {
     ASSERT_EQ(udn::fault_map_init(image.endpoint.boot_map, bsp::kTile64.cols, bsp::kTile64.rows),
               udn::RouteError::kOk);
     image.endpoint.sink = fdir::ft_event_sink();
-    image.agent.supervisor = kSup;
+    image.agent.health_tile = kSup;
     image.tile_health.watched = (1ULL << kA) | (1ULL << kB) | (1ULL << kC);
     image.tile_health.self_test_wait_ticks = wait_ticks();
     ASSERT_EQ(trn::tasks::configure_image(image), trn::tasks::ImageError::kOk);

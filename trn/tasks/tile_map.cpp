@@ -62,12 +62,12 @@ ImageError check_values(const ImageConfig& c, const char*& what) noexcept {
     return ImageError::kBadConfig;
   }
   // The watcher must outwait the supervisor tile's own watchdog and a boot, or both would reset it.
-  what = "agent.watcher";
-  if (c.agent.watcher != bsp::kNoTile && c.agent.watcher == c.agent.supervisor) {
+  what = "agent.watcher_tile";
+  if (c.agent.watcher_tile != bsp::kNoTile && c.agent.watcher_tile == c.agent.health_tile) {
     return ImageError::kBadConfig;
   }
   what = "agent.watcher_timeout_ticks";
-  if (c.agent.watcher != bsp::kNoTile &&
+  if (c.agent.watcher_tile != bsp::kNoTile &&
       c.agent.watcher_timeout_ticks <= c.agent.watchdog_ticks + 2U * fdir::kAgentPeriodTicks) {
     return ImageError::kBadConfig;
   }
@@ -144,7 +144,7 @@ void wire_image(ImageConfig& cfg) noexcept {
       cfg.tile_health.slot_spare[p.slot] = p.backup;
     }
   }
-  cfg.agent.watcher_slot = kSlotIo;  // the watcher is the I/O role (kWiring's agent.watcher)
+  cfg.agent.watcher_slot = kSlotIo;  // the watcher is the I/O role (kWiring's agent.watcher_tile)
   // Reports, boot reports and the watching follow the TRN supervisor's tile where its watcher moves it.
   cfg.agent.supervisor_slot = kSlotTrnSupervisor;
   cfg.endpoint.report_slot = kSlotTrnSupervisor;

@@ -424,33 +424,33 @@ constexpr Wire wire(const char* field, Role to) noexcept {
 /** Every tile a role's configuration names, and whose it is. */
 inline constexpr std::array<Wire, 25> kWiring{{
     // Suspect reports, boot reports and watchdog interrupts go to the tile-health supervisor.
-    wire<&ImageConfig::endpoint, &udn::EndpointConfig::report_to>("endpoint.report_to", Role::kTrnSupervisor),
-    wire<&ImageConfig::agent, &fdir::HealthAgentConfig::supervisor>("agent.supervisor", Role::kTrnSupervisor),
+    wire<&ImageConfig::endpoint, &udn::EndpointConfig::health_tile>("endpoint.health_tile", Role::kTrnSupervisor),
+    wire<&ImageConfig::agent, &fdir::HealthAgentConfig::health_tile>("agent.health_tile", Role::kTrnSupervisor),
     // The I/O role watches the supervisor's tile (and the watching moves with it, agent.watcher_slot);
     // the supervisor watches it in turn.
-    wire<&ImageConfig::agent, &fdir::HealthAgentConfig::watcher>("agent.watcher", Role::kIo),
+    wire<&ImageConfig::agent, &fdir::HealthAgentConfig::watcher_tile>("agent.watcher_tile", Role::kIo),
     wire<&ImageConfig::io, &IoTaskConfig::filter_tile>("io.filter_tile", Role::kFilter),
     wire<&ImageConfig::io, &IoTaskConfig::coordinator_tile>("io.coordinator_tile", Role::kVisionCoordinator),
-    wire<&ImageConfig::io, &IoTaskConfig::trn_supervisor>("io.trn_supervisor", Role::kTrnSupervisor),
-    wire<&ImageConfig::io, &IoTaskConfig::filter_supervisor>("io.filter_supervisor", Role::kFilterSupervisor),
-    wire<&ImageConfig::sup, &SupervisorsConfig::trn_tile>("sup.trn_tile", Role::kTrnSupervisor),
-    wire<&ImageConfig::sup, &SupervisorsConfig::filter_sup_tile>("sup.filter_sup_tile", Role::kFilterSupervisor),
-    wire<&ImageConfig::sup, &SupervisorsConfig::vision_sup_tile>("sup.vision_sup_tile", Role::kVisionSupervisor),
+    wire<&ImageConfig::io, &IoTaskConfig::trn_supervisor_tile>("io.trn_supervisor_tile", Role::kTrnSupervisor),
+    wire<&ImageConfig::io, &IoTaskConfig::filter_supervisor_tile>("io.filter_supervisor_tile", Role::kFilterSupervisor),
+    wire<&ImageConfig::sup, &SupervisorsConfig::trn_supervisor_tile>("sup.trn_supervisor_tile", Role::kTrnSupervisor),
+    wire<&ImageConfig::sup, &SupervisorsConfig::filter_supervisor_tile>("sup.filter_supervisor_tile", Role::kFilterSupervisor),
+    wire<&ImageConfig::sup, &SupervisorsConfig::vision_supervisor_tile>("sup.vision_supervisor_tile", Role::kVisionSupervisor),
     wire<&ImageConfig::sup, &SupervisorsConfig::io_tile>("sup.io_tile", Role::kIo),
     wire<&ImageConfig::sup, &SupervisorsConfig::coordinator_tile>("sup.coordinator_tile", Role::kVisionCoordinator),
     wire<&ImageConfig::sup, &SupervisorsConfig::replica_tiles, 0U>("sup.replica_tiles[0]", Role::kFilterReplica),
     wire<&ImageConfig::sup, &SupervisorsConfig::replica_tiles, 1U>("sup.replica_tiles[1]", Role::kFilterReplica),
     wire<&ImageConfig::sup, &SupervisorsConfig::replica_tiles, 2U>("sup.replica_tiles[2]", Role::kFilterReplica),
     wire<&ImageConfig::sup, &SupervisorsConfig::health_tile>("sup.health_tile", Role::kTrnSupervisor),
-    wire<&ImageConfig::filter, &FilterTaskConfig::nav_sink>("filter.nav_sink", Role::kVisionCoordinator),
+    wire<&ImageConfig::filter, &FilterTaskConfig::coordinator_tile>("filter.coordinator_tile", Role::kVisionCoordinator),
     wire<&ImageConfig::filter, &FilterTaskConfig::replica_tiles, 0U>("filter.replica_tiles[0]", Role::kFilterReplica),
     wire<&ImageConfig::filter, &FilterTaskConfig::replica_tiles, 1U>("filter.replica_tiles[1]", Role::kFilterReplica),
     wire<&ImageConfig::filter, &FilterTaskConfig::replica_tiles, 2U>("filter.replica_tiles[2]", Role::kFilterReplica),
-    wire<&ImageConfig::filter, &FilterTaskConfig::supervisor>("filter.supervisor", Role::kFilterSupervisor),
+    wire<&ImageConfig::filter, &FilterTaskConfig::filter_supervisor_tile>("filter.filter_supervisor_tile", Role::kFilterSupervisor),
     wire<&ImageConfig::coord, &VisionCoordConfig::filter_tile>("coord.filter_tile", Role::kFilter),
     wire<&ImageConfig::coord, &VisionCoordConfig::health_tile>("coord.health_tile", Role::kTrnSupervisor),
-    wire<&ImageConfig::coord, &VisionCoordConfig::supervisor>("coord.supervisor", Role::kVisionSupervisor),
-    wire<&ImageConfig::vision, &VisionWorkerConfig::coordinator>("vision.coordinator", Role::kVisionCoordinator),
+    wire<&ImageConfig::coord, &VisionCoordConfig::vision_supervisor_tile>("coord.vision_supervisor_tile", Role::kVisionSupervisor),
+    wire<&ImageConfig::vision, &VisionWorkerConfig::coordinator_tile>("vision.coordinator_tile", Role::kVisionCoordinator),
 }};
 
 /**

@@ -204,7 +204,7 @@ class FilterMatches : public ::testing::Test {
     f.initial.x.q_mb = t0.q_mb;
     f.initial.sigma_p_m = trn::filter::Vec3::Constant(50.0);
     f.initial.sigma_v_mps = trn::filter::Vec3::Constant(0.1);
-    f.nav_sink = kCoordTile;
+    f.coordinator_tile = kCoordTile;
     f.matches_per_job = matches_per_job;
     image.io.filter_tile = kFilterTile;
     ASSERT_EQ(trn::tasks::configure_image(image), trn::tasks::ImageError::kOk);

@@ -24,13 +24,13 @@ using trn::tasks::image_config;
 
 ImageConfig mission_like() {
   ImageConfig c{};
-  c.endpoint.report_to = trn::tasks::kSupervisorTile;
+  c.endpoint.health_tile = trn::tasks::kSupervisorTile;
   c.io.filter_tile = trn::tasks::kFilterTile;
   c.io.coordinator_tile = trn::tasks::kCoordinatorTile;
-  c.filter.nav_sink = trn::tasks::kCoordinatorTile;
+  c.filter.coordinator_tile = trn::tasks::kCoordinatorTile;
   c.coord.filter_tile = trn::tasks::kFilterTile;
   trn::tasks::tile_map_vision_tiles(c.coord, 0);
-  c.vision.coordinator = trn::tasks::kCoordinatorTile;
+  c.vision.coordinator_tile = trn::tasks::kCoordinatorTile;
   return c;
 }
 
@@ -65,7 +65,7 @@ TEST(ImageConfig, RefusedConfigurationChangesNothing) {
   c.io.filter_tile = 64;  // off the 8x8 chip
   EXPECT_EQ(configure_image(c), ImageError::kBadTile);
   c = mission_like();
-  c.endpoint.report_to = 200;
+  c.endpoint.health_tile = 200;
   EXPECT_EQ(configure_image(c), ImageError::kBadTile);
   c = mission_like();
   c.coord.vision_count = trn::tasks::kMaxVisionTiles + 1U;
@@ -83,7 +83,7 @@ TEST(ImageConfig, RefusedConfigurationChangesNothing) {
   c.coord.deadline_s = 0.0;
   EXPECT_EQ(configure_image(c), ImageError::kBadConfig);
   c = mission_like();
-  c.agent.supervisor = 64;
+  c.agent.health_tile = 64;
   EXPECT_EQ(configure_image(c), ImageError::kBadTile);
   c = mission_like();
   c.endpoint.roles.tile[trn::tasks::kSlotFilter] = 99;  // the directory names a tile off the chip
@@ -92,14 +92,14 @@ TEST(ImageConfig, RefusedConfigurationChangesNothing) {
   c.agent.watchdog_ticks = fdir::kAgentPeriodTicks;  // shorter than two kicks: it would expire between them
   EXPECT_EQ(configure_image(c), ImageError::kBadConfig);
   c = mission_like();
-  c.agent.watcher = 64;
+  c.agent.watcher_tile = 64;
   EXPECT_EQ(configure_image(c), ImageError::kBadTile);
   c = mission_like();
-  c.agent.supervisor = trn::tasks::kSupervisorTile;
-  c.agent.watcher = trn::tasks::kSupervisorTile;  // a tile cannot watch itself
+  c.agent.health_tile = trn::tasks::kSupervisorTile;
+  c.agent.watcher_tile = trn::tasks::kSupervisorTile;  // a tile cannot watch itself
   EXPECT_EQ(configure_image(c), ImageError::kBadConfig);
   c = mission_like();
-  c.agent.watcher = trn::tasks::kIoTile;
+  c.agent.watcher_tile = trn::tasks::kIoTile;
   c.agent.watcher_timeout_ticks = c.agent.watchdog_ticks;  // it would reset a tile its own watchdog is resetting
   EXPECT_EQ(configure_image(c), ImageError::kBadConfig);
   c = mission_like();
@@ -197,7 +197,7 @@ TEST(Deployment, WiringFillsEveryTileARoleNamesWithThatRolesBootTile) {
     EXPECT_NE(w.get(c), bsp::kNoTile) << w.field << ": every wired role is placed";
   }
   EXPECT_EQ(c.io.filter_tile, 18U);
-  EXPECT_EQ(c.agent.watcher, trn::tasks::kIoTile) << "the I/O tile watches the supervisor";
+  EXPECT_EQ(c.agent.watcher_tile, trn::tasks::kIoTile) << "the I/O tile watches the supervisor";
   EXPECT_EQ(c.agent.watcher_slot, trn::tasks::kSlotIo) << "and the watching moves with the I/O role";
   // The I/O role's one spare is the devices' second attachment, kept for it, and the TRN supervisor's
   // is its standby; no other slot has one.

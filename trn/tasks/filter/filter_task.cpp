@@ -364,10 +364,10 @@ void deliver(Slot& slot, std::uint32_t job, std::span<const std::uint32_t, kNavW
   slot.delivered_any = true;
   slot.next_deliver = job + 1U;
   bsp::consume(bsp::Work{2ULL * kNavWords, 0U, 0U, 0U, kNavWords});
-  if (slot.cfg->nav_sink == bsp::kNoTile) {
+  if (slot.cfg->coordinator_tile == bsp::kNoTile) {
     return;
   }
-  const bsp::TileId sink = udn::endpoint_role_tile(kSlotCoordinator, slot.cfg->nav_sink);
+  const bsp::TileId sink = udn::endpoint_role_tile(kSlotCoordinator, slot.cfg->coordinator_tile);
   if (udn::endpoint_send(sink, kChanNav, w, 0U) == udn::FtError::kOk) {
     ++slot.stats->nav_sent;
   } else {
@@ -1106,7 +1106,7 @@ void tmr_job(Slot& slot) noexcept {
 
 /** The front's status for the filter supervisor: its mode, the voters and the faults counted. */
 void send_status(const Slot& slot) noexcept {
-  if (slot.cfg->supervisor == bsp::kNoTile || slot.job % kFilterStatusJobs != 0U) {
+  if (slot.cfg->filter_supervisor_tile == bsp::kNoTile || slot.job % kFilterStatusJobs != 0U) {
     return;
   }
   const std::uint32_t mode = slot.mode == Mode::kSimplex    ? kFilterModeSimplex
@@ -1118,7 +1118,7 @@ void send_status(const Slot& slot) noexcept {
                                   slot.stats->outputs_skipped},
                      w);
   // A lost status is a missing verdict: the supervisor judges the next one.
-  (void)udn::endpoint_send(udn::endpoint_role_tile(kSlotFilterSupervisor, slot.cfg->supervisor), kChanControl, w, 0U);
+  (void)udn::endpoint_send(udn::endpoint_role_tile(kSlotFilterSupervisor, slot.cfg->filter_supervisor_tile), kChanControl, w, 0U);
 }
 
 }  // namespace

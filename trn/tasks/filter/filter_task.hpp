@@ -12,7 +12,7 @@
  *  3. applies at most matches_per_job queued matches, each at its image time
  *     (the EKF's pose history: matches arrive 0.2-0.8 s after the image);
  *  4. publishes the solution (bsp::publish_filter, where silent-data-corruption
- *     faults hit it) and sends it to nav_sink on kChanNav without waiting.
+ *     faults hit it) and sends it to coordinator_tile on kChanNav without waiting.
  * The counted work is charged with the board's cost model. The EKF and the
  * queue live in the tile's RAM (carved at task start), like any state a
  * single-event upset could hit. How many matches a job applies depends only
@@ -93,13 +93,13 @@ struct FilterTaskConfig {
   filter::FilterConfig filter{};
   bsp::CameraModel camera{};
   filter::InitialEstimate initial{};
-  bsp::TileId nav_sink = bsp::kNoTile;  ///< tile sent the solution every job on kChanNav (kNoTile: none)
+  bsp::TileId coordinator_tile = bsp::kNoTile;  ///< tile sent the solution every job on kChanNav (kNoTile: none)
   std::uint32_t matches_per_job = kDefaultMatchesPerJob;  ///< 1..kMaxMatchesPerFrame
   std::uint32_t checkpoint_every = kDefaultCheckpointEvery;  ///< jobs between DDR checkpoints (0: none, no resume)
   /** Boot tiles of the TMR replicas (slots kSlotReplica0..): kNoTile for none (no TMR). */
   std::array<bsp::TileId, 3> replica_tiles{bsp::kNoTile, bsp::kNoTile, bsp::kNoTile};
   /** Boot tile of the filter supervisor (slot kSlotFilterSupervisor), sent a status every kFilterStatusJobs jobs (kNoTile: none). */
-  bsp::TileId supervisor = bsp::kNoTile;
+  bsp::TileId filter_supervisor_tile = bsp::kNoTile;
   /** When the voter excludes a replica (disagreements or missed jobs in a row). */
   fdir::TmrGroupConfig tmr{};
   /** What a plausible state is, checked after every simplex job (trn/filter/state_check.hpp). */
@@ -121,7 +121,7 @@ struct FilterTaskStats {
   std::uint32_t rejected_invalid;  ///< refused as invalid (geometry, sigma, time not finite)
   std::uint32_t matches_dropped;   ///< dropped from a full queue (the oldest frame's remainder)
   std::uint32_t queue_high_water;  ///< most matches queued at once
-  std::uint32_t nav_sent;          ///< solutions handed to the messaging layer for nav_sink
+  std::uint32_t nav_sent;          ///< solutions handed to the messaging layer for coordinator_tile
   std::uint32_t nav_send_failed;   ///< refused (window full, no route, node not open)
   std::uint32_t imu_replayed;      ///< samples integrated from the I/O tile's DDR record (missed on the network)
   std::uint32_t imu_duplicates;    ///< live samples already integrated (replayed before they arrived)

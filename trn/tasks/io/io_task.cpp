@@ -68,8 +68,8 @@ void policy_to_supervisor(const IoTaskConfig& cfg, std::uint32_t code) noexcept 
   const std::uint32_t level = (code - kCmdFirstPolicy) % 2U;  // normal / full 0, high / save 1
   const std::array<std::uint32_t, fdir::kSupMsgWords> w{fdir::kMsgPolicy, static_cast<std::uint32_t>(constraint), level,
                                                         fdir::kFromGround};
-  if (cfg.trn_supervisor != bsp::kNoTile &&
-      udn::endpoint_send(udn::endpoint_role_tile(kSlotTrnSupervisor, cfg.trn_supervisor), kChanControl, w, kSendTicks) ==
+  if (cfg.trn_supervisor_tile != bsp::kNoTile &&
+      udn::endpoint_send(udn::endpoint_role_tile(kSlotTrnSupervisor, cfg.trn_supervisor_tile), kChanControl, w, kSendTicks) ==
           udn::FtError::kOk) {
     ++g_stats->policies;
   } else {
@@ -79,13 +79,13 @@ void policy_to_supervisor(const IoTaskConfig& cfg, std::uint32_t code) noexcept 
 
 /** A ground command of the filter's mode, as the filter supervisor's policy (it sends no command of its own for it). */
 void tell_filter_supervisor(const IoTaskConfig& cfg, std::uint32_t code) noexcept {
-  if (cfg.filter_supervisor == bsp::kNoTile || (code != kCmdFilterTmr && code != kCmdFilterSimplex)) {
+  if (cfg.filter_supervisor_tile == bsp::kNoTile || (code != kCmdFilterTmr && code != kCmdFilterSimplex)) {
     return;
   }
   const std::uint32_t level = code == kCmdFilterTmr ? fdir::kReliabilityHigh : fdir::kReliabilityNormal;
   const std::array<std::uint32_t, fdir::kSupMsgWords> w{
       fdir::kMsgPolicy, static_cast<std::uint32_t>(fdir::Constraint::kReliability), level, fdir::kFromGround};
-  if (udn::endpoint_send(udn::endpoint_role_tile(kSlotFilterSupervisor, cfg.filter_supervisor), kChanControl, w,
+  if (udn::endpoint_send(udn::endpoint_role_tile(kSlotFilterSupervisor, cfg.filter_supervisor_tile), kChanControl, w,
                          kSendTicks) != udn::FtError::kOk) {
     ++g_stats->send_failures;
   }

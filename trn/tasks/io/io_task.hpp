@@ -22,9 +22,9 @@ struct IoTaskConfig {
   bsp::TileId filter_tile = bsp::kNoTile;
   bsp::TileId coordinator_tile = bsp::kNoTile;  ///< frame notices go here (kNoTile: frames are not forwarded)
   /** The TRN supervisor: policy telecommands (codes from kCmdFirstPolicy) go here (kNoTile: they are dropped). */
-  bsp::TileId trn_supervisor = bsp::kNoTile;
+  bsp::TileId trn_supervisor_tile = bsp::kNoTile;
   /** The filter supervisor (slot kSlotFilterSupervisor): told of a ground filter_tmr / filter_simplex, which it takes as its policy (kNoTile: nobody). */
-  bsp::TileId filter_supervisor = bsp::kNoTile;
+  bsp::TileId filter_supervisor_tile = bsp::kNoTile;
 };
 
 struct IoTaskStats {

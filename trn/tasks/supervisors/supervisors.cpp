@@ -152,15 +152,15 @@ bool sup_message(const udn::FtMessage& m, fdir::SupMessage& out) noexcept {
 }
 
 bsp::TileId filter_sup(const SupervisorsConfig& c) noexcept {
-  return udn::endpoint_role_tile(kSlotFilterSupervisor, c.filter_sup_tile);
+  return udn::endpoint_role_tile(kSlotFilterSupervisor, c.filter_supervisor_tile);
 }
 bsp::TileId vision_sup(const SupervisorsConfig& c) noexcept {
-  return udn::endpoint_role_tile(kSlotVisionSupervisor, c.vision_sup_tile);
+  return udn::endpoint_role_tile(kSlotVisionSupervisor, c.vision_supervisor_tile);
 }
 
 /** The TRN supervisor's tile now (tile health, network health and the tree's top move together). */
 bsp::TileId trn_tile_now(const SupervisorsConfig& c) noexcept {
-  return udn::endpoint_role_tile(kSlotTrnSupervisor, c.trn_tile);
+  return udn::endpoint_role_tile(kSlotTrnSupervisor, c.trn_supervisor_tile);
 }
 
 /** The tile-health supervisor's tile now: it runs beside the TRN supervisor, and moves with it. */

@@ -75,9 +75,9 @@ struct PhaseSpec {
 struct SupervisorsConfig {
   std::array<PhaseSpec, kMaxPhases> phases{};
   std::uint32_t phase_count = 0U;         ///< 0: no phase table (policies only by telecommand)
-  bsp::TileId trn_tile = bsp::kNoTile;    ///< the TRN supervisor's tile (escalations go there)
-  bsp::TileId filter_sup_tile = bsp::kNoTile;  ///< boot tile of the filter supervisor (kNoTile: no tree)
-  bsp::TileId vision_sup_tile = bsp::kNoTile;  ///< boot tile of the vision supervisor
+  bsp::TileId trn_supervisor_tile = bsp::kNoTile;    ///< the TRN supervisor's tile (escalations go there)
+  bsp::TileId filter_supervisor_tile = bsp::kNoTile;  ///< boot tile of the filter supervisor (kNoTile: no tree)
+  bsp::TileId vision_supervisor_tile = bsp::kNoTile;  ///< boot tile of the vision supervisor
   bsp::TileId io_tile = bsp::kNoTile;     ///< where the filter supervisor's commands enter the filter's stream
   bsp::TileId coordinator_tile = bsp::kNoTile;
   std::uint32_t vision_min_full = 30U;    ///< healthy vision tiles the full image rate needs

@@ -1315,7 +1315,7 @@ void send_status(const CoordState& st, VisionCoordStats& stats, std::uint32_t lo
     healthy += (st.live.misses[i] == 0U && fdir::result_trust_used(st.trust, i)) ? 1U : 0U;
   }
   stats.healthy_tiles = healthy;
-  if (st.cfg->supervisor == bsp::kNoTile) {
+  if (st.cfg->vision_supervisor_tile == bsp::kNoTile) {
     return;
   }
   std::array<std::uint32_t, kVisionStatusWords> w{};
@@ -1324,7 +1324,7 @@ void send_status(const CoordState& st, VisionCoordStats& stats, std::uint32_t lo
   // the network as the batch's parts do (sent without waiting, three of five statuses were refused
   // in FDIR-SUP-13's flight and the half rate was judged met 6 s later). One still lost is a missing
   // verdict: the supervisor judges the next frame's.
-  if (udn::endpoint_send(udn::endpoint_role_tile(kSlotVisionSupervisor, st.cfg->supervisor), kChanControl, w,
+  if (udn::endpoint_send(udn::endpoint_role_tile(kSlotVisionSupervisor, st.cfg->vision_supervisor_tile), kChanControl, w,
                          kVisionSendTicks) != udn::FtError::kOk) {
     ++stats.status_send_failed;
   }

@@ -118,7 +118,7 @@ struct VisionCoordConfig {
   /** When a silent tile is left out of the frames, and how often it is tried again. */
   fdir::LivenessConfig liveness{kSuspectAfterMisses, kProbeEveryFrames};
   /** Boot tile of the vision supervisor (slot kSlotVisionSupervisor): sent a status after each frame, it sets the image rate (kNoTile: none). */
-  bsp::TileId supervisor = bsp::kNoTile;
+  bsp::TileId vision_supervisor_tile = bsp::kNoTile;
 };
 
 /**

@@ -24,7 +24,7 @@ namespace trn::tasks {
 struct VisionWorkerConfig {
   bsp::CameraModel camera{};
   double descent_sun_m[3] = {0.0, 0.0, 0.0};  ///< unit vector to the descent sun, map frame (mission knowledge)
-  bsp::TileId coordinator = bsp::kNoTile;
+  bsp::TileId coordinator_tile = bsp::kNoTile;
 };
 
 struct VisionWorkerStats {
