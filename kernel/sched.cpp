@@ -21,7 +21,7 @@ namespace k {
 namespace detail {
 namespace {
 
-struct TileSlot {
+struct TileKernel {
   TaskTable table;  ///< the table the tile boots next (a spare is given its role's before its reset)
   bsp::Cycles tick_cycles;
   KernelState* ks;
@@ -29,7 +29,7 @@ struct TileSlot {
   std::uint32_t booted_tasks;  ///< tasks of the kernel running now, idle included (check_kernel's reference)
 };
 
-std::array<TileSlot, bsp::kMaxTiles> g_slots{};
+std::array<TileKernel, bsp::kMaxTiles> g_tiles{};
 FaultHook g_fault_hook = nullptr;
 std::array<std::array<IsrHook, static_cast<std::size_t>(bsp::Irq::kCount)>, bsp::kMaxTiles> g_isr{};
 
@@ -106,7 +106,7 @@ void rebuild_ready(KernelState& ks) noexcept {
  * Each repair is traced (kKernelStateBad). Whole state costs no emulated time.
  */
 void check_kernel(KernelState& ks, bsp::TileId tile) noexcept {
-  const std::uint32_t count = g_slots[tile].booted_tasks;
+  const std::uint32_t count = g_tiles[tile].booted_tasks;
   if (ks.task_count != count) {
     repaired(1U, 0U);
     ks.task_count = count;
@@ -262,14 +262,14 @@ Status build_kernel(TaskTable table, bsp::Cycles tick_cycles, KernelState*& out)
 
 KernelState* current_kernel() noexcept {
   const bsp::TileId t = bsp::current_tile();
-  return t < bsp::kMaxTiles ? g_slots[t].ks : nullptr;
+  return t < bsp::kMaxTiles ? g_tiles[t].ks : nullptr;
 }
 
 bool can_block() noexcept { return current_kernel() != nullptr && !in_isr(); }
 
 bool in_isr() noexcept {
   const bsp::TileId t = bsp::current_tile();
-  return t < bsp::kMaxTiles && g_slots[t].in_isr;
+  return t < bsp::kMaxTiles && g_tiles[t].in_isr;
 }
 
 void trace_event(std::uint16_t kind, TaskId a, TaskId b) noexcept {
@@ -442,12 +442,12 @@ void tick_tasks(KernelState& ks) noexcept {
 }
 
 void irq_handler(bsp::TileId tile, bsp::Irq irq) noexcept {
-  TileSlot& slot = g_slots[tile];
-  KernelState* ks = slot.ks;
+  TileKernel& tk = g_tiles[tile];
+  KernelState* ks = tk.ks;
   if (ks == nullptr) {
     return;
   }
-  slot.in_isr = true;
+  tk.in_isr = true;
   // The interrupted task's canary is checked if the handler switches away
   // from it (reschedule below); its line went cold while other tiles ran.
   __builtin_prefetch(ks->tcbs[ks->current].stack);
@@ -463,7 +463,7 @@ void irq_handler(bsp::TileId tile, bsp::Irq irq) noexcept {
   }
   // Leaving the handler's role before a switch: the resumed context is not in
   // an interrupt; when this one resumes, it finishes its handler.
-  slot.in_isr = false;
+  tk.in_isr = false;
   reschedule();
 }
 
@@ -476,8 +476,8 @@ using detail::Tcb;
 
 void set_task_table(bsp::TileId tile, TaskTable table, bsp::Cycles tick_cycles) noexcept {
   if (tile < bsp::kMaxTiles) {
-    detail::g_slots[tile].table = table;
-    detail::g_slots[tile].tick_cycles = tick_cycles;
+    detail::g_tiles[tile].table = table;
+    detail::g_tiles[tile].tick_cycles = tick_cycles;
   }
 }
 
@@ -485,7 +485,7 @@ void boot_entry(bsp::TileId tile) noexcept {
   if (tile >= bsp::kMaxTiles) {
     return;
   }
-  const detail::TileSlot& s = detail::g_slots[tile];
+  const detail::TileKernel& s = detail::g_tiles[tile];
   // start() returns only on error: the board sees the boot entry return and
   // keeps the tile idle, where its watchdog (if armed) will report it.
   (void)start(s.table, s.tick_cycles);
@@ -497,16 +497,16 @@ Status start(TaskTable table, bsp::Cycles tick_cycles) noexcept {
   }
   const bsp::TileId tile = bsp::current_tile();
   (void)bsp::mask_irqs(true);
-  detail::g_slots[tile].ks = nullptr;
-  detail::g_slots[tile].in_isr = false;
+  detail::g_tiles[tile].ks = nullptr;
+  detail::g_tiles[tile].in_isr = false;
   detail::g_isr[tile] = {};
   KernelState* ks = nullptr;
   const Status s = detail::build_kernel(table, tick_cycles, ks);
   if (s != Status::kOk) {
     return s;
   }
-  detail::g_slots[tile].ks = ks;
-  detail::g_slots[tile].booted_tasks = ks->task_count;
+  detail::g_tiles[tile].ks = ks;
+  detail::g_tiles[tile].booted_tasks = ks->task_count;
   detail::trace_event(static_cast<std::uint16_t>(TraceKind::kStart), 0, 0);
   // Release every task at tick 0: periodic ones start their first job now.
   bsp::set_irq_handler(tile, &detail::irq_handler);
@@ -635,10 +635,10 @@ Status set_isr(bsp::Irq irq, IsrHook hook) noexcept {
 }
 
 std::uint32_t task_count(bsp::TileId tile) noexcept {
-  if (tile >= bsp::kMaxTiles || detail::g_slots[tile].ks == nullptr) {
+  if (tile >= bsp::kMaxTiles || detail::g_tiles[tile].ks == nullptr) {
     return 0;
   }
-  const std::uint32_t n = detail::g_slots[tile].ks->task_count;
+  const std::uint32_t n = detail::g_tiles[tile].ks->task_count;
   return n < config::kMaxTasks ? n : config::kMaxTasks;  // an upset count, until the kernel's next check
 }
 
@@ -646,7 +646,7 @@ Status task_stats(bsp::TileId tile, TaskId id, TaskStats* out) noexcept {
   if (out == nullptr || id >= task_count(tile)) {
     return Status::kBadArg;
   }
-  const Tcb& t = detail::g_slots[tile].ks->tcbs[id];
+  const Tcb& t = detail::g_tiles[tile].ks->tcbs[id];
   *out = TaskStats{t.spec->name,    t.priority,       static_cast<std::uint8_t>(t.state),
                    t.activations,   t.jobs,           t.deadline_misses,
                    t.overruns,      t.last_run_cycle, t.stack_bytes,
@@ -659,7 +659,7 @@ Status task_watch(bsp::TileId tile, TaskId id, TaskWatch* out) noexcept {
   if (out == nullptr || id >= task_count(tile)) {
     return Status::kBadArg;
   }
-  const Tcb& t = detail::g_slots[tile].ks->tcbs[id];
+  const Tcb& t = detail::g_tiles[tile].ks->tcbs[id];
   *out = TaskWatch{t.spec->watch_ticks, t.last_checkin};
   return Status::kOk;
 }
@@ -667,7 +667,7 @@ Status task_watch(bsp::TileId tile, TaskId id, TaskWatch* out) noexcept {
 TaskId find_task(bsp::TileId tile, const char* name) noexcept {
   const std::uint32_t n = task_count(tile);
   for (std::uint32_t i = 0; i < n; ++i) {
-    if (detail::same_name(detail::g_slots[tile].ks->tcbs[i].spec->name, name)) {
+    if (detail::same_name(detail::g_tiles[tile].ks->tcbs[i].spec->name, name)) {
       return static_cast<TaskId>(i);
     }
   }
@@ -675,7 +675,7 @@ TaskId find_task(bsp::TileId tile, const char* name) noexcept {
 }
 
 std::uint32_t stack_faults(bsp::TileId tile) noexcept {
-  return task_count(tile) == 0U ? 0U : detail::g_slots[tile].ks->faults;
+  return task_count(tile) == 0U ? 0U : detail::g_tiles[tile].ks->faults;
 }
 
 void set_fault_hook(FaultHook hook) noexcept { detail::g_fault_hook = hook; }

@@ -34,9 +34,9 @@
 #   ControlUpsets.EveryEmulatedMember...                    upsets of control structs' own state, flipped
 #                                                           for real: the bounds the flight code keeps
 #
-# Of the campaign runner's suite: a campaign in parallel with its resume and replay, a crashed and a
-# hung image, shrinking, and the bad-input and script tests (no flight): the host code the
-# sanitizers look at. The seed sweep, the shard merge and the stamp check fly the same code again.
+# Of the campaign runner's suite: a campaign in parallel with its resume, replay and shards merged,
+# a crashed and a hung image, shrinking, and the bad-input and script tests (no flight): the host
+# code the sanitizers look at. The seed sweep and the stamp check fly the same code again.
 
 SUBSET_FLIGHTS := SameInputsGiveTheSameTraceHashAndAFullRunFolderOnOneHostThreadOrTwo \
   DemoPlanCountsComeFromFlightEvents BadInputsExit2AndWriteNothing \
@@ -53,7 +53,7 @@ SUBSET_FLIGHTS := SameInputsGiveTheSameTraceHashAndAFullRunFolderOnOneHostThread
   TheSimplexFiltersCorruptedStateIsRefusedAndItGoesBackToItsCheckpoint \
   ATileWhoseSwitchFailedIsRetiredAndItsRoleMoves \
   TheIoTilesSwitchIsNamedByTransitsAndItsCutOffWatcherResetsNobody
-SUBSET_CAMPAIGN := RunsInParallelResumesWithoutFlyingAgainAndReplaysARun ACrashedOrHungImageIsTheRunsOutcome \
+SUBSET_CAMPAIGN := RunsInParallelResumesReplaysARunAndMergesItsShards ACrashedOrHungImageIsTheRunsOutcome \
   ShrinkFindsTheOneGuiltyFaultAmongMany BadInputIsRefusedWithExitStatusTwo TheRunsForAMarginArePrinted \
   TheSlurmScriptIsAnArrayOfShards
 

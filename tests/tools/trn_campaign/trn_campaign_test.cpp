@@ -64,6 +64,7 @@ class TrnCampaignBinary : public ::testing::Test {
     std::error_code ec;
     fs::remove_all(dir_, ec);
   }
+  void shards_merge_into_the_report_of(const fs::path& out) const;
   std::string campaign(const std::string& args) const {
     return bin("trn_campaign") + " run " + fixture("small.toml") + " --world-cache " + world() + " " + args;
   }
@@ -81,9 +82,51 @@ nlohmann::json classes_of(const fs::path& report) {
   return c;
 }
 
-// CMP-01, CMP-02, CMP-03: a campaign flies its runs in parallel, writes each run's plan and result and
-// the report; run again, it flies nothing; a run's plan flies again to the trace hash it recorded.
-TEST_F(TrnCampaignBinary, RunsInParallelResumesWithoutFlyingAgainAndReplaysARun) {
+// CMP-04: shards fly disjoint runs; merged, they give the report the whole campaign @p out gave.
+// (Called by the parallel test, so the whole campaign is flown once for both.)
+void TrnCampaignBinary::shards_merge_into_the_report_of(const fs::path& out) const {
+  std::string log;
+  ASSERT_EQ(run(campaign("-j 1 --shard 0/2 --out " + (dir_ / "s0").string())), 0);
+  ASSERT_EQ(run(campaign("-j 1 --shard 1/2 --out " + (dir_ / "s1").string())), 0);
+  EXPECT_TRUE(fs::exists(dir_ / "s0" / "runs" / "000000"));
+  EXPECT_FALSE(fs::exists(dir_ / "s0" / "runs" / "000001")) << "shard 0 of 2 flies the even runs";
+  ASSERT_EQ(run(bin("trn_campaign") + " merge --out " + (dir_ / "m").string() + " " + (dir_ / "s0").string() + " " +
+                    (dir_ / "s1").string(), &log),
+            0)
+      << log;
+  EXPECT_EQ(read_json(dir_ / "m" / "report.json")["runs"], 4);
+  EXPECT_EQ(classes_of(dir_ / "m" / "report.json"), classes_of(out / "report.json"));
+  for (int i = 0; i < 4; ++i) {
+    char name[8];
+    std::snprintf(name, sizeof name, "%06d", i);
+    const fs::path shard = dir_ / (i % 2 == 0 ? "s0" : "s1") / "runs" / name / "result.json";
+    EXPECT_EQ(read_json(shard)["trace_hash"], read_json(out / "runs" / name / "result.json")["trace_hash"])
+        << "run " << i << ": the same plan and the same flight in either";
+  }
+  // Folders of another campaign are not merged.
+  ASSERT_EQ(run(bin("trn_campaign") + " run " + fixture("crash.toml") + " --world-cache " + world() +
+                " --mission /bin/false --out " + (dir_ / "other").string()),
+            1)
+      << "the golden run of /bin/false is no flight";
+  EXPECT_EQ(run(bin("trn_campaign") + " merge --out " + (dir_ / "m2").string() + " " + (dir_ / "s0").string() + " " +
+                    (dir_ / "other").string(), &log),
+            2);
+  EXPECT_NE(log.find("holds another campaign"), std::string::npos) << log;
+  // Shards of the same spec flown by two builds of the image are not merged either.
+  fs::copy(dir_ / "s1", dir_ / "s1b", fs::copy_options::recursive);
+  {
+    std::ofstream(dir_ / "s1b" / "image.stamp") << "1@2\n";
+  }
+  EXPECT_EQ(run(bin("trn_campaign") + " merge --out " + (dir_ / "m3").string() + " " + (dir_ / "s0").string() + " " +
+                    (dir_ / "s1b").string(), &log),
+            2);
+  EXPECT_NE(log.find("another build of the mission image"), std::string::npos) << log;
+}
+
+// CMP-01, CMP-02, CMP-03, CMP-04: a campaign flies its runs in parallel, writes each run's plan and result and
+// the report; run again, it flies nothing; a run's plan flies again to the trace hash it recorded; its
+// shards, flown apart and merged, give the same report.
+TEST_F(TrnCampaignBinary, RunsInParallelResumesReplaysARunAndMergesItsShards) {
   const fs::path out = dir_ / "c";
   std::string log;
   ASSERT_EQ(run(campaign("-j 2 --out " + out.string()), &log), 0) << log;
@@ -136,6 +179,7 @@ TEST_F(TrnCampaignBinary, RunsInParallelResumesWithoutFlyingAgainAndReplaysARun)
             0);
   EXPECT_EQ(read_json(dir_ / "replay" / "summary.json")["trace_hash"], res["trace_hash"]);
   EXPECT_EQ(read_json(r2 / "out" / "summary.json")["trace_hash"], res["trace_hash"]);
+  shards_merge_into_the_report_of(out);
 }
 
 // A fault-free seed sweep: run i flies seed + i (its summary says so), and each run's navigation integrity
@@ -270,46 +314,6 @@ TEST_F(TrnCampaignBinary, ResultsOfAnOlderCampaignAreRefusedByName) {
   EXPECT_EQ(read_json(out / "report.json")["runs"], 2);
 }
 
-// CMP-04: shards fly disjoint runs; merged, they give the report a single campaign gives.
-TEST_F(TrnCampaignBinary, ShardsMergeIntoTheReportOfTheWholeCampaign) {
-  std::string log;
-  ASSERT_EQ(run(campaign("-j 2 --out " + (dir_ / "all").string())), 0);
-  ASSERT_EQ(run(campaign("-j 1 --shard 0/2 --out " + (dir_ / "s0").string())), 0);
-  ASSERT_EQ(run(campaign("-j 1 --shard 1/2 --out " + (dir_ / "s1").string())), 0);
-  EXPECT_TRUE(fs::exists(dir_ / "s0" / "runs" / "000000"));
-  EXPECT_FALSE(fs::exists(dir_ / "s0" / "runs" / "000001")) << "shard 0 of 2 flies the even runs";
-  ASSERT_EQ(run(bin("trn_campaign") + " merge --out " + (dir_ / "m").string() + " " + (dir_ / "s0").string() + " " +
-                    (dir_ / "s1").string(), &log),
-            0)
-      << log;
-  EXPECT_EQ(read_json(dir_ / "m" / "report.json")["runs"], 4);
-  EXPECT_EQ(classes_of(dir_ / "m" / "report.json"), classes_of(dir_ / "all" / "report.json"));
-  for (int i = 0; i < 4; ++i) {
-    char name[8];
-    std::snprintf(name, sizeof name, "%06d", i);
-    const fs::path shard = dir_ / (i % 2 == 0 ? "s0" : "s1") / "runs" / name / "result.json";
-    EXPECT_EQ(read_json(shard)["trace_hash"], read_json(dir_ / "all" / "runs" / name / "result.json")["trace_hash"])
-        << "run " << i << ": the same plan and the same flight in either";
-  }
-  // Folders of another campaign are not merged.
-  ASSERT_EQ(run(bin("trn_campaign") + " run " + fixture("crash.toml") + " --world-cache " + world() +
-                " --mission /bin/false --out " + (dir_ / "other").string()),
-            1)
-      << "the golden run of /bin/false is no flight";
-  EXPECT_EQ(run(bin("trn_campaign") + " merge --out " + (dir_ / "m2").string() + " " + (dir_ / "s0").string() + " " +
-                    (dir_ / "other").string(), &log),
-            2);
-  EXPECT_NE(log.find("holds another campaign"), std::string::npos) << log;
-  // Shards of the same spec flown by two builds of the image are not merged either.
-  fs::copy(dir_ / "s1", dir_ / "s1b", fs::copy_options::recursive);
-  {
-    std::ofstream(dir_ / "s1b" / "image.stamp") << "1@2\n";
-  }
-  EXPECT_EQ(run(bin("trn_campaign") + " merge --out " + (dir_ / "m3").string() + " " + (dir_ / "s0").string() + " " +
-                    (dir_ / "s1b").string(), &log),
-            2);
-  EXPECT_NE(log.find("another build of the mission image"), std::string::npos) << log;
-}
 
 // CMP-05: an image that crashes or hangs is the run's outcome (hang_crash), not the campaign's end. The
 // fake image crashes run 0 and hangs run 1 until the spec's 2 s timeout kills it; for the golden run and
