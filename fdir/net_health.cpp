@@ -216,13 +216,25 @@ std::uint64_t lost_near(const State& s, const NetHealthConfig& cfg, k::Ticks whe
  * that tell nothing (across a failed link, to or from a parked tile).
  * @return true on a decision.
  */
-bool judge_link(State& s, const NetHealthConfig& cfg, bsp::TileId self, std::uint64_t mute) noexcept {
+bool judge_link(State& s, const NetHealthConfig& cfg, bsp::TileId self, k::Ticks now, std::uint64_t mute) noexcept {
   if (s.ways.version != s.map.version || s.ways.parked != s.parked) {
     bsp::Work work{};
     report_ways(cfg.transits, s.map, self, s.parked, s.ways, work);
     bsp::consume(work);
   }
-  const LinkVerdict l = transit_link_verdict(cfg.transits, s.map.cols, s.map.rows, s.ways, s.lost, s.votes.failed, mute);
+  // The probers that reported lost transits themselves (their core runs, their reports come), once
+  // every loss is older than a hung core stays silent: an end they all share may be one of them.
+  std::uint64_t heard = 0U;
+  k::Ticks latest = 0U;
+  for (std::uint32_t i = 0; i < cfg.transits.count && i < kMaxTransits; ++i) {
+    const bool lost = ((s.lost >> i) & 1U) != 0U && ((mute >> i) & 1U) == 0U;
+    const bsp::TileId p = cfg.transits.t[i].prober;
+    heard |= lost && p < 64U ? (std::uint64_t{1} << p) : 0U;
+    latest = lost && s.lost_at[i] > latest ? s.lost_at[i] : latest;
+  }
+  heard = now - latest >= cfg.end_tile_ticks ? heard & ~s.votes.failed : 0U;
+  const LinkVerdict l =
+      transit_link_verdict(cfg.transits, s.map.cols, s.map.rows, s.ways, s.lost, s.votes.failed, mute, heard);
   // A spare's switch at an end that nothing heard crosses but over the link may have failed instead:
   // from here the two look the same, and taking the switch out of the routes covers both (the
   // link alone would leave the cut-off tiles' traffic, and their reports, crossing a dead switch).
@@ -315,7 +327,7 @@ void judge_transits(State& s, const NetHealthConfig& cfg, bsp::TileId self) noex
       decided(s, self);
       return;
     }
-    if (judge_link(s, cfg, self, mute | off_ends)) {
+    if (judge_link(s, cfg, self, now, mute | off_ends)) {
       return;
     }
     if (judge_end_tile(s, cfg, self, now, mute | off_ends)) {

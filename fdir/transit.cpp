@@ -589,6 +589,7 @@ namespace {
 struct LinkLoss {
   std::uint64_t across = 0U;  ///< transits across it that count
   std::uint64_t cut = 0U;     ///< transits whose reports both cross it: they never come
+  std::uint64_t heard_end = 0U;  ///< its end every lost transit shares, heard (see transit_link_verdict)
   bool fits = false;
 };
 
@@ -597,17 +598,22 @@ struct LinkLoss {
  * lost transits @p lost (those that count: @p counts)? See transit_link_verdict.
  */
 LinkLoss link_loss(const TransitPlan& plan, const ReportWays& ways, std::uint32_t l, std::uint32_t a,
-                   std::uint32_t b, std::uint64_t counts, std::uint64_t lost) noexcept {
+                   std::uint32_t b, std::uint64_t counts, std::uint64_t lost, std::uint64_t heard_ends) noexcept {
   LinkLoss r{};
   const std::uint32_t w = l / 64U;
   const std::uint64_t word = std::uint64_t{1} << (l % 64U);
   const std::uint64_t lost_counted = lost & counts;
   std::uint64_t on_all = ~std::uint64_t{0};  // switches every lost transit passes
+  std::uint64_t ends_all = ~std::uint64_t{0};  // tiles at an end of every lost transit
   for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
     r.across |= has(counts, i) && (plan.t[i].links.w[w] & word) != 0U ? bit(i) : 0U;
     r.cut |= (ways.route[i].w[w] & word) != 0U && (ways.twin[i].w[w] & word) != 0U ? bit(i) : 0U;
     on_all &= has(lost_counted, i) ? plan.t[i].path : ~std::uint64_t{0};
+    ends_all &= has(lost_counted, i) ? ends(plan.t[i]) : ~std::uint64_t{0};
   }
+  // One end of the link at an end of every lost transit, and heard: its own reports come, so its
+  // core runs and its switch forwards them; only its way across the link is gone.
+  r.heard_end = ends_all & (bit(a) | bit(b)) & heard_ends;
   std::uint64_t routes = 0U;  // switches on heard transits that answer: they route
   for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
     routes |= has(counts, i) && !has(lost, i) && !has(r.cut, i) ? plan.t[i].path : 0U;
@@ -617,7 +623,8 @@ LinkLoss link_loss(const TransitPlan& plan, const ReportWays& ways, std::uint32_
   // can vote (two with no end in common), and no third switch is on all of them unless a heard
   // transit through it answers (else its failure would lose the same ones).
   r.fits = (lost_counted & ~r.across) == 0U && (r.across & ~r.cut & ~lost_counted) == 0U &&
-           std::popcount(lost_counted) >= static_cast<int>(kTransitsPerSpare) && independent(plan, lost_counted) &&
+           std::popcount(lost_counted) >= static_cast<int>(kTransitsPerSpare) &&
+           (independent(plan, lost_counted) || r.heard_end != 0U) &&
            (on_all & ~bit(a) & ~bit(b) & ~routes) == 0U;
   return r;
 }
@@ -626,7 +633,7 @@ LinkLoss link_loss(const TransitPlan& plan, const ReportWays& ways, std::uint32_
 
 LinkVerdict transit_link_verdict(const TransitPlan& plan, std::uint32_t cols, std::uint32_t rows,
                                  const ReportWays& ways, std::uint64_t lost, std::uint64_t known_failed,
-                                 std::uint64_t mute) noexcept {
+                                 std::uint64_t mute, std::uint64_t heard_ends) noexcept {
   constexpr std::uint32_t kLinkBits = 128U;  // udn::LinkSet: two links per tile
   if (cols == 0U || cols * rows > 64U) {
     return LinkVerdict{};
@@ -643,7 +650,7 @@ LinkVerdict transit_link_verdict(const TransitPlan& plan, std::uint32_t cols, st
     if (!link_ends(cols, cols * rows, l, a, b)) {
       continue;  // off the grid's east or south edge
     }
-    const LinkLoss r = link_loss(plan, ways, l, a, b, counts, lost);
+    const LinkLoss r = link_loss(plan, ways, l, a, b, counts, lost, heard_ends);
     if (!r.fits) {
       continue;
     }
@@ -665,7 +672,7 @@ LinkVerdict transit_link_verdict(const TransitPlan& plan, std::uint32_t cols, st
     for (std::uint32_t i = 0; i < plan.count && i < kMaxTransits; ++i) {
       elsewhere |= has(counts, i) && !has(r.across, i) && !has(r.cut, i) ? plan.t[i].path : 0U;
     }
-    found.unsure = (bit(a) | bit(b)) & ~elsewhere;
+    found.unsure = (bit(a) | bit(b)) & ~elsewhere & ~r.heard_end;  // a heard end's switch forwards
   }
   return found;
 }

@@ -191,9 +191,17 @@ void report_ways(const TransitPlan& plan, const udn::FaultMap& map, bsp::TileId 
  * (transit_verdict) goes first. Where nothing heard crosses an end's switch
  * but over a single named link, that switch failing would look the same from
  * here: the end is marked unsure.
+ *
+ * The lost transits may instead share one end, if it is an end of the link
+ * and in @p heard_ends: a tile whose own reports of lost transits come (its
+ * core runs and its switch forwards them), lost longer than a hung core
+ * stays silent (the caller's to judge). Every way it has is then heard but
+ * the one across the link: the link failed (a link out of the I/O tile to a
+ * spare, which no neighbour vote and no two independent transits see). Such
+ * an end is never unsure.
  */
 LinkVerdict transit_link_verdict(const TransitPlan& plan, std::uint32_t cols, std::uint32_t rows,
                                  const ReportWays& ways, std::uint64_t lost, std::uint64_t known_failed,
-                                 std::uint64_t mute) noexcept;
+                                 std::uint64_t mute, std::uint64_t heard_ends = 0U) noexcept;
 
 }  // namespace fdir

@@ -475,3 +475,63 @@ TEST(Transit, NoOneFaultyTileNamesALink) {
     }
   }
 }
+
+// FDIR-TR-16: a link whose lost transits all share one end, a tile heard (its own reports of lost
+// transits come), is named when that tile is an end of the link: the I/O tile's links to its spare
+// neighbours, which no neighbour vote and no two independent transits name (two single-fault
+// campaign runs ended silent with the I/O tile's east link failed, its IMU stream to the filter
+// given up for the rest of the descent). Never another link, and never without the tile heard.
+TEST(Transit, ALinkOfAHeardTileTheLostTransitsShareIsNamed) {
+  std::uint64_t subjects = 0;
+  const fdir::TransitPlan p = mission_plan(subjects);
+  const auto verdict = [&](std::uint64_t lost, std::uint64_t heard, std::uint64_t voted = 0U) {
+    return fdir::transit_link_verdict(p, 8U, 8U, ways_to_0(p), lost, voted, 0U, heard);
+  };
+  // The I/O tile's east link to spare 10.
+  const std::uint64_t io_east = heard_across(p, 9U, 10U);
+  ASSERT_GE(std::popcount(io_east), 2);
+  EXPECT_EQ(verdict(io_east, 0U).count, 0U) << "every lost transit has tile 9 at an end: no two independent";
+  const fdir::LinkVerdict v = verdict(io_east, bit(9));
+  EXPECT_EQ(v.count, 1U);
+  EXPECT_EQ(std::make_pair(std::uint32_t{v.a}, std::uint32_t{v.b}), std::make_pair(9U, 10U));
+  EXPECT_EQ(v.unsure & bit(9), 0U) << "a heard tile's switch forwards its reports";
+  EXPECT_EQ(verdict(io_east, kProbers & ~bit(9)).count, 0U) << "heard tiles elsewhere name nothing";
+  // Every link: with every prober heard, what is named is the failed link (or a chain holding it).
+  std::uint32_t more = 0;
+  for (std::uint32_t u = 0; u < 64U; ++u) {
+    for (const std::uint32_t w : {u + 1U, u + 8U}) {
+      if (w >= 64U || (w == u + 1U && u % 8U == 7U) || across(p, u, w) == 0U) {
+        continue;
+      }
+      const fdir::LinkVerdict h = verdict(heard_across(p, u, w), kProbers);
+      if (h.count == 1U) {
+        EXPECT_EQ(std::make_pair(std::uint32_t{h.a}, std::uint32_t{h.b}), std::make_pair(u, w)) << "link " << u << "-" << w;
+      }
+      more += h.count != 0U && named_links(p, heard_across(p, u, w)).empty() ? 1U : 0U;
+    }
+  }
+  std::printf("links named only through a heard end: %u\n", more);
+  EXPECT_EQ(more, 3U) << "6-14, 8-9 and 9-10 (the filter supervisor's and the I/O tile's links to spares)";
+  // A hung core is not heard: what its transits lose names no link even when every other prober is.
+  // A failed switch names one of its own links at most, with the switch unsure (taken out instead).
+  const udn::FaultMap m = grid();
+  for (bsp::TileId t = 0; t < 64; ++t) {
+    EXPECT_EQ(verdict(ended_by(p, t), kProbers & ~bit(t)).count, 0U) << "core " << t;
+    std::uint64_t cut = 0;
+    for (std::uint32_t i = 0; i < p.count; ++i) {
+      const std::vector<std::uint32_t> twin = twin_way(p.t[i].prober);
+      bool twin_cut = twin.empty();
+      for (const std::uint32_t x : twin) {
+        twin_cut = twin_cut || x == t;
+      }
+      cut |= t != 0U && (udn::path_tiles(m, p.t[i].prober, 0U) & bit(t)) != 0U && twin_cut ? bit(i) : 0U;
+    }
+    // A switch with two live neighbours is voted by them first (known failed then), as in FDIR-TR-13.
+    const std::uint64_t voted = (subjects & bit(t)) == 0U ? bit(t) : 0U;
+    const fdir::LinkVerdict sw = verdict(killed_by(p, t) & ~pinged_by(p, t) & ~cut, kProbers & ~bit(t), voted);
+    if (sw.count != 0U && (voted != 0U || fdir::transit_verdict(p, killed_by(p, t) & ~pinged_by(p, t) & ~cut, subjects, 0U) != t)) {
+      EXPECT_TRUE(sw.a == t || sw.b == t) << "switch " << t << " names link " << sw.a << "-" << sw.b;
+      EXPECT_NE(sw.unsure & bit(t), 0U) << "switch " << t;
+    }
+  }
+}

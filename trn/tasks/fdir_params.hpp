@@ -118,7 +118,7 @@ inline constexpr std::array<FdirParam, 52> kFdirParams{{
         "net_health.settle_ticks", "ticks", 1U, 100000U, "quiet time before transits are judged"),
     field<&ImageConfig::net_health, &fdir::NetHealthConfig::end_tile_ticks>(
         "net_health.end_tile_ticks", "ticks", 1U, 100000U,
-        "an end tile's transits all lost this long: its switch failed (a hung core is reset sooner)"),
+        "transits all lost this long, at an end tile or a heard end of a link: its switch or the link failed (a hung core is reset sooner)"),
     field<&ImageConfig::net_health, &fdir::NetHealthConfig::relearn_ticks>(
         "net_health.relearn_ticks", "ticks", 0U, 100000U,
         "after the task starts, no transit counts as answering before the endpoints report again"),

@@ -968,6 +968,24 @@ TEST_F(TrnMissionBinary, TheIoTilesSwitchIsNamedByTransitsAndItsCutOffWatcherRes
   EXPECT_EQ(s["faults_recovered"], 1) << log;
 }
 
+// FDIR-TR-16: the I/O tile's link to spare 10, which no vote names and whose lost transits all have
+// the I/O tile at an end, is named because the I/O tile's own reports of its lost transits come; its
+// IMU stream to the filter is routed around it (before: given up for the rest of the flight, silent).
+TEST_F(TrnMissionBinary, TheIoTilesLinkToASpareIsNamedThroughItsOwnReports) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 4 --faults " + fixture("io_link_to_spare.toml") + " --out " +
+                (dir_ / "io").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "io" / "summary.json");
+  const std::string log = read_text(dir_ / "io" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 1) << log;
+  EXPECT_EQ(s["faults_recovered"], 1) << log;
+  EXPECT_EQ(s["false_alarms"].get<double>(), 0.0) << log;
+  EXPECT_EQ(s["faults_misdiagnosed"].get<double>(), 0.0) << log;
+  EXPECT_NE(log.find("link_failed: link between tiles 9 and 10 declared failed"), std::string::npos) << log;
+  EXPECT_EQ(count_of(log, "declared failed"), 1U) << "no switch and no other link is blamed";
+  EXPECT_EQ(count_of(log, "packet_gave_up"), 0U) << "the stream to the filter goes round the link";
+}
+
 // Issue 56 item 1: the cross-strap. The I/O role, moved to its backup (tile 8) when the prime's
 // switch fails, carries on the IMU stream and the frames; when the backup then hangs, it has no
 // spare left, so it is kept and reset like a role that does not move, and the heartbeat watcher
