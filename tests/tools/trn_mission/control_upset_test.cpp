@@ -202,6 +202,7 @@ const Sweep kFilterStats{tt::kFilterTaskStatsRecord.name, "filter", 0U, tt::kFil
 const Sweep kCoordStats{tt::kVisionCoordStatsRecord.name, "vision_coordinator", 0U, tt::kVisionCoordStatsRecord.layout};
 const Sweep kWorkerStats{tt::kVisionWorkerStatsRecord.name, "vision", 40U, tt::kVisionWorkerStatsRecord.layout};
 const Sweep kIoStats{tt::kIoTaskStatsRecord.name, "io", 0U, tt::kIoTaskStatsRecord.layout};
+const Sweep kIoState{tt::kIoStateCarve, "io", 0U, &tt::io_state_layout()};
 const Sweep kSupStats{tt::kSupervisorStatsRecord.name, "trn_supervisor", 0U, tt::kSupervisorStatsRecord.layout};
 
 // Issue 54 item 6: an upset of any emulated member of the converted control structs is made for
