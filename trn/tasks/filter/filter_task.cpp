@@ -297,6 +297,37 @@ void take_held(Slot& slot, std::uint32_t& budget) noexcept {
   slot.held_count = count - n;
 }
 
+/** What a handler of kChanImu acts on: the front's slot and the job's replay budget. */
+struct ImuInbox {
+  Slot& slot;
+  std::uint32_t& budget;
+};
+
+/** A telecommand in the IMU stream: held until the job that takes the sample sent before it. */
+void take_command_msg(ImuInbox& in, const Command& c) noexcept { hold_command(in.slot, c); }
+
+/** A sample: into the record if it is due and none waits before it, else held for its job. */
+void take_imu_msg(ImuInbox& in, const bsp::ImuSample& s) noexcept {
+  Slot& slot = in.slot;
+  if (slot.held_count == 0U && imu_due(slot, s.seq)) {
+    take_sample(slot, s, in.budget);
+  } else if (slot.held_count < kImuHeld) {
+    slot.held[slot.held_count] = s;
+    ++slot.held_count;
+  } else {
+    ++slot.stats->imu_rejected;  // more early samples than a healthy stream sends: dropped, replayed from DDR
+  }
+}
+
+/** The tagged kinds the filter takes on kChanImu; the untagged words there are IMU samples. */
+constexpr std::array<fdir::msg::Handler<ImuInbox>, 1> kImuChannelHandlers{{
+    fdir::msg::on<kCommandMsg, &take_command_msg, ImuInbox>(),
+}};
+constexpr fdir::msg::Handler<ImuInbox> kImuSampleHandler = fdir::msg::on<kImuMsg, &take_imu_msg, ImuInbox>();
+static_assert(fdir::msg::handlers_fit(kImuChannelHandlers, kChanImu, role_bit(Role::kFilter)) &&
+                  fdir::msg::untagged_fits(kImuSampleHandler, kChanImu, role_bit(Role::kFilter)),
+              "the filter's handlers on kChanImu are kinds declared for it there");
+
 /**
  * Puts the due samples (held ones, then up to kMaxImuPerJob waiting on
  * kChanImu) into the record, filling gaps from the DDR record; holds early
@@ -306,28 +337,14 @@ void consume_imu(Slot& slot) noexcept {
   udn::FtMessage msg{};
   std::uint32_t budget = kMaxReplayPerJob;
   take_held(slot, budget);
+  ImuInbox in{slot, budget};
   for (std::uint32_t n = 0; n < kMaxImuPerJob; ++n) {
     if (udn::endpoint_receive(kChanImu, msg) != udn::FtError::kOk) {
       break;
     }
     const std::span<const std::uint32_t> w(msg.data.data(), msg.data_words);
-    Command cmd{};
-    if (unpack_command(w, cmd)) {
-      hold_command(slot, cmd);
-      continue;
-    }
-    bsp::ImuSample s{};
-    if (!unpack_imu_msg(w, s)) {
-      ++slot.stats->imu_rejected;
-      continue;
-    }
-    if (slot.held_count == 0U && imu_due(slot, s.seq)) {
-      take_sample(slot, s, budget);
-    } else if (slot.held_count < kImuHeld) {
-      slot.held[slot.held_count] = s;
-      ++slot.held_count;
-    } else {
-      ++slot.stats->imu_rejected;  // more early samples than a healthy stream sends: dropped, replayed from DDR
+    if (fdir::msg::dispatch(kImuChannelHandlers, kImuSampleHandler, w, in) != fdir::msg::Dispatch::kTaken) {
+      ++slot.stats->imu_rejected;  // a telecommand or a sample its decoder refused
     }
   }
   // A due sample the network has not brought (lost, or sent to the tile a role left) comes from the
