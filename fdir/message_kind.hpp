@@ -425,6 +425,27 @@ template <typename Ctx, std::size_t N>
   return Dispatch::kUnknown;
 }
 
+/**
+ * dispatch() on a channel that also carries one untagged kind (the IMU samples among the
+ * telecommands): words whose word 0 is no tag of @p table are that kind's, handed to @p untagged.
+ * Words whose word 0 is a tag of @p table are that kind's and nothing else's.
+ */
+template <typename Ctx, std::size_t N>
+[[nodiscard]] Dispatch dispatch(const std::array<Handler<Ctx>, N>& table, const Handler<Ctx>& untagged,
+                                std::span<const std::uint32_t> w, Ctx& c) noexcept {
+  const Dispatch d = dispatch(table, w, c);
+  if (d != Dispatch::kUnknown || w.empty()) {
+    return d;
+  }
+  return untagged.take(c, w) ? Dispatch::kTaken : Dispatch::kRefused;
+}
+
+/** Whether @p untagged takes the untagged kind of @p channel received by a role of @p to. */
+template <typename Ctx>
+constexpr bool untagged_fits(const Handler<Ctx>& untagged, std::uint32_t channel, std::uint32_t to) noexcept {
+  return untagged.kind->tag == kNoTag && untagged.kind->channel == channel && (untagged.kind->to & to) != 0U;
+}
+
 /** Whether every handler of @p table takes a kind of @p channel received by a role of @p to, no tag twice. */
 template <typename Ctx, std::size_t N>
 constexpr bool handlers_fit(const std::array<Handler<Ctx>, N>& table, std::uint32_t channel, std::uint32_t to) noexcept {

@@ -20,7 +20,10 @@
  */
 #pragma once
 
+#include "bsp_tile64/api/memory.hpp"
+
 #include <array>
+#include <cstddef>
 #include <cstdint>
 
 namespace fdir {
@@ -35,6 +38,12 @@ struct TmrRecord {
   std::uint32_t words = 0U;  ///< 1 .. kTmrMaxWords
   std::array<std::uint32_t, kTmrMaxWords> w{};
 };
+
+/** A record kept in a voter's state is emulated state through and through (bsp::ControlLayout). */
+inline constexpr std::array kTmrRecordFields{BSP_CONTROL_STATE(TmrRecord, job), BSP_CONTROL_STATE(TmrRecord, words),
+                                             BSP_CONTROL_STATE(TmrRecord, w)};
+inline constexpr bsp::ControlLayout kTmrRecordLayout{kTmrRecordFields, sizeof(TmrRecord), alignof(TmrRecord)};
+static_assert(bsp::control_layout_ok(kTmrRecordLayout), "every member of TmrRecord");
 
 enum class TmrVerdict : std::uint8_t {
   kAgree,       ///< every expected replica present and equal (3 of 3, or 2 of 2 in duplex)
@@ -77,6 +86,20 @@ struct TmrGroupConfig {
   std::uint32_t miss_to_exclude = 3U;      ///< missed jobs in a row (>= 1)
 };
 
+/** A group's counts and thresholds are emulated state through and through (bsp::ControlLayout). */
+inline constexpr std::array kTmrReplicaCountFields{
+    BSP_CONTROL_STATE(TmrReplicaCount, disagree_in_row), BSP_CONTROL_STATE(TmrReplicaCount, disagreements),
+    BSP_CONTROL_STATE(TmrReplicaCount, miss_in_row),     BSP_CONTROL_STATE(TmrReplicaCount, misses),
+    BSP_CONTROL_STATE(TmrReplicaCount, exclusions)};
+inline constexpr bsp::ControlLayout kTmrReplicaCountLayout{kTmrReplicaCountFields, sizeof(TmrReplicaCount),
+                                                           alignof(TmrReplicaCount)};
+static_assert(bsp::control_layout_ok(kTmrReplicaCountLayout), "every member of TmrReplicaCount");
+inline constexpr std::array kTmrGroupConfigFields{BSP_CONTROL_STATE(TmrGroupConfig, disagree_to_exclude),
+                                                  BSP_CONTROL_STATE(TmrGroupConfig, miss_to_exclude)};
+inline constexpr bsp::ControlLayout kTmrGroupConfigLayout{kTmrGroupConfigFields, sizeof(TmrGroupConfig),
+                                                          alignof(TmrGroupConfig)};
+static_assert(bsp::control_layout_ok(kTmrGroupConfigLayout), "every member of TmrGroupConfig");
+
 class TmrGroup {
  public:
   /** Starts with no replica active. False (and nothing changed) for a zero threshold. */
@@ -103,6 +126,19 @@ class TmrGroup {
   TmrGroupConfig cfg_{};
   std::uint32_t active_ = 0U;
   std::array<TmrReplicaCount, kTmrReplicas> count_{};
+  friend struct TmrGroupLayout;
+};
+
+/**
+ * A group in a control struct is emulated state (bsp::ControlLayout): every
+ * index it takes from a replica number is bounded (count(), admit(), exclude()).
+ */
+struct TmrGroupLayout {
+  static constexpr std::array kFields{BSP_CONTROL_NESTED(TmrGroup, cfg_, kTmrGroupConfigLayout),
+                                      BSP_CONTROL_STATE(TmrGroup, active_),
+                                      BSP_CONTROL_NESTED(TmrGroup, count_, kTmrReplicaCountLayout)};
+  static constexpr bsp::ControlLayout kLayout{kFields, sizeof(TmrGroup), alignof(TmrGroup)};
+  static_assert(bsp::control_layout_ok(kLayout), "every member of TmrGroup");
 };
 
 }  // namespace fdir

@@ -44,6 +44,10 @@ inline constexpr std::uint32_t kRecordWords =
 struct JobRecord {
   std::array<std::uint32_t, kRecordWords> w{};
 };
+/** A record being filled is emulated state: its counts are bounded wherever they are taken (bsp::ControlLayout). */
+inline constexpr std::array kJobRecordFields{BSP_CONTROL_STATE(JobRecord, w)};
+inline constexpr bsp::ControlLayout kJobRecordLayout{kJobRecordFields, sizeof(JobRecord), alignof(JobRecord)};
+static_assert(bsp::control_layout_ok(kJobRecordLayout), "every member of JobRecord");
 
 /** Empties @p r for job @p job. */
 void record_begin(JobRecord& r, std::uint32_t job) noexcept;

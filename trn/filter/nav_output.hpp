@@ -12,10 +12,12 @@
  */
 #pragma once
 
+#include "bsp_tile64/api/memory.hpp"
 #include "trn/filter/filter_config.hpp"
 #include "trn/filter/filter_state.hpp"
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 
 namespace trn::filter {
@@ -46,6 +48,17 @@ struct NavOutput {
   std::uint32_t last_rejected = 0;
   std::uint32_t imu_gaps = 0;
 };
+
+/** A solution kept in a task's state is emulated state through and through (bsp::ControlLayout). */
+inline constexpr std::array kNavOutputFields{
+    BSP_CONTROL_STATE(NavOutput, propagations), BSP_CONTROL_STATE(NavOutput, t_s),
+    BSP_CONTROL_STATE(NavOutput, p_m),          BSP_CONTROL_STATE(NavOutput, v_mps),
+    BSP_CONTROL_STATE(NavOutput, q_mb_wxyz),    BSP_CONTROL_STATE(NavOutput, var_diag),
+    BSP_CONTROL_STATE(NavOutput, pos_var_world), BSP_CONTROL_STATE(NavOutput, flags),
+    BSP_CONTROL_STATE(NavOutput, last_accepted), BSP_CONTROL_STATE(NavOutput, last_rejected),
+    BSP_CONTROL_STATE(NavOutput, imu_gaps)};
+inline constexpr bsp::ControlLayout kNavOutputLayout{kNavOutputFields, sizeof(NavOutput), alignof(NavOutput)};
+static_assert(bsp::control_layout_ok(kNavOutputLayout), "every member of NavOutput");
 
 inline constexpr std::uint32_t kNavMagic = 0x564E5254U;
 inline constexpr std::uint32_t kNavVersion = 2U;

@@ -198,10 +198,13 @@ const Sweep kSupTrn{tt::kSupTrnCarve, "trn_supervisor", 0U, &tt::sup_trn_state_l
 const Sweep kSupFilter{tt::kSupFilterCarve, "filter_supervisor", 0U, &tt::sup_filter_state_layout()};
 const Sweep kSupNodeVision{tt::kSupNodeCarve, "vision_supervisor", 0U, &tt::sup_node_state_layout()};
 const Sweep kReplica{tt::kReplicaCarve, "filter_replica", 3U, &tt::replica_state_layout()};
+const Sweep kFilterFront{tt::kFilterFrontCarve, "filter", 0U, &tt::filter_front_layout()};
+const Sweep kFilterOutput{tt::kFilterOutputRecord.name, "filter", 0U, tt::kFilterOutputRecord.layout};
 const Sweep kFilterStats{tt::kFilterTaskStatsRecord.name, "filter", 0U, tt::kFilterTaskStatsRecord.layout};
 const Sweep kCoordStats{tt::kVisionCoordStatsRecord.name, "vision_coordinator", 0U, tt::kVisionCoordStatsRecord.layout};
 const Sweep kWorkerStats{tt::kVisionWorkerStatsRecord.name, "vision", 40U, tt::kVisionWorkerStatsRecord.layout};
 const Sweep kIoStats{tt::kIoTaskStatsRecord.name, "io", 0U, tt::kIoTaskStatsRecord.layout};
+const Sweep kIoState{tt::kIoStateCarve, "io", 0U, &tt::io_state_layout()};
 const Sweep kSupStats{tt::kSupervisorStatsRecord.name, "trn_supervisor", 0U, tt::kSupervisorStatsRecord.layout};
 
 // Issue 54 item 6: an upset of any emulated member of the converted control structs is made for
@@ -239,18 +242,20 @@ TEST_F(ControlUpsets, EveryEmulatedMemberOfTheEndpointAndTheKernelSurvivesAnUpse
   }
 }
 
-// Issue 55 item 4: the roles' records and the supervisors' and replicas' state, now in tile RAM
-// with declared layouts, are flipped for real and the image survives every upset of them. A plan
-// aims at a role by name: the TRN and the vision supervisor's nodes (the same NodeState as the
-// filter supervisor's) and the filter supervisor's own state (sup_filter) are swept.
+// Issue 55 item 4: the roles' records and the supervisors', replicas', filter's and I/O task's
+// state, now in tile RAM with declared layouts, are flipped for real and the image survives every
+// upset of them. A plan aims at a role by name: the TRN and the vision supervisor's nodes (the same
+// NodeState as the filter supervisor's) and the filter supervisor's own state (sup_filter) are swept.
 TEST_F(ControlUpsets, EveryEmulatedMemberOfTheRecordsAndStateMovedIntoTileRamSurvivesAnUpset) {
   if (std::getenv("CONTROL_SWEEP_FULL") != nullptr) {
     fly({kSupNodeTrn, kSupTrn, kReplica, kSupFilter, kSupNodeVision}, true, 6.0, "supervisors_replicas");
-    fly({kFilterStats, kCoordStats, kWorkerStats, kIoStats, kSupStats}, true, 6.0, "records");
+    fly({kFilterFront, kIoState}, true, 6.0, "filter_io");
+    fly({kFilterStats, kFilterOutput, kCoordStats, kWorkerStats, kIoStats, kSupStats}, true, 6.0, "records");
   } else {
     fly({kSupNodeTrn, kSupTrn, kReplica, kSupFilter, kSupNodeVision, kFilterStats, kCoordStats, kWorkerStats,
          kIoStats, kSupStats},
         false, 2.0, "records_state");
+    fly({kFilterFront, kFilterOutput, kIoState}, false, 2.0, "filter_io");
   }
 }
 

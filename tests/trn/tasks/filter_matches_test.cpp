@@ -34,6 +34,13 @@ trn::tasks::FilterTaskStats filter_stats(bsp::TileId tile) {
   return test_support::flight_record(tile, trn::tasks::kFilterTaskStatsRecord);
 }
 
+/** The latest solution @p tile's filter delivered, as the host reads it: its record in the tile's RAM. False before the first. */
+bool latest_output(bsp::TileId tile, trn::filter::NavOutput& o) {
+  const trn::tasks::FilterOutput out = test_support::flight_record(tile, trn::tasks::kFilterOutputRecord);
+  o = out.latest;
+  return out.delivered;
+}
+
 
 constexpr bsp::TileId kCoordTile = 1;
 constexpr bsp::TileId kIoTile = 9;
@@ -254,7 +261,7 @@ TEST_F(FilterMatches, LateBatchesAreAppliedAtTheirImageTimeWithinTheJobBudget) {
   (void)bsp::run_for(8U * kHz);
   const trn::tasks::FilterTaskStats st = filter_stats(kFilterTile);
   trn::filter::NavOutput o{};
-  ASSERT_TRUE(trn::tasks::filter_task_output(kFilterTile, &o));
+  ASSERT_TRUE(latest_output(kFilterTile, o));
   const double err = position_error_m(o);
   std::printf("filter with matches: %u jobs, parts %u, matches %u received, %u applied (%u coarse), gated %u, "
               "stale %u, invalid %u, dropped %u, queue high water %u; max job %.3f ms; nav %u sent, %u failed, "
@@ -305,7 +312,7 @@ TEST_F(FilterMatches, WithoutMatchesTheSameStartDriftsAway) {
   boot(Eigen::Vector3d(30.0, -20.0, 10.0), trn::tasks::kDefaultMatchesPerJob);
   (void)bsp::run_for(8U * kHz);
   trn::filter::NavOutput o{};
-  ASSERT_TRUE(trn::tasks::filter_task_output(kFilterTile, &o));
+  ASSERT_TRUE(latest_output(kFilterTile, o));
   std::printf("without matches: error %.2f m after 8 s\n", position_error_m(o));
   EXPECT_GT(position_error_m(o), 30.0);
   EXPECT_EQ(filter_stats(kFilterTile).matches_received, 0U);
@@ -348,7 +355,7 @@ TEST_F(FilterMatches, RunAllocatesNothingAndRepeatsBitForBit) {
   const std::uint64_t allocs = test_support::count_allocs([] { (void)bsp::run_for(3U * kHz); });
   EXPECT_EQ(allocs, 0U);
   trn::filter::NavOutput first{};
-  ASSERT_TRUE(trn::tasks::filter_task_output(kFilterTile, &first));
+  ASSERT_TRUE(latest_output(kFilterTile, first));
   const std::uint32_t applied = filter_stats(kFilterTile).matches_applied;
   EXPECT_GT(applied, 100U);
   const std::uint64_t hash = bsp::trace_hash();
@@ -356,7 +363,7 @@ TEST_F(FilterMatches, RunAllocatesNothingAndRepeatsBitForBit) {
   boot(Eigen::Vector3d(30.0, -20.0, 10.0), trn::tasks::kDefaultMatchesPerJob);
   (void)bsp::run_for(3U * kHz);
   trn::filter::NavOutput second{};
-  ASSERT_TRUE(trn::tasks::filter_task_output(kFilterTile, &second));
+  ASSERT_TRUE(latest_output(kFilterTile, second));
   EXPECT_EQ(bsp::trace_hash(), hash);
   trn::filter::NavOutputBytes first_bytes{};
   trn::filter::NavOutputBytes second_bytes{};

@@ -16,6 +16,8 @@
 #include "fdir/ft_sink.hpp"
 #include "fdir/transit.hpp"
 #include "kernel/kernel.hpp"
+#include "tools/common/mission/ram_record.hpp"
+#include "trn/tasks/filter/filter_task.hpp"
 #include "trn/tasks/vision/landmark_product.hpp"
 #include "trn/tasks/tile_map.hpp"
 #include "trn/vision/frame.hpp"
@@ -347,10 +349,14 @@ bool Mission::boot(std::string& error) {
 
 NavSample Mission::nav() const {
   NavSample n;
-  trn::filter::NavOutput o{};
-  if (!trn::tasks::filter_task_output(trn::tasks::slot_tile_now(trn::tasks::kSlotFilter), &o)) {
+  // The latest solution as the filter's tile holds it; none while the tile restarts (no record).
+  trn::tasks::FilterOutput out{};
+  if (tools::try_read_record(trn::tasks::slot_tile_now(trn::tasks::kSlotFilter), trn::tasks::kFilterOutputRecord,
+                             out) != tools::RecordRead::kOk ||
+      !out.delivered) {
     return n;
   }
+  const trn::filter::NavOutput& o = out.latest;
   const bsp::world::TruthState t = truth_.at(o.t_s);
   n.valid = true;
   n.t_s = o.t_s;

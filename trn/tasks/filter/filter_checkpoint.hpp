@@ -19,11 +19,13 @@
  */
 #pragma once
 
+#include "bsp_tile64/api/memory.hpp"
 #include "bsp_tile64/api/work.hpp"
 #include "trn/filter/filter_state.hpp"
 #include "trn/filter/state_block.hpp"
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -60,6 +62,11 @@ struct VotedCheckpoint {
   std::uint32_t seq = 0U;
   std::uint32_t digest = 0U;
 };
+inline constexpr std::array kVotedCheckpointFields{BSP_CONTROL_STATE(VotedCheckpoint, seq),
+                                                   BSP_CONTROL_STATE(VotedCheckpoint, digest)};
+inline constexpr bsp::ControlLayout kVotedCheckpointLayout{kVotedCheckpointFields, sizeof(VotedCheckpoint),
+                                                           alignof(VotedCheckpoint)};
+static_assert(bsp::control_layout_ok(kVotedCheckpointLayout), "every member of VotedCheckpoint");
 
 /** What checkpoint_read found. */
 struct CheckpointRead {

@@ -20,7 +20,6 @@
 
 #include <algorithm>
 #include <array>
-#include <new>
 #include <span>
 
 namespace trn::tasks {
@@ -63,9 +62,8 @@ constexpr std::uint32_t kVotedWords = kNavWords + 1U;
 struct Slot {
   FilterCore core;
   const FilterTaskConfig* cfg;
-  FilterTaskStats* stats;    ///< the core's counters (its record in tile RAM); nullptr before set-up
-  filter::NavOutput latest;
-  bool published;
+  FilterTaskStats* stats;    ///< the core's counters (its record in tile RAM)
+  FilterOutput* output;      ///< the latest solution delivered (its record in tile RAM)
   JobRecord record;          ///< the job being filled
   CheckpointArea* ckpt;      ///< nullptr: no checkpoints (disabled, or no DDR)
   const ImuRing* ring;       ///< the I/O tile's record; nullptr until it exists
@@ -118,7 +116,78 @@ struct Slot {
   bool recovery_asked;           ///< refused again after going back: the tile asked to be restarted
 };
 
-std::array<Slot, bsp::kMaxTiles> g_slots{};
+/** A sample held for its job is emulated state through and through (bsp::ControlLayout). */
+constexpr std::array kImuSampleFields{BSP_CONTROL_STATE(bsp::ImuSample, seq), BSP_CONTROL_STATE(bsp::ImuSample, status),
+                                      BSP_CONTROL_STATE(bsp::ImuSample, t_s),
+                                      BSP_CONTROL_STATE(bsp::ImuSample, dtheta_rad),
+                                      BSP_CONTROL_STATE(bsp::ImuSample, dv_mps)};
+constexpr bsp::ControlLayout kImuSampleLayout{kImuSampleFields, sizeof(bsp::ImuSample), alignof(bsp::ImuSample)};
+static_assert(bsp::control_layout_ok(kImuSampleLayout), "every member of ImuSample");
+
+/**
+ * What an upset of the task's own state does (bsp::ControlLayout): its pointers (the core's, the
+ * configuration, its records in tile RAM, its DDR areas) are host state; everything else is the
+ * tile's own and is flipped for real. Every count it indexes by is bounded where it is taken
+ * (held_count, mheld_count), a mode with no TMR area runs simplex, and check_front() reports a
+ * value no valid state holds (kAssertFilterFrontBad).
+ */
+constexpr std::array kFrontFields{
+    BSP_CONTROL_NESTED(Slot, core, kFilterCoreLayout),
+    BSP_CONTROL_HOST(Slot, cfg),
+    BSP_CONTROL_HOST(Slot, stats),
+    BSP_CONTROL_HOST(Slot, output),
+    BSP_CONTROL_NESTED(Slot, record, kJobRecordLayout),
+    BSP_CONTROL_HOST(Slot, ckpt),
+    BSP_CONTROL_HOST(Slot, ring),
+    BSP_CONTROL_STATE(Slot, have_imu),
+    BSP_CONTROL_STATE(Slot, last_imu),
+    BSP_CONTROL_STATE(Slot, catching_up),
+    BSP_CONTROL_STATE(Slot, ckpt_seq),
+    BSP_CONTROL_STATE(Slot, ckpt_slot),
+    BSP_CONTROL_STATE(Slot, since_ckpt),
+    BSP_CONTROL_STATE(Slot, job),
+    BSP_CONTROL_NESTED(Slot, held, kImuSampleLayout),
+    BSP_CONTROL_STATE(Slot, held_count),
+    BSP_CONTROL_STATE(Slot, cmd_held),
+    BSP_CONTROL_STATE(Slot, mheld),
+    BSP_CONTROL_STATE(Slot, mheld_job),
+    BSP_CONTROL_STATE(Slot, mheld_count),
+    BSP_CONTROL_STATE(Slot, mheld_changes),
+    BSP_CONTROL_STATE(Slot, cmd),
+    BSP_CONTROL_STATE(Slot, mode),
+    BSP_CONTROL_HOST(Slot, tmr),
+    BSP_CONTROL_STATE(Slot, command),
+    BSP_CONTROL_STATE(Slot, next_deliver),
+    BSP_CONTROL_STATE(Slot, delivered_any),
+    BSP_CONTROL_STATE(Slot, start_job),
+    BSP_CONTROL_NESTED(Slot, group, fdir::TmrGroupLayout::kLayout),
+    BSP_CONTROL_NESTED(Slot, out, fdir::kTmrRecordLayout),
+    BSP_CONTROL_STATE(Slot, out_bad),
+    BSP_CONTROL_NESTED(Slot, own, fdir::kTmrRecordLayout),
+    BSP_CONTROL_STATE(Slot, hello_mask),
+    BSP_CONTROL_STATE(Slot, refused_mask),
+    BSP_CONTROL_STATE(Slot, seeded_differ),
+    BSP_CONTROL_STATE(Slot, seed_asked),
+    BSP_CONTROL_STATE(Slot, resume_tmr),
+    BSP_CONTROL_STATE(Slot, last_winner),
+    BSP_CONTROL_STATE(Slot, no_majority_mask),
+    BSP_CONTROL_STATE(Slot, no_majority_run),
+    BSP_CONTROL_NESTED(Slot, voted_ckpt, kVotedCheckpointLayout),
+    BSP_CONTROL_STATE(Slot, stop_job),
+    BSP_CONTROL_STATE(Slot, stop_voted),
+    BSP_CONTROL_STATE(Slot, stop_digest),
+    BSP_CONTROL_STATE(Slot, stop_again),
+    BSP_CONTROL_STATE(Slot, next_vote),
+    BSP_CONTROL_STATE(Slot, held_saved),
+    BSP_CONTROL_STATE(Slot, held_written),
+    BSP_CONTROL_STATE(Slot, rejoin),
+    BSP_CONTROL_STATE(Slot, rebuild_from),
+    BSP_CONTROL_STATE(Slot, lenient_until),
+    BSP_CONTROL_STATE(Slot, rolled_back_to),
+    BSP_CONTROL_STATE(Slot, recovery_asked),
+};
+constexpr bsp::ControlLayout kFrontLayout{kFrontFields, sizeof(Slot), alignof(Slot)};
+static_assert(bsp::control_layout_ok(kFrontLayout), "every member of the task's state, pointers as host state");
 
 // ------------------------------------------------------------------ the front: inputs into a record
 
@@ -217,15 +286,47 @@ void take_sample(Slot& slot, const bsp::ImuSample& s, std::uint32_t& budget) noe
 
 /** The held samples that are due now, in order. */
 void take_held(Slot& slot, std::uint32_t& budget) noexcept {
+  const std::uint32_t count = std::min(slot.held_count, kImuHeld);  // an upset may have left it larger
   std::uint32_t n = 0;
-  for (; n < slot.held_count && imu_due(slot, slot.held[n].seq); ++n) {
+  for (; n < count && imu_due(slot, slot.held[n].seq); ++n) {
     take_sample(slot, slot.held[n], budget);
   }
-  for (std::uint32_t i = n; i < slot.held_count; ++i) {
+  for (std::uint32_t i = n; i < count; ++i) {
     slot.held[i - n] = slot.held[i];
   }
-  slot.held_count -= n;
+  slot.held_count = count - n;
 }
+
+/** What a handler of kChanImu acts on: the front's slot and the job's replay budget. */
+struct ImuInbox {
+  Slot& slot;
+  std::uint32_t& budget;
+};
+
+/** A telecommand in the IMU stream: held until the job that takes the sample sent before it. */
+void take_command_msg(ImuInbox& in, const Command& c) noexcept { hold_command(in.slot, c); }
+
+/** A sample: into the record if it is due and none waits before it, else held for its job. */
+void take_imu_msg(ImuInbox& in, const bsp::ImuSample& s) noexcept {
+  Slot& slot = in.slot;
+  if (slot.held_count == 0U && imu_due(slot, s.seq)) {
+    take_sample(slot, s, in.budget);
+  } else if (slot.held_count < kImuHeld) {
+    slot.held[slot.held_count] = s;
+    ++slot.held_count;
+  } else {
+    ++slot.stats->imu_rejected;  // more early samples than a healthy stream sends: dropped, replayed from DDR
+  }
+}
+
+/** The tagged kinds the filter takes on kChanImu; the untagged words there are IMU samples. */
+constexpr std::array<fdir::msg::Handler<ImuInbox>, 1> kImuChannelHandlers{{
+    fdir::msg::on<kCommandMsg, &take_command_msg, ImuInbox>(),
+}};
+constexpr fdir::msg::Handler<ImuInbox> kImuSampleHandler = fdir::msg::on<kImuMsg, &take_imu_msg, ImuInbox>();
+static_assert(fdir::msg::handlers_fit(kImuChannelHandlers, kChanImu, role_bit(Role::kFilter)) &&
+                  fdir::msg::untagged_fits(kImuSampleHandler, kChanImu, role_bit(Role::kFilter)),
+              "the filter's handlers on kChanImu are kinds declared for it there");
 
 /**
  * Puts the due samples (held ones, then up to kMaxImuPerJob waiting on
@@ -236,28 +337,14 @@ void consume_imu(Slot& slot) noexcept {
   udn::FtMessage msg{};
   std::uint32_t budget = kMaxReplayPerJob;
   take_held(slot, budget);
+  ImuInbox in{slot, budget};
   for (std::uint32_t n = 0; n < kMaxImuPerJob; ++n) {
     if (udn::endpoint_receive(kChanImu, msg) != udn::FtError::kOk) {
       break;
     }
     const std::span<const std::uint32_t> w(msg.data.data(), msg.data_words);
-    Command cmd{};
-    if (unpack_command(w, cmd)) {
-      hold_command(slot, cmd);
-      continue;
-    }
-    bsp::ImuSample s{};
-    if (!unpack_imu_msg(w, s)) {
-      ++slot.stats->imu_rejected;
-      continue;
-    }
-    if (slot.held_count == 0U && imu_due(slot, s.seq)) {
-      take_sample(slot, s, budget);
-    } else if (slot.held_count < kImuHeld) {
-      slot.held[slot.held_count] = s;
-      ++slot.held_count;
-    } else {
-      ++slot.stats->imu_rejected;  // more early samples than a healthy stream sends: dropped, replayed from DDR
+    if (fdir::msg::dispatch(kImuChannelHandlers, kImuSampleHandler, w, in) != fdir::msg::Dispatch::kTaken) {
+      ++slot.stats->imu_rejected;  // a telecommand or a sample its decoder refused
     }
   }
   // A due sample the network has not brought (lost, or sent to the tile a role left) comes from the
@@ -270,6 +357,7 @@ void consume_imu(Slot& slot) noexcept {
 
 /** Moves the held matches whose job has come into the record, in order, as many as it takes. */
 void take_held_matches(Slot& slot, bsp::Work& work) noexcept {
+  slot.mheld_count = std::min(slot.mheld_count, kHeldMatches);  // an upset may have left it larger
   std::uint32_t n = 0;
   for (; n < slot.mheld_count && slot.mheld_job[n] <= slot.job; ++n) {
     const std::span<const std::uint32_t, kMatchWords> m(slot.mheld.data() + static_cast<std::size_t>(n) * kMatchWords,
@@ -296,7 +384,7 @@ void take_match(Slot& slot, std::span<const std::uint32_t, kMatchWords> m, std::
   if (job <= slot.job && slot.mheld_count == 0U && record_add_match(slot.record, m)) {
     return;
   }
-  if (slot.mheld_count == kHeldMatches) {
+  if (slot.mheld_count >= kHeldMatches) {
     ++slot.stats->matches_dropped;  // more than a frame waiting: only a broken sender does that
     return;
   }
@@ -351,8 +439,8 @@ void deliver(Slot& slot, std::uint32_t job, std::span<const std::uint32_t, kNavW
   std::copy(words.begin(), words.end(), w.begin());
   // The solution as sent is what a fault may corrupt on its way out (every bit of it is delivered).
   (void)bsp::publish_filter(kNavChannel, w.data(), sizeof w);
-  slot.latest = unpack_nav(w);
-  slot.published = true;
+  slot.output->latest = unpack_nav(w);
+  slot.output->delivered = true;
   const std::array<std::uint32_t, 1> j{job};
   slot.stats->output_crc = udn::crc32c_words_continue(udn::crc32c_words_continue(slot.stats->output_crc, j), w);
   ++slot.stats->outputs_delivered;
@@ -489,19 +577,39 @@ void checkpoint(Slot& slot) noexcept {
 
 bool rejoin(Slot& slot, std::uint32_t job) noexcept;
 
+/**
+ * The core, then the task's own state and its output record, in the running tile's RAM (the state
+ * after the core's carves: they keep the places they had before it lived in tile RAM).
+ * @return the state, value-initialised but for the core and its pointers; nullptr for a bad
+ *         configuration or a region too short.
+ */
+[[gnu::noinline]] Slot* carve_front(const FilterTaskConfig& cfg) noexcept {
+  if (cfg.matches_per_job == 0U || cfg.matches_per_job > kMaxMatchesPerFrame) {
+    return nullptr;
+  }
+  const bsp::Region ram{bsp::current_tile()};
+  FilterCore core{};
+  if (!core_set_up(core, cfg, ram)) {
+    return nullptr;
+  }
+  bsp::MemError err = bsp::MemError::kOk;
+  Slot* const slot = bsp::carve_record(ram, bsp::RamRecord<Slot>{kFilterFrontCarve, &kFrontLayout}, &err);
+  FilterOutput* const out = slot != nullptr ? bsp::carve_record(ram, kFilterOutputRecord, &err) : nullptr;
+  if (out == nullptr) {
+    return nullptr;
+  }
+  slot->core = core;
+  slot->cfg = &cfg;
+  slot->stats = core.stats;
+  slot->output = out;
+  return slot;
+}
+
 // Never inlined: Clang once inlined it into filter_task_main when its checkpoint read held a whole
 // FilterState (about 18 KiB) on the stack, and the loop's frame kept those bytes for the whole flight
 // (the 32 KiB stack overflowed into the next task's saved context when the filter went TMR). The state
 // now stays in the block reader's static scratch; the attribute keeps set-up out of the loop's frame.
 [[gnu::noinline]] bool set_up(Slot& slot, const FilterTaskConfig& cfg) noexcept {
-  if (cfg.matches_per_job == 0U || cfg.matches_per_job > kMaxMatchesPerFrame) {
-    return false;
-  }
-  slot.cfg = &cfg;
-  if (!core_set_up(slot.core, cfg, bsp::Region{bsp::current_tile()})) {
-    return false;
-  }
-  slot.stats = slot.core.stats;
   slot.tmr = cfg.replica_tiles[0] != bsp::kNoTile ? tmr_area() : nullptr;
   if (slot.tmr != nullptr && slot.tmr->control.mode != 0U) {
     const auto job = static_cast<std::uint32_t>(bsp::now() / (std::uint64_t{kFilterPeriodTicks} * bsp::tick_cycles()));
@@ -1002,6 +1110,7 @@ void persist_front(Slot& slot) noexcept {
     TmrHeldMatches& h = a.held;
     h.crc = ~h.crc;  // torn while written: refused
     h.serial = h.serial + 1U == 0U ? 1U : h.serial + 1U;
+    slot.mheld_count = std::min(slot.mheld_count, kHeldMatches);
     h.count = slot.mheld_count;
     for (std::uint32_t m = 0; m < slot.mheld_count; ++m) {
       h.job[m] = slot.mheld_job[m];
@@ -1121,16 +1230,35 @@ void send_status(const Slot& slot) noexcept {
   (void)udn::endpoint_send(udn::endpoint_role_tile(kSlotFilterSupervisor, slot.cfg->filter_supervisor_tile), kChanControl, w, 0U);
 }
 
+/**
+ * The task's counts and mode as an upset may have left them: a value no valid state holds is
+ * bounded (a count to its array, a mode to simplex) and the tile asks to be restarted
+ * (kAssertFilterFrontBad). Each use bounds them too: an upset can land after this check.
+ */
+void check_front(Slot& slot) noexcept {
+  const bool counts_ok = slot.held_count <= kImuHeld && slot.mheld_count <= kHeldMatches;
+  const bool mode_ok = slot.mode == Mode::kSimplex ||
+                       (slot.tmr != nullptr && static_cast<std::uint8_t>(slot.mode) <= static_cast<std::uint8_t>(Mode::kStopping));
+  if (counts_ok && mode_ok) {
+    return;
+  }
+  slot.held_count = std::min(slot.held_count, kImuHeld);
+  slot.mheld_count = std::min(slot.mheld_count, kHeldMatches);
+  if (!mode_ok) {
+    slot.mode = Mode::kSimplex;
+  }
+  ask_restart(slot, kAssertFilterFrontBad);
+}
+
 }  // namespace
 
 void filter_task_main(void* arg) noexcept {
-  const bsp::TileId tile = bsp::current_tile();
-  Slot& slot = g_slots[tile];
-  ::new (&slot) Slot{};  // in place: the slot is too large for a temporary on the task's stack
   const auto* cfg = static_cast<const FilterTaskConfig*>(arg);
-  if (cfg == nullptr || !set_up(slot, *cfg)) {
+  Slot* const state = cfg != nullptr ? carve_front(*cfg) : nullptr;
+  if (state == nullptr || !set_up(*state, *cfg)) {
     return;
   }
+  Slot& slot = *state;
   slot.job = static_cast<std::uint32_t>(bsp::now() / (std::uint64_t{kFilterPeriodTicks} * bsp::tick_cycles()));
   slot.stats->started_job = slot.job;
   for (;;) {  // one pass per 10 ms release
@@ -1139,12 +1267,13 @@ void filter_task_main(void* arg) noexcept {
       slot.tmr->front_phase = static_cast<std::uint32_t>((start / bsp::tick_cycles()) % kFilterPeriodTicks) + 1U;
     }
     slot.command = 0U;
+    check_front(slot);
     rebuild(slot);
     record_begin(slot.record, slot.job);
     catch_up(slot);
     consume_imu(slot);
     consume_parts(slot);
-    if (slot.mode == Mode::kSimplex) {
+    if (slot.mode == Mode::kSimplex || slot.tmr == nullptr) {
       if (run_own(slot, slot.record)) {
         checkpoint(slot);  // only a state that passed its check is kept
       }
@@ -1174,12 +1303,6 @@ void filter_task_main(void* arg) noexcept {
   }
 }
 
-bool filter_task_output(bsp::TileId tile, filter::NavOutput* out) noexcept {
-  if (tile >= bsp::kMaxTiles || out == nullptr || !g_slots[tile].published) {
-    return false;
-  }
-  *out = g_slots[tile].latest;
-  return true;
-}
+const bsp::ControlLayout& filter_front_layout() noexcept { return kFrontLayout; }
 
 }  // namespace trn::tasks

@@ -13,9 +13,10 @@
  *     (the EKF's pose history: matches arrive 0.2-0.8 s after the image);
  *  4. publishes the solution (bsp::publish_filter, where silent-data-corruption
  *     faults hit it) and sends it to coordinator_tile on kChanNav without waiting.
- * The counted work is charged with the board's cost model. The EKF and the
- * queue live in the tile's RAM (carved at task start), like any state a
- * single-event upset could hit. How many matches a job applies depends only
+ * The counted work is charged with the board's cost model. The EKF, the
+ * queue, the task's own state (kFilterFrontCarve) and the latest solution
+ * delivered (kFilterOutputRecord) live in the tile's RAM (carved at task
+ * start), like any state a single-event upset could hit. How many matches a job applies depends only
  * on the queue, never on timing, so replicas fed the same parts stay in step.
  *
  * Restarts (trn/tasks/filter/filter_checkpoint.hpp): every checkpoint_every jobs the
@@ -84,6 +85,11 @@ inline constexpr std::uint32_t kOutputMarkJobs = 100;
 inline constexpr std::uint32_t kAssertFilterStateRefused = 0x0605;
 /** Assertion id of the EKF's settings changed again before a new checkpoint (or not rebuilt): the tile asks to be restarted. */
 inline constexpr std::uint32_t kAssertFilterSettingsChanged = 0x0606;
+/**
+ * Assertion id of a count or mode in the task's own state that no valid state holds (an upset of
+ * it): bounded for the jobs that remain, and the tile asks to be restarted.
+ */
+inline constexpr std::uint32_t kAssertFilterFrontBad = 0x0607;
 /** Jobs between two checkpoints by default (100 ms). */
 inline constexpr std::uint32_t kDefaultCheckpointEvery = 10;
 /** Jobs a switch to TMR may take before it is given up. */
@@ -200,10 +206,33 @@ static_assert(bsp::control_layout_ok(kFilterTaskStatsLayout), "every member of F
  */
 inline constexpr bsp::RamRecord<FilterTaskStats> kFilterTaskStatsRecord{"filter_stats", &kFilterTaskStatsLayout};
 
+/** The latest solution the filter task delivered (published and sent), as it went out. */
+struct FilterOutput {
+  filter::NavOutput latest;
+  bool delivered;  ///< false before the first
+};
+inline constexpr std::array kFilterOutputFields{
+    BSP_CONTROL_NESTED(FilterOutput, latest, filter::kNavOutputLayout),
+    BSP_CONTROL_STATE(FilterOutput, delivered),
+};
+inline constexpr bsp::ControlLayout kFilterOutputLayout{kFilterOutputFields, sizeof(FilterOutput),
+                                                       alignof(FilterOutput)};
+static_assert(bsp::control_layout_ok(kFilterOutputLayout), "every member of FilterOutput");
+/**
+ * The filter task's latest solution on its tile: a record in the tile's RAM,
+ * carved after the task's own state at task start (the host reads it by this
+ * name; a replica has none).
+ */
+inline constexpr bsp::RamRecord<FilterOutput> kFilterOutputRecord{"filter_output", &kFilterOutputLayout};
+
 /** Task entry (arg: const FilterTaskConfig*). Never returns unless set-up fails (bad config included). */
 void filter_task_main(void* arg) noexcept;
 
-/** The latest solution published by @p tile's filter; false before the first. [host] */
-bool filter_task_output(bsp::TileId tile, filter::NavOutput* out) noexcept;
+/**
+ * Name of the filter task's own state carve in its tile's RAM (inputs held for their job, the TMR
+ * vote's outputs and counts, the place in the stream), and its layout (what an upset of it does). [host]
+ */
+inline constexpr const char* kFilterFrontCarve = "filter_front";
+const bsp::ControlLayout& filter_front_layout() noexcept;
 
 }  // namespace trn::tasks

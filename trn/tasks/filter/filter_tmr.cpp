@@ -14,7 +14,7 @@
 #include "udn/crc32c.hpp"
 #include "udn/endpoint.hpp"
 
-#include <new>
+#include <type_traits>
 
 namespace trn::tasks {
 namespace {
@@ -41,6 +41,7 @@ constexpr std::array kReplicaFields{
 };
 constexpr bsp::ControlLayout kReplicaLayout{kReplicaFields, sizeof(Replica), alignof(Replica)};
 static_assert(bsp::control_layout_ok(kReplicaLayout), "every member of Replica, the core's pointers as host state");
+static_assert(std::is_trivially_copyable_v<Replica>, "carved and value-initialised as a record (bsp::carve_record)");
 
 std::uint32_t seed_header_crc(const TmrSeed& s) noexcept {
   const std::array<std::uint32_t, 8> h{s.serial, s.job, s.for_mask, s.epoch, s.digest, s.gen[0], s.gen[1], s.gen[2]};
@@ -276,11 +277,10 @@ void filter_replica_main(void* arg) noexcept {
   }
   // The state after the core's carves: they keep the places they had before it lived in tile RAM.
   bsp::MemError err = bsp::MemError::kOk;
-  Replica* const state = bsp::carve_control_array<Replica>(bsp::Region{tile}, 1U, kReplicaCarve, &err, &kReplicaLayout);
+  Replica* const state = bsp::carve_record(bsp::Region{tile}, bsp::RamRecord<Replica>{kReplicaCarve, &kReplicaLayout}, &err);
   if (state == nullptr) {
     return;
   }
-  ::new (state) Replica{};
   state->core = core;
   Replica& r = *state;
   // A replica started in flight (woken by the power policy, reset) is released with the front's

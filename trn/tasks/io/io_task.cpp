@@ -18,12 +18,21 @@
 namespace trn::tasks {
 namespace {
 
-// One I/O tile per chip: its state is the board's, reset with every task start.
-k::Semaphore g_device_ready{0, 1000};
+/** The task's own state, in its tile's RAM (carve kIoStateCarve): given by the device interrupt, taken by the loop. */
+struct IoState {
+  k::Semaphore device_ready{0, 1000};
+};
+/** What an upset of it does (bsp::ControlLayout): the semaphore is emulated state, its wait list checked by the kernel. */
+constexpr std::array kIoStateFields{BSP_CONTROL_NESTED(IoState, device_ready, k::SemaphoreLayout::kLayout)};
+constexpr bsp::ControlLayout kIoStateLayout{kIoStateFields, sizeof(IoState), alignof(IoState)};
+static_assert(bsp::control_layout_ok(kIoStateLayout), "every member of IoState");
+
+/** In the I/O tile's RAM, set at its task's start (before the interrupt hook is installed). */
+IoState* g_io = nullptr;
 /** The task's counters, in its tile's RAM (kIoTaskStatsRecord); carved at task start. */
 IoTaskStats* g_stats = nullptr;
 
-void device_isr(bsp::TileId /*tile*/) noexcept { (void)g_device_ready.give_from_isr(); }
+void device_isr(bsp::TileId /*tile*/) noexcept { (void)g_io->device_ready.give_from_isr(); }
 
 /** Samples forwarded per wake-up at most (the FIFO depth). */
 constexpr std::uint32_t kMaxPerWake = bsp::kImuFifoDepth;
@@ -114,12 +123,17 @@ void forward_commands(const IoTaskConfig& cfg, std::uint32_t last_imu) noexcept 
 
 }  // namespace
 
+const bsp::ControlLayout& io_state_layout() noexcept { return kIoStateLayout; }
+
 void io_task_main(void* arg) noexcept {
   const auto* cfg = static_cast<const IoTaskConfig*>(arg);
-  g_device_ready = k::Semaphore{0, 1000};
   bsp::MemError err = bsp::MemError::kOk;
-  g_stats = bsp::carve_record(bsp::Region{bsp::current_tile()}, kIoTaskStatsRecord, &err);
-  if (cfg == nullptr || g_stats == nullptr || k::set_isr(bsp::Irq::kDevice, &device_isr) != k::Status::kOk) {
+  const bsp::Region ram{bsp::current_tile()};
+  g_stats = bsp::carve_record(ram, kIoTaskStatsRecord, &err);
+  // The state after the counters: they keep the place they had before it lived in tile RAM.
+  g_io = g_stats != nullptr ? bsp::carve_record(ram, bsp::RamRecord<IoState>{kIoStateCarve, &kIoStateLayout}, &err)
+                            : nullptr;
+  if (cfg == nullptr || g_io == nullptr || k::set_isr(bsp::Irq::kDevice, &device_isr) != k::Status::kOk) {
     return;  // the tile's health monitor sees a task that never runs
   }
   // The cross-strap: the devices deliver to this tile from now on (a no-op where they already do:
@@ -138,7 +152,7 @@ void io_task_main(void* arg) noexcept {
   std::uint32_t last_imu = kNoImuYet;
   for (;;) {  // the driver loop: one pass per device interrupt
     // The IMU interrupts every 10 ms in flight; the timeout keeps the check-ins going before and after.
-    (void)g_device_ready.take(k::Timeout{kIdleCheckinTicks});
+    (void)g_io->device_ready.take(k::Timeout{kIdleCheckinTicks});
     k::checkin();
     bsp::ImuSample s{};
     for (std::uint32_t n = 0; n < kMaxPerWake && bsp::imu_read(&s); ++n) {

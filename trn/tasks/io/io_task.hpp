@@ -47,6 +47,10 @@ static_assert(bsp::control_layout_ok(kIoTaskStatsLayout), "every member of IoTas
 /** The I/O task's counters: a record in its tile's RAM, carved at task start (the host reads it by this name). */
 inline constexpr bsp::RamRecord<IoTaskStats> kIoTaskStatsRecord{"io_stats", &kIoTaskStatsLayout};
 
+/** Name of the I/O task's own state carve in its tile's RAM (the device semaphore), and its layout (what an upset of it does). [host] */
+inline constexpr const char* kIoStateCarve = "io_state";
+const bsp::ControlLayout& io_state_layout() noexcept;
+
 /**
  * Task entry (arg: const IoTaskConfig*): activates the UDN, takes Irq::kDevice
  * through a kernel hook, and sends every IMU sample to the filter tile as it

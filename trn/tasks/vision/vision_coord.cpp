@@ -145,16 +145,6 @@ constexpr std::array kGatherFields{BSP_CONTROL_HOST(CoarseGather, surface), BSP_
 constexpr bsp::ControlLayout kGatherLayout{kGatherFields, sizeof(CoarseGather), alignof(CoarseGather)};
 static_assert(bsp::control_layout_ok(kGatherLayout), "every member of CoarseGather, the surface's view as host state");
 
-constexpr std::array kNavFields{
-    BSP_CONTROL_STATE(filter::NavOutput, propagations), BSP_CONTROL_STATE(filter::NavOutput, t_s),
-    BSP_CONTROL_STATE(filter::NavOutput, p_m),          BSP_CONTROL_STATE(filter::NavOutput, v_mps),
-    BSP_CONTROL_STATE(filter::NavOutput, q_mb_wxyz),    BSP_CONTROL_STATE(filter::NavOutput, var_diag),
-    BSP_CONTROL_STATE(filter::NavOutput, pos_var_world), BSP_CONTROL_STATE(filter::NavOutput, flags),
-    BSP_CONTROL_STATE(filter::NavOutput, last_accepted), BSP_CONTROL_STATE(filter::NavOutput, last_rejected),
-    BSP_CONTROL_STATE(filter::NavOutput, imu_gaps)};
-constexpr bsp::ControlLayout kNavLayout{kNavFields, sizeof(filter::NavOutput), alignof(filter::NavOutput)};
-static_assert(bsp::control_layout_ok(kNavLayout), "every member of NavOutput");
-
 constexpr std::array kNoticeFields{BSP_CONTROL_STATE(FrameNotice, seq),    BSP_CONTROL_STATE(FrameNotice, width_px),
                                    BSP_CONTROL_STATE(FrameNotice, height_px), BSP_CONTROL_STATE(FrameNotice, status),
                                    BSP_CONTROL_STATE(FrameNotice, t_s),    BSP_CONTROL_STATE(FrameNotice, ddr_offset)};
@@ -226,7 +216,7 @@ constexpr std::array kCoordFields{
     BSP_CONTROL_NESTED(CoordState, bands, kBandJobLayout),
     BSP_CONTROL_STATE(CoordState, band_count),
     BSP_CONTROL_NESTED(CoordState, gather, kGatherLayout),
-    BSP_CONTROL_NESTED(CoordState, nav, kNavLayout),
+    BSP_CONTROL_NESTED(CoordState, nav, filter::kNavOutputLayout),
     BSP_CONTROL_STATE(CoordState, nav_count),
     BSP_CONTROL_STATE(CoordState, have_pending),
     BSP_CONTROL_NESTED(CoordState, pending, kNoticeLayout),
