@@ -105,100 +105,73 @@ void udn_parked(Words w) {
   });
 }
 
-template <bool kAlive>
-void fdir_boot(Words w) {
-  run<fdir::TileBootReport>(w, kAlive ? fdir::unpack_alive : fdir::unpack_booted, [&](const fdir::TileBootReport& r) {
-    require(tile_ok(r.tile) && r.cause <= bsp::BootCause::kOther, "boot report ranges");
-    std::array<std::uint32_t, 3> p{};
-    if constexpr (kAlive) {
-      fdir::pack_alive(r, p);
-    } else {
-      fdir::pack_booted(r, p);
-    }
-    require(same(p, w), "boot report repacks");
+/**
+ * A declared kind's decoder (fdir/message_kind.hpp): @p in_range(out) checks
+ * the ranges of an accepted message, and encoding it must give back the very
+ * words received.
+ */
+template <const auto& K, class InRange>
+void kind(Words w, const char* what, InRange in_range) {
+  using T = typename std::remove_cvref_t<decltype(K)>::Message;
+  const auto decode = [](Words x, T& out) { return fdir::msg::decode(K, x, out); };
+  run<T>(w, decode, [&](const T& out) {
+    require(in_range(out), what);
+    std::vector<std::uint32_t> p(K.info.words, 0U);
+    require(fdir::msg::encode(K, out, p) == w.size() && std::equal(p.begin(), p.end(), w.begin()), what);
   });
+}
+
+template <const auto& K>
+void fdir_boot(Words w) {
+  kind<K>(w, "boot report", [](const fdir::TileBootReport& r) { return tile_ok(r.tile) && r.cause <= bsp::BootCause::kOther; });
 }
 
 void fdir_self_test(Words w) {
-  run<fdir::SelfTestRequest>(w, fdir::unpack_self_test, [&](const fdir::SelfTestRequest& r) {
-    std::array<std::uint32_t, fdir::kSelfTestWords> p{};
-    fdir::pack_self_test(r, p);
-    require(same(p, w), "self-test repacks");
-  });
+  kind<fdir::kSelfTestMsg>(w, "self-test", [](const fdir::SelfTestRequest& /*r*/) { return true; });
 }
 
 void fdir_self_test_result(Words w) {
-  run<fdir::SelfTestResult>(w, fdir::unpack_self_test_result, [&](const fdir::SelfTestResult& r) {
-    require(tile_ok(r.tile), "self-test result tile");
-    std::array<std::uint32_t, fdir::kSelfTestResultWords> p{};
-    fdir::pack_self_test_result(r, p);
-    require(same(p, w), "self-test result repacks");
-  });
+  kind<fdir::kSelfTestResultMsg>(w, "self-test result", [](const fdir::SelfTestResult& r) { return tile_ok(r.tile); });
 }
 
 void fdir_results_bad(Words w) {
-  run<fdir::ResultsBad>(w, fdir::unpack_results_bad, [&](const fdir::ResultsBad& r) {
-    require(tile_ok(r.coordinator) && tile_ok(r.worker) && r.boot_slot != fdir::kNoSlot &&
-                r.answer_channel < udn::kFtAllChannels,
-            "results-bad ranges");
-    std::array<std::uint32_t, fdir::kResultsBadWords> p{};
-    fdir::pack_results_bad(r, p);
-    require(same(p, w), "results-bad repacks");
+  kind<fdir::kResultsBadMsg>(w, "results bad", [](const fdir::ResultsBad& r) {
+    return tile_ok(r.coordinator) && tile_ok(r.worker) && r.boot_slot != fdir::kNoSlot &&
+           r.answer_channel < udn::kFtAllChannels &&
+           (r.action == fdir::ResultsAction::kReset || r.action == fdir::ResultsAction::kReplace);
   });
 }
 
 void fdir_park(Words w) {
-  run<fdir::ParkRequest>(w, fdir::unpack_park, [&](const fdir::ParkRequest& r) {
-    require(tile_ok(r.asker) && tile_ok(r.tile) && r.answer_channel < udn::kFtAllChannels, "park ranges");
-    std::array<std::uint32_t, fdir::kParkWords> p{};
-    fdir::pack_park(r, p);
-    require(same(p, w), "park repacks");
+  kind<fdir::kParkMsg>(w, "park", [](const fdir::ParkRequest& r) {
+    return tile_ok(r.asker) && tile_ok(r.tile) && r.answer_channel < udn::kFtAllChannels;
   });
 }
 
 void fdir_park_done(Words w) {
-  run<fdir::ParkDone>(w, fdir::unpack_park_done, [&](const fdir::ParkDone& r) {
-    require(tile_ok(r.tile), "park done tile");
-    std::array<std::uint32_t, fdir::kParkDoneWords> p{};
-    fdir::pack_park_done(r, p);
-    require(same(p, w), "park done repacks");
-  });
+  kind<fdir::kParkDoneMsg>(w, "park done", [](const fdir::ParkDone& r) { return tile_ok(r.tile); });
 }
 
 void fdir_hear_query(Words w) {
-  run<fdir::HearQuery>(w, fdir::unpack_hear_query, [&](const fdir::HearQuery& r) {
-    require(tile_ok(r.asker) && tile_ok(r.subject), "hear query ranges");
-    std::array<std::uint32_t, fdir::kHearQueryWords> p{};
-    fdir::pack_hear_query(r, p);
-    require(same(p, w), "hear query repacks");
-  });
+  kind<fdir::kHearQueryMsg>(w, "hear query", [](const fdir::HearQuery& r) { return tile_ok(r.asker) && tile_ok(r.subject); });
 }
 
 void fdir_hear_answer(Words w) {
-  run<fdir::HearAnswer>(w, fdir::unpack_hear_answer, [&](const fdir::HearAnswer& r) {
-    require(tile_ok(r.tile) && tile_ok(r.subject) && r.hearing <= udn::Heard::kNotProbed, "hear answer ranges");
-    std::array<std::uint32_t, fdir::kHearAnswerWords> p{};
-    fdir::pack_hear_answer(r, p);
-    require(same(p, w), "hear answer repacks");
+  kind<fdir::kHearAnswerMsg>(w, "hear answer", [](const fdir::HearAnswer& r) {
+    return tile_ok(r.tile) && tile_ok(r.subject) && r.hearing <= udn::Heard::kNotProbed;
   });
 }
 
 void fdir_replaced(Words w) {
-  run<fdir::Replaced>(w, fdir::unpack_replaced, [&](const fdir::Replaced& r) {
-    require(tile_ok(r.old_tile) && (tile_ok(r.spare) || r.spare == bsp::kNoTile), "replaced ranges");
-    std::array<std::uint32_t, fdir::kReplacedWords> p{};
-    fdir::pack_replaced(r, p);
-    require(same(p, w), "replaced repacks");
+  kind<fdir::kReplacedMsg>(w, "replaced", [](const fdir::Replaced& r) {
+    return tile_ok(r.old_tile) && (tile_ok(r.spare) || r.spare == bsp::kNoTile);
   });
 }
 
+template <const auto& K>
 void fdir_sup(Words w) {
-  run<fdir::SupMessage>(w, fdir::unpack_sup_message, [&](const fdir::SupMessage& m) {
-    require(m.constraint < fdir::kMaxConstraints && m.level < fdir::kMaxLevels, "supervisor message ranges");
-    require(m.tag == fdir::kMsgPolicy || m.tag == fdir::kMsgPolicyHeld || m.tag == fdir::kMsgEscalate, "supervisor tag");
-    std::array<std::uint32_t, fdir::kSupMsgWords> p{};
-    fdir::pack_sup_message(m, p);
-    require(same(p, w), "supervisor message repacks");
+  kind<K>(w, "supervisor message", [](const fdir::SupMessage& m) {
+    return m.constraint < fdir::kMaxConstraints && m.level < fdir::kMaxLevels;
   });
 }
 
@@ -366,8 +339,8 @@ const Decoder kDecoders[] = {
     {udn_fault_map, udn::kMsgFaultMap, udn::kFaultMapWords},
     {udn_role_move, udn::kMsgRoleMove, udn::kRoleMoveWords},
     {udn_parked, udn::kMsgParked, udn::kParkedWords},
-    {fdir_boot<false>, fdir::kMsgBooted, fdir::kBootedWords},
-    {fdir_boot<true>, fdir::kMsgAlive, fdir::kAliveWords},
+    {fdir_boot<fdir::kBootedMsg>, fdir::kMsgBooted, fdir::kBootedWords},
+    {fdir_boot<fdir::kAliveMsg>, fdir::kMsgAlive, fdir::kAliveWords},
     {fdir_self_test, fdir::kMsgSelfTest, fdir::kSelfTestWords},
     {fdir_self_test_result, fdir::kMsgSelfTestResult, fdir::kSelfTestResultWords},
     {fdir_results_bad, fdir::kMsgResultsBad, fdir::kResultsBadWords},
@@ -376,7 +349,9 @@ const Decoder kDecoders[] = {
     {fdir_replaced, fdir::kMsgReplaced, fdir::kReplacedWords},
     {fdir_hear_query, fdir::kMsgHearQuery, fdir::kHearQueryWords},
     {fdir_hear_answer, fdir::kMsgHearAnswer, fdir::kHearAnswerWords},
-    {fdir_sup, fdir::kMsgPolicy, fdir::kSupMsgWords},
+    {fdir_sup<fdir::kPolicyMsg>, fdir::kMsgPolicy, fdir::kSupMsgWords},
+    {fdir_sup<fdir::kPolicyHeldMsg>, fdir::kMsgPolicyHeld, fdir::kSupMsgWords},
+    {fdir_sup<fdir::kEscalateMsg>, fdir::kMsgEscalate, fdir::kSupMsgWords},
     {trn_command, tt::kMsgCommand, tt::kCommandWords},
     {trn_sup_command, tt::kMsgSupCommand, tt::kSupCommandWords},
     {trn_filter_status, tt::kMsgFilterStatus, tt::kFilterStatusWords},

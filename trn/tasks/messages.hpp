@@ -399,34 +399,29 @@ inline constexpr auto kVisionRateMsg = detail::m::kind<VisionRate>(
     detail::m::u32("div", &VisionRate::div, 1, 1U, 2U));
 
 /**
- * fdir's messages that travel on these channels: fdir lays their words out
- * (fdir/tile_health.hpp, fdir/supervisor.hpp) and decodes them; these say
- * where they go here, so a receiver's dispatch and the docs list them.
+ * fdir's messages that travel on these channels, as they travel here: fdir
+ * declares their tags and fields (fdir/health_messages.hpp, fdir/supervisor.hpp);
+ * these say on which channel and between which roles, for the receivers'
+ * dispatch and the docs.
  */
-inline constexpr fdir::msg::KindInfo kReplacedOnControl{
-    .tag = fdir::kMsgReplaced, .name = "fdir_replaced", .channel = kChanControl, .from = role_bit(Role::kTrnSupervisor),
-    .to = role_bit(Role::kVisionCoordinator), .words = fdir::kReplacedWords, .layout = "fdir/tile_health.hpp"};
-inline constexpr fdir::msg::KindInfo kParkDoneOnControl{
-    .tag = fdir::kMsgParkDone, .name = "fdir_park_done", .channel = kChanControl, .from = role_bit(Role::kTrnSupervisor),
-    .to = role_bit(Role::kFilterSupervisor), .words = fdir::kParkDoneWords, .layout = "fdir/tile_health.hpp"};
+inline constexpr auto kReplacedOnControl = fdir::msg::routed(fdir::kReplacedMsg, kChanControl, role_bit(Role::kTrnSupervisor),
+                                                             role_bit(Role::kVisionCoordinator));
+inline constexpr auto kParkDoneOnControl = fdir::msg::routed(fdir::kParkDoneMsg, kChanControl, role_bit(Role::kTrnSupervisor),
+                                                             role_bit(Role::kFilterSupervisor));
 inline constexpr std::uint32_t kSupervisorRoles =
     role_bit(Role::kTrnSupervisor) | role_bit(Role::kFilterSupervisor) | role_bit(Role::kVisionSupervisor);
-inline constexpr fdir::msg::KindInfo kPolicyOnControl{
-    .tag = fdir::kMsgPolicy, .name = "fdir_policy", .channel = kChanControl, .from = kSupervisorRoles | role_bit(Role::kIo),
-    .to = kSupervisorRoles, .words = fdir::kSupMsgWords, .layout = "fdir/supervisor.hpp"};
-inline constexpr fdir::msg::KindInfo kPolicyHeldOnControl{
-    .tag = fdir::kMsgPolicyHeld, .name = "fdir_policy_held", .channel = kChanControl, .from = kSupervisorRoles,
-    .to = kSupervisorRoles, .words = fdir::kSupMsgWords, .layout = "fdir/supervisor.hpp"};
-inline constexpr fdir::msg::KindInfo kEscalateOnControl{
-    .tag = fdir::kMsgEscalate, .name = "fdir_escalate", .channel = kChanControl, .from = kSupervisorRoles,
-    .to = kSupervisorRoles, .words = fdir::kSupMsgWords, .layout = "fdir/supervisor.hpp"};
+inline constexpr auto kPolicyOnControl =
+    fdir::msg::routed(fdir::kPolicyMsg, kChanControl, kSupervisorRoles | role_bit(Role::kIo), kSupervisorRoles);
+inline constexpr auto kPolicyHeldOnControl = fdir::msg::routed(fdir::kPolicyHeldMsg, kChanControl, kSupervisorRoles, kSupervisorRoles);
+inline constexpr auto kEscalateOnControl = fdir::msg::routed(fdir::kEscalateMsg, kChanControl, kSupervisorRoles, kSupervisorRoles);
 
 /** Every kind of message between TRN tiles, and the match record inside them: the docs' table. */
 inline constexpr std::array<fdir::msg::KindView, 23> kMessageKinds{{
     fdir::msg::view(kFrameMsg), fdir::msg::view(kUnitMsg), fdir::msg::view(kRelightMsg), fdir::msg::view(kCoarseBandMsg),
     fdir::msg::view(kSupCommandMsg), fdir::msg::view(kFilterStatusMsg), fdir::msg::view(kVisionStatusMsg),
-    fdir::msg::view(kVisionRateMsg), {&kReplacedOnControl, {}}, {&kParkDoneOnControl, {}}, {&kPolicyOnControl, {}},
-    {&kPolicyHeldOnControl, {}}, {&kEscalateOnControl, {}}, fdir::msg::view(kResultMsg), fdir::msg::view(kRelightDoneMsg),
+    fdir::msg::view(kVisionRateMsg), fdir::msg::view(kReplacedOnControl), fdir::msg::view(kParkDoneOnControl),
+    fdir::msg::view(kPolicyOnControl), fdir::msg::view(kPolicyHeldOnControl), fdir::msg::view(kEscalateOnControl),
+    fdir::msg::view(kResultMsg), fdir::msg::view(kRelightDoneMsg),
     fdir::msg::view(kCoarseBandDoneMsg), fdir::msg::view(kNavMsg), fdir::msg::view(kReplicaOutMsg),
     fdir::msg::view(kReplicaHelloMsg), fdir::msg::view(kMatchesMsg), fdir::msg::view(kImuMsg), fdir::msg::view(kCommandMsg),
     fdir::msg::view(kMatchRecord)}};

@@ -556,14 +556,8 @@ struct Inbox {
   const udn::FtMessage& m;
 };
 
-/** fdir lays out and decodes its replacement answer; the coordinator only acts on it. */
-bool take_replaced(Inbox& in, std::span<const std::uint32_t> w) noexcept {
-  fdir::Replaced replaced{};
-  if (!fdir::unpack_replaced(w, replaced)) {
-    return false;
-  }
+void take_replaced(Inbox& in, const fdir::Replaced& replaced) noexcept {
   take_replacement(in.st, in.stats, in.m.source, replaced);
-  return true;
 }
 
 void take_rate(Inbox& in, const VisionRate& r) noexcept {
@@ -587,7 +581,7 @@ void take_frame(Inbox& in, const FrameNotice& notice) noexcept {
 
 /** The kinds the coordinator takes on kChanControl; anything else there is dropped uncounted. */
 constexpr std::array<fdir::msg::Handler<Inbox>, 3> kNoticeHandlers{{
-    {&kReplacedOnControl, &take_replaced},
+    fdir::msg::on<kReplacedOnControl, &take_replaced, Inbox>(),
     fdir::msg::on<kVisionRateMsg, &take_rate, Inbox>(),
     fdir::msg::on<kFrameMsg, &take_frame, Inbox>(),
 }};
@@ -1230,7 +1224,9 @@ void ask_supervisor(const CoordState& st, VisionCoordStats& stats, std::uint32_t
   }
   const bool replace = a == fdir::TrustAction::kReplace;
   std::array<std::uint32_t, fdir::kResultsBadWords> w{};
-  fdir::pack_results_bad(fdir::ResultsBad{bsp::current_tile(), st.tiles[i], replace, kSlotVisionPool, kChanControl}, w);
+  const fdir::ResultsAction action = replace ? fdir::ResultsAction::kReplace : fdir::ResultsAction::kReset;
+  (void)fdir::msg::encode(fdir::kResultsBadMsg,
+                          fdir::ResultsBad{bsp::current_tile(), st.tiles[i], action, kSlotVisionPool, kChanControl}, w);
   if (udn::endpoint_send(udn::endpoint_role_tile(kSlotTrnSupervisor, st.cfg->health_tile), udn::kFtChanHealth, w,
                          kVisionSendTicks) == udn::FtError::kOk) {
     ++(replace ? stats.replacements_asked : stats.resets_asked);
