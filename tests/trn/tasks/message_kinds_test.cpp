@@ -231,7 +231,7 @@ TEST(MessageKinds, DispatchLooksTheTagUpOnceAndRefusesWhatItsKindRefuses) {
   static_assert(!m::handlers_fit(kTable, tt::kChanResult, tt::role_bit(tt::Role::kVisionCoordinator)));
   Seen s{};
   std::array<std::uint32_t, tt::kFrameNoticeWords> f{};
-  tt::pack_frame_notice(tt::FrameNotice{7U, 640U, 480U, 0U, 1.5, 64U}, f);
+  (void)fdir::msg::encode(tt::kFrameMsg, tt::FrameNotice{7U, 640U, 480U, 0U, 1.5, 64U}, f);
   EXPECT_EQ(m::dispatch(kTable, f, s), m::Dispatch::kTaken);
   const std::array<std::uint32_t, 2> rate{tt::kMsgVisionRate, 3U};  // divisor out of range
   EXPECT_EQ(m::dispatch(kTable, rate, s), m::Dispatch::kRefused);
