@@ -169,7 +169,7 @@ std::array<bsp::TileId, 4> beside(bsp::TileId sup) noexcept {
 /** Sends the question to the witnesses still unsent (bit per direction); refused ones stay. */
 void send_questions(Watch& w, bsp::TileId sup, bsp::TileId self) noexcept {
   std::array<std::uint32_t, kHearQueryWords> q{};
-  pack_hear_query(HearQuery{self, sup}, q);
+  (void)msg::encode(kHearQueryMsg, HearQuery{self, sup}, q);
   const std::array<bsp::TileId, 4> n = beside(sup);
   for (std::size_t d = 0; d < n.size(); ++d) {
     if (((w.unsent >> d) & 1U) != 0U && udn::endpoint_send(n[d], udn::kFtChanHealth, q, 0U) == udn::FtError::kOk) {
@@ -224,15 +224,61 @@ void send_hearing(OwedAnswer& a) noexcept {
 
 /** A witness's question answered from this tile's probe. */
 void answer_witness(bsp::TileId self, const HearQuery& q, OwedAnswer& a) noexcept {
-  pack_hear_answer(HearAnswer{self, q.subject, udn::endpoint_hears(q.subject)}, a.hear);
+  (void)msg::encode(kHearAnswerMsg, HearAnswer{self, q.subject, udn::endpoint_hears(q.subject)}, a.hear);
   a.hear_to = q.asker;
   send_hearing(a);
 }
 
+/** What an agent's handler reads besides the message: its tile, its table, the supervisor's tile, the sender. */
+struct AgentInbox {
+  bsp::TileId self;
+  const HealthAgentConfig& cfg;
+  bsp::TileId sup;
+  Watch& watch;
+  OwedAnswer& answer;
+  bsp::TileId source;
+};
+
+void take_hear_query(AgentInbox& in, const HearQuery& q) noexcept {
+  if (q.asker == in.source) {
+    answer_witness(in.self, q, in.answer);
+  }
+}
+
+void take_hear_answer(AgentInbox& in, const HearAnswer& heard) noexcept {
+  if (heard.tile == in.source && heard.subject == in.sup) {
+    count_hearing(in.watch, heard.hearing);
+  }
+}
+
+void take_alive_of(AgentInbox& in, const TileBootReport& alive) noexcept {
+  if (in.source == in.sup && watcher_now(in.cfg) == in.self) {
+    take_alive(in.watch, alive, in.sup, in.self);
+  }
+}
+
+void take_self_test(AgentInbox& in, const SelfTestRequest& req) noexcept {
+  std::uint32_t digest = 0U;
+  if (in.source != in.sup || !self_test_digest(in.self, req.seed, digest)) {
+    return;
+  }
+  (void)msg::encode(kSelfTestResultMsg, SelfTestResult{in.self, req.round, digest}, in.answer.w);
+  send_answer(in.cfg, in.answer);  // refused, it is sent again at the next pass
+}
+
+/** The kinds an agent takes on the health channel; anything else there is dropped. */
+constexpr std::array<msg::Handler<AgentInbox>, 4> kAgentHandlers{{
+    msg::on<kHearQueryMsg, &take_hear_query, AgentInbox>(),
+    msg::on<kHearAnswerMsg, &take_hear_answer, AgentInbox>(),
+    msg::on<kAliveMsg, &take_alive_of, AgentInbox>(),
+    msg::on<kSelfTestMsg, &take_self_test, AgentInbox>(),
+}};
+
 /**
  * Takes the messages waiting on the health channel (a few per pass): the
- * supervisor's self-test requests, answered, and, on the watcher's tile, the
- * supervisor tile's heartbeats.
+ * supervisor's self-test requests, answered, the watcher's questions to a
+ * witness and their answers, and, on the watcher's tile, the supervisor
+ * tile's heartbeats.
  */
 void take_agent_messages(bsp::TileId self, const HealthAgentConfig& cfg, bsp::TileId sup, Watch& watch,
                          OwedAnswer& answer) noexcept {
@@ -242,32 +288,8 @@ void take_agent_messages(bsp::TileId self, const HealthAgentConfig& cfg, bsp::Ti
   send_hearing(answer);
   udn::FtMessage m{};
   for (std::uint32_t i = 0; i < 2U && udn::endpoint_receive(udn::kFtChanHealth, m) == udn::FtError::kOk; ++i) {
-    const std::span<const std::uint32_t> in(m.data.data(), m.data_words);
-    HearQuery query{};
-    HearAnswer heard{};
-    if (unpack_hear_query(in, query) && query.asker == m.source) {
-      answer_witness(self, query, answer);
-      continue;
-    }
-    if (unpack_hear_answer(in, heard) && heard.tile == m.source && heard.subject == sup) {
-      count_hearing(watch, heard.hearing);
-      continue;
-    }
-    if (m.source != sup) {
-      continue;
-    }
-    TileBootReport alive{};
-    if (unpack_alive(in, alive) && watcher_now(cfg) == self) {
-      take_alive(watch, alive, sup, self);
-      continue;
-    }
-    SelfTestRequest req{};
-    std::uint32_t digest = 0U;
-    if (!unpack_self_test(in, req) || !self_test_digest(self, req.seed, digest)) {
-      continue;
-    }
-    pack_self_test_result(SelfTestResult{self, req.round, digest}, answer.w);
-    send_answer(cfg, answer);  // refused, it is sent again at the next pass
+    AgentInbox in{self, cfg, sup, watch, answer, m.source};
+    (void)msg::dispatch(kAgentHandlers, std::span<const std::uint32_t>(m.data.data(), m.data_words), in);
   }
 }
 
@@ -429,8 +451,8 @@ void health_agent_main(void* arg) noexcept {
   bool overdue_written = false;
   std::array<std::uint32_t, kBootedWords> boot{};
   std::array<std::uint32_t, kAliveWords> alive{};
-  pack_booted(TileBootReport{self, cause}, boot);
-  pack_alive(TileBootReport{self, cause}, alive);
+  (void)msg::encode(kBootedMsg, TileBootReport{self, cause}, boot);
+  (void)msg::encode(kAliveMsg, TileBootReport{self, cause}, alive);
   bool watches = false;
   Watch watch{};  // started afresh at the first pass that watches
   OwedAnswer answer{};

@@ -6,7 +6,9 @@
  */
 #pragma once
 
+#include "bsp_tile64/api/memory.hpp"
 #include "bsp_tile64/api/port.hpp"
+#include "fdir/message_kind.hpp"
 #include "udn/endpoint.hpp"
 
 #include <cstdint>
@@ -72,11 +74,13 @@ inline constexpr std::uint32_t kParkOffTicks = 20U;
 inline constexpr std::uint32_t kMsgReplaced = 0x52504C44U;  // "RPLD"
 inline constexpr std::uint32_t kReplacedWords = 3U;
 /*
- * The health messages' fields, and their pack_ / unpack_ (health_messages.cpp).
- * An unpack_ returns false, leaving its output as it was, unless the words are
- * exactly that message with every field in its documented range: tiles below
- * bsp::kMaxTiles, a boot cause of bsp::BootCause, channels below
- * udn::kFtAllChannels, flags 0 or 1.
+ * The health messages' fields, and their declarations (fdir/message_kind.hpp):
+ * msg::encode() writes one, msg::decode() refuses, leaving its output as it
+ * was, words that are not exactly that message with every field in its
+ * documented range (tiles below bsp::kMaxTiles, a boot cause of
+ * bsp::BootCause, channels below udn::kFtAllChannels, flags 0 or 1), and a
+ * receiver dispatches on the tag (msg::dispatch). The roles are the
+ * deployment's: it routes the kinds it lists (msg::routed).
  */
 /** kMsgBooted and kMsgAlive: the sending tile and why it last booted. */
 struct TileBootReport {
@@ -92,10 +96,15 @@ struct SelfTestResult {
   std::uint32_t round = 0U;
   std::uint32_t digest = 0U;
 };
+/** What a coordinator asks for a worker whose results stay wrong (word 3 of kMsgResultsBad). */
+enum class ResultsAction : std::uint32_t {
+  kReset = kResultsReset,
+  kReplace = kResultsReplace,
+};
 struct ResultsBad {
   bsp::TileId coordinator = 0U;
   bsp::TileId worker = 0U;
-  bool replace = false;               ///< kResultsReplace (true) or kResultsReset
+  ResultsAction action = ResultsAction::kReset;
   std::uint32_t boot_slot = 0U;       ///< not kNoSlot
   std::uint32_t answer_channel = 0U;
 };
@@ -122,25 +131,75 @@ struct HearAnswer {
   bsp::TileId subject = 0U;
   udn::Heard hearing = udn::Heard::kNotProbed;
 };
-void pack_booted(const TileBootReport& r, std::span<std::uint32_t, kBootedWords> w) noexcept;
-[[nodiscard]] bool unpack_booted(std::span<const std::uint32_t> w, TileBootReport& out) noexcept;
-void pack_alive(const TileBootReport& r, std::span<std::uint32_t, kAliveWords> w) noexcept;
-[[nodiscard]] bool unpack_alive(std::span<const std::uint32_t> w, TileBootReport& out) noexcept;
-void pack_self_test(const SelfTestRequest& r, std::span<std::uint32_t, kSelfTestWords> w) noexcept;
-[[nodiscard]] bool unpack_self_test(std::span<const std::uint32_t> w, SelfTestRequest& out) noexcept;
-void pack_self_test_result(const SelfTestResult& r, std::span<std::uint32_t, kSelfTestResultWords> w) noexcept;
-[[nodiscard]] bool unpack_self_test_result(std::span<const std::uint32_t> w, SelfTestResult& out) noexcept;
-void pack_results_bad(const ResultsBad& r, std::span<std::uint32_t, kResultsBadWords> w) noexcept;
-[[nodiscard]] bool unpack_results_bad(std::span<const std::uint32_t> w, ResultsBad& out) noexcept;
-void pack_park(const ParkRequest& r, std::span<std::uint32_t, kParkWords> w) noexcept;
-[[nodiscard]] bool unpack_park(std::span<const std::uint32_t> w, ParkRequest& out) noexcept;
-void pack_park_done(const ParkDone& r, std::span<std::uint32_t, kParkDoneWords> w) noexcept;
-[[nodiscard]] bool unpack_park_done(std::span<const std::uint32_t> w, ParkDone& out) noexcept;
-void pack_replaced(const Replaced& r, std::span<std::uint32_t, kReplacedWords> w) noexcept;
-[[nodiscard]] bool unpack_replaced(std::span<const std::uint32_t> w, Replaced& out) noexcept;
-void pack_hear_query(const HearQuery& r, std::span<std::uint32_t, kHearQueryWords> w) noexcept;
-[[nodiscard]] bool unpack_hear_query(std::span<const std::uint32_t> w, HearQuery& out) noexcept;
-void pack_hear_answer(const HearAnswer& r, std::span<std::uint32_t, kHearAnswerWords> w) noexcept;
-[[nodiscard]] bool unpack_hear_answer(std::span<const std::uint32_t> w, HearAnswer& out) noexcept;
+
+namespace detail {
+namespace m = msg;
+inline constexpr std::uint32_t kLastTile = bsp::kMaxTiles - 1U;
+inline constexpr std::uint32_t kLastChannel = udn::kFtAllChannels - 1U;
+inline constexpr auto kLastCause = static_cast<std::uint32_t>(bsp::BootCause::kOther);
+/** Replaced: the spare is a tile or none. */
+constexpr bool spare_or_none(std::span<const std::uint32_t> w) noexcept { return w[2] < bsp::kMaxTiles || w[2] == bsp::kNoTile; }
+/** Boot report and heartbeat: one layout, two tags. */
+constexpr auto boot_report(std::uint32_t tag, const char* name) noexcept {
+  return m::kind<TileBootReport>({.tag = tag, .name = name, .channel = udn::kFtChanHealth, .from = 0U, .to = 0U},
+                                 m::u32("tile", &TileBootReport::tile, 1, 0U, kLastTile),
+                                 m::u32("cause", &TileBootReport::cause, 2, 0U, kLastCause));
+}
+}  // namespace detail
+
+inline constexpr auto kBootedMsg = detail::boot_report(kMsgBooted, "fdir_booted");
+inline constexpr auto kAliveMsg = detail::boot_report(kMsgAlive, "fdir_alive");
+
+inline constexpr auto kSelfTestMsg = detail::m::kind<SelfTestRequest>(
+    {.tag = kMsgSelfTest, .name = "fdir_self_test", .channel = udn::kFtChanHealth, .from = 0U, .to = 0U},
+    detail::m::u32("round", &SelfTestRequest::round, 1), detail::m::u32("seed", &SelfTestRequest::seed, 2));
+
+inline constexpr auto kSelfTestResultMsg = detail::m::kind<SelfTestResult>(
+    {.tag = kMsgSelfTestResult, .name = "fdir_self_test_result", .channel = udn::kFtChanHealth, .from = 0U, .to = 0U},
+    detail::m::u32("tile", &SelfTestResult::tile, 1, 0U, detail::kLastTile),
+    detail::m::u32("round", &SelfTestResult::round, 2), detail::m::u32("digest", &SelfTestResult::digest, 3));
+
+inline constexpr auto kResultsBadMsg = detail::m::kind<ResultsBad>(
+    {.tag = kMsgResultsBad, .name = "fdir_results_bad", .channel = udn::kFtChanHealth, .from = 0U, .to = 0U},
+    detail::m::u32("coordinator", &ResultsBad::coordinator, 1, 0U, detail::kLastTile),
+    detail::m::u32("worker", &ResultsBad::worker, 2, 0U, detail::kLastTile),
+    detail::m::u32("action", &ResultsBad::action, 3, kResultsReset, kResultsReplace),
+    detail::m::u32("boot_slot", &ResultsBad::boot_slot, 4, 0U, kNoSlot - 1U),
+    detail::m::u32("answer_channel", &ResultsBad::answer_channel, 5, 0U, detail::kLastChannel));
+
+inline constexpr auto kParkMsg = detail::m::kind<ParkRequest>(
+    {.tag = kMsgPark, .name = "fdir_park", .channel = udn::kFtChanHealth, .from = 0U, .to = 0U},
+    detail::m::u32("asker", &ParkRequest::asker, 1, 0U, detail::kLastTile),
+    detail::m::u32("tile", &ParkRequest::tile, 2, 0U, detail::kLastTile),
+    detail::m::bits("off", &ParkRequest::off, 3, 0, 32, 0U, 1U),
+    detail::m::u32("answer_channel", &ParkRequest::answer_channel, 4, 0U, detail::kLastChannel));
+
+/** The answers to a park and to a replacement go to the channel the asker named: the deployment routes them. */
+inline constexpr auto kParkDoneMsg = detail::m::kind<ParkDone>(
+    {.tag = kMsgParkDone, .name = "fdir_park_done", .channel = msg::kNoChannel, .from = 0U, .to = 0U},
+    detail::m::u32("tile", &ParkDone::tile, 1, 0U, detail::kLastTile), detail::m::bits("off", &ParkDone::off, 2, 0, 32, 0U, 1U));
+
+inline constexpr auto kReplacedMsg = detail::m::kind<Replaced>(
+    {.tag = kMsgReplaced, .name = "fdir_replaced", .channel = msg::kNoChannel, .from = 0U, .to = 0U,
+     .check = detail::spare_or_none, .rule = "spare below the tile count or none (0xFFFFFFFF)"},
+    detail::m::u32("old_tile", &Replaced::old_tile, 1, 0U, detail::kLastTile), detail::m::u32("spare", &Replaced::spare, 2));
+
+inline constexpr auto kHearQueryMsg = detail::m::kind<HearQuery>(
+    {.tag = kMsgHearQuery, .name = "fdir_hear_query", .channel = udn::kFtChanHealth, .from = 0U, .to = 0U},
+    detail::m::u32("asker", &HearQuery::asker, 1, 0U, detail::kLastTile),
+    detail::m::u32("subject", &HearQuery::subject, 2, 0U, detail::kLastTile));
+
+inline constexpr auto kHearAnswerMsg = detail::m::kind<HearAnswer>(
+    {.tag = kMsgHearAnswer, .name = "fdir_hear_answer", .channel = udn::kFtChanHealth, .from = 0U, .to = 0U},
+    detail::m::u32("tile", &HearAnswer::tile, 1, 0U, detail::kLastTile),
+    detail::m::u32("subject", &HearAnswer::subject, 2, 0U, detail::kLastTile),
+    detail::m::u32("hearing", &HearAnswer::hearing, 3, 0U, static_cast<std::uint32_t>(udn::Heard::kNotProbed)));
+
+static_assert(kBootedMsg.info.words == kBootedWords && kAliveMsg.info.words == kAliveWords &&
+                  kSelfTestMsg.info.words == kSelfTestWords && kSelfTestResultMsg.info.words == kSelfTestResultWords &&
+                  kResultsBadMsg.info.words == kResultsBadWords && kParkMsg.info.words == kParkWords &&
+                  kParkDoneMsg.info.words == kParkDoneWords && kReplacedMsg.info.words == kReplacedWords &&
+                  kHearQueryMsg.info.words == kHearQueryWords && kHearAnswerMsg.info.words == kHearAnswerWords,
+              "the declarations cover the health messages' documented words");
 
 }  // namespace fdir

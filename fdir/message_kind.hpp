@@ -13,8 +13,9 @@
  * write the message table of the docs. Doubles and 64-bit words travel as two
  * words, low first, so a message is reproduced bit for bit.
  *
- * Lives in fdir, the lowest layer whose messages it serves (the application's
- * and the health messages); udn's own messages keep their hand-written codecs.
+ * Lives in fdir, the lowest layer whose messages it serves (the application's,
+ * the health and the supervisor messages); udn's own messages keep their
+ * hand-written codecs.
  */
 #pragma once
 
@@ -83,7 +84,7 @@ struct GroupInfo {
 struct KindInfo {
   std::uint32_t tag;      ///< word 0 (kNoTag: untagged, word 0 is a field)
   const char* name;
-  std::uint32_t channel;  ///< kNoChannel: a record inside other messages
+  std::uint32_t channel;  ///< kNoChannel: a record inside other messages, or a channel the sender names (see routed())
   std::uint32_t from;     ///< senders' roles, a mask (bit = role number)
   std::uint32_t to;       ///< receivers' roles
   std::uint32_t words = 0U;  ///< fixed size; with a group, the header's (kind() computes it from the fields)
@@ -91,8 +92,6 @@ struct KindInfo {
   /** A rule over several fields, on the raw words (nullptr: none); `rule` says it for the docs. */
   bool (*check)(std::span<const std::uint32_t> w) noexcept = nullptr;
   const char* rule = "";
-  /** Where the words are laid out when another layer declares them (nullptr: the fields here). */
-  const char* layout = nullptr;
 };
 
 namespace detail {
@@ -283,6 +282,22 @@ constexpr Kind<Msg, F...> kind(KindInfo info, F... f) noexcept {
   (extend(f.info), ...);
   info.words = end;
   return {info, std::tuple<F...>{f...}, {f.info...}};
+}
+
+/**
+ * Kind @p k as a deployment routes it: the same tag, name, fields and rule, on
+ * @p channel from roles @p from to roles @p to. A lower layer declares its
+ * messages without the roles of a deployment it cannot know; the deployment
+ * lists them (its docs' table, its handlers' checks) through this.
+ */
+template <typename Msg, typename... F>
+constexpr Kind<Msg, F...> routed(const Kind<Msg, F...>& k, std::uint32_t channel, std::uint32_t from,
+                                 std::uint32_t to) noexcept {
+  Kind<Msg, F...> r = k;
+  r.info.channel = channel;
+  r.info.from = from;
+  r.info.to = to;
+  return r;
 }
 
 /** What the docs, the tests and the dispatch checks read of any kind. */

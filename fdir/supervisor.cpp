@@ -5,7 +5,6 @@
 #include "fdir/supervisor.hpp"
 
 #include "fdir/event_log.hpp"
-#include "udn/ft_link.hpp"
 
 namespace fdir {
 namespace {
@@ -171,23 +170,6 @@ std::uint8_t supervisor_current(const SupervisorSpec& spec, const SupervisorStat
     return kNoAlternative;
   }
   return l->alt[c.index];
-}
-
-void pack_sup_message(const SupMessage& m, std::span<std::uint32_t, kSupMsgWords> w) noexcept {
-  w[0] = m.tag;
-  w[1] = m.constraint;
-  w[2] = m.level;
-  w[3] = m.from;
-}
-
-bool unpack_sup_message(std::span<const std::uint32_t> w, SupMessage& out) noexcept {
-  const bool tagged = udn::is_message(w, kMsgPolicy, kSupMsgWords) || udn::is_message(w, kMsgPolicyHeld, kSupMsgWords) ||
-                      udn::is_message(w, kMsgEscalate, kSupMsgWords);
-  if (!tagged || w[1] >= kMaxConstraints || w[2] >= kMaxLevels) {
-    return false;
-  }
-  out = SupMessage{w[0], static_cast<std::uint8_t>(w[1]), static_cast<std::uint8_t>(w[2]), w[3]};
-  return true;
 }
 
 }  // namespace fdir

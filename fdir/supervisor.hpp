@@ -31,9 +31,10 @@
  */
 #pragma once
 
+#include "fdir/message_kind.hpp"
+
 #include <array>
 #include <cstdint>
-#include <span>
 
 namespace fdir {
 
@@ -161,15 +162,32 @@ inline constexpr std::uint32_t kMsgPolicyHeld = 0x504F4C32U;  ///< "POL2" the pa
 inline constexpr std::uint32_t kMsgEscalate = 0x45534331U;  ///< "ESC1" [1] constraint [2] level [3] child node
 inline constexpr std::uint32_t kSupMsgWords = 4U;
 
-/** A policy or escalation message: constraint below kMaxConstraints, level below kMaxLevels. */
+/**
+ * A policy, a held policy or an escalation (the kind, by its tag, says which):
+ * constraint below kMaxConstraints, level below kMaxLevels. Each is declared
+ * below (fdir/message_kind.hpp): msg::encode() writes it, msg::decode()
+ * refuses, leaving its output as it was, words that are not exactly that kind
+ * with its fields in range, and a receiver dispatches on the tag.
+ */
 struct SupMessage {
-  std::uint32_t tag = kMsgPolicy;  ///< kMsgPolicy, kMsgPolicyHeld or kMsgEscalate
   std::uint8_t constraint = 0U;
   std::uint8_t level = 0U;
-  std::uint32_t from = 0U;         ///< policy: where it came from; escalation: the child node
+  std::uint32_t from = 0U;  ///< policy: where it came from; escalation: the child node
 };
-void pack_sup_message(const SupMessage& m, std::span<std::uint32_t, kSupMsgWords> w) noexcept;
-/** @return false, @p out left as it was, unless @p w is such a message with its fields in range. */
-[[nodiscard]] bool unpack_sup_message(std::span<const std::uint32_t> w, SupMessage& out) noexcept;
+
+namespace detail {
+/** The three kinds share their layout; the owner picks the channel, the deployment the roles (msg::routed). */
+constexpr auto sup_message(std::uint32_t tag, const char* name) noexcept {
+  return msg::kind<SupMessage>({.tag = tag, .name = name, .channel = msg::kNoChannel, .from = 0U, .to = 0U},
+                               msg::u32("constraint", &SupMessage::constraint, 1, 0U, kMaxConstraints - 1U),
+                               msg::u32("level", &SupMessage::level, 2, 0U, kMaxLevels - 1U),
+                               msg::u32("from", &SupMessage::from, 3));
+}
+}  // namespace detail
+
+inline constexpr auto kPolicyMsg = detail::sup_message(kMsgPolicy, "fdir_policy");
+inline constexpr auto kPolicyHeldMsg = detail::sup_message(kMsgPolicyHeld, "fdir_policy_held");
+inline constexpr auto kEscalateMsg = detail::sup_message(kMsgEscalate, "fdir_escalate");
+static_assert(kPolicyMsg.info.words == kSupMsgWords, "the declaration covers the documented words");
 
 }  // namespace fdir

@@ -303,7 +303,7 @@ void on_results_bad(State& s, const TileHealthConfig& cfg, bsp::TileId from, con
   if ((s.watched & bit(t)) == 0ULL || (s.view.pending & bit(t)) != 0ULL) {
     return;  // not ours, or being reset already
   }
-  if (!bad.replace) {
+  if (bad.action != ResultsAction::kReplace) {
     reset_watched(s, t, 2U);
     return;
   }
@@ -315,7 +315,7 @@ void on_results_bad(State& s, const TileHealthConfig& cfg, bsp::TileId from, con
     report(EventId::kRoleMoved, bad.boot_slot, t, p, 0U);
   }
   std::array<std::uint32_t, kReplacedWords> w{};
-  pack_replaced(Replaced{t, p}, w);
+  (void)msg::encode(kReplacedMsg, Replaced{t, p}, w);
   (void)udn::endpoint_send(from, bad.answer_channel, w, 0U);  // lost, the coordinator goes on without the tile
 }
 
@@ -378,7 +378,7 @@ void parked_changed(State& s) noexcept {
 
 void answer_park(const State& s, bsp::TileId t, std::uint32_t off) noexcept {
   std::array<std::uint32_t, kParkDoneWords> w{};
-  pack_park_done(ParkDone{t, off != 0U}, w);
+  (void)msg::encode(kParkDoneMsg, ParkDone{t, off != 0U}, w);
   (void)udn::endpoint_send(s.park_by[t], s.park_chan[t], w, 0U);  // lost, the asker asks again
 }
 
@@ -479,7 +479,7 @@ std::uint32_t round_seed(std::uint32_t round) noexcept { return 0x9E3779B9U * ro
  */
 void ask(State& s, bsp::TileId self) noexcept {
   std::array<std::uint32_t, kSelfTestWords> w{};
-  pack_self_test(SelfTestRequest{s.round, round_seed(s.round)}, w);
+  (void)msg::encode(kSelfTestMsg, SelfTestRequest{s.round, round_seed(s.round)}, w);
   for (std::uint32_t i = 0; i < 3U; ++i) {
     if (!s.asked[i] && s.tested[i] != self) {
       s.asked[i] = udn::endpoint_send(s.tested[i], udn::kFtChanHealth, w, 0U) == udn::FtError::kOk;
@@ -674,7 +674,30 @@ void take_expiries(State& s, const TileHealthConfig& cfg, bsp::TileId self) noex
   }
 }
 
-/** Boot reports and self-test results waiting on the health channel. */
+/** What a report's handler reads besides the report: the supervisor's state, its table, its tile and the sender. */
+struct Inbox {
+  State& s;
+  const TileHealthConfig& cfg;
+  bsp::TileId self;
+  bsp::TileId source;
+};
+
+void take_booted(Inbox& in, const TileBootReport& boot) noexcept {
+  on_booted(in.s, in.source, static_cast<std::uint32_t>(boot.cause));
+}
+void take_result_of(Inbox& in, const SelfTestResult& r) noexcept { take_result(in.s, in.cfg, r, in.self); }
+void take_results_bad(Inbox& in, const ResultsBad& bad) noexcept { on_results_bad(in.s, in.cfg, in.source, bad); }
+void take_park(Inbox& in, const ParkRequest& park) noexcept { on_park(in.s, in.source, park, in.self); }
+
+/** The kinds the supervisor takes on the health channel; anything else there is dropped. */
+constexpr std::array<msg::Handler<Inbox>, 4> kReportHandlers{{
+    msg::on<kBootedMsg, &take_booted, Inbox>(),
+    msg::on<kSelfTestResultMsg, &take_result_of, Inbox>(),
+    msg::on<kResultsBadMsg, &take_results_bad, Inbox>(),
+    msg::on<kParkMsg, &take_park, Inbox>(),
+}};
+
+/** Boot reports, self-test results, results-bad reports and park requests waiting on the health channel. */
 void take_reports(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexcept {
   udn::FtMessage m{};
   for (std::uint32_t i = 0; i < udn::kFtRxDepth && udn::endpoint_receive(udn::kFtChanHealth, m) == udn::FtError::kOk;
@@ -682,20 +705,8 @@ void take_reports(State& s, const TileHealthConfig& cfg, bsp::TileId self) noexc
     if (m.source >= bsp::kMaxTiles || m.data_words < 2U || m.data[1] != m.source) {
       continue;  // word 1 of every report is its sender's tile
     }
-    const std::span<const std::uint32_t> w(m.data.data(), m.data_words);
-    TileBootReport boot{};
-    SelfTestResult result{};
-    ResultsBad bad{};
-    ParkRequest park{};
-    if (unpack_booted(w, boot)) {
-      on_booted(s, m.source, static_cast<std::uint32_t>(boot.cause));
-    } else if (unpack_self_test_result(w, result)) {
-      take_result(s, cfg, result, self);
-    } else if (unpack_results_bad(w, bad)) {
-      on_results_bad(s, cfg, m.source, bad);
-    } else if (unpack_park(w, park)) {
-      on_park(s, m.source, park, self);
-    }
+    Inbox in{s, cfg, self, m.source};
+    (void)msg::dispatch(kReportHandlers, std::span<const std::uint32_t>(m.data.data(), m.data_words), in);
   }
 }
 

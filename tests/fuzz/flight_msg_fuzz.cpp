@@ -9,7 +9,8 @@
  * the fuzzer reach the field checks past the tag and length tests.
  * Properties, for each decoder: a refused message leaves the output exactly as
  * it was (every byte); an accepted one has every field within the documented
- * range, and packing what was decoded gives back the very words received.
+ * range, and encoding what was decoded gives back the very words received
+ * (the words of a group of records, which the encoder leaves to its caller, aside).
  */
 #include "fdir/supervisor.hpp"
 #include "fdir/tile_health.hpp"
@@ -105,253 +106,161 @@ void udn_parked(Words w) {
   });
 }
 
-template <bool kAlive>
-void fdir_boot(Words w) {
-  run<fdir::TileBootReport>(w, kAlive ? fdir::unpack_alive : fdir::unpack_booted, [&](const fdir::TileBootReport& r) {
-    require(tile_ok(r.tile) && r.cause <= bsp::BootCause::kOther, "boot report ranges");
-    std::array<std::uint32_t, 3> p{};
-    if constexpr (kAlive) {
-      fdir::pack_alive(r, p);
-    } else {
-      fdir::pack_booted(r, p);
+/**
+ * A declared kind's decoder (fdir/message_kind.hpp): @p in_range(out) checks
+ * the ranges of an accepted message, and encoding it must give back the very
+ * words received.
+ */
+template <const auto& K, class InRange>
+void kind(Words w, const char* what, InRange in_range) {
+  using T = typename std::remove_cvref_t<decltype(K)>::Message;
+  const auto decode = [](Words x, T& out) { return fdir::msg::decode(K, x, out); };
+  run<T>(w, decode, [&](const T& out) {
+    require(in_range(out), what);
+    // The encoder leaves a group of records (matches, a solution) to the caller: those words come as they were.
+    std::vector<std::uint32_t> p(w.size(), 0xA5A5'A5A5U);
+    if (K.info.group.record != nullptr) {
+      std::copy(w.begin() + K.info.words, w.end(), p.begin() + K.info.words);
     }
-    require(same(p, w), "boot report repacks");
+    require(fdir::msg::encode(K, out, p) == w.size() && std::equal(p.begin(), p.end(), w.begin()), what);
   });
+}
+
+template <const auto& K>
+void fdir_boot(Words w) {
+  kind<K>(w, "boot report", [](const fdir::TileBootReport& r) { return tile_ok(r.tile) && r.cause <= bsp::BootCause::kOther; });
 }
 
 void fdir_self_test(Words w) {
-  run<fdir::SelfTestRequest>(w, fdir::unpack_self_test, [&](const fdir::SelfTestRequest& r) {
-    std::array<std::uint32_t, fdir::kSelfTestWords> p{};
-    fdir::pack_self_test(r, p);
-    require(same(p, w), "self-test repacks");
-  });
+  kind<fdir::kSelfTestMsg>(w, "self-test", [](const fdir::SelfTestRequest& /*r*/) { return true; });
 }
 
 void fdir_self_test_result(Words w) {
-  run<fdir::SelfTestResult>(w, fdir::unpack_self_test_result, [&](const fdir::SelfTestResult& r) {
-    require(tile_ok(r.tile), "self-test result tile");
-    std::array<std::uint32_t, fdir::kSelfTestResultWords> p{};
-    fdir::pack_self_test_result(r, p);
-    require(same(p, w), "self-test result repacks");
-  });
+  kind<fdir::kSelfTestResultMsg>(w, "self-test result", [](const fdir::SelfTestResult& r) { return tile_ok(r.tile); });
 }
 
 void fdir_results_bad(Words w) {
-  run<fdir::ResultsBad>(w, fdir::unpack_results_bad, [&](const fdir::ResultsBad& r) {
-    require(tile_ok(r.coordinator) && tile_ok(r.worker) && r.boot_slot != fdir::kNoSlot &&
-                r.answer_channel < udn::kFtAllChannels,
-            "results-bad ranges");
-    std::array<std::uint32_t, fdir::kResultsBadWords> p{};
-    fdir::pack_results_bad(r, p);
-    require(same(p, w), "results-bad repacks");
+  kind<fdir::kResultsBadMsg>(w, "results bad", [](const fdir::ResultsBad& r) {
+    return tile_ok(r.coordinator) && tile_ok(r.worker) && r.boot_slot != fdir::kNoSlot &&
+           r.answer_channel < udn::kFtAllChannels &&
+           (r.action == fdir::ResultsAction::kReset || r.action == fdir::ResultsAction::kReplace);
   });
 }
 
 void fdir_park(Words w) {
-  run<fdir::ParkRequest>(w, fdir::unpack_park, [&](const fdir::ParkRequest& r) {
-    require(tile_ok(r.asker) && tile_ok(r.tile) && r.answer_channel < udn::kFtAllChannels, "park ranges");
-    std::array<std::uint32_t, fdir::kParkWords> p{};
-    fdir::pack_park(r, p);
-    require(same(p, w), "park repacks");
+  kind<fdir::kParkMsg>(w, "park", [](const fdir::ParkRequest& r) {
+    return tile_ok(r.asker) && tile_ok(r.tile) && r.answer_channel < udn::kFtAllChannels;
   });
 }
 
 void fdir_park_done(Words w) {
-  run<fdir::ParkDone>(w, fdir::unpack_park_done, [&](const fdir::ParkDone& r) {
-    require(tile_ok(r.tile), "park done tile");
-    std::array<std::uint32_t, fdir::kParkDoneWords> p{};
-    fdir::pack_park_done(r, p);
-    require(same(p, w), "park done repacks");
-  });
+  kind<fdir::kParkDoneMsg>(w, "park done", [](const fdir::ParkDone& r) { return tile_ok(r.tile); });
 }
 
 void fdir_hear_query(Words w) {
-  run<fdir::HearQuery>(w, fdir::unpack_hear_query, [&](const fdir::HearQuery& r) {
-    require(tile_ok(r.asker) && tile_ok(r.subject), "hear query ranges");
-    std::array<std::uint32_t, fdir::kHearQueryWords> p{};
-    fdir::pack_hear_query(r, p);
-    require(same(p, w), "hear query repacks");
-  });
+  kind<fdir::kHearQueryMsg>(w, "hear query", [](const fdir::HearQuery& r) { return tile_ok(r.asker) && tile_ok(r.subject); });
 }
 
 void fdir_hear_answer(Words w) {
-  run<fdir::HearAnswer>(w, fdir::unpack_hear_answer, [&](const fdir::HearAnswer& r) {
-    require(tile_ok(r.tile) && tile_ok(r.subject) && r.hearing <= udn::Heard::kNotProbed, "hear answer ranges");
-    std::array<std::uint32_t, fdir::kHearAnswerWords> p{};
-    fdir::pack_hear_answer(r, p);
-    require(same(p, w), "hear answer repacks");
+  kind<fdir::kHearAnswerMsg>(w, "hear answer", [](const fdir::HearAnswer& r) {
+    return tile_ok(r.tile) && tile_ok(r.subject) && r.hearing <= udn::Heard::kNotProbed;
   });
 }
 
 void fdir_replaced(Words w) {
-  run<fdir::Replaced>(w, fdir::unpack_replaced, [&](const fdir::Replaced& r) {
-    require(tile_ok(r.old_tile) && (tile_ok(r.spare) || r.spare == bsp::kNoTile), "replaced ranges");
-    std::array<std::uint32_t, fdir::kReplacedWords> p{};
-    fdir::pack_replaced(r, p);
-    require(same(p, w), "replaced repacks");
+  kind<fdir::kReplacedMsg>(w, "replaced", [](const fdir::Replaced& r) {
+    return tile_ok(r.old_tile) && (tile_ok(r.spare) || r.spare == bsp::kNoTile);
   });
 }
 
+template <const auto& K>
 void fdir_sup(Words w) {
-  run<fdir::SupMessage>(w, fdir::unpack_sup_message, [&](const fdir::SupMessage& m) {
-    require(m.constraint < fdir::kMaxConstraints && m.level < fdir::kMaxLevels, "supervisor message ranges");
-    require(m.tag == fdir::kMsgPolicy || m.tag == fdir::kMsgPolicyHeld || m.tag == fdir::kMsgEscalate, "supervisor tag");
-    std::array<std::uint32_t, fdir::kSupMsgWords> p{};
-    fdir::pack_sup_message(m, p);
-    require(same(p, w), "supervisor message repacks");
+  kind<K>(w, "supervisor message", [](const fdir::SupMessage& m) {
+    return m.constraint < fdir::kMaxConstraints && m.level < fdir::kMaxLevels;
   });
 }
 
 namespace tt = trn::tasks;
 
-void trn_command(Words w) {
-  run<tt::Command>(w, tt::unpack_command, [&](const tt::Command& c) {
-    std::array<std::uint32_t, tt::kCommandWords> p{};
-    tt::pack_command(c, p);
-    require(same(p, w), "command repacks");
-  });
+template <const auto& K>
+void trn_any(Words w) {
+  kind<K>(w, "repacks", [](const auto& /*m*/) { return true; });
 }
 
 void trn_sup_command(Words w) {
-  run<tt::SupCommand>(w, tt::unpack_sup_command, [&](const tt::SupCommand& c) {
-    require(c.code == tt::kCmdFilterTmr || c.code == tt::kCmdFilterSimplex, "supervisor command code");
-    std::array<std::uint32_t, tt::kSupCommandWords> p{};
-    tt::pack_sup_command(c, p);
-    require(same(p, w), "supervisor command repacks");
+  kind<tt::kSupCommandMsg>(w, "supervisor command", [](const tt::SupCommand& c) {
+    return c.code == tt::kCmdFilterTmr || c.code == tt::kCmdFilterSimplex;
   });
 }
 
 void trn_filter_status(Words w) {
-  run<tt::FilterStatus>(w, tt::unpack_filter_status, [&](const tt::FilterStatus& f) {
-    require(f.mode <= tt::kFilterModeStopping && f.voting < 8U, "filter status ranges");
-    std::array<std::uint32_t, tt::kFilterStatusWords> p{};
-    tt::pack_filter_status(f, p);
-    require(same(p, w), "filter status repacks");
-  });
+  kind<tt::kFilterStatusMsg>(w, "filter status",
+                             [](const tt::FilterStatus& f) { return f.mode <= tt::kFilterModeStopping && f.voting < 8U; });
 }
 
 void trn_vision_status(Words w) {
-  run<tt::VisionStatus>(w, tt::unpack_vision_status, [&](const tt::VisionStatus& v) {
-    require(v.healthy <= v.listed && (v.rate_div == 1U || v.rate_div == 2U), "vision status ranges");
-    std::array<std::uint32_t, tt::kVisionStatusWords> p{};
-    tt::pack_vision_status(v, p);
-    require(same(p, w), "vision status repacks");
+  kind<tt::kVisionStatusMsg>(w, "vision status", [](const tt::VisionStatus& v) {
+    return v.healthy <= v.listed && (v.rate_div == 1U || v.rate_div == 2U);
   });
 }
 
 void trn_vision_rate(Words w) {
-  run<std::uint32_t>(w, tt::unpack_vision_rate, [&](std::uint32_t div) {
-    require(div == 1U || div == 2U, "rate divisor");
-    require(same(std::array<std::uint32_t, 2>{tt::kMsgVisionRate, div}, w), "rate repacks");
-  });
+  kind<tt::kVisionRateMsg>(w, "rate divisor", [](const tt::VisionRate& r) { return r.div == 1U || r.div == 2U; });
 }
 
-template <std::uint32_t kTag>
+template <const auto& K>
 void trn_relight(Words w) {
-  const auto unpack = [](Words x, tt::RelightBand& b) { return tt::unpack_relight(kTag, x, b); };
-  run<tt::RelightBand>(w, unpack, [&](const tt::RelightBand& b) {
-    require(b.row0 >= 0 && b.rows >= 0, "band rows");
-    std::array<std::uint32_t, tt::kRelightWords> p{};
-    tt::pack_relight(kTag, b, p);
-    require(same(p, w), "relight repacks");
-  });
+  kind<K>(w, "band rows", [](const tt::RelightBand& b) { return b.row0 >= 0 && b.rows >= 0; });
 }
 
 void trn_coarse_band(Words w) {
-  run<tt::CoarseBand>(w, tt::unpack_coarse_band, [&](const tt::CoarseBand& b) {
-    require(b.row0 >= 0 && b.rows >= 0 && b.window_w >= 1 && b.window_h >= 1 && b.tmpl_w >= 1 && b.tmpl_h >= 1,
-            "coarse band ranges");
-    std::array<std::uint32_t, tt::kCoarseBandWords> p{};
-    tt::pack_coarse_band(b, p);
-    require(same(p, w), "coarse band repacks");
+  kind<tt::kCoarseBandMsg>(w, "coarse band", [](const tt::CoarseBand& b) {
+    return b.row0 >= 0 && b.rows >= 0 && b.window_w >= 1 && b.window_h >= 1 && b.tmpl_w >= 1 && b.tmpl_h >= 1;
   });
 }
 
 void trn_coarse_band_done(Words w) {
-  run<tt::CoarseBandDone>(w, tt::unpack_coarse_band_done, [&](const tt::CoarseBandDone& d) {
-    require(d.row0 >= 0 && d.rows >= 0 && d.flat_windows >= 0 && d.status <= 0xFFU && d.first_check <= 0xFFU,
-            "coarse band done ranges");
-    std::array<std::uint32_t, tt::kCoarseBandDoneWords> p{};
-    tt::pack_coarse_band_done(d, p);
-    require(same(p, w), "coarse band done repacks");
-  });
-}
-
-void trn_nav(Words w) {
-  run<trn::filter::NavOutput>(w, tt::unpack_nav_msg, [&](const trn::filter::NavOutput& o) {
-    std::array<std::uint32_t, tt::kNavWords> p{};
-    tt::pack_nav(o, p);
-    require(same(p, w), "nav repacks");
+  kind<tt::kCoarseBandDoneMsg>(w, "coarse band done", [](const tt::CoarseBandDone& d) {
+    return d.row0 >= 0 && d.rows >= 0 && d.flat_windows >= 0 && d.status <= 0xFFU && d.first_check <= 0xFFU;
   });
 }
 
 void trn_frame(Words w) {
-  run<tt::FrameNotice>(w, tt::unpack_frame_msg, [&](const tt::FrameNotice& f) {
-    require(f.width_px >= 1U && f.width_px <= 0xFFFFU && f.height_px >= 1U && f.height_px <= 0xFFFFU, "frame size");
-    std::array<std::uint32_t, tt::kFrameNoticeWords> p{};
-    tt::pack_frame_notice(f, p);
-    require(same(p, w), "frame notice repacks");
-  });
-}
-
-void trn_imu(Words w) {
-  run<bsp::ImuSample>(w, tt::unpack_imu_msg, [&](const bsp::ImuSample& s) {
-    std::array<std::uint32_t, tt::kImuWords> p{};
-    tt::pack_imu(s, p);
-    require(same(p, w), "imu repacks");
+  kind<tt::kFrameMsg>(w, "frame size", [](const tt::FrameNotice& f) {
+    return f.width_px >= 1U && f.width_px <= 0xFFFFU && f.height_px >= 1U && f.height_px <= 0xFFFFU;
   });
 }
 
 void trn_unit(Words w) {
-  run<tt::WorkUnit>(w, tt::unpack_unit, [&](const tt::WorkUnit& u) {
-    require(u.n <= tt::kMaxLandmarksPerUnit && u.width_px <= 0xFFFFU && u.height_px <= 0xFFFFU, "unit ranges");
-    std::array<std::uint32_t, tt::kUnitHeaderWords + tt::kMaxLandmarksPerUnit> p{};
-    tt::pack_unit(u, p);
-    require(w.size() == tt::kUnitHeaderWords + u.n && std::equal(w.begin(), w.end(), p.begin()), "unit repacks");
+  kind<tt::kUnitMsg>(w, "unit", [&](const tt::WorkUnit& u) {
+    return u.n <= tt::kMaxLandmarksPerUnit && u.width_px <= 0xFFFFU && u.height_px <= 0xFFFFU &&
+           w.size() == tt::kUnitHeaderWords + u.n;
   });
 }
 
 void trn_result(Words w) {
-  run<tt::UnitResult>(w, tt::unpack_result, [&](const tt::UnitResult& r) {
-    require(r.m <= tt::kMaxLandmarksPerUnit && r.m <= r.tried, "result ranges");
-    require(w.size() == tt::kResultHeaderWords + r.m * tt::kMatchWords, "result length");
-    require(w[1] == r.frame && w[2] == r.unit && w[3] == r.tried && w[4] == r.m, "result header");
+  kind<tt::kResultMsg>(w, "result", [&](const tt::UnitResult& r) {
+    return r.m <= tt::kMaxLandmarksPerUnit && r.m <= r.tried && w.size() == tt::kResultHeaderWords + r.m * tt::kMatchWords;
   });
 }
 
 void trn_match_part(Words w) {
-  run<tt::MatchPart>(w, tt::unpack_match_part, [&](const tt::MatchPart& p) {
-    require(p.part < p.parts && p.n >= 1U && p.n <= tt::kMatchesPerPart, "match part ranges");
-    require(w.size() == tt::kMatchHeaderWords + p.n * tt::kMatchWords, "match part length");
-    require(w[1] == p.frame && w[2] == (p.part | (p.parts << 16U)) && w[3] == p.n && w[4] == p.apply_job, "part header");
-    for (std::uint32_t i = 0; i < p.n; ++i) {
-      const auto m = tt::unpack_match(w.subspan(tt::kMatchHeaderWords + i * tt::kMatchWords).first<tt::kMatchWords>());
-      require(m.frame == p.frame, "every match of the part's frame");
+  kind<tt::kMatchesMsg>(w, "match part", [&](const tt::MatchPart& p) {
+    bool ok = p.part < p.parts && p.n >= 1U && p.n <= tt::kMatchesPerPart && w.size() == tt::kMatchHeaderWords + p.n * tt::kMatchWords;
+    for (std::uint32_t i = 0; ok && i < p.n; ++i) {
+      const Words m = w.subspan(tt::kMatchHeaderWords + i * tt::kMatchWords, tt::kMatchWords);
+      ok = fdir::msg::read(tt::kMatchRecord, m).frame == p.frame;  // every match of the part's frame
     }
+    return ok;
   });
 }
 
 void trn_replica_hello(Words w) {
-  run<tt::ReplicaHello>(w, tt::unpack_replica_hello, [&](const tt::ReplicaHello& h) {
-    require(h.replica < tt::kReplicas, "replica index");
-    std::array<std::uint32_t, tt::kReplicaHelloWords> p{};
-    tt::pack_replica_hello(h, p);
-    require(same(p, w), "hello repacks");
-  });
+  kind<tt::kReplicaHelloMsg>(w, "replica index", [](const tt::ReplicaHello& h) { return h.replica < tt::kReplicas; });
 }
 
 void trn_replica_out(Words w) {
-  run<tt::ReplicaOut>(w, tt::unpack_replica_out, [&](const tt::ReplicaOut& o) {
-    require(o.replica < tt::kReplicas, "replica index");
-    std::array<std::uint32_t, tt::kReplicaOutWords> p{};
-    tt::pack_replica_out(o, tt::unpack_nav(w.subspan(tt::kReplicaOutHeaderWords).first<tt::kNavWords>()), p);
-    // The solution's words are carried as they came (the vote compares them), its tag word too:
-    // the packing writes kMsgNav there, every other word must come back.
-    require(w.size() == p.size(), "replica output length");
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      require(i == tt::kReplicaOutHeaderWords || p[i] == w[i], "replica output repacks");
-    }
-  });
+  kind<tt::kReplicaOutMsg>(w, "replica index", [](const tt::ReplicaOut& o) { return o.replica < tt::kReplicas; });
 }
 
 struct Decoder {
@@ -366,8 +275,8 @@ const Decoder kDecoders[] = {
     {udn_fault_map, udn::kMsgFaultMap, udn::kFaultMapWords},
     {udn_role_move, udn::kMsgRoleMove, udn::kRoleMoveWords},
     {udn_parked, udn::kMsgParked, udn::kParkedWords},
-    {fdir_boot<false>, fdir::kMsgBooted, fdir::kBootedWords},
-    {fdir_boot<true>, fdir::kMsgAlive, fdir::kAliveWords},
+    {fdir_boot<fdir::kBootedMsg>, fdir::kMsgBooted, fdir::kBootedWords},
+    {fdir_boot<fdir::kAliveMsg>, fdir::kMsgAlive, fdir::kAliveWords},
     {fdir_self_test, fdir::kMsgSelfTest, fdir::kSelfTestWords},
     {fdir_self_test_result, fdir::kMsgSelfTestResult, fdir::kSelfTestResultWords},
     {fdir_results_bad, fdir::kMsgResultsBad, fdir::kResultsBadWords},
@@ -376,19 +285,21 @@ const Decoder kDecoders[] = {
     {fdir_replaced, fdir::kMsgReplaced, fdir::kReplacedWords},
     {fdir_hear_query, fdir::kMsgHearQuery, fdir::kHearQueryWords},
     {fdir_hear_answer, fdir::kMsgHearAnswer, fdir::kHearAnswerWords},
-    {fdir_sup, fdir::kMsgPolicy, fdir::kSupMsgWords},
-    {trn_command, tt::kMsgCommand, tt::kCommandWords},
+    {fdir_sup<fdir::kPolicyMsg>, fdir::kMsgPolicy, fdir::kSupMsgWords},
+    {fdir_sup<fdir::kPolicyHeldMsg>, fdir::kMsgPolicyHeld, fdir::kSupMsgWords},
+    {fdir_sup<fdir::kEscalateMsg>, fdir::kMsgEscalate, fdir::kSupMsgWords},
+    {trn_any<tt::kCommandMsg>, tt::kMsgCommand, tt::kCommandWords},
     {trn_sup_command, tt::kMsgSupCommand, tt::kSupCommandWords},
     {trn_filter_status, tt::kMsgFilterStatus, tt::kFilterStatusWords},
     {trn_vision_status, tt::kMsgVisionStatus, tt::kVisionStatusWords},
     {trn_vision_rate, tt::kMsgVisionRate, tt::kVisionRateWords},
-    {trn_relight<tt::kMsgRelight>, tt::kMsgRelight, tt::kRelightWords},
-    {trn_relight<tt::kMsgRelightDone>, tt::kMsgRelightDone, tt::kRelightWords},
+    {trn_relight<tt::kRelightMsg>, tt::kMsgRelight, tt::kRelightWords},
+    {trn_relight<tt::kRelightDoneMsg>, tt::kMsgRelightDone, tt::kRelightWords},
     {trn_coarse_band, tt::kMsgCoarseBand, tt::kCoarseBandWords},
     {trn_coarse_band_done, tt::kMsgCoarseBandDone, tt::kCoarseBandDoneWords},
-    {trn_nav, tt::kMsgNav, tt::kNavWords},
+    {trn_any<tt::kNavMsg>, tt::kMsgNav, tt::kNavWords},
     {trn_frame, tt::kMsgFrame, tt::kFrameNoticeWords},
-    {trn_imu, 0U, tt::kImuWords},
+    {trn_any<tt::kImuMsg>, 0U, tt::kImuWords},
     {trn_unit, tt::kMsgUnit, 0U},
     {trn_result, tt::kMsgResult, 0U},
     {trn_match_part, tt::kMsgMatches, 0U},

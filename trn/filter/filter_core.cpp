@@ -125,8 +125,8 @@ void queue_words(const FilterCore& c, std::array<std::uint32_t, kQueueWords>& w)
   w[1] = q.count;
   for (std::uint32_t i = 0; i < q.count && i < kMatchQueueLen; ++i) {
     const std::uint32_t at = (q.head + i) % kMatchQueueLen;
-    pack_match(q.m[at], std::span<std::uint32_t, kMatchWords>(w.data() + 2U + static_cast<std::size_t>(at) * kMatchWords,
-                                                             kMatchWords));
+    (void)fdir::msg::encode(kMatchRecord, q.m[at],
+                            std::span<std::uint32_t>(w.data() + 2U + static_cast<std::size_t>(at) * kMatchWords, kMatchWords));
   }
   w[kQueueWords - 2U] = c.have_imu ? 1U : 0U;
   w[kQueueWords - 1U] = c.last_imu;
@@ -144,8 +144,8 @@ bool record_add_imu(JobRecord& r, const bsp::ImuSample& s) noexcept {
   if (n >= kRecordImuMax) {
     return false;
   }
-  pack_imu(s, std::span<std::uint32_t, kImuWords>(r.w.data() + kImuAt + static_cast<std::size_t>(n) * kImuWords,
-                                                  kImuWords));
+  (void)fdir::msg::encode(kImuMsg, s,
+                          std::span<std::uint32_t>(r.w.data() + kImuAt + static_cast<std::size_t>(n) * kImuWords, kImuWords));
   r.w[1] = n + 1U;
   return true;
 }
@@ -257,14 +257,14 @@ bool core_reload_settings(FilterCore& c, bsp::Work& work) noexcept {
 void core_run(FilterCore& c, const JobRecord& r) noexcept {
   const std::uint32_t n_imu = record_imu_count(r) < kRecordImuMax ? record_imu_count(r) : kRecordImuMax;
   for (std::uint32_t i = 0; i < n_imu; ++i) {
-    integrate(c, unpack_imu(std::span<const std::uint32_t, kImuWords>(
+    integrate(c, fdir::msg::read(kImuMsg, std::span<const std::uint32_t, kImuWords>(
                      r.w.data() + kImuAt + static_cast<std::size_t>(i) * kImuWords, kImuWords)));
   }
   bsp::consume(c.ekf->take_work());
   const std::uint32_t n_m = record_match_count(r) < kRecordMatchMax ? record_match_count(r) : kRecordMatchMax;
   for (std::uint32_t i = 0; i < n_m; ++i) {
     push(*c.queue,
-         unpack_match(std::span<const std::uint32_t, kMatchWords>(
+         fdir::msg::read(kMatchRecord, std::span<const std::uint32_t, kMatchWords>(
              r.w.data() + kMatchAt + static_cast<std::size_t>(i) * kMatchWords, kMatchWords)),
          *c.stats);
   }
@@ -296,7 +296,7 @@ std::uint32_t core_digest(FilterCore& c, bsp::Work& work) noexcept {
   crc = udn::crc32c_words_continue(crc, head);
   std::array<std::uint32_t, kMatchWords> m{};
   for (std::uint32_t i = 0; i < q.count && i < kMatchQueueLen; ++i) {
-    pack_match(q.m[(q.head + i) % kMatchQueueLen], m);
+    (void)fdir::msg::encode(kMatchRecord, q.m[(q.head + i) % kMatchQueueLen], m);
     crc = udn::crc32c_words_continue(crc, m);
   }
   const std::array<std::uint32_t, 2> tail{c.have_imu ? 1U : 0U, c.last_imu};
@@ -331,7 +331,7 @@ bool core_load(FilterCore& c, const CoreImage& in, bsp::Work& work) noexcept {
   q.count = count;
   for (std::uint32_t i = 0; i < count; ++i) {
     const std::uint32_t at = (head + i) % kMatchQueueLen;
-    q.m[at] = unpack_match(std::span<const std::uint32_t, kMatchWords>(
+    q.m[at] = fdir::msg::read(kMatchRecord, std::span<const std::uint32_t, kMatchWords>(
         in.queue.data() + 2U + static_cast<std::size_t>(at) * kMatchWords, kMatchWords));
   }
   c.have_imu = in.queue[kQueueWords - 2U] == 1U;

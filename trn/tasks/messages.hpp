@@ -399,34 +399,29 @@ inline constexpr auto kVisionRateMsg = detail::m::kind<VisionRate>(
     detail::m::u32("div", &VisionRate::div, 1, 1U, 2U));
 
 /**
- * fdir's messages that travel on these channels: fdir lays their words out
- * (fdir/tile_health.hpp, fdir/supervisor.hpp) and decodes them; these say
- * where they go here, so a receiver's dispatch and the docs list them.
+ * fdir's messages that travel on these channels, as they travel here: fdir
+ * declares their tags and fields (fdir/health_messages.hpp, fdir/supervisor.hpp);
+ * these say on which channel and between which roles, for the receivers'
+ * dispatch and the docs.
  */
-inline constexpr fdir::msg::KindInfo kReplacedOnControl{
-    .tag = fdir::kMsgReplaced, .name = "fdir_replaced", .channel = kChanControl, .from = role_bit(Role::kTrnSupervisor),
-    .to = role_bit(Role::kVisionCoordinator), .words = fdir::kReplacedWords, .layout = "fdir/tile_health.hpp"};
-inline constexpr fdir::msg::KindInfo kParkDoneOnControl{
-    .tag = fdir::kMsgParkDone, .name = "fdir_park_done", .channel = kChanControl, .from = role_bit(Role::kTrnSupervisor),
-    .to = role_bit(Role::kFilterSupervisor), .words = fdir::kParkDoneWords, .layout = "fdir/tile_health.hpp"};
+inline constexpr auto kReplacedOnControl = fdir::msg::routed(fdir::kReplacedMsg, kChanControl, role_bit(Role::kTrnSupervisor),
+                                                             role_bit(Role::kVisionCoordinator));
+inline constexpr auto kParkDoneOnControl = fdir::msg::routed(fdir::kParkDoneMsg, kChanControl, role_bit(Role::kTrnSupervisor),
+                                                             role_bit(Role::kFilterSupervisor));
 inline constexpr std::uint32_t kSupervisorRoles =
     role_bit(Role::kTrnSupervisor) | role_bit(Role::kFilterSupervisor) | role_bit(Role::kVisionSupervisor);
-inline constexpr fdir::msg::KindInfo kPolicyOnControl{
-    .tag = fdir::kMsgPolicy, .name = "fdir_policy", .channel = kChanControl, .from = kSupervisorRoles | role_bit(Role::kIo),
-    .to = kSupervisorRoles, .words = fdir::kSupMsgWords, .layout = "fdir/supervisor.hpp"};
-inline constexpr fdir::msg::KindInfo kPolicyHeldOnControl{
-    .tag = fdir::kMsgPolicyHeld, .name = "fdir_policy_held", .channel = kChanControl, .from = kSupervisorRoles,
-    .to = kSupervisorRoles, .words = fdir::kSupMsgWords, .layout = "fdir/supervisor.hpp"};
-inline constexpr fdir::msg::KindInfo kEscalateOnControl{
-    .tag = fdir::kMsgEscalate, .name = "fdir_escalate", .channel = kChanControl, .from = kSupervisorRoles,
-    .to = kSupervisorRoles, .words = fdir::kSupMsgWords, .layout = "fdir/supervisor.hpp"};
+inline constexpr auto kPolicyOnControl =
+    fdir::msg::routed(fdir::kPolicyMsg, kChanControl, kSupervisorRoles | role_bit(Role::kIo), kSupervisorRoles);
+inline constexpr auto kPolicyHeldOnControl = fdir::msg::routed(fdir::kPolicyHeldMsg, kChanControl, kSupervisorRoles, kSupervisorRoles);
+inline constexpr auto kEscalateOnControl = fdir::msg::routed(fdir::kEscalateMsg, kChanControl, kSupervisorRoles, kSupervisorRoles);
 
 /** Every kind of message between TRN tiles, and the match record inside them: the docs' table. */
 inline constexpr std::array<fdir::msg::KindView, 23> kMessageKinds{{
     fdir::msg::view(kFrameMsg), fdir::msg::view(kUnitMsg), fdir::msg::view(kRelightMsg), fdir::msg::view(kCoarseBandMsg),
     fdir::msg::view(kSupCommandMsg), fdir::msg::view(kFilterStatusMsg), fdir::msg::view(kVisionStatusMsg),
-    fdir::msg::view(kVisionRateMsg), {&kReplacedOnControl, {}}, {&kParkDoneOnControl, {}}, {&kPolicyOnControl, {}},
-    {&kPolicyHeldOnControl, {}}, {&kEscalateOnControl, {}}, fdir::msg::view(kResultMsg), fdir::msg::view(kRelightDoneMsg),
+    fdir::msg::view(kVisionRateMsg), fdir::msg::view(kReplacedOnControl), fdir::msg::view(kParkDoneOnControl),
+    fdir::msg::view(kPolicyOnControl), fdir::msg::view(kPolicyHeldOnControl), fdir::msg::view(kEscalateOnControl),
+    fdir::msg::view(kResultMsg), fdir::msg::view(kRelightDoneMsg),
     fdir::msg::view(kCoarseBandDoneMsg), fdir::msg::view(kNavMsg), fdir::msg::view(kReplicaOutMsg),
     fdir::msg::view(kReplicaHelloMsg), fdir::msg::view(kMatchesMsg), fdir::msg::view(kImuMsg), fdir::msg::view(kCommandMsg),
     fdir::msg::view(kMatchRecord)}};
@@ -506,40 +501,29 @@ inline constexpr std::uint32_t kControlSendTicks = 5U;
 inline constexpr std::uint32_t kFineApplyJobs = 15U;
 inline constexpr std::uint32_t kCoarseApplyJobs = 35U;
 
-// ---------------------------------------------------------------- the codecs, by the declarations' names
+// ---------------------------------------------------------------- thin names left for three tasks
 
 /*
- * Each unpack_ returns false, leaving its output as it was, unless the words
- * are exactly that message (size, tag) with every field in its declared range
- * (fdir::msg::decode); the handlers of the tasks read messages through them or
- * through a dispatch table (tests/fuzz/flight_msg_fuzz.cpp checks them against
- * the packers). A pack_ writes the declared words (fdir::msg::encode).
+ * Senders and receivers encode and decode with the declarations above
+ * (fdir::msg::encode, decode, read; dispatch by tag). These names remain for
+ * the filter, its TMR replicas and the I/O tile (filter_task.cpp,
+ * filter_tmr.cpp, io_task.cpp) until those files take the codec too; each is
+ * one call of it. An unpack_ returns false, leaving its output as it was,
+ * unless the words are exactly that message with every field in range.
  */
 inline void pack_imu(const bsp::ImuSample& s, std::span<std::uint32_t, kImuWords> w) noexcept {
   (void)fdir::msg::encode(kImuMsg, s, w);
 }
-/** Reads what pack_imu() wrote (words this tile holds: no checks). */
-inline bsp::ImuSample unpack_imu(std::span<const std::uint32_t, kImuWords> w) noexcept { return fdir::msg::read(kImuMsg, w); }
 [[nodiscard]] inline bool unpack_imu_msg(std::span<const std::uint32_t> w, bsp::ImuSample& out) noexcept {
   return fdir::msg::decode(kImuMsg, w, out);
 }
-inline void pack_match(const Match& m, std::span<std::uint32_t, kMatchWords> w) noexcept {
-  (void)fdir::msg::encode(kMatchRecord, m, w);
-}
-inline Match unpack_match(std::span<const std::uint32_t, kMatchWords> w) noexcept { return fdir::msg::read(kMatchRecord, w); }
 inline void pack_nav(const filter::NavOutput& o, std::span<std::uint32_t, kNavWords> w) noexcept {
   (void)fdir::msg::encode(kNavMsg, o, w);
 }
 /** Reads what pack_nav() wrote (no checks; the covariance diagonal beyond attitude reads as zero). */
 inline filter::NavOutput unpack_nav(std::span<const std::uint32_t, kNavWords> w) noexcept { return fdir::msg::read(kNavMsg, w); }
-[[nodiscard]] inline bool unpack_nav_msg(std::span<const std::uint32_t> w, filter::NavOutput& out) noexcept {
-  return fdir::msg::decode(kNavMsg, w, out);
-}
 inline void pack_frame_notice(const FrameNotice& f, std::span<std::uint32_t, kFrameNoticeWords> w) noexcept {
   (void)fdir::msg::encode(kFrameMsg, f, w);
-}
-[[nodiscard]] inline bool unpack_frame_msg(std::span<const std::uint32_t> w, FrameNotice& out) noexcept {
-  return fdir::msg::decode(kFrameMsg, w, out);
 }
 inline void pack_command(const Command& c, std::span<std::uint32_t, kCommandWords> w) noexcept {
   (void)fdir::msg::encode(kCommandMsg, c, w);
@@ -547,59 +531,11 @@ inline void pack_command(const Command& c, std::span<std::uint32_t, kCommandWord
 [[nodiscard]] inline bool unpack_command(std::span<const std::uint32_t> w, Command& out) noexcept {
   return fdir::msg::decode(kCommandMsg, w, out);
 }
-inline void pack_sup_command(const SupCommand& c, std::span<std::uint32_t, kSupCommandWords> w) noexcept {
-  (void)fdir::msg::encode(kSupCommandMsg, c, w);
-}
 [[nodiscard]] inline bool unpack_sup_command(std::span<const std::uint32_t> w, SupCommand& out) noexcept {
   return fdir::msg::decode(kSupCommandMsg, w, out);
 }
 inline void pack_filter_status(const FilterStatus& f, std::span<std::uint32_t, kFilterStatusWords> w) noexcept {
   (void)fdir::msg::encode(kFilterStatusMsg, f, w);
-}
-[[nodiscard]] inline bool unpack_filter_status(std::span<const std::uint32_t> w, FilterStatus& out) noexcept {
-  return fdir::msg::decode(kFilterStatusMsg, w, out);
-}
-inline void pack_vision_status(const VisionStatus& v, std::span<std::uint32_t, kVisionStatusWords> w) noexcept {
-  (void)fdir::msg::encode(kVisionStatusMsg, v, w);
-}
-[[nodiscard]] inline bool unpack_vision_status(std::span<const std::uint32_t> w, VisionStatus& out) noexcept {
-  return fdir::msg::decode(kVisionStatusMsg, w, out);
-}
-[[nodiscard]] inline bool unpack_vision_rate(std::span<const std::uint32_t> w, std::uint32_t& div) noexcept {
-  VisionRate r{};
-  if (!fdir::msg::decode(kVisionRateMsg, w, r)) {
-    return false;
-  }
-  div = r.div;
-  return true;
-}
-/** A relight band request (@p tag kMsgRelight) or its answer (kMsgRelightDone). */
-inline void pack_relight(std::uint32_t tag, const RelightBand& b, std::span<std::uint32_t, kRelightWords> w) noexcept {
-  (void)(tag == kMsgRelightDone ? fdir::msg::encode(kRelightDoneMsg, b, w) : fdir::msg::encode(kRelightMsg, b, w));
-}
-[[nodiscard]] inline bool unpack_relight(std::uint32_t tag, std::span<const std::uint32_t> w, RelightBand& out) noexcept {
-  return tag == kMsgRelightDone ? fdir::msg::decode(kRelightDoneMsg, w, out)
-                                : tag == kMsgRelight && fdir::msg::decode(kRelightMsg, w, out);
-}
-inline void pack_coarse_band(const CoarseBand& b, std::span<std::uint32_t, kCoarseBandWords> w) noexcept {
-  (void)fdir::msg::encode(kCoarseBandMsg, b, w);
-}
-[[nodiscard]] inline bool unpack_coarse_band(std::span<const std::uint32_t> w, CoarseBand& out) noexcept {
-  return fdir::msg::decode(kCoarseBandMsg, w, out);
-}
-inline void pack_coarse_band_done(const CoarseBandDone& d, std::span<std::uint32_t, kCoarseBandDoneWords> w) noexcept {
-  (void)fdir::msg::encode(kCoarseBandDoneMsg, d, w);
-}
-[[nodiscard]] inline bool unpack_coarse_band_done(std::span<const std::uint32_t> w, CoarseBandDone& out) noexcept {
-  return fdir::msg::decode(kCoarseBandDoneMsg, w, out);
-}
-/** Writes kUnitHeaderWords + u.n words (pre: u.n <= kMaxLandmarksPerUnit, w that long). */
-inline void pack_unit(const WorkUnit& u, std::span<std::uint32_t> w) noexcept { (void)fdir::msg::encode(kUnitMsg, u, w); }
-[[nodiscard]] inline bool unpack_unit(std::span<const std::uint32_t> w, WorkUnit& out) noexcept {
-  return fdir::msg::decode(kUnitMsg, w, out);
-}
-[[nodiscard]] inline bool unpack_result(std::span<const std::uint32_t> w, UnitResult& out) noexcept {
-  return fdir::msg::decode(kResultMsg, w, out);
 }
 [[nodiscard]] inline bool unpack_match_part(std::span<const std::uint32_t> w, MatchPart& out) noexcept {
   return fdir::msg::decode(kMatchesMsg, w, out);
@@ -607,16 +543,10 @@ inline void pack_unit(const WorkUnit& u, std::span<std::uint32_t> w) noexcept { 
 inline void pack_replica_hello(const ReplicaHello& h, std::span<std::uint32_t, kReplicaHelloWords> w) noexcept {
   (void)fdir::msg::encode(kReplicaHelloMsg, h, w);
 }
-[[nodiscard]] inline bool unpack_replica_hello(std::span<const std::uint32_t> w, ReplicaHello& out) noexcept {
-  return fdir::msg::decode(kReplicaHelloMsg, w, out);
-}
 /** The header, then @p nav as a kNavMsg after it. */
 inline void pack_replica_out(const ReplicaOut& o, const filter::NavOutput& nav, std::span<std::uint32_t, kReplicaOutWords> w) noexcept {
   (void)fdir::msg::encode(kReplicaOutMsg, o, w);
-  pack_nav(nav, w.subspan<kReplicaOutHeaderWords, kNavWords>());
-}
-[[nodiscard]] inline bool unpack_replica_out(std::span<const std::uint32_t> w, ReplicaOut& out) noexcept {
-  return fdir::msg::decode(kReplicaOutMsg, w, out);
+  (void)fdir::msg::encode(kNavMsg, nav, w.subspan<kReplicaOutHeaderWords, kNavWords>());
 }
 
 }  // namespace trn::tasks

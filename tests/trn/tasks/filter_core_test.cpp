@@ -59,7 +59,7 @@ void add_matches(JobRecord& r, const Pose& truth, const bsp::CameraModel& cam, s
     m.frame = frame;
     m.t_s = truth.t_s;
     std::array<std::uint32_t, trn::tasks::kMatchWords> w{};
-    trn::tasks::pack_match(m, w);
+    (void)fdir::msg::encode(trn::tasks::kMatchRecord, m, w);
     ASSERT_TRUE(trn::tasks::record_add_match(r, w));
   }
 }

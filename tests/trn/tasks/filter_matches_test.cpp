@@ -113,7 +113,7 @@ void drain_nav() {
       ++g_result.nav_bad;
       continue;
     }
-    g_result.last_nav = trn::tasks::unpack_nav(
+    g_result.last_nav = fdir::msg::read(trn::tasks::kNavMsg,
         std::span<const std::uint32_t, trn::tasks::kNavWords>(msg.data.data(), trn::tasks::kNavWords));
     ++g_result.nav_received;
   }
@@ -135,8 +135,8 @@ void send_batch(std::uint32_t frame, std::uint32_t n) {
     w[3] = k;
     w[4] = 0U;  // taken by the next job
     for (std::uint32_t i = 0; i < k; ++i) {
-      trn::tasks::pack_match(g_batch[first + i], std::span<std::uint32_t, kMatchWords>(
-                                                     w.data() + kMatchHeaderWords + static_cast<std::size_t>(i) * kMatchWords, kMatchWords));
+      (void)fdir::msg::encode(trn::tasks::kMatchRecord, g_batch[first + i],
+                              std::span<std::uint32_t>(w.data() + kMatchHeaderWords + static_cast<std::size_t>(i) * kMatchWords, kMatchWords));
     }
     const std::span<const std::uint32_t> words(w.data(), kMatchHeaderWords + k * kMatchWords);
     udn::FtError e = udn::FtError::kWindowFull;

@@ -143,8 +143,8 @@ TEST(Messages, ImuSampleSurvivesPackingBitForBit) {
   s.dtheta_rad[1] = -1.0e-7;
   s.dv_mps[2] = 0.0371234567;
   std::array<std::uint32_t, trn::tasks::kImuWords> w{};
-  trn::tasks::pack_imu(s, w);
-  const bsp::ImuSample r = trn::tasks::unpack_imu(w);
+  (void)fdir::msg::encode(trn::tasks::kImuMsg, s, w);
+  const bsp::ImuSample r = fdir::msg::read(trn::tasks::kImuMsg, w);
   EXPECT_EQ(std::memcmp(&r, &s, sizeof s), 0);
 }
 

@@ -31,16 +31,16 @@ TEST(TrnMessages, WorkUnitRoundTrips) {
   u.landmark[1] = 9U;
   u.radius_px[1] = 30U;
   std::array<std::uint32_t, tt::kUnitHeaderWords + 2U> w{};
-  tt::pack_unit(u, w);
+  (void)fdir::msg::encode(tt::kUnitMsg, u, w);
   tt::WorkUnit back{};
-  ASSERT_TRUE(tt::unpack_unit(w, back));
+  ASSERT_TRUE(fdir::msg::decode(tt::kUnitMsg, w, back));
   EXPECT_EQ(back.ddr_offset, u.ddr_offset);
   EXPECT_EQ(back.height_px, 480U);
   EXPECT_EQ(back.p_m[2], 1500.0);
   EXPECT_EQ(back.radius_px[1], 30U);
   EXPECT_EQ(back.landmark[2], 0U);  // beyond n: zero
   // One landmark word short of what n says: refused.
-  EXPECT_FALSE(tt::unpack_unit(std::span<const std::uint32_t>(w).first(w.size() - 1U), back));
+  EXPECT_FALSE(fdir::msg::decode(tt::kUnitMsg, std::span<const std::uint32_t>(w).first(w.size() - 1U), back));
 }
 
 TEST(TrnMessages, MatchPartRefusesAMatchOfAnotherFrameAndABadPartIndex) {
@@ -52,56 +52,56 @@ TEST(TrnMessages, MatchPartRefusesAMatchOfAnotherFrameAndABadPartIndex) {
   w[4] = 57U;
   w[tt::kMatchHeaderWords + 21U] = 42U;
   tt::MatchPart p{};
-  ASSERT_TRUE(tt::unpack_match_part(w, p));
+  ASSERT_TRUE(fdir::msg::decode(tt::kMatchesMsg, w, p));
   EXPECT_EQ(p.part, 1U);
   EXPECT_EQ(p.parts, 2U);
   EXPECT_EQ(p.apply_job, 57U);
   w[tt::kMatchHeaderWords + 21U] = 41U;
   p = tt::MatchPart{};
-  EXPECT_FALSE(tt::unpack_match_part(w, p));
+  EXPECT_FALSE(fdir::msg::decode(tt::kMatchesMsg, w, p));
   EXPECT_EQ(p.apply_job, 0U);
   w[tt::kMatchHeaderWords + 21U] = 42U;
   w[2] = 2U | (2U << 16U);  // part 2 of 2
-  EXPECT_FALSE(tt::unpack_match_part(w, p));
+  EXPECT_FALSE(fdir::msg::decode(tt::kMatchesMsg, w, p));
 }
 
 TEST(TrnMessages, StatusesAndCommandsCheckTheirRanges) {
   std::array<std::uint32_t, tt::kFilterStatusWords> fs{};
-  tt::pack_filter_status(tt::FilterStatus{10U, tt::kFilterModeTmr, 7U, 1U, 2U}, fs);
+  (void)fdir::msg::encode(tt::kFilterStatusMsg, tt::FilterStatus{10U, tt::kFilterModeTmr, 7U, 1U, 2U}, fs);
   tt::FilterStatus f{};
-  ASSERT_TRUE(tt::unpack_filter_status(fs, f));
+  ASSERT_TRUE(fdir::msg::decode(tt::kFilterStatusMsg, fs, f));
   EXPECT_EQ(f.mode, tt::kFilterModeTmr);
   fs[2] = tt::kFilterModeStopping + 1U;
-  EXPECT_FALSE(tt::unpack_filter_status(fs, f));
+  EXPECT_FALSE(fdir::msg::decode(tt::kFilterStatusMsg, fs, f));
   std::array<std::uint32_t, tt::kVisionStatusWords> vs{};
-  tt::pack_vision_status(tt::VisionStatus{1U, 41U, 40U, 0U, 1U}, vs);  // more healthy than listed
+  (void)fdir::msg::encode(tt::kVisionStatusMsg, tt::VisionStatus{1U, 41U, 40U, 0U, 1U}, vs);  // more healthy than listed
   tt::VisionStatus v{};
-  EXPECT_FALSE(tt::unpack_vision_status(vs, v));
+  EXPECT_FALSE(fdir::msg::decode(tt::kVisionStatusMsg, vs, v));
   std::array<std::uint32_t, tt::kSupCommandWords> sc{};
-  tt::pack_sup_command(tt::SupCommand{tt::kCmdPowerSave, 1U}, sc);  // not a filter command
+  (void)fdir::msg::encode(tt::kSupCommandMsg, tt::SupCommand{tt::kCmdPowerSave, 1U}, sc);  // not a filter command
   tt::SupCommand c{};
-  EXPECT_FALSE(tt::unpack_sup_command(sc, c));
-  std::uint32_t div = 7U;
-  EXPECT_FALSE(tt::unpack_vision_rate(std::array<std::uint32_t, 2>{tt::kMsgVisionRate, 3U}, div));
-  EXPECT_EQ(div, 7U);
+  EXPECT_FALSE(fdir::msg::decode(tt::kSupCommandMsg, sc, c));
+  tt::VisionRate rate{7U};
+  EXPECT_FALSE(fdir::msg::decode(tt::kVisionRateMsg, std::array<std::uint32_t, 2>{tt::kMsgVisionRate, 3U}, rate));
+  EXPECT_EQ(rate.div, 7U);
 }
 
 TEST(TrnMessages, ReplicaMessagesNameOneOfTheThreeReplicas) {
   std::array<std::uint32_t, tt::kReplicaHelloWords> h{};
-  tt::pack_replica_hello(tt::ReplicaHello{2U, 4U}, h);
+  (void)fdir::msg::encode(tt::kReplicaHelloMsg, tt::ReplicaHello{2U, 4U}, h);
   tt::ReplicaHello hello{};
-  ASSERT_TRUE(tt::unpack_replica_hello(h, hello));
+  ASSERT_TRUE(fdir::msg::decode(tt::kReplicaHelloMsg, h, hello));
   EXPECT_EQ(hello.epoch, 4U);
   h[1] = tt::kReplicas;
-  EXPECT_FALSE(tt::unpack_replica_hello(h, hello));
+  EXPECT_FALSE(fdir::msg::decode(tt::kReplicaHelloMsg, h, hello));
   std::array<std::uint32_t, tt::kReplicaOutWords> o{};
   trn::filter::NavOutput nav{};
   nav.t_s = 3.25;
   tt::pack_replica_out(tt::ReplicaOut{1U, 100U, 0x1234U}, nav, o);
   tt::ReplicaOut out{};
-  ASSERT_TRUE(tt::unpack_replica_out(o, out));
+  ASSERT_TRUE(fdir::msg::decode(tt::kReplicaOutMsg, o, out));
   EXPECT_EQ(out.job, 100U);
-  EXPECT_EQ(tt::unpack_nav(std::span<const std::uint32_t>(o).subspan(tt::kReplicaOutHeaderWords).first<tt::kNavWords>()).t_s,
+  EXPECT_EQ(fdir::msg::read(tt::kNavMsg, std::span<const std::uint32_t>(o).subspan(tt::kReplicaOutHeaderWords).first<tt::kNavWords>()).t_s,
             3.25);
 }
 
@@ -118,8 +118,8 @@ TEST(TrnMessages, TheNavMessageCarriesTheMapRelativeAndTheWorldVariances) {
   nav.pos_var_world[1] = 1.25 + 0.1156;
   nav.pos_var_world[2] = 2.25 + 0.0529;
   std::array<std::uint32_t, tt::kNavWords> w{};
-  tt::pack_nav(nav, w);
-  const trn::filter::NavOutput back = tt::unpack_nav(w);
+  (void)fdir::msg::encode(tt::kNavMsg, nav, w);
+  const trn::filter::NavOutput back = fdir::msg::read(tt::kNavMsg, w);
   EXPECT_EQ(back.flags, nav.flags);
   EXPECT_EQ(back.t_s, nav.t_s);
   for (std::size_t i = 0; i < 9U; ++i) {
@@ -129,18 +129,18 @@ TEST(TrnMessages, TheNavMessageCarriesTheMapRelativeAndTheWorldVariances) {
     EXPECT_EQ(back.pos_var_world[i], nav.pos_var_world[i]) << i;
   }
   trn::filter::NavOutput decoded{};
-  ASSERT_TRUE(tt::unpack_nav_msg(w, decoded));
+  ASSERT_TRUE(fdir::msg::decode(tt::kNavMsg, w, decoded));
   EXPECT_EQ(decoded.pos_var_world[2], nav.pos_var_world[2]);
-  EXPECT_FALSE(tt::unpack_nav_msg(std::span<const std::uint32_t>(w).first(42U), decoded))
+  EXPECT_FALSE(fdir::msg::decode(tt::kNavMsg, std::span<const std::uint32_t>(w).first(42U), decoded))
       << "the message before the world variances (42 words) is refused";
 }
 
 TEST(TrnMessages, CoarseBandsRoundTripAndRefuseMalformedWords) {
   const tt::CoarseBand b{7U, 40, 5, 256, 256, 96, 96, 64, 64, 12U};
   std::array<std::uint32_t, tt::kCoarseBandWords> w{};
-  tt::pack_coarse_band(b, w);
+  (void)fdir::msg::encode(tt::kCoarseBandMsg, b, w);
   tt::CoarseBand got{};
-  ASSERT_TRUE(tt::unpack_coarse_band(w, got));
+  ASSERT_TRUE(fdir::msg::decode(tt::kCoarseBandMsg, w, got));
   EXPECT_EQ(got.frame, 7U);
   EXPECT_EQ(got.row0, 40);
   EXPECT_EQ(got.rows, 5);
@@ -153,8 +153,8 @@ TEST(TrnMessages, CoarseBandsRoundTripAndRefuseMalformedWords) {
   EXPECT_EQ(got.slot, 12U);
   std::array<std::uint32_t, tt::kCoarseBandWords> bad = w;
   bad[6] = 64U;  // a template of height 0
-  EXPECT_FALSE(tt::unpack_coarse_band(bad, got));
-  EXPECT_FALSE(tt::unpack_coarse_band(std::span<const std::uint32_t>(w.data(), w.size() - 1U), got));
+  EXPECT_FALSE(fdir::msg::decode(tt::kCoarseBandMsg, bad, got));
+  EXPECT_FALSE(fdir::msg::decode(tt::kCoarseBandMsg, std::span<const std::uint32_t>(w.data(), w.size() - 1U), got));
 
   tt::CoarseBandDone d{};
   d.frame = 9U;
@@ -167,9 +167,9 @@ TEST(TrnMessages, CoarseBandsRoundTripAndRefuseMalformedWords) {
   d.check_failed = true;
   d.first_check = 3U;
   std::array<std::uint32_t, tt::kCoarseBandDoneWords> dw{};
-  tt::pack_coarse_band_done(d, dw);
+  (void)fdir::msg::encode(tt::kCoarseBandDoneMsg, d, dw);
   tt::CoarseBandDone dg{};
-  ASSERT_TRUE(tt::unpack_coarse_band_done(dw, dg));
+  ASSERT_TRUE(fdir::msg::decode(tt::kCoarseBandDoneMsg, dw, dg));
   EXPECT_EQ(dg.frame, 9U);
   EXPECT_EQ(dg.row0, 188);
   EXPECT_EQ(dg.rows, 5);
@@ -181,10 +181,10 @@ TEST(TrnMessages, CoarseBandsRoundTripAndRefuseMalformedWords) {
   EXPECT_EQ(dg.first_check, 3U);
   std::array<std::uint32_t, tt::kCoarseBandDoneWords> dbad = dw;
   dbad[8] |= 2U << 8U;  // "failed" is one bit
-  EXPECT_FALSE(tt::unpack_coarse_band_done(dbad, dg));
+  EXPECT_FALSE(fdir::msg::decode(tt::kCoarseBandDoneMsg, dbad, dg));
   dbad = dw;
   dbad[0] = tt::kMsgCoarseBand;
-  EXPECT_FALSE(tt::unpack_coarse_band_done(dbad, dg));
+  EXPECT_FALSE(fdir::msg::decode(tt::kCoarseBandDoneMsg, dbad, dg));
 }
 
 }  // namespace

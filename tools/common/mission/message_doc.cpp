@@ -86,9 +86,6 @@ std::string group_count_text(const m::KindView& k) {
 
 std::string fields_text(const m::KindView& k) {
   const m::KindInfo& i = *k.info;
-  if (i.layout != nullptr) {
-    return std::string("laid out in ") + i.layout;
-  }
   std::string head;
   std::string each;
   for (const m::FieldInfo& f : k.fields) {

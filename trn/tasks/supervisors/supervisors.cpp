@@ -124,31 +124,33 @@ void send_words(bsp::TileId to, std::span<const std::uint32_t> w) noexcept {
   }
 }
 
-void send_policy(bsp::TileId to, std::uint8_t constraint, std::uint8_t level, std::uint8_t from,
-                 std::uint32_t kind = fdir::kMsgPolicy) noexcept {
+/** A policy (@p held: the one the parent holds for the child, sent again). */
+void send_policy(bsp::TileId to, std::uint8_t constraint, std::uint8_t level, std::uint8_t from, bool held = false) noexcept {
   std::array<std::uint32_t, fdir::kSupMsgWords> w{};
-  fdir::pack_sup_message(fdir::SupMessage{kind, constraint, level, from}, w);
+  (void)fdir::msg::encode(held ? kPolicyHeldOnControl : kPolicyOnControl, fdir::SupMessage{constraint, level, from}, w);
   send_words(to, w);
 }
 
 void send_escalation(bsp::TileId to, const fdir::SupDecision& d, std::uint8_t node) noexcept {
   std::array<std::uint32_t, fdir::kSupMsgWords> w{};
-  fdir::pack_sup_message(fdir::SupMessage{fdir::kMsgEscalate, d.constraint, d.level, node}, w);
+  (void)fdir::msg::encode(kEscalateOnControl, fdir::SupMessage{d.constraint, d.level, node}, w);
   send_words(to, w);
 }
 
-/**
- * Whether @p m is a policy for node @p n to take: a new one, or the one its
- * parent holds for it, sent again, while @p n holds none or only its default.
- */
-bool is_policy(const fdir::SupMessage& m, const NodeState& n) noexcept {
-  return m.tag == fdir::kMsgPolicy ||
-         (m.tag == fdir::kMsgPolicyHeld && fdir::supervisor_takes_held(n.sup, m.constraint));
-}
+/** What a node's handler reads besides the message: the tree's configuration and the sender. */
+struct Inbox {
+  const SupervisorsConfig& c;
+  bsp::TileId source;
+};
 
-/** The words of @p m as a policy or escalation; false for anything else. */
-bool sup_message(const udn::FtMessage& m, fdir::SupMessage& out) noexcept {
-  return fdir::unpack_sup_message(std::span<const std::uint32_t>(m.data.data(), m.data_words), out);
+/** Takes a node's messages waiting on kChanControl (a few per pass), each by its tag in @p table. */
+template <std::size_t N>
+void drain(const std::array<fdir::msg::Handler<Inbox>, N>& table, const SupervisorsConfig& c) noexcept {
+  udn::FtMessage m{};
+  for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
+    Inbox in{c, m.source};
+    (void)fdir::msg::dispatch(table, std::span<const std::uint32_t>(m.data.data(), m.data_words), in);
+  }
 }
 
 bsp::TileId filter_sup(const SupervisorsConfig& c) noexcept {
@@ -210,8 +212,7 @@ void trn_refresh(const SupervisorsConfig& c, std::uint32_t now) noexcept {
   for (std::uint8_t child = 0U; child < kChildren; ++child) {
     for (std::uint8_t k = 0U; k < fdir::kMaxConstraints; ++k) {
       if (g_trn->down[child][k] != kNoLevel) {
-        send_policy(child == kChildFilter ? filter_sup(c) : vision_sup(c), k, g_trn->down[child][k], kNodeTrn,
-                    fdir::kMsgPolicyHeld);
+        send_policy(child == kChildFilter ? filter_sup(c) : vision_sup(c), k, g_trn->down[child][k], kNodeTrn, true);
       }
     }
   }
@@ -295,20 +296,22 @@ void trn_wake_ahead(const SupervisorsConfig& c, std::uint32_t now) noexcept {
   }
 }
 
-void trn_messages(const SupervisorsConfig& c) noexcept {
-  udn::FtMessage m{};
-  for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
-    fdir::SupMessage sm{};
-    if (!sup_message(m, sm)) {
-      continue;
-    }
-    if (sm.tag == fdir::kMsgPolicy) {
-      trn_policy(c, sm.constraint, sm.level, sm.from);  // a ground policy through the I/O tile
-    } else if (sm.tag == fdir::kMsgEscalate) {
-      trn_act(c, fdir::supervisor_escalation(kSpecs[kNodeTrn], g_nodes[kNodeTrn]->sup, sm.constraint, sm.level, sm.from));
-    }
-  }
+/** A ground policy through the I/O tile. */
+void trn_take_policy(Inbox& in, const fdir::SupMessage& sm) noexcept { trn_policy(in.c, sm.constraint, sm.level, sm.from); }
+
+void trn_take_escalation(Inbox& in, const fdir::SupMessage& sm) noexcept {
+  trn_act(in.c, fdir::supervisor_escalation(kSpecs[kNodeTrn], g_nodes[kNodeTrn]->sup, sm.constraint, sm.level, sm.from));
 }
+
+/** The kinds the TRN supervisor takes on kChanControl; anything else there is dropped. */
+constexpr std::array<fdir::msg::Handler<Inbox>, 2> kTrnHandlers{{
+    fdir::msg::on<kPolicyOnControl, &trn_take_policy, Inbox>(),
+    fdir::msg::on<kEscalateOnControl, &trn_take_escalation, Inbox>(),
+}};
+static_assert(fdir::msg::handlers_fit(kTrnHandlers, kChanControl, role_bit(Role::kTrnSupervisor)),
+              "the TRN supervisor's handlers are kinds declared for it on kChanControl");
+
+void trn_messages(const SupervisorsConfig& c) noexcept { drain(kTrnHandlers, c); }
 
 // ------------------------------------------------------------------ the filter supervisor
 
@@ -340,7 +343,7 @@ FilterSupState* g_fsup = nullptr;
 
 void command_filter(const SupervisorsConfig& c, std::uint32_t code) noexcept {
   std::array<std::uint32_t, kSupCommandWords> w{};
-  pack_sup_command(SupCommand{code, kNodeFilter}, w);
+  (void)fdir::msg::encode(kSupCommandMsg, SupCommand{code, kNodeFilter}, w);
   send_words(udn::endpoint_role_tile(kSlotIo, c.io_tile), w);
   ++g_nodes[kNodeFilter]->stats->commands;
 }
@@ -420,7 +423,7 @@ void replica_power(const SupervisorsConfig& c) noexcept {
     }
     const bsp::TileId t = udn::endpoint_role_tile(kSlotReplica0 + i, c.replica_tiles[i]);
     std::array<std::uint32_t, fdir::kParkWords> w{};
-    fdir::pack_park(fdir::ParkRequest{bsp::current_tile(), t, want == 1U, kChanControl}, w);
+    (void)fdir::msg::encode(fdir::kParkMsg, fdir::ParkRequest{bsp::current_tile(), t, want == 1U, kChanControl}, w);
     if (t != bsp::kNoTile && udn::endpoint_send(health_tile_now(c), udn::kFtChanHealth, w, kSendTicks) == udn::FtError::kOk) {
       g_fsup->asked[i] = want;
       g_fsup->asked_at[i] = now;
@@ -459,29 +462,45 @@ void filter_park_done(const SupervisorsConfig& c, const fdir::ParkDone& done) no
   }
 }
 
-void filter_messages(const SupervisorsConfig& c) noexcept {
-  udn::FtMessage m{};
-  for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
-    const std::span<const std::uint32_t> w(m.data.data(), m.data_words);
-    FilterStatus status{};
-    fdir::ParkDone done{};
-    fdir::SupMessage sm{};
-    if (unpack_filter_status(w, status)) {
-      filter_status(c, status);
-    } else if (fdir::unpack_park_done(w, done) && m.source == health_tile_now(c)) {
-      filter_park_done(c, done);
-    } else if (sup_message(m, sm) && is_policy(sm, *g_nodes[kNodeFilter])) {
-      ++g_nodes[kNodeFilter]->stats->policies;
-      // A ground filter_tmr / filter_simplex reached the filter straight from the I/O tile: the
-      // supervisor takes its mode as the policy (until the TRN supervisor sends another) and sends nothing.
-      const bool ground = sm.from == fdir::kFromGround;
-      if (ground) {
-        g_nodes[kNodeFilter]->sup.c[sm.constraint] = fdir::ConstraintState{};
-      }
-      filter_act(c, fdir::supervisor_policy(kSpecs[kNodeFilter], g_nodes[kNodeFilter]->sup, sm.constraint, sm.level, sm.from),
-                 ground);
-    }
+void filter_take_status(Inbox& in, const FilterStatus& status) noexcept { filter_status(in.c, status); }
+
+void filter_take_park_done(Inbox& in, const fdir::ParkDone& done) noexcept {
+  if (in.source == health_tile_now(in.c)) {
+    filter_park_done(in.c, done);
   }
+}
+
+void filter_take_policy(Inbox& in, const fdir::SupMessage& sm) noexcept {
+  ++g_nodes[kNodeFilter]->stats->policies;
+  // A ground filter_tmr / filter_simplex reached the filter straight from the I/O tile: the
+  // supervisor takes its mode as the policy (until the TRN supervisor sends another) and sends nothing.
+  const bool ground = sm.from == fdir::kFromGround;
+  if (ground) {
+    g_nodes[kNodeFilter]->sup.c[sm.constraint] = fdir::ConstraintState{};
+  }
+  filter_act(in.c, fdir::supervisor_policy(kSpecs[kNodeFilter], g_nodes[kNodeFilter]->sup, sm.constraint, sm.level, sm.from),
+             ground);
+}
+
+/** The policy the parent holds, sent again: taken while the node holds none or only its default. */
+void filter_take_held(Inbox& in, const fdir::SupMessage& sm) noexcept {
+  if (fdir::supervisor_takes_held(g_nodes[kNodeFilter]->sup, sm.constraint)) {
+    filter_take_policy(in, sm);
+  }
+}
+
+/** The kinds the filter supervisor takes on kChanControl; anything else there is dropped. */
+constexpr std::array<fdir::msg::Handler<Inbox>, 4> kFilterHandlers{{
+    fdir::msg::on<kFilterStatusMsg, &filter_take_status, Inbox>(),
+    fdir::msg::on<kParkDoneOnControl, &filter_take_park_done, Inbox>(),
+    fdir::msg::on<kPolicyOnControl, &filter_take_policy, Inbox>(),
+    fdir::msg::on<kPolicyHeldOnControl, &filter_take_held, Inbox>(),
+}};
+static_assert(fdir::msg::handlers_fit(kFilterHandlers, kChanControl, role_bit(Role::kFilterSupervisor)),
+              "the filter supervisor's handlers are kinds declared for it on kChanControl");
+
+void filter_messages(const SupervisorsConfig& c) noexcept {
+  drain(kFilterHandlers, c);
   replica_power(c);
 }
 
@@ -523,19 +542,33 @@ void vision_status(const SupervisorsConfig& c, const VisionStatus& st) noexcept 
   vision_act(c, fdir::supervisor_judge(kSpecs[kNodeVision], n.sup, kCap, healthy >= need));
 }
 
-void vision_messages(const SupervisorsConfig& c) noexcept {
-  udn::FtMessage m{};
-  for (std::uint32_t i = 0; i < kDrainPerPass && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++i) {
-    VisionStatus status{};
-    fdir::SupMessage sm{};
-    if (unpack_vision_status(std::span<const std::uint32_t>(m.data.data(), m.data_words), status)) {
-      vision_status(c, status);
-    } else if (sup_message(m, sm) && is_policy(sm, *g_nodes[kNodeVision]) && sm.constraint == kCap) {
-      ++g_nodes[kNodeVision]->stats->policies;
-      vision_act(c, fdir::supervisor_policy(kSpecs[kNodeVision], g_nodes[kNodeVision]->sup, kCap, sm.level, sm.from));
-    }
+void vision_take_status(Inbox& in, const VisionStatus& status) noexcept { vision_status(in.c, status); }
+
+/** A capacity policy (the node has no other constraint). */
+void vision_take_policy(Inbox& in, const fdir::SupMessage& sm) noexcept {
+  if (sm.constraint == kCap) {
+    ++g_nodes[kNodeVision]->stats->policies;
+    vision_act(in.c, fdir::supervisor_policy(kSpecs[kNodeVision], g_nodes[kNodeVision]->sup, kCap, sm.level, sm.from));
   }
 }
+
+/** The policy the parent holds, sent again: taken while the node holds none or only its default. */
+void vision_take_held(Inbox& in, const fdir::SupMessage& sm) noexcept {
+  if (fdir::supervisor_takes_held(g_nodes[kNodeVision]->sup, sm.constraint)) {
+    vision_take_policy(in, sm);
+  }
+}
+
+/** The kinds the vision supervisor takes on kChanControl; anything else there is dropped. */
+constexpr std::array<fdir::msg::Handler<Inbox>, 3> kVisionHandlers{{
+    fdir::msg::on<kVisionStatusMsg, &vision_take_status, Inbox>(),
+    fdir::msg::on<kPolicyOnControl, &vision_take_policy, Inbox>(),
+    fdir::msg::on<kPolicyHeldOnControl, &vision_take_held, Inbox>(),
+}};
+static_assert(fdir::msg::handlers_fit(kVisionHandlers, kChanControl, role_bit(Role::kVisionSupervisor)),
+              "the vision supervisor's handlers are kinds declared for it on kChanControl");
+
+void vision_messages(const SupervisorsConfig& c) noexcept { drain(kVisionHandlers, c); }
 
 /** @p T value-initialised in the running tile's RAM (a control carve named @p what, laid out by @p l); nullptr if short. */
 template <class T>

@@ -106,8 +106,9 @@ std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const WorkUnit
       match.tile = static_cast<std::uint16_t>(bsp::current_tile());
       match.frame = u.frame;
       match.t_s = prior.t_s;
-      pack_match(match, std::span<std::uint32_t, kMatchWords>(st.out.data() + kResultHeaderWords + static_cast<std::size_t>(matched) * kMatchWords,
-                                                              kMatchWords));
+      (void)fdir::msg::encode(kMatchRecord, match,
+                              std::span<std::uint32_t>(st.out.data() + kResultHeaderWords + static_cast<std::size_t>(matched) * kMatchWords,
+                                                       kMatchWords));
       ++matched;
     }
   }
@@ -129,7 +130,7 @@ void relight_request(WorkerState& st, VisionWorkerStats& stats, bsp::TileId from
     return;
   }
   std::array<std::uint32_t, kRelightWords> w{};
-  pack_relight(kMsgRelightDone, band, w);
+  (void)fdir::msg::encode(kRelightDoneMsg, band, w);
   if (udn::endpoint_send(from, kChanResult, w, kVisionSendTicks) != udn::FtError::kOk) {
     ++stats.send_failed;
   }
@@ -181,7 +182,7 @@ void coarse_band_request(VisionWorkerStats& stats, bsp::TileId from, const Coars
   }
   ++stats.coarse_bands;
   std::array<std::uint32_t, kCoarseBandDoneWords> w{};
-  pack_coarse_band_done(done, w);
+  (void)fdir::msg::encode(kCoarseBandDoneMsg, done, w);
   if (udn::endpoint_send(from, kChanResult, w, kVisionSendTicks) != udn::FtError::kOk) {
     ++stats.send_failed;
   }
