@@ -6,7 +6,7 @@
  * A job record holds the inputs of one 100 Hz job, as words: the IMU samples
  * to integrate, in order, and the matches to queue, in order (each as packed
  * on the network). The task that takes the inputs off the network (the
- * filter's "front") fills one per job; the simplex filter runs it at once, a
+ * filter role's task, the voter) fills one per job; the simplex filter runs it at once, a
  * TMR replica runs the copy it reads from the shared job ring
  * (trn/tasks/filter/filter_tmr.hpp). A record carries its job number and a CRC-32C
  * of its words, so a torn or upset copy is refused rather than run.

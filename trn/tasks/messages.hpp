@@ -100,7 +100,7 @@ inline constexpr std::uint32_t kCmdPowerSave = 19U;
 inline constexpr std::uint32_t kCmdFirstPolicy = kCmdReliabilityNormal;
 /** Sequence numbers of supervisor commands in the filter's stream (telecommands count from 1). */
 inline constexpr std::uint32_t kSupCommandSeq = 0x8000'0000U;
-/** Jobs between two statuses of the filter front. */
+/** Jobs between two statuses of the filter. */
 inline constexpr std::uint32_t kFilterStatusJobs = 10U;
 inline constexpr std::uint32_t kFilterModeSimplex = 0U;
 inline constexpr std::uint32_t kFilterModeStarting = 1U;
@@ -146,7 +146,7 @@ struct SupCommand {
   std::uint32_t node = 0U;  ///< the supervisor node that sent it
 };
 
-/** The filter front's status for its supervisor, every kFilterStatusJobs jobs. */
+/** The filter's status for its supervisor, every kFilterStatusJobs jobs. */
 struct FilterStatus {
   std::uint32_t job = 0U;
   std::uint32_t mode = kFilterModeSimplex;  ///< kFilterModeSimplex .. kFilterModeStopping

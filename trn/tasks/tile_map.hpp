@@ -291,8 +291,8 @@ inline constexpr k::TaskSpec kFilterRole[] = {
  * A TMR replica of the filter: idle while the filter is simplex; in TMR it
  * runs the filter's job records (100 Hz like the filter, up to
  * kReplicaJobsPerRelease records a release) and sends the voter its outputs:
- * a record the front wrote after the replica's release runs at the next one,
- * still before the front votes it kVoteLag jobs later.
+ * a record the voter wrote after the replica's release runs at the next one,
+ * still before the voter votes it kVoteLag jobs later.
  */
 inline constexpr k::TaskSpec kReplicaRole[] = {
     kCommTask,

@@ -198,7 +198,7 @@ const Sweep kSupTrn{tt::kSupTrnCarve, "trn_supervisor", 0U, &tt::sup_trn_state_l
 const Sweep kSupFilter{tt::kSupFilterCarve, "filter_supervisor", 0U, &tt::sup_filter_state_layout()};
 const Sweep kSupNodeVision{tt::kSupNodeCarve, "vision_supervisor", 0U, &tt::sup_node_state_layout()};
 const Sweep kReplica{tt::kReplicaCarve, "filter_replica", 3U, &tt::replica_state_layout()};
-const Sweep kFilterFront{tt::kFilterFrontCarve, "filter", 0U, &tt::filter_front_layout()};
+const Sweep kFilterTask{tt::kFilterTaskCarve, "filter", 0U, &tt::filter_task_layout()};
 const Sweep kFilterOutput{tt::kFilterOutputRecord.name, "filter", 0U, tt::kFilterOutputRecord.layout};
 const Sweep kFilterStats{tt::kFilterTaskStatsRecord.name, "filter", 0U, tt::kFilterTaskStatsRecord.layout};
 const Sweep kCoordStats{tt::kVisionCoordStatsRecord.name, "vision_coordinator", 0U, tt::kVisionCoordStatsRecord.layout};
@@ -249,13 +249,13 @@ TEST_F(ControlUpsets, EveryEmulatedMemberOfTheEndpointAndTheKernelSurvivesAnUpse
 TEST_F(ControlUpsets, EveryEmulatedMemberOfTheRecordsAndStateMovedIntoTileRamSurvivesAnUpset) {
   if (std::getenv("CONTROL_SWEEP_FULL") != nullptr) {
     fly({kSupNodeTrn, kSupTrn, kReplica, kSupFilter, kSupNodeVision}, true, 6.0, "supervisors_replicas");
-    fly({kFilterFront, kIoState}, true, 6.0, "filter_io");
+    fly({kFilterTask, kIoState}, true, 6.0, "filter_io");
     fly({kFilterStats, kFilterOutput, kCoordStats, kWorkerStats, kIoStats, kSupStats}, true, 6.0, "records");
   } else {
     fly({kSupNodeTrn, kSupTrn, kReplica, kSupFilter, kSupNodeVision, kFilterStats, kCoordStats, kWorkerStats,
          kIoStats, kSupStats},
         false, 2.0, "records_state");
-    fly({kFilterFront, kFilterOutput, kIoState}, false, 2.0, "filter_io");
+    fly({kFilterTask, kFilterOutput, kIoState}, false, 2.0, "filter_io");
   }
 }
 

@@ -1484,7 +1484,7 @@ TEST_F(TrnMissionBinary, TmrOfTheFilterOutvotesExcludesAndReseedsFaultyReplicas)
 }
 
 // FDIR-TMR-03: simplex -> TMR -> simplex during the descent delivers the uninterrupted simplex
-// stream: every job once, in order, bit for bit (the front takes a replica's state after the stop
+// stream: every job once, in order, bit for bit (the voter takes a replica's state after the stop
 // job, checked against the voted digest, and runs the records since), with no deadline missed.
 TEST_F(TrnMissionBinary, ASwitchToTmrAndBackDeliversTheSimplexStream) {
   ASSERT_EQ(run(binary() + " --quiet --duration 19.9 --faults " + fixture("filter_tmr_and_back.toml") + " --out " +
@@ -1573,7 +1573,7 @@ TEST_F(TrnMissionBinary, AnUpsetInAReplicasStateIsCaughtByItsDigestAndReseeded) 
 }
 
 // FDIR-FS-08: upsets in the settings of two TMR replicas in turn. Each replica finds its settings
-// changed at the end of its job, builds them again and drops its state; the front excludes it (no
+// changed at the end of its job, builds them again and drops its state; the voter excludes it (no
 // output) and re-seeds it, and it votes again. Before, the first stayed out (its settings still
 // wrong after the seed), the second left no majority, and nothing was delivered from 9.17 s on.
 TEST_F(TrnMissionBinary, AReplicaWhoseSettingsWereUpsetBuildsThemAgainAndIsReseeded) {
@@ -1647,7 +1647,7 @@ TEST_F(TrnMissionBinary, AReplicaHungFourTimesIsReseededOnASpare) {
 // The voter's own tile crashes while the group runs: the restarted voter goes on voting where it
 // stopped (no new group, no job lost), and the stream is the simplex flight's.
 TEST_F(TrnMissionBinary, ARestartedVoterGoesOnVotingWithNoOutputLost) {
-  ASSERT_EQ(run(binary() + " --quiet --duration 10 --faults " + fixture("filter_tmr_front_reset.toml") + " --out " +
+  ASSERT_EQ(run(binary() + " --quiet --duration 10 --faults " + fixture("filter_tmr_voter_reset.toml") + " --out " +
                 (dir_ / "fr").string()),
             0);
   ASSERT_EQ(run(binary() + " --quiet --duration 9.9 --out " + (dir_ / "simplex").string()), 0);
@@ -1672,7 +1672,7 @@ TEST_F(TrnMissionBinary, ARestartedVoterGoesOnVotingWithNoOutputLost) {
 // A restart while the switch to TMR is still under way (nobody votes yet): the filter resumes
 // simplex from its checkpoint, says so, and starts the TMR again once it has caught up.
 TEST_F(TrnMissionBinary, ARestartDuringTheSwitchResumesSimplexAndStartsTheTmrAgain) {
-  ASSERT_EQ(run(binary() + " --quiet --duration 7 --faults " + fixture("filter_tmr_front_reset_starting.toml") +
+  ASSERT_EQ(run(binary() + " --quiet --duration 7 --faults " + fixture("filter_tmr_voter_reset_starting.toml") +
                 " --out " + (dir_ / "frs").string()),
             0);
   const nlohmann::json s = read_json(dir_ / "frs" / "summary.json");

@@ -11,11 +11,11 @@
 
 namespace {
 
-using trn::tasks::TmrFront;
+using trn::tasks::TmrVoter;
 using trn::tasks::TmrHeldMatches;
 
-TmrFront sample_front() {
-  TmrFront f{};
+TmrVoter sample_voter() {
+  TmrVoter f{};
   f.serial = 7U;
   f.epoch = 2U;
   f.voting = 1U;
@@ -31,27 +31,27 @@ TmrFront sample_front() {
   f.cmd = {1U, 2U, 3U, 4U, 5U};
   f.active_mask = 7U;
   f.held_serial = 3U;
-  trn::tasks::tmr_front_seal(f);
+  trn::tasks::tmr_voter_seal(f);
   return f;
 }
 
-TEST(TmrFrontPlace, ASealedPlaceChecksAndEveryFieldIsCovered) {
-  const TmrFront f = sample_front();
-  EXPECT_TRUE(trn::tasks::tmr_front_ok(f));
+TEST(TmrVoterPlace, ASealedPlaceChecksAndEveryFieldIsCovered) {
+  const TmrVoter f = sample_voter();
+  EXPECT_TRUE(trn::tasks::tmr_voter_ok(f));
   // Every word of the place counts: a flip anywhere in it is refused.
-  constexpr std::size_t kWords = sizeof(TmrFront) / sizeof(std::uint32_t) - 1U;  // all but the CRC
+  constexpr std::size_t kWords = sizeof(TmrVoter) / sizeof(std::uint32_t) - 1U;  // all but the CRC
   for (std::size_t w = 0; w < kWords; ++w) {
-    TmrFront g = f;
+    TmrVoter g = f;
     reinterpret_cast<std::uint32_t*>(&g)[w] ^= 0x10U;
-    EXPECT_FALSE(trn::tasks::tmr_front_ok(g)) << "word " << w;
+    EXPECT_FALSE(trn::tasks::tmr_voter_ok(g)) << "word " << w;
   }
 }
 
-TEST(TmrFrontPlace, APlaceNeverWrittenOrTornIsRefused) {
-  EXPECT_FALSE(trn::tasks::tmr_front_ok(TmrFront{})) << "serial 0: never written";
-  TmrFront f = sample_front();
-  f.crc = ~f.crc;  // what the front leaves while it writes
-  EXPECT_FALSE(trn::tasks::tmr_front_ok(f));
+TEST(TmrVoterPlace, APlaceNeverWrittenOrTornIsRefused) {
+  EXPECT_FALSE(trn::tasks::tmr_voter_ok(TmrVoter{})) << "serial 0: never written";
+  TmrVoter f = sample_voter();
+  f.crc = ~f.crc;  // what the voter leaves while it writes
+  EXPECT_FALSE(trn::tasks::tmr_voter_ok(f));
 }
 
 TEST(TmrHeldMatches, HeldMatchesCheckAndAFlipInAHeldWordIsRefused) {

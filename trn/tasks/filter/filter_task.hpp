@@ -14,7 +14,7 @@
  *  4. publishes the solution (bsp::publish_filter, where silent-data-corruption
  *     faults hit it) and sends it to coordinator_tile on kChanNav without waiting.
  * The counted work is charged with the board's cost model. The EKF, the
- * queue, the task's own state (kFilterFrontCarve) and the latest solution
+ * queue, the task's own state (kFilterTaskCarve) and the latest solution
  * delivered (kFilterOutputRecord) live in the tile's RAM (carved at task
  * start), like any state a single-event upset could hit. How many matches a job applies depends only
  * on the queue, never on timing, so replicas fed the same parts stay in step.
@@ -89,7 +89,7 @@ inline constexpr std::uint32_t kAssertFilterSettingsChanged = 0x0606;
  * Assertion id of a count or mode in the task's own state that no valid state holds (an upset of
  * it): bounded for the jobs that remain, and the tile asks to be restarted.
  */
-inline constexpr std::uint32_t kAssertFilterFrontBad = 0x0607;
+inline constexpr std::uint32_t kAssertFilterTaskBad = 0x0607;
 /** Jobs between two checkpoints by default (100 ms). */
 inline constexpr std::uint32_t kDefaultCheckpointEvery = 10;
 /** Jobs a switch to TMR may take before it is given up. */
@@ -232,7 +232,7 @@ void filter_task_main(void* arg) noexcept;
  * Name of the filter task's own state carve in its tile's RAM (inputs held for their job, the TMR
  * vote's outputs and counts, the place in the stream), and its layout (what an upset of it does). [host]
  */
-inline constexpr const char* kFilterFrontCarve = "filter_front";
-const bsp::ControlLayout& filter_front_layout() noexcept;
+inline constexpr const char* kFilterTaskCarve = "filter_task";
+const bsp::ControlLayout& filter_task_layout() noexcept;
 
 }  // namespace trn::tasks

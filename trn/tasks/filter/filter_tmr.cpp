@@ -48,7 +48,7 @@ std::uint32_t seed_header_crc(const TmrSeed& s) noexcept {
   return udn::crc32c_words(h);
 }
 
-/** Asks the front for a seed; @p refused: at once, because its own checks refused its state. */
+/** Asks the voter for a seed; @p refused: at once, because its own checks refused its state. */
 void send_hello(const Replica& r, const TmrControl& ctl, bool refused = false) noexcept {
   std::array<std::uint32_t, kReplicaHelloWords> w{};
   pack_replica_hello(ReplicaHello{r.index, ctl.epoch, refused ? 1U : 0U}, w);
@@ -77,8 +77,8 @@ void try_seed(Replica& r, const TmrArea& a) noexcept {
 }
 
 /**
- * Sends the front this job's output, its state digest and the CRC of the output taken here, where it
- * was computed (the front votes no output that fails it: two corrupted alike cannot outvote the third),
+ * Sends the voter this job's output, its state digest and the CRC of the output taken here, where it
+ * was computed (the voter votes no output that fails it: two corrupted alike cannot outvote the third),
  * and keeps them in DDR for a voter that restarts (the CRC after the voted words).
  */
 void send_output(Replica& r, TmrArea& a, std::uint32_t job, std::uint32_t digest) noexcept {
@@ -134,7 +134,7 @@ void after_job(Replica& r, TmrArea& a, std::uint32_t job, std::uint32_t digest) 
 /**
  * The checks of a replica's job, as the simplex filter's (run_checked): its settings in RAM, then its
  * state against the one before the job (@p before). False when one fails: the replica reports it and
- * drops its state (its output goes missing; the front excludes and re-seeds it, as after a restart).
+ * drops its state (its output goes missing; the voter excludes and re-seeds it, as after a restart).
  *
  * Settings changed (an upset): this job's state was computed with them; they are built again from
  * the image. Before, they stayed wrong: re-seeded, the replica never agreed again, and a second such
@@ -183,7 +183,7 @@ void run_records(Replica& r, TmrArea& a) noexcept {
     core_run(r.core, rec);
     if (!job_ok(r, before)) {
       r.seeded = false;
-      // Said at once: the front counts its missing outputs as refused, not as a silent replica.
+      // Said at once: the voter counts its missing outputs as refused, not as a silent replica.
       send_hello(r, a.control, true);
       r.since_hello = 0U;
       return;
@@ -208,7 +208,7 @@ TmrArea* tmr_area() noexcept {
 bool tmr_seed_ok(const TmrSeed& s) noexcept { return s.crc == seed_header_crc(s); }
 
 namespace {
-std::uint32_t front_crc(const TmrFront& f) noexcept {
+std::uint32_t voter_crc(const TmrVoter& f) noexcept {
   std::array<std::uint32_t, 24U + kCommandWords> w{f.serial,           f.epoch,         f.voting,      f.record_job,
                                                    f.next_vote,        f.next_deliver,  f.delivered_any,
                                                    f.outputs_delivered, f.outputs_skipped, f.output_crc,
@@ -235,9 +235,9 @@ std::uint32_t held_crc(const TmrHeldMatches& h, bsp::Work& work) noexcept {
 }
 }  // namespace
 
-void tmr_front_seal(TmrFront& f) noexcept { f.crc = front_crc(f); }
+void tmr_voter_seal(TmrVoter& f) noexcept { f.crc = voter_crc(f); }
 
-bool tmr_front_ok(const TmrFront& f) noexcept { return f.serial != 0U && f.crc == front_crc(f); }
+bool tmr_voter_ok(const TmrVoter& f) noexcept { return f.serial != 0U && f.crc == voter_crc(f); }
 
 void tmr_held_seal(TmrHeldMatches& h, bsp::Work& work) noexcept { h.crc = held_crc(h, work); }
 
@@ -283,11 +283,11 @@ void filter_replica_main(void* arg) noexcept {
   }
   state->core = core;
   Replica& r = *state;
-  // A replica started in flight (woken by the power policy, reset) is released with the front's
+  // A replica started in flight (woken by the power policy, reset) is released with the voter's
   // jobs, as one booted with it: released a few ticks off, it found two records in some releases
   // and overran its deadline.
-  if (a->front_phase != 0U) {
-    (void)k::align_period(a->front_phase - 1U);
+  if (a->voter_phase != 0U) {
+    (void)k::align_period(a->voter_phase - 1U);
   }
   for (;;) {  // one pass per release
     k::checkin();
@@ -297,7 +297,7 @@ void filter_replica_main(void* arg) noexcept {
       r.seeded = false;  // the group does not run: idle
     } else {
       if (r.seeded && (r.epoch != ctl.epoch || r.gen != ctl.gen[r.index])) {
-        r.seeded = false;  // excluded by the front, or a new group: drop the state
+        r.seeded = false;  // excluded by the voter, or a new group: drop the state
       }
       if (!r.seeded) {
         try_seed(r, *a);

@@ -2,29 +2,29 @@
  * @file filter_tmr.hpp
  * @brief TMR of the navigation filter: the shared areas of the group in DDR and the replica task.
  *
- * The filter role's tile (the "front") takes the inputs off the network and
+ * The filter role's tile (the voter: alone, it runs the filter itself) takes the inputs off the network and
  * writes each job's record (trn/filter/filter_core.hpp) into a ring in DDR.
  * Three replicas, each on its own tile, run the same records from the same
- * state and send the front, per job, their packed solution and the digest of
- * their whole state (kMsgReplicaOut on kChanNav). The front votes them 2 of 3
+ * state and send the voter, per job, their packed solution and the digest of
+ * their whole state (kMsgReplicaOut on kChanNav). The voter votes them 2 of 3
  * bit for bit (fdir/tmr.hpp), kVoteLag jobs after the record, and delivers
  * the voted solution in place of its own.
  *
- * The control block (written by the front only) says whether the group runs,
+ * The control block (written by the voter only) says whether the group runs,
  * which replica saves its state after which job (a seed, for a replica that
  * re-synchronises or for the switch back), and which replicas must drop their
  * state (a generation per replica, raised at each exclusion). A seed is the
  * core's whole state after a job, with its digest and a CRC over its header;
  * a replica loads the newest seed meant for it and runs on from the record
  * after it. A replica that is not seeded, or lost its place in the ring,
- * says so to the front (kMsgReplicaHello) every kHelloEvery releases. A
+ * says so to the voter (kMsgReplicaHello) every kHelloEvery releases. A
  * replica whose EKF settings in RAM changed (their CRC after each job:
  * core_settings_changed) reports it (kFilterSettingsBad), builds them again,
  * sends nothing for that job and drops its state, to be re-seeded.
  *
  * The voter's place in the stream is in DDR too, so that a voter restarted
  * (reset, or its role moved to a spare) goes on where it stopped: after each
- * job it votes, the front writes its place (TmrFront: the last record written,
+ * job it votes, the voter writes its place (TmrVoter: the last record written,
  * the next job to deliver, the delivered stream's CRC, its input cursor and
  * the telecommand it holds) and, when they changed, the matches it holds for
  * later jobs (TmrHeldMatches). Each replica also keeps its last outputs in DDR
@@ -46,10 +46,10 @@ namespace trn::tasks {
 
 /** Records the ring holds (320 ms of jobs: a replica may run this far behind). */
 inline constexpr std::uint32_t kJobRingLen = 32U;
-/** The front votes job j while it writes the record of job j + kVoteLag. */
+/** The voter votes job j while it writes the record of job j + kVoteLag. */
 inline constexpr std::uint32_t kVoteLag = 2U;
-/** The front's bit in a seed's for_mask (the replicas' are 0 .. kReplicas - 1, messages.hpp). */
-inline constexpr std::uint32_t kFrontBit = 1U << kReplicas;
+/** The voter's bit in a seed's for_mask (the replicas' are 0 .. kReplicas - 1, messages.hpp). */
+inline constexpr std::uint32_t kVoterBit = 1U << kReplicas;
 /** Releases (10 ms) between two hellos of a replica waiting for a seed. */
 inline constexpr std::uint32_t kHelloEvery = 2U;
 /**
@@ -60,11 +60,11 @@ inline constexpr std::uint32_t kReplicaJobsPerRelease = 2U;
 inline constexpr std::uint32_t kNoReplica = 0xFFFF'FFFFU;
 
 struct TmrControl {
-  std::uint32_t mode = 0U;        ///< 1 while the group runs (0: the front is simplex; replicas idle)
+  std::uint32_t mode = 0U;        ///< 1 while the group runs (0: the voter is simplex; replicas idle)
   std::uint32_t epoch = 0U;       ///< +1 per switch to TMR: a seed of another epoch is never loaded
   std::uint32_t seed_by = kNoReplica;  ///< replica to save its state after job seed_job
   std::uint32_t seed_job = 0U;
-  std::uint32_t seed_for = 0U;    ///< who that seed is for (bit per replica, kFrontBit)
+  std::uint32_t seed_for = 0U;    ///< who that seed is for (bit per replica, kVoterBit)
   std::uint32_t ckpt_by = kNoReplica;  ///< replica that writes the filter's DDR checkpoints
   std::array<std::uint32_t, kReplicas> gen{};  ///< raised when a replica is excluded: it drops its state
 };
@@ -82,7 +82,7 @@ struct TmrSeed {
 
 /** Replica outputs kept in DDR per replica, by job. */
 inline constexpr std::uint32_t kHeldOutputs = 8U;
-/** Matches the front holds for later jobs at most (one frame's). */
+/** Matches the voter holds for later jobs at most (one frame's). */
 inline constexpr std::uint32_t kHeldMatches = kMaxMatchesPerFrame;
 /**
  * Jobs a restarted voter may have missed and still go on voting (the records
@@ -90,8 +90,8 @@ inline constexpr std::uint32_t kHeldMatches = kMaxMatchesPerFrame;
  */
 inline constexpr std::uint32_t kMaxRejoinGap = kJobRingLen - 8U;
 
-/** The voter's place in the stream after a job it voted (written by the front only). */
-struct TmrFront {
+/** The voter's place in the stream after a job it voted (written by the voter only). */
+struct TmrVoter {
   std::uint32_t serial = 0U;        ///< +1 per write (0: never written)
   std::uint32_t epoch = 0U;         ///< of the group it voted in
   std::uint32_t voting = 0U;        ///< 1 if it voted (TMR established, not stopping)
@@ -118,7 +118,7 @@ struct TmrFront {
   std::uint32_t crc = 0U;           ///< CRC-32C of the words above
 };
 
-/** The matches the front holds for later jobs, in order (written when they change). */
+/** The matches the voter holds for later jobs, in order (written when they change). */
 struct TmrHeldMatches {
   std::uint32_t serial = 0U;
   std::uint32_t count = 0U;
@@ -130,14 +130,14 @@ struct TmrHeldMatches {
 struct TmrArea {
   TmrControl control{};
   /**
-   * The front's release phase: its job's start in board ticks modulo the
+   * The voter's release phase: its job's start in board ticks modulo the
    * period, plus 1 (0: not written yet). A replica that starts late (woken,
    * reset) aligns its releases to it.
    */
-  std::uint32_t front_phase = 0U;
+  std::uint32_t voter_phase = 0U;
   TmrSeed seed{};
   std::array<JobRecord, kJobRingLen> ring{};
-  TmrFront front{};
+  TmrVoter voter{};
   TmrHeldMatches held{};
   /** Each replica's outputs by job (job % kHeldOutputs), as sent; words 0 if none. */
   std::array<std::array<fdir::TmrRecord, kHeldOutputs>, kReplicas> outputs{};
@@ -150,8 +150,8 @@ TmrArea* tmr_area() noexcept;
 void tmr_write_seed(TmrArea& a, FilterCore& c, std::uint32_t job, std::uint32_t for_mask, bsp::Work& work) noexcept;
 
 /** Seals @p f (its CRC) / true if its CRC checks. */
-void tmr_front_seal(TmrFront& f) noexcept;
-bool tmr_front_ok(const TmrFront& f) noexcept;
+void tmr_voter_seal(TmrVoter& f) noexcept;
+bool tmr_voter_ok(const TmrVoter& f) noexcept;
 /** Seals @p h / true if its CRC checks; both charge @p work. */
 void tmr_held_seal(TmrHeldMatches& h, bsp::Work& work) noexcept;
 bool tmr_held_ok(const TmrHeldMatches& h, bsp::Work& work) noexcept;
