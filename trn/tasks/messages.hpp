@@ -505,44 +505,9 @@ inline constexpr std::uint32_t kCoarseApplyJobs = 35U;
 
 /*
  * Senders and receivers encode and decode with the declarations above
- * (fdir::msg::encode, decode, read; dispatch by tag). These names remain for
- * the filter, its TMR replicas and the I/O tile (filter_task.cpp,
- * filter_tmr.cpp, io_task.cpp) until those files take the codec too; each is
- * one call of it. An unpack_ returns false, leaving its output as it was,
- * unless the words are exactly that message with every field in range.
+ * (fdir::msg::encode, decode, read; dispatch by tag). One message is two
+ * kinds in a row: a replica's output, its header then its solution.
  */
-inline void pack_imu(const bsp::ImuSample& s, std::span<std::uint32_t, kImuWords> w) noexcept {
-  (void)fdir::msg::encode(kImuMsg, s, w);
-}
-[[nodiscard]] inline bool unpack_imu_msg(std::span<const std::uint32_t> w, bsp::ImuSample& out) noexcept {
-  return fdir::msg::decode(kImuMsg, w, out);
-}
-inline void pack_nav(const filter::NavOutput& o, std::span<std::uint32_t, kNavWords> w) noexcept {
-  (void)fdir::msg::encode(kNavMsg, o, w);
-}
-/** Reads what pack_nav() wrote (no checks; the covariance diagonal beyond attitude reads as zero). */
-inline filter::NavOutput unpack_nav(std::span<const std::uint32_t, kNavWords> w) noexcept { return fdir::msg::read(kNavMsg, w); }
-inline void pack_frame_notice(const FrameNotice& f, std::span<std::uint32_t, kFrameNoticeWords> w) noexcept {
-  (void)fdir::msg::encode(kFrameMsg, f, w);
-}
-inline void pack_command(const Command& c, std::span<std::uint32_t, kCommandWords> w) noexcept {
-  (void)fdir::msg::encode(kCommandMsg, c, w);
-}
-[[nodiscard]] inline bool unpack_command(std::span<const std::uint32_t> w, Command& out) noexcept {
-  return fdir::msg::decode(kCommandMsg, w, out);
-}
-[[nodiscard]] inline bool unpack_sup_command(std::span<const std::uint32_t> w, SupCommand& out) noexcept {
-  return fdir::msg::decode(kSupCommandMsg, w, out);
-}
-inline void pack_filter_status(const FilterStatus& f, std::span<std::uint32_t, kFilterStatusWords> w) noexcept {
-  (void)fdir::msg::encode(kFilterStatusMsg, f, w);
-}
-[[nodiscard]] inline bool unpack_match_part(std::span<const std::uint32_t> w, MatchPart& out) noexcept {
-  return fdir::msg::decode(kMatchesMsg, w, out);
-}
-inline void pack_replica_hello(const ReplicaHello& h, std::span<std::uint32_t, kReplicaHelloWords> w) noexcept {
-  (void)fdir::msg::encode(kReplicaHelloMsg, h, w);
-}
 /** The header, then @p nav as a kNavMsg after it. */
 inline void pack_replica_out(const ReplicaOut& o, const filter::NavOutput& nav, std::span<std::uint32_t, kReplicaOutWords> w) noexcept {
   (void)fdir::msg::encode(kReplicaOutMsg, o, w);

@@ -252,7 +252,7 @@ bool imu_due(const TaskState& st, std::uint32_t seq) noexcept { return seq + kIm
 
 /** A telecommand in the IMU stream: held until the job that takes the sample sent before it. */
 void hold_command(TaskState& st, const Command& c) noexcept {
-  pack_command(c, st.cmd);  // held as its words: they travel with the filter's frozen state
+  (void)fdir::msg::encode(kCommandMsg, c, st.cmd);  // held as its words: they travel with the filter's frozen state
   st.cmd_held = true;  // a second one before the first is taken replaces it (one a second in flight)
 }
 
@@ -411,7 +411,7 @@ void consume_parts(TaskState& st) noexcept {
     ++st.stats->parts_received;
     work.int_ops += 8ULL + 2ULL * msg.data_words;
     MatchPart part{};
-    if (!unpack_match_part(std::span<const std::uint32_t>(msg.data.data(), msg.data_words), part)) {
+    if (!fdir::msg::decode(kMatchesMsg, std::span<const std::uint32_t>(msg.data.data(), msg.data_words), part)) {
       ++st.stats->parts_bad;
       continue;
     }
@@ -439,7 +439,7 @@ void deliver(TaskState& st, std::uint32_t job, std::span<const std::uint32_t, kN
   std::copy(words.begin(), words.end(), w.begin());
   // The solution as sent is what a fault may corrupt on its way out (every bit of it is delivered).
   (void)bsp::publish_filter(kNavChannel, w.data(), sizeof w);
-  st.output->latest = unpack_nav(w);
+  st.output->latest = fdir::msg::read(kNavMsg, w);
   st.output->delivered = true;
   const std::array<std::uint32_t, 1> j{job};
   st.stats->output_crc = udn::crc32c_words_continue(udn::crc32c_words_continue(st.stats->output_crc, j), w);
@@ -543,7 +543,7 @@ bool run_own(TaskState& st, const JobRecord& rec) noexcept {
     core_run(st.core, rec);
   }
   std::array<std::uint32_t, kNavWords> w{};
-  pack_nav(core_output(st.core), w);
+  (void)fdir::msg::encode(kNavMsg, core_output(st.core), w);
   if (st.mode == Mode::kStarting) {
     fdir::TmrRecord& r = st.own[st.job % kOutRing];
     r.job = record_job(rec);
@@ -1223,9 +1223,10 @@ void send_status(const TaskState& st) noexcept {
                              : st.mode == Mode::kTmr      ? kFilterModeTmr
                                                             : kFilterModeStopping;
   std::array<std::uint32_t, kFilterStatusWords> w{};
-  pack_filter_status(FilterStatus{st.job, mode, st.group.active_mask(), st.stats->tmr_no_majority,
-                                  st.stats->outputs_skipped},
-                     w);
+  (void)fdir::msg::encode(kFilterStatusMsg,
+                          FilterStatus{st.job, mode, st.group.active_mask(), st.stats->tmr_no_majority,
+                                       st.stats->outputs_skipped},
+                          w);
   // A lost status is a missing verdict: the supervisor judges the next one.
   (void)udn::endpoint_send(udn::endpoint_role_tile(kSlotFilterSupervisor, st.cfg->filter_supervisor_tile), kChanControl, w, 0U);
 }

@@ -51,7 +51,7 @@ std::uint32_t seed_header_crc(const TmrSeed& s) noexcept {
 /** Asks the voter for a seed; @p refused: at once, because its own checks refused its state. */
 void send_hello(const Replica& r, const TmrControl& ctl, bool refused = false) noexcept {
   std::array<std::uint32_t, kReplicaHelloWords> w{};
-  pack_replica_hello(ReplicaHello{r.index, ctl.epoch, refused ? 1U : 0U}, w);
+  (void)fdir::msg::encode(kReplicaHelloMsg, ReplicaHello{r.index, ctl.epoch, refused ? 1U : 0U}, w);
   (void)udn::endpoint_send(udn::endpoint_role_tile(kSlotFilter, bsp::kNoTile), kChanNav, w, 0U);
 }
 
@@ -84,7 +84,7 @@ void try_seed(Replica& r, const TmrArea& a) noexcept {
 void send_output(Replica& r, TmrArea& a, std::uint32_t job, std::uint32_t digest) noexcept {
   const filter::NavOutput nav = core_output(r.core);
   std::array<std::uint32_t, kNavWords> words{};
-  pack_nav(nav, words);
+  (void)fdir::msg::encode(kNavMsg, nav, words);
   const std::uint32_t out_crc = udn::crc32c_words(words);
   std::array<std::uint32_t, kReplicaOutWords> w{};
   pack_replica_out(ReplicaOut{r.index, job, digest, out_crc}, nav, w);

@@ -50,7 +50,7 @@ void forward_frames(const IoTaskConfig& cfg) noexcept {
     FrameNotice notice{f.seq, f.width_px, f.height_px, f.status, f.t_s,
                        static_cast<std::uint64_t>(f.pixels - base)};
     std::array<std::uint32_t, kFrameNoticeWords> w{};
-    pack_frame_notice(notice, w);
+    (void)fdir::msg::encode(kFrameMsg, notice, w);
     const bsp::TileId coord = udn::endpoint_role_tile(kSlotCoordinator, cfg.coordinator_tile);
     if (udn::endpoint_send(coord, kChanControl, w, kNoticeTicks) == udn::FtError::kOk) {
       ++g_stats->frames_forwarded;
@@ -64,7 +64,7 @@ void forward_frames(const IoTaskConfig& cfg) noexcept {
 void command_filter(const IoTaskConfig& cfg, std::uint32_t seq, std::uint32_t code, std::uint32_t arg,
                     std::uint32_t last_imu) noexcept {
   std::array<std::uint32_t, kCommandWords> w{};
-  pack_command(Command{seq, code, arg, last_imu}, w);
+  (void)fdir::msg::encode(kCommandMsg, Command{seq, code, arg, last_imu}, w);
   const bsp::TileId filter = udn::endpoint_role_tile(kSlotFilter, cfg.filter_tile);
   if (udn::endpoint_send(filter, kChanImu, w, kSendTicks) != udn::FtError::kOk) {
     ++g_stats->send_failures;
@@ -75,8 +75,11 @@ void command_filter(const IoTaskConfig& cfg, std::uint32_t seq, std::uint32_t co
 void policy_to_supervisor(const IoTaskConfig& cfg, std::uint32_t code) noexcept {
   const fdir::Constraint constraint = code <= kCmdReliabilityHigh ? fdir::Constraint::kReliability : fdir::Constraint::kPower;
   const std::uint32_t level = (code - kCmdFirstPolicy) % 2U;  // normal / full 0, high / save 1
-  const std::array<std::uint32_t, fdir::kSupMsgWords> w{fdir::kMsgPolicy, static_cast<std::uint32_t>(constraint), level,
-                                                        fdir::kFromGround};
+  std::array<std::uint32_t, fdir::kSupMsgWords> w{};
+  (void)fdir::msg::encode(kPolicyOnControl,
+                          fdir::SupMessage{static_cast<std::uint8_t>(constraint), static_cast<std::uint8_t>(level),
+                                           fdir::kFromGround},
+                          w);
   if (cfg.trn_supervisor_tile != bsp::kNoTile &&
       udn::endpoint_send(udn::endpoint_role_tile(kSlotTrnSupervisor, cfg.trn_supervisor_tile), kChanControl, w, kSendTicks) ==
           udn::FtError::kOk) {
@@ -92,8 +95,11 @@ void tell_filter_supervisor(const IoTaskConfig& cfg, std::uint32_t code) noexcep
     return;
   }
   const std::uint32_t level = code == kCmdFilterTmr ? fdir::kReliabilityHigh : fdir::kReliabilityNormal;
-  const std::array<std::uint32_t, fdir::kSupMsgWords> w{
-      fdir::kMsgPolicy, static_cast<std::uint32_t>(fdir::Constraint::kReliability), level, fdir::kFromGround};
+  std::array<std::uint32_t, fdir::kSupMsgWords> w{};
+  (void)fdir::msg::encode(kPolicyOnControl,
+                          fdir::SupMessage{static_cast<std::uint8_t>(fdir::Constraint::kReliability),
+                                           static_cast<std::uint8_t>(level), fdir::kFromGround},
+                          w);
   if (udn::endpoint_send(udn::endpoint_role_tile(kSlotFilterSupervisor, cfg.filter_supervisor_tile), kChanControl, w,
                          kSendTicks) != udn::FtError::kOk) {
     ++g_stats->send_failures;
@@ -114,7 +120,7 @@ void forward_commands(const IoTaskConfig& cfg, std::uint32_t last_imu) noexcept 
   udn::FtMessage m{};
   for (std::uint32_t n = 0; n < 4U && udn::endpoint_receive(kChanControl, m) == udn::FtError::kOk; ++n) {
     SupCommand sc{};
-    if (unpack_sup_command(std::span<const std::uint32_t>(m.data.data(), m.data_words), sc)) {
+    if (fdir::msg::decode(kSupCommandMsg, std::span<const std::uint32_t>(m.data.data(), m.data_words), sc)) {
       ++g_stats->sup_commands;
       command_filter(cfg, kSupCommandSeq | g_stats->sup_commands, sc.code, sc.node, last_imu);
     }
@@ -160,7 +166,7 @@ void io_task_main(void* arg) noexcept {
         imu_ring_put(*ring, s);
       }
       last_imu = s.seq;
-      pack_imu(s, words);
+      (void)fdir::msg::encode(kImuMsg, s, words);
       const bsp::TileId filter = udn::endpoint_role_tile(kSlotFilter, cfg->filter_tile);
       if (udn::endpoint_send(filter, kChanImu, words, kSendTicks) == udn::FtError::kOk) {
         ++g_stats->imu_forwarded;
