@@ -38,33 +38,6 @@ inline constexpr std::uint32_t kChanMatches = 3U;  ///< coordinator -> filter ma
 inline constexpr std::uint32_t kChanImu = 4U;      ///< I/O -> filter IMU samples and telecommands, in order
 /** The channels' names in the docs, by number. */
 inline constexpr std::array<const char*, 5> kChannelNames{"control", "result", "nav", "matches", "imu"};
-/**
- * Role slots of the messaging role directory (udn::RoleDirectory): a sender
- * to one of these roles asks the directory where it runs now, the configured
- * tile being the answer until a role has a directory entry.
- */
-inline constexpr std::uint32_t kSlotCoordinator = 0U;
-inline constexpr std::uint32_t kSlotIo = 1U;
-inline constexpr std::uint32_t kSlotFilter = 2U;
-/** The filter's TMR replicas: slots kSlotReplica0 .. kSlotReplica0 + 2. */
-inline constexpr std::uint32_t kSlotReplica0 = 3U;
-/** The filter and vision supervisors (trn/tasks/supervisors/supervisors.hpp). */
-inline constexpr std::uint32_t kSlotFilterSupervisor = 6U;
-inline constexpr std::uint32_t kSlotVisionSupervisor = 7U;
-/**
- * The TRN supervisor's tile (tile health, network health, the top of the
- * supervisor tree): reports, boot reports and escalations follow it when its
- * watcher moves it to its standby (fdir/health_agent.hpp).
- */
-inline constexpr std::uint32_t kSlotTrnSupervisor = 8U;
-/**
- * Not a directory slot (the first number past them): the boot slot
- * (fdir::boot_slot) of a spare switched on to take the place of a vision tile
- * whose matches stayed wrong. Nobody sends to it by slot; the coordinator
- * learns the spare's tile from the supervisor.
- */
-inline constexpr std::uint32_t kSlotVisionPool = udn::kRoleSlots;
-
 /** Word 0 of every tagged message: what it is (four ASCII letters). */
 inline constexpr std::uint32_t kMsgFrame = 0x46524D31U;          ///< "FRM1"
 inline constexpr std::uint32_t kMsgUnit = 0x554E5431U;           ///< "UNT1"
