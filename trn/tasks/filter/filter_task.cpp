@@ -1008,23 +1008,8 @@ void finish_stop(TaskState& st, std::uint32_t voted_job) noexcept {
   stop_tmr(st, kTmrStopCommand);
 }
 
-/**
- * A voter restarted (reset, or its role moved) while it voted: takes its
- * place in the stream from DDR, the outputs the replicas kept for the jobs it
- * had not voted, and the matches it held; the records of the jobs it missed
- * are written at its first job (rebuild). False if it was not voting, the
- * place is damaged or of another group, or it was out too long.
- */
-bool rejoin(TaskState& st, std::uint32_t job) noexcept {
-  TmrArea& a = *st.tmr;
-  const TmrVoter& f = a.voter;
-  bsp::Work work{};
-  const bool ok = tmr_voter_ok(f) && f.voting == 1U && f.epoch == a.control.epoch && a.held.serial == f.held_serial &&
-                  tmr_held_ok(a.held, work) && job > f.record_job && job - f.record_job <= kMaxRejoinGap;
-  bsp::consume(work);
-  if (!ok) {
-    return false;
-  }
+/** The voter's place in the stream @p f, as a restarted voter takes it back (rejoin). */
+void take_place(TaskState& st, const TmrVoter& f) noexcept {
   st.mode = Mode::kTmr;
   st.next_vote = f.next_vote;
   st.next_deliver = f.next_deliver;
@@ -1048,6 +1033,26 @@ bool rejoin(TaskState& st, std::uint32_t job) noexcept {
       st.group.admit(i);
     }
   }
+}
+
+/**
+ * A voter restarted (reset, or its role moved) while it voted: takes its
+ * place in the stream from DDR, the outputs the replicas kept for the jobs it
+ * had not voted, and the matches it held; the records of the jobs it missed
+ * are written at its first job (rebuild). False if it was not voting, the
+ * place is damaged or of another group, or it was out too long.
+ */
+bool rejoin(TaskState& st, std::uint32_t job) noexcept {
+  TmrArea& a = *st.tmr;
+  const TmrVoter& f = a.voter;
+  bsp::Work work{};
+  const bool ok = tmr_voter_ok(f) && f.voting == 1U && f.epoch == a.control.epoch && a.held.serial == f.held_serial &&
+                  tmr_held_ok(a.held, work) && job > f.record_job && job - f.record_job <= kMaxRejoinGap;
+  bsp::consume(work);
+  if (!ok) {
+    return false;
+  }
+  take_place(st, f);
   st.mheld_count = a.held.count;
   for (std::uint32_t m = 0; m < a.held.count; ++m) {
     st.mheld_job[m] = a.held.job[m];
