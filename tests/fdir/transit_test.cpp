@@ -355,6 +355,24 @@ std::uint64_t heard_across(const fdir::TransitPlan& p, std::uint32_t u, std::uin
   return across(p, u, w) & ~cut_off(p, u, w);
 }
 
+/**
+ * What the health tile 0 hears of switch @p x failed: the transits through it, but those it pings
+ * itself and those whose reports it cuts off (both ways to tile 0 cross it).
+ */
+std::uint64_t heard_of_switch(const fdir::TransitPlan& p, bsp::TileId x) {
+  const udn::FaultMap m = grid();
+  std::uint64_t cut = 0;
+  for (std::uint32_t i = 0; i < p.count; ++i) {
+    const std::vector<std::uint32_t> twin = twin_way(p.t[i].prober);
+    bool twin_cut = twin.empty();
+    for (const std::uint32_t t : twin) {
+      twin_cut = twin_cut || t == x;
+    }
+    cut |= x != 0U && (udn::path_tiles(m, p.t[i].prober, 0U) & bit(x)) != 0U && twin_cut ? bit(i) : 0U;
+  }
+  return killed_by(p, x) & ~pinged_by(p, x) & ~cut;
+}
+
 }  // namespace
 
 // FDIR-TR-12: a failed link no neighbour vote can name (a spare at one end, or an end that does not
@@ -428,19 +446,9 @@ TEST(Transit, EverySingleFailedLinkIsNamedOrNothingIs) {
 TEST(Transit, NoFailedSwitchOrHungCoreNamesALink) {
   std::uint64_t subjects = 0;
   const fdir::TransitPlan p = mission_plan(subjects);
-  const udn::FaultMap m = grid();
   std::uint32_t unsure = 0;
   for (bsp::TileId x = 0; x < 64; ++x) {
-    std::uint64_t cut = 0;  // reports both of whose ways to tile 0 cross x's switch
-    for (std::uint32_t i = 0; i < p.count; ++i) {
-      const std::vector<std::uint32_t> twin = twin_way(p.t[i].prober);
-      bool twin_cut = twin.empty();
-      for (const std::uint32_t t : twin) {
-        twin_cut = twin_cut || t == x;
-      }
-      cut |= x != 0U && (udn::path_tiles(m, p.t[i].prober, 0U) & bit(x)) != 0U && twin_cut ? bit(i) : 0U;
-    }
-    const std::uint64_t lost = killed_by(p, x) & ~pinged_by(p, x) & ~cut;
+    const std::uint64_t lost = heard_of_switch(p, x);
     const std::uint64_t voted = (subjects & bit(x)) == 0U ? bit(x) : 0U;
     if ((p.tested & bit(x)) != 0U) {
       // What the health tile hears of a tested switch's failure names it: the reports its switch
@@ -514,22 +522,12 @@ TEST(Transit, ALinkOfAHeardTileTheLostTransitsShareIsNamed) {
   EXPECT_EQ(more, 3U) << "6-14, 8-9 and 9-10 (the filter supervisor's and the I/O tile's links to spares)";
   // A hung core is not heard: what its transits lose names no link even when every other prober is.
   // A failed switch names one of its own links at most, with the switch unsure (taken out instead).
-  const udn::FaultMap m = grid();
   for (bsp::TileId t = 0; t < 64; ++t) {
     EXPECT_EQ(verdict(ended_by(p, t), kProbers & ~bit(t)).count, 0U) << "core " << t;
-    std::uint64_t cut = 0;
-    for (std::uint32_t i = 0; i < p.count; ++i) {
-      const std::vector<std::uint32_t> twin = twin_way(p.t[i].prober);
-      bool twin_cut = twin.empty();
-      for (const std::uint32_t x : twin) {
-        twin_cut = twin_cut || x == t;
-      }
-      cut |= t != 0U && (udn::path_tiles(m, p.t[i].prober, 0U) & bit(t)) != 0U && twin_cut ? bit(i) : 0U;
-    }
     // A switch with two live neighbours is voted by them first (known failed then), as in FDIR-TR-13.
     const std::uint64_t voted = (subjects & bit(t)) == 0U ? bit(t) : 0U;
-    const fdir::LinkVerdict sw = verdict(killed_by(p, t) & ~pinged_by(p, t) & ~cut, kProbers & ~bit(t), voted);
-    if (sw.count != 0U && (voted != 0U || fdir::transit_verdict(p, killed_by(p, t) & ~pinged_by(p, t) & ~cut, subjects, 0U) != t)) {
+    const fdir::LinkVerdict sw = verdict(heard_of_switch(p, t), kProbers & ~bit(t), voted);
+    if (sw.count != 0U && (voted != 0U || fdir::transit_verdict(p, heard_of_switch(p, t), subjects, 0U) != t)) {
       EXPECT_TRUE(sw.a == t || sw.b == t) << "switch " << t << " names link " << sw.a << "-" << sw.b;
       EXPECT_NE(sw.unsure & bit(t), 0U) << "switch " << t;
     }
