@@ -131,7 +131,7 @@ static_assert(bsp::control_layout_ok(kImuSampleLayout), "every member of ImuSamp
  * (held_count, mheld_count), a mode with no TMR area runs simplex, and check_task_state() reports a
  * value no valid state holds (kAssertFilterTaskBad).
  */
-constexpr std::array kFrontFields{
+constexpr std::array kTaskStateFields{
     BSP_CONTROL_NESTED(TaskState, core, kFilterCoreLayout),
     BSP_CONTROL_HOST(TaskState, cfg),
     BSP_CONTROL_HOST(TaskState, stats),
@@ -186,7 +186,7 @@ constexpr std::array kFrontFields{
     BSP_CONTROL_STATE(TaskState, rolled_back_to),
     BSP_CONTROL_STATE(TaskState, recovery_asked),
 };
-constexpr bsp::ControlLayout kTaskStateLayout{kFrontFields, sizeof(TaskState), alignof(TaskState)};
+constexpr bsp::ControlLayout kTaskStateLayout{kTaskStateFields, sizeof(TaskState), alignof(TaskState)};
 static_assert(bsp::control_layout_ok(kTaskStateLayout), "every member of the task's state, pointers as host state");
 
 // ------------------------------------------------------------------ the voter: inputs into a record
