@@ -27,6 +27,11 @@ inline constexpr fdir::EventId kVisionSetUpFailed{0x0306};
 inline constexpr fdir::EventId kCoarseBandRedone{0x0307};
 inline constexpr fdir::EventId kLandmarkProductRefused{0x0308};
 inline constexpr fdir::EventId kCoordStateBad{0x0309};
+inline constexpr fdir::EventId kResultSealBroken{0x030A};
+/** result_seal_broken's cause: which result (a vision tile's, a part of the coordinator's batch, the filter's solution). */
+inline constexpr std::uint32_t kSealVisionResult = 1U;
+inline constexpr std::uint32_t kSealBatchPart = 2U;
+inline constexpr std::uint32_t kSealSolution = 3U;
 // ---- navigation filter restarts (trn/tasks/filter_task)
 inline constexpr fdir::EventId kFilterResumed{0x0601};
 inline constexpr fdir::EventId kCheckpointBad{0x0602};
@@ -58,7 +63,7 @@ inline constexpr fdir::EventId kSafeMode{0x0909};
 }  // namespace ev
 
 /** The table: every application id once. */
-inline constexpr std::array<fdir::EventInfo, 26> kEventTable{{
+inline constexpr std::array<fdir::EventInfo, 27> kEventTable{{
     {ev::kFrameDone, "frame_done", fdir::Severity::kInfo, fdir::kStepNone, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
      "- / units lost / frame / matches",
      "frame {a} done: {b} matches, {c} units lost"},
@@ -84,6 +89,15 @@ inline constexpr std::array<fdir::EventInfo, 26> kEventTable{{
      "vision coordinator state upset: {s|?|image-rate divisor|band count|band rows|unit count|match count|tile "
      "list|liveness|result trust|frame size|match|prior's solution|frame deadline|set-up end|?} {c} held {a}: "
      "reset"},
+    {ev::kResultSealBroken, "result_seal_broken", fdir::Severity::kWarningLo, fdir::kStepDetect | fdir::kStepRecover, fdir::Diagnosis::kWrongResult, fdir::Accused::kSubject,
+     "the tile that computed it / what (1 a vision tile's result, checked by the coordinator; 2 a part of "
+     "the coordinator's batch, checked by the filter; 3 the filter's solution, checked as it is delivered) "
+     "/ frame (1, 2: as the words say) or job (3) / matches lost (1, 2). The words no longer match the seal "
+     "(CRC-32C) their tile took as it computed them: a result and a part are dropped unused (a result's unit "
+     "counts as answered), a solution is copied again from what the filter computed and delivered whole",
+     "{c|?|a vision tile's result|a part of the coordinator's batch|the filter's solution|?} from tile {s}, "
+     "{c|?|frame|frame|job|?} {a}, changed after it was computed (its seal is broken): {c|?|dropped, {b} matches lost|dropped, {b} "
+     "matches lost|copied again from the computed solution|?}"},
     {ev::kLandmarkProductRefused, "landmark_product_refused", fdir::Severity::kWarningLo, fdir::kStepDetect | fdir::kStepRecover, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
      "- / why (trn::tasks::ProductCheck): 1 the block is too short, 2 its header (magic, version, its "
      "CRC-32C), 3 selected with other settings than the coordinator's, 4 selected on a layer of another "

@@ -196,6 +196,7 @@ struct UnitResult {
   std::uint32_t unit = 0U;
   std::uint32_t tried = 0U;
   std::uint32_t m = 0U;
+  std::uint32_t seal = 0U;  ///< CRC-32C of the whole result, taken as the tile computed it (seal_result)
 };
 
 /**
@@ -209,6 +210,7 @@ struct MatchPart {
   std::uint32_t parts = 1U;
   std::uint32_t n = 0U;
   std::uint32_t apply_job = 0U;  ///< the filter job whose record takes the batch (0: the next one)
+  std::uint32_t seal = 0U;       ///< CRC-32C of the whole part, taken as the coordinator made it (seal_result)
 };
 
 /** A TMR replica waits for a seed (filter_tmr.hpp). */
@@ -294,7 +296,8 @@ inline constexpr auto kResultMsg = detail::m::kind<UnitResult>(
      .to = role_bit(Role::kVisionCoordinator), .group = {.count_field = 3U, .elem_words = 22U, .record = "match"},
      .check = detail::matched_tried, .rule = "m <= tried"},
     detail::m::u32("frame", &UnitResult::frame, 1), detail::m::u32("unit", &UnitResult::unit, 2),
-    detail::m::u32("tried", &UnitResult::tried, 3), detail::m::u32("m", &UnitResult::m, 4, 0U, kMaxLandmarksPerUnit));
+    detail::m::u32("tried", &UnitResult::tried, 3), detail::m::u32("m", &UnitResult::m, 4, 0U, kMaxLandmarksPerUnit),
+    detail::m::u32("seal", &UnitResult::seal, 5));
 
 inline constexpr auto kMatchesMsg = detail::m::kind<MatchPart>(
     {.tag = kMsgMatches, .name = "matches", .channel = kChanMatches, .from = role_bit(Role::kVisionCoordinator),
@@ -302,7 +305,7 @@ inline constexpr auto kMatchesMsg = detail::m::kind<MatchPart>(
      .check = detail::part_of_frame, .rule = "part < parts; every match's frame is frame"},
     detail::m::u32("frame", &MatchPart::frame, 1), detail::m::bits("part", &MatchPart::part, 2, 0, 16),
     detail::m::bits("parts", &MatchPart::parts, 2, 16, 16), detail::m::u32("n", &MatchPart::n, 3, 1U, kMatchesPerPart),
-    detail::m::u32("apply_job", &MatchPart::apply_job, 4));
+    detail::m::u32("apply_job", &MatchPart::apply_job, 4), detail::m::u32("seal", &MatchPart::seal, 5));
 
 inline constexpr auto kRelightMsg = detail::m::kind<RelightBand>(
     {.tag = kMsgRelight, .name = "relight", .channel = kChanControl, .from = role_bit(Role::kVisionCoordinator),
@@ -437,7 +440,7 @@ constexpr bool tags_unique() noexcept {
 }  // namespace detail
 static_assert(detail::tags_unique(), "every message kind has its own tag");
 static_assert(kImuWords == 16U && kMatchWords == 22U && kNavWords == 48U && kFrameNoticeWords == 8U &&
-                  kUnitHeaderWords == 23U && kResultHeaderWords == 5U && kMatchHeaderWords == 5U &&
+                  kUnitHeaderWords == 23U && kResultHeaderWords == 6U && kMatchHeaderWords == 6U &&
                   kCoarseBandDoneWords == 9U && kReplicaOutWords == 53U,
               "the wire format of the declared kinds");
 static_assert(kMatchesMsg.info.group.elem_words == kMatchWords && kResultMsg.info.group.elem_words == kMatchWords,
@@ -445,6 +448,26 @@ static_assert(kMatchesMsg.info.group.elem_words == kMatchWords && kResultMsg.inf
 static_assert(kMatchHeaderWords + kMatchesPerPart * kMatchWords <= 124U, "a part fits one FT packet");
 static_assert(kUnitHeaderWords + kMaxLandmarksPerUnit <= 124U, "a unit fits one FT packet");
 static_assert(kResultHeaderWords + kMaxLandmarksPerUnit * kMatchWords <= 124U, "a result fits one FT packet");
+
+// ---------------------------------------------------------------- seals: a result's digest, from where it is computed to where it is used
+
+/** The word of a vision result (kResultMsg) and of a batch part (kMatchesMsg) that holds its seal. */
+inline constexpr std::uint32_t kSealWord = 5U;
+static_assert(kResultHeaderWords == kSealWord + 1U && kMatchHeaderWords == kSealWord + 1U,
+              "the seal is the last word of both headers");
+
+/**
+ * Seals @p w, a vision result or a part of the batch, as its tile made it: the
+ * CRC-32C of all its words, word kSealWord taken as 0, into word kSealWord.
+ * The receiver checks it where it uses the words (result_sealed()), so a bit
+ * changed after the sender computed them (its buffer, its copy on the way out)
+ * is found there; the network's own ECC covers only the packets. Charges the
+ * CRC's work. Does nothing to fewer than kSealWord + 1 words.
+ */
+void seal_result(std::span<std::uint32_t> w) noexcept;
+
+/** Whether @p w still holds the seal seal_result() wrote (false for fewer than kSealWord + 1 words). Charges the CRC's work. */
+[[nodiscard]] bool result_sealed(std::span<const std::uint32_t> w) noexcept;
 
 /** The filter's period in kernel ticks: its job j is released at tick j x kFilterPeriodTicks. */
 inline constexpr std::uint32_t kFilterPeriodTicks = 10U;

@@ -139,6 +139,7 @@ void send_batch(std::uint32_t frame, std::uint32_t n) {
                               std::span<std::uint32_t>(w.data() + kMatchHeaderWords + static_cast<std::size_t>(i) * kMatchWords, kMatchWords));
     }
     const std::span<const std::uint32_t> words(w.data(), kMatchHeaderWords + k * kMatchWords);
+    trn::tasks::seal_result(std::span<std::uint32_t>(w.data(), words.size()));  // as the coordinator makes it
     udn::FtError e = udn::FtError::kWindowFull;
     for (int tries = 0; tries < 500 && (e == udn::FtError::kWindowFull || e == udn::FtError::kNetFull); ++tries) {
       e = udn::endpoint_send(kFilterTile, trn::tasks::kChanMatches, words, 0U);  // one attempt, no wait

@@ -65,6 +65,37 @@ TEST(TrnMessages, MatchPartRefusesAMatchOfAnotherFrameAndABadPartIndex) {
   EXPECT_FALSE(fdir::msg::decode(tt::kMatchesMsg, w, p));
 }
 
+// The seal a vision tile puts on its result and the coordinator on a batch part: whole words pass,
+// every single changed bit anywhere (the tag, the header, the seal itself, a match) is found, and so
+// is every burst of up to 32 bits; too few words to hold a seal never pass.
+TEST(TrnMessages, ASealFindsEveryChangedBitOfAResultOrAPart) {
+  std::vector<std::uint32_t> w(tt::kMatchHeaderWords + 2U * tt::kMatchWords, 0U);
+  (void)fdir::msg::encode(tt::kMatchesMsg, tt::MatchPart{42U, 0U, 1U, 2U, 7U, 0U}, w);
+  for (std::size_t i = tt::kMatchHeaderWords; i < w.size(); ++i) {
+    w[i] = static_cast<std::uint32_t>(0x9E37'79B9ULL * (i + 1U));
+  }
+  tt::seal_result(w);
+  EXPECT_NE(w[tt::kSealWord], 0U);
+  EXPECT_TRUE(tt::result_sealed(w));
+  for (std::size_t bit = 0; bit < 32U * w.size(); ++bit) {
+    w[bit / 32U] ^= 1U << (bit % 32U);
+    EXPECT_FALSE(tt::result_sealed(w)) << "bit " << bit;
+    w[bit / 32U] ^= 1U << (bit % 32U);
+  }
+  for (std::size_t word = 0; word + 1U < w.size(); ++word) {  // a 32-bit burst across two words
+    w[word] ^= 0xFFFF'0000U;
+    w[word + 1U] ^= 0x0000'FFFFU;
+    EXPECT_FALSE(tt::result_sealed(w)) << "word " << word;
+    w[word] ^= 0xFFFF'0000U;
+    w[word + 1U] ^= 0x0000'FFFFU;
+  }
+  EXPECT_TRUE(tt::result_sealed(w));
+  EXPECT_FALSE(tt::result_sealed(std::span<const std::uint32_t>(w).first(tt::kSealWord)));
+  std::vector<std::uint32_t> shorter(tt::kSealWord, 1U);
+  tt::seal_result(shorter);
+  EXPECT_EQ(shorter, std::vector<std::uint32_t>(tt::kSealWord, 1U)) << "nothing written to too few words";
+}
+
 TEST(TrnMessages, StatusesAndCommandsCheckTheirRanges) {
   std::array<std::uint32_t, tt::kFilterStatusWords> fs{};
   (void)fdir::msg::encode(tt::kFilterStatusMsg, tt::FilterStatus{10U, tt::kFilterModeTmr, 7U, 1U, 2U}, fs);

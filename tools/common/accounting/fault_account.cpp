@@ -327,11 +327,14 @@ bool stream_back(std::span<const double> s, double fault_s, double from_s, doubl
   return false;
 }
 
-/** The detection's event does the recovery itself: the data corrected or computed again in place. */
+/**
+ * The detection's event does the recovery itself: the data corrected or computed again in place, or (a
+ * broken seal) the changed copy made again from the computed value, or dropped before anything used it.
+ */
 bool corrects_in_place(const fdir::Event& d) {
   return d.id == EventId::kPacketCorrected || d.id == EventId::kPacketForwarded || d.id == EventId::kPacketResent ||
          d.id == EventId::kAbftCorrected || d.id == trn::ev::kCorrelationCorrected ||
-         d.id == trn::ev::kCoarseBandRedone;
+         d.id == trn::ev::kCoarseBandRedone || d.id == trn::ev::kResultSealBroken;
 }
 
 /** A flight report that tile @p t runs its role again (the roles without an output stream the host measures). */

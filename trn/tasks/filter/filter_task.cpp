@@ -410,9 +410,13 @@ void consume_parts(TaskState& st) noexcept {
     }
     ++st.stats->parts_received;
     work.int_ops += 8ULL + 2ULL * msg.data_words;
+    const std::span<const std::uint32_t> words(msg.data.data(), msg.data_words);
     MatchPart part{};
-    if (!fdir::msg::decode(kMatchesMsg, std::span<const std::uint32_t>(msg.data.data(), msg.data_words), part)) {
+    // Checked against the seal the coordinator took as it made the part, before anything of it is read.
+    if (!result_sealed(words) || !fdir::msg::decode(kMatchesMsg, words, part)) {
       ++st.stats->parts_bad;
+      const std::uint32_t lost = msg.data_words > kMatchHeaderWords ? (msg.data_words - kMatchHeaderWords) / kMatchWords : 0U;
+      trn::report(ev::kResultSealBroken, msg.source, ev::kSealBatchPart, msg.data_words > 1U ? msg.data[1] : 0U, lost);
       continue;
     }
     for (std::uint32_t i = 0; i < part.n; ++i) {
@@ -427,8 +431,12 @@ void consume_parts(TaskState& st) noexcept {
 
 // ------------------------------------------------------------------ the voter: outputs
 
-/** Publishes and sends the solution of job @p job if it is the next one due; never twice, never back. */
-void deliver(TaskState& st, std::uint32_t job, std::span<const std::uint32_t, kNavWords> words) noexcept {
+/**
+ * Publishes and sends the solution of job @p job if it is the next one due; never twice, never back.
+ * @p seal is the CRC-32C of @p words taken where they were computed (the job's own encoding, or the
+ * vote): the copy that leaves is checked against it, and made again from @p words if it changed.
+ */
+void deliver(TaskState& st, std::uint32_t job, std::span<const std::uint32_t, kNavWords> words, std::uint32_t seal) noexcept {
   if (st.delivered_any && job < st.next_deliver) {
     return;  // delivered already
   }
@@ -439,6 +447,12 @@ void deliver(TaskState& st, std::uint32_t job, std::span<const std::uint32_t, kN
   std::copy(words.begin(), words.end(), w.begin());
   // The solution as sent is what a fault may corrupt on its way out (every bit of it is delivered).
   (void)bsp::publish_filter(kNavChannel, w.data(), sizeof w);
+  bsp::consume(bsp::Work{8ULL * kNavWords, 0U, 0U, 0U, kNavWords});
+  if (udn::crc32c_words(w) != seal) {
+    ++st.stats->outputs_resealed;
+    trn::report(ev::kResultSealBroken, bsp::current_tile(), ev::kSealSolution, job, 0U);
+    std::copy(words.begin(), words.end(), w.begin());
+  }
   st.output->latest = fdir::msg::read(kNavMsg, w);
   st.output->delivered = true;
   const std::array<std::uint32_t, 1> j{job};
@@ -544,6 +558,8 @@ bool run_own(TaskState& st, const JobRecord& rec) noexcept {
   }
   std::array<std::uint32_t, kNavWords> w{};
   (void)fdir::msg::encode(kNavMsg, core_output(st.core), w);
+  const std::uint32_t seal = udn::crc32c_words(w);  // where the solution is computed
+  bsp::consume(bsp::Work{8ULL * kNavWords, 0U, 0U, 0U, kNavWords});
   if (st.mode == Mode::kStarting) {
     fdir::TmrRecord& r = st.own[st.job % kOutRing];
     r.job = record_job(rec);
@@ -555,7 +571,7 @@ bool run_own(TaskState& st, const JobRecord& rec) noexcept {
     r.w[kNavWords] = core_digest(st.core, work);
     bsp::consume(work);
   }
-  deliver(st, record_job(rec), w);
+  deliver(st, record_job(rec), w, seal);
   return true;
 }
 
@@ -929,7 +945,10 @@ void vote(TaskState& st, std::uint32_t v) noexcept {
   const fdir::TmrRecord& voted = *recs[res.winner];
   readmit(st, voted, v);
   ++st.stats->tmr_jobs;
-  deliver(st, v, std::span<const std::uint32_t, kNavWords>(voted.w.data(), kNavWords));
+  // The voted words passed the CRC their replica took where it computed them (keep_output): sealed here.
+  const std::span<const std::uint32_t, kNavWords> voted_words(voted.w.data(), kNavWords);
+  bsp::consume(bsp::Work{8ULL * kNavWords, 0U, 0U, 0U, kNavWords});
+  deliver(st, v, voted_words, udn::crc32c_words(voted_words));
   note_voted_checkpoint(st, v, voted.w[kNavWords]);
   st.last_winner = res.winner;
   if (st.mode == Mode::kStopping && v == st.stop_job) {

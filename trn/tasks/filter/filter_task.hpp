@@ -138,6 +138,7 @@ struct FilterTaskStats {
   bsp::Cycles last_job_cycles;
   std::uint32_t outputs_delivered; ///< solutions delivered (published and sent), in job order
   std::uint32_t outputs_skipped;   ///< jobs whose solution was never delivered (no majority, a gap)
+  std::uint32_t outputs_resealed;  ///< solutions whose copy changed on its way out, made again (kResultSealBroken)
   std::uint32_t output_crc;        ///< CRC-32C over the delivered solutions' job numbers and words
   std::uint32_t last_delivered_job;
   std::uint32_t started_job;       ///< the job this task started at: every count here is since then (a restart clears them)
@@ -181,6 +182,7 @@ inline constexpr std::array kFilterTaskStatsFields{
     BSP_CONTROL_STATE(FilterTaskStats, last_job_cycles),
     BSP_CONTROL_STATE(FilterTaskStats, outputs_delivered),
     BSP_CONTROL_STATE(FilterTaskStats, outputs_skipped),
+    BSP_CONTROL_STATE(FilterTaskStats, outputs_resealed),
     BSP_CONTROL_STATE(FilterTaskStats, output_crc),
     BSP_CONTROL_STATE(FilterTaskStats, last_delivered_job),
     BSP_CONTROL_STATE(FilterTaskStats, started_job),

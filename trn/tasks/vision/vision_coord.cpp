@@ -618,9 +618,33 @@ constexpr std::array<fdir::msg::Handler<Inbox>, 2> kResultHandlers{{
 static_assert(fdir::msg::handlers_fit(kResultHandlers, kChanResult, role_bit(Role::kVisionCoordinator)),
               "the coordinator's result handlers are kinds declared for it on kChanResult");
 
+/**
+ * A result that changed after its tile computed it (its seal broken, or words no kind of the channel
+ * holds): dropped and reported against the tile. Its unit, if the header still names one of this frame's
+ * dealt to that tile, counts as answered (the tile did answer; liveness is not the question).
+ */
+void drop_unsealed(CoordState& st, VisionCoordStats& stats, const udn::FtMessage& m) noexcept {
+  ++stats.results_unsealed;
+  const std::uint32_t frame = m.data_words > 1U ? m.data[1] : 0U;
+  const std::uint32_t unit = m.data_words > 2U ? m.data[2] : 0xFFFF'FFFFU;
+  const std::uint32_t n = m.data_words > kResultHeaderWords ? (m.data_words - kResultHeaderWords) / kMatchWords : 0U;
+  if (st.busy && frame == st.frame.seq && unit < unit_count_of(st) && !st.units[unit].answered &&
+      st.units[unit].tile == m.source) {
+    st.units[unit].answered = true;
+    ++stats.units_answered;
+  }
+  trn::report(ev::kResultSealBroken, m.source, ev::kSealVisionResult, frame, n);
+}
+
 void take_result(CoordState& st, VisionCoordStats& stats, const udn::FtMessage& m) noexcept {
   Inbox in{st, stats, m};
-  (void)fdir::msg::dispatch(kResultHandlers, std::span<const std::uint32_t>(m.data.data(), m.data_words), in);
+  const std::span<const std::uint32_t> words(m.data.data(), m.data_words);
+  // A unit's result is checked against the seal its tile took as it computed it, before anything of it is
+  // read; a word 0 that is no kind of this channel is a result whose tag changed.
+  const bool result = !words.empty() && words[0] == kResultMsg.info.tag;
+  if ((result && !result_sealed(words)) || fdir::msg::dispatch(kResultHandlers, words, in) != fdir::msg::Dispatch::kTaken) {
+    drop_unsealed(st, stats, m);
+  }
 }
 
 void drain_results(CoordState& st, VisionCoordStats& stats) noexcept {
@@ -1194,12 +1218,14 @@ void send_batch(CoordState& st, VisionCoordStats& stats) noexcept {
     const std::uint32_t first = part * kMatchesPerPart;
     const std::uint32_t left = count - first;
     const std::uint32_t n = left < kMatchesPerPart ? left : kMatchesPerPart;
-    const std::size_t words = fdir::msg::encode(kMatchesMsg, MatchPart{st.frame.seq, part, parts, n, st.apply_job}, w);
+    const std::size_t words = fdir::msg::encode(kMatchesMsg, MatchPart{st.frame.seq, part, parts, n, st.apply_job, 0U}, w);
     for (std::uint32_t i = 0; i < n; ++i) {
       (void)fdir::msg::encode(kMatchRecord, st.matches[first + i],
                               std::span<std::uint32_t>(w.data() + kMatchHeaderWords + static_cast<std::size_t>(i) * kMatchWords,
                                                        kMatchWords));
     }
+    // Sealed as made: the filter checks the seal where it takes the matches.
+    seal_result(std::span<std::uint32_t>(w.data(), words));
     // Each part as sent is a published result: where a corrupted batch is injected.
     (void)bsp::publish_filter(kCoordinatorBatchChannel, w.data(), words * sizeof(std::uint32_t));
     if (udn::endpoint_send(udn::endpoint_role_tile(kSlotFilter, st.cfg->filter_tile), kChanMatches,

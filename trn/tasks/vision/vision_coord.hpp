@@ -153,6 +153,7 @@ struct VisionCoordStats {
   std::uint32_t units_lost;           ///< not answered by the deadline
   std::uint32_t units_send_failed;    ///< the network refused or had no route
   std::uint32_t results_late;         ///< answers to a frame already closed (units, and coarse bands after their stage)
+  std::uint32_t results_unsealed;     ///< results that fail their seal or decode: dropped (kResultSealBroken)
   std::uint32_t planned_total;
   std::uint32_t matches_total;        ///< fine matches gathered (coarse not included)
   std::uint32_t last_frame_matches;
@@ -195,6 +196,7 @@ inline constexpr std::array kVisionCoordStatsFields{
     BSP_CONTROL_STATE(VisionCoordStats, units_lost),
     BSP_CONTROL_STATE(VisionCoordStats, units_send_failed),
     BSP_CONTROL_STATE(VisionCoordStats, results_late),
+    BSP_CONTROL_STATE(VisionCoordStats, results_unsealed),
     BSP_CONTROL_STATE(VisionCoordStats, planned_total),
     BSP_CONTROL_STATE(VisionCoordStats, matches_total),
     BSP_CONTROL_STATE(VisionCoordStats, last_frame_matches),

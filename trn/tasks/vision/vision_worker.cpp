@@ -114,7 +114,10 @@ std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const WorkUnit
   }
   stats.matches += matched;
   // The header after the matches: a record group's words are the caller's, the encoder leaves them.
-  return static_cast<std::uint32_t>(fdir::msg::encode(kResultMsg, UnitResult{u.frame, u.unit, n, matched}, st.out));
+  const std::size_t words = fdir::msg::encode(kResultMsg, UnitResult{u.frame, u.unit, n, matched, 0U}, st.out);
+  // Sealed as computed: the coordinator checks the seal where it takes the matches.
+  seal_result(std::span<std::uint32_t>(st.out.data(), words));
+  return static_cast<std::uint32_t>(words);
 }
 
 /** A band of the coarse map to relight into the shared copy; answered when done. */
