@@ -249,9 +249,14 @@ inline constexpr std::array<EventInfo, 56> kEventTable{{
      "worker",
      "worker tile {s} answers again: back in the frame"},
     {EventId::kResultsSuspect, "results_suspect", Severity::kWarningHi, kStepDetect | kStepIsolate, Diagnosis::kWrongResult, Accused::kSubject,
-     "worker / 0 first, 1 again after its reset (replacement asked) / failed in the window / checked in it",
-     "worker tile {s}: {a} of its {b} results in the window off the frame's fit: {c|suspect, its results "
-     "not used|wrong again after its reset, replacement asked|suspect, its results not used}"},
+     "worker / 0 first, 1 again after its reset (replacement asked); 2, 3 the same by the bias test / failed "
+     "in the window, or (2, 3) its mean residual on the worse axis in thousandths of a pixel / checked in it, "
+     "or (2, 3) fitted in it",
+     "worker tile {s}: {c|{a} of its {b} results in the window off the frame's fit: suspect, its results not "
+     "used|{a} of its {b} results in the window off the frame's fit: wrong again after its reset, "
+     "replacement asked|its {b} results in the window off the frame's fit by {a@mpx} px on average: suspect, "
+     "its results not used|its {b} results in the window off the frame's fit by {a@mpx} px on average: "
+     "wrong again after its reset, replacement asked|?}"},
     {EventId::kResultsConsistent, "results_consistent", Severity::kInfo, kStepRecover, Diagnosis::kNone, Accused::kNobody,
      "worker / 0 while suspect, 1 after its reset / clean frames in a row",
      "worker tile {s}: results consistent again for {a} frames{c|| after its reset|}: used again"},

@@ -22,7 +22,7 @@
  * is at most about 1e-5 a mission.
  *
  * The states, each change an event written by the coordinator's tile:
- *   trusted  --(window fires)-->                 suspect   (kResultsSuspect)
+ *   trusted  --(window fires: failures or bias)--> suspect (kResultsSuspect)
  *   suspect  --(probation clean rounds)-->       trusted   (kResultsConsistent: a transient)
  *   suspect  --(reset_after rounds still bad)--> reset asked (the action kReset)
  *   reset    --(probation clean rounds)-->       trusted   (kResultsConsistent)
@@ -50,6 +50,24 @@ struct ResultTrustConfig {
   std::uint32_t min_failed = 3U;   ///< failed results in the window before a worker can be suspect (>= 1)
   std::uint32_t reset_after = 2U;  ///< rounds suspect (not clean again) before its reset is asked (>= 1)
   std::uint32_t probation = 3U;    ///< clean rounds in a row that make a suspect or reset worker trusted (>= 1)
+  std::uint32_t bias_window = 8U;       ///< rounds in the bias test's window (1..kMaxTrustWindow)
+  std::uint32_t bias_min = 12U;         ///< fitted results in that window before its bias is judged (>= 2)
+  std::uint32_t bias_sigmas = 6U;       ///< a mean residual past this many standard errors ... (>= 1)
+  std::uint32_t bias_floor_mpx = 280U;  ///< ... and past this (thousandths of a pixel) makes a worker suspect
+  std::uint32_t bias_clip_mpx = 600U;   ///< each residual taken at most this far from 0 (a few large ones weigh no more)
+};
+
+/**
+ * A worker's fitted results of a round: the sums of their signed residuals on each axis against
+ * the fit of all workers' results, and the round's robust per-axis residual scale. A worker whose
+ * results are all shifted alike by less than the per-result threshold passes that test result by
+ * result; the mean of its residuals over the window does not (the bias test).
+ */
+struct RoundResiduals {
+  double sum_u = 0.0;
+  double sum_v = 0.0;
+  std::uint32_t n = 0U;
+  double scale = 0.0;
 };
 
 enum class TrustState : std::uint8_t { kTrusted, kSuspect, kReset, kReplacing };
@@ -67,6 +85,10 @@ struct ResultTrust {
   std::array<std::uint32_t, kMaxTrustWorkers> rounds_bad{};  ///< rounds since suspect that were not clean
   std::array<std::uint32_t, kMaxTrustWorkers> clean{};       ///< clean rounds in a row while not trusted
   std::uint32_t round = 0U;                                  ///< rounds closed (ring index = round % window)
+  std::array<std::array<float, kMaxTrustWindow>, kMaxTrustWorkers> sum_u{};  ///< ring per worker: RoundResiduals
+  std::array<std::array<float, kMaxTrustWindow>, kMaxTrustWorkers> sum_v{};
+  std::array<std::array<std::uint16_t, kMaxTrustWindow>, kMaxTrustWorkers> fitted{};
+  std::array<std::array<float, kMaxTrustWindow>, kMaxTrustWorkers> scale{};
 };
 
 enum class TrustError : std::uint8_t { kOk, kBadConfig };
@@ -80,12 +102,27 @@ enum class TrustError : std::uint8_t { kOk, kBadConfig };
 
 /**
  * Records worker @p i's round: @p checked results checked, @p failed of them
- * failed. Call once per worker per round (0, 0 for a worker with nothing
- * checked), then result_trust_close_round(). Writes kResultsSuspect or
+ * failed, and the residuals @p res of those that were fitted. Call once per
+ * worker per round (0, 0 for a worker with nothing checked), then
+ * result_trust_close_round(). The window fires when it holds at least
+ * min_failed failed results and at least half of those checked failed, or
+ * when, over the last bias_window rounds, the mean residual of its fitted
+ * results (each clipped to bias_clip_mpx) on either axis is past both
+ * bias_sigmas standard errors (the largest scale of its rounds over the
+ * square root of their count) and bias_floor_mpx, with at least bias_min of
+ * them (the bias test). A round is clean when it had results checked, none
+ * failed and the window shows no bias. Writes kResultsSuspect or
  * kResultsConsistent on a change. [task]
  * @return what the coordinator is to ask for this worker now.
  */
-TrustAction result_trust_round(ResultTrust& t, std::uint32_t i, std::uint32_t checked, std::uint32_t failed) noexcept;
+TrustAction result_trust_round(ResultTrust& t, std::uint32_t i, std::uint32_t checked, std::uint32_t failed,
+                               const RoundResiduals& res = {}) noexcept;
+
+/** Adds one fitted result's residual (@p du, @p dv, pixels) to @p r, each axis clipped to bias_clip_mpx. */
+void result_trust_add_residual(const ResultTrust& t, RoundResiduals& r, double du, double dv) noexcept;
+
+/** The larger mean residual of worker @p i's bias window on either axis, in pixels (0 with fewer than bias_min). */
+[[nodiscard]] double result_trust_bias_px(const ResultTrust& t, std::uint32_t i) noexcept;
 
 /** Closes the round: the window moves on. */
 void result_trust_close_round(ResultTrust& t) noexcept;

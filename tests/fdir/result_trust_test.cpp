@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <random>
 
@@ -89,6 +90,92 @@ TEST(ResultTrust, RareOrMinorityFailuresAreNotSuspect) {
   EXPECT_EQ(fdir::result_trust_untrusted(t), 0U);
 }
 
+/** One round of the bias test: worker @p bad's 4 results shifted by @p shift_px in u, every result with noise. */
+fdir::TrustAction bias_round(fdir::ResultTrust& t, std::uint32_t bad, double shift_px, std::mt19937& rng) {
+  std::normal_distribution<double> noise(0.0, 0.15);
+  fdir::TrustAction a = fdir::TrustAction::kNone;
+  for (std::uint32_t i = 0; i < t.count; ++i) {
+    fdir::RoundResiduals r{};
+    r.scale = 0.15;
+    for (int k = 0; k < 4; ++k) {
+      fdir::result_trust_add_residual(t, r, noise(rng) + (i == bad ? shift_px : 0.0), noise(rng));
+    }
+    const fdir::TrustAction ai = fdir::result_trust_round(t, i, 4U, 0U, r);
+    a = i == bad ? ai : a;
+  }
+  fdir::result_trust_close_round(t);
+  return a;
+}
+
+// FDIR-RT-07: a worker whose results are all shifted alike by half a pixel (each passes the per-result
+// test) is suspect once its bias window holds bias_min of them (3 rounds of 4), reset, and replaced when
+// still shifted after the reset; the event says the bias (cause 2, 3) and the count.
+TEST(ResultTrust, AWorkerShiftedByHalfAPixelIsFoundByTheMeanOfItsResiduals) {
+  fdir_test::run_on_tile0([] {
+    static fdir::ResultTrust t{};
+    (void)fdir::result_trust_init(t, fdir::ResultTrustConfig{}, kTiles.data(), 3U);
+    std::mt19937 rng(7U);
+    EXPECT_EQ(bias_round(t, 1U, 0.5, rng), fdir::TrustAction::kNone);
+    EXPECT_EQ(bias_round(t, 1U, 0.5, rng), fdir::TrustAction::kNone);
+    EXPECT_TRUE(fdir::result_trust_used(t, 1U)) << "8 results: under bias_min";
+    EXPECT_EQ(bias_round(t, 1U, 0.5, rng), fdir::TrustAction::kNone);
+    EXPECT_FALSE(fdir::result_trust_used(t, 1U)) << "12 results 0.5 px off on average: suspect";
+    EXPECT_TRUE(fdir::result_trust_used(t, 0U));
+    EXPECT_NEAR(fdir::result_trust_bias_px(t, 1U), 0.5, 0.1);
+    EXPECT_EQ(bias_round(t, 1U, 0.5, rng), fdir::TrustAction::kNone);
+    EXPECT_EQ(bias_round(t, 1U, 0.5, rng), fdir::TrustAction::kReset) << "2 rounds still biased";
+    EXPECT_EQ(bias_round(t, 1U, 0.5, rng), fdir::TrustAction::kNone);
+    EXPECT_EQ(bias_round(t, 1U, 0.5, rng), fdir::TrustAction::kNone);
+    EXPECT_EQ(bias_round(t, 1U, 0.5, rng), fdir::TrustAction::kReplace) << "biased again after its reset";
+  });
+  const std::vector<fdir::Event> ev = fdir_test::events_of(0);
+  ASSERT_EQ(ev.size(), 2U);
+  EXPECT_EQ(ev[0].id, fdir::EventId::kResultsSuspect);
+  EXPECT_EQ(ev[0].subject, 25U);
+  EXPECT_EQ(ev[0].cause, 2U) << "by the bias test";
+  EXPECT_NEAR(ev[0].a, 500.0, 100.0) << "the mean residual in thousandths of a pixel";
+  EXPECT_EQ(ev[0].b, 12U);
+  EXPECT_EQ(ev[1].cause, 3U) << "again after the reset, by the bias test";
+}
+
+// FDIR-RT-08: the bias test's false-alarm side: 40 workers of clean results with a tail (one in 50
+// off by up to 0.99 px, under the per-result floor) over 5000 rounds: none suspect; one large residual
+// weighs no more than the clip.
+TEST(ResultTrust, CleanResultsWithATailAreNeverBiased) {
+  std::array<bsp::TileId, 40> tiles{};
+  for (std::uint32_t i = 0; i < tiles.size(); ++i) {
+    tiles[i] = static_cast<bsp::TileId>(i + 20U);
+  }
+  fdir::ResultTrust t{};
+  ASSERT_EQ(fdir::result_trust_init(t, fdir::ResultTrustConfig{}, tiles.data(), 40U), fdir::TrustError::kOk);
+  std::mt19937 rng(11U);
+  std::normal_distribution<double> noise(0.0, 0.15);
+  std::uniform_real_distribution<double> tail(-0.99, 0.99);
+  std::uniform_int_distribution<int> pick(0, 49);
+  std::uniform_int_distribution<std::uint32_t> count(2U, 6U);
+  double worst = 0.0;
+  for (int round_no = 0; round_no < 5000; ++round_no) {
+    for (std::uint32_t i = 0; i < 40U; ++i) {
+      fdir::RoundResiduals r{};
+      r.scale = 0.15;
+      const std::uint32_t n = count(rng);
+      for (std::uint32_t k = 0; k < n; ++k) {
+        const double du = pick(rng) == 0 ? tail(rng) : noise(rng);
+        fdir::result_trust_add_residual(t, r, du, noise(rng));
+      }
+      EXPECT_EQ(fdir::result_trust_round(t, i, n, 0U, r), fdir::TrustAction::kNone);
+      worst = std::max(worst, fdir::result_trust_bias_px(t, i));
+    }
+    fdir::result_trust_close_round(t);
+  }
+  EXPECT_EQ(fdir::result_trust_untrusted(t), 0U);
+  EXPECT_LT(worst, 0.2) << "the largest clean window mean, against the 0.28 px floor";
+  fdir::RoundResiduals one{};
+  fdir::result_trust_add_residual(t, one, 5.0, -5.0);
+  EXPECT_DOUBLE_EQ(one.sum_u, 0.6);
+  EXPECT_DOUBLE_EQ(one.sum_v, -0.6);
+}
+
 TEST(ResultTrust, BadSettingsAreRefused) {
   fdir::ResultTrust t{};
   EXPECT_EQ(fdir::result_trust_init(t, fdir::ResultTrustConfig{0U, 3U, 2U, 3U}, kTiles.data(), 3U),
@@ -101,6 +188,15 @@ TEST(ResultTrust, BadSettingsAreRefused) {
   EXPECT_EQ(fdir::result_trust_init(t, fdir::ResultTrustConfig{}, kTiles.data(), fdir::kMaxTrustWorkers + 1U),
             fdir::TrustError::kBadConfig);
   EXPECT_EQ(fdir::result_trust_init(t, fdir::ResultTrustConfig{}, nullptr, 2U), fdir::TrustError::kBadConfig);
+  fdir::ResultTrustConfig c{};
+  c.bias_window = fdir::kMaxTrustWindow + 1U;
+  EXPECT_EQ(fdir::result_trust_init(t, c, kTiles.data(), 3U), fdir::TrustError::kBadConfig);
+  c = fdir::ResultTrustConfig{};
+  c.bias_min = 1U;
+  EXPECT_EQ(fdir::result_trust_init(t, c, kTiles.data(), 3U), fdir::TrustError::kBadConfig);
+  c = fdir::ResultTrustConfig{};
+  c.bias_sigmas = 0U;
+  EXPECT_EQ(fdir::result_trust_init(t, c, kTiles.data(), 3U), fdir::TrustError::kBadConfig);
 }
 
 // FDIR-RT-04: every change is a flight event naming the tile.

@@ -644,6 +644,7 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("vision_matches_failed", c.matches_failed);
   s.extra.emplace_back("vision_matches_unused", c.matches_unused);
   s.extra.emplace_back("vision_residual_scale_max_px", c.residual_scale_max_px);
+  s.extra.emplace_back("vision_tile_bias_max_px", c.tile_bias_max_px);
   s.extra.emplace_back("vision_tiles_untrusted", c.tiles_untrusted);
   s.extra.emplace_back("vision_resets_asked", c.resets_asked);
   s.extra.emplace_back("vision_tiles_replaced", c.tiles_replaced);

@@ -76,7 +76,7 @@ constexpr FdirParam constant(const char* name, const char* unit, std::uint32_t v
 }
 
 /** The table: configuration fields first, by part, then the image's constants. */
-inline constexpr std::array<FdirParam, 52> kFdirParams{{
+inline constexpr std::array<FdirParam, 57> kFdirParams{{
     // ---- messaging: probes and the fault-tolerant links (udn)
     field<&ImageConfig::endpoint, &udn::EndpointConfig::probe_period_ticks>(
         "endpoint.probe_period_ticks", "ticks", 2U, 1000U, "a tile pings its neighbours and transit targets this often"),
@@ -136,6 +136,19 @@ inline constexpr std::array<FdirParam, 52> kFdirParams{{
         "coord.trust.reset_after", "frames", 1U, 10000U, "frames a tile stays suspect before its reset is asked"),
     field<&ImageConfig::coord, &VisionCoordConfig::trust, &fdir::ResultTrustConfig::probation>(
         "coord.trust.probation", "frames", 1U, 10000U, "clean frames in a row that make a suspect tile trusted"),
+    field<&ImageConfig::coord, &VisionCoordConfig::trust, &fdir::ResultTrustConfig::bias_window>(
+        "coord.trust.bias_window", "frames", 1U, fdir::kMaxTrustWindow, "sliding window of a tile's residuals (the bias test)"),
+    field<&ImageConfig::coord, &VisionCoordConfig::trust, &fdir::ResultTrustConfig::bias_min>(
+        "coord.trust.bias_min", "matches", 2U, 10000U, "fitted matches in the window before a tile's bias is judged"),
+    field<&ImageConfig::coord, &VisionCoordConfig::trust, &fdir::ResultTrustConfig::bias_sigmas>(
+        "coord.trust.bias_sigmas", "sigmas", 1U, 100U,
+        "a tile's mean residual past this many standard errors of the mean (and the floor) makes it suspect"),
+    field<&ImageConfig::coord, &VisionCoordConfig::trust, &fdir::ResultTrustConfig::bias_floor_mpx>(
+        "coord.trust.bias_floor_mpx", "1/1000 px", 1U, 100000U,
+        "the least mean residual of a tile's matches that makes it suspect"),
+    field<&ImageConfig::coord, &VisionCoordConfig::trust, &fdir::ResultTrustConfig::bias_clip_mpx>(
+        "coord.trust.bias_clip_mpx", "1/1000 px", 1U, 100000U,
+        "each residual taken at most this far from 0 in the mean (a few large ones weigh no more)"),
     // ---- the filter and its TMR (trn)
     field<&ImageConfig::filter, &FilterTaskConfig::checkpoint_every>(
         "filter.checkpoint_every", "jobs", 0U, 100000U, "between DDR checkpoints (0: none, no resume)"),

@@ -133,14 +133,17 @@ bool gauss_newton_step(const bsp::CameraModel& cam, Pose& pose, const Match* mat
   return true;
 }
 
-/** Residual norms of every match at @p pose (a match behind the camera: infinite). */
+/** Residuals of every match at @p pose, signed and their norms (a match behind the camera: norm infinite, 0 signed). */
 void residual_norms(const bsp::CameraModel& cam, const Pose& pose, const Match* matches, std::uint32_t n,
                     ConsistencyWork& ws, bsp::Work& work) noexcept {
   for (std::uint32_t i = 0; i < n; ++i) {
     Eigen::Vector2d r;
     Vec3 d;
     Vec3 pc;
-    ws.norm[i] = residual(cam, pose, matches[i], r, d, pc) ? r.norm() : HUGE_VAL;
+    const bool seen = residual(cam, pose, matches[i], r, d, pc);
+    ws.norm[i] = seen ? r.norm() : HUGE_VAL;
+    ws.du[i] = seen ? r.x() : 0.0;
+    ws.dv[i] = seen ? r.y() : 0.0;
   }
   work.flops += 30ULL * n;
 }

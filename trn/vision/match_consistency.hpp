@@ -57,6 +57,8 @@ inline constexpr std::uint32_t kMaxConsistencyMatches = kMaxMatchesPerFrame;
 
 struct ConsistencyWork {
   std::array<double, kMaxConsistencyMatches> norm{};    ///< residual norm per match at the fitted pose, px
+  std::array<double, kMaxConsistencyMatches> du{};      ///< signed residual per match at the fitted pose, u (px)
+  std::array<double, kMaxConsistencyMatches> dv{};      ///< ... v (px)
   std::array<double, kMaxConsistencyMatches> sorted{};  ///< scratch of the median
   std::array<bool, kMaxConsistencyMatches> in_fit{};    ///< the match takes part in the fit
 };

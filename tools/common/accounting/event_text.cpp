@@ -152,13 +152,20 @@ void type_landmark(const fdir::Event& /*e*/, std::uint32_t v, Out& o) noexcept {
   }
 }
 
+/** Thousandths of a pixel, as pixels. */
+void type_mpx(const fdir::Event& /*e*/, std::uint32_t v, Out& o) noexcept {
+  std::array<char, 24> t{};
+  (void)std::snprintf(t.data(), t.size(), "%.3f", v / 1e3);
+  o.put(t.data());
+}
+
 using TypeFn = void (*)(const fdir::Event&, std::uint32_t, Out&) noexcept;
 struct TextType {
   const char* name;
   TypeFn fn;
 };
 
-constexpr std::array<TextType, 9> kTypes{{
+constexpr std::array<TextType, 10> kTypes{{
     {"node", type_node},
     {"constraint", type_constraint},
     {"level", type_level},
@@ -168,6 +175,7 @@ constexpr std::array<TextType, 9> kTypes{{
     {"state_value", type_state_value},
     {"abft_where", type_abft_where},
     {"landmark", type_landmark},
+    {"mpx", type_mpx},
 }};
 
 constexpr std::array<const char*, kTypes.size()> type_names() noexcept {

@@ -179,7 +179,10 @@ static_assert(bsp::control_layout_ok(kLivenessLayout), "every member of Liveness
 
 constexpr std::array kTrustConfigFields{
     BSP_CONTROL_STATE(fdir::ResultTrustConfig, window), BSP_CONTROL_STATE(fdir::ResultTrustConfig, min_failed),
-    BSP_CONTROL_STATE(fdir::ResultTrustConfig, reset_after), BSP_CONTROL_STATE(fdir::ResultTrustConfig, probation)};
+    BSP_CONTROL_STATE(fdir::ResultTrustConfig, reset_after), BSP_CONTROL_STATE(fdir::ResultTrustConfig, probation),
+    BSP_CONTROL_STATE(fdir::ResultTrustConfig, bias_window), BSP_CONTROL_STATE(fdir::ResultTrustConfig, bias_min),
+    BSP_CONTROL_STATE(fdir::ResultTrustConfig, bias_sigmas), BSP_CONTROL_STATE(fdir::ResultTrustConfig, bias_floor_mpx),
+    BSP_CONTROL_STATE(fdir::ResultTrustConfig, bias_clip_mpx)};
 constexpr bsp::ControlLayout kTrustConfigLayout{kTrustConfigFields, sizeof(fdir::ResultTrustConfig),
                                                 alignof(fdir::ResultTrustConfig)};
 static_assert(bsp::control_layout_ok(kTrustConfigLayout), "every member of ResultTrustConfig");
@@ -188,7 +191,9 @@ constexpr std::array kTrustFields{
     BSP_CONTROL_STATE(fdir::ResultTrust, tile),       BSP_CONTROL_STATE(fdir::ResultTrust, state),
     BSP_CONTROL_STATE(fdir::ResultTrust, checked),    BSP_CONTROL_STATE(fdir::ResultTrust, failed),
     BSP_CONTROL_STATE(fdir::ResultTrust, rounds_bad), BSP_CONTROL_STATE(fdir::ResultTrust, clean),
-    BSP_CONTROL_STATE(fdir::ResultTrust, round)};
+    BSP_CONTROL_STATE(fdir::ResultTrust, round),      BSP_CONTROL_STATE(fdir::ResultTrust, sum_u),
+    BSP_CONTROL_STATE(fdir::ResultTrust, sum_v),      BSP_CONTROL_STATE(fdir::ResultTrust, fitted),
+    BSP_CONTROL_STATE(fdir::ResultTrust, scale)};
 constexpr bsp::ControlLayout kTrustLayout{kTrustFields, sizeof(fdir::ResultTrust), alignof(fdir::ResultTrust)};
 static_assert(bsp::control_layout_ok(kTrustLayout), "every member of ResultTrust");
 
@@ -200,6 +205,8 @@ constexpr bsp::ControlLayout kPriorLayout{kPriorFields, sizeof(vision::PosePrior
 static_assert(bsp::control_layout_ok(kPriorLayout), "every member of PosePrior");
 
 constexpr std::array kConsistencyFields{BSP_CONTROL_STATE(vision::ConsistencyWork, norm),
+                                        BSP_CONTROL_STATE(vision::ConsistencyWork, du),
+                                        BSP_CONTROL_STATE(vision::ConsistencyWork, dv),
                                         BSP_CONTROL_STATE(vision::ConsistencyWork, sorted),
                                         BSP_CONTROL_STATE(vision::ConsistencyWork, in_fit)};
 constexpr bsp::ControlLayout kConsistencyLayout{kConsistencyFields, sizeof(vision::ConsistencyWork),
@@ -1251,23 +1258,37 @@ void ask_supervisor(const CoordState& st, VisionCoordStats& stats, std::uint32_t
   }
 }
 
-/** Each tile's checked and failed matches of the frame to its result trust; asks for resets and replacements. */
-void judge_tiles(CoordState& st, VisionCoordStats& stats, std::uint32_t first, bool checked) noexcept {
+/**
+ * Each tile's checked and failed matches of the frame, and the residuals of those that passed, to its
+ * result trust; asks for resets and replacements. Keeps the largest bias of a trusted tile's window.
+ */
+void judge_tiles(CoordState& st, VisionCoordStats& stats, std::uint32_t first, const vision::ConsistencyResult& r) noexcept {
   std::array<std::uint16_t, kMaxVisionTiles> n_checked{};
   std::array<std::uint16_t, kMaxVisionTiles> n_failed{};
+  std::array<fdir::RoundResiduals, kMaxVisionTiles> res{};
   const std::uint32_t count = match_count_of(st);
-  for (std::uint32_t k = first; checked && k < count && k - first < st.failed.size(); ++k) {
+  for (std::uint32_t k = first; r.checked && k < count && k - first < st.failed.size(); ++k) {
     const std::uint32_t i = tile_index(st, st.matches[k].tile);
     if (i < st.cfg->vision_count) {
+      const bool failed = st.failed[k - first];
       ++n_checked[i];
-      n_failed[i] = static_cast<std::uint16_t>(n_failed[i] + (st.failed[k - first] ? 1U : 0U));
+      n_failed[i] = static_cast<std::uint16_t>(n_failed[i] + (failed ? 1U : 0U));
+      if (!failed) {
+        fdir::result_trust_add_residual(st.trust, res[i], st.cws.du[k - first], st.cws.dv[k - first]);
+        res[i].scale = r.scale_px;
+      }
     }
   }
   for (std::uint32_t i = 0; i < st.cfg->vision_count; ++i) {
-    ask_supervisor(st, stats, i, fdir::result_trust_round(st.trust, i, n_checked[i], n_failed[i]));
+    ask_supervisor(st, stats, i, fdir::result_trust_round(st.trust, i, n_checked[i], n_failed[i], res[i]));
+    if (fdir::result_trust_used(st.trust, i)) {
+      stats.tile_bias_max_px = std::max(stats.tile_bias_max_px, fdir::result_trust_bias_px(st.trust, i));
+    }
   }
   fdir::result_trust_close_round(st.trust);
-  bsp::consume(bsp::Work{4ULL * kMaxVisionTiles * (count + 1U), 0U, 0U, 0U, 0U});
+  // The tally, then the window sums and one square root per tile.
+  bsp::consume(bsp::Work{4ULL * kMaxVisionTiles * (count + 1U), 0U, 2ULL * count + 8ULL * kMaxVisionTiles * 3U,
+                         kMaxVisionTiles, 0U});
 }
 
 /** Each fine match of the batch (from @p first) weighed by the frame's prior attitude (weighed_sigma_px()). */
@@ -1304,7 +1325,7 @@ void check_frame(CoordState& st, VisionCoordStats& stats) noexcept {
     stats.matches_failed += r.failed;
     stats.residual_scale_max_px = std::max(stats.residual_scale_max_px, r.scale_px);
   }
-  judge_tiles(st, stats, first, r.checked);
+  judge_tiles(st, stats, first, r);
   std::uint32_t kept = first;
   for (std::uint32_t k = first; k < count; ++k) {
     if (!fdir::result_trust_used(st.trust, tile_index(st, st.matches[k].tile))) {

@@ -172,6 +172,7 @@ struct VisionCoordStats {
   std::uint32_t rate_div;             ///< the image rate now: every frame (1), every other (2)
   std::uint32_t healthy_tiles;        ///< vision tiles answering and trusted at the last frame
   double residual_scale_max_px;       ///< the largest robust residual scale of a checked frame
+  double tile_bias_max_px;            ///< the largest mean residual of a trusted tile's window (the bias test)
   bsp::Cycles max_frame_cycles;       ///< notice to batch sent, longest
   bsp::Cycles last_frame_cycles;
 };
@@ -215,6 +216,7 @@ inline constexpr std::array kVisionCoordStatsFields{
     BSP_CONTROL_STATE(VisionCoordStats, rate_div),
     BSP_CONTROL_STATE(VisionCoordStats, healthy_tiles),
     BSP_CONTROL_STATE(VisionCoordStats, residual_scale_max_px),
+    BSP_CONTROL_STATE(VisionCoordStats, tile_bias_max_px),
     BSP_CONTROL_STATE(VisionCoordStats, max_frame_cycles),
     BSP_CONTROL_STATE(VisionCoordStats, last_frame_cycles),
 };
