@@ -135,7 +135,10 @@ TrustAction result_trust_round(ResultTrust& t, std::uint32_t i, std::uint32_t ch
   const bool failing = sum_failed >= t.config.min_failed && 2U * sum_failed >= sum_checked;
   const Bias bias = window_bias(t, i);
   const bool fires = failing || bias.biased;
-  const bool clean = checked > 0U && failed == 0U && !bias.biased;
+  // A round that brought residuals is clean only once the bias window can judge them: a shifted
+  // worker just reset has too few for a verdict, and must not pass probation on that alone.
+  const bool judged = res.n == 0U || bias.n >= std::max(t.config.bias_min, 2U);
+  const bool clean = checked > 0U && failed == 0U && !bias.biased && judged;
   const bool bad = checked > 0U && (failed > 0U || bias.biased);
   // What the event says: the failures in the window, or (the bias alone) its mean residual and count.
   const std::uint32_t why = failing ? 0U : 2U;

@@ -111,7 +111,8 @@ enum class TrustError : std::uint8_t { kOk, kBadConfig };
  * bias_sigmas standard errors (the largest scale of its rounds over the
  * square root of their count) and bias_floor_mpx, with at least bias_min of
  * them (the bias test). A round is clean when it had results checked, none
- * failed and the window shows no bias. Writes kResultsSuspect or
+ * failed and the window shows no bias; one that brought residuals, only once
+ * the bias window holds bias_min of them (a verdict). Writes kResultsSuspect or
  * kResultsConsistent on a change. [task]
  * @return what the coordinator is to ask for this worker now.
  */
