@@ -76,6 +76,14 @@ bool TmrGroup::configure(const TmrGroupConfig& cfg) noexcept {
   return true;
 }
 
+bool TmrGroup::set_thresholds(const TmrGroupConfig& cfg) noexcept {
+  if (cfg.disagree_to_exclude == 0U || cfg.miss_to_exclude == 0U) {
+    return false;
+  }
+  cfg_ = cfg;
+  return true;
+}
+
 std::uint32_t TmrGroup::active_count() const noexcept {
   std::uint32_t n = 0U;
   for (std::uint32_t i = 0; i < kTmrReplicas; ++i) {

@@ -105,6 +105,14 @@ class TmrGroup {
   /** Starts with no replica active. False (and nothing changed) for a zero threshold. */
   bool configure(const TmrGroupConfig& cfg) noexcept;
 
+  /** The thresholds as the group holds them (in its owner's RAM). */
+  [[nodiscard]] const TmrGroupConfig& config() const noexcept { return cfg_; }
+  /**
+   * Sets the thresholds again and keeps the replicas voted on and their counts: the owner's
+   * check found them changed in RAM. False (nothing changed) for a zero threshold.
+   */
+  bool set_thresholds(const TmrGroupConfig& cfg) noexcept;
+
   /** Replicas voted on (bit i: replica i). */
   [[nodiscard]] std::uint32_t active_mask() const noexcept { return active_; }
   [[nodiscard]] std::uint32_t active_count() const noexcept;

@@ -32,6 +32,15 @@ inline constexpr fdir::EventId kResultSealBroken{0x030A};
 inline constexpr std::uint32_t kSealVisionResult = 1U;
 inline constexpr std::uint32_t kSealBatchPart = 2U;
 inline constexpr std::uint32_t kSealSolution = 3U;
+inline constexpr fdir::EventId kTileSettingsBad{0x030B};
+/** tile_settings_bad's cause: whose settings (trn/tasks/settings_copy.hpp). */
+inline constexpr std::uint32_t kSettingsOfCoordinator = 1U;
+inline constexpr std::uint32_t kSettingsOfVisionTile = 2U;
+inline constexpr std::uint32_t kSettingsOfVoter = 3U;  ///< the filter's voter: its TMR thresholds, against the image's
+inline constexpr std::uint32_t kSettingsOfSupervisor = 4U;  ///< a supervisor's: phases, thresholds, its wiring
+/** tile_settings_bad's a: when they were found changed. */
+inline constexpr std::uint32_t kSettingsAtStart = 1U;  ///< as a frame (a unit) starts: it runs with the rebuilt ones
+inline constexpr std::uint32_t kSettingsAtBatch = 2U;  ///< before the frame's batch leaves (a unit's result): dropped (the unit run again)
 // ---- navigation filter restarts (trn/tasks/filter_task)
 inline constexpr fdir::EventId kFilterResumed{0x0601};
 inline constexpr fdir::EventId kCheckpointBad{0x0602};
@@ -39,6 +48,8 @@ inline constexpr fdir::EventId kImuGap{0x0603};
 inline constexpr fdir::EventId kCommandTaken{0x0604};
 inline constexpr fdir::EventId kFilterStateBad{0x0605};
 inline constexpr fdir::EventId kFilterSettingsBad{0x0606};
+inline constexpr fdir::EventId kFilterInnovationsBad{0x0607};
+inline constexpr fdir::EventId kFilterStateChanged{0x0608};
 // ---- TMR of the filter (trn/tasks/filter_task, its voter fdir/tmr)
 inline constexpr fdir::EventId kTmrStarting{0x0701};
 inline constexpr fdir::EventId kTmrEstablished{0x0702};
@@ -63,7 +74,7 @@ inline constexpr fdir::EventId kSafeMode{0x0909};
 }  // namespace ev
 
 /** The table: every application id once. */
-inline constexpr std::array<fdir::EventInfo, 27> kEventTable{{
+inline constexpr std::array<fdir::EventInfo, 30> kEventTable{{
     {ev::kFrameDone, "frame_done", fdir::Severity::kInfo, fdir::kStepNone, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
      "- / units lost / frame / matches",
      "frame {a} done: {b} matches, {c} units lost"},
@@ -98,6 +109,14 @@ inline constexpr std::array<fdir::EventInfo, 27> kEventTable{{
      "{c|?|a vision tile's result|a part of the coordinator's batch|the filter's solution|?} from tile {s}, "
      "{c|?|frame|frame|job|?} {a}, changed after it was computed (its seal is broken): {c|?|dropped, {b} matches lost|dropped, {b} "
      "matches lost|copied again from the computed solution|?}"},
+    {ev::kTileSettingsBad, "tile_settings_bad", fdir::Severity::kWarningLo, fdir::kStepDetect | fdir::kStepRecover, fdir::Diagnosis::kMemoryUpset, fdir::Accused::kWriter,
+     "frame (job: the voter; node: a supervisor) / whose (1 the vision coordinator's, 2 a vision tile's, 4 a "
+     "supervisor's: against their CRC-32C; 3 the filter voter's TMR thresholds: against the image, each TMR "
+     "job) / when (1 as the frame, unit, job or pass starts, 2 before its batch or result leaves) / matches "
+     "dropped (coordinator, 2)",
+     "the {c|?|vision coordinator's|vision tile's|filter voter's|{s@node}'s|?} settings in RAM changed, found "
+     "{a|?|as {c|?|frame {s}|frame {s}|job {s}|a pass|?} starts|before frame {s}'s {c|?|batch|result|?} "
+     "leaves|?}: built again from the image{a|?||, {c|?|the batch dropped ({b} matches)|the unit run again|?}|?}"},
     {ev::kLandmarkProductRefused, "landmark_product_refused", fdir::Severity::kWarningLo, fdir::kStepDetect | fdir::kStepRecover, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
      "- / why (trn::tasks::ProductCheck): 1 the block is too short, 2 its header (magic, version, its "
      "CRC-32C), 3 selected with other settings than the coordinator's, 4 selected on a layer of another "
@@ -132,6 +151,18 @@ inline constexpr std::array<fdir::EventInfo, 27> kEventTable{{
      "job / parts changed (1 configuration, 2 camera, 4 process noise) / 1 when built again / -",
      "the filter's settings in RAM ({c&configuration|camera|process noise}) changed by the end of job "
      "{s}: not delivered, {a|NOT built again|built again from the image}"},
+    {ev::kFilterStateChanged, "filter_state_changed", fdir::Severity::kWarningHi, fdir::kStepDetect | fdir::kStepIsolate, fdir::Diagnosis::kMemoryUpset, fdir::Accused::kWriter,
+     "job / - / - / -",
+     "the filter's state in RAM changed between the end of job {s} and the start of the next (its CRC-32C): "
+     "back to the last checkpoint"},
+    {ev::kFilterInnovationsBad, "filter_innovations_bad", fdir::Severity::kWarningHi, fdir::kStepDetect | fdir::kStepRecover, fdir::Diagnosis::kWrongResult, fdir::Accused::kWriter,
+     "job / why (1 too many rejected, 2 normalised innovations too large; 3, 4 the same in the window after "
+     "the covariance was widened) / measurements in the window (low 16 bits), rejected (high 16 bits) / "
+     "their mean clipped d2, thousandths (2 expected)",
+     "the filter's matches disagree with its covariance in the window ending at job {s} ({c|?|too many "
+     "rejected|innovations too large|too many rejected again|innovations too large again|?}: {a@rejected_of}, "
+     "mean d2 {b@mpx}): {c|?|covariance widened|covariance widened|the tile asks to be restarted|the tile asks to be "
+     "restarted|?}"},
     {ev::kTmrStarting, "tmr_starting", fdir::Severity::kInfo, fdir::kStepNone, fdir::Diagnosis::kNone, fdir::Accused::kNobody,
      "job / epoch",
      "filter to TMR: replicas seeded with the state after job {s} (epoch {c})"},

@@ -666,6 +666,11 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("filter_last_job", f.last_delivered_job);
   s.extra.emplace_back("filter_output_mark_job", f.mark_job);
   s.extra.emplace_back("filter_output_mark_crc", f.mark_crc);
+  // The innovation monitor: windows judged and failed, and the largest window statistics (simplex).
+  s.extra.emplace_back("filter_innovation_windows", f.innovation_windows);
+  s.extra.emplace_back("filter_innovations_bad", f.innovations_bad);
+  s.extra.emplace_back("filter_window_nis_max", 1e-3 * f.max_window_nis_milli);
+  s.extra.emplace_back("filter_window_rejected_max", 1e-3 * f.max_window_reject_permille);
   s.extra.emplace_back("tmr_voted_outputs", f.tmr_jobs);
   s.extra.emplace_back("tmr_outvoted", f.tmr_outvoted);
   s.extra.emplace_back("tmr_no_majority", f.tmr_no_majority);

@@ -5,8 +5,10 @@
 #include "trn/filter/ekf.hpp"
 
 #include "trn/filter/strapdown.hpp"
+#include "udn/crc32c.hpp"
 
 #include <cmath>
+#include <span>
 
 namespace trn::filter {
 
@@ -262,6 +264,8 @@ void Ekf::apply_match(const Match& m, UpdateReport& rep) noexcept {
     ++rep.rejected_invalid;  // it would leave a variance <= 0: it cannot be applied
     return;
   }
+  rep.nis_sum += g.d2 < cfg_.gate_chi2 ? g.d2 : cfg_.gate_chi2;  // a non-finite d2 counts as the gate
+  work_.flops += 2;
   if (!g.accepted) {
     ++rep.rejected_gate;
     return;
@@ -278,6 +282,22 @@ void Ekf::apply_match(const Match& m, UpdateReport& rep) noexcept {
   if (m.t_s > s_.t_last_update_s) {
     s_.t_last_update_s = m.t_s;
   }
+}
+
+std::uint32_t Ekf::state_crc(bsp::Work& work) const noexcept {
+  const std::uint64_t words = (sizeof(FilterState) + 3U) / 4U;
+  work.int_ops += 8U * words;
+  work.mem_words += words;
+  return udn::crc32c_bytes(
+      std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(&s_), sizeof(FilterState)));  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast): the state's bytes as stored
+}
+
+void Ekf::widen(const Vec15& var) noexcept {
+  for (int i = 0; i < kErrDim; ++i) {
+    const double v = var(i);
+    s_.p(i, i) += std::isfinite(v) && v > 0.0 ? v : 0.0;
+  }
+  work_.flops += kErrDim;
 }
 
 FilterStatus Ekf::update(const Match* matches, std::uint32_t n, UpdateReport& rep) noexcept {

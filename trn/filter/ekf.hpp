@@ -48,6 +48,10 @@ struct UpdateReport {
   std::uint32_t rejected_stale = 0;   ///< image time before the history or after the state
   std::uint32_t coarse_accepted = 0;  ///< of accepted: coarse-stage matches (landmark kCoarseLandmark)
   std::uint32_t rejected_check = 0;   ///< an update product still wrong after its recomputations (abft_failed)
+  /// Over the matches that reached the gate (accepted and rejected_gate): the sum of their
+  /// normalised innovations squared, each clipped at the gate (min(d2, gate_chi2)). For a filter
+  /// whose covariance is right, d2 is chi-square with 2 degrees of freedom (the innovation monitor).
+  double nis_sum = 0.0;
 };
 
 /** Whether a match can be formed against the state, and why not. */
@@ -135,7 +139,21 @@ class Ekf {
    */
   [[nodiscard]] bool position_loose() const noexcept;
 
+  /**
+   * Adds @p var to the covariance's diagonal (a variance per error state, each >= 0 and finite;
+   * others are taken as 0): what the filter does when its measurements keep disagreeing with its
+   * covariance (the innovation monitor), so that they are weighed again and bring the state back.
+   * The queue's batch in progress is not touched (called between jobs).
+   */
+  void widen(const Vec15& var) noexcept;
+
   [[nodiscard]] const FilterState& state() const noexcept { return s_; }
+  /**
+   * CRC-32C of the state's bytes in RAM (nominal state, covariance, counters, pose history): taken
+   * at the end of a job and checked at the start of the next, it finds what changed the state
+   * between them, where nothing of the filter's runs (an upset). Charges @p work.
+   */
+  [[nodiscard]] std::uint32_t state_crc(bsp::Work& work) const noexcept;
   [[nodiscard]] const FilterConfig& config() const noexcept { return cfg_; }
   /** The camera as the filter uses it (configure()). */
   [[nodiscard]] const CameraGeometry& camera() const noexcept { return cam_; }

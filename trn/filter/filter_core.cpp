@@ -90,7 +90,7 @@ std::uint32_t matches_that_fit(const MatchQueue& q, std::uint32_t head, std::uin
 }
 
 /** Applies the queued matches that fit in matches_per_job updates (two calls when the ring wraps). */
-void apply_matches(FilterCore& c) noexcept {
+void apply_matches(FilterCore& c, filter::UpdateReport& job) noexcept {
   MatchQueue& q = *c.queue;
   std::uint32_t budget = c.cfg->matches_per_job;
   for (int pass = 0; pass < 2 && budget > 0U && q.count > 0U; ++pass) {
@@ -107,6 +107,9 @@ void apply_matches(FilterCore& c) noexcept {
     c.stats->rejected_gate += rep.rejected_gate;
     c.stats->rejected_stale += rep.rejected_stale;
     c.stats->rejected_invalid += rep.rejected_invalid;
+    job.accepted += rep.accepted;
+    job.rejected_gate += rep.rejected_gate;
+    job.nis_sum += rep.nis_sum;
     q.head = (q.head + n) % kMatchQueueLen;
     q.count -= n;
   }
@@ -254,7 +257,7 @@ bool core_reload_settings(FilterCore& c, bsp::Work& work) noexcept {
   return true;
 }
 
-void core_run(FilterCore& c, const JobRecord& r) noexcept {
+filter::UpdateReport core_run(FilterCore& c, const JobRecord& r) noexcept {
   const std::uint32_t n_imu = record_imu_count(r) < kRecordImuMax ? record_imu_count(r) : kRecordImuMax;
   for (std::uint32_t i = 0; i < n_imu; ++i) {
     integrate(c, fdir::msg::read(kImuMsg, std::span<const std::uint32_t, kImuWords>(
@@ -269,13 +272,15 @@ void core_run(FilterCore& c, const JobRecord& r) noexcept {
          *c.stats);
   }
   bsp::consume(bsp::Work{2ULL * n_m * kMatchWords, 4ULL * n_m, 0U, 0U, 0U});
-  apply_matches(c);
+  filter::UpdateReport job{};
+  apply_matches(c, job);
   bsp::consume(c.ekf->take_work());
   // The state after the job's updates is a published result: where a corrupted update is injected.
   filter::NominalState x = c.ekf->state().x;
   if (bsp::publish_filter(kFilterStateChannel, &x, sizeof x)) {
     c.ekf->set_nominal(x);
   }
+  return job;
 }
 
 filter::NavOutput core_output(const FilterCore& c) noexcept {

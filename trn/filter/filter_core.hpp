@@ -105,8 +105,12 @@ static_assert(bsp::control_layout_ok(kFilterCoreLayout), "every member of Filter
  */
 bool core_set_up(FilterCore& c, const FilterTaskConfig& cfg, bsp::Region ram) noexcept;
 
-/** Runs one job: integrates the record's samples, queues its matches, applies at most matches_per_job. */
-void core_run(FilterCore& c, const JobRecord& r) noexcept;
+/**
+ * Runs one job: integrates the record's samples, queues its matches, applies at most
+ * matches_per_job. @return the job's matches that reached the gate: accepted, rejected_gate and
+ * their clipped innovations (nis_sum); the other counts are left 0.
+ */
+filter::UpdateReport core_run(FilterCore& c, const JobRecord& r) noexcept;
 
 /** The solution after the last job. */
 filter::NavOutput core_output(const FilterCore& c) noexcept;

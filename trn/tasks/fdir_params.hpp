@@ -76,7 +76,7 @@ constexpr FdirParam constant(const char* name, const char* unit, std::uint32_t v
 }
 
 /** The table: configuration fields first, by part, then the image's constants. */
-inline constexpr std::array<FdirParam, 57> kFdirParams{{
+inline constexpr std::array<FdirParam, 66> kFdirParams{{
     // ---- messaging: probes and the fault-tolerant links (udn)
     field<&ImageConfig::endpoint, &udn::EndpointConfig::probe_period_ticks>(
         "endpoint.probe_period_ticks", "ticks", 2U, 1000U, "a tile pings its neighbours and transit targets this often"),
@@ -156,6 +156,26 @@ inline constexpr std::array<FdirParam, 57> kFdirParams{{
         "filter.tmr.disagree_to_exclude", "jobs", 1U, 1000U, "disagreements in a row that exclude a replica"),
     field<&ImageConfig::filter, &FilterTaskConfig::tmr, &fdir::TmrGroupConfig::miss_to_exclude>(
         "filter.tmr.miss_to_exclude", "jobs", 1U, 1000U, "missed jobs in a row that exclude a replica"),
+    field<&ImageConfig::filter, &FilterTaskConfig::innovation, &fdir::InnovationMonitorConfig::block_matches>(
+        "filter.innovation.block_matches", "matches", 1U, 1000U, "measurements per block of the innovation monitor"),
+    field<&ImageConfig::filter, &FilterTaskConfig::innovation, &fdir::InnovationMonitorConfig::window_blocks>(
+        "filter.innovation.window_blocks", "blocks", 1U, fdir::kMaxInnovationBlocks, "blocks in the window judged"),
+    field<&ImageConfig::filter, &FilterTaskConfig::innovation, &fdir::InnovationMonitorConfig::nis_sigmas>(
+        "filter.innovation.nis_sigmas", "sigmas", 1U, 100U,
+        "a window's mean clipped d2 past its chi-square mean by this many standard errors ..."),
+    field<&ImageConfig::filter, &FilterTaskConfig::innovation, &fdir::InnovationMonitorConfig::nis_floor_milli>(
+        "filter.innovation.nis_floor_milli", "1/1000", 1U, 1000000U, "... and past this fails it"),
+    field<&ImageConfig::filter, &FilterTaskConfig::innovation, &fdir::InnovationMonitorConfig::reject_sigmas>(
+        "filter.innovation.reject_sigmas", "sigmas", 1U, 100U,
+        "a window's rejected fraction past the gate's by this many standard errors ..."),
+    field<&ImageConfig::filter, &FilterTaskConfig::innovation, &fdir::InnovationMonitorConfig::reject_floor_pct>(
+        "filter.innovation.reject_floor_pct", "%", 0U, 100U, "... and past this fails it"),
+    field<&ImageConfig::filter, &FilterTaskConfig::widen_pos_m>(
+        "filter.widen_pos_m", "m", 0U, 100000U, "a failed window widens the position sigma by this (in quadrature)"),
+    field<&ImageConfig::filter, &FilterTaskConfig::widen_vel_cmps>(
+        "filter.widen_vel_cmps", "cm/s", 0U, 100000U, "... the velocity sigma by this"),
+    field<&ImageConfig::filter, &FilterTaskConfig::widen_att_mrad>(
+        "filter.widen_att_mrad", "mrad", 0U, 1000U, "... the attitude sigma by this"),
     // ---- supervisors (trn)
     field<&ImageConfig::sup, &SupervisorsConfig::vision_min_full>(
         "sup.vision_min_full", "tiles", 0U, kMaxVisionTiles, "healthy vision tiles the full image rate needs"),

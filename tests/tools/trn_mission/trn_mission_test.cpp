@@ -851,6 +851,92 @@ TEST_F(TrnMissionBinary, VisionTilesHalfAPixelOffAreFoundByTheirBiasAndReplaced)
   EXPECT_LE(s["final_position_error_m"].get<double>(), 1.2 * clean["final_position_error_m"].get<double>());
 }
 
+// FDIR-RT-10: the vision roles' settings are held in their tiles' RAM under a CRC: an upset of the
+// coordinator's between frames is found as the next frame starts, one during a frame before its batch
+// leaves (the batch dropped), one of a vision tile's before its next unit; each built again from the image.
+TEST_F(TrnMissionBinary, TheVisionRolesSettingsAreRebuiltWhenAnUpsetChangesThem) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 12 --out " + (dir_ / "clean").string()), 0);
+  ASSERT_EQ(run(binary() + " --quiet --duration 12 --faults " + fixture("vision_settings_upset.toml") + " --out " +
+                (dir_ / "set").string()),
+            0);
+  const nlohmann::json clean = read_json(dir_ / "clean" / "summary.json");
+  const nlohmann::json s = read_json(dir_ / "set" / "summary.json");
+  const std::string log = read_text(dir_ / "set" / "events.log");
+  EXPECT_EQ(s["faults_injected"], 3);
+  EXPECT_EQ(s["faults_detected"], 3) << log;
+  EXPECT_EQ(s["faults_recovered"], 3) << log;
+  EXPECT_EQ(s["faults_misdiagnosed"], 0.0) << log;
+  EXPECT_EQ(s["false_alarms"], 0.0) << log;
+  EXPECT_EQ(count_of(log, "the vision coordinator's settings in RAM changed, found as frame"), 1U) << log;
+  EXPECT_EQ(count_of(log, "the vision coordinator's settings in RAM changed, found before frame"), 1U)
+      << log;
+  EXPECT_NE(log.find("the batch dropped"), std::string::npos) << log;
+  EXPECT_EQ(count_of(log, "the vision tile's settings in RAM changed"), 1U) << log;
+  EXPECT_EQ(s["integrity_beyond_5sigma_x"], 0.0);
+  EXPECT_LE(s["final_position_error_m"].get<double>(), 1.2 * clean["final_position_error_m"].get<double>());
+}
+
+// FDIR-FS-09: the simplex filter's state is sealed at the end of each job and checked at the start of
+// the next: an upset of its covariance in RAM between two jobs is found in the next job, the filter
+// goes back to its last checkpoint, and the flight goes on as without it.
+TEST_F(TrnMissionBinary, AnUpsetOfTheFiltersStateBetweenJobsIsFoundByItsSeal) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 10 --out " + (dir_ / "clean").string()), 0);
+  ASSERT_EQ(run(binary() + " --quiet --duration 10 --faults " + fixture("filter_covariance_upset.toml") + " --out " +
+                (dir_ / "p").string()),
+            0);
+  const nlohmann::json clean = read_json(dir_ / "clean" / "summary.json");
+  const nlohmann::json s = read_json(dir_ / "p" / "summary.json");
+  const std::string log = read_text(dir_ / "p" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 1) << log;
+  EXPECT_EQ(s["faults_recovered"], 1) << log;
+  EXPECT_EQ(s["faults_misdiagnosed"], 0.0) << log;
+  EXPECT_EQ(count_of(log, "filter_state_changed: the filter's state in RAM changed between the end of job 799"), 1U)
+      << log;
+  EXPECT_NE(log.find("filter_resumed: filter resumed from checkpoint"), std::string::npos) << log;
+  EXPECT_LE(s["detection_latency_max_ms"].get<double>(), 10.0) << "the next job";
+  EXPECT_EQ(clean["filter_innovations_bad"], 0.0) << "no window of a clean flight fails";
+  EXPECT_LE(s["final_position_error_m"].get<double>(), 1.2 * clean["final_position_error_m"].get<double>());
+}
+
+// FDIR-FS-10: in TMR the voter checks its thresholds against the image every job: an upset that makes a
+// replica need 18 disagreements to be excluded is found in the next job and undone, and a replica whose
+// state is corrupted a second later is excluded after 2, re-seeded and votes again.
+TEST_F(TrnMissionBinary, TheVotersThresholdsAreCheckedDuringTmr) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 8 --faults " + fixture("filter_tmr_voter_thresholds_upset.toml") +
+                " --out " + (dir_ / "v").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "v" / "summary.json");
+  const std::string log = read_text(dir_ / "v" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 2) << log;
+  EXPECT_EQ(s["faults_recovered"], 2) << log;
+  EXPECT_EQ(s["faults_misdiagnosed"], 0.0) << log;
+  EXPECT_EQ(s["false_alarms"], 0.0) << log;
+  EXPECT_EQ(count_of(log, "the filter voter's settings in RAM changed, found as job 500 starts"), 1U) << log;
+  EXPECT_EQ(count_of(log, "tmr_outvoted: replica 1"), 2U) << "excluded after 2, as the image says" << log;
+  EXPECT_NE(log.find("tmr_resynced: replica 1"), std::string::npos) << log;
+}
+
+// FDIR-SUP-16: each supervisor runs its passes with its settings in RAM under a CRC: an upset of them is
+// found before the next pass and they are built again from the image; nothing else changes.
+TEST_F(TrnMissionBinary, TheSupervisorsSettingsAreRebuiltWhenAnUpsetChangesThem) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 9 --out " + (dir_ / "clean").string()), 0);
+  ASSERT_EQ(run(binary() + " --quiet --duration 9 --faults " + fixture("supervisor_settings_upset.toml") + " --out " +
+                (dir_ / "s").string()),
+            0);
+  const nlohmann::json clean = read_json(dir_ / "clean" / "summary.json");
+  const nlohmann::json s = read_json(dir_ / "s" / "summary.json");
+  const std::string log = read_text(dir_ / "s" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 3) << log;
+  EXPECT_EQ(s["faults_recovered"], 3) << log;
+  EXPECT_EQ(s["faults_misdiagnosed"], 0.0) << log;
+  EXPECT_EQ(s["false_alarms"], 0.0) << log;
+  for (const char* node : {"trn_supervisor", "filter_supervisor", "vision_supervisor"}) {
+    EXPECT_EQ(count_of(log, std::string("tile_settings_bad: the ") + node + "'s settings in RAM changed"), 1U)
+        << node << log;
+  }
+  EXPECT_EQ(s["final_position_error_m"].get<double>(), clean["final_position_error_m"].get<double>());
+}
+
 // FDIR-RT-06: a coordinator that restarts after a tile was replaced goes on with the spare (its tile
 // list is in DDR): the retired tile gets no units, so nothing is lost to it.
 TEST_F(TrnMissionBinary, ARestartedCoordinatorKeepsTheReplacement) {

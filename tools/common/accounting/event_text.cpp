@@ -159,13 +159,20 @@ void type_mpx(const fdir::Event& /*e*/, std::uint32_t v, Out& o) noexcept {
   o.put(t.data());
 }
 
+/** A window of measurements: how many (low 16 bits) and how many of them rejected (high 16 bits). */
+void type_rejected_of(const fdir::Event& /*e*/, std::uint32_t v, Out& o) noexcept {
+  std::array<char, 48> t{};
+  (void)std::snprintf(t.data(), t.size(), "%u of %u rejected", v >> 16U, v & 0xFFFFU);
+  o.put(t.data());
+}
+
 using TypeFn = void (*)(const fdir::Event&, std::uint32_t, Out&) noexcept;
 struct TextType {
   const char* name;
   TypeFn fn;
 };
 
-constexpr std::array<TextType, 10> kTypes{{
+constexpr std::array<TextType, 11> kTypes{{
     {"node", type_node},
     {"constraint", type_constraint},
     {"level", type_level},
@@ -176,6 +183,7 @@ constexpr std::array<TextType, 10> kTypes{{
     {"abft_where", type_abft_where},
     {"landmark", type_landmark},
     {"mpx", type_mpx},
+    {"rejected_of", type_rejected_of},
 }};
 
 constexpr std::array<const char*, kTypes.size()> type_names() noexcept {

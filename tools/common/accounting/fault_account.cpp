@@ -12,6 +12,9 @@
 #include "trn/filter/filter_core.hpp"
 #include "trn/tasks/messages.hpp"
 #include "trn/tasks/sdc_points.hpp"
+#include "trn/tasks/supervisors/supervisors.hpp"
+#include "trn/tasks/vision/vision_coord.hpp"
+#include "trn/tasks/vision/vision_worker.hpp"
 #include "trn/vision/correlator.hpp"
 
 #include <algorithm>
@@ -112,6 +115,9 @@ bool filter_check_of(const bsp::FaultRecord& r, const fdir::Event& e, double clo
     return r.spec.kind == FaultKind::kSeu && r.carve != nullptr && std::strcmp(r.carve, trn::tasks::kEkfCarve) == 0 &&
            r.carve_offset < trn::tasks::kEkfSettingsBytes;
   }
+  if (e.id == trn::ev::kFilterStateChanged) {
+    return r.spec.kind == FaultKind::kSeu;  // between two jobs: only an upset of the RAM changes it
+  }
   // A corrupted update (sdc) in the job it hit; an upset at any later job.
   return e.id == trn::ev::kFilterStateBad &&
          (r.spec.kind == FaultKind::kSeu || seconds(e.cycle - r.applied_cycle, clock_hz) <= kAbftSameJobS);
@@ -168,12 +174,20 @@ bool credits(const bsp::FaultRecord& r, const fdir::Event& e, const tools::Accus
     case FaultKind::kSdc:
       switch (event_code(e.id)) {
         case event_code(trn::ev::kFilterStateBad):
+        case event_code(trn::ev::kFilterStateChanged):
         case event_code(trn::ev::kFilterSettingsBad): return filter_check_of(r, e, clock_hz);
         case event_code(trn::ev::kCorrelationCorrected):
         case event_code(trn::ev::kCorrelationFailed): return correlation_check_of(r, e, clock_hz);
         case event_code(EventId::kAbftCorrected):
         case event_code(EventId::kAbftFailed): return e.tile == t && after <= kAbftSameJobS;
         case event_code(trn::ev::kCoarseBandRedone): return coarse_band_check_of(r, e, clock_hz);
+        case event_code(trn::ev::kTileSettingsBad):
+          // An upset in the vision roles' settings only (their carves).
+          return r.spec.kind == FaultKind::kSeu && e.tile == t && r.carve != nullptr &&
+                 (std::strcmp(r.carve, trn::tasks::kCoordSettingsCarve) == 0 ||
+                  std::strcmp(r.carve, trn::tasks::kWorkerSettingsCarve) == 0 ||
+                  std::strcmp(r.carve, trn::tasks::kFilterTaskCarve) == 0 ||
+                  std::strcmp(r.carve, trn::tasks::kSupSettingsCarve) == 0);
         case event_code(trn::ev::kTmrNoMajority):
           slot = slot_of(acc, t);
           return slot < acc.count && after <= kTmrSameVoteS;
@@ -514,6 +528,14 @@ void recover(const Join& j, const bsp::FaultRecord& r, std::size_t det, FaultOut
       return;
     case Role::kFilterSupervisor:
     case Role::kVisionSupervisor: {
+      if (d.id == trn::ev::kTileSettingsBad) {
+        // Its settings built again before the pass that uses them: the node runs on, in place.
+        o.recovery = Recovery::kRecovered;
+        o.recovered_s = det_s;
+        o.service_gap_s = 0.0;
+        o.recovered_by = tools::event_info(d.id)->name;
+        return;
+      }
       // No stream the host measures: its node's own word that it runs (a policy taken, applied or
       // met, written by its tile), or the flight's word that the tile runs its role again.
       const std::size_t k = j.first_after(det_s, until, [&](const fdir::Event& e) {

@@ -114,6 +114,10 @@ struct TaskState {
   std::uint32_t lenient_until; ///< until this job a vote waits for every voting replica's output
   std::uint32_t rolled_back_to;  ///< the checkpoint the last plausibility failure went back to (0: none)
   bool recovery_asked;           ///< refused again after going back: the tile asked to be restarted
+  fdir::InnovationMonitor innov; ///< the simplex filter's innovation monitor (watch_innovations())
+  bool widened;                  ///< its last verdict failed and the covariance was widened
+  std::uint32_t state_seal;      ///< CRC-32C of the EKF's state at the end of the last job (seal_state())
+  std::uint32_t seal_for;        ///< the job that checks it (+1 of the one that took it; 0: none)
 };
 
 /** A sample held for its job is emulated state through and through (bsp::ControlLayout). */
@@ -185,6 +189,10 @@ constexpr std::array kTaskStateFields{
     BSP_CONTROL_STATE(TaskState, lenient_until),
     BSP_CONTROL_STATE(TaskState, rolled_back_to),
     BSP_CONTROL_STATE(TaskState, recovery_asked),
+    BSP_CONTROL_NESTED(TaskState, innov, fdir::kInnovationMonitorLayout),
+    BSP_CONTROL_STATE(TaskState, widened),
+    BSP_CONTROL_STATE(TaskState, state_seal),
+    BSP_CONTROL_STATE(TaskState, seal_for),
 };
 constexpr bsp::ControlLayout kTaskStateLayout{kTaskStateFields, sizeof(TaskState), alignof(TaskState)};
 static_assert(bsp::control_layout_ok(kTaskStateLayout), "every member of the task's state, pointers as host state");
@@ -504,6 +512,62 @@ void go_back(TaskState& st, std::uint32_t id) noexcept {
   }
 }
 
+/** What a failed window adds to the covariance's diagonal (FilterTaskConfig::widen_*). */
+filter::Vec15 widen_variances(const FilterTaskConfig& cfg) noexcept {
+  filter::Vec15 var = filter::Vec15::Zero();
+  const double p = static_cast<double>(cfg.widen_pos_m);
+  const double v = 0.01 * static_cast<double>(cfg.widen_vel_cmps);
+  const double th = 0.001 * static_cast<double>(cfg.widen_att_mrad);
+  var.segment<3>(filter::kIdxP).setConstant(p * p);
+  var.segment<3>(filter::kIdxV).setConstant(v * v);
+  var.segment<3>(filter::kIdxTh).setConstant(th * th);
+  return var;
+}
+
+/**
+ * The innovation monitor after a simplex job whose state passed its check
+ * (fdir/innovation_monitor.hpp): the job's measurements that reached the gate
+ * (@p rep) go into its window. A failed window is reported
+ * (filter_innovations_bad) and the covariance widened, so that the matches
+ * are weighed again and pull the state back (the window starts again); when
+ * the next full window fails too, widening did not help and the tile asks to
+ * be restarted (kAssertFilterInnovations).
+ */
+void watch_innovations(TaskState& st, const filter::UpdateReport& rep, std::uint32_t job) noexcept {
+  bsp::Work work{};
+  fdir::InnovationWindow win{};
+  const fdir::InnovationVerdict v =
+      fdir::innovation_add(st.innov, st.cfg->innovation, st.cfg->filter.gate_chi2, rep.accepted + rep.rejected_gate,
+                           rep.rejected_gate, rep.nis_sum, win, work);
+  bsp::consume(work);
+  if (v == fdir::InnovationVerdict::kNone) {
+    return;
+  }
+  FilterTaskStats& s = *st.stats;
+  ++s.innovation_windows;
+  const std::uint32_t rej_permille = win.n != 0U ? static_cast<std::uint32_t>(
+                                                       (1000ULL * win.rejected) / win.n) : 0U;
+  s.max_window_nis_milli = win.mean_nis_milli > s.max_window_nis_milli ? win.mean_nis_milli : s.max_window_nis_milli;
+  s.max_window_reject_permille = rej_permille > s.max_window_reject_permille ? rej_permille : s.max_window_reject_permille;
+  if (v == fdir::InnovationVerdict::kConsistent) {
+    st.widened = false;
+    return;
+  }
+  ++s.innovations_bad;
+  fdir::innovation_clear(st.innov);
+  const std::uint32_t cause = (v == fdir::InnovationVerdict::kRejectedHigh ? 1U : 2U) + (st.widened ? 2U : 0U);
+  const std::uint32_t n16 = win.n < 0xFFFFU ? win.n : 0xFFFFU;
+  const std::uint32_t r16 = win.rejected < n16 ? win.rejected : n16;
+  trn::report(ev::kFilterInnovationsBad, job, cause, n16 | (r16 << 16U), win.mean_nis_milli);
+  if (st.widened) {
+    ask_restart(st, kAssertFilterInnovations);
+    return;
+  }
+  st.widened = true;
+  st.core.ekf->widen(widen_variances(*st.cfg));
+  bsp::consume(st.core.ekf->take_work());
+}
+
 /**
  * Simplex: runs record @p rec and checks the state after it against the one
  * before. False when it failed: nothing is delivered, and the task goes back
@@ -513,7 +577,7 @@ void go_back(TaskState& st, std::uint32_t id) noexcept {
 bool run_checked(TaskState& st, const JobRecord& rec) noexcept {
   bsp::Work work{};
   const filter::StateBefore before = filter::state_before(st.core.ekf->state(), work);
-  core_run(st.core, rec);
+  const filter::UpdateReport rep = core_run(st.core, rec);
   // The settings first: an upset there explains a state that fails, and going back to a checkpoint
   // with them still wrong would fail again. Checked after the job, so a job that passes ran with
   // them whole from its start (an upset stays until they are rebuilt).
@@ -535,6 +599,7 @@ bool run_checked(TaskState& st, const JobRecord& rec) noexcept {
   const filter::StateCheckResult r = filter::check_state(before, st.core.ekf->state(), st.cfg->envelope, work);
   bsp::consume(work);
   if (r.what == filter::StateCheck::kOk) {
+    watch_innovations(st, rep, record_job(rec));
     return true;
   }
   ++st.stats->states_rejected;
@@ -600,7 +665,7 @@ bool rejoin(TaskState& st, std::uint32_t job) noexcept;
  *         configuration or a region too short.
  */
 [[gnu::noinline]] TaskState* carve_task_state(const FilterTaskConfig& cfg) noexcept {
-  if (cfg.matches_per_job == 0U || cfg.matches_per_job > kMaxMatchesPerFrame) {
+  if (cfg.matches_per_job == 0U || cfg.matches_per_job > kMaxMatchesPerFrame || !fdir::innovation_config_ok(cfg.innovation)) {
     return nullptr;
   }
   const bsp::Region ram{bsp::current_tile()};
@@ -1214,7 +1279,25 @@ void vote_due(TaskState& st, std::uint32_t v) noexcept {
 }
 
 /** One job of the voter in TMR or starting TMR: the record to the ring, then the vote kVoteLag jobs back. */
+/**
+ * The voter's thresholds (its TMR group's, in this tile's RAM) against the image's, every TMR
+ * job: changed, they are set again (the replicas voted on and their counts kept) and reported
+ * (tile_settings_bad). Its EKF's settings are checked when it runs simplex again.
+ */
+void check_voter_settings(TaskState& st) noexcept {
+  const fdir::TmrGroupConfig& held = st.group.config();
+  const fdir::TmrGroupConfig& image = st.cfg->tmr;
+  bsp::consume(bsp::Work{4U, 0U, 0U, 0U, 4U});
+  if (held.disagree_to_exclude == image.disagree_to_exclude && held.miss_to_exclude == image.miss_to_exclude) {
+    return;
+  }
+  (void)st.group.set_thresholds(image);  // the image's were accepted at set-up
+  ++st.stats->settings_rebuilt;
+  trn::report(ev::kTileSettingsBad, st.job, ev::kSettingsOfVoter, ev::kSettingsAtStart, 0U);
+}
+
 void tmr_job(TaskState& st) noexcept {
+  check_voter_settings(st);
   drain_replicas(st);
   const std::uint32_t v = st.job >= kVoteLag ? st.job - kVoteLag : 0U;
   if (st.mode == Mode::kTmr || st.mode == Mode::kStopping) {
@@ -1256,6 +1339,39 @@ void send_status(const TaskState& st) noexcept {
 }
 
 /**
+ * The EKF's state at the end of the job, sealed for the next one (check_state_seal()): between
+ * the two nothing of the filter runs, so a change is an upset of the tile's RAM.
+ */
+void seal_state(TaskState& st) noexcept {
+  bsp::Work work{};
+  st.state_seal = st.core.ekf->state_crc(work);
+  st.seal_for = st.job + 1U;
+  bsp::consume(work);
+}
+
+/**
+ * The simplex filter's state against the seal the last job took: changed, it is reported
+ * (filter_state_changed) and the filter goes back to its last checkpoint, as after a refused state
+ * (go_back(): the same checkpoint twice, and the tile asks to be restarted). In TMR the voter's own
+ * filter is not used; a replica's state is the vote's.
+ */
+void check_state_seal(TaskState& st) noexcept {
+  if (st.mode != Mode::kSimplex || st.seal_for != st.job || st.job == 0U) {
+    return;
+  }
+  bsp::Work work{};
+  const bool intact = st.core.ekf->state_crc(work) == st.state_seal;
+  bsp::consume(work);
+  st.seal_for = 0U;
+  if (intact) {
+    return;
+  }
+  ++st.stats->states_changed;
+  trn::report(ev::kFilterStateChanged, st.job - 1U, 0U);
+  go_back(st, kAssertFilterStateRefused);
+}
+
+/**
  * The task's counts and mode as an upset may have left them: a value no valid state holds is
  * bounded (a count to its array, a mode to simplex) and the tile asks to be restarted
  * (kAssertFilterTaskBad). Each use bounds them too: an upset can land after this check.
@@ -1293,6 +1409,7 @@ void filter_task_main(void* arg) noexcept {
     }
     st.command = 0U;
     check_task_state(st);
+    check_state_seal(st);
     rebuild(st);
     record_begin(st.record, st.job);
     catch_up(st);
@@ -1317,6 +1434,7 @@ void filter_task_main(void* arg) noexcept {
       }
     }
     send_status(st);
+    seal_state(st);
     ++st.stats->jobs;
     ++st.job;
     st.stats->last_job_cycles = bsp::now() - start;

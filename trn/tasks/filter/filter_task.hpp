@@ -53,6 +53,7 @@
 #include "bsp_tile64/api/camera_model.hpp"
 #include "bsp_tile64/api/memory.hpp"
 #include "bsp_tile64/api/port.hpp"
+#include "fdir/innovation_monitor.hpp"
 #include "fdir/tmr.hpp"
 #include "trn/filter/ekf.hpp"
 #include "trn/filter/filter_config.hpp"
@@ -90,6 +91,11 @@ inline constexpr std::uint32_t kAssertFilterSettingsChanged = 0x0606;
  * it): bounded for the jobs that remain, and the tile asks to be restarted.
  */
 inline constexpr std::uint32_t kAssertFilterTaskBad = 0x0607;
+/**
+ * Assertion id of the filter's measurements still failing against its covariance after it was
+ * widened (filter_innovations_bad twice in a row): the tile asks to be restarted.
+ */
+inline constexpr std::uint32_t kAssertFilterInnovations = 0x0608;
 /** Jobs between two checkpoints by default (100 ms). */
 inline constexpr std::uint32_t kDefaultCheckpointEvery = 10;
 /** Jobs a switch to TMR may take before it is given up. */
@@ -110,6 +116,15 @@ struct FilterTaskConfig {
   fdir::TmrGroupConfig tmr{};
   /** What a plausible state is, checked after every simplex job (trn/filter/state_check.hpp). */
   filter::StateEnvelope envelope{};
+  /** When the simplex filter's measurements disagree with its covariance (fdir/innovation_monitor.hpp). */
+  fdir::InnovationMonitorConfig innovation{};
+  /**
+   * What a failed window adds to the covariance's diagonal (variances of these sigmas): position
+   * (m), velocity (cm/s), attitude (mrad). The filter's own matches then bring it back.
+   */
+  std::uint32_t widen_pos_m = 10U;
+  std::uint32_t widen_vel_cmps = 50U;
+  std::uint32_t widen_att_mrad = 2U;
 };
 
 struct FilterTaskStats {
@@ -152,7 +167,12 @@ struct FilterTaskStats {
   std::uint32_t commands;          ///< telecommands taken
   std::uint32_t states_rejected;   ///< simplex jobs whose state failed the plausibility check (not delivered)
   std::uint32_t rollbacks;         ///< returns to the last checkpoint (a refused state, rebuilt settings)
-  std::uint32_t settings_rebuilt;  ///< simplex jobs after which the EKF's settings had changed in RAM and were rebuilt
+  std::uint32_t settings_rebuilt;  ///< simplex jobs after which the EKF's settings had changed in RAM, and TMR jobs that found the voter's thresholds changed; rebuilt
+  std::uint32_t states_changed;         ///< simplex jobs that found the EKF's state changed since the last one (filter_state_changed)
+  std::uint32_t innovation_windows;     ///< windows the innovation monitor judged (simplex)
+  std::uint32_t innovations_bad;        ///< of them, failed (filter_innovations_bad): the covariance widened
+  std::uint32_t max_window_nis_milli;   ///< the largest mean clipped d2 of a judged window, thousandths
+  std::uint32_t max_window_reject_permille;  ///< the largest rejected fraction of a judged window, thousandths
 };
 
 /** The filter's counters are emulated state through and through (bsp::ControlLayout). */
@@ -197,6 +217,11 @@ inline constexpr std::array kFilterTaskStatsFields{
     BSP_CONTROL_STATE(FilterTaskStats, states_rejected),
     BSP_CONTROL_STATE(FilterTaskStats, rollbacks),
     BSP_CONTROL_STATE(FilterTaskStats, settings_rebuilt),
+    BSP_CONTROL_STATE(FilterTaskStats, states_changed),
+    BSP_CONTROL_STATE(FilterTaskStats, innovation_windows),
+    BSP_CONTROL_STATE(FilterTaskStats, innovations_bad),
+    BSP_CONTROL_STATE(FilterTaskStats, max_window_nis_milli),
+    BSP_CONTROL_STATE(FilterTaskStats, max_window_reject_permille),
 };
 inline constexpr bsp::ControlLayout kFilterTaskStatsLayout{kFilterTaskStatsFields, sizeof(FilterTaskStats),
                                                           alignof(FilterTaskStats)};

@@ -10,6 +10,7 @@
 #include "fdir/tile_health.hpp"
 #include "kernel/kernel.hpp"
 #include "trn/tasks/messages.hpp"
+#include "trn/tasks/settings_copy.hpp"
 #include "udn/endpoint.hpp"
 
 #include <bit>
@@ -594,15 +595,41 @@ bool carve_node(std::uint8_t node) noexcept {
   return true;
 }
 
-/** A node's task once its state is carved (@p state_ok), then its loop. */
+/**
+ * The node's settings in RAM against their seal, before each pass: changed, built again from the
+ * image (@p image) and reported (tile_settings_bad, about node @p node).
+ */
+void check_settings(SettingsCopy<SupervisorsConfig>& set, const SupervisorsConfig& image, std::uint8_t node) noexcept {
+  bsp::Work work{};
+  if (!settings_intact(set, work)) {
+    settings_seal(set, image, work);
+    trn::report(ev::kTileSettingsBad, node, ev::kSettingsOfSupervisor, ev::kSettingsAtStart, 0U);
+  }
+  bsp::consume(work);
+}
+
+/**
+ * A node's task once its state is carved (@p state_ok), then its loop. Each pass runs with the
+ * settings in the tile's RAM (kSupSettingsCarve, carved last), checked before it.
+ */
 template <void (*Pass)(const SupervisorsConfig&)>
-void node_main(void* arg, bool state_ok) noexcept {
+void node_main(void* arg, bool state_ok, std::uint8_t node) noexcept {
   const auto* cfg = static_cast<const SupervisorsConfig*>(arg);
   if (cfg == nullptr || !state_ok || !udn::endpoint_wait_ready(100U)) {
     return;
   }
+  bsp::MemError err = bsp::MemError::kOk;
+  auto* set = bsp::carve_array<SettingsCopy<SupervisorsConfig>>(bsp::Region{bsp::current_tile()}, 1,
+                                                                 kSupSettingsCarve, &err);
+  if (set == nullptr) {
+    return;
+  }
+  bsp::Work work{};
+  settings_seal(*set, *cfg, work);
+  bsp::consume(work);
   for (;;) {
-    Pass(*cfg);
+    check_settings(*set, *cfg, node);
+    Pass(set->s);
     k::checkin();
     k::sleep(kSupPeriodTicks);
   }
@@ -629,15 +656,15 @@ void trn_supervisor_main(void* arg) noexcept {
       child.fill(kNoLevel);
     }
   }
-  node_main<&trn_pass>(arg, g_trn != nullptr);
+  node_main<&trn_pass>(arg, g_trn != nullptr, kNodeTrn);
 }
 
 void filter_supervisor_main(void* arg) noexcept {
   g_fsup = carve_node(kNodeFilter) ? carve_own<FilterSupState>(kSupFilterCarve, kFilterSupStateLayout) : nullptr;
-  node_main<&filter_messages>(arg, g_fsup != nullptr);
+  node_main<&filter_messages>(arg, g_fsup != nullptr, kNodeFilter);
 }
 
-void vision_supervisor_main(void* arg) noexcept { node_main<&vision_messages>(arg, carve_node(kNodeVision)); }
+void vision_supervisor_main(void* arg) noexcept { node_main<&vision_messages>(arg, carve_node(kNodeVision), kNodeVision); }
 
 const bsp::ControlLayout& sup_node_state_layout() noexcept { return kNodeStateLayout; }
 const bsp::ControlLayout& sup_trn_state_layout() noexcept { return kTrnStateLayout; }

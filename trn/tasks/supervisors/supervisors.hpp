@@ -132,6 +132,8 @@ void vision_supervisor_main(void* arg) noexcept;
 inline constexpr const char* kSupNodeCarve = "sup_node";
 inline constexpr const char* kSupTrnCarve = "sup_trn";
 inline constexpr const char* kSupFilterCarve = "sup_filter";
+/** Carve of a supervisor's settings (its SupervisorsConfig, copied from the image, under a CRC-32C). */
+inline constexpr const char* kSupSettingsCarve = "sup_settings";
 const bsp::ControlLayout& sup_node_state_layout() noexcept;
 const bsp::ControlLayout& sup_trn_state_layout() noexcept;
 const bsp::ControlLayout& sup_filter_state_layout() noexcept;

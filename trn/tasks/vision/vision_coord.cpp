@@ -18,6 +18,7 @@
 #include "trn/tasks/vision/match_deal.hpp"
 #include "trn/tasks/messages.hpp"
 #include "trn/tasks/sdc_points.hpp"
+#include "trn/tasks/settings_copy.hpp"
 #include "trn/tasks/vision/vision_shared.hpp"
 #include "trn/vision/match_consistency.hpp"
 #include "udn/endpoint.hpp"
@@ -83,6 +84,7 @@ struct CoarseGather {
 
 struct CoordState {
   const VisionCoordConfig* cfg;
+  SettingsCopy<CoordSettings>* set;  ///< the settings frames use, in this tile's RAM (kCoordSettingsCarve)
   vision::MapView fine;
   vision::MapView coarse_map;
   vision::LandmarkTable* table;
@@ -215,6 +217,7 @@ static_assert(bsp::control_layout_ok(kConsistencyLayout), "every member of Consi
 
 constexpr std::array kCoordFields{
     BSP_CONTROL_HOST(CoordState, cfg),
+    BSP_CONTROL_HOST(CoordState, set),
     BSP_CONTROL_HOST(CoordState, fine),
     BSP_CONTROL_HOST(CoordState, coarse_map),
     BSP_CONTROL_HOST(CoordState, table),
@@ -672,11 +675,11 @@ bool prior_at(const CoordState& st, double t_s, vision::PosePrior& out) noexcept
   const filter::NavOutput* best = nullptr;
   for (std::uint32_t i = 0; i < have; ++i) {
     const filter::NavOutput& o = st.nav[i];
-    if (o.t_s <= t_s - st.cfg->prior_lag_s + 1e-9 && (best == nullptr || o.t_s > best->t_s)) {
+    if (o.t_s <= t_s - st.set->s.prior_lag_s + 1e-9 && (best == nullptr || o.t_s > best->t_s)) {
       best = &o;
     }
   }
-  if (best == nullptr || t_s - best->t_s > st.cfg->max_prior_age_s || (best->flags & filter::kNavFinite) == 0U) {
+  if (best == nullptr || t_s - best->t_s > st.set->s.max_prior_age_s || (best->flags & filter::kNavFinite) == 0U) {
     return false;
   }
   // The filter said it was finite: a value that is not changed in this tile's RAM (the ring).
@@ -712,8 +715,8 @@ vision::Status coarse_one_piece(CoordState& st, const vision::CoarsePrepared& pr
   vision::CorrelatorBuffers buf = st.coarse_ws->coarse.corr.buffers();
   buf.transform = st.coarse_ws->coarse.transform.buffers();
   bsp::Work work{};
-  const vision::Status s = vision::correlate(prep.tmpl, prep.window, st.cfg->coarse.coarse.quality, buf, out, work,
-                                             vision::CorrelationTaps{}, st.cfg->coarse.coarse.method);
+  const vision::Status s = vision::correlate(prep.tmpl, prep.window, st.set->s.coarse.coarse.quality, buf, out, work,
+                                             vision::CorrelationTaps{}, st.set->s.coarse.coarse.method);
   bsp::consume(work);
   report_correlation_checks(out.check_failed, out.recomputes, out.first_check, kCoarseLandmark, st.frame.seq);
   return s;
@@ -775,7 +778,7 @@ bsp::Cycles band_cycles(const vision::CoarsePrepared& prep, std::int32_t rows) n
 
 /** Cycles of @p prep's whole surface by the coordinator's configured method, by the cost model. */
 bsp::Cycles one_piece_cycles(const CoordState& st, const vision::CoarsePrepared& prep) noexcept {
-  if (st.cfg->coarse.coarse.method != vision::CorrelationMethod::kTransform) {
+  if (st.set->s.coarse.coarse.method != vision::CorrelationMethod::kTransform) {
     return band_cycles(prep, prep.surface_h);
   }
   bsp::Work whole = vision::ncc_score_work(prep.surface_w, prep.surface_h);
@@ -1002,7 +1005,7 @@ vision::Status coarse_in_bands(CoordState& st, VisionCoordStats& stats, const vi
   }
   bsp::Work work{};
   const vision::Status g =
-      vision::correlate_gathered(prep.tmpl, prep.window, st.cfg->coarse.coarse.quality, st.gather.surface.as_const(),
+      vision::correlate_gathered(prep.tmpl, prep.window, st.set->s.coarse.coarse.quality, st.gather.surface.as_const(),
                                  st.gather.digest, st.gather.flat_windows, st.gather.recomputes, buf, out, work);
   bsp::consume(work);
   report_correlation_checks(out.check_failed, 0U, out.first_check, kCoarseLandmark, st.frame.seq);
@@ -1013,7 +1016,7 @@ vision::Status coarse_in_bands(CoordState& st, VisionCoordStats& stats, const vi
 bool coarse_if_needed(CoordState& st, VisionCoordStats& stats, const vision::ConstImageU8& image,
                       vision::PosePrior& prior) noexcept {
   const double sigma_h = std::sqrt(prior.sigma_p_m[0] * prior.sigma_p_m[0] + prior.sigma_p_m[1] * prior.sigma_p_m[1]);
-  if (sigma_h <= st.cfg->coarse_above_sigma_m) {
+  if (sigma_h <= st.set->s.coarse_above_sigma_m) {
     return true;
   }
   ++stats.coarse_runs;
@@ -1021,7 +1024,7 @@ bool coarse_if_needed(CoordState& st, VisionCoordStats& stats, const vision::Con
   bsp::Work work{};
   vision::CoarseFrameResult res{};
   vision::CoarseFrameStage stage{};
-  vision::Status s = vision::coarse_frame_prepare(image, st.cfg->camera, prior, st.coarse_map, st.cfg->coarse,
+  vision::Status s = vision::coarse_frame_prepare(image, st.set->s.camera, prior, st.coarse_map, st.set->s.coarse,
                                                   *st.coarse_ws, stage, res, work);
   bsp::consume(work);
   if (s != vision::Status::kOk || !stage.search) {
@@ -1033,7 +1036,7 @@ bool coarse_if_needed(CoordState& st, VisionCoordStats& stats, const vision::Con
     return false;
   }
   bsp::Work finish{};
-  vision::coarse_frame_finish(st.cfg->camera, st.coarse_map, st.cfg->coarse, stage, cm, res, finish);
+  vision::coarse_frame_finish(st.set->s.camera, st.coarse_map, st.set->s.coarse, stage, cm, res, finish);
   bsp::consume(finish);
   const bsp::Cycles took = bsp::now() - start;
   stats.max_coarse_cycles = took > stats.max_coarse_cycles ? took : stats.max_coarse_cycles;
@@ -1125,7 +1128,26 @@ void distribute(CoordState& st, VisionCoordStats& stats, const vision::PosePrior
   }
 }
 
+/**
+ * The settings in RAM against their seal (@p when: ev::kSettingsAtStart as a frame starts,
+ * ev::kSettingsAtBatch before its batch leaves). Changed: built again from the image and reported
+ * (tile_settings_bad, with the matches @p dropped because of it). @return true if they were intact.
+ */
+bool check_settings(CoordState& st, VisionCoordStats& stats, std::uint32_t when, std::uint32_t frame,
+                    std::uint32_t dropped) noexcept {
+  bsp::Work work{};
+  const bool intact = settings_intact(*st.set, work);
+  if (!intact) {
+    settings_seal(*st.set, coord_settings_of(*st.cfg), work);
+    ++stats.settings_rebuilt;
+    trn::report(ev::kTileSettingsBad, frame, ev::kSettingsOfCoordinator, when, dropped);
+  }
+  bsp::consume(work);
+  return intact;
+}
+
 void start_frame(CoordState& st, VisionCoordStats& stats) noexcept {
+  (void)check_settings(st, stats, ev::kSettingsAtStart, st.pending.seq, 0U);
   st.frame = st.pending;
   st.have_pending = false;
   st.match_count = 0;
@@ -1135,7 +1157,7 @@ void start_frame(CoordState& st, VisionCoordStats& stats) noexcept {
     ++stats.frames_before_ready;  // see frames_before_ready
     return;
   }
-  if (st.frame.width_px != st.cfg->camera.width_px || st.frame.height_px != st.cfg->camera.height_px) {
+  if (st.frame.width_px != st.set->s.camera.width_px || st.frame.height_px != st.set->s.camera.height_px) {
     // The I/O tile announces frames of the camera's size only (its message is checked on the way).
     coord_repaired(CoordPart::kFrameSize, st.frame.seq, st.frame.width_px);
     ++stats.frames_skipped;
@@ -1149,7 +1171,7 @@ void start_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   }
   st.busy = true;
   st.frame_start = bsp::now();
-  st.deadline = k::now_ticks() + seconds_to_ticks(st.cfg->deadline_s);
+  st.deadline = k::now_ticks() + seconds_to_ticks(st.set->s.deadline_s);
   const vision::ConstImageU8 image{pixels, static_cast<std::int32_t>(st.frame.width_px),
                                    static_cast<std::int32_t>(st.frame.height_px),
                                    static_cast<std::int32_t>(st.frame.width_px)};
@@ -1166,7 +1188,7 @@ void start_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   st.apply_job = capture_job + (stats.coarse_runs != coarse_before ? kCoarseApplyJobs : kFineApplyJobs);
   bsp::Work work{};
   std::uint32_t planned = 0;
-  if (vision::plan_frame(*st.table, st.fine, st.cfg->camera, prior, st.cfg->plan, st.planned.data(),
+  if (vision::plan_frame(*st.table, st.fine, st.set->s.camera, prior, st.set->s.plan, st.planned.data(),
                          static_cast<std::uint32_t>(st.planned.size()), planned, st.plan_scratch, work) !=
       vision::Status::kOk) {
     planned = 0;
@@ -1205,7 +1227,7 @@ void order_matches(CoordState& st) noexcept {
   // The scratch holds every place of the matches array, so the deal is never refused; were it,
   // the sorted order would stand (a valid order, only not dealt) and the deal's work is not charged.
   const bool dealt = deal_by_quadrant(std::span<Match>(st.matches.data(), count), first,
-                                      st.cfg->camera.cx_px, st.cfg->camera.cy_px, st.order, st.placed);
+                                      st.set->s.camera.cx_px, st.set->s.camera.cy_px, st.order, st.placed);
   // About n log2 n (n <= 201: log2 n <= 8) compares, and as many moves of 25-word matches; the deal
   // tests each match's quadrant once per quadrant and moves each match once more.
   const std::uint64_t n = count;
@@ -1293,7 +1315,7 @@ void judge_tiles(CoordState& st, VisionCoordStats& stats, std::uint32_t first, c
 
 /** Each fine match of the batch (from @p first) weighed by the frame's prior attitude (weighed_sigma_px()). */
 void weigh_by_prior(CoordState& st, std::uint32_t first) noexcept {
-  const double extra = prior_attitude_px(st.prior, st.cfg->sigma_px_per_prior_deg);
+  const double extra = prior_attitude_px(st.prior, st.set->s.sigma_px_per_prior_deg);
   const std::uint32_t count = match_count_of(st);
   if (extra > 0.0) {
     for (std::uint32_t k = first; k < count; ++k) {
@@ -1314,8 +1336,8 @@ void check_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   const std::uint32_t first = (count > 0U && st.matches[0].landmark == kCoarseLandmark) ? 1U : 0U;
   bsp::Work work{};
   vision::ConsistencyResult r{};
-  if (vision::check_match_consistency(st.cfg->camera, st.prior, st.matches.data() + first, count - first,
-                                      st.cfg->consistency, st.failed.data(), st.cws, r, work) != vision::Status::kOk) {
+  if (vision::check_match_consistency(st.set->s.camera, st.prior, st.matches.data() + first, count - first,
+                                      st.set->s.consistency, st.failed.data(), st.cws, r, work) != vision::Status::kOk) {
     r.checked = false;
   }
   bsp::consume(work);
@@ -1412,6 +1434,11 @@ void finish_frame(CoordState& st, VisionCoordStats& stats) noexcept {
   }
   stats.units_lost += lost;
   stats.suspect_tiles = fdir::liveness_isolated(st.live);
+  // Settings changed during the frame: its matches were planned, checked or weighed with them.
+  // The batch is not sent, and the tiles are not judged by it.
+  if (!check_settings(st, stats, ev::kSettingsAtBatch, st.frame.seq, match_count_of(st))) {
+    st.match_count = 0U;
+  }
   drop_wrong_matches(st);
   const std::uint32_t count = match_count_of(st);
   const std::uint32_t fine = count - ((count > 0U && st.matches[0].landmark == kCoarseLandmark) ? 1U : 0U);
@@ -1489,7 +1516,7 @@ void check_coord(CoordState& st) noexcept {
   }
   check_lists(st);
   const k::Ticks now = k::now_ticks();
-  if (st.busy && st.deadline > now + seconds_to_ticks(st.cfg->deadline_s)) {
+  if (st.busy && st.deadline > now + seconds_to_ticks(st.set->s.deadline_s)) {
     coord_repaired(CoordPart::kDeadline, 0U, static_cast<std::uint32_t>(st.deadline));
     st.deadline = now;  // the frame closes now with what came back
   }
@@ -1514,6 +1541,20 @@ bool all_answered(const CoordState& st) noexcept {
 }  // namespace
 
 const bsp::ControlLayout& vision_coord_state_layout() noexcept { return kCoordLayout; }
+
+CoordSettings coord_settings_of(const VisionCoordConfig& cfg) noexcept {
+  CoordSettings s{};
+  s.camera = cfg.camera;
+  s.plan = cfg.plan;
+  s.coarse = cfg.coarse;
+  s.consistency = cfg.consistency;
+  s.coarse_above_sigma_m = cfg.coarse_above_sigma_m;
+  s.deadline_s = cfg.deadline_s;
+  s.prior_lag_s = cfg.prior_lag_s;
+  s.max_prior_age_s = cfg.max_prior_age_s;
+  s.sigma_px_per_prior_deg = cfg.sigma_px_per_prior_deg;
+  return s;
+}
 
 double prior_attitude_px(const vision::PosePrior& prior, double px_per_deg) noexcept {
   constexpr double kDegPerRad = 57.29577951308232;
@@ -1559,6 +1600,15 @@ void vision_coord_main(void* arg) noexcept {
     (void)set_up_failed(SetUpStep::kRelight, 0U);
     return;
   }
+  // The settings frames use, last: every carve before keeps its place.
+  st->set = bsp::carve_array<SettingsCopy<CoordSettings>>(bsp::Region{self}, 1, kCoordSettingsCarve, &err);
+  if (st->set == nullptr) {
+    (void)set_up_failed(SetUpStep::kCarves, 1U);
+    return;
+  }
+  bsp::Work work{};
+  settings_seal(*st->set, coord_settings_of(*cfg), work);
+  bsp::consume(work);
   // Emulated seconds, as the frames' capture times (kTicksPerSecond, as seconds_to_ticks() takes it).
   st->ready_s = static_cast<double>(bsp::now()) / static_cast<double>(bsp::tick_cycles()) *
                 (1.0 / static_cast<double>(kTicksPerSecond));

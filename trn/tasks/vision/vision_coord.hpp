@@ -122,6 +122,33 @@ struct VisionCoordConfig {
 };
 
 /**
+ * The settings a frame uses, as the coordinator's tile holds them: copied from
+ * its configuration (the image) into its RAM at the end of its set-up (carve
+ * kCoordSettingsCarve), under a CRC-32C checked as each frame starts and again
+ * before its batch leaves (trn/tasks/settings_copy.hpp). The tiles it deals to
+ * and the supervisors' tiles are its wiring: they stay the image's, and its
+ * lists of them are checked against it (check_lists()); the landmark selection
+ * and the sun are used at set-up only.
+ */
+struct CoordSettings {
+  bsp::CameraModel camera;
+  vision::FramePlanParams plan;
+  vision::CoarseFrameParams coarse;
+  vision::ConsistencyParams consistency;
+  double coarse_above_sigma_m;
+  double deadline_s;
+  double prior_lag_s;
+  double max_prior_age_s;
+  double sigma_px_per_prior_deg;
+};
+
+/** The settings of a configuration (what the copy in RAM is built from). */
+CoordSettings coord_settings_of(const VisionCoordConfig& cfg) noexcept;
+
+/** Name of the carve that holds the coordinator's settings in its tile's RAM (a plan's upset names it). */
+inline constexpr const char* kCoordSettingsCarve = "coord_settings";
+
+/**
  * The sigma the filter gets for a fine match of correlation sigma @p sigma_px
  * made from @p prior: sqrt(sigma_px^2 + (px_per_deg * |sigma_att| in degrees)^2)
  * (VisionCoordConfig::sigma_px_per_prior_deg). @p sigma_px itself when the
@@ -171,6 +198,7 @@ struct VisionCoordStats {
   std::uint32_t frames_rate_skipped;  ///< frames left out by the vision supervisor's image rate
   std::uint32_t rate_div;             ///< the image rate now: every frame (1), every other (2)
   std::uint32_t healthy_tiles;        ///< vision tiles answering and trusted at the last frame
+  std::uint32_t settings_rebuilt;     ///< frames whose settings in RAM had changed and were built again (coord_settings)
   double residual_scale_max_px;       ///< the largest robust residual scale of a checked frame
   double tile_bias_max_px;            ///< the largest mean residual of a trusted tile's window (the bias test)
   bsp::Cycles max_frame_cycles;       ///< notice to batch sent, longest
@@ -215,6 +243,7 @@ inline constexpr std::array kVisionCoordStatsFields{
     BSP_CONTROL_STATE(VisionCoordStats, frames_rate_skipped),
     BSP_CONTROL_STATE(VisionCoordStats, rate_div),
     BSP_CONTROL_STATE(VisionCoordStats, healthy_tiles),
+    BSP_CONTROL_STATE(VisionCoordStats, settings_rebuilt),
     BSP_CONTROL_STATE(VisionCoordStats, residual_scale_max_px),
     BSP_CONTROL_STATE(VisionCoordStats, tile_bias_max_px),
     BSP_CONTROL_STATE(VisionCoordStats, max_frame_cycles),

@@ -8,9 +8,11 @@
 #include "bsp_tile64/api/memory.hpp"
 #include "fdir/event_log.hpp"
 #include "kernel/kernel.hpp"
+#include "trn/events.hpp"
 #include "trn/match.hpp"
 #include "trn/tasks/messages.hpp"
 #include "trn/tasks/sdc_points.hpp"
+#include "trn/tasks/settings_copy.hpp"
 #include "trn/tasks/vision/vision_shared.hpp"
 #include "udn/endpoint.hpp"
 
@@ -23,8 +25,15 @@ namespace {
 /** Idle poll period of a vision tile: units come once a frame, and each idle wake costs two context switches. */
 constexpr k::Ticks kWorkerIdleTicks = 4;
 
+/** What a vision tile's units use of its configuration, held in its RAM under a CRC (settings_copy.hpp). */
+struct WorkerSettings {
+  bsp::CameraModel camera;
+  double descent_sun_m[3];
+};
+
 struct WorkerState {
   const VisionWorkerConfig* cfg;
+  SettingsCopy<WorkerSettings>* set;  ///< in this tile's RAM (kWorkerSettingsCarve), carved last
   vision::MapView fine;
   vision::MapView coarse;
   vision::LandmarkWorkspace* ws;
@@ -39,7 +48,7 @@ struct WorkerState {
  * for each unit before it is sent).
  */
 constexpr std::array kWorkerFields{
-    BSP_CONTROL_HOST(WorkerState, cfg), BSP_CONTROL_HOST(WorkerState, fine), BSP_CONTROL_HOST(WorkerState, coarse),
+    BSP_CONTROL_HOST(WorkerState, cfg), BSP_CONTROL_HOST(WorkerState, set), BSP_CONTROL_HOST(WorkerState, fine), BSP_CONTROL_HOST(WorkerState, coarse),
     BSP_CONTROL_HOST(WorkerState, ws),  BSP_CONTROL_STATE(WorkerState, out),
 };
 constexpr bsp::ControlLayout kWorkerLayout{kWorkerFields, sizeof(WorkerState), alignof(WorkerState)};
@@ -97,7 +106,7 @@ std::uint32_t run_unit(WorkerState& st, VisionWorkerStats& stats, const WorkUnit
     bool accepted = false;
     vision::LandmarkDiag diag{};
     bsp::Work work{};
-    const vision::Status s = vision::match_landmark(image, st.cfg->camera, prior, st.fine, *table, index, radius,
+    const vision::Status s = vision::match_landmark(image, st.set->s.camera, prior, st.fine, *table, index, radius,
                                                     *st.ws, match, accepted, diag, work);
     bsp::consume(work);
     report_correlation_checks(diag.check_failed, diag.recomputes, diag.first_check, index, u.frame);
@@ -128,7 +137,7 @@ void relight_request(WorkerState& st, VisionWorkerStats& stats, bsp::TileId from
   const std::int32_t rows = band.rows;
   // The copy is the coordinator's carve, laid out like the layer.
   const vision::ImageU8 dst{const_cast<std::uint8_t*>(relit), src.width, src.height, src.width};  // NOLINT(cppcoreguidelines-pro-type-const-cast): shared DDR buffer
-  if (relit == nullptr || !relight_band(st.coarse, st.cfg->descent_sun_m, dst, row0, rows)) {
+  if (relit == nullptr || !relight_band(st.coarse, st.set->s.descent_sun_m, dst, row0, rows)) {
     ++stats.bad_units;
     return;
   }
@@ -202,8 +211,48 @@ void take_coarse_band(Inbox& in, const CoarseBand& b) noexcept { coarse_band_req
 
 void take_relight(Inbox& in, const RelightBand& b) noexcept { relight_request(in.st, in.stats, in.m.source, b); }
 
+WorkerSettings worker_settings_of(const VisionWorkerConfig& cfg) noexcept {
+  WorkerSettings w{};
+  w.camera = cfg.camera;
+  for (std::size_t i = 0; i < 3U; ++i) {
+    w.descent_sun_m[i] = cfg.descent_sun_m[i];
+  }
+  return w;
+}
+
+/**
+ * The settings in RAM against their seal, for frame @p frame (@p when: ev::kSettingsAtStart before a
+ * unit, ev::kSettingsAtBatch after it, before its result leaves). Changed: built again from the image
+ * and reported (tile_settings_bad). @return true if they were intact.
+ */
+bool check_settings(WorkerState& st, VisionWorkerStats& stats, std::uint32_t when, std::uint32_t frame) noexcept {
+  bsp::Work work{};
+  const bool intact = settings_intact(*st.set, work);
+  if (!intact) {
+    settings_seal(*st.set, worker_settings_of(*st.cfg), work);
+    ++stats.settings_rebuilt;
+    trn::report(ev::kTileSettingsBad, frame, ev::kSettingsOfVisionTile, when, 0U);
+  }
+  bsp::consume(work);
+  return intact;
+}
+
+/**
+ * A unit, run with settings checked before and after: changed while it ran, it is run again
+ * with the rebuilt ones (once; a second change in the same unit is left to the next unit's check
+ * and to the coordinator's check of its matches).
+ */
+std::uint32_t run_checked_unit(WorkerState& st, VisionWorkerStats& stats, const WorkUnit& u) noexcept {
+  (void)check_settings(st, stats, ev::kSettingsAtStart, u.frame);
+  std::uint32_t words = run_unit(st, stats, u);
+  if (words != 0U && !check_settings(st, stats, ev::kSettingsAtBatch, u.frame)) {
+    words = run_unit(st, stats, u);
+  }
+  return words;
+}
+
 void take_unit(Inbox& in, const WorkUnit& u) noexcept {
-  const std::uint32_t words = run_unit(in.st, in.stats, u);
+  const std::uint32_t words = run_checked_unit(in.st, in.stats, u);
   if (words == 0U) {
     ++in.stats.bad_units;
     return;
@@ -247,6 +296,14 @@ void vision_worker_main(void* arg) noexcept {
     return;
   }
   VisionWorkerStats& stats = *counters;
+  // The settings its units use, after the counters (every carve before keeps its place).
+  st->set = bsp::carve_array<SettingsCopy<WorkerSettings>>(bsp::Region{self}, 1, kWorkerSettingsCarve, &err);
+  if (st->set == nullptr) {
+    return;
+  }
+  bsp::Work work{};
+  settings_seal(*st->set, worker_settings_of(*cfg), work);
+  bsp::consume(work);
   udn::FtMessage m{};
   for (;;) {
     k::checkin();

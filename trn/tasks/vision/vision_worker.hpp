@@ -34,6 +34,7 @@ struct VisionWorkerStats {
   std::uint32_t coarse_bands;  ///< bands of the coarse stage's surface computed (kMsgCoarseBand)
   std::uint32_t bad_units;
   std::uint32_t send_failed;
+  std::uint32_t settings_rebuilt;  ///< checks that found its settings in RAM changed (built again, tile_settings_bad)
 };
 
 /** A vision task's counters are emulated state through and through (bsp::ControlLayout). */
@@ -41,10 +42,13 @@ inline constexpr std::array kVisionWorkerStatsFields{
     BSP_CONTROL_STATE(VisionWorkerStats, units),        BSP_CONTROL_STATE(VisionWorkerStats, landmarks),
     BSP_CONTROL_STATE(VisionWorkerStats, matches),      BSP_CONTROL_STATE(VisionWorkerStats, coarse_bands),
     BSP_CONTROL_STATE(VisionWorkerStats, bad_units),    BSP_CONTROL_STATE(VisionWorkerStats, send_failed),
+    BSP_CONTROL_STATE(VisionWorkerStats, settings_rebuilt),
 };
 inline constexpr bsp::ControlLayout kVisionWorkerStatsLayout{kVisionWorkerStatsFields, sizeof(VisionWorkerStats),
                                                             alignof(VisionWorkerStats)};
 static_assert(bsp::control_layout_ok(kVisionWorkerStatsLayout), "every member of VisionWorkerStats");
+/** Name of the carve that holds a vision tile's settings (camera, sun) in its RAM (a plan's upset names it). */
+inline constexpr const char* kWorkerSettingsCarve = "worker_settings";
 /** A vision task's counters: a record in its tile's RAM, carved at task start (the host reads it by this name). */
 inline constexpr bsp::RamRecord<VisionWorkerStats> kVisionWorkerStatsRecord{"worker_stats", &kVisionWorkerStatsLayout};
 
