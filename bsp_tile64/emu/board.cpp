@@ -43,7 +43,7 @@ void clear_tile(Tile& t, TileId id) noexcept {
   t.pending = 0U;
   t.handler = nullptr;
   t.timer_period = 0U;
-  ++t.timer_gen;  // old timer events become stale
+  t.timer_at = 0U;
   t.wd_armed = false;
   t.wd_reset = false;
   t.wd_failed = false;
@@ -67,7 +67,6 @@ void discard_tile_state(Tile& t) noexcept {
   t.pending = 0U;
   t.handler = nullptr;
   t.timer_period = 0U;
-  ++t.timer_gen;
   t.wd_armed = false;
   t.wd_timeout = 0U;
   const std::span<std::byte> ram = region_span(Region{t.id});
@@ -241,7 +240,8 @@ bool runnable(const Tile& t) noexcept {
 /** An idle tile with nothing to do before the quantum end would only yield again: skip the switches. */
 bool can_skip(const Tile& t, Cycles q_end) noexcept {
   const bool wd_due = t.wd_armed && !t.wd_failed && t.wd_deadline <= q_end;
-  return t.power == PowerState::kIdle && t.pending == 0U && t.local.empty() && !wd_due;
+  const bool timer_due = t.timer_period != 0U && t.timer_at < q_end;
+  return t.power == PowerState::kIdle && t.pending == 0U && t.local.empty() && !wd_due && !timer_due;
 }
 
 void resume(Tile& t) noexcept {
@@ -446,7 +446,7 @@ BoardError schedule_event(Cycles cycle, TileId tile, Irq irq, EventCallback call
     return BoardError::kBadTile;
   }
   detail::Board& b = detail::g_board;
-  const Event e{cycle, tile, EventKind::kDevice, irq, 0U, b.seq++, callback, arg};
+  const Event e{cycle, tile, EventKind::kDevice, irq, b.seq++, callback, arg};
   return detail::push_event(e) ? BoardError::kOk : BoardError::kFull;
 }
 

@@ -34,8 +34,8 @@ struct Tile {
   bool masked;
   std::uint32_t pending;  ///< bit per Irq
   IrqHandler handler;
-  Cycles timer_period;
-  std::uint32_t timer_gen;
+  Cycles timer_period;  ///< 0: the timer is stopped
+  Cycles timer_at;      ///< the timer's next expiry (while timer_period != 0)
   bool wd_armed;
   bool wd_reset;
   bool wd_failed;

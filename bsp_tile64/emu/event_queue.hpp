@@ -21,7 +21,6 @@ using EventCallback = void (*)(TileId tile, Cycles cycle, std::uint64_t arg);
 
 /** What an event does when it is delivered. */
 enum class EventKind : std::uint8_t {
-  kTimer,   ///< the tile's periodic timer (stale if gen differs from the tile's timer generation)
   kDevice,  ///< a device or fault event: callback (if any), then irq (if not Irq::kCount)
 };
 
@@ -29,8 +28,7 @@ struct Event {
   Cycles cycle;
   TileId tile;
   EventKind kind;
-  Irq irq;            ///< Irq::kCount: raise nothing
-  std::uint32_t gen;  ///< timer generation (kTimer only)
+  Irq irq;  ///< Irq::kCount: raise nothing
   std::uint64_t seq;
   EventCallback callback;
   std::uint64_t arg;

@@ -39,15 +39,6 @@ void expire_watchdog(Tile& t) noexcept {
 }
 
 void deliver_one(Tile& t, const Event& e) noexcept {
-  if (e.kind == EventKind::kTimer) {
-    if (e.gen != t.timer_gen || t.timer_period == 0U) {
-      return;  // a stopped or restarted timer's old event
-    }
-    Event next = e;
-    next.cycle = e.cycle + t.timer_period;
-    next.seq = board().seq++;
-    static_cast<void>(push_event(next));  // a full queue is traced by push_event
-  }
   if (e.callback != nullptr) {
     e.callback(t.id, e.cycle, e.arg);
   }
@@ -108,6 +99,14 @@ bool push_event(const Event& e) noexcept {
 }
 
 void deliver_due(Tile& t) noexcept {
+  // The timer is the tile's own register, not a queued event: its expiry only sets the pending bit.
+  // Like an event, an expiry at the quantum's end belongs to the next quantum.
+  if (t.timer_period != 0U && t.timer_at <= t.time && t.timer_at < board().q_end) {
+    t.timer_at += t.timer_period;
+    if (powered(t)) {
+      t.pending |= irq_bit(Irq::kTimer);
+    }
+  }
   for (std::size_t n = 0; n < 4U * kLocalEventCapacity; ++n) {
     if (t.local.empty() || t.local.front().cycle > t.time) {
       break;
@@ -125,6 +124,9 @@ Cycles next_wake(const Tile& t) noexcept {
   Cycles next = ~Cycles{0};
   if (!t.local.empty()) {
     next = t.local.front().cycle;
+  }
+  if (t.timer_period != 0U && t.timer_at < next) {
+    next = t.timer_at;
   }
   if (t.wd_armed && !t.wd_failed && t.wd_deadline < next) {
     next = t.wd_deadline;
@@ -251,13 +253,8 @@ void timer_start(Cycles period) noexcept {
   if (t == nullptr) {
     return;
   }
-  ++t->timer_gen;
   t->timer_period = period;
-  if (period != 0U) {
-    const Event e{t->time + period, t->id, EventKind::kTimer, Irq::kTimer, t->timer_gen, detail::board().seq++,
-                  nullptr, 0U};
-    static_cast<void>(detail::push_event(e));
-  }
+  t->timer_at = t->time + period;
 }
 
 void watchdog_arm(Cycles timeout, bool reset_on_expiry) noexcept {

@@ -18,7 +18,7 @@ namespace {
 
 bsp::Event random_event(bsp::Rng& rng, std::uint64_t seq) {
   return bsp::Event{rng.below(50U), static_cast<bsp::TileId>(rng.below(4U)), bsp::EventKind::kDevice,
-                    bsp::Irq::kDevice, 0U, seq, nullptr, 0U};
+                    bsp::Irq::kDevice, seq, nullptr, 0U};
 }
 
 TEST(EventQueue, HeapPopsInCycleTileSequenceOrderLikeASortedReference) {
