@@ -240,7 +240,7 @@ cov: deps ## Coverage of the tests over the flight code (gcovr report under buil
 
 bench: deps ## Benchmarks (Google Benchmark and whole-run figures) into build/bench/
 	@tools/build/deps.sh base bench
-	@$(MAKE) --no-print-directory $(BENCH_BINS) $(BIN)/trn_mission
+	@$(MAKE) --no-print-directory $(BENCH_BINS) $(BIN)/trn_mission $(BIN)/trn_campaign
 	@tools/build/run_bench.sh $(BIN) $(BENCH_BINS)
 
 # ---------------------------------------------------------------- slurm

@@ -19,6 +19,8 @@ inline constexpr std::uint32_t kMaxTasks = 16;
 inline constexpr std::uint32_t kNumPriorities = 32;
 /** Idle task stack, bytes. */
 inline constexpr std::uint32_t kIdleStackBytes = 16U * 1024U;
+/** Longest sleep of an idle tile with nothing due (tickless idle): an interrupt wakes it sooner. */
+inline constexpr std::uint32_t kMaxIdleTicks = 1000U;
 /** Bytes at the bottom of each stack holding the canary (checked at every switch). */
 inline constexpr std::uint32_t kCanaryBytes = 64;
 /** Byte painted over every stack at creation, for high-water marks. */

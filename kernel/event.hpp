@@ -7,6 +7,7 @@
 #include "kernel/detail/core.hpp"
 #include "kernel/types.hpp"
 
+#include <array>
 #include <cstdint>
 
 namespace k {
@@ -38,6 +39,15 @@ class EventFlags {
   void set_masked(std::uint32_t bits) noexcept;
   std::uint32_t flags_ = 0;
   detail::WaitList waiters_{};
+  friend struct EventFlagsLayout;
+};
+
+/** Event flags in a control struct are emulated state (bsp::ControlLayout), like a Semaphore's. */
+struct EventFlagsLayout {
+  static constexpr std::array kFields{BSP_CONTROL_STATE(EventFlags, flags_),
+                                      BSP_CONTROL_NESTED(EventFlags, waiters_, detail::kWaitListLayout)};
+  static constexpr bsp::ControlLayout kLayout{kFields, sizeof(EventFlags), alignof(EventFlags)};
+  static_assert(bsp::control_layout_ok(kLayout), "every member of EventFlags");
 };
 
 }  // namespace k

@@ -27,6 +27,14 @@ struct TileKernel {
   KernelState* ks;
   bool in_isr;
   std::uint32_t booted_tasks;  ///< tasks of the kernel running now, idle included (check_kernel's reference)
+  /*
+   * Tickless idle (the timer's compare registers, outside the tile's RAM like
+   * booted_tasks): tick k of the kernel is at origin + k * period; `armed`
+   * is where the timer expires next.
+   */
+  bsp::Cycles origin;
+  bsp::Cycles armed;
+  bsp::Cycles period;  ///< the tick of the kernel running now (start()'s; `tick_cycles` is the next boot's)
 };
 
 std::array<TileKernel, bsp::kMaxTiles> g_tiles{};
@@ -140,8 +148,55 @@ void check_kernel(KernelState& ks, bsp::TileId tile) noexcept {
   }
 }
 
+/** The tick the tile's time is in, counted from the kernel's start. */
+Ticks tick_now(const TileKernel& tk) noexcept {
+  const bsp::Cycles now = bsp::now();
+  return tk.period == 0U || now < tk.origin ? 0U : (now - tk.origin) / tk.period;
+}
+
+/** The timer's next expiry at the start of tick @p tick. */
+void arm(TileKernel& tk, Ticks tick) noexcept {
+  const bsp::Cycles at = tk.origin + tick * tk.period;
+  if (at != tk.armed) {
+    tk.armed = at;
+    bsp::timer_next(at);
+  }
+}
+
+/**
+ * The first tick after ks.ticks at which the kernel has something to do by
+ * itself: a timeout, a periodic release, or the deadline of a job still
+ * running. At most kMaxIdleTicks ahead (an interrupt wakes the tile sooner).
+ */
+Ticks next_due(const KernelState& ks) noexcept {
+  Ticks due = ks.ticks + config::kMaxIdleTicks;
+  const std::uint32_t count = ks.task_count < config::kMaxTasks ? ks.task_count : config::kMaxTasks;
+  for (std::uint32_t i = 0; i < count; ++i) {
+    const Tcb& t = ks.tcbs[i];
+    if (t.state == TaskState::kBlocked && t.wake_tick != 0U && t.wake_tick < due) {
+      due = t.wake_tick;
+    }
+    if (t.spec->period_ticks == 0U || t.state == TaskState::kDormant || t.state == TaskState::kFaulted) {
+      continue;
+    }
+    due = t.next_release < due ? t.next_release : due;
+    if (!t.job_done && !t.miss_counted && t.deadline_tick < due) {
+      due = t.deadline_tick;
+    }
+  }
+  return due > ks.ticks ? due : ks.ticks + 1U;
+}
+
 /** Switches from the current task to @p next (a different task). Irqs masked. */
 void switch_to(KernelState& ks, TaskId next) noexcept {
+  // Tickless: the idle task sleeps the tile to the next tick anything is due; any other task ticks every tick.
+  const bsp::TileId tile = bsp::current_tile();
+  TileKernel& tk = g_tiles[tile < bsp::kMaxTiles ? tile : 0U];
+  if (next == ks.idle) {
+    arm(tk, next_due(ks));
+  } else if (ks.current == ks.idle) {
+    arm(tk, ks.ticks + 1U);
+  }
   Tcb& from = ks.tcbs[ks.current];
   Tcb& to = ks.tcbs[next];
   trace_event(static_cast<std::uint16_t>(TraceKind::kSwitch), ks.current, next);
@@ -451,9 +506,11 @@ void irq_handler(bsp::TileId tile, bsp::Irq irq) noexcept {
   // The interrupted task's canary is checked if the handler switches away
   // from it (reschedule below); its line went cold while other tiles ran.
   __builtin_prefetch(ks->tcbs[ks->current].stack);
+  // The ticks from the time (a tickless idle skips the ticks with nothing due).
+  ks->ticks = tick_now(tk);
   if (irq == bsp::Irq::kTimer) {
     check_kernel(*ks, tile);
-    ++ks->ticks;
+    tk.armed = tk.origin + (ks->ticks + 1U) * tk.period;  // periodic again from here
     tick_tasks(*ks);
   } else {
     const IsrHook hook = g_isr[tile][static_cast<std::size_t>(irq)];
@@ -465,6 +522,9 @@ void irq_handler(bsp::TileId tile, bsp::Irq irq) noexcept {
   // an interrupt; when this one resumes, it finishes its handler.
   tk.in_isr = false;
   reschedule();
+  if (ks->current == ks->idle) {
+    arm(tk, next_due(*ks));  // still idle: sleep to the next tick anything is due
+  }
 }
 
 }  // namespace
@@ -511,6 +571,9 @@ Status start(TaskTable table, bsp::Cycles tick_cycles) noexcept {
   // Release every task at tick 0: periodic ones start their first job now.
   bsp::set_irq_handler(tile, &detail::irq_handler);
   bsp::timer_start(tick_cycles);
+  detail::g_tiles[tile].origin = bsp::now();
+  detail::g_tiles[tile].armed = bsp::now() + tick_cycles;
+  detail::g_tiles[tile].period = tick_cycles;
   const TaskId first = detail::ready_pop(*ks);
   ks->current = first;
   Tcb& t = ks->tcbs[first];

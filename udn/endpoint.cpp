@@ -47,6 +47,8 @@ struct Endpoint {
   std::uint32_t parked_serial;  ///< serial of that set
   bsp::TileId twin;             ///< the second way of the reports (route_twin_via), once twin_known
   bool twin_known;              ///< false: to be found again (the routes changed)
+  k::Semaphore wake{0U, 1U};    ///< given by the tile's UDN interrupt: the service sleeps on it
+  k::EventFlags arrived{};      ///< bit c: a message was delivered on channel c (endpoint_wait)
 };
 
 /*
@@ -98,6 +100,8 @@ constexpr std::array kEndpointFields{
     BSP_CONTROL_STATE(Endpoint, parked_serial),
     BSP_CONTROL_STATE(Endpoint, twin),
     BSP_CONTROL_STATE(Endpoint, twin_known),
+    BSP_CONTROL_NESTED(Endpoint, wake, k::SemaphoreLayout::kLayout),
+    BSP_CONTROL_NESTED(Endpoint, arrived, k::EventFlagsLayout::kLayout),
 };
 constexpr bsp::ControlLayout kEndpointLayout{kEndpointFields, sizeof(Endpoint), alignof(Endpoint)};
 static_assert(bsp::control_layout_ok(kEndpointLayout), "every member of Endpoint");
@@ -563,6 +567,33 @@ void take_maps(Endpoint& ep) noexcept {
   }
 }
 
+/** The UDN interrupt: a packet arrived (or a refused send may go): the service looks again. */
+void on_udn_irq(bsp::TileId tile) noexcept {
+  Endpoint* ep = tile < bsp::kMaxTiles ? g_ep[tile] : nullptr;
+  if (ep != nullptr && ep->wake.count() == 0U) {
+    (void)ep->wake.give_from_isr();
+  }
+}
+
+/** Transit i's tick in the period (1 .. transit_count), after the neighbour pings, offset by the tile; 0: none. */
+std::uint32_t transit_slot(std::uint32_t tick, std::uint32_t period, bsp::TileId self) noexcept {
+  return (tick + period - (self % period)) % period;
+}
+
+/** Ticks from @p tick to the next tick with a probe or a transit (1 .. period), or kCommMaxSleepTicks. */
+std::uint32_t ticks_to_probe(const Endpoint& ep, std::uint32_t tick, std::uint32_t period, bsp::TileId self) noexcept {
+  if (!ep.probing) {
+    return kCommMaxSleepTicks;
+  }
+  for (std::uint32_t d = 1U; d < period && d < kCommMaxSleepTicks; ++d) {
+    const std::uint32_t slot = transit_slot(tick + d, period, self);
+    if ((tick + d) % period == 0U || (slot >= 1U && slot <= ep.transit_count)) {
+      return d;
+    }
+  }
+  return period < kCommMaxSleepTicks ? period : kCommMaxSleepTicks;
+}
+
 }  // namespace
 
 void endpoint_task_main(void* arg) noexcept {
@@ -573,14 +604,24 @@ void endpoint_task_main(void* arg) noexcept {
   }
   g_ep[self] = nullptr;  // a restart carves afresh: the old state is gone with the region
   Endpoint* opened = nullptr;
-  if (cfg == nullptr || !open(opened, self, *cfg)) {
+  if (cfg == nullptr || !open(opened, self, *cfg) || k::set_isr(bsp::Irq::kUdn, &on_udn_irq) != k::Status::kOk) {
     return;
   }
   g_ep[self] = opened;
   Endpoint& ep = *opened;
   const std::uint32_t period = cfg->probe_period_ticks == 0U ? 1U : cfg->probe_period_ticks;
-  for (std::uint32_t tick = 0;; ++tick) {
-    const bool probe_now = ep.probing && tick % period == 0U;
+  const k::Ticks start = k::now_ticks();
+  k::Ticks last = ~k::Ticks{0};
+  // Event-driven: a pass at each tick with a probe or a transit, at each arrival, and every tick while the
+  // node has packets in flight or owes an answer; asleep otherwise (a tickless tile sleeps with it).
+  for (;;) {
+    const k::Ticks now = k::now_ticks();
+    const auto tick = static_cast<std::uint32_t>(now - start);
+    const bool new_tick = now != last;
+    last = now;
+    const bool probe_now = ep.probing && new_tick && tick % period == 0U;
+    std::uint32_t handled = 0U;
+    std::uint8_t ready = 0U;
     {
       const IrqGuard guard;
       check_endpoint(ep, self);
@@ -590,20 +631,26 @@ void endpoint_task_main(void* arg) noexcept {
           report_again(ep);
         }
       }
-      // Transit i on its own tick of the period: after the neighbour pings, offset by the tile.
-      const std::uint32_t slot = (tick + period - (self % period)) % period;
-      if (ep.probing && slot >= 1U && slot <= ep.transit_count) {
+      const std::uint32_t slot = transit_slot(tick, period, self);
+      if (ep.probing && new_tick && slot >= 1U && slot <= ep.transit_count) {
         transit_probe(ep, slot - 1U);
       }
-      (void)ft_poll(ep.node, tick32(), cfg->packets_per_tick);
+      handled = ft_poll(ep.node, tick32(), cfg->packets_per_tick);
       take_maps(ep);
+      ready = ep.node.rx_ready;
+    }
+    if (ready != 0U) {
+      ep.arrived.set(ready);  // the tile's receivers waiting in endpoint_wait
     }
     send_reports(ep);
     if (probe_now) {
       push_to_stale(ep);
     }
     k::checkin();
-    (void)k::wait_period();
+    const bool busy = ft_busy(ep.node) || handled >= cfg->packets_per_tick || ep.pending_count != 0U ||
+                      owes_transit_report(ep);
+    const std::uint32_t sleep = busy ? 1U : ticks_to_probe(ep, tick, period, self);
+    (void)ep.wake.take(k::Timeout{sleep});
   }
 }
 
@@ -688,6 +735,23 @@ FtError endpoint_receive(std::uint32_t channel, FtMessage& out) noexcept {
   const IrqGuard guard;
   check_endpoint(*ep, bsp::current_tile());
   return ft_receive(ep->node, channel, out);
+}
+
+bool endpoint_wait(std::uint32_t channel, std::uint32_t max_ticks) noexcept {
+  Endpoint* ep = current();
+  if (ep == nullptr || channel >= kFtAllChannels || channel == kFtChanMap) {
+    return false;
+  }
+  const std::uint32_t bit = 1U << channel;
+  {
+    const IrqGuard guard;
+    if ((ep->node.rx_ready & bit) != 0U) {
+      return true;
+    }
+  }
+  std::uint32_t got = 0U;
+  (void)ep->arrived.wait(bit, k::WaitMode::kAny, true, k::Timeout{max_ticks}, &got);
+  return true;
 }
 
 FtError endpoint_install_map(const FaultMap& map) noexcept {

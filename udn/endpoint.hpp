@@ -1,12 +1,16 @@
 /**
  * @file endpoint.hpp
  * @brief A tile's fault-tolerant messaging endpoint: its node and fault map in tile RAM, the
- *        service task that polls it every tick and probes the neighbours, and send and receive
- *        for the tile's tasks.
+ *        service task that polls it when packets arrive and probes the neighbours, and send and
+ *        receive for the tile's tasks.
  *
  * Every tile that talks over the fault-tolerant UDN runs the endpoint service
- * task (endpoint_task_spec: highest priority, period one tick) from its task
- * table, with one EndpointConfig set by the image before boot. The endpoint's
+ * task (endpoint_task_spec: highest priority) from its task table, with one
+ * EndpointConfig set by the image before boot. The service is event-driven:
+ * it polls the node when the tile's UDN interrupt says a packet arrived, at
+ * each tick with a probe or a transit ping, and every tick while the node has
+ * packets in flight or owes an answer; otherwise it sleeps (at most
+ * kCommMaxSleepTicks), and so does a tickless tile with nothing else to do. The endpoint's
  * state (FtNode, the tile's copy of the fault map, the probe) is carved in the
  * tile's RAM at the service's start, so an upset can hit it and a restart
  * starts it afresh from the boot map. The tile's tasks share it, so every node
@@ -166,8 +170,11 @@ bool endpoint_set_parked(std::uint64_t parked, std::uint32_t serial) noexcept;
 /** Service task entry (arg: const EndpointConfig*): opens the node, then serves it every tick. */
 void endpoint_task_main(void* arg) noexcept;
 
-/** The service's check-in budget with the tile's health agent (it checks in every tick). */
+/** The service's check-in budget with the tile's health agent (it checks in at every pass). */
 inline constexpr std::uint32_t kCommWatchTicks = 20U;
+
+/** The service's longest sleep: half its check-in budget. */
+inline constexpr std::uint32_t kCommMaxSleepTicks = kCommWatchTicks / 2U;
 
 /**
  * Probe rounds between two sendings of a suspicion or a lost transit that
@@ -178,9 +185,9 @@ inline constexpr std::uint32_t kCommWatchTicks = 20U;
  */
 inline constexpr std::uint32_t kReReportRounds = 20U;
 
-/** The service task's table entry for @p cfg (priority 0, period 1, preemptive). */
+/** The service task's table entry for @p cfg (priority 0, event-driven, preemptive). */
 constexpr k::TaskSpec endpoint_task_spec(EndpointConfig* cfg) noexcept {
-  return k::TaskSpec{"comm", &endpoint_task_main, cfg, 0, 1, 0, 16U * 1024U, k::Policy::kPreemptive, kCommWatchTicks};
+  return k::TaskSpec{"comm", &endpoint_task_main, cfg, 0, 0, 0, 16U * 1024U, k::Policy::kPreemptive, kCommWatchTicks};
 }
 
 /** True once the current tile's endpoint is open. [task] */
@@ -200,6 +207,14 @@ bool endpoint_wait_ready(std::uint32_t max_ticks) noexcept;
 
 /** Pops the current tile's oldest message on @p channel. @return kOk or kEmpty (kBadArgs when closed). */
 [[nodiscard]] FtError endpoint_receive(std::uint32_t channel, FtMessage& out) noexcept;
+
+/**
+ * Sleeps the calling task until a message is delivered on @p channel, at most
+ * @p max_ticks ticks; returns at once if one is waiting. A wake-up says only
+ * "look again": endpoint_receive() tells what is there. [task]
+ * @return false if the endpoint is closed or the channel is not a task's.
+ */
+bool endpoint_wait(std::uint32_t channel, std::uint32_t max_ticks) noexcept;
 
 /**
  * Installs @p map on the current tile if it is newer than the tile's copy (the

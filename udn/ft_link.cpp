@@ -1278,6 +1278,11 @@ FtError ft_receive(FtNode& node, std::uint32_t channel, FtMessage& out) noexcept
   return FtError::kEmpty;
 }
 
+bool ft_busy(const FtNode& node) noexcept {
+  return node.tx_hint || node.fwd_hint || node.sync_hint || node.acks_owed != 0U || node.busies_owed != 0U ||
+         node.held_streams != 0U || node.pongs_owed != 0U;
+}
+
 std::uint32_t ft_outstanding(const FtNode& node) noexcept {
   std::uint32_t n = 0U;
   for (const detail::TxSlot& s : node.tx) {

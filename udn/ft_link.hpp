@@ -549,6 +549,13 @@ FtError ft_receive(FtNode& node, std::uint32_t channel, FtMessage& out) noexcept
 /** Unacknowledged packets and unanswered SYNCs of the node (0 once everything is delivered or given up). */
 std::uint32_t ft_outstanding(const FtNode& node) noexcept;
 
+/**
+ * True if the node's next ft_poll has work whatever arrives: packets in its
+ * send window or held, SYNCs, forwards, or ACKs, BUSYs or PONGs still owed.
+ * A node that is not busy needs a poll only when a packet arrives.
+ */
+[[nodiscard]] bool ft_busy(const FtNode& node) noexcept;
+
 /** Channel word of a packet (see the file comment). */
 constexpr std::uint32_t ft_channel_word(std::uint32_t source, std::uint8_t seq, FtKind kind, bool resync,
                                         std::uint32_t channel, std::uint32_t epoch = 0U) noexcept {

@@ -158,6 +158,14 @@ bool mask_irqs(bool masked) noexcept;
 void timer_start(Cycles period) noexcept;
 
 /**
+ * Moves the running timer's next expiry to cycle @p at (at once if @p at is
+ * not after the tile's time); it is periodic again from there. A tickless
+ * kernel sets it to the next tick anything is due before its tile idles. No
+ * effect while the timer is stopped. [task|isr]
+ */
+void timer_next(Cycles at) noexcept;
+
+/**
  * The configured kernel tick period in cycles (1 ms at the profile's clock by
  * default); a kernel passes it to timer_start(). Period 0 to timer_start() stops the timer. [task|isr|host]
  */

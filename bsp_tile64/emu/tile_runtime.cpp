@@ -257,6 +257,14 @@ void timer_start(Cycles period) noexcept {
   t->timer_at = t->time + period;
 }
 
+void timer_next(Cycles at) noexcept {
+  detail::Tile* t = detail::running_tile();
+  if (t == nullptr || t->timer_period == 0U) {
+    return;
+  }
+  t->timer_at = at > t->time ? at : t->time;
+}
+
 void watchdog_arm(Cycles timeout, bool reset_on_expiry) noexcept {
   detail::Tile* t = detail::running_tile();
   if (t == nullptr) {

@@ -258,3 +258,75 @@ TEST(Sched, TaskWatchGivesTheBudgetAndLastCheckinWithoutTheStackScan) {
   EXPECT_EQ(k::task_watch(0, static_cast<k::TaskId>(k::task_count(0)), &w), k::Status::kBadArg);
   EXPECT_EQ(k::task_watch(0, id, nullptr), k::Status::kBadArg);
 }
+
+namespace {
+
+std::array<k::Ticks, 3> g_sleeper_ticks{};
+std::array<bsp::Cycles, 3> g_sleeper_cycles{};
+std::array<k::Ticks, 3> g_slow_ticks{};
+
+void sleep_four(void*) {
+  for (std::size_t i = 0; i < g_sleeper_ticks.size(); ++i) {
+    k::sleep(4U);
+    g_sleeper_ticks[i] = k::now_ticks();
+    g_sleeper_cycles[i] = bsp::now();
+  }
+}
+
+void every_ten(void*) {
+  for (std::size_t i = 0; i < g_slow_ticks.size(); ++i) {
+    g_slow_ticks[i] = k::now_ticks();
+    bsp::consume(kTick / 10);
+    ASSERT_EQ(k::wait_period(), k::Status::kOk);
+  }
+}
+
+k::Semaphore g_soft_sem{0, 1};
+k::Ticks g_soft_tick = 0;
+bsp::Cycles g_soft_due = 0;
+
+void soft_isr(bsp::TileId /*tile*/) { EXPECT_EQ(g_soft_sem.give_from_isr(), k::Status::kOk); }
+
+void soft_waiter(void*) {
+  ASSERT_EQ(k::set_isr(bsp::Irq::kSoft, &soft_isr), k::Status::kOk);
+  g_soft_due = bsp::now() + 6 * kTick + kTick / 2;  // inside tick 6, nothing due before it
+  ASSERT_EQ(bsp::schedule_event(g_soft_due, 0, bsp::Irq::kSoft, nullptr, 0), bsp::BoardError::kOk);
+  ASSERT_EQ(g_soft_sem.take(k::kForever), k::Status::kOk);
+  g_soft_tick = k::now_ticks();
+  token('S');
+  k::sleep(3U);  // from tick 6: woken by the timer at tick 9
+  g_soft_tick = k::now_ticks();
+  token('T');
+}
+
+}  // namespace
+
+// Tickless idle: a tile with nothing ready sleeps to the next tick anything is due (a timeout, a
+// release) instead of taking every tick. Releases and wake-ups keep their exact ticks and cycles,
+// and only the due ticks interrupt it: 3 wake-ups and 2 releases in 25 ticks, 5 timer interrupts.
+TEST(Sched, TicklessIdleTakesOnlyTheTicksWithSomethingDue) {
+  static constexpr k::TaskSpec kTable[] = {
+      {"sleeper", &sleep_four, nullptr, 3, 0, 0, kStack, k::Policy::kPreemptive},
+      {"slow", &every_ten, nullptr, 2, 10, 10, kStack, k::Policy::kPreemptive},
+  };
+  ktest::run_table(kTable, kBoot + 25 * kTick);
+  for (std::size_t i = 0; i < g_sleeper_ticks.size(); ++i) {
+    EXPECT_EQ(g_sleeper_ticks[i], 4U * (i + 1U)) << "wake-up " << i;
+    EXPECT_EQ(g_sleeper_cycles[i], kBoot + 4U * (i + 1U) * kTick) << "wake-up " << i;
+    EXPECT_EQ(g_slow_ticks[i], 10U * i) << "release " << i;
+  }
+  EXPECT_EQ(bsp::tile_stats(0).irqs_taken, 5U) << "ticks 4, 8, 10, 12, 20; the rest slept through";
+  EXPECT_EQ(ktest::stats_of("slow").deadline_misses, 0U);
+}
+
+// An interrupt in the middle of a tickless sleep brings the kernel's tick count up to the time,
+// and the task it wakes ticks again from there.
+TEST(Sched, AnInterruptDuringATicklessSleepCatchesTheTicksUp) {
+  static constexpr k::TaskSpec kTable[] = {
+      {"soft", &soft_waiter, nullptr, 1, 0, 0, kStack, k::Policy::kPreemptive},
+  };
+  ktest::run_table(kTable, kBoot + 12 * kTick);
+  EXPECT_EQ(tokens(), "ST");
+  EXPECT_EQ(g_soft_tick, 9U);
+  EXPECT_EQ(bsp::tile_stats(0).irqs_taken, 2U) << "the soft interrupt at 6.5 ticks and the timer at tick 9";
+}

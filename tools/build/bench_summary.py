@@ -62,6 +62,36 @@ for key, what in (("BM_FilterJobPropagateAnd15Lagged", "filter job, propagation 
     e = flt.get(key)
     lines.append("%s: %s" % (what, "%.2f ms of the 10 ms period (TILE64)" % e["tile64_ms"] if e else "not measured"))
 
+def host_seconds(threads):
+    """host_s of the speed runs with @p threads host threads (run_bench.sh), sorted; [] when absent."""
+    found = []
+    for i in (1, 2, 3):
+        path = os.path.join(out, "speed_%d_%d.json" % (threads, i))
+        if os.path.exists(path):
+            with open(path) as f:
+                s = json.load(f)
+            found.append((s["host_s"], s["emulated_s"]))
+    return sorted(found)
+
+
+for threads, what in ((1, "one host thread"), (2, "the frame rendered on a second host thread")):
+    runs = host_seconds(threads)
+    if runs:
+        best, med = runs[0], runs[len(runs) // 2]
+        lines.append("descent speed, %s (seed 1, %d runs): best %.2f host s for %.0f s (real-time factor %.1f), "
+                     "median %.2f s (%.1f)" % (what, len(runs), best[0], best[1], best[1] / best[0], med[0],
+                                               med[1] / med[0]))
+    else:
+        lines.append("descent speed, %s: not measured" % what)
+camp = os.path.join(out, "campaign.json")
+if os.path.exists(camp):
+    with open(camp) as f:
+        c = json.load(f)
+    lines.append("campaign throughput: %d single-fault descents in %.1f s wall on %d cores: %.0f runs per host hour"
+                 % (c["runs"], c["wall_s"], c["jobs"], c["runs"] * 3600.0 / c["wall_s"]))
+else:
+    lines.append("campaign throughput: not measured")
+
 mission = os.path.join(out, "mission.json")
 if os.path.exists(mission):
     with open(mission) as f:

@@ -22,8 +22,11 @@
 namespace trn::tasks {
 namespace {
 
-/** Idle poll period of a vision tile: units come once a frame, and each idle wake costs two context switches. */
-constexpr k::Ticks kWorkerIdleTicks = 4;
+/**
+ * Longest sleep of an idle vision tile between two check-ins: units come once
+ * a frame, and the delivery of one wakes it (udn::endpoint_wait).
+ */
+constexpr std::uint32_t kWorkerWaitTicks = 100U;
 
 /** What a vision tile's units use of its configuration, held in its RAM under a CRC (settings_copy.hpp). */
 struct WorkerSettings {
@@ -308,7 +311,7 @@ void vision_worker_main(void* arg) noexcept {
   for (;;) {
     k::checkin();
     if (udn::endpoint_receive(kChanControl, m) != udn::FtError::kOk) {
-      k::sleep(kWorkerIdleTicks);
+      (void)udn::endpoint_wait(kChanControl, kWorkerWaitTicks);
       continue;
     }
     Inbox in{*st, stats, m};
