@@ -21,7 +21,7 @@ if [ -x "$bin/trn_mission" ]; then
   # Speed: the same descent (seed 1, world from a warm cache) three times on one host thread and
   # three times with the frame rendered on a second one; host_s of each summary.json.
   cache="$out/world-cache"
-  "$bin/trn_mission" --quiet --no-plots --duration 0.1 --world-cache "$cache" --out "$out/speed_warm" >/dev/null
+  "$bin/trn_mission" --quiet --no-plots --duration 1 --world-cache "$cache" --out "$out/speed_warm" >/dev/null
   for threads in 1 2; do
     for i in 1 2 3; do
       echo "=== trn_mission speed, $threads host thread(s), run $i"
