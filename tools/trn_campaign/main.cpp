@@ -19,6 +19,7 @@
 #include "tools/common/campaign/campaign.hpp"
 #include "tools/common/campaign/campaign_stats.hpp"
 #include "tools/common/cli_checks.hpp"
+#include "tools/common/mission/image_id.hpp"
 #include "tools/common/mission/scenario.hpp"
 #include "tools/common/text.hpp"
 #include "tools/common/toml_input.hpp"
@@ -537,16 +538,8 @@ bool claim_folder(const fs::path& out, const Loaded& l, std::string& err) {
   return write_atomic(copy, l.text, err);
 }
 
-/** The mission image's identity: its size and modification time (as the world cache keys its products). */
-std::string image_stamp(const std::string& image) {
-  std::error_code ec;
-  const std::uintmax_t size = fs::file_size(image, ec);
-  if (ec) {
-    return {};
-  }
-  const auto t = fs::last_write_time(image, ec);
-  return ec ? std::string{} : std::to_string(size) + "@" + std::to_string(t.time_since_epoch().count());
-}
+/** The mission image's identity: its build (image_id.hpp), as the world cache keys its products. */
+std::string image_stamp(const std::string& image) { return tools::image_identity(image); }
 
 /**
  * The folder's runs were flown by this build of the image, or it has none yet: a campaign resumed with

@@ -4,6 +4,7 @@
  *        sharded and merged to the same report, each run replayed bit for bit, a crashed or hung image
  *        an outcome, bad specs refused, and the Slurm array script (docs/CAMPAIGNS.md).
  */
+#include "tools/common/mission/image_id.hpp"
 #include "build_dirs.hpp"
 #include "build_info.hpp"
 
@@ -236,14 +237,32 @@ TEST_F(TrnCampaignBinary, ASeedSweepFliesOneSeedPerRunAndReportsItsIntegrity) {
   EXPECT_EQ(lines, 3) << "the header and one row per run";
 }
 
+/** Changes the build ID in @p image's note (the program runs the same): another build, as a rebuild makes. */
+void rebuild(const fs::path& image) {
+  const std::string id = tools::image_identity(image.string());
+  ASSERT_EQ(id.rfind("gnu-", 0), 0U) << id;
+  std::string want;
+  for (std::size_t i = 4; i + 1 < id.size(); i += 2) {
+    want.push_back(static_cast<char>(std::stoi(id.substr(i, 2), nullptr, 16)));
+  }
+  std::fstream f(image, std::ios::in | std::ios::out | std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const std::size_t at = bytes.find(want);
+  ASSERT_NE(at, std::string::npos) << "the build ID's bytes are in the file";
+  f.seekp(static_cast<std::streamoff>(at));
+  f.put(static_cast<char>(bytes[at] ^ 0x5A));
+  f.close();
+  ASSERT_NE(tools::image_identity(image.string()), id);
+}
+
 // A campaign folder remembers the build of the image that flew its runs: resumed with a rebuilt image it
 // is refused (its report would mix two builds' runs), and so is a folder of runs with no record of it.
 TEST_F(TrnCampaignBinary, AFolderFlownByAnotherBuildOfTheImageIsNotResumed) {
   const fs::path image = dir_ / "trn_mission";
   fs::copy_file(bin("trn_mission"), image);
   fs::permissions(image, fs::perms::owner_exec, fs::perm_options::add);
-  // The same build (size and time): it reads the worlds the tests' cache holds for it.
-  fs::last_write_time(image, fs::last_write_time(bin("trn_mission")));
+  // A copy is the same build (its build ID): it reads the worlds the tests' cache holds for it.
+  ASSERT_EQ(tools::image_identity(image.string()), tools::image_identity(bin("trn_mission")));
   {
     std::ofstream spec(dir_ / "one.toml");
     spec << "name = \"one\"\nfaults_per_run = 0\nruns = 1\nduration_s = 2\npass_bound_m = 5000.0\n"
@@ -256,7 +275,9 @@ TEST_F(TrnCampaignBinary, AFolderFlownByAnotherBuildOfTheImageIsNotResumed) {
   ASSERT_EQ(run(cmd, &log), 0) << log;
   ASSERT_TRUE(fs::exists(out / "image.stamp"));
   ASSERT_EQ(run(cmd, &log), 0) << "the same build resumes\n" << log;
-  fs::last_write_time(image, fs::last_write_time(image) + std::chrono::seconds(5));  // a rebuild
+  fs::last_write_time(image, fs::last_write_time(image) + std::chrono::seconds(5));
+  ASSERT_EQ(run(cmd, &log), 0) << "touched, it is the same build\n" << log;
+  rebuild(image);  // another build ID: what a rebuild with other code gives
   EXPECT_EQ(run(cmd, &log), 2);
   EXPECT_NE(log.find("another build of the mission image"), std::string::npos) << log;
   fs::remove(out / "image.stamp");

@@ -5,6 +5,7 @@
 #include "tools/common/mission/world_cache.hpp"
 
 #include "tools/common/mission/huge_pages.hpp"
+#include "tools/common/mission/image_id.hpp"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -46,17 +47,11 @@ std::string hex_key(const std::string& text) {
 }
 
 /**
- * The build of this image (its file's size and time): part of every key, so
- * that an image rebuilt with other world code never reads what an older build
- * wrote. Runs of one image (a campaign) share the cache.
+ * The build of this image (image_id.hpp: its ELF build ID): part of every key, so that an image
+ * rebuilt with other world code never reads what an older build wrote. Runs of one build (a
+ * campaign, or copies of the image elsewhere) share the cache.
  */
-std::string image_stamp() {
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  const std::uintmax_t size = ec ? 0U : fs::file_size(exe, ec);
-  const auto t = ec ? fs::file_time_type{} : fs::last_write_time(exe, ec);
-  return std::to_string(size) + "@" + std::to_string(t.time_since_epoch().count());
-}
+std::string image_stamp() { return own_image_identity(); }
 
 std::string terrain_text(const w::TerrainConfig& c) {
   std::ostringstream o;
