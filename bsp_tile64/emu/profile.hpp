@@ -10,7 +10,9 @@
 
 #include "bsp_tile64/api/memory.hpp"
 
+#include <array>
 #include <cstdint>
+#include <string_view>
 
 namespace bsp {
 
@@ -66,6 +68,19 @@ inline constexpr ChipProfile kMaestro{
         2U * kCostScale,  // 2 cycles
         kCostScale,       // 1 cycle per hop
     }};
+
+/** Every chip profile, by name. */
+inline constexpr std::array<const ChipProfile*, 2> kProfiles{&kTile64, &kMaestro};
+
+/** The profile named @p name ("tile64", "maestro"); nullptr for none. */
+constexpr const ChipProfile* find_profile(std::string_view name) noexcept {
+  for (const ChipProfile* p : kProfiles) {
+    if (name == p->name) {
+      return p;
+    }
+  }
+  return nullptr;
+}
 
 static_assert(kTile64.tiles() <= kMaxTiles, "TILE64 grid exceeds the memory map");
 static_assert(kMaestro.tiles() <= kMaxTiles, "Maestro grid exceeds the memory map");

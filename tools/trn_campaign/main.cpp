@@ -184,6 +184,9 @@ std::vector<std::string> mission_args(const std::string& mission, const cp::Spec
   if (!s.scenario.empty()) {
     a.insert(a.end(), {"--scenario", s.scenario});
   }
+  if (!s.chip.empty()) {
+    a.insert(a.end(), {"--chip", s.chip});
+  }
   if (j.index != kGolden) {
     a.insert(a.end(), {"--faults", (j.dir / "plan.toml").string()});
   }
@@ -629,7 +632,7 @@ int cmd_run(const RunOptions& o) {
       results.push_back(r);
       continue;
     }
-    const cp::DrawnPlan p = cp::draw_plan(l.spec, i, bsp::kTile64.tiles(), l.run_s);
+    const cp::DrawnPlan p = cp::draw_plan(l.spec, i, cp::spec_deployment(l.spec).tiles(), l.run_s);
     if (!p.error.empty()) {
       std::fprintf(stderr, "trn_campaign: %s\n", p.error.c_str());
       return 2;

@@ -71,8 +71,8 @@
 
 namespace {
 
-using trn::tasks::kCoordinatorTile;
-using trn::tasks::kFilterTile;
+/** The role tile @p t boots on the chip flown (the deployment the image was configured with). */
+trn::tasks::Role role_of(bsp::TileId t) { return trn::tasks::tile_role(*trn::tasks::image_config().deployment, t); }
 
 constexpr double kStepS = 0.1;  ///< sampling step of the flight loop (nav.csv, the view), emulated seconds
 /**
@@ -104,7 +104,8 @@ struct Options {
   std::optional<std::uint64_t> seed;
   std::string out;
   double duration_s = 0.0;  ///< 0: the whole descent
-  std::uint32_t vision_tiles = 0;  ///< 0: all 40
+  std::uint32_t vision_tiles = 0;  ///< 0: all of the chip's
+  std::string chip;                ///< empty: the scenario's
   bool quiet = false;
   bool view = false;
   bool memory_map = false;
@@ -150,6 +151,18 @@ int prepare(const Options& o, Inputs& in) {
     in.scenario.seed = *o.seed;
     in.scenario.terrain.seed = *o.seed;
   }
+  if (!o.chip.empty()) {
+    in.scenario.chip = o.chip;
+  }
+  const tools::Chip chip = tools::find_chip(in.scenario.chip);
+  if (chip.deployment == nullptr) {
+    return bad_input("no such chip: \"" + in.scenario.chip + "\" (tile64 or maestro)");
+  }
+  const std::uint32_t vision_count = trn::tasks::count_role(*chip.deployment, trn::tasks::Role::kVision);
+  if (o.vision_tiles > vision_count) {
+    return bad_input("--vision-tiles " + std::to_string(o.vision_tiles) + ": the " + in.scenario.chip + " has " +
+                     std::to_string(vision_count) + " vision tiles");
+  }
   bsp::world::Trajectory probe;
   if (probe.init(in.scenario.trajectory) != bsp::world::WorldError::kOk) {
     return bad_input("the scenario's trajectory is not valid");
@@ -164,9 +177,9 @@ int prepare(const Options& o, Inputs& in) {
     return bad_input("--faults and --demo-faults exclude each other");
   }
   if (o.demo_faults) {
-    in.plan = tools::demo_fault_plan();
+    in.plan = tools::demo_fault_plan(*chip.deployment);
   } else if (!o.faults_path.empty()) {
-    tools::FaultPlanResult r = tools::load_fault_plan(o.faults_path, bsp::kTile64.tiles(), in.duration_s);
+    tools::FaultPlanResult r = tools::load_fault_plan(o.faults_path, *chip.deployment, in.duration_s);
     if (!r.ok()) {
       return bad_input(r.error);
     }
@@ -187,8 +200,9 @@ int prepare(const Options& o, Inputs& in) {
         throw std::runtime_error("is not a fault-free flight");
       }
       if (g.at("scenario").get<std::string>() != in.scenario.name || seed != in.scenario.seed ||
-          emulated != in.duration_s) {
-        throw std::runtime_error("flew another scenario, seed or duration (" + g.at("scenario").get<std::string>() +
+          emulated != in.duration_s || g.value("chip", std::string("tile64")) != in.scenario.chip) {
+        throw std::runtime_error("flew another scenario, chip, seed or duration (" +
+                                 g.at("scenario").get<std::string>() + ", " + g.value("chip", std::string("tile64")) +
                                  ", seed " + std::to_string(seed) + ", " + std::to_string(emulated) + " s)");
       }
       in.golden_stream = std::array<double, 4>{
@@ -244,7 +258,7 @@ void check(const tools::NavSample& n, FlightRecord& rec) {
   }
   if (rec.outputs_s.size() < rec.outputs_s.capacity()) {
     // When it was seen (a late job carries its own, older time).
-    rec.outputs_s.push_back(static_cast<double>(bsp::board_time()) / static_cast<double>(bsp::kTile64.clock_hz));
+    rec.outputs_s.push_back(static_cast<double>(bsp::board_time()) / static_cast<double>(bsp::board_config().profile.clock_hz));
   }
   const double sigma3_h = n.sigma3_p.head<2>().norm();
   if (rec.fix_at_s < 0.0 && sigma3_h < tools::kFixSigma3M) {
@@ -285,9 +299,9 @@ const char* health_name(bool on, tools::TileHealth h) { return on ? tools::tile_
 std::vector<tools::TileInfo> tile_infos(const tools::Mission& m, const tools::FlightEventCollector& flight) {
   std::array<std::uint32_t, bsp::kMaxTiles> faults{};
   count_tile_faults(faults);
-  std::vector<tools::TileInfo> v(bsp::kTile64.tiles());
+  std::vector<tools::TileInfo> v(bsp::board_config().profile.tiles());
   for (std::uint32_t t = 0; t < v.size(); ++t) {
-    const trn::tasks::Role r = trn::tasks::kTileRoles[t];
+    const trn::tasks::Role r = role_of(t);
     v[t].role = trn::tasks::role_name(r);
     const bool on = ((m.powered_mask() >> t) & 1ULL) != 0ULL;
     v[t].health = health_name(on, flight.tile_health()[t]);
@@ -345,7 +359,7 @@ void print_chip_line(ViewMeter& last) {
   const auto count = [&n](bsp::PowerState s) { return n[static_cast<std::size_t>(s)]; };
   const double j = bsp::chip_energy_j();
   const bsp::Cycles now = bsp::board_time();
-  const double dt_s = static_cast<double>(now - last.cycle) / static_cast<double>(bsp::kTile64.clock_hz);
+  const double dt_s = static_cast<double>(now - last.cycle) / static_cast<double>(bsp::board_config().profile.clock_hz);
   const auto on = static_cast<double>((sum.total() - sum.off) - (last.sum.total() - last.sum.off));
   const auto active = static_cast<double>(sum.active - last.sum.active);
   std::printf("chip: %u active, %u idle, %u booting, %u off; last %.1f s: %.2f W, %.1f %% of on-tile cycles active; "
@@ -359,7 +373,7 @@ void print_chip_line(ViewMeter& last) {
 void fly(const Options& o, const tools::Mission& m, double duration_s, tools::NavCsv& csv, tools::EventLog& log,
          tools::FlightEventCollector& flight, FlightRecord& rec, std::vector<tools::TileInfo>& infos,
          tools::PhaseEnergy& energy) {
-  const double clock_hz = static_cast<double>(bsp::kTile64.clock_hz);
+  const double clock_hz = static_cast<double>(bsp::board_config().profile.clock_hz);
   const auto steps = static_cast<std::uint32_t>(std::llround(duration_s / kStepS));
   const bool tty = ::isatty(::fileno(stdout)) != 0;
   std::array<char, 8192> grid{};
@@ -420,7 +434,7 @@ void fly(const Options& o, const tools::Mission& m, double duration_s, tools::Na
         infos[t].power.assign(bsp::power_state_name(bsp::metered_state(t)));
       }
       const std::size_t len =
-          tools::render_tile_grid_to(bsp::kTile64.cols, bsp::kTile64.rows, infos, tty, grid);
+          tools::render_tile_grid_to(bsp::board_config().profile.cols, bsp::board_config().profile.rows, infos, tty, grid);
       std::printf("%s%.*s", tty ? "\x1b[H\x1b[2J" : "\n", static_cast<int>(len), grid.data());
       print_chip_line(view_meter);
       progress(o, rec, flight, false);
@@ -493,7 +507,7 @@ constexpr double kAltitudeBandM = 500.0;
  */
 void add_matches_by_altitude(const tools::FlightEventCollector& flight, const FlightRecord& rec, tools::Summary& s) {
   std::map<std::int64_t, std::pair<std::uint64_t, std::uint64_t>> bands;  // lower edge -> frames, matches
-  const double clock_hz = static_cast<double>(bsp::kTile64.clock_hz);
+  const double clock_hz = static_cast<double>(bsp::board_config().profile.clock_hz);
   for (const fdir::Event& e : flight.events()) {
     if (e.id != trn::ev::kFrameDone || rec.altitude.empty()) {
       continue;
@@ -525,7 +539,7 @@ void add_matches_by_altitude(const tools::FlightEventCollector& flight, const Fl
 void add_flow_control(tools::Summary& s) {
   std::uint64_t busy = 0;
   std::uint64_t resent_busy = 0;
-  for (bsp::TileId t = 0; t < bsp::kTile64.tiles(); ++t) {
+  for (bsp::TileId t = 0; t < bsp::board_config().profile.tiles(); ++t) {
     if (const udn::FtNode* node = udn::endpoint_node(t); node != nullptr) {
       busy += node->stats.busy_sent;
       resent_busy += node->stats.resent_busy;
@@ -553,6 +567,7 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
                             std::uint64_t allocs, const tools::PhaseEnergy& energy) {
   tools::Summary s;
   s.scenario = in.scenario.name;
+  s.chip = in.scenario.chip;
   s.fault_plan = in.plan.has_value() ? in.plan->name : "";
   s.seed = in.scenario.seed;
   s.emulated_s = in.duration_s;
@@ -571,11 +586,11 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   std::uint64_t misses = 0;
   // Longest time between two check-ins of each task with its tile's health agent (the budgets' margin).
   std::vector<std::pair<std::string, double>> gaps;
-  for (bsp::TileId t = 0; t < bsp::kTile64.tiles(); ++t) {
+  for (bsp::TileId t = 0; t < bsp::board_config().profile.tiles(); ++t) {
     if (((m.powered_mask() >> t) & 1ULL) == 0ULL) {
       continue;
     }
-    const k::TaskTable table = trn::tasks::role_table(trn::tasks::kTileRoles[t]);
+    const k::TaskTable table = trn::tasks::role_table(role_of(t));
     for (const k::TaskSpec& spec : table) {
       k::TaskStats ks{};
       if (k::task_stats(t, k::find_task(t, spec.name), &ks) == k::Status::kOk) {
@@ -634,8 +649,15 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("coarse_bands_redone", c.coarse_bands_redone);
   s.extra.emplace_back("coarse_one_piece", c.coarse_one_piece);
   s.extra.emplace_back("coarse_stage_ms", 1e3 * static_cast<double>(c.max_coarse_cycles) /
-                                              static_cast<double>(bsp::kTile64.clock_hz));
+                                              static_cast<double>(bsp::board_config().profile.clock_hz));
   s.extra.emplace_back("vision_units_lost", c.units_lost);
+  // The vision load (make sizing): frames the coordinator saw and left out while busy with another,
+  // and the landmarks it planned per frame it processed.
+  s.extra.emplace_back("vision_frames_seen", c.frames_seen);
+  s.extra.emplace_back("vision_frames_skipped", c.frames_skipped);
+  s.extra.emplace_back("vision_planned_per_frame",
+                       c.frames_processed == 0U ? 0.0
+                                                : static_cast<double>(c.planned_total) / c.frames_processed);
   s.extra.emplace_back("vision_batch_send_failed", c.batch_send_failed);
   s.extra.emplace_back("vision_status_send_failed", c.status_send_failed);
   // The coordinator's consistency check of each frame's matches and what it did about wrong tiles.
@@ -653,7 +675,7 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("filter_tile", trn::tasks::slot_tile_now(trn::tasks::kSlotFilter));
   s.extra.emplace_back("coordinator_frames_processed", c.frames_processed);
   s.extra.emplace_back("vision_tiles_used",
-                       m.setup().vision_tiles == 0U ? trn::tasks::count_role(trn::tasks::Role::kVision)
+                       m.setup().vision_tiles == 0U ? trn::tasks::count_role(m.deployment(), trn::tasks::Role::kVision)
                                                     : m.setup().vision_tiles);
   // The filter role's delivered solutions, in job order (a simplex or a voted one alike), and its TMR counts:
   // the flight's counters since the filter task last started (filter_counts_since_job; a restart clears them).
@@ -678,7 +700,7 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("tmr_resyncs", f.tmr_resyncs);
   // Emulated busy time of the filter role's tile and of the replica tiles (what TMR costs).
   const auto busy_ms = [](bsp::TileId t) {
-    return static_cast<double>(bsp::tile_stats(t).active_cycles) * 1000.0 / static_cast<double>(bsp::kTile64.clock_hz);
+    return static_cast<double>(bsp::tile_stats(t).active_cycles) * 1000.0 / static_cast<double>(bsp::board_config().profile.clock_hz);
   };
   s.extra.emplace_back("busy_ms_filter_tile", busy_ms(trn::tasks::slot_tile_now(trn::tasks::kSlotFilter)));
   double replicas_ms = 0.0;
@@ -688,14 +710,14 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("busy_ms_replica_tiles", replicas_ms);
   s.extra.emplace_back("udn_packets_sent", static_cast<double>(bsp::udn_net_stats().sent));
   s.extra.emplace_back("worst_frame_ms", static_cast<double>(c.max_frame_cycles) * 1000.0 /
-                                             static_cast<double>(bsp::kTile64.clock_hz));
+                                             static_cast<double>(bsp::board_config().profile.clock_hz));
   s.extra.emplace_back("final_position_3sigma_m", rec.last.sigma3_p.norm());
   add_matches_by_altitude(flight, rec, s);
   add_supervisor_keys(s, c);
   // Energy from the board's meter: the chip, per phase, per role of the tile map, per power state.
   std::vector<std::string> roles;
-  for (bsp::TileId t = 0; t < bsp::kTile64.tiles(); ++t) {
-    roles.emplace_back(trn::tasks::role_name(trn::tasks::kTileRoles[t]));
+  for (bsp::TileId t = 0; t < bsp::board_config().profile.tiles(); ++t) {
+    roles.emplace_back(trn::tasks::role_name(role_of(t)));
   }
   tools::add_energy_summary(energy, roles, in.duration_s, s);
   return s;
@@ -703,9 +725,9 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
 
 void print_summary(const tools::Summary& s, const std::string& dir) {
   std::printf("summary\n");
-  std::printf("  scenario               %s (seed %llu)%s%s\n", s.scenario.c_str(),
-              static_cast<unsigned long long>(s.seed), s.fault_plan.empty() ? "" : ", faults: ",
-              s.fault_plan.c_str());
+  std::printf("  scenario               %s (seed %llu)%s%s%s\n", s.scenario.c_str(),
+              static_cast<unsigned long long>(s.seed), s.chip == "tile64" ? "" : (", on " + s.chip).c_str(),
+              s.fault_plan.empty() ? "" : ", faults: ", s.fault_plan.c_str());
   std::printf("  emulated time          %.1f s in %.2f host s (real-time factor %.1f)\n", s.emulated_s, s.host_s,
               s.realtime_factor);
   std::printf("  final position error   %.2f m at the end (max after convergence %.2f m)\n",
@@ -778,13 +800,26 @@ bool write_outputs(Inputs& in, const tools::Summary& s, const tools::EventLog& l
   return tools::write_summary_json(f.staging_path("summary.json"), s, error) &&
          log.write(f.staging_path("events.log"), error) &&
          tools::write_text_file(f.staging_path("faults.csv"), tools::faults_csv(bsp::fault_log(), faults), error) &&
-         tools::write_tile_map_csv(f.staging_path("tile_map.csv"), bsp::kTile64.cols, bsp::kTile64.rows, tiles,
+         tools::write_tile_map_csv(f.staging_path("tile_map.csv"), bsp::board_config().profile.cols, bsp::board_config().profile.rows, tiles,
                                    error) &&
          (in.no_plots || tools::write_plots(f.staging_dir(), error)) && f.commit(error);
 }
 
+/** The line that says what booted: the chip, its role tiles, the flight's length and plan. */
+void print_booted(const tools::Mission& mission, const Inputs& in) {
+  using trn::tasks::Role;
+  const trn::tasks::Deployment& dep = mission.deployment();
+  std::printf("trn_mission: %s, %u tiles booted (vision coordinator %u, I/O %u, filter %u, %u vision tiles); "
+              "flying %.0f s%s\n",
+              dep.chip, static_cast<unsigned>(__builtin_popcountll(mission.powered_mask())),
+              trn::tasks::boot_tile(dep, Role::kVisionCoordinator), trn::tasks::boot_tile(dep, Role::kIo),
+              trn::tasks::boot_tile(dep, Role::kFilter), trn::tasks::count_role(dep, Role::kVision), in.duration_s,
+              in.plan.has_value() ? (", fault plan " + in.plan->name).c_str() : "");
+  std::fflush(stdout);
+}
+
 int run(int argc, char** argv) {
-  CLI::App app{"trn_mission: terrain relative navigation on an emulated TILE64"};
+  CLI::App app{"trn_mission: terrain relative navigation on an emulated TILE64 or Maestro"};
   Options o;
   std::uint64_t seed = 0;
   app.add_option("--scenario", o.scenario_path, "Scenario file (TOML); default: the built-in scenario");
@@ -796,8 +831,13 @@ int run(int argc, char** argv) {
   app.add_option("--duration", o.duration_s, "Emulated seconds to fly (default: the whole descent)")
       ->check(CLI::Range(1.0, 1000.0));
   app.add_option("--vision-tiles", o.vision_tiles,
-                 "Vision tiles the coordinator uses, spread over the map (default: all 40; the others stay on, idle)")
+                 "Vision tiles the coordinator uses, spread over the map (default: all, 40 on the TILE64 and 35 on "
+                 "Maestro; the others stay on, idle)")
       ->check(CLI::Range(1U, 40U));
+  app.add_option("--chip", o.chip,
+                 "Chip to fly (overrides the scenario's chip): tile64 (8x8, 700 MHz) or maestro (7x7, 342 MHz, "
+                 "an FPU per tile)")
+      ->check(CLI::IsMember({"tile64", "maestro"}));
   app.add_flag("--quiet", o.quiet, "No progress display");
   app.add_flag("--view", o.view, "Show the tile grid live (role and health of each tile)");
   app.add_flag("--memory-map", o.memory_map, "Print the memory map after the run");
@@ -864,7 +904,7 @@ int run(int argc, char** argv) {
     std::fprintf(stderr, "trn_mission: %s\n", error.c_str());
     return 1;
   }
-  if (in.plan.has_value() && !tools::arm_fault_plan(*in.plan, static_cast<double>(bsp::kTile64.clock_hz), error)) {
+  if (in.plan.has_value() && !tools::arm_fault_plan(*in.plan, static_cast<double>(bsp::board_config().profile.clock_hz), error)) {
     return bad_input(error);
   }
   tools::EventLog log(kEventLogLines);
@@ -874,16 +914,11 @@ int run(int argc, char** argv) {
   }
   tools::FlightEventCollector flight;
   FlightRecord rec;
-  std::printf("trn_mission: %u tiles booted (vision coordinator %u, I/O %u, filter %u, 40 vision tiles); "
-              "flying %.0f s%s\n",
-              static_cast<unsigned>(__builtin_popcountll(mission.powered_mask())), kCoordinatorTile,
-              trn::tasks::kIoTile, kFilterTile, in.duration_s,
-              in.plan.has_value() ? (", fault plan " + in.plan->name).c_str() : "");
-  std::fflush(stdout);
+  print_booted(mission, in);
   std::vector<tools::TileInfo> infos = tile_infos(mission, flight);
   tools::PhaseEnergy energy;
   if (!energy.init(phase_windows(in.scenario), bsp::power_model(), bsp::board_config().quantum_cycles,
-                   bsp::kTile64.tiles(), error)) {
+                   bsp::board_config().profile.tiles(), error)) {
     return bad_input(error);
   }
   // One entry per output check (kChecksPerStep per step), room taken before the seal.
@@ -903,7 +938,7 @@ int run(int argc, char** argv) {
   const std::uint64_t allocs = bsp::heap::allocs_after_seal();
   bsp::heap::unseal();
   const double host_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const double clock_hz = static_cast<double>(bsp::kTile64.clock_hz);
+  const double clock_hz = static_cast<double>(bsp::board_config().profile.clock_hz);
   tools::ServiceStreams streams;
   streams.filter_outputs_s = rec.outputs_s;
   streams.io_samples_s = rec.io_samples_s;
@@ -928,7 +963,7 @@ int run(int argc, char** argv) {
   }
   print_summary(s, in.folder->dir());
   if (o.memory_map) {
-    tools::write_memory_report(std::cout, bsp::kTile64.tiles());
+    tools::write_memory_report(std::cout, bsp::board_config().profile.tiles());
   }
   return 0;
 }

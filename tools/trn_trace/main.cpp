@@ -25,8 +25,10 @@
 
 namespace {
 
-/** Cycles per second of the default chip, to show times in seconds too. */
-double clock_hz() { return static_cast<double>(bsp::kTile64.clock_hz); }
+/** The chip the dumps were flown on (--chip), to show times in seconds too. */
+const bsp::ChipProfile* g_chip = &bsp::kTile64;
+
+double clock_hz() { return static_cast<double>(g_chip->clock_hz); }
 
 std::optional<tools::TraceDump> load(const std::string& path) {
   std::string error;
@@ -97,6 +99,9 @@ int run(int argc, char** argv) {
   std::string file;
   std::size_t from = 0U;
   std::size_t count = 0U;
+  std::string chip = "tile64";
+  app.add_option("--chip", chip, "Chip the dumps were flown on, for their times in seconds (default tile64)")
+      ->check(CLI::IsMember({"tile64", "maestro"}));
   CLI::App* pr = app.add_subcommand("print", "Print a dump's events, one a line");
   pr->add_option("file", file, "Trace dump (trn_mission --trace-dump)")->required();
   pr->add_option("--from", from, "First event index (default 0)")->check(tools::kWholeNumber);
@@ -117,6 +122,7 @@ int run(int argc, char** argv) {
     const int rc = app.exit(e);
     return rc == 0 ? 0 : 2;
   }
+  g_chip = bsp::find_profile(chip);
   if (pr->parsed()) {
     return print_cmd(file, from, count);
   }

@@ -1,13 +1,14 @@
 /**
  * @file tile_map.hpp
- * @brief The mission's tile map: which role, and so which task table, each of the 64 tiles runs.
+ * @brief The mission's tile map: which role, and so which task table, each tile of the chip runs.
  *
  * The deployment is declared once, in three tables: kRoles (each role's
- * names, task table, and whether it moves to a spare), kPlacements (where each
- * role instance boots, and its directory slot: the tile map kTileRoles and the
- * named tiles follow from it) and kWiring (every tile a role's configuration
- * names, and whose it is: wire_image() fills them, configure_image() checks
- * them). The image powers the tiles whose role is not a spare, registers each
+ * names, task table, and whether it moves to a spare), a Deployment per chip
+ * (where each role instance boots, and its directory slot: the tile map and
+ * the named tiles follow from it; kTile64Deployment, kMaestroDeployment) and
+ * kWiring (every tile a role's configuration names, and whose it is:
+ * wire_image() fills them from the chip's deployment, configure_image()
+ * checks them). The image powers the tiles whose role is not a spare, registers each
  * role's task table, and configures every role in one step before boot
  * (configure_image). Default 8x8 layout (tile = row * 8 + col):
  *
@@ -51,6 +52,7 @@
 
 namespace trn::tasks {
 
+/** Tiles of the largest chip a deployment is declared for (the TILE64's 64: masks are 64-bit). */
 inline constexpr std::uint32_t kMapTiles = 64;
 
 /** Names for displays and outputs ("spare", "trn_supervisor", "vision_coordinator", ...). */
@@ -75,26 +77,68 @@ struct Placement {
 };
 
 /**
- * The deployment's tiles, one row per role instance; every other tile of rows
- * 3-7 (kVisionFirstTile..) is a vision tile, the rest are spares.
+ * The mission deployed on one chip: its grid, one row per role instance
+ * (its placements) and the first vision tile. Every tile from there to the
+ * chip's last is a vision tile; the other tiles below it are spares.
  */
-inline constexpr std::array<Placement, 9> kPlacements{{
-    {Role::kTrnSupervisor, kSlotTrnSupervisor, 0, 16},
-    {Role::kVisionCoordinator, kSlotCoordinator, 1, bsp::kNoTile},
-    {Role::kFilterSupervisor, kSlotFilterSupervisor, 6, bsp::kNoTile},
-    {Role::kVisionSupervisor, kSlotVisionSupervisor, 7, bsp::kNoTile},
-    {Role::kIo, kSlotIo, 9, 8},
-    {Role::kFilter, kSlotFilter, 18, bsp::kNoTile},
-    {Role::kFilterReplica, kSlotReplica0, 19, bsp::kNoTile},
-    {Role::kFilterReplica, kSlotReplica0 + 1U, 20, bsp::kNoTile},
-    {Role::kFilterReplica, kSlotReplica0 + 2U, 21, bsp::kNoTile},
-}};
-/** The vision tiles: every tile from here to the last (rows 3-7). */
-inline constexpr bsp::TileId kVisionFirstTile = 24;
+struct Deployment {
+  const char* chip;     ///< the chip profile it is for (bsp_tile64/emu/profile.hpp: "tile64", "maestro")
+  std::uint32_t cols;   ///< the chip's grid (tile = row * cols + col)
+  std::uint32_t rows;
+  std::array<Placement, 9> placements;
+  bsp::TileId vision_first;  ///< the vision tiles: every tile from here to the last
+
+  [[nodiscard]] constexpr std::uint32_t tiles() const noexcept { return cols * rows; }
+};
+
+/** The TILE64's deployment (the diagram at the top of this file). */
+inline constexpr Deployment kTile64Deployment{
+    "tile64", 8U, 8U,
+    {{
+        {Role::kTrnSupervisor, kSlotTrnSupervisor, 0, 16},
+        {Role::kVisionCoordinator, kSlotCoordinator, 1, bsp::kNoTile},
+        {Role::kFilterSupervisor, kSlotFilterSupervisor, 6, bsp::kNoTile},
+        {Role::kVisionSupervisor, kSlotVisionSupervisor, 7, bsp::kNoTile},
+        {Role::kIo, kSlotIo, 9, 8},
+        {Role::kFilter, kSlotFilter, 18, bsp::kNoTile},
+        {Role::kFilterReplica, kSlotReplica0, 19, bsp::kNoTile},
+        {Role::kFilterReplica, kSlotReplica0 + 1U, 20, bsp::kNoTile},
+        {Role::kFilterReplica, kSlotReplica0 + 2U, 21, bsp::kNoTile},
+    }},
+    24};
+
+/**
+ * Maestro's deployment (7x7, tile = row * 7 + col): the same roles in two
+ * rows, three free spares, and 35 vision tiles in rows 2-6.
+ *
+ *   row 0:  T  V  .  .  .  F  S     (letters as in the TILE64's diagram)
+ *   row 1:  i  I  N  R  R  R  t
+ *   rows 2-6: v v v v v v v
+ */
+inline constexpr Deployment kMaestroDeployment{
+    "maestro", 7U, 7U,
+    {{
+        {Role::kTrnSupervisor, kSlotTrnSupervisor, 0, 13},
+        {Role::kVisionCoordinator, kSlotCoordinator, 1, bsp::kNoTile},
+        {Role::kFilterSupervisor, kSlotFilterSupervisor, 5, bsp::kNoTile},
+        {Role::kVisionSupervisor, kSlotVisionSupervisor, 6, bsp::kNoTile},
+        {Role::kIo, kSlotIo, 8, 7},
+        {Role::kFilter, kSlotFilter, 9, bsp::kNoTile},
+        {Role::kFilterReplica, kSlotReplica0, 10, bsp::kNoTile},
+        {Role::kFilterReplica, kSlotReplica0 + 1U, 11, bsp::kNoTile},
+        {Role::kFilterReplica, kSlotReplica0 + 2U, 12, bsp::kNoTile},
+    }},
+    14};
+
+/** Every deployment, by chip. */
+inline constexpr std::array<const Deployment*, 2> kDeployments{&kTile64Deployment, &kMaestroDeployment};
+
+/** The deployment for chip @p name ("tile64", "maestro"); nullptr for a chip with none. */
+const Deployment* find_deployment(const char* name) noexcept;
 
 /** The backup tile of the first instance of role @p r (Placement::backup); kNoTile if it has none. */
-constexpr bsp::TileId backup_tile(Role r) noexcept {
-  for (const Placement& p : kPlacements) {
+constexpr bsp::TileId backup_tile(const Deployment& d, Role r) noexcept {
+  for (const Placement& p : d.placements) {
     if (p.role == r) {
       return p.backup;
     }
@@ -102,10 +146,10 @@ constexpr bsp::TileId backup_tile(Role r) noexcept {
   return bsp::kNoTile;
 }
 
-/** The tile of the @p index-th instance of role @p r in kPlacements; kNoTile if it has none. */
-constexpr bsp::TileId boot_tile(Role r, std::uint32_t index = 0U) noexcept {
+/** The tile of the @p index-th instance of role @p r in @p d; kNoTile if it has none. */
+constexpr bsp::TileId boot_tile(const Deployment& d, Role r, std::uint32_t index = 0U) noexcept {
   std::uint32_t seen = 0U;
-  for (const Placement& p : kPlacements) {
+  for (const Placement& p : d.placements) {
     if (p.role == r && seen++ == index) {
       return p.tile;
     }
@@ -113,46 +157,95 @@ constexpr bsp::TileId boot_tile(Role r, std::uint32_t index = 0U) noexcept {
   return bsp::kNoTile;
 }
 
-namespace detail {
-constexpr std::array<Role, kMapTiles> make_roles() noexcept {
+/** The role tile @p t boots (kSpare for a spare, and for a tile off @p d's chip). */
+constexpr Role tile_role(const Deployment& d, std::uint32_t t) noexcept {
+  if (t >= d.tiles()) {
+    return Role::kSpare;
+  }
+  for (const Placement& p : d.placements) {
+    if (p.tile == t) {
+      return p.role;
+    }
+  }
+  return t >= d.vision_first ? Role::kVision : Role::kSpare;
+}
+
+/** Every tile's boot role (kSpare beyond the chip's last tile). */
+constexpr std::array<Role, kMapTiles> tile_roles(const Deployment& d) noexcept {
   std::array<Role, kMapTiles> r{};
-  for (Role& x : r) {
-    x = Role::kSpare;
-  }
-  for (std::uint32_t t = kVisionFirstTile; t < kMapTiles; ++t) {
-    r[t] = Role::kVision;
-  }
-  for (const Placement& p : kPlacements) {
-    r[p.tile] = p.role;
+  for (std::uint32_t t = 0; t < kMapTiles; ++t) {
+    r[t] = tile_role(d, t);
   }
   return r;
 }
-constexpr bool placements_ok() noexcept {
-  for (std::size_t i = 0; i < kPlacements.size(); ++i) {
-    const bsp::TileId b = kPlacements[i].backup;
-    if (kPlacements[i].tile >= kVisionFirstTile || (b != bsp::kNoTile && (b >= kVisionFirstTile || kPlacements[i].slot == kNoSlot))) {
+
+/** Tiles of @p d that boot role @p r. */
+constexpr std::uint32_t count_role(const Deployment& d, Role r) noexcept {
+  std::uint32_t n = 0;
+  for (std::uint32_t t = 0; t < d.tiles(); ++t) {
+    n += (tile_role(d, t) == r) ? 1U : 0U;
+  }
+  return n;
+}
+
+namespace detail {
+constexpr bool placements_ok(const Deployment& d) noexcept {
+  if (d.tiles() > kMapTiles || d.vision_first >= d.tiles()) {
+    return false;
+  }
+  const auto& pl = d.placements;
+  for (std::size_t i = 0; i < pl.size(); ++i) {
+    const bsp::TileId b = pl[i].backup;
+    if (pl[i].tile >= d.vision_first || (b != bsp::kNoTile && (b >= d.vision_first || pl[i].slot == kNoSlot))) {
       return false;
     }
-    for (std::size_t j = 0; j < kPlacements.size(); ++j) {
-      if (b != bsp::kNoTile && (kPlacements[j].tile == b || (j != i && kPlacements[j].backup == b))) {
+    for (std::size_t j = 0; j < pl.size(); ++j) {
+      if (b != bsp::kNoTile && (pl[j].tile == b || (j != i && pl[j].backup == b))) {
         return false;  // a backup is a spare, kept for one role
       }
     }
-    for (std::size_t j = i + 1U; j < kPlacements.size(); ++j) {
-      if (kPlacements[i].tile == kPlacements[j].tile ||
-          (kPlacements[i].slot == kPlacements[j].slot && kPlacements[i].slot != kNoSlot)) {
+    for (std::size_t j = i + 1U; j < pl.size(); ++j) {
+      if (pl[i].tile == pl[j].tile || (pl[i].slot == pl[j].slot && pl[i].slot != kNoSlot)) {
         return false;
       }
     }
   }
   return true;
 }
+/** The same roles and directory slots, in the same order, on every chip (only the tiles differ). */
+constexpr bool same_roles(const Deployment& a, const Deployment& b) noexcept {
+  for (std::size_t i = 0; i < a.placements.size(); ++i) {
+    if (a.placements[i].role != b.placements[i].role || a.placements[i].slot != b.placements[i].slot) {
+      return false;
+    }
+  }
+  return true;
+}
 }  // namespace detail
-static_assert(detail::placements_ok(),
+static_assert(detail::placements_ok(kTile64Deployment) && detail::placements_ok(kMaestroDeployment),
               "each tile and each directory slot placed once, below the vision tiles; a backup is a spare of one role with a slot");
+static_assert(detail::same_roles(kTile64Deployment, kMaestroDeployment), "the chips deploy the same role instances");
+static_assert(count_role(kTile64Deployment, Role::kVision) == 40, "40 vision tiles on the TILE64");
+static_assert(count_role(kMaestroDeployment, Role::kVision) == 35, "35 vision tiles on Maestro");
+static_assert(count_role(kTile64Deployment, Role::kFilterReplica) == 3 &&
+                  count_role(kMaestroDeployment, Role::kFilterReplica) == 3,
+              "three replicas");
 
-/** The default tile map. */
-inline constexpr std::array<Role, kMapTiles> kTileRoles = detail::make_roles();
+// The TILE64 deployment's tiles by name (its tests and docs use them; the image takes
+// its deployment from its configuration, ImageConfig::deployment).
+/** The TILE64's placements. */
+inline constexpr const std::array<Placement, 9>& kPlacements = kTile64Deployment.placements;
+/** The TILE64's vision tiles: every tile from here to the last (rows 3-7). */
+inline constexpr bsp::TileId kVisionFirstTile = kTile64Deployment.vision_first;
+/** The TILE64's tile map. */
+inline constexpr std::array<Role, kMapTiles> kTileRoles = tile_roles(kTile64Deployment);
+
+/** The backup tile of the first instance of role @p r on the TILE64. */
+constexpr bsp::TileId backup_tile(Role r) noexcept { return backup_tile(kTile64Deployment, r); }
+/** The tile of the @p index-th instance of role @p r on the TILE64. */
+constexpr bsp::TileId boot_tile(Role r, std::uint32_t index = 0U) noexcept {
+  return boot_tile(kTile64Deployment, r, index);
+}
 
 constexpr bsp::TileId kSupervisorTile = boot_tile(Role::kTrnSupervisor);
 constexpr bsp::TileId kCoordinatorTile = boot_tile(Role::kVisionCoordinator);
@@ -169,18 +262,13 @@ constexpr std::array<bsp::TileId, 3> kReplicaTiles{boot_tile(Role::kFilterReplic
                                                    boot_tile(Role::kFilterReplica, 1U),
                                                    boot_tile(Role::kFilterReplica, 2U)};
 
-constexpr std::uint32_t count_role(Role r) noexcept {
-  std::uint32_t n = 0;
-  for (Role x : kTileRoles) {
-    n += (x == r) ? 1U : 0U;
-  }
-  return n;
-}
-static_assert(count_role(Role::kVision) == 40, "40 vision tiles");
-static_assert(count_role(Role::kFilterReplica) == 3, "three replicas");
+/** Tiles of the TILE64 that boot role @p r. */
+constexpr std::uint32_t count_role(Role r) noexcept { return count_role(kTile64Deployment, r); }
 
 /** Everything the image's tasks are configured with: one value, given before boot. */
 struct ImageConfig {
+  /** Where the roles boot (the chip's grid and role tiles): wire_image() sets it. */
+  const Deployment* deployment = &kTile64Deployment;
   udn::EndpointConfig endpoint{};        ///< every tile's messaging endpoint (boot map, probes, report tile, sink)
   fdir::HealthAgentConfig agent{};       ///< every tile's health agent (supervisor tile, watchdog timeout)
   fdir::NetHealthConfig net_health{};    ///< the TRN supervisor's network-health task
@@ -221,7 +309,7 @@ const ImageConfig& image_config() noexcept;
  * mission's busiest inbound traffic and neither ping nor answer transits
  * (they are still crossed). @p subjects_out: the subjects. [host, before boot]
  */
-[[nodiscard]] fdir::TransitError tile_map_transits(const udn::FaultMap& map, std::uint64_t powered,
+[[nodiscard]] fdir::TransitError tile_map_transits(const Deployment& d, const udn::FaultMap& map, std::uint64_t powered,
                                                    std::uint64_t spares, std::uint32_t votes,
                                                    fdir::TransitPlan& plan, std::uint64_t& subjects_out) noexcept;
 
@@ -372,9 +460,9 @@ constexpr const RoleDecl& role_decl(Role r) noexcept {
 }
 
 /** Directory slots whose role moves to a spare (bit per slot): the tile-health supervisor's movable_slots. */
-constexpr std::uint32_t movable_slots() noexcept {
+constexpr std::uint32_t movable_slots(const Deployment& d = kTile64Deployment) noexcept {
   std::uint32_t m = 0U;
-  for (const Placement& p : kPlacements) {
+  for (const Placement& p : d.placements) {
     m |= role_decl(p.role).movable && p.slot != kNoSlot ? (1U << p.slot) : 0U;
   }
   return m;
@@ -454,21 +542,23 @@ inline constexpr std::array<Wire, 25> kWiring{{
 }};
 
 /**
- * Fills every tile of @p cfg that kWiring names with its role's boot tile,
- * the role directory's slots with their boot tiles, the spares kept for a
- * slot (Placement::backup) and the watcher's slot. [host, before boot]
+ * Deploys the image on @p d's chip: sets cfg.deployment and fills every tile
+ * of @p cfg that kWiring names with its role's boot tile, the role
+ * directory's slots with their boot tiles, the spares kept for a slot
+ * (Placement::backup) and the watcher's slot. [host, before boot]
  */
-void wire_image(ImageConfig& cfg) noexcept;
+void wire_image(ImageConfig& cfg, const Deployment& d) noexcept;
 
-/** The role behind a role slot of the directory (kSlotFilter -> kFilter, ...); kSpare for none. */
+/** The role behind a role slot of the directory (kSlotFilter -> kFilter, ...; the same on every chip); kSpare for none. */
 Role slot_role(std::uint32_t slot) noexcept;
 
-/** The tile the map boots a role slot on (kNoTile for none). */
-bsp::TileId slot_boot_tile(std::uint32_t slot) noexcept;
+/** The tile @p d boots a role slot on (kNoTile for none). */
+bsp::TileId slot_boot_tile(const Deployment& d, std::uint32_t slot) noexcept;
 
 /**
  * Where role slot @p slot runs now as the supervisor's directory says (the
- * boot tile before the supervisor's endpoint opens). [host: scoring, fault plans]
+ * boot tile of the configured deployment before the supervisor's endpoint
+ * opens). [host: scoring, fault plans]
  */
 bsp::TileId slot_tile_now(std::uint32_t slot) noexcept;
 
@@ -479,7 +569,7 @@ bsp::TileId slot_tile_now(std::uint32_t slot) noexcept;
  */
 void spare_boot_entry(bsp::TileId tile) noexcept;
 
-/** Fills @p cfg's vision tile list from kTileRoles (skipping tiles in @p exclude_mask). */
-void tile_map_vision_tiles(VisionCoordConfig& cfg, std::uint64_t exclude_mask) noexcept;
+/** Fills @p cfg's vision tile list from @p d's vision tiles (skipping tiles in @p exclude_mask). */
+void tile_map_vision_tiles(const Deployment& d, VisionCoordConfig& cfg, std::uint64_t exclude_mask) noexcept;
 
 }  // namespace trn::tasks

@@ -56,6 +56,40 @@ TEST(CampaignSpec, AValidSpecIsReadWithItsDefaults) {
   EXPECT_EQ(r.spec.commands[0].name, "reliability_high");
 }
 
+// A campaign on Maestro draws its plans for Maestro's deployment: a vision instance among its 35
+// vision tiles, a tile on its 49; a spec without a chip flies its scenario's.
+TEST(CampaignSpec, AChipDrawsThePlansForItsDeployment) {
+  const cp::SpecResult r = parse("chip = \"maestro\"\n" + kValid);
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_EQ(r.spec.chip, "maestro");
+  EXPECT_EQ(&cp::spec_deployment(r.spec), &trn::tasks::kMaestroDeployment);
+  EXPECT_EQ(&cp::spec_deployment(parse(kValid).spec), &trn::tasks::kTile64Deployment);
+  std::uint32_t vision = 0;
+  for (std::uint32_t i = 0; i < 200U; ++i) {
+    const cp::DrawnPlan d = cp::draw_plan(r.spec, i, 49U, kRunS);
+    ASSERT_TRUE(d.error.empty()) << d.error;
+    const std::string key = "role = \"vision\"\ninstance = ";
+    const std::size_t at = d.toml.find(key);
+    if (at != std::string::npos) {
+      ++vision;
+      EXPECT_LT(std::stoul(d.toml.substr(at + key.size())), 35U) << d.toml;
+    }
+    EXPECT_NE(d.toml.find("--chip maestro"), std::string::npos) << "the plan says how to fly it again";
+  }
+  EXPECT_GT(vision, 10U);
+  const cp::SpecResult bad = parse("chip = \"tile36\"\n" + kValid);
+  EXPECT_NE(bad.error.find("chip: \"tile36\": no such chip (allowed: tile64, maestro)"), std::string::npos)
+      << bad.error;
+  const cp::SpecResult maestro =
+      cp::load_spec(std::string(build_info::kRepoRoot) + "/campaigns/maestro_single_100.toml", kRunS);
+  ASSERT_TRUE(maestro.ok()) << maestro.error;
+  EXPECT_EQ(maestro.spec.chip, "maestro");
+  const cp::SpecResult plain =
+      cp::load_spec(std::string(build_info::kRepoRoot) + "/campaigns/single_late_100.toml", kRunS);
+  ASSERT_TRUE(plain.ok()) << plain.error;
+  EXPECT_EQ(plain.spec.chip, "tile64") << "the built-in scenario's chip";
+}
+
 TEST(CampaignSpec, EveryBadKeyIsNamedWithWhatIsAllowed) {
   const cp::SpecResult r = parse(R"(
 name = "t"
@@ -455,7 +489,7 @@ TEST(CampaignSpec, TheShippedCampaignsAreValid) {
   for (const char* f : {"campaigns/single_faults.toml", "campaigns/slurm_small.toml", "campaigns/ft_single_1000.toml",
                         "campaigns/integrity_100.toml",
                         "campaigns/ft_five_300.toml", "campaigns/ft_seu_240.toml", "campaigns/ft_seu_control_40.toml",
-                        "tests/fixtures/campaigns/small.toml",
+                        "campaigns/maestro_single_100.toml", "tests/fixtures/campaigns/small.toml",
                         "tests/fixtures/campaigns/crash.toml"}) {
     const cp::SpecResult r = cp::load_spec(std::string(build_info::kRepoRoot) + "/" + f, kRunS);
     EXPECT_TRUE(r.ok()) << f << ": " << r.error;

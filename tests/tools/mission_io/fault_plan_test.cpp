@@ -28,12 +28,13 @@ namespace {
 
 constexpr std::uint32_t kTiles = 64U;
 constexpr double kDuration = 60.0;
+constexpr tools::DemoTiles kDemo = tools::demo_tiles(trn::tasks::kTile64Deployment);
 
 std::string fixture(const std::string& name) {
   return std::string(build_info::kRepoRoot) + "/tests/fixtures/fault_plans/" + name;
 }
 
-tools::FaultPlanResult load(const std::string& name) { return tools::load_fault_plan(fixture(name), kTiles, kDuration); }
+tools::FaultPlanResult load(const std::string& name) { return tools::load_fault_plan(fixture(name), trn::tasks::kTile64Deployment, kDuration); }
 
 /** The error of a fixture that must fail, with the assertion that it did. */
 std::string error_of(const std::string& name) {
@@ -192,13 +193,13 @@ TEST(FaultPlan, AnSeuCanNameACarve) {
 TEST(FaultPlan, DemoFileIsTheBuiltInDemoPlan) {
   const tools::FaultPlanResult r = load("demo.toml");
   ASSERT_TRUE(r.ok()) << r.error;
-  EXPECT_TRUE(same_items(*r.plan, tools::demo_fault_plan()))
+  EXPECT_TRUE(same_items(*r.plan, tools::demo_fault_plan(trn::tasks::kTile64Deployment)))
       << "tests/fixtures/fault_plans/demo.toml and demo_fault_plan() differ:\n"
-      << tools::format_fault_plan(tools::demo_fault_plan());
+      << tools::format_fault_plan(tools::demo_fault_plan(trn::tasks::kTile64Deployment));
 }
 
 TEST(FaultPlan, DemoPlanAimsAtFaultTolerantSendersWithHandledKinds) {
-  const tools::FaultPlan p = tools::demo_fault_plan();
+  const tools::FaultPlan p = tools::demo_fault_plan(trn::tasks::kTile64Deployment);
   std::size_t flips = 0U;
   std::size_t switches = 0U;
   std::size_t replica_faults = 0U;
@@ -215,15 +216,15 @@ TEST(FaultPlan, DemoPlanAimsAtFaultTolerantSendersWithHandledKinds) {
         << tools::fault_kind_name(it.kind);
     if (it.kind == bsp::FaultKind::kPacketBitFlip) {
       ++flips;
-      EXPECT_TRUE(it.tile == tools::demo_tiles::kVisionCoordinator || it.tile == tools::demo_tiles::kFilter ||
-                  it.tile == tools::demo_tiles::kVisionA || it.tile == tools::demo_tiles::kVisionB)
+      EXPECT_TRUE(it.tile == kDemo.vision_coordinator || it.tile == kDemo.filter ||
+                  it.tile == kDemo.vision_a || it.tile == kDemo.vision_b)
           << it.tile;
       EXPECT_GE(it.t_s, 5.0);
       EXPECT_LE(it.t_s, 35.0);
       EXPECT_GE(it.offset, 2U) << "the demo flips payload words, not the hardware header and tag";
     } else {
       ++switches;
-      EXPECT_EQ(it.tile, tools::demo_tiles::kFailedSwitch);
+      EXPECT_EQ(it.tile, kDemo.failed_switch);
       EXPECT_DOUBLE_EQ(it.t_s, 20.0);
     }
   }
@@ -664,7 +665,7 @@ direction = "east"
 // faults the mission's role directory: the mission test DemoPlanCountsComeFromFlightEvents flies those).
 TEST(FaultPlanArm, DemoPlanIsInjectedOnTheChip) {
   init_board(bsp::kTile64.cycles_per_ms());
-  tools::FaultPlan demo = tools::demo_fault_plan();
+  tools::FaultPlan demo = tools::demo_fault_plan(trn::tasks::kTile64Deployment);
   demo.commands.clear();
   std::erase_if(demo.items, [](const tools::FaultPlanItem& it) { return !it.role.empty(); });
   ASSERT_EQ(demo.items.size(), 9U);
@@ -678,7 +679,7 @@ TEST(FaultPlanArm, DemoPlanIsInjectedOnTheChip) {
     EXPECT_NE(r.status, bsp::FaultStatus::kSkipped) << tools::describe_fault(r);
     EXPECT_FALSE(r.random);
   }
-  const bsp::FaultRecord* sw = record_of(bsp::FaultKind::kSwitchFail, tools::demo_tiles::kFailedSwitch);
+  const bsp::FaultRecord* sw = record_of(bsp::FaultKind::kSwitchFail, kDemo.failed_switch);
   ASSERT_NE(sw, nullptr);
   EXPECT_EQ(sw->status, bsp::FaultStatus::kApplied);
   EXPECT_EQ(sw->applied_cycle, cycles(20.0));

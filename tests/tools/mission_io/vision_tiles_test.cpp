@@ -21,20 +21,20 @@ std::uint64_t vision_mask() {
 }
 
 TEST(VisionTiles, AllFortyByDefaultAndAtForty) {
-  EXPECT_EQ(tools::vision_exclude_mask(0U), 0U);
-  EXPECT_EQ(tools::vision_exclude_mask(40U), 0U);
+  EXPECT_EQ(tools::vision_exclude_mask(trn::tasks::kTile64Deployment, 0U), 0U);
+  EXPECT_EQ(tools::vision_exclude_mask(trn::tasks::kTile64Deployment, 40U), 0U);
 }
 
 TEST(VisionTiles, NTilesAreKeptSpreadOverTheMap) {
   const std::uint64_t all = vision_mask();
   ASSERT_EQ(std::popcount(all), 40);
   for (const std::uint32_t n : {1U, 5U, 10U, 20U, 30U, 39U}) {
-    const std::uint64_t out = tools::vision_exclude_mask(n);
+    const std::uint64_t out = tools::vision_exclude_mask(trn::tasks::kTile64Deployment, n);
     EXPECT_EQ(out & ~all, 0U) << "only vision tiles are left out";
     EXPECT_EQ(std::popcount(all & ~out), static_cast<int>(n));
   }
   // Five tiles come from across the map, not from one corner: every fifth row band has one.
-  const std::uint64_t kept = all & ~tools::vision_exclude_mask(5U);
+  const std::uint64_t kept = all & ~tools::vision_exclude_mask(trn::tasks::kTile64Deployment, 5U);
   std::uint32_t lowest = 64U;
   std::uint32_t highest = 0U;
   for (std::uint32_t t = 0; t < 64U; ++t) {

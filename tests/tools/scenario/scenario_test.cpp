@@ -88,6 +88,23 @@ TEST(Scenario, WrongTypesAreRejectedWithTheExpectedType) {
   EXPECT_NE(e.find("[terrain] size_px: wrong type: expected an integer"), std::string::npos) << e;
 }
 
+TEST(Scenario, TheChipIsTheTile64ByDefaultAndMaestroWhenNamed) {
+  EXPECT_EQ(tools::default_scenario().chip, "tile64");
+  const tools::ScenarioResult m = tools::parse_scenario("[scenario]\nchip = \"maestro\"\n", "<chip>");
+  ASSERT_TRUE(m.ok()) << m.error;
+  EXPECT_EQ(m.scenario->chip, "maestro");
+  const tools::ScenarioResult bad = tools::parse_scenario("[scenario]\nchip = \"tile36\"\n", "c.toml");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error.find("c.toml: [scenario] chip: \"tile36\": no such chip (allowed: tile64, maestro)"),
+            std::string::npos)
+      << bad.error;
+  const tools::ScenarioResult number = tools::parse_scenario("[scenario]\nchip = 64\n", "n.toml");
+  ASSERT_FALSE(number.ok());
+  EXPECT_NE(number.error.find("[scenario] chip: wrong type: expected a string"), std::string::npos) << number.error;
+  EXPECT_TRUE(tools::chip_known("maestro"));
+  EXPECT_FALSE(tools::chip_known("Maestro"));
+}
+
 TEST(Scenario, OutOfRangeValuesNameTheAllowedRange) {
   const std::string e = error_of("out_of_range.toml");
   EXPECT_NE(e.find("out_of_range.toml: [camera] rate_hz: 5 is out of range: allowed 1 .. 2"), std::string::npos)

@@ -468,6 +468,32 @@ TEST_F(TrnMissionBinary, DemoPlanCountsComeFromFlightEvents) {
 // A hung filter tile with nobody left to reset it (the supervisor's watchdog failed, and the
 // supervisor and its watcher hung first) stops the navigation output: the summary says the mission
 // is lost and scores the error at the end of the descent, not at the last output's time.
+// The whole descent on Maestro (7x7, 342 MHz, an FPU per tile): the roles on its own deployment, the
+// demonstration plan aimed at its tiles (tools::demo_tiles), every fault found and recovered as on the
+// TILE64, no deadline missed; a chip with no deployment is refused.
+TEST_F(TrnMissionBinary, MaestroFliesTheDescentWithTheDemonstrationFaults) {
+  ASSERT_EQ(run(binary() + " --quiet --chip maestro --demo-faults --out " + (dir_ / "maestro").string()), 0);
+  const nlohmann::json s = read_json(dir_ / "maestro" / "summary.json");
+  EXPECT_EQ(s["chip"], "maestro");
+  EXPECT_EQ(s["faults_injected"], 28);
+  EXPECT_EQ(s["faults_detected"], 26);
+  EXPECT_EQ(s["faults_recovered"], 26);
+  EXPECT_EQ(s["mission_lost"], 0.0);
+  EXPECT_EQ(s["deadline_misses"], 0);
+  EXPECT_EQ(s["false_alarms"], 0.0);
+  EXPECT_LT(s["final_position_error_m"].get<double>(), 1.0);
+  EXPECT_EQ(s["frames"], 45);
+  const std::string log = read_text(dir_ / "maestro" / "events.log");
+  EXPECT_NE(log.find("switch of tile 31 declared failed"), std::string::npos) << log;
+  EXPECT_NE(log.find("(planned) -> detected by tile 9 (tmr_outvoted)"), std::string::npos);
+  EXPECT_NE(log.find("tmr_resynced: replica 2 on tile 12"), std::string::npos);
+  EXPECT_NE(log.find("tmr_voter_resumed: the voter restarted"), std::string::npos);
+  const std::vector<std::vector<std::string>> map = csv_rows(dir_ / "maestro" / "tile_map.csv");
+  EXPECT_EQ(map.size(), 50U) << "a header and Maestro's 49 tiles";
+  EXPECT_EQ(run(binary() + " --quiet --chip tile36 --out " + (dir_ / "none").string()), 2);
+  EXPECT_FALSE(fs::exists(dir_ / "none"));
+}
+
 TEST_F(TrnMissionBinary, AHungFilterNobodyResetsIsALostMissionScoredAtTheEnd) {
   ASSERT_EQ(run(binary() + " --quiet --faults " + fixture("filter_hang_unsupervised.toml") + " --out " +
                 (dir_ / "h").string()),

@@ -29,7 +29,7 @@ ImageConfig mission_like() {
   c.io.coordinator_tile = trn::tasks::kCoordinatorTile;
   c.filter.coordinator_tile = trn::tasks::kCoordinatorTile;
   c.coord.filter_tile = trn::tasks::kFilterTile;
-  trn::tasks::tile_map_vision_tiles(c.coord, 0);
+  trn::tasks::tile_map_vision_tiles(trn::tasks::kTile64Deployment, c.coord, 0);
   c.vision.coordinator_tile = trn::tasks::kCoordinatorTile;
   return c;
 }
@@ -129,7 +129,7 @@ TEST(ImageConfig, TransitPlanOnTheTileMapVotesOnEverySubject) {
   ASSERT_EQ(udn::fault_map_init(map, 8U, 8U), udn::RouteError::kOk);
   fdir::TransitPlan plan{};
   std::uint64_t subjects = 0;
-  ASSERT_EQ(trn::tasks::tile_map_transits(map, powered, spares, 2U, plan, subjects), fdir::TransitError::kOk);
+  ASSERT_EQ(trn::tasks::tile_map_transits(trn::tasks::kTile64Deployment, map, powered, spares, 2U, plan, subjects), fdir::TransitError::kOk);
   EXPECT_EQ(plan.untested, std::uint64_t{1} << 7U) << "the vision supervisor's corner tile alone (fdir/transit_test.cpp)";
   EXPECT_NE(plan.tested, 0U);
   EXPECT_EQ(plan.tested & ~subjects, 0U);
@@ -191,7 +191,7 @@ TEST(ImageConfig, TransitPlanOnTheTileMapVotesOnEverySubject) {
 // table with its role's boot tile, and checked from the same table.
 TEST(Deployment, WiringFillsEveryTileARoleNamesWithThatRolesBootTile) {
   ImageConfig c{};
-  trn::tasks::wire_image(c);
+  trn::tasks::wire_image(c, trn::tasks::kTile64Deployment);
   for (const trn::tasks::Wire& w : trn::tasks::kWiring) {
     EXPECT_EQ(w.get(c), trn::tasks::boot_tile(w.to, w.index)) << w.field;
     EXPECT_NE(w.get(c), bsp::kNoTile) << w.field << ": every wired role is placed";
@@ -219,17 +219,17 @@ TEST(Deployment, WiringFillsEveryTileARoleNamesWithThatRolesBootTile) {
   EXPECT_EQ(c.filter.replica_tiles, trn::tasks::kReplicaTiles);
   EXPECT_EQ(c.sup.replica_tiles, trn::tasks::kReplicaTiles);
   for (std::uint32_t slot = 0; slot < udn::kRoleSlots; ++slot) {
-    EXPECT_EQ(c.endpoint.roles.tile[slot], trn::tasks::slot_boot_tile(slot)) << "slot " << slot;
+    EXPECT_EQ(c.endpoint.roles.tile[slot], trn::tasks::slot_boot_tile(trn::tasks::kTile64Deployment, slot)) << "slot " << slot;
   }
-  trn::tasks::tile_map_vision_tiles(c.coord, 0);
+  trn::tasks::tile_map_vision_tiles(trn::tasks::kTile64Deployment, c.coord, 0);
   EXPECT_EQ(configure_image(c), ImageError::kOk);
 }
 
 TEST(Deployment, EveryWiredTileOffTheChipIsRefused) {
   for (const trn::tasks::Wire& w : trn::tasks::kWiring) {
     ImageConfig c{};
-    trn::tasks::wire_image(c);
-    trn::tasks::tile_map_vision_tiles(c.coord, 0);
+    trn::tasks::wire_image(c, trn::tasks::kTile64Deployment);
+    trn::tasks::tile_map_vision_tiles(trn::tasks::kTile64Deployment, c.coord, 0);
     w.set(c) = 64U;
     EXPECT_EQ(configure_image(c), ImageError::kBadTile) << w.field;
   }
@@ -241,10 +241,10 @@ TEST(Deployment, PlacementsRolesAndSlotsAgree) {
     EXPECT_EQ(trn::tasks::kTileRoles[p.tile], p.role);
     if (p.slot != trn::tasks::kNoSlot) {
       EXPECT_EQ(trn::tasks::slot_role(p.slot), p.role);
-      EXPECT_EQ(trn::tasks::slot_boot_tile(p.slot), p.tile);
+      EXPECT_EQ(trn::tasks::slot_boot_tile(trn::tasks::kTile64Deployment, p.slot), p.tile);
     }
   }
-  EXPECT_EQ(trn::tasks::slot_boot_tile(trn::tasks::kNoSlot), bsp::kNoTile);
+  EXPECT_EQ(trn::tasks::slot_boot_tile(trn::tasks::kTile64Deployment, trn::tasks::kNoSlot), bsp::kNoTile);
   EXPECT_EQ(trn::tasks::slot_role(trn::tasks::kNoSlot), Role::kSpare);
   EXPECT_EQ(trn::tasks::slot_role(trn::tasks::kSlotVisionPool), Role::kVision);
   // The coordinator, the filter, its replicas, the two application supervisors and the I/O role (to
@@ -260,12 +260,64 @@ TEST(Deployment, PlacementsRolesAndSlotsAgree) {
   EXPECT_EQ(trn::tasks::role_table(Role::kIo).data(), trn::tasks::kIoRole);
 }
 
+// The same roles deployed on Maestro's 7x7 grid: its own tiles, 35 vision tiles, three free spares, and
+// every tile the configuration names on its grid.
+ImageConfig wired();
+
+TEST(Deployment, MaestroDeploysTheSameRolesOnItsSevenBySevenGrid) {
+  using trn::tasks::Role;
+  const trn::tasks::Deployment& m = trn::tasks::kMaestroDeployment;
+  EXPECT_EQ(trn::tasks::find_deployment("maestro"), &m);
+  EXPECT_EQ(trn::tasks::find_deployment("tile64"), &trn::tasks::kTile64Deployment);
+  EXPECT_EQ(trn::tasks::find_deployment("tile65"), nullptr);
+  EXPECT_EQ(trn::tasks::find_deployment(nullptr), nullptr);
+  EXPECT_EQ(m.tiles(), 49U);
+  EXPECT_EQ(trn::tasks::count_role(m, Role::kVision), 35U);
+  EXPECT_EQ(trn::tasks::count_role(m, Role::kSpare), 5U) << "three free, the I/O role's backup and the standby";
+  EXPECT_EQ(trn::tasks::tile_role(m, 49U), Role::kSpare) << "off the chip";
+  EXPECT_EQ(trn::tasks::tile_role(m, 48U), Role::kVision);
+  EXPECT_EQ(trn::tasks::movable_slots(m), trn::tasks::movable_slots()) << "the same roles move on both chips";
+  ImageConfig c{};
+  trn::tasks::wire_image(c, m);
+  trn::tasks::tile_map_vision_tiles(m, c.coord, 0);
+  EXPECT_EQ(c.deployment, &m);
+  for (const trn::tasks::Wire& w : trn::tasks::kWiring) {
+    EXPECT_EQ(w.get(c), trn::tasks::boot_tile(m, w.to, w.index)) << w.field;
+    EXPECT_LT(w.get(c), 49U) << w.field;
+  }
+  EXPECT_EQ(c.io.filter_tile, 9U);
+  EXPECT_EQ(c.agent.standby, 13U);
+  EXPECT_EQ(c.tile_health.slot_spare[trn::tasks::kSlotIo], 7U);
+  EXPECT_EQ(c.coord.vision_count, 35U);
+  EXPECT_EQ(c.coord.vision_tiles[0], 14U);
+  EXPECT_EQ(c.coord.vision_tiles[34], 48U);
+  ASSERT_EQ(configure_image(c), ImageError::kOk);
+  EXPECT_EQ(trn::tasks::slot_role(trn::tasks::kSlotFilter), Role::kFilter);
+  // A tile of the TILE64's grid beyond Maestro's is off this chip.
+  ImageConfig off = c;
+  off.io.filter_tile = 49U;
+  const char* what = nullptr;
+  EXPECT_EQ(configure_image(off, &what), ImageError::kBadTile);
+  EXPECT_STREQ(what, "io.filter_tile");
+  ImageConfig vision = c;
+  vision.coord.vision_tiles[3] = 60U;
+  EXPECT_EQ(configure_image(vision), ImageError::kBadVisionList);
+  // A deployment that is not one of the image's is refused.
+  ImageConfig unknown = c;
+  static constexpr trn::tasks::Deployment kOther = trn::tasks::kMaestroDeployment;
+  unknown.deployment = &kOther;
+  EXPECT_EQ(configure_image(unknown, &what), ImageError::kBadTile);
+  EXPECT_STREQ(what, "deployment");
+  // The image goes back to the TILE64 for the tests after this one.
+  ASSERT_EQ(configure_image(wired()), ImageError::kOk);
+}
+
 // Every FDIR threshold in one table: each field's default is in its range, a value out of it is
 // refused with the field's name, and docs/FDIR.md's table is the declaration's.
 ImageConfig wired() {
   ImageConfig c{};
-  trn::tasks::wire_image(c);
-  trn::tasks::tile_map_vision_tiles(c.coord, 0);
+  trn::tasks::wire_image(c, trn::tasks::kTile64Deployment);
+  trn::tasks::tile_map_vision_tiles(trn::tasks::kTile64Deployment, c.coord, 0);
   return c;
 }
 

@@ -78,8 +78,10 @@ double seconds(bsp::Cycles c, double clock_hz) { return static_cast<double>(c) /
 
 /** Neighbour of @p t in direction @p dir on the grid (kNoTile off the grid). */
 bsp::TileId neighbour_of(bsp::TileId t, std::uint64_t dir) {
-  const std::uint32_t cols = bsp::kTile64.cols;
-  const std::uint32_t rows = bsp::kTile64.rows;
+  // The grid of the chip the image was configured for (the join runs after the flight).
+  const trn::tasks::Deployment& dep = *trn::tasks::image_config().deployment;
+  const std::uint32_t cols = dep.cols;
+  const std::uint32_t rows = dep.rows;
   const std::uint32_t x = t % cols;
   const std::uint32_t y = t / cols;
   switch (dir) {
@@ -257,7 +259,7 @@ struct Join {
 
   /** The role tile @p t held at @p at_s: its boot role, moved by every role_moved (and supervisor move) before. */
   [[nodiscard]] Role role_at(bsp::TileId t, double at_s) const {
-    std::array<Role, trn::tasks::kMapTiles> roles = trn::tasks::kTileRoles;
+    std::array<Role, trn::tasks::kMapTiles> roles = trn::tasks::tile_roles(*trn::tasks::image_config().deployment);
     for (const std::size_t k : order) {
       if (t_s[k] > at_s) {
         break;

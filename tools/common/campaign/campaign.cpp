@@ -5,6 +5,7 @@
 #include "tools/common/campaign/campaign.hpp"
 
 #include "tools/common/mission/fault_plan.hpp"
+#include "tools/common/mission/scenario.hpp"
 #include "tools/common/text.hpp"
 #include "tools/common/toml_input.hpp"
 #include "trn/tasks/sdc_points.hpp"
@@ -25,13 +26,12 @@ namespace {
 constexpr std::uint32_t kMaxRuns = 10'000'000U;
 constexpr std::uint32_t kMaxFaultsPerRun = 32U;
 constexpr std::uint32_t kDrawAttempts = 64U;
-constexpr std::uint32_t kVisionInstances = 40U;
 constexpr std::uint32_t kReplicaInstances = 3U;
 constexpr std::uint32_t kMaxPacketWord = 129U;
 constexpr std::uint32_t kMaxSdcBit = 65535U;
 
-constexpr std::array<std::string_view, 19> kKeys = {
-    "name",  "scenario", "seed",  "seed_per_run", "campaign_seed", "runs",      "faults_per_run", "duration_s",
+constexpr std::array<std::string_view, 20> kKeys = {
+    "name",  "scenario", "chip", "seed",  "seed_per_run", "campaign_seed", "runs",      "faults_per_run", "duration_s",
     "window_s", "same_time", "kinds", "roles", "tiles",  "points",        "carves",    "pass_bound_m",
     "degraded_bound_m", "timeout_s", "command"};
 
@@ -94,6 +94,22 @@ struct Reader {
       fail(key, e);
       if (e.empty()) {
         out = static_cast<std::remove_reference_t<decltype(out)>>(v);
+      }
+    }
+  }
+
+  /** A string; @p check gives an error text for a bad value (empty: accepted). */
+  template <typename Check>
+  void text(std::string_view key, const char* expected, Check check, std::string& out) const {
+    if (const toml::node* n = get(key)) {
+      if (!n->is_string()) {
+        fail(key, std::string("wrong type: expected ") + expected);
+        return;
+      }
+      const std::string e = check(n->as_string()->get());
+      fail(key, e);
+      if (e.empty()) {
+        out = n->as_string()->get();
       }
     }
   }
@@ -182,7 +198,7 @@ std::string draw_fault(const Spec& spec, Stream& r, std::string& kind_out, std::
     role_out = role;
     o << "role = \"" << role << "\"\n";
     if (role == "vision") {
-      o << "instance = " << r.below(kVisionInstances) << "\n";
+      o << "instance = " << r.below(trn::tasks::count_role(spec_deployment(spec), trn::tasks::Role::kVision)) << "\n";
     } else if (role == "filter_replica") {
       o << "instance = " << r.below(kReplicaInstances) << "\n";
     }
@@ -274,13 +290,10 @@ SpecResult parse_spec(std::string_view text, const std::string& source, double m
   } else {
     errors.push_back(source + ": missing key name");
   }
-  if (const toml::node* n = root.get("scenario")) {
-    if (!n->is_string()) {
-      rd.fail("scenario", "wrong type: expected a path (string)");
-    } else {
-      s.scenario = n->as_string()->get();
-    }
-  }
+  rd.text("scenario", "a path (string)", [](const std::string&) { return std::string{}; }, s.scenario);
+  rd.text("chip", "a string (tile64 or maestro)", [](const std::string& c) {
+    return chip_known(c) ? std::string{} : "\"" + c + "\": no such chip (allowed: tile64, maestro)";
+  }, s.chip);
   rd.integer("seed", 0, INT64_MAX, s.seed);
   if (const toml::node* n = root.get("seed_per_run")) {
     if (!n->is_boolean()) {
@@ -422,7 +435,25 @@ SpecResult load_spec(const std::string& path, double max_duration_s) {
       r.error = path + ": scenario: no such file " + r.spec.scenario;
     }
   }
+  if (r.ok() && r.spec.chip.empty()) {
+    // The runs fly the scenario's chip: the plans are drawn for its deployment.
+    if (r.spec.scenario.empty()) {
+      r.spec.chip = default_scenario().chip;
+    } else {
+      const ScenarioResult sc = load_scenario(r.spec.scenario);
+      if (!sc.ok()) {
+        r.error = path + ": scenario: " + sc.error;
+      } else {
+        r.spec.chip = sc.scenario->chip;
+      }
+    }
+  }
   return r;
+}
+
+const trn::tasks::Deployment& spec_deployment(const Spec& spec) {
+  const trn::tasks::Deployment* d = trn::tasks::find_deployment(spec.chip.empty() ? "tile64" : spec.chip.c_str());
+  return d != nullptr ? *d : trn::tasks::kTile64Deployment;
 }
 
 DrawnPlan draw_plan(const Spec& spec, std::uint32_t index, std::uint32_t tile_count, double run_s) {
@@ -434,7 +465,8 @@ DrawnPlan draw_plan(const Spec& spec, std::uint32_t index, std::uint32_t tile_co
     o << "# Run " << index << " of campaign " << spec.name << " (campaign_seed " << spec.campaign_seed
       << "), drawn by trn_campaign; fly it again with\n# trn_mission --faults <this file> --seed " << scenario_seed(spec, index)
       << (spec.duration_s > 0.0 ? " --duration " + format_number(spec.duration_s) : std::string{})
-      << (spec.scenario.empty() ? std::string{} : " --scenario " + spec.scenario) << "\nname = \"" << spec.name
+      << (spec.scenario.empty() ? std::string{} : " --scenario " + spec.scenario)
+      << (spec.chip.empty() || spec.chip == "tile64" ? std::string{} : " --chip " + spec.chip) << "\nname = \"" << spec.name
       << "-" << index << "\"\n";
     for (const SpecCommand& c : spec.commands) {
       o << "\n[[command]]\nt_s = " << format_number(c.t_s) << "\nname = \"" << c.name << "\"\n";
@@ -453,7 +485,8 @@ DrawnPlan draw_plan(const Spec& spec, std::uint32_t index, std::uint32_t tile_co
       role = f == 0U ? t : (t == role ? role : std::string("mixed"));
     }
     const std::string text = o.str();
-    const FaultPlanResult check = parse_fault_plan(text, "run " + std::to_string(index), tile_count, run_s);
+    const FaultPlanResult check =
+        parse_fault_plan(text, "run " + std::to_string(index), tile_count, run_s, spec_deployment(spec));
     if (check.ok()) {
       d.toml = text;
       d.kind = kind;

@@ -16,6 +16,8 @@
 #include "bsp_tile64/faults/fault_injector.hpp"
 #include "tools/common/campaign/campaign_stats.hpp"
 
+#include "trn/tasks/tile_map.hpp"
+
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -32,6 +34,7 @@ struct SpecCommand {
 struct Spec {
   std::string name;
   std::string scenario;             ///< scenario file (resolved against the spec's folder); empty: the built-in one
+  std::string chip;                 ///< the chip flown (trn_mission --chip); empty: the scenario's (load_spec fills it)
   std::uint64_t seed = 1U;          ///< the scenario's seed in every run (the world, sensors and the injector's draws)
   bool seed_per_run = false;        ///< run i flies the scenario seed `seed` + i (a seed sweep); the golden run flies `seed`
   std::uint64_t campaign_seed = 1U; ///< seeds the plans' draws
@@ -57,6 +60,9 @@ struct SpecResult {
   std::string error;  ///< empty when valid; else every problem, one per line
   [[nodiscard]] bool ok() const { return error.empty(); }
 };
+
+/** The roles' deployment on the spec's chip (the TILE64's when the chip is empty). */
+const trn::tasks::Deployment& spec_deployment(const Spec& spec);
 
 /** The scenario seed run @p index flies: `seed`, or `seed` + index in a seed sweep. */
 std::uint64_t scenario_seed(const Spec& spec, std::uint32_t index);

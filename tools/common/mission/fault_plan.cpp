@@ -157,6 +157,7 @@ bool known_fault_key(std::string_view key) {
 struct Limits {
   std::uint32_t tile_count;
   double max_time_s;
+  const trn::tasks::Deployment* dep;  ///< the chip's roles: which tile runs what, how many vision tiles
 };
 
 /** The kind of an entry (read first: it decides which keys are allowed). */
@@ -242,7 +243,7 @@ std::string read_fault_key(const std::string& key, const toml::node& node, const
     item.carve = c;
   } else if (key == "instance") {
     const trn::tasks::Role of = item.role == "filter_replica" ? trn::tasks::Role::kFilterReplica : trn::tasks::Role::kVision;
-    e = read_int(node, 0, static_cast<std::int64_t>(trn::tasks::count_role(of)) - 1, v);
+    e = read_int(node, 0, static_cast<std::int64_t>(trn::tasks::count_role(*lim.dep, of)) - 1, v);
     item.instance = static_cast<std::uint32_t>(v);
   } else if (key == "direction") {
     if (!node.is_string()) {
@@ -263,7 +264,7 @@ std::string read_fault_key(const std::string& key, const toml::node& node, const
  * channel) must be one, and the tile or role named must publish there (a
  * tile is judged by its role in the tile map).
  */
-void check_sdc_target(const std::string& where, const toml::table& t, const FaultPlanItem& item,
+void check_sdc_target(const std::string& where, const toml::table& t, const FaultPlanItem& item, const Limits& lim,
                       std::vector<std::string>& errors) {
   if (t.get("point") != nullptr && t.get("channel") != nullptr) {
     errors.push_back(where + " point: an sdc names a point or a channel, not both");
@@ -271,8 +272,7 @@ void check_sdc_target(const std::string& where, const toml::table& t, const Faul
   }
   const std::optional<trn::tasks::Role> named = role_from_name(item.role);
   const trn::tasks::Role role = named                                 ? *named
-                                : item.tile < trn::tasks::kMapTiles ? trn::tasks::kTileRoles[item.tile]
-                                                                    : trn::tasks::Role::kSpare;
+                                : trn::tasks::tile_role(*lim.dep, item.tile);
   const std::string target = named ? "role " + item.role
                                    : cat({"tile ", std::to_string(item.tile), " (", trn::tasks::role_name(role), ")"});
   if (item.channel == bsp::kAnyChannel && t.get("shift") != nullptr) {
@@ -355,7 +355,7 @@ void parse_fault(const std::string& source, std::size_t index, const toml::table
                           " (the filter's replicas)"}));
   }
   if (item.kind == bsp::FaultKind::kSdc && errors.size() == before) {
-    check_sdc_target(where, t, item, errors);
+    check_sdc_target(where, t, item, lim, errors);
   }
   if (item.kind == bsp::FaultKind::kLinkFail && t.get("direction") == nullptr) {
     errors.push_back(where + ": missing key direction (allowed: east, west, north, south)");
@@ -527,9 +527,9 @@ std::optional<bsp::FaultKind> fault_kind_from_name(std::string_view name) {
 std::string link_direction_name(std::uint64_t dir) { return dir < bsp::kUdnDirs ? kDirNames[dir] : "?"; }
 
 FaultPlanResult parse_fault_plan(std::string_view text, const std::string& source, std::uint32_t tile_count,
-                                 double max_time_s) {
+                                 double max_time_s, const trn::tasks::Deployment& dep) {
   FaultPlanResult r;
-  if (tile_count == 0U || !(std::isfinite(max_time_s) && max_time_s >= 0.0)) {
+  if (tile_count == 0U || tile_count > dep.tiles() || !(std::isfinite(max_time_s) && max_time_s >= 0.0)) {
     r.error = source + ": cannot check the plan: the chip has no tiles or the run's duration is invalid";
     return r;
   }
@@ -539,7 +539,7 @@ FaultPlanResult parse_fault_plan(std::string_view text, const std::string& sourc
   }
   FaultPlan plan;
   std::vector<std::string> errors;
-  const Limits lim{tile_count, max_time_s};
+  const Limits lim{tile_count, max_time_s, &dep};
   for (const auto& [k, node] : root) {
     const std::string key(k.str());
     if (key == "name") {
@@ -570,7 +570,7 @@ FaultPlanResult parse_fault_plan(std::string_view text, const std::string& sourc
   return r;
 }
 
-FaultPlanResult load_fault_plan(const std::string& path, std::uint32_t tile_count, double max_time_s) {
+FaultPlanResult load_fault_plan(const std::string& path, const trn::tasks::Deployment& dep, double max_time_s) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     FaultPlanResult r;
@@ -584,7 +584,7 @@ FaultPlanResult load_fault_plan(const std::string& path, std::uint32_t tile_coun
     r.error = path + ": cannot read fault plan file";
     return r;
   }
-  return parse_fault_plan(text.str(), path, tile_count, max_time_s);
+  return parse_fault_plan(text.str(), path, dep.tiles(), max_time_s, dep);
 }
 
 namespace {
@@ -592,8 +592,12 @@ namespace {
 constexpr std::uint32_t kDemoNoMajorityJobs = 8U;
 }  // namespace
 
-FaultPlan demo_fault_plan() {
-  using namespace demo_tiles;
+FaultPlan demo_fault_plan(const trn::tasks::Deployment& dep) {
+  const DemoTiles tiles = demo_tiles(dep);
+  const bsp::TileId kVisionCoordinator = tiles.vision_coordinator;
+  const bsp::TileId kFilter = tiles.filter;
+  const bsp::TileId kVisionA = tiles.vision_a;
+  const bsp::TileId kVisionB = tiles.vision_b;
   FaultPlan p;
   p.name = "demo";
   // Flips on the senders of fault-tolerant traffic: each hits the next packet
@@ -604,7 +608,7 @@ FaultPlan demo_fault_plan() {
     bsp::TileId tile;
     std::uint32_t bit;
   };
-  constexpr std::array<Flip, 8> kFlips = {{
+  const std::array<Flip, 8> flips = {{
       {5.0, kVisionCoordinator, 3U},
       {9.0, kFilter, 11U},
       {13.0, kVisionA, 19U},
@@ -614,7 +618,7 @@ FaultPlan demo_fault_plan() {
       {32.0, kVisionA, 23U},
       {35.0, kVisionB, 30U},
   }};
-  for (const Flip& f : kFlips) {
+  for (const Flip& f : flips) {
     FaultPlanItem it{};
     it.t_s = f.t_s;
     it.kind = bsp::FaultKind::kPacketBitFlip;
@@ -626,7 +630,7 @@ FaultPlan demo_fault_plan() {
   FaultPlanItem sw{};
   sw.t_s = 20.0;
   sw.kind = bsp::FaultKind::kSwitchFail;
-  sw.tile = kFailedSwitch;
+  sw.tile = tiles.failed_switch;
   p.items.push_back(sw);
   // Reliability raised by telecommand: the supervisors make the filter a TMR; one replica's output is corrupted (outvoted), another hangs
   // (excluded, reset by its watchdog, re-seeded with the voted state), then the voter hangs.
@@ -672,7 +676,7 @@ FaultPlan demo_fault_plan() {
 
 double demo_fault_plan_end_s() {
   double end = 0.0;
-  for (const FaultPlanItem& it : demo_fault_plan().items) {
+  for (const FaultPlanItem& it : demo_fault_plan(trn::tasks::kTile64Deployment).items) {
     end = std::max(end, it.t_s);
   }
   return end;
@@ -703,8 +707,9 @@ bsp::TileId role_tile(trn::tasks::Role role, std::uint32_t instance) {
     case Role::kVisionSupervisor: return trn::tasks::slot_tile_now(trn::tasks::kSlotVisionSupervisor);
     case Role::kVision: {
       std::uint32_t seen = 0U;
-      for (bsp::TileId t = 0; t < trn::tasks::kMapTiles; ++t) {
-        if (trn::tasks::kTileRoles[t] == Role::kVision && seen++ == instance) {
+      const trn::tasks::Deployment& dep = *trn::tasks::image_config().deployment;
+      for (bsp::TileId t = 0; t < dep.tiles(); ++t) {
+        if (trn::tasks::tile_role(dep, t) == Role::kVision && seen++ == instance) {
           return t;
         }
       }

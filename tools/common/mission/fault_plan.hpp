@@ -16,6 +16,7 @@
 
 #include "bsp_tile64/faults/fault_injector.hpp"
 #include "bsp_tile64/api/port.hpp"
+#include "trn/tasks/tile_map.hpp"
 
 #include <array>
 #include <cstddef>
@@ -81,22 +82,34 @@ inline constexpr std::uint32_t kMaxSdcBit = 65535U;
 
 /**
  * Parses TOML text; @p source names it in messages (a path, or "<built-in>").
- * Tiles must be below @p tile_count, times within 0 .. @p max_time_s.
+ * Tiles must be below @p tile_count (at most @p dep's), times within
+ * 0 .. @p max_time_s; roles and instances are those of @p dep, the chip's deployment.
  */
 FaultPlanResult parse_fault_plan(std::string_view text, const std::string& source, std::uint32_t tile_count,
-                                 double max_time_s);
+                                 double max_time_s,
+                                 const trn::tasks::Deployment& dep = trn::tasks::kTile64Deployment);
 
 /** Reads and parses a plan file; a missing or unreadable file is an error naming it. */
-FaultPlanResult load_fault_plan(const std::string& path, std::uint32_t tile_count, double max_time_s);
+FaultPlanResult load_fault_plan(const std::string& path, const trn::tasks::Deployment& dep, double max_time_s);
 
-/** Tiles the demonstration plan aims at (the default tile map's roles; change them here). */
-namespace demo_tiles {
-inline constexpr bsp::TileId kVisionCoordinator = 1U;  ///< sends the work units of each frame
-inline constexpr bsp::TileId kFilter = 18U;            ///< sends the predicted pose to the vision side
-inline constexpr bsp::TileId kVisionA = 24U;           ///< vision tiles: send their matches back
-inline constexpr bsp::TileId kVisionB = 25U;
-inline constexpr bsp::TileId kFailedSwitch = 44U;  ///< a vision tile whose switch fails
-}  // namespace demo_tiles
+/** The tiles the demonstration plan names by number (tile faults: the roles move, these do not). */
+struct DemoTiles {
+  bsp::TileId vision_coordinator;  ///< sends the work units of each frame
+  bsp::TileId filter;              ///< sends the predicted pose to the vision side
+  bsp::TileId vision_a;            ///< vision tiles: send their matches back (the first two)
+  bsp::TileId vision_b;
+  bsp::TileId failed_switch;       ///< a vision tile in the middle of the vision rows, whose switch fails
+};
+
+/** The demonstration's tiles on @p d's chip (on the TILE64: 1, 18, 24, 25 and 44). */
+constexpr DemoTiles demo_tiles(const trn::tasks::Deployment& d) noexcept {
+  const std::uint32_t first_row = d.vision_first / d.cols;
+  const std::uint32_t mid_row = (first_row + d.rows - 1U) / 2U;
+  return DemoTiles{trn::tasks::boot_tile(d, trn::tasks::Role::kVisionCoordinator),
+                   trn::tasks::boot_tile(d, trn::tasks::Role::kFilter), d.vision_first,
+                   static_cast<bsp::TileId>(d.vision_first + 1U), mid_row * d.cols + d.cols / 2U};
+}
+static_assert(demo_tiles(trn::tasks::kTile64Deployment).failed_switch == 44U, "the TILE64's demonstration");
 
 /**
  * The built-in demonstration plan (`make run`): eight packet bit flips on tiles
@@ -105,7 +118,7 @@ inline constexpr bsp::TileId kFailedSwitch = 44U;  ///< a vision tile whose swit
  * becomes TMR), with a corrupted output of replica 1 at 15 s, a hang of
  * replica 2 at 26 s and of the voter at 30.5 s.
  */
-FaultPlan demo_fault_plan();
+FaultPlan demo_fault_plan(const trn::tasks::Deployment& dep);
 
 /** Longest time in the demonstration plan, s (a run shorter than this misses its last faults). */
 double demo_fault_plan_end_s();

@@ -12,7 +12,7 @@ namespace tools {
 
 std::string fdir_params_markdown() {
   trn::tasks::ImageConfig defaults{};
-  trn::tasks::wire_image(defaults);
+  trn::tasks::wire_image(defaults, trn::tasks::kTile64Deployment);
   std::ostringstream o;
   for (const trn::tasks::FdirParam& p : trn::tasks::kFdirParams) {
     const bool field = p.get != nullptr;

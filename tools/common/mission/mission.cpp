@@ -32,11 +32,19 @@
 
 namespace tools {
 
-std::uint64_t vision_exclude_mask(std::uint32_t n) {
+Chip find_chip(const std::string& name) {
+  Chip c{bsp::find_profile(name), trn::tasks::find_deployment(name.c_str())};
+  if (c.profile == nullptr || c.deployment == nullptr) {
+    return Chip{};
+  }
+  return c;
+}
+
+std::uint64_t vision_exclude_mask(const trn::tasks::Deployment& d, std::uint32_t n) {
   std::array<std::uint32_t, trn::tasks::kMapTiles> vision{};
   std::uint32_t count = 0;
-  for (std::uint32_t t = 0; t < trn::tasks::kMapTiles; ++t) {
-    if (trn::tasks::kTileRoles[t] == trn::tasks::Role::kVision) {
+  for (std::uint32_t t = 0; t < d.tiles(); ++t) {
+    if (trn::tasks::tile_role(d, t) == trn::tasks::Role::kVision) {
       vision[count++] = t;
     }
   }
@@ -124,6 +132,12 @@ void Mission::draw_initial_estimate() {
 bool Mission::build(const MissionSetup& setup, std::string& error) {
   setup_ = setup;
   const Scenario& s = setup_.scenario;
+  const Chip chip = find_chip(s.chip);
+  if (chip.profile == nullptr) {
+    error = "no such chip: \"" + s.chip + "\" (tile64 or maestro)";
+    return false;
+  }
+  chip_ = chip;
   world_ = WorldCache(setup_.world_cache);
   if (!world_.terrain(s.terrain, error)) {
     return false;
@@ -227,13 +241,14 @@ bool Mission::init_devices(std::string& error) {
 bool Mission::boot(std::string& error) {
   using trn::tasks::Role;
   const Scenario& s = setup_.scenario;
-  bsp::BoardConfig cfg = bsp::default_config(bsp::kTile64);
+  const trn::tasks::Deployment& dep = deployment();
+  bsp::BoardConfig cfg = bsp::default_config(chip());
   cfg.seed = s.seed;
   // Every watchdog interrupt goes to the tile-health supervisor's tile.
-  cfg.monitor_tile = trn::tasks::kSupervisorTile;
+  cfg.monitor_tile = trn::tasks::boot_tile(dep, Role::kTrnSupervisor);
   powered_ = 0;
-  for (std::uint32_t t = 0; t < trn::tasks::kMapTiles; ++t) {
-    const Role r = trn::tasks::kTileRoles[t];
+  for (std::uint32_t t = 0; t < dep.tiles(); ++t) {
+    const Role r = trn::tasks::tile_role(dep, t);
     if (trn::tasks::role_table(r).empty() || ((setup_.unpowered >> t) & 1ULL) != 0ULL) {
       continue;
     }
@@ -242,8 +257,8 @@ bool Mission::boot(std::string& error) {
     k::set_task_table(static_cast<bsp::TileId>(t), trn::tasks::role_table(r), cfg.tick_cycles);
   }
   // A spare boots the role the supervisor assigns it before switching it on.
-  for (std::uint32_t t = 0; t < trn::tasks::kMapTiles; ++t) {
-    if (trn::tasks::kTileRoles[t] != Role::kSpare) {
+  for (std::uint32_t t = 0; t < dep.tiles(); ++t) {
+    if (trn::tasks::tile_role(dep, t) != Role::kSpare) {
       continue;
     }
     cfg.boot[t] = &trn::tasks::spare_boot_entry;
@@ -276,16 +291,16 @@ bool Mission::boot(std::string& error) {
   // Every role's configuration, given to the image in one step; the tiles the roles name come from
   // the deployment's wiring (trn/tasks/tile_map.hpp, kWiring).
   trn::tasks::ImageConfig image{};
-  trn::tasks::wire_image(image);
+  trn::tasks::wire_image(image, dep);
   // The boot fault map every endpoint starts from, and the health tile the probes report to.
   udn::EndpointConfig& ep = image.endpoint;
-  if (udn::fault_map_init(ep.boot_map, bsp::kTile64.cols, bsp::kTile64.rows) != udn::RouteError::kOk) {
+  if (udn::fault_map_init(ep.boot_map, dep.cols, dep.rows) != udn::RouteError::kOk) {
     error = "cannot make the fault map";
     return false;
   }
   std::uint64_t spares = 0;
-  for (std::uint32_t t = 0; t < trn::tasks::kMapTiles; ++t) {
-    spares |= trn::tasks::role_table(trn::tasks::kTileRoles[t]).empty() ? (1ULL << t) : 0ULL;
+  for (std::uint32_t t = 0; t < dep.tiles(); ++t) {
+    spares |= trn::tasks::role_table(trn::tasks::tile_role(dep, t)).empty() ? (1ULL << t) : 0ULL;
   }
   // Tiles removed from a role (setup.unpowered) are not "off by design": the
   // probes find them and the health task votes them out of the fault map.
@@ -294,7 +309,7 @@ bool Mission::boot(std::string& error) {
   image.tile_health.watched = powered_;
   image.tile_health.spares = spares;
   // The roles that move to a spare when their tile is given up (trn/tasks/tile_map.hpp, kRoles).
-  image.tile_health.movable_slots = trn::tasks::movable_slots();
+  image.tile_health.movable_slots = trn::tasks::movable_slots(dep);
   ep.not_probed = spares;
   ep.sink = fdir::ft_event_sink();
   image.net_health.not_voted = spares;
@@ -304,13 +319,13 @@ bool Mission::boot(std::string& error) {
   // inbound traffic: they are crossed by transits but neither ping nor answer
   // them (probes queued behind a frame's results would tip their queues over).
   std::uint64_t subjects = 0;
-  if (trn::tasks::tile_map_transits(ep.boot_map, powered_, spares, image.net_health.votes_to_fail,
+  if (trn::tasks::tile_map_transits(dep, ep.boot_map, powered_, spares, image.net_health.votes_to_fail,
                                     image.net_health.transits, subjects) != fdir::TransitError::kOk) {
     error = "cannot plan the transit probes";
     return false;
   }
   image.net_health.transit_subjects = subjects;
-  for (bsp::TileId t = 0; t < trn::tasks::kMapTiles; ++t) {
+  for (bsp::TileId t = 0; t < dep.tiles(); ++t) {
     ep.transit_targets[t] = fdir::transit_targets(image.net_health.transits, t);
   }
   configure_supervisors(s, image.sup);
@@ -324,8 +339,9 @@ bool Mission::boot(std::string& error) {
   trn::tasks::VisionCoordConfig& c = image.coord;
   c.camera = camera_.model();
   c.select = setup_.select;
+  c.plan.max_landmarks = s.vision.landmarks_per_frame;
   // The coordinator learns of lost tiles by their silence; tiles left out on purpose are not in its list.
-  trn::tasks::tile_map_vision_tiles(c, vision_exclude_mask(setup_.vision_tiles));
+  trn::tasks::tile_map_vision_tiles(dep, c, vision_exclude_mask(dep, setup_.vision_tiles));
   trn::vision::sun_direction(s.camera.sun.azimuth_deg, s.camera.sun.elevation_deg, c.descent_sun_m);
   image.vision.camera = camera_.model();
   trn::vision::sun_direction(s.camera.sun.azimuth_deg, s.camera.sun.elevation_deg, image.vision.descent_sun_m);
@@ -335,8 +351,8 @@ bool Mission::boot(std::string& error) {
     return false;
   }
   bsp::DeviceBusConfig bus;
-  bus.io_tile = trn::tasks::kIoTile;
-  bus.backup_tile = trn::tasks::kIoBackupTile;  // the cross-strap: the I/O role's one spare
+  bus.io_tile = trn::tasks::boot_tile(dep, Role::kIo);
+  bus.backup_tile = trn::tasks::backup_tile(dep, Role::kIo);  // the cross-strap: the I/O role's one spare
   bus.imu = &imu_;
   bus.camera = &camera_;
   bus.last_time_s = setup_.duration_s;

@@ -13,10 +13,12 @@
 
 #include "bsp_tile64/emu/devices/camera.hpp"
 #include "bsp_tile64/emu/devices/imu.hpp"
+#include "bsp_tile64/emu/profile.hpp"
 #include "bsp_tile64/world/trajectory.hpp"
 #include "tools/common/mission/scenario.hpp"
 #include "tools/common/mission/world_cache.hpp"
 #include "trn/filter/nav_state.hpp"
+#include "trn/tasks/tile_map.hpp"
 #include "trn/tasks/vision/vision_coord.hpp"
 
 #include <Eigen/Core>
@@ -53,8 +55,17 @@ struct MissionSetup {
   bool render_ahead = true;
 };
 
-/** The tiles excluded from the coordinator's list when it is given @p n of the map's vision tiles (0: none). */
-std::uint64_t vision_exclude_mask(std::uint32_t n);
+/** The tiles excluded from the coordinator's list when it is given @p n of @p d's vision tiles (0: none). */
+std::uint64_t vision_exclude_mask(const trn::tasks::Deployment& d, std::uint32_t n);
+
+/** A chip a scenario names: its profile and the mission's deployment on it. */
+struct Chip {
+  const bsp::ChipProfile* profile = nullptr;
+  const trn::tasks::Deployment* deployment = nullptr;
+};
+
+/** The chip named @p name (Scenario::chip); both null for a name with no profile or no deployment. */
+Chip find_chip(const std::string& name);
 
 /** The navigation solution against the truth at its time. */
 struct NavSample {
@@ -96,6 +107,10 @@ class Mission {
   [[nodiscard]] const trn::filter::InitialEstimate& initial_estimate() const { return initial_; }
   /** Tiles switched on at boot (bit t: tile t). */
   [[nodiscard]] std::uint64_t powered_mask() const { return powered_; }
+  /** The chip of the scenario (set by build()). */
+  [[nodiscard]] const bsp::ChipProfile& chip() const { return *chip_.profile; }
+  /** The roles' deployment on it (set by build()). */
+  [[nodiscard]] const trn::tasks::Deployment& deployment() const { return *chip_.deployment; }
 
  private:
   void draw_initial_estimate();
@@ -108,6 +123,7 @@ class Mission {
   bsp::CameraDevice camera_{};
   trn::filter::InitialEstimate initial_{};
   std::uint64_t powered_ = 0;
+  Chip chip_{&bsp::kTile64, &trn::tasks::kTile64Deployment};
   WorldCache world_{};
 };
 

@@ -411,6 +411,7 @@ bool summary_json(const Summary& s, std::string& json, std::string& error) {
   nlohmann::ordered_json j;
   const auto num = [](double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(); };
   j["scenario"] = s.scenario;
+  j["chip"] = s.chip;
   j["fault_plan"] = s.fault_plan;
   j["seed"] = s.seed;
   j["emulated_s"] = num(s.emulated_s);

@@ -79,6 +79,7 @@ class RunFolder {
 /** The figures of one run, written as summary.json. */
 struct Summary {
   std::string scenario;
+  std::string chip;        ///< the chip flown (Scenario::chip)
   std::string fault_plan;  ///< name of the plan ("" for none)
   std::uint64_t seed = 0U;
   double emulated_s = 0.0;

@@ -6,6 +6,9 @@
 
 #include "tools/common/text.hpp"
 #include "tools/common/toml_input.hpp"
+#include "bsp_tile64/emu/profile.hpp"
+#include "trn/match.hpp"
+#include "trn/tasks/tile_map.hpp"
 
 #include <cerrno>
 #include <cmath>
@@ -131,6 +134,7 @@ const std::vector<KeySpec>& specs() {
     f("initial_error", "altitude_m", 0, 2000, "altitude error, m (1 sigma)", [](Scenario& s) -> double& { return s.initial_error.altitude_m; }),
     f("initial_error", "velocity_mps", 0, 50, "velocity error per axis, m/s (1 sigma)", [](Scenario& s) -> double& { return s.initial_error.velocity_mps; }),
     f("initial_error", "attitude_deg", 0, 10, "attitude error per axis, deg (1 sigma)", [](Scenario& s) -> double& { return s.initial_error.attitude_deg; }),
+    i<std::uint32_t>("vision", "landmarks_per_frame", 1, trn::kMaxMatchesPerFrame, "landmarks the coordinator plans per frame at most (the vision load)", [](Scenario& s) -> std::uint32_t& { return s.vision.landmarks_per_frame; }),
   };
   return kSpecs;
 }
@@ -138,7 +142,7 @@ const std::vector<KeySpec>& specs() {
 
 const std::vector<std::string>& sections() {
   static const std::vector<std::string> kSections = {"scenario", "terrain", "map",          "trajectory",
-                                                     "imu",      "camera",  "initial_error"};
+                                                     "imu",      "camera",  "initial_error", "vision"};
   return kSections;
 }
 
@@ -157,6 +161,17 @@ std::string kind_name(Kind k) {
   return "?";
 }
 
+/** The chips a scenario may name: each has a profile and a deployment. */
+constexpr const char* kChipNames = "tile64, maestro";
+
+}  // namespace
+
+bool chip_known(const std::string& name) {
+  return bsp::find_profile(name) != nullptr && trn::tasks::find_deployment(name.c_str()) != nullptr;
+}
+
+namespace {
+
 std::string allowed_keys(const std::string& section) {
   std::string out;
   for (const KeySpec& s : specs()) {
@@ -164,7 +179,7 @@ std::string allowed_keys(const std::string& section) {
       out += (out.empty() ? "" : ", ") + std::string(s.key);
     }
   }
-  return section == "scenario" ? "name, " + out : out;
+  return section == "scenario" ? "name, chip, " + out : out;
 }
 
 /** Reads one value per its spec; returns an error text (empty when set). */
@@ -196,6 +211,16 @@ void parse_section(const std::string& source, const std::string& section, const 
         errors.push_back(where + "wrong type: expected a string");
       } else {
         s.name = node.as_string()->get();
+      }
+      continue;
+    }
+    if (section == "scenario" && key == "chip") {
+      if (!node.is_string()) {
+        errors.push_back(where + "wrong type: expected a string");
+      } else if (!chip_known(node.as_string()->get())) {
+        errors.push_back(cat({where, "\"", node.as_string()->get(), "\": no such chip (allowed: ", kChipNames, ")"}));
+      } else {
+        s.chip = node.as_string()->get();
       }
       continue;
     }
@@ -351,7 +376,7 @@ ScenarioResult parse_scenario(std::string_view text, const std::string& source) 
       parse_phases(source, node, s, errors);
     } else if (!known) {
       errors.push_back(cat({source, ": [", section,
-                            "]: unknown section (allowed: scenario, terrain, map, trajectory, imu, camera, initial_error, phase)"}));
+                            "]: unknown section (allowed: scenario, terrain, map, trajectory, imu, camera, initial_error, vision, phase)"}));
     } else if (!node.is_table()) {
       errors.push_back(cat({source, ": ", section, ": must be a table ([", section, "])"}));
     } else {
@@ -387,6 +412,8 @@ std::vector<ScenarioKeyDoc> scenario_keys() {
   std::vector<ScenarioKeyDoc> out;
   const Scenario d = default_scenario();
   out.push_back({"scenario", "name", "string", "any", "\"" + d.name + "\"", "label of the run"});
+  out.push_back({"scenario", "chip", "string", kChipNames, "\"" + d.chip + "\"",
+                 "the chip flown, with its deployment of the roles (docs/ARCHITECTURE.md, \"The chips\")"});
   for (const KeySpec& s : specs()) {
     const std::string type = s.kind == Kind::kFloat ? "float" : s.kind == Kind::kInt ? "integer" : "bool";
     const std::string range = s.kind == Kind::kBool ? "true/false" : fmt(s.lo) + " .. " + fmt(s.hi);

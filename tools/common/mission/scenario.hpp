@@ -25,6 +25,11 @@
 
 namespace tools {
 
+/** The vision side's load: how many landmarks the coordinator plans per frame. */
+struct VisionLoad {
+  std::uint32_t landmarks_per_frame = 150;  ///< trn::vision::FramePlanParams::max_landmarks of the coordinator
+};
+
 /** 1-sigma errors of the navigation filter's initial estimate (the run draws them from its seed). */
 struct InitialErrors {
   double horizontal_m = 3000.0;  ///< magnitude of the horizontal error; its direction is drawn from the seed
@@ -73,6 +78,7 @@ std::vector<MissionPhase> default_phases();
 
 struct Scenario {
   std::string name = "default";
+  std::string chip = "tile64";  ///< the chip flown (chip_known()): its profile and the roles' deployment on it
   std::uint64_t seed = 1;  ///< run seed: sensor noise and initial-error draws
   bsp::world::TerrainConfig terrain;
   bsp::world::MapConfig map;
@@ -81,6 +87,7 @@ struct Scenario {
   bsp::ImuErrorConfig imu;
   bsp::CameraConfig camera;
   InitialErrors initial_error;
+  VisionLoad vision;
   std::vector<MissionPhase> phases = default_phases();  ///< [[phase]] tables, in time order
 };
 
@@ -90,6 +97,9 @@ struct ScenarioResult {
   std::string error;  ///< empty when scenario is set
   bool ok() const { return scenario.has_value(); }
 };
+
+/** Whether @p name is a chip with a profile (bsp_tile64/emu/profile.hpp) and a deployment (trn/tasks/tile_map.hpp). */
+bool chip_known(const std::string& name);
 
 /** The built-in default scenario (what an empty file gives). */
 Scenario default_scenario();
