@@ -106,6 +106,7 @@ struct Options {
   double duration_s = 0.0;  ///< 0: the whole descent
   std::uint32_t vision_tiles = 0;  ///< 0: all of the chip's
   std::string chip;                ///< empty: the scenario's
+  bool no_spares = false;
   bool quiet = false;
   bool view = false;
   bool memory_map = false;
@@ -838,6 +839,9 @@ int run(int argc, char** argv) {
                  "Chip to fly (overrides the scenario's chip): tile64 (8x8, 700 MHz) or maestro (7x7, 342 MHz, "
                  "an FPU per tile)")
       ->check(CLI::IsMember({"tile64", "maestro"}));
+  app.add_flag("--no-spares", o.no_spares,
+               "Give the tile-health supervisor no spare tiles: a tile it gives up is not replaced and its role "
+               "does not move (degradation studies)");
   app.add_flag("--quiet", o.quiet, "No progress display");
   app.add_flag("--view", o.view, "Show the tile grid live (role and health of each tile)");
   app.add_flag("--memory-map", o.memory_map, "Print the memory map after the run");
@@ -900,6 +904,7 @@ int run(int argc, char** argv) {
   setup.world_cache = o.world_cache;
   setup.ground_landmarks = !o.onboard_landmarks;
   setup.render_ahead = !o.one_host_thread;
+  setup.no_spares = o.no_spares;
   if (!mission.build(setup, error) || !mission.boot(error)) {
     std::fprintf(stderr, "trn_mission: %s\n", error.c_str());
     return 1;

@@ -850,6 +850,22 @@ TEST_F(TrnMissionBinary, AVisionTileWithWrongMatchesIsSuspectResetAndReplaced) {
 // passes) are found by the mean of their residuals over their last frames (the bias test), reset,
 // and replaced; nothing else is accused but the retired tiles' switches (a known gap) and the final
 // error stays within 1.2x the clean flight's.
+// --no-spares: the vision tile that stays wrong after its reset is asked to be replaced, the
+// tile-health supervisor has no spare to give (no_spare), and the tile's matches stay left out.
+TEST_F(TrnMissionBinary, WithoutSparesAWrongVisionTileIsLeftOutNotReplaced) {
+  ASSERT_EQ(run(binary() + " --quiet --duration 16 --no-spares --faults " + fixture("vision_shift.toml") +
+                " --out " + (dir_ / "none").string()),
+            0);
+  const nlohmann::json s = read_json(dir_ / "none" / "summary.json");
+  const std::string log = read_text(dir_ / "none" / "events.log");
+  EXPECT_EQ(s["faults_detected"], 1) << log;
+  EXPECT_EQ(s["vision_tiles_replaced"], 0.0) << log;
+  EXPECT_EQ(s["vision_healthy_tiles"], 39.0) << log;
+  EXPECT_NE(log.find("replacement asked"), std::string::npos) << log;
+  EXPECT_NE(log.find("cannot move: no spare"), std::string::npos) << log;
+  EXPECT_EQ(count_of(log, "takes its place"), 0U) << "no spare took the tile's place" << log;
+}
+
 TEST_F(TrnMissionBinary, VisionTilesHalfAPixelOffAreFoundByTheirBiasAndReplaced) {
   ASSERT_EQ(run(binary() + " --quiet --duration 18 --out " + (dir_ / "clean").string()), 0);
   ASSERT_EQ(run(binary() + " --quiet --duration 18 --faults " + fixture("vision_subpixel_shift.toml") + " --out " +

@@ -307,7 +307,10 @@ bool Mission::boot(std::string& error) {
   // A spare's switch routes but nothing runs there to forward a detour.
   ep.boot_map.no_forward = spares;
   image.tile_health.watched = powered_;
-  image.tile_health.spares = spares;
+  image.tile_health.spares = setup_.no_spares ? 0U : spares;
+  if (setup_.no_spares) {
+    image.tile_health.slot_spare.fill(bsp::kNoTile);
+  }
   // The roles that move to a spare when their tile is given up (trn/tasks/tile_map.hpp, kRoles).
   image.tile_health.movable_slots = trn::tasks::movable_slots(dep);
   ep.not_probed = spares;

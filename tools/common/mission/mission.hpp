@@ -53,6 +53,11 @@ struct MissionSetup {
    * trace, less host time. False: every frame rendered at its capture, on one host thread.
    */
   bool render_ahead = true;
+  /**
+   * The tile-health supervisor is given no spares (nor the I/O role's backup or the supervisor's
+   * standby): a tile it gives up is not replaced and its role is not moved. For degradation studies.
+   */
+  bool no_spares = false;
 };
 
 /** The tiles excluded from the coordinator's list when it is given @p n of @p d's vision tiles (0: none). */
