@@ -550,6 +550,19 @@ void add_flow_control(tools::Summary& s) {
   s.extra.emplace_back("udn_flow_control_resends", static_cast<double>(resent_busy));
 }
 
+/**
+ * The vision load (make sizing): work units lost at the deadline, frames the coordinator saw and
+ * left out while busy with another, and the landmarks it planned per frame it processed.
+ */
+void add_vision_load(tools::Summary& s, const trn::tasks::VisionCoordStats& c) {
+  s.extra.emplace_back("vision_units_lost", c.units_lost);
+  s.extra.emplace_back("vision_frames_seen", c.frames_seen);
+  s.extra.emplace_back("vision_frames_skipped", c.frames_skipped);
+  s.extra.emplace_back("vision_planned_per_frame",
+                       c.frames_processed == 0U ? 0.0
+                                                : static_cast<double>(c.planned_total) / c.frames_processed);
+}
+
 /** The strict join's figures (docs/FDIR.md, "The join"); faults_no_effect only against a golden flight. */
 void add_strict_accounting(tools::Summary& s, const tools::FaultAccount& faults, bool golden) {
   s.extra.emplace_back("faults_degraded_accepted", static_cast<double>(faults.degraded_accepted));
@@ -651,14 +664,7 @@ tools::Summary make_summary(const Inputs& in, const tools::Mission& m, const too
   s.extra.emplace_back("coarse_one_piece", c.coarse_one_piece);
   s.extra.emplace_back("coarse_stage_ms", 1e3 * static_cast<double>(c.max_coarse_cycles) /
                                               static_cast<double>(bsp::board_config().profile.clock_hz));
-  s.extra.emplace_back("vision_units_lost", c.units_lost);
-  // The vision load (make sizing): frames the coordinator saw and left out while busy with another,
-  // and the landmarks it planned per frame it processed.
-  s.extra.emplace_back("vision_frames_seen", c.frames_seen);
-  s.extra.emplace_back("vision_frames_skipped", c.frames_skipped);
-  s.extra.emplace_back("vision_planned_per_frame",
-                       c.frames_processed == 0U ? 0.0
-                                                : static_cast<double>(c.planned_total) / c.frames_processed);
+  add_vision_load(s, c);
   s.extra.emplace_back("vision_batch_send_failed", c.batch_send_failed);
   s.extra.emplace_back("vision_status_send_failed", c.status_send_failed);
   // The coordinator's consistency check of each frame's matches and what it did about wrong tiles.
@@ -806,6 +812,17 @@ bool write_outputs(Inputs& in, const tools::Summary& s, const tools::EventLog& l
          (in.no_plots || tools::write_plots(f.staging_dir(), error)) && f.commit(error);
 }
 
+/** The options that choose the chip and what it has to spare. */
+void add_chip_options(CLI::App& app, Options& o) {
+  app.add_option("--chip", o.chip,
+                 "Chip to fly (overrides the scenario's chip): tile64 (8x8, 700 MHz) or maestro (7x7, 342 MHz, "
+                 "an FPU per tile)")
+      ->check(CLI::IsMember({"tile64", "maestro"}));
+  app.add_flag("--no-spares", o.no_spares,
+               "Give the tile-health supervisor no spare tiles: a tile it gives up is not replaced and its role "
+               "does not move (degradation studies)");
+}
+
 /** The line that says what booted: the chip, its role tiles, the flight's length and plan. */
 void print_booted(const tools::Mission& mission, const Inputs& in) {
   using trn::tasks::Role;
@@ -835,13 +852,7 @@ int run(int argc, char** argv) {
                  "Vision tiles the coordinator uses, spread over the map (default: all, 40 on the TILE64 and 35 on "
                  "Maestro; the others stay on, idle)")
       ->check(CLI::Range(1U, 40U));
-  app.add_option("--chip", o.chip,
-                 "Chip to fly (overrides the scenario's chip): tile64 (8x8, 700 MHz) or maestro (7x7, 342 MHz, "
-                 "an FPU per tile)")
-      ->check(CLI::IsMember({"tile64", "maestro"}));
-  app.add_flag("--no-spares", o.no_spares,
-               "Give the tile-health supervisor no spare tiles: a tile it gives up is not replaced and its role "
-               "does not move (degradation studies)");
+  add_chip_options(app, o);
   app.add_flag("--quiet", o.quiet, "No progress display");
   app.add_flag("--view", o.view, "Show the tile grid live (role and health of each tile)");
   app.add_flag("--memory-map", o.memory_map, "Print the memory map after the run");
