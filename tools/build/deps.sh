@@ -2,7 +2,7 @@
 # @file deps.sh
 # @brief Installs the Debian packages the build needs; a fast no-op when all are present.
 #
-# Usage: tools/build/deps.sh [base|bench|fuzz|study|slurm ...]   (default: base)
+# Usage: tools/build/deps.sh [base|bench|fuzz|study|slurm|model ...]   (default: base)
 # Works as root or through sudo. Exits non-zero if a package cannot be installed.
 set -euo pipefail
 
@@ -20,6 +20,8 @@ study_pkgs=(jq)
 # A single-node Slurm cluster for campaigns (tools/slurm/): the controller, the
 # node daemon, the commands, munge for their credentials, and procps for `free`.
 slurm_pkgs=(slurmctld slurmd slurm-client munge procps)
+# The TMR protocol's model (tools/model/): SPIN and the C compiler its verifiers are built with.
+model_pkgs=(spin gcc python3)
 
 groups=("$@")
 [ ${#groups[@]} -gt 0 ] || groups=(base)
@@ -32,7 +34,8 @@ for g in "${groups[@]}"; do
     fuzz)  wanted+=("${fuzz_pkgs[@]}") ;;
     study) wanted+=("${study_pkgs[@]}") ;;
     slurm) wanted+=("${slurm_pkgs[@]}") ;;
-    *) echo "deps: unknown package group '$g' (allowed: base bench fuzz study slurm)" >&2; exit 2 ;;
+    model) wanted+=("${model_pkgs[@]}") ;;
+    *) echo "deps: unknown package group '$g' (allowed: base bench fuzz study slurm model)" >&2; exit 2 ;;
   esac
 done
 
