@@ -23,13 +23,11 @@ frame, so with 200 every healthy tile's 5 matches count; docs/PERFORMANCE.md,
   bad_cores.png  final error and matches per frame against k (gnuplot).
 """
 import argparse
-import concurrent.futures
-import csv
-import json
 import os
 import statistics
-import subprocess
 import sys
+
+from flights import fly, fly_all, write_results
 
 VISION_TILES = {"tile64": 40, "maestro": 35}
 START_S = 6.0
@@ -55,19 +53,13 @@ def plan_text(kind, k, count):
 def run_one(binary, out, chip, kind, k, spares, seed):
     name = f"{chip}-{kind}-k{k}-spares_{spares}-s{seed}"
     folder = os.path.join(out, "runs", name)
-    summary = os.path.join(folder, "summary.json")
-    if not os.path.exists(summary):
-        cmd = [binary, "--quiet", "--no-plots", "--scenario", os.path.join(out, "scenarios", f"{chip}.toml"),
-               "--seed", str(seed), "--world-cache", os.path.join(out, "world"), "--out", folder]
-        if k > 0:
-            cmd += ["--faults", os.path.join(out, "plans", f"{chip}-{kind}-{k}.toml")]
-        if spares == "off":
-            cmd.append("--no-spares")
-        r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, check=False)
-        if r.returncode != 0:
-            raise RuntimeError(f"bad_cores: {' '.join(cmd)} failed ({r.returncode}): {r.stderr.strip()}")
-    with open(summary, encoding="utf-8") as f:
-        s = json.load(f)
+    cmd = [binary, "--quiet", "--no-plots", "--scenario", os.path.join(out, "scenarios", f"{chip}.toml"),
+           "--seed", str(seed), "--world-cache", os.path.join(out, "world"), "--out", folder]
+    if k > 0:
+        cmd += ["--faults", os.path.join(out, "plans", f"{chip}-{kind}-{k}.toml")]
+    if spares == "off":
+        cmd.append("--no-spares")
+    s = fly(cmd, folder, "bad_cores")
     return {
         "chip": chip, "kind": kind, "bad": k, "spares": spares, "seed": seed,
         "final_error_m": s["final_position_error_m"],
@@ -122,19 +114,10 @@ def main():
                     sys.exit(f"bad_cores: {k} bad tiles of {VISION_TILES[chip]} on the {chip}")
                 with open(os.path.join(a.out, "plans", f"{chip}-{kind}-{k}.toml"), "w", encoding="utf-8") as f:
                     f.write(plan_text(kind, k, VISION_TILES[chip]))
-    jobs = [(chip, kind, k, sp, seed) for chip in chips for kind in kinds for k in bad for sp in spares_set
-            for seed in seeds]
-    rows = [run_one(os.path.join(a.bin, "trn_mission"), a.out, *jobs[0])]  # builds the world alone
-    with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
-        futures = [pool.submit(run_one, os.path.join(a.bin, "trn_mission"), a.out, *j) for j in jobs[1:]]
-        for i, fut in enumerate(futures):
-            rows.append(fut.result())
-            if (i + 2) % 20 == 0:
-                print(f"bad_cores: {i + 2} of {len(jobs)} runs flown", flush=True)
-    with open(os.path.join(a.out, "bad_cores.csv"), "w", newline="", encoding="utf-8") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-        w.writeheader()
-        w.writerows(rows)
+    binary = os.path.join(a.bin, "trn_mission")
+    jobs = [(binary, a.out, chip, kind, k, sp, seed) for chip in chips for kind in kinds for k in bad
+            for sp in spares_set for seed in seeds]
+    rows = fly_all(jobs, run_one, a.jobs, "bad_cores")
     dat = ["# chip kind spares bad final_mean_m final_sd_m final_worst_m matches_mean healthy_mean replaced_mean "
            "halved_runs lost_runs runs"]
     md = [f"Load: {a.landmarks} landmarks per frame at {a.rate} Hz; means over seeds {a.seeds}.\n",
@@ -158,16 +141,11 @@ def main():
                     md.append(f"| {chip} | {kind} | {sp} | {k} | {statistics.mean(errs):.2f} +- {sd:.2f} "
                               f"({max(errs):.2f}) | {matches:.0f} | {healthy:.1f} | {replaced:.1f} | {halved} of "
                               f"{len(g)} | {lost} |")
-    with open(os.path.join(a.out, "bad_cores.dat"), "w", encoding="utf-8") as f:
-        f.write("\n".join(dat) + "\n")
-    with open(os.path.join(a.out, "bad_cores.md"), "w", encoding="utf-8") as f:
-        f.write("\n".join(md) + "\n")
-    plot(a.out, chips, kinds, spares_set)
-    print("\n".join(md))
-    print(f"bad_cores: results in {a.out}/ (bad_cores.md, bad_cores.csv, bad_cores.dat, bad_cores.png)")
+    write_results(a.out, "bad_cores", rows, dat, md, plot(chips, kinds, spares_set))
 
 
-def plot(out, chips, kinds, spares_set):
+def plot(chips, kinds, spares_set):
+    """The gnuplot script of bad_cores.png."""
     err, mat = [], []
     for chip in chips:
         for kind in kinds:
@@ -176,17 +154,12 @@ def plot(out, chips, kinds, spares_set):
                 title = f"{chip} {kind} spares {sp}"
                 err.append(f"'bad_cores.dat' using 4:{sel} $5 : 1/0) with linespoints title '{title}'")
                 mat.append(f"'bad_cores.dat' using 4:{sel} $8 : 1/0) with linespoints title '{title}'")
-    with open(os.path.join(out, "bad_cores.gp"), "w", encoding="utf-8") as f:
-        f.write("# Run in this folder: gnuplot bad_cores.gp\n"
-                "set terminal pngcairo size 1100,900 noenhanced\nset output 'bad_cores.png'\n"
-                "set multiplot layout 2,1\nset grid\nset key outside right\nset xlabel 'vision tiles gone bad'\n"
-                "set title 'Final position error, mean over seeds'\nset ylabel 'm'\n"
-                "plot " + ", \\\n     ".join(err) + "\n"
-                "set title 'Matches per frame, mean over seeds'\nset ylabel 'matches'\n"
-                "plot " + ", \\\n     ".join(mat) + "\nunset multiplot\n")
-    r = subprocess.run(["gnuplot", "bad_cores.gp"], cwd=out, stdin=subprocess.DEVNULL, check=False)
-    if r.returncode != 0:
-        print(f"bad_cores: gnuplot failed; the tables are in {out}/bad_cores.md", file=sys.stderr)
+    return ("set terminal pngcairo size 1100,900 noenhanced\nset output 'bad_cores.png'\n"
+            "set multiplot layout 2,1\nset grid\nset key outside right\nset xlabel 'vision tiles gone bad'\n"
+            "set title 'Final position error, mean over seeds'\nset ylabel 'm'\n"
+            "plot " + ", \\\n     ".join(err) + "\n"
+            "set title 'Matches per frame, mean over seeds'\nset ylabel 'matches'\n"
+            "plot " + ", \\\n     ".join(mat) + "\nunset multiplot\n")
 
 
 if __name__ == "__main__":

@@ -22,13 +22,11 @@ most any configuration of that load and seed planned (a tile takes one work unit
 most 5 landmarks a frame, so fewer tiles plan fewer).
 """
 import argparse
-import concurrent.futures
-import csv
-import json
 import os
 import statistics
-import subprocess
 import sys
+
+from flights import fly, fly_all, write_results
 
 CHIP_TILES = {"tile64": 40, "maestro": 35}
 
@@ -40,16 +38,9 @@ def ints(text):
 def run_one(binary, out, world, chip, lm, rate, tiles, seed):
     name = f"{chip}-lm{lm}-r{rate}-t{tiles}-s{seed}"
     folder = os.path.join(out, "runs", name)
-    summary = os.path.join(folder, "summary.json")
-    if not os.path.exists(summary):
-        scenario = os.path.join(out, "scenarios", f"{chip}-lm{lm}-r{rate}.toml")
-        cmd = [binary, "--quiet", "--no-plots", "--scenario", scenario, "--seed", str(seed),
-               "--vision-tiles", str(tiles), "--world-cache", world, "--out", folder]
-        r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, check=False)
-        if r.returncode != 0:
-            raise RuntimeError(f"sizing: {' '.join(cmd)} failed ({r.returncode}): {r.stderr.strip()}")
-    with open(summary, encoding="utf-8") as f:
-        s = json.load(f)
+    scenario = os.path.join(out, "scenarios", f"{chip}-lm{lm}-r{rate}.toml")
+    s = fly([binary, "--quiet", "--no-plots", "--scenario", scenario, "--seed", str(seed), "--vision-tiles",
+             str(tiles), "--world-cache", world, "--out", folder], folder, "sizing")
     return {
         "chip": chip, "landmarks": lm, "rate_hz": rate, "tiles": tiles, "seed": seed,
         "final_error_m": s["final_position_error_m"],
@@ -103,19 +94,8 @@ def main():
                             f"[vision]\nlandmarks_per_frame = {lm}\n")
                 for t in tiles:
                     configs.append((chip, lm, rate, t))
-    jobs = [(c, s) for c in configs for s in seeds]
-    # The first run of each world builds it alone (a cache folder is not written by two runs at once).
-    rows = [run_one(binary, a.out, world, *jobs[0][0], jobs[0][1])]
-    with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
-        futures = [pool.submit(run_one, binary, a.out, world, *c, s) for c, s in jobs[1:]]
-        for i, fut in enumerate(futures):
-            rows.append(fut.result())
-            if (i + 2) % 20 == 0:
-                print(f"sizing: {i + 2} of {len(jobs)} runs flown", flush=True)
-    with open(os.path.join(a.out, "sizing.csv"), "w", newline="", encoding="utf-8") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-        w.writeheader()
-        w.writerows(rows)
+    jobs = [(binary, a.out, world, *c, s) for c in configs for s in seeds]
+    rows = fly_all(jobs, run_one, a.jobs, "sizing")
 
     def group(chip, lm, rate, t):
         return [r for r in rows if (r["chip"], r["landmarks"], r["rate_hz"], r["tiles"]) == (chip, lm, rate, t)]
@@ -156,16 +136,11 @@ def main():
                                f"{sd:.4f} {max(errs):.4f} {skipped} {lost} {1 if ok else 0} {1000.0 / rate:.0f}")
                 md.append(f"| {lm} | {rate} Hz | " + " | ".join(cells) +
                           f" | {fewest if fewest is not None else 'none of these'} |")
-    with open(os.path.join(a.out, "sizing.dat"), "w", encoding="utf-8") as f:
-        f.write("\n".join(dat) + "\n")
-    with open(os.path.join(a.out, "sizing.md"), "w", encoding="utf-8") as f:
-        f.write("\n".join(md) + "\n")
-    plot(a.out, chips, landmarks, rates)
-    print("\n".join(md))
-    print(f"sizing: results in {a.out}/ (sizing.md, sizing.csv, sizing.dat, sizing.png)")
+    write_results(a.out, "sizing", rows, dat, md, plot(chips, landmarks, rates))
 
 
-def plot(out, chips, landmarks, rates):
+def plot(chips, landmarks, rates):
+    """The gnuplot script of sizing.png."""
     frame, matches = [], []
     for chip in chips:
         for lm in landmarks:
@@ -178,20 +153,15 @@ def plot(out, chips, landmarks, rates):
                     matches.append(f"'sizing.dat' using 4:{sel} $6 : 1/0) {style} title '{chip} {lm} lm'")
     frame += ["1000 with lines dt 3 lc rgb 'black' title '1 Hz frame period'",
               "500 with lines dt 3 lc rgb 'gray' title '2 Hz frame period'"]
-    with open(os.path.join(out, "sizing.gp"), "w", encoding="utf-8") as f:
-        f.write("# Run in this folder: gnuplot sizing.gp\n"
-                "set terminal pngcairo size 1100,1000 noenhanced\nset output 'sizing.png'\n"
-                "set multiplot layout 2,1\nset grid\nset key outside right\nset xrange [0:42]\n"
-                "set xlabel 'vision tiles the coordinator uses'\n"
-                "set title 'Worst frame against vision tiles (default descent, no faults; solid TILE64, dashed Maestro)'\n"
-                "set ylabel 'worst frame (ms)'\nset yrange [0:1100]\n"
-                "plot " + ", \\\n     ".join(frame) + "\n"
-                "set title 'Matches per frame against vision tiles (the same at 1 and 2 Hz)'\n"
-                "set ylabel 'matches per frame'\nset yrange [0:*]\n"
-                "plot " + ", \\\n     ".join(matches) + "\nunset multiplot\n")
-    r = subprocess.run(["gnuplot", "sizing.gp"], cwd=out, stdin=subprocess.DEVNULL, check=False)
-    if r.returncode != 0:
-        print(f"sizing: gnuplot failed; the tables are in {out}/sizing.md", file=sys.stderr)
+    return ("set terminal pngcairo size 1100,1000 noenhanced\nset output 'sizing.png'\n"
+            "set multiplot layout 2,1\nset grid\nset key outside right\nset xrange [0:42]\n"
+            "set xlabel 'vision tiles the coordinator uses'\n"
+            "set title 'Worst frame against vision tiles (default descent, no faults; solid TILE64, dashed Maestro)'\n"
+            "set ylabel 'worst frame (ms)'\nset yrange [0:1100]\n"
+            "plot " + ", \\\n     ".join(frame) + "\n"
+            "set title 'Matches per frame against vision tiles (the same at 1 and 2 Hz)'\n"
+            "set ylabel 'matches per frame'\nset yrange [0:*]\n"
+            "plot " + ", \\\n     ".join(matches) + "\nunset multiplot\n")
 
 
 if __name__ == "__main__":
